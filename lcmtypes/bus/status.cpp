@@ -1,0 +1,86 @@
+#include "status.hpp"
+
+#include <unistd.h>
+
+#include <iostream>
+
+#include "gyrocal/status_t.hpp"
+#include "channels.hpp"
+#include "shutdown.hpp"
+
+namespace gyrocal {
+
+void RateLimitedLog::Warn(const std::string& key, const std::string& text) {
+    auto now = std::chrono::steady_clock::now();
+    Entry& e = entries_[key];
+    if (e.last != std::chrono::steady_clock::time_point{} && now - e.last < std::chrono::seconds(1)) {
+        ++e.suppressed;
+        return;
+    }
+    std::cerr << process_ << ": warning: " << text;
+    if (e.suppressed > 0) std::cerr << " (" << e.suppressed << " more like it suppressed)";
+    std::cerr << "\n";
+    e.last = now;
+    e.suppressed = 0;
+}
+
+std::string HostName() {
+    char buf[256] = {0};
+    if (gethostname(buf, sizeof buf - 1) != 0) return "unknown";
+    return buf;
+}
+
+StatusReporter::StatusReporter(Bus& bus, std::string process, std::chrono::milliseconds period)
+    : bus_(bus), process_(std::move(process)), host_(HostName()), period_(period), log_(process_) {}
+
+void StatusReporter::Reject(const std::string& reason_key, const std::string& detail) {
+    ++rejected_;
+    last_reject_ = reason_key + ": " + detail;
+    log_.Warn(reason_key, last_reject_);
+}
+
+void StatusReporter::Tick() {
+    if (std::chrono::steady_clock::now() - last_ >= period_) PublishNow();
+}
+
+void StatusReporter::PublishNow() {
+    last_ = std::chrono::steady_clock::now();
+    const BusCounters& c = bus_.counters();
+    status_t s;
+    s.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                  std::chrono::system_clock::now().time_since_epoch())
+                  .count();
+    s.process = process_;
+    s.host = host_;
+    s.pid = static_cast<int32_t>(getpid());
+    s.state = state_;
+    s.received = c.received;
+    s.published = c.published + 1;  // counts this heartbeat too
+    s.decode_errors = c.decode_errors;
+    s.seq_gaps = c.seq_gaps;
+    s.queue_drops = queue_drops_;
+    s.rejected = rejected_;
+    s.last_reject = last_reject_.empty() ? c.last_decode_error : last_reject_;
+    std::map<std::string, double> extra = extra_;
+    extra["seq_backwards"] = static_cast<double>(c.seq_backwards);
+    extra["publish_errors"] = static_cast<double>(c.publish_errors);
+    for (const auto& [name, value] : extra) {
+        s.extra_names.push_back(name);
+        s.extra_values.push_back(value);
+    }
+    s.num_extra = static_cast<int16_t>(s.extra_names.size());
+    bus_.Publish(std::string(channels::kStatus), s);
+}
+
+void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done,
+             std::chrono::milliseconds poll) {
+    if (status.state() == "starting") status.set_state("running");
+    status.PublishNow();
+    while (!StopRequested() && !(done && done())) {
+        bus.Handle(poll);
+        status.Tick();
+    }
+    status.PublishNow();
+}
+
+}  // namespace gyrocal

@@ -1,0 +1,65 @@
+#pragma once
+// The STATUS heartbeat every process publishes once a second (wall clock: it is about the
+// process, not the data), and the rate-limited stderr warnings that go with refusals.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "bus.hpp"
+
+namespace gyrocal {
+
+// Prints a warning at most once per second per key, then says how many were suppressed.
+class RateLimitedLog {
+public:
+    explicit RateLimitedLog(std::string process) : process_(std::move(process)) {}
+    void Warn(const std::string& key, const std::string& text);
+
+private:
+    struct Entry {
+        std::chrono::steady_clock::time_point last{};
+        int64_t suppressed = 0;
+    };
+    std::string process_;
+    std::map<std::string, Entry> entries_;
+};
+
+class StatusReporter {
+public:
+    StatusReporter(Bus& bus, std::string process,
+                   std::chrono::milliseconds period = std::chrono::milliseconds(1000));
+
+    void set_state(std::string state) { state_ = std::move(state); }
+    const std::string& state() const { return state_; }
+    // A decoded message refused by a guard: counted, reason kept for STATUS, warned (rate-limited).
+    void Reject(const std::string& reason_key, const std::string& detail);
+    void AddQueueDrops(int64_t n) { queue_drops_ += n; }
+    void SetExtra(const std::string& name, double value) { extra_[name] = value; }
+    int64_t rejected() const { return rejected_; }
+
+    void Tick();        // publishes when the period has elapsed
+    void PublishNow();  // e.g. on state changes and just before exit
+
+private:
+    Bus& bus_;
+    std::string process_;
+    std::string host_;
+    std::chrono::milliseconds period_;
+    std::chrono::steady_clock::time_point last_{};
+    std::string state_ = "starting";
+    int64_t rejected_ = 0;
+    int64_t queue_drops_ = 0;
+    std::string last_reject_;
+    std::map<std::string, double> extra_;
+    RateLimitedLog log_;
+};
+
+// The loop every node runs: dispatch messages, heartbeat, until SIGINT/SIGTERM or done().
+void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done = {},
+             std::chrono::milliseconds poll = std::chrono::milliseconds(50));
+
+std::string HostName();
+
+}  // namespace gyrocal

@@ -1,0 +1,48 @@
+#pragma once
+// A child OS process started by argv (no shell), for the calibrate launcher and for tests that
+// run the real processes. The destructor stops a still-running child: SIGTERM, then SIGKILL
+// after a grace period, so a failing test never leaves processes behind.
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gyrocal {
+
+struct ExitStatus {
+    bool exited = false;   // true: normal exit with code; false: killed by signal
+    int code = 0;          // exit code when exited
+    int signal = 0;        // signal number when killed
+    std::string Describe() const;
+};
+
+class ChildProcess {
+public:
+    // Starts argv[0] (searched in PATH when it has no '/'). stdout/stderr go to the given
+    // files when not empty ("" = inherit). Throws std::runtime_error when it cannot start.
+    explicit ChildProcess(std::vector<std::string> argv, const std::string& stdout_path = "",
+                          const std::string& stderr_path = "");
+    ChildProcess(const ChildProcess&) = delete;
+    ChildProcess& operator=(const ChildProcess&) = delete;
+    ChildProcess(ChildProcess&& other) noexcept;
+    ~ChildProcess();
+
+    pid_t pid() const { return pid_; }
+    const std::string& name() const { return name_; }
+    void Signal(int sig);
+    // Non-blocking check; returns the status once the child has ended.
+    std::optional<ExitStatus> Poll();
+    // Waits up to `timeout`; nullopt when still running.
+    std::optional<ExitStatus> Wait(std::chrono::milliseconds timeout);
+    // SIGTERM, wait up to `grace`, then SIGKILL; returns how it ended.
+    ExitStatus Stop(std::chrono::milliseconds grace = std::chrono::milliseconds(3000));
+
+private:
+    pid_t pid_ = -1;
+    std::string name_;
+    std::optional<ExitStatus> status_;
+};
+
+}  // namespace gyrocal
