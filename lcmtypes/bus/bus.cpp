@@ -1,6 +1,13 @@
 #include "bus.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 
 namespace gyrocal {
 
@@ -10,14 +17,42 @@ std::string BusOptions::ResolvedUrl() const {
     return kDefaultLcmUrl;
 }
 
+namespace {
+
+const char* kRouteFix =
+    "Fix (as root, LCM's loopback fix): ip link set lo multicast on && "
+    "ip route add 224.0.0.0/4 dev lo - or give another provider with --lcm-url / GYROCAL_LCM_URL";
+
+// LCM 1.3.1 opens udpm even where the group is unroutable and only fails on first send, so ask
+// the kernel for a route up front: connect() on a UDP socket does exactly that look-up.
+void CheckMulticastRoute(const std::string& url) {
+    const std::string scheme = "udpm://";
+    if (url.rfind(scheme, 0) != 0) return;
+    const std::string rest = url.substr(scheme.size());
+    const std::string host = rest.substr(0, rest.find_first_of(":?"));
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(7667);
+    if (inet_pton(AF_INET, host.c_str(), &addr.sin_addr) != 1)
+        throw BusError("LCM URL '" + url + "': '" + host + "' is not an IPv4 multicast address");
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd < 0) throw BusError(std::string("cannot create a UDP socket: ") + std::strerror(errno));
+    const int rc = connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
+    const int err = errno;
+    close(fd);
+    if (rc != 0) {
+        throw BusError("no route to multicast group " + host + " for LCM URL '" + url +
+                       "' (" + std::strerror(err) + "). " + kRouteFix);
+    }
+}
+
+}  // namespace
+
 Bus::Bus(const BusOptions& options) : url_(options.ResolvedUrl()) {
+    CheckMulticastRoute(url_);
     lcm_ = std::make_unique<lcm::LCM>(url_);
     if (!lcm_->good()) {
-        throw BusError(
-            "cannot open LCM at '" + url_ +
-            "': for udpm, this host needs a multicast route. Fix (as root): "
-            "ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo "
-            "- or set GYROCAL_LCM_URL / --lcm-url to a provider that works here");
+        throw BusError("cannot open LCM at '" + url_ + "'. " + kRouteFix);
     }
 }
 
@@ -68,7 +103,10 @@ bool Bus::Handle(std::chrono::milliseconds timeout) {
         pending_ = nullptr;
         std::rethrow_exception(e);
     }
-    if (n < 0) throw BusError("LCM handle failed on '" + url_ + "'");
+    if (n < 0) {
+        if (errno == EINTR) return false;  // a signal (e.g. SIGTERM) woke select(): not a failure
+        throw BusError("LCM handle failed on '" + url_ + "': " + std::strerror(errno));
+    }
     return n > 0;
 }
 

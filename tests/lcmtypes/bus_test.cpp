@@ -1,0 +1,119 @@
+// The bus layer in one process over memq:// (LCM's in-process provider): typed delivery,
+// decode failures counted instead of lost on stderr, sequence gaps counted, and a handler's
+// exception surfaced from Handle() rather than thrown through LCM's C code.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "bus/seq_tracker.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+
+namespace gyrocal {
+namespace {
+
+using std::chrono::milliseconds;
+
+void Drain(Bus& bus) {
+    while (bus.Handle(milliseconds(20))) {
+    }
+}
+
+gyro_sample_t Sample(const std::string& id, int64_t seq) {
+    gyro_sample_t s;
+    s.utime = 1'000'000 + seq * 10'000;
+    s.sensor_id = id;
+    s.seq = seq;
+    s.gyro_v = 2.5;
+    return s;
+}
+
+TEST(Bus, DeliversTypedMessagesToRegexSubscribers) {
+    Bus bus(BusOptions{"memq://"});
+    std::vector<std::string> seen;
+    bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
+                                 [&](const gyro_sample_t& s, const std::string& ch) {
+                                     seen.push_back(ch + ":" + s.sensor_id);
+                                 });
+    bus.Publish(channels::Gyro("S01"), Sample("S01", 0));
+    bus.Publish(channels::Gyro("S02"), Sample("S02", 0));
+    bus.Publish(std::string(channels::kEncoder), encoder_sample_t{});
+    Drain(bus);
+    EXPECT_EQ(seen, (std::vector<std::string>{"GYRO_S01:S01", "GYRO_S02:S02"}));
+    EXPECT_EQ(bus.counters().received, 2);
+    EXPECT_EQ(bus.counters().decode_errors, 0);
+}
+
+TEST(Bus, WrongTypeOnChannelIsCountedNotDelivered) {
+    Bus bus(BusOptions{"memq://"});
+    int delivered = 0;
+    bus.Subscribe<gyro_sample_t>("GYRO_X", [&](const gyro_sample_t&, const std::string&) { ++delivered; });
+    encoder_sample_t wrong;
+    wrong.encoder_id = "TABLE";
+    bus.Publish("GYRO_X", wrong);
+    bus.Publish("GYRO_X", wrong);
+    bus.Publish("GYRO_X", Sample("X", 0));
+    Drain(bus);
+    EXPECT_EQ(delivered, 1);
+    EXPECT_EQ(bus.counters().decode_errors, 2);
+    EXPECT_NE(bus.counters().last_decode_error.find("GYRO_X"), std::string::npos);
+}
+
+TEST(Bus, SequenceGapsAreCountedPerChannel) {
+    Bus bus(BusOptions{"memq://"});
+    bus.Subscribe<gyro_sample_t>("GYRO_.*", [](const gyro_sample_t&, const std::string&) {});
+    for (int64_t seq : {0, 1, 2, 6, 7}) bus.Publish("GYRO_A", Sample("A", seq));  // 3..5 lost
+    for (int64_t seq : {10, 11, 13}) bus.Publish("GYRO_B", Sample("B", seq));     // 12 lost
+    Drain(bus);
+    EXPECT_EQ(bus.counters().seq_gaps, 4);
+    EXPECT_EQ(bus.seq().missing_of("GYRO_A"), 3);
+    EXPECT_EQ(bus.seq().missing_of("GYRO_B"), 1);
+}
+
+TEST(Bus, HandlerExceptionIsRethrownFromHandle) {
+    Bus bus(BusOptions{"memq://"});
+    bus.Subscribe<gyro_sample_t>("GYRO_A", [](const gyro_sample_t&, const std::string&) {
+        throw std::runtime_error("handler failed");
+    });
+    bus.Publish("GYRO_A", Sample("A", 0));
+    EXPECT_THROW(Drain(bus), std::runtime_error);
+}
+
+TEST(Bus, UnopenableUrlGivesAnActionableError) {
+    try {
+        Bus bus(BusOptions{"nosuchprovider://x"});
+        FAIL() << "expected BusError";
+    } catch (const BusError& e) {
+        EXPECT_NE(std::string(e.what()).find("nosuchprovider://x"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos);
+    }
+}
+
+TEST(SeqTracker, BackwardsStepIsCountedAndResynchronises) {
+    SeqTracker t;
+    t.Observe("A", 5);
+    t.Observe("A", 6);
+    SeqReport r = t.Observe("A", 0);  // producer restarted
+    EXPECT_TRUE(r.backwards);
+    EXPECT_EQ(t.Observe("A", 1).missing, 0);
+    EXPECT_EQ(t.Observe("A", 4).missing, 2);
+    EXPECT_EQ(t.total_backwards(), 1);
+    EXPECT_EQ(t.total_missing(), 2);
+}
+
+TEST(Channels, PerSensorNamesAndValidation) {
+    EXPECT_EQ(channels::Gyro("S01"), "GYRO_S01");
+    EXPECT_EQ(channels::Coeffs("a-b_c"), "COEFFS_a-b_c");
+    EXPECT_THROW(channels::Gyro(""), std::invalid_argument);
+    EXPECT_THROW(channels::Gyro("S 1"), std::invalid_argument);
+    EXPECT_THROW(channels::Gyro("S.*"), std::invalid_argument);
+    EXPECT_THROW(channels::Gyro(std::string(33, 'a')), std::invalid_argument);
+    EXPECT_EQ(channels::SensorOf(channels::kGyroPrefix, "GYRO_S09"), "S09");
+    EXPECT_EQ(channels::SensorOf(channels::kGyroPrefix, "RATE_S09"), std::nullopt);
+    EXPECT_EQ(channels::SensorOf(channels::kGyroPrefix, "GYRO_"), std::nullopt);
+}
+
+}  // namespace
+}  // namespace gyrocal
