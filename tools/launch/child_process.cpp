@@ -2,7 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,8 +10,6 @@
 #include <cstring>
 #include <stdexcept>
 #include <thread>
-
-extern char** environ;
 
 namespace gyrocal {
 
@@ -24,20 +22,46 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, const std::string& std
                            const std::string& stderr_path) {
     if (argv.empty()) throw std::invalid_argument("ChildProcess: empty argv");
     name_ = argv[0];
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    if (!stdout_path.empty())
-        posix_spawn_file_actions_addopen(&fa, 1, stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (!stderr_path.empty())
-        posix_spawn_file_actions_addopen(&fa, 2, stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     std::vector<char*> cargv;
     for (auto& a : argv) cargv.push_back(a.data());
     cargv.push_back(nullptr);
-    const int rc = posix_spawnp(&pid_, cargv[0], &fa, nullptr, cargv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0) {
+    // A close-on-exec pipe tells the parent whether exec succeeded (it closes empty) or not
+    // (the child writes its errno).
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot start '" + name_ + "': pipe failed");
+    const pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        throw std::runtime_error("cannot start '" + name_ + "': fork failed: " + std::strerror(errno));
+    }
+    if (pid == 0) {
+        // Own process group: a terminal's Ctrl-C reaches only the launcher, which stops the
+        // children in order. PDEATHSIG: children never outlive a launcher that was killed.
+        setpgid(0, 0);
+        prctl(PR_SET_PDEATHSIG, SIGTERM);
+        if (!stdout_path.empty()) {
+            int fd = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            if (fd >= 0) dup2(fd, 1);
+        }
+        if (!stderr_path.empty()) {
+            int fd = stderr_path == stdout_path ? 1 : open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            if (fd >= 0) dup2(fd, 2);
+        }
+        execvp(cargv[0], cargv.data());
+        const int err = errno;
+        (void)!write(fds[1], &err, sizeof err);
+        _exit(127);
+    }
+    close(fds[1]);
+    int child_errno = 0;
+    const ssize_t n = read(fds[0], &child_errno, sizeof child_errno);
+    close(fds[0]);
+    pid_ = pid;
+    if (n == static_cast<ssize_t>(sizeof child_errno)) {
+        Wait(std::chrono::milliseconds(1000));
         pid_ = -1;
-        throw std::runtime_error("cannot start '" + name_ + "': " + std::strerror(rc));
+        throw std::runtime_error("cannot start '" + name_ + "': " + std::strerror(child_errno));
     }
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // A child OS process started by argv (no shell), for the calibrate launcher and for tests that
-// run the real processes. The destructor stops a still-running child: SIGTERM, then SIGKILL
-// after a grace period, so a failing test never leaves processes behind.
+// run the real processes. The child gets its own process group (so a terminal's Ctrl-C reaches
+// only the parent, which stops children in order) and dies with its parent (PR_SET_PDEATHSIG).
+// The destructor stops a still-running child: SIGTERM, then SIGKILL after a grace period, so a
+// failing test never leaves processes behind.
 #include <sys/types.h>
 
 #include <chrono>
@@ -21,7 +23,8 @@ struct ExitStatus {
 class ChildProcess {
 public:
     // Starts argv[0] (searched in PATH when it has no '/'). stdout/stderr go to the given
-    // files when not empty ("" = inherit). Throws std::runtime_error when it cannot start.
+    // files when not empty ("" = inherit; the same path for both = one combined log).
+    // Throws std::runtime_error, with the reason, when it cannot start.
     explicit ChildProcess(std::vector<std::string> argv, const std::string& stdout_path = "",
                           const std::string& stderr_path = "");
     ChildProcess(const ChildProcess&) = delete;

@@ -1,0 +1,80 @@
+// gyrocal-sequencer: runs the calibration procedure (METHOD.md) over LCM: orders the chamber
+// through a temperature profile, waits for every sensor's plateau, orders +90/-90 deg turntable
+// moves and waits for the sensitivity points, and publishes the run's start/progress/stop.
+// One thread: RunLoop dispatches messages; all decisions are in Procedure (procedure.hpp).
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <sstream>
+
+#include "bus/shutdown.hpp"
+#include "sequencer_node.hpp"
+#include <nlohmann/json.hpp>
+
+using namespace gyrocal::sequencer;
+
+int main(int argc, char** argv) {
+    SequencerOptions o = SequencerOptions::Defaults();
+    std::string profile_name = "five";
+    std::vector<double> setpoints_c;
+    CLI::App app{"gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, rotations)"};
+    app.add_option("--lcm-url", o.lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
+    app.add_option("--profile", profile_name, "named profile: five (-40,-10,25,55,85 C) or seed3 (-10,30,60 C)")
+        ->capture_default_str();
+    app.add_option("--setpoints-c", setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
+    app.add_option("--sensors", o.procedure.sensor_ids, "sensor ids to wait for (default: discover from GYRO_*)")
+        ->delimiter(',');
+    app.add_option("--discover-s", o.discover_s, "[s] data time to discover sensors")->capture_default_str();
+    app.add_option("--ramp-rate-c-per-min", o.procedure.ramp_rate_c_per_min, "[degC/min] chamber ramp, (0,30]")
+        ->capture_default_str();
+    app.add_option("--plateau-timeout-s", o.procedure.plateau_timeout_s,
+                   "[s] data time per setpoint before the run aborts as a chamber fault")->capture_default_str();
+    app.add_option("--moves-deg", o.procedure.moves_deg, "[deg] turntable moves at each setpoint")
+        ->delimiter(',')->capture_default_str();
+    app.add_option("--rotation-rate-dps", o.procedure.rotation_rate_dps, "[deg/s] cruise rate")->capture_default_str();
+    app.add_option("--rotation-accel-dps2", o.procedure.rotation_accel_dps2, "[deg/s^2]")->capture_default_str();
+    app.add_option("--rotation-timeout-s", o.procedure.rotation_timeout_s, "[s] data time per move")
+        ->capture_default_str();
+    app.add_option("--run-id", o.run_id, "run id (default: UTC time-host-pid)");
+    app.add_option("--run-config-json", o.run_config_json, "configuration of the whole process graph, recorded");
+    app.add_option("--command-line", o.command_line, "command line to record (default: this one)");
+    app.footer("Exit codes: 0 run completed, 1 runtime failure, 2 bad options, 3 run aborted "
+               "(chamber fault, operator stop).");
+    try {
+        app.parse(argc, argv);
+        if (!setpoints_c.empty()) {
+            o.procedure.profile = Profile{"custom", setpoints_c};
+        } else if (auto p = NamedProfile(profile_name)) {
+            o.procedure.profile = *p;
+        } else {
+            throw CLI::ValidationError("--profile", "unknown profile '" + profile_name + "': valid are five, seed3");
+        }
+        if (o.procedure.sensor_ids.empty()) {
+            ProcedureOptions probe = o.procedure;
+            probe.sensor_ids = {"probe"};
+            probe.Validate();
+        } else {
+            o.procedure.Validate();
+        }
+        if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))
+            throw CLI::ValidationError("--run-config-json", "is not valid JSON");
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    } catch (const std::invalid_argument& e) {
+        std::cerr << "gyrocal-sequencer: " << e.what() << "\n";
+        return 2;
+    }
+    if (o.command_line.empty()) {
+        std::ostringstream cl;
+        for (int i = 0; i < argc; ++i) cl << (i ? " " : "") << argv[i];
+        o.command_line = cl.str();
+    }
+    try {
+        gyrocal::InstallStopHandlers();
+        SequencerNode node(o);
+        return node.Run();
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal-sequencer: " << e.what() << "\n";
+        return 1;
+    }
+}

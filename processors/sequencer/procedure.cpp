@@ -1,0 +1,159 @@
+#include "procedure.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace gyrocal::sequencer {
+namespace {
+
+std::string Join(const std::set<std::string>& s) {
+    std::string out;
+    for (const auto& x : s) out += (out.empty() ? "" : ",") + x;
+    return out;
+}
+
+std::string Num(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+
+}  // namespace
+
+std::optional<Profile> NamedProfile(const std::string& name) {
+    // ADXRS610/613 are specified over -40..+105 °C; the chamber range here is -40..85.
+    if (name == "five") return Profile{"five", {-40.0, -10.0, 25.0, 55.0, 85.0}};
+    if (name == "seed3") return Profile{"seed3", {-10.0, 30.0, 60.0}};
+    return std::nullopt;
+}
+
+std::vector<std::string> ProfileNames() { return {"five", "seed3"}; }
+
+void ProcedureOptions::Validate() const {
+    if (profile.setpoints_c.empty()) throw std::invalid_argument("profile: at least one setpoint is needed");
+    for (double t : profile.setpoints_c) {
+        if (!std::isfinite(t) || t < -60.0 || t > 150.0)
+            throw std::invalid_argument("setpoint " + Num(t) + " degC: valid is -60..150 degC");
+    }
+    if (sensor_ids.empty()) throw std::invalid_argument("sensors: at least one sensor id is needed");
+    if (!(ramp_rate_c_per_min > 0.0 && ramp_rate_c_per_min <= 30.0))
+        throw std::invalid_argument("ramp rate " + Num(ramp_rate_c_per_min) + " degC/min: valid is (0, 30]");
+    if (!(plateau_timeout_s > 0.0))
+        throw std::invalid_argument("plateau timeout " + Num(plateau_timeout_s) + " s: must be > 0");
+    if (!(rotation_timeout_s > 0.0))
+        throw std::invalid_argument("rotation timeout " + Num(rotation_timeout_s) + " s: must be > 0");
+    for (double m : moves_deg) {
+        if (!std::isfinite(m) || m == 0.0 || std::abs(m) > 360.0)
+            throw std::invalid_argument("move " + Num(m) + " deg: valid is [-360, 360] without 0");
+    }
+    if (!(rotation_rate_dps > 0.0 && rotation_rate_dps <= 300.0))
+        throw std::invalid_argument("rotation rate " + Num(rotation_rate_dps) + " deg/s: valid is (0, 300]");
+    if (!(rotation_accel_dps2 > 0.0))
+        throw std::invalid_argument("rotation acceleration " + Num(rotation_accel_dps2) + " deg/s^2: must be > 0");
+}
+
+const char* PhaseName(Phase p) {
+    switch (p) {
+        case Phase::kIdle: return "idle";
+        case Phase::kWaitPlateau: return "waiting for plateaus";
+        case Phase::kWaitRotation: return "rotating";
+        case Phase::kDone: return "done";
+    }
+    return "?";
+}
+
+Procedure::Procedure(ProcedureOptions options) : options_(std::move(options)) { options_.Validate(); }
+
+std::vector<Order> Procedure::OnTime(int64_t utime) {
+    if (phase_ == Phase::kDone) return {};
+    now_utime_ = std::max(now_utime_, utime);
+    if (phase_ == Phase::kIdle) {
+        std::vector<Order> out{RunEventOrder{"start", "profile " + options_.profile.name, -1, NAN}};
+        auto more = EnterSetpoint(0, utime);
+        out.insert(out.end(), more.begin(), more.end());
+        return out;
+    }
+    const double waited_s = static_cast<double>(now_utime_ - phase_start_utime_) * 1e-6;
+    if (phase_ == Phase::kWaitPlateau && waited_s > options_.plateau_timeout_s) {
+        return Finish("abort", "chamber fault: no plateau within " + Num(options_.plateau_timeout_s) +
+                                   " s at setpoint " + Num(options_.profile.setpoints_c[setpoint_index_]) +
+                                   " degC for sensors " + Join(pending_));
+    }
+    if (phase_ == Phase::kWaitRotation && waited_s > options_.rotation_timeout_s) {
+        notes_.push_back("move " + Num(options_.moves_deg[move_index_]) + " deg at setpoint " +
+                         Num(options_.profile.setpoints_c[setpoint_index_]) +
+                         " degC: no sensitivity point within " + Num(options_.rotation_timeout_s) +
+                         " s from " + Join(pending_));
+        return Advance(now_utime_);
+    }
+    return {};
+}
+
+std::vector<Order> Procedure::OnPlateau(const std::string& sensor_id, int64_t utime,
+                                        double setpoint_c) {
+    // Guard: only plateaus that end after the current setpoint was ordered, at that setpoint.
+    if (phase_ != Phase::kWaitPlateau || utime < phase_start_utime_) return {};
+    const double current_c = options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)];
+    if (std::isfinite(setpoint_c) && std::abs(setpoint_c - current_c) > 0.01) return {};
+    pending_.erase(sensor_id);
+    if (!pending_.empty()) return {};
+    move_index_ = -1;
+    return Advance(utime);
+}
+
+std::vector<Order> Procedure::OnSensitivity(const std::string& sensor_id, int64_t utime) {
+    if (phase_ != Phase::kWaitRotation || utime < phase_start_utime_) return {};
+    pending_.erase(sensor_id);
+    if (!pending_.empty()) return {};
+    return Advance(utime);
+}
+
+std::vector<Order> Procedure::Abort(const std::string& reason) {
+    if (phase_ == Phase::kDone) return {};
+    return Finish("abort", reason);
+}
+
+std::vector<Order> Procedure::EnterSetpoint(int index, int64_t utime) {
+    setpoint_index_ = index;
+    move_index_ = -1;
+    phase_ = Phase::kWaitPlateau;
+    phase_start_utime_ = utime;
+    pending_ = std::set<std::string>(options_.sensor_ids.begin(), options_.sensor_ids.end());
+    const double sp = options_.profile.setpoints_c[static_cast<size_t>(index)];
+    return {RunEventOrder{"setpoint", "setpoint " + std::to_string(index + 1) + " of " +
+                                          std::to_string(options_.profile.setpoints_c.size()),
+                          index, sp},
+            ChamberOrder{sp, options_.ramp_rate_c_per_min}};
+}
+
+std::vector<Order> Procedure::EnterMove(int index, int64_t utime) {
+    move_index_ = index;
+    phase_ = Phase::kWaitRotation;
+    phase_start_utime_ = utime;
+    pending_ = std::set<std::string>(options_.sensor_ids.begin(), options_.sensor_ids.end());
+    const double move = options_.moves_deg[static_cast<size_t>(index)];
+    return {RunEventOrder{"rotation", "move " + Num(move) + " deg", setpoint_index_,
+                          options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]},
+            TurntableOrder{move, options_.rotation_rate_dps, options_.rotation_accel_dps2}};
+}
+
+std::vector<Order> Procedure::Advance(int64_t utime) {
+    const int next_move = move_index_ + 1;
+    if (next_move < static_cast<int>(options_.moves_deg.size())) return EnterMove(next_move, utime);
+    const int next_sp = setpoint_index_ + 1;
+    if (next_sp < static_cast<int>(options_.profile.setpoints_c.size())) return EnterSetpoint(next_sp, utime);
+    return Finish("stop", "completed");
+}
+
+std::vector<Order> Procedure::Finish(const std::string& event, const std::string& reason) {
+    phase_ = Phase::kDone;
+    outcome_ = event == "stop" ? "completed" : "abort";
+    outcome_reason_ = reason;
+    pending_.clear();
+    return {RunEventOrder{event, reason, setpoint_index_,
+                          setpoint_index_ >= 0 ? options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]
+                                               : NAN}};
+}
+
+}  // namespace gyrocal::sequencer

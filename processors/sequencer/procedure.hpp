@@ -1,0 +1,111 @@
+#pragma once
+// The calibration procedure of the seed (METHOD.md) as a state machine with no I/O:
+//
+//   start -> for each setpoint i:
+//              command chamber to setpoint i            (RUN_EVENT setpoint, CHAMBER_CMD)
+//              wait for a plateau from every sensor     (PLATEAU_<id> newer than the command)
+//              for each move in moves_deg (+90, -90):
+//                  command the turntable               (RUN_EVENT rotation, TURNTABLE_CMD)
+//                  wait for a sensitivity point from every sensor (SENSITIVITY_<id>)
+//         -> stop ("completed")
+//
+// Time is data time only (utime of the messages fed in), so the procedure runs as fast as the
+// simulated rig or a replayed log, and a missing plateau is decided on data time: a setpoint
+// whose plateaus do not all arrive within plateau_timeout_s ends the run with outcome "abort"
+// and a reason naming the sensors that never settled (a chamber fault), never a hang. A move
+// whose sensitivity points do not all arrive within rotation_timeout_s is noted and skipped:
+// the offset calibration of that setpoint stays valid without it.
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace gyrocal::sequencer {
+
+struct Profile {
+    std::string name;
+    std::vector<double> setpoints_c;
+};
+
+// Named profiles. "five" (default) spans the ADXRS61x operating range with margin to the chamber
+// limits; "seed3" is the seed note's -10/30/60 °C.
+std::optional<Profile> NamedProfile(const std::string& name);
+std::vector<std::string> ProfileNames();
+
+struct ProcedureOptions {
+    Profile profile;
+    std::vector<std::string> sensor_ids;  // units whose plateaus/rotations are awaited
+    double ramp_rate_c_per_min = 3.0;     // [degC/min] ordered chamber ramp rate
+    double plateau_timeout_s = 3.0 * 3600;// [s] data time per setpoint before "chamber fault"
+    std::vector<double> moves_deg = {90.0, -90.0};  // [deg] turntable moves at each setpoint
+    double rotation_rate_dps = 30.0;      // [deg/s] cruise rate of each move
+    double rotation_accel_dps2 = 60.0;    // [deg/s^2]
+    double rotation_timeout_s = 120.0;    // [s] data time per move
+    // Throws std::invalid_argument naming the field and its valid range.
+    void Validate() const;
+};
+
+// What the procedure wants published. The shell turns these into LCM messages.
+struct ChamberOrder {
+    double setpoint_c;
+    double ramp_rate_c_per_min;
+};
+struct TurntableOrder {
+    double move_deg;
+    double rate_dps;
+    double accel_dps2;
+};
+struct RunEventOrder {
+    std::string event;   // start, setpoint, rotation, stop, abort
+    std::string reason;
+    int setpoint_index;  // -1 when not applicable
+    double setpoint_c;   // NaN when not applicable
+};
+using Order = std::variant<ChamberOrder, TurntableOrder, RunEventOrder>;
+
+enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kDone };
+const char* PhaseName(Phase p);
+
+class Procedure {
+public:
+    explicit Procedure(ProcedureOptions options);  // validates; throws std::invalid_argument
+
+    // Data time advanced (any message). Starts the run on the first call; checks timeouts.
+    std::vector<Order> OnTime(int64_t utime);
+    // setpoint_c: the plateau's own setpoint (NaN when unknown); a plateau of another setpoint
+    // (one that finished averaging just after the chamber was reordered) does not count.
+    std::vector<Order> OnPlateau(const std::string& sensor_id, int64_t utime, double setpoint_c);
+    std::vector<Order> OnSensitivity(const std::string& sensor_id, int64_t utime);
+    // Operator stop (Ctrl-C): ends the run as "abort" with the reason given.
+    std::vector<Order> Abort(const std::string& reason);
+
+    Phase phase() const { return phase_; }
+    bool done() const { return phase_ == Phase::kDone; }
+    int setpoint_index() const { return setpoint_index_; }
+    int move_index() const { return move_index_; }
+    const std::string& outcome() const { return outcome_; }  // "completed" or "abort"
+    const std::string& outcome_reason() const { return outcome_reason_; }
+    const std::vector<std::string>& notes() const { return notes_; }  // skipped moves etc.
+    std::set<std::string> pending_sensors() const { return pending_; }
+
+private:
+    std::vector<Order> EnterSetpoint(int index, int64_t utime);
+    std::vector<Order> EnterMove(int index, int64_t utime);
+    std::vector<Order> Advance(int64_t utime);  // after a setpoint's plateaus or a move completes
+    std::vector<Order> Finish(const std::string& event, const std::string& reason);
+
+    ProcedureOptions options_;
+    Phase phase_ = Phase::kIdle;
+    int setpoint_index_ = -1;
+    int move_index_ = -1;
+    int64_t phase_start_utime_ = 0;
+    int64_t now_utime_ = 0;
+    std::set<std::string> pending_;
+    std::string outcome_;
+    std::string outcome_reason_;
+    std::vector<std::string> notes_;
+};
+
+}  // namespace gyrocal::sequencer

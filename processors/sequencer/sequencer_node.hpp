@@ -1,0 +1,49 @@
+#pragma once
+// The LCM shell around Procedure: feeds it data time, plateaus and sensitivity points, and
+// publishes what it orders (RUN_EVENT, CHAMBER_CMD, TURNTABLE_CMD).
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/status.hpp"
+#include "procedure.hpp"
+
+namespace gyrocal::sequencer {
+
+struct SequencerOptions {
+    std::string lcm_url;
+    ProcedureOptions procedure;       // sensor_ids empty = discover from GYRO_* channels
+    double discover_s = 2.0;          // [s] data time to listen for sensors before starting
+    std::string run_id;               // "" = generated from wall time, host and pid
+    std::string run_config_json;      // configuration of the whole graph (from the launcher)
+    std::string command_line;         // recorded with the run
+    static SequencerOptions Defaults();
+};
+
+class SequencerNode {
+public:
+    explicit SequencerNode(SequencerOptions options);
+    // Runs until the procedure is done or SIGINT/SIGTERM (which aborts the run, recorded).
+    // Returns the exit code: 0 completed, 3 run aborted.
+    int Run();
+
+private:
+    void OnAnyTime(int64_t utime);
+    void Publish(const std::vector<Order>& orders);
+    void MaybeStart(int64_t utime);
+
+    SequencerOptions options_;
+    Bus bus_;
+    StatusReporter status_;
+    std::unique_ptr<Procedure> procedure_;
+    std::set<std::string> discovered_;
+    int64_t first_utime_ = -1;
+    int64_t now_utime_ = 0;
+    int64_t chamber_cmd_id_ = 0;
+    int64_t turntable_cmd_id_ = 0;
+    std::string config_json_;
+};
+
+}  // namespace gyrocal::sequencer

@@ -1,0 +1,45 @@
+#pragma once
+// The process graph of one calibration run, started as child processes:
+//
+//   recorder, plateau detector, rotation estimator, fitter, compensator   (started first; each
+//        must send a STATUS heartbeat before anything is published, so no sample is missed)
+//   source: the simulated rig (commanded by the sequencer) or measured data (CSV file, line
+//        stream on stdin, LCM log), for which this launcher itself announces the run
+//   sequencer (simulated rig only): drives the procedure and ends the run
+//
+// The launcher's own thread watches the bus (progress, coefficient sets) and the children (a
+// child that dies early fails the run with its log named). On completion or Ctrl-C it stops the
+// source first, lets the processors finish, and stops the recorder last so it can flush.
+#include <string>
+#include <vector>
+
+namespace gyrocal::cli {
+
+struct CalibrateOptions {
+    std::string source = "sim";   // sim | csv | lines | log
+    std::string input;            // file for csv and log sources
+    std::string db = "gyrocal.db";
+    std::string lcm_url;          // "" = $GYROCAL_LCM_URL or the udpm TTL 0 default
+    int sensors = 4;              // simulated units
+    std::string preset = "610";   // module preset of the simulated units
+    uint64_t seed = 1;
+    double speed = 100.0;         // simulated seconds per wall second
+    std::string profile = "five";
+    std::vector<double> setpoints_c;
+    std::vector<std::string> effects;  // undeclared effects switched on in the rig (NAME=VALUE)
+    std::string log_dir;          // child logs; "" = a fresh folder under $TMPDIR
+    double wall_timeout_s = 0;    // 0 = none
+    double final_coeffs_wait_s = 30;  // wall seconds to wait for the final coefficient sets
+    std::string truth_out;        // rig truth sidecar; "" = <log_dir>/truth.json
+    std::vector<std::string> rig_args, plateau_args, rotation_args, fitter_args, compensator_args,
+        sequencer_args, recorder_args, source_args;  // passed through verbatim
+    bool quiet = false;
+    std::string command_line;
+    static CalibrateOptions Defaults() { return {}; }
+};
+
+// Runs the calibration; returns the exit code (0 completed with coefficients for every sensor,
+// 1 failure, 3 run aborted or incomplete).
+int RunCalibration(const CalibrateOptions& options);
+
+}  // namespace gyrocal::cli

@@ -1,0 +1,61 @@
+#include "cmd_calibrate.hpp"
+
+#include <memory>
+#include <sstream>
+
+#include "calibrate.hpp"
+
+namespace gyrocal::cli {
+
+void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
+    auto o = std::make_shared<CalibrateOptions>(CalibrateOptions::Defaults());
+    CLI::App* cmd = app.add_subcommand(
+        "calibrate", "run a whole calibration: rig or measured data, detectors, fitter, compensator, recorder");
+    cmd->add_option("--source", o->source, "sim (simulated rig), csv FILE, lines (stdin), log FILE (lcm-logger file)")
+        ->check(CLI::IsMember({"sim", "csv", "lines", "log"}))
+        ->capture_default_str();
+    cmd->add_option("--input", o->input, "input file for --source csv|log")->check(CLI::ExistingFile);
+    cmd->add_option("--db", o->db, "SQLite database that records the run")->capture_default_str();
+    cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
+    cmd->add_option("--sensors", o->sensors, "simulated units in the chamber")
+        ->check(CLI::Range(1, 64))->capture_default_str();
+    cmd->add_option("--preset", o->preset, "module preset of the simulated units: 610 or 613")
+        ->check(CLI::IsMember({"610", "613"}))->capture_default_str();
+    cmd->add_option("--seed", o->seed, "seed of the simulated units and noise")->capture_default_str();
+    cmd->add_option("--speed", o->speed, "simulated seconds per wall second")
+        ->check(CLI::Range(0.1, 2000.0))->capture_default_str();
+    cmd->add_option("--profile", o->profile, "five (-40,-10,25,55,85 C) or seed3 (-10,30,60 C)")
+        ->check(CLI::IsMember({"five", "seed3"}))->capture_default_str();
+    cmd->add_option("--setpoints-c", o->setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
+    cmd->add_option("--effect", o->effects, "switch on an undeclared effect in the rig, NAME=VALUE (repeatable)");
+    cmd->add_option("--log-dir", o->log_dir, "folder for the child processes' logs (default: a new one in $TMPDIR)");
+    cmd->add_option("--wall-timeout-s", o->wall_timeout_s, "abort after this many wall seconds (0 = none)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--final-coeffs-wait-s", o->final_coeffs_wait_s, "wall seconds to wait for final coefficients")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd->add_option("--truth-out", o->truth_out, "where the rig writes its truth sidecar (default: in --log-dir)");
+    cmd->add_option("--rig-arg", o->rig_args, "extra argument for gyrocal-sim-rig (repeatable)")->allow_extra_args(false);
+    cmd->add_option("--plateau-arg", o->plateau_args, "extra argument for gyrocal-plateau")->allow_extra_args(false);
+    cmd->add_option("--rotation-arg", o->rotation_args, "extra argument for gyrocal-rotation")->allow_extra_args(false);
+    cmd->add_option("--fitter-arg", o->fitter_args, "extra argument for gyrocal-fitter")->allow_extra_args(false);
+    cmd->add_option("--compensator-arg", o->compensator_args, "extra argument for gyrocal-compensator")
+        ->allow_extra_args(false);
+    cmd->add_option("--sequencer-arg", o->sequencer_args, "extra argument for gyrocal-sequencer")->allow_extra_args(false);
+    cmd->add_option("--recorder-arg", o->recorder_args, "extra argument for gyrocal-recorder")->allow_extra_args(false);
+    cmd->add_option("--source-arg", o->source_args, "extra argument for the measured-data source")->allow_extra_args(false);
+    cmd->add_flag("--quiet", o->quiet, "no progress line");
+    cmd->footer(
+        "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
+        "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
+        "start or died; its log is named), 2 bad options, 3 run aborted or incomplete (chamber fault,\n"
+        "Ctrl-C, wall-clock limit, missing coefficients).");
+    cmd->callback([o, cmd, &action] {
+        if ((o->source == "csv" || o->source == "log") && o->input.empty())
+            throw CLI::ValidationError("--input", "is required with --source " + o->source);
+        if (o->source == "sim" && !o->input.empty())
+            throw CLI::ValidationError("--input", "is only for --source csv|log");
+        action = [o] { return RunCalibration(*o); };
+    });
+}
+
+}  // namespace gyrocal::cli

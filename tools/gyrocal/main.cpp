@@ -1,0 +1,40 @@
+// gyrocal: the command line of the project. Each subcommand lives in its own cmd_*.cpp and sets
+// `action` when chosen; main parses, then runs it.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <iostream>
+#include <sstream>
+
+#include "cmd_calibrate.hpp"
+#include "cmd_spy.hpp"
+#include "gyrocal/version.hpp"
+#ifdef GYROCAL_HAVE_STORE_CLI
+#include "cmd_store.hpp"
+#endif
+#ifdef GYROCAL_HAVE_ANALYZE_CLI
+#include "cmd_analyze.hpp"
+#endif
+
+int main(int argc, char** argv) {
+    CLI::App app{"gyrocal: temperature calibration of analog MEMS gyros over LCM"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string(gyrocal::kSoftwareVersion));
+    app.footer("Exit codes: 0 success, 1 failure, 2 bad options; see each command's --help.");
+    std::function<int()> action;
+    gyrocal::cli::AddCalibrateCommand(app, action);
+    gyrocal::cli::AddSpyCommand(app, action);
+#ifdef GYROCAL_HAVE_STORE_CLI
+    AddStoreCommands(app, action);
+#endif
+#ifdef GYROCAL_HAVE_ANALYZE_CLI
+    gyrocal::cli::AddAnalyzeCommand(app, action);
+#endif
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int rc = app.exit(e);
+        return rc == 0 ? 0 : 2;
+    }
+    return action ? action() : 2;
+}

@@ -1,0 +1,103 @@
+#include "progress.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace gyrocal::cli {
+
+void Progress::OnRunEvent(const run_event_t& e) {
+    run_id_ = e.run_id;
+    last_event_ = e.event;
+    if (e.event == "setpoint") {
+        setpoint_index_ = e.setpoint_index;
+        setpoint_c_ = e.setpoint_c;
+        moves_done_at_setpoint_ = 0;
+    } else if (e.event == "rotation") {
+        // The event announces a move: the previous ones at this setpoint are done.
+        ++moves_done_at_setpoint_;
+    }
+}
+
+void Progress::OnChamber(const chamber_state_t& s) {
+    have_chamber_ = true;
+    air_c_ = s.air_c;
+    if (first_utime_ < 0) first_utime_ = s.utime;
+    last_utime_ = std::max(last_utime_, s.utime);
+}
+
+void Progress::OnStability(const plateau_state_t& s) { stability_[s.sensor_id] = s; }
+
+void Progress::OnSensitivity(const sensitivity_point_t& s) {
+    (s.accepted ? rotations_accepted_ : rotations_rejected_) += 1;
+}
+
+void Progress::OnStatus(const status_t& s) {
+    losses_by_process_[s.process + "@" + s.host + ":" + std::to_string(s.pid)] =
+        s.seq_gaps + s.decode_errors + s.queue_drops;
+}
+
+void Progress::OnCoeffs(const coeff_set_t& c) { ++coeffs_by_sensor_[c.sensor_id]; }
+
+int64_t Progress::drops() const {
+    int64_t n = 0;
+    for (const auto& [k, v] : losses_by_process_) n += v;
+    return n;
+}
+
+double Progress::FractionDone() const {
+    if (setpoints_total_ <= 0 || setpoint_index_ < 0) return 0.0;
+    if (last_event_ == "stop") return 1.0;
+    // Within a setpoint: waiting for the plateau is most of the time; count it as 3/4.
+    double within = 0.0;
+    if (moves_per_setpoint_ > 0 && moves_done_at_setpoint_ > 0)
+        within = 0.75 + 0.25 * std::min(1.0, (moves_done_at_setpoint_ - 1.0) / moves_per_setpoint_);
+    return std::clamp((setpoint_index_ + within) / setpoints_total_, 0.0, 1.0);
+}
+
+double Progress::EtaS(double wall_elapsed_s) const {
+    const double f = FractionDone();
+    if (f < 0.02) return -1.0;
+    return wall_elapsed_s * (1.0 - f) / f;
+}
+
+std::string Progress::Line(double wall_elapsed_s) const {
+    char buf[160];
+    std::string line;
+    if (setpoint_index_ >= 0) {
+        std::snprintf(buf, sizeof buf, "setpoint %d/%d (%.1f C)", setpoint_index_ + 1, setpoints_total_, setpoint_c_);
+        line += buf;
+    } else {
+        line += "starting";
+    }
+    if (have_chamber_) {
+        std::snprintf(buf, sizeof buf, " | air %.1f C", air_c_);
+        line += buf;
+    }
+    for (const auto& [id, s] : stability_) {
+        if (s.state == "averaging")
+            std::snprintf(buf, sizeof buf, " | %s %.1f C averaging %.0f%%", id.c_str(), s.temp_c,
+                          100.0 * s.averaging_progress);
+        else
+            std::snprintf(buf, sizeof buf, " | %s %.1f C %s %+.2f C/min", id.c_str(), s.temp_c, s.state.c_str(),
+                          s.temp_slope_c_per_min);
+        line += buf;
+    }
+    std::snprintf(buf, sizeof buf, " | rotations %d ok %d rejected | losses %lld", rotations_accepted_,
+                  rotations_rejected_, static_cast<long long>(drops()));
+    line += buf;
+    if (first_utime_ >= 0) {
+        const double sim_s = static_cast<double>(last_utime_ - first_utime_) * 1e-6;
+        std::snprintf(buf, sizeof buf, " | data %02d:%02d:%02d", static_cast<int>(sim_s) / 3600,
+                      static_cast<int>(sim_s) / 60 % 60, static_cast<int>(sim_s) % 60);
+        line += buf;
+    }
+    const double eta = EtaS(wall_elapsed_s);
+    if (eta >= 0) {
+        std::snprintf(buf, sizeof buf, " | ~%.0f s left", eta);
+        line += buf;
+    }
+    return line;
+}
+
+}  // namespace gyrocal::cli
