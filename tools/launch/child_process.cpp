@@ -53,6 +53,7 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, const std::string& std
         (void)!write(fds[1], &err, sizeof err);
         _exit(127);
     }
+    setpgid(pid, pid);  // also here: no race with a signal sent right after the start
     close(fds[1]);
     int child_errno = 0;
     const ssize_t n = read(fds[0], &child_errno, sizeof child_errno);
@@ -75,7 +76,8 @@ ChildProcess::~ChildProcess() {
 }
 
 void ChildProcess::Signal(int sig) {
-    if (pid_ > 0 && !status_) ::kill(pid_, sig);
+    // The whole process group: a child's own children (e.g. xvfb-run's Xvfb and java) go too.
+    if (pid_ > 0 && !status_ && ::kill(-pid_, sig) != 0) ::kill(pid_, sig);
 }
 
 std::optional<ExitStatus> ChildProcess::Poll() {

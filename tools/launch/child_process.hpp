@@ -34,7 +34,7 @@ public:
 
     pid_t pid() const { return pid_; }
     const std::string& name() const { return name_; }
-    void Signal(int sig);
+    void Signal(int sig);  // to the child's process group (it leads one)
     // Non-blocking check; returns the status once the child has ended.
     std::optional<ExitStatus> Poll();
     // Waits up to `timeout`; nullopt when still running.

@@ -1,0 +1,60 @@
+// lcm-spy smoke test: under a virtual X display, `gyrocal spy` starts lcm.spy.Spy (which Debian's
+// launcher cannot, because of -Xincgc on Java 17) and it finds every gyrocal type in the jar.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "launch/child_process.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string ReadFile(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+int CountLcmFiles() {
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(GYROCAL_LCMTYPES_DIR))
+        n += e.path().extension() == ".lcm" ? 1 : 0;
+    return n;
+}
+
+TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
+    if (!std::filesystem::exists("/usr/bin/xvfb-run"))
+        GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb xauth); no display to start lcm-spy on";
+    const std::string log = ::testing::TempDir() + "spy.log";
+    ChildProcess spy({"xvfb-run", "-a", GYROCAL_CLI, "spy", "--lcm-url", "udpm://239.255.76.67:7706?ttl=0"}, log, log);
+    const std::string expected = "Found " + std::to_string(CountLcmFiles()) + " LCM types";
+    std::string out;
+    for (int i = 0; i < 300 && out.find(expected) == std::string::npos; ++i) {
+        ASSERT_FALSE(spy.Poll().has_value()) << "lcm-spy ended early:\n" << ReadFile(log);
+        std::this_thread::sleep_for(100ms);
+        out = ReadFile(log);
+    }
+    EXPECT_NE(out.find(expected), std::string::npos) << out;
+    // Still running a moment later: the window is up, not an exception at start.
+    std::this_thread::sleep_for(1s);
+    EXPECT_FALSE(spy.Poll().has_value()) << ReadFile(log);
+    EXPECT_EQ(ReadFile(log).find("Exception"), std::string::npos) << ReadFile(log);
+}
+
+TEST(Spy, MissingTypesJarIsAClearError) {
+    const std::string log = ::testing::TempDir() + "spy_nojar.log";
+    ChildProcess spy({"env", "GYROCAL_TYPES_JAR=/nonexistent/types.jar", GYROCAL_CLI, "spy"}, log, log);
+    auto s = spy.Wait(10s);
+    ASSERT_TRUE(s.has_value());
+    EXPECT_EQ(s->code, 1);
+    EXPECT_NE(ReadFile(log).find("/nonexistent/types.jar"), std::string::npos) << ReadFile(log);
+}
+
+}  // namespace
+}  // namespace gyrocal

@@ -1,0 +1,59 @@
+// Child processes as the launcher and the end-to-end tests use them.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "launch/child_process.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(ChildProcess, ReportsExitCodeAndOutput) {
+    const std::string out = ::testing::TempDir() + "child_out.txt";
+    ChildProcess c({"sh", "-c", "echo hello; exit 7"}, out, out);
+    auto s = c.Wait(10s);
+    ASSERT_TRUE(s.has_value());
+    EXPECT_TRUE(s->exited);
+    EXPECT_EQ(s->code, 7);
+    std::ifstream f(out);
+    std::string line;
+    std::getline(f, line);
+    EXPECT_EQ(line, "hello");
+}
+
+TEST(ChildProcess, MissingProgramIsAnErrorWithTheReason) {
+    try {
+        ChildProcess c({"/nonexistent/gyrocal-nothing"});
+        FAIL() << "expected an exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("gyrocal-nothing"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("No such file"), std::string::npos) << e.what();
+    }
+}
+
+TEST(ChildProcess, StopEscalatesToSigkillAndReachesGrandchildren) {
+    // The shell ignores SIGTERM and runs a grandchild; Stop() must still end both.
+    const std::string pidfile = ::testing::TempDir() + "grandchild.pid";
+    ChildProcess c({"sh", "-c", "trap '' TERM; sleep 60 & echo $! > " + pidfile + "; wait"});
+    std::this_thread::sleep_for(300ms);
+    ExitStatus s = c.Stop(500ms);
+    EXPECT_FALSE(s.exited);
+    EXPECT_EQ(s.signal, SIGKILL);
+    std::ifstream f(pidfile);
+    pid_t grandchild = 0;
+    f >> grandchild;
+    ASSERT_GT(grandchild, 0);
+    std::this_thread::sleep_for(200ms);
+    // kill(pid, 0) fails once the grandchild is gone (it may linger as a zombie of init briefly).
+    std::ifstream stat("/proc/" + std::to_string(grandchild) + "/stat");
+    std::string content((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(content.empty() || content.find(") Z") != std::string::npos) << content;
+}
+
+}  // namespace
+}  // namespace gyrocal
