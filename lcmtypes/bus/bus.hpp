@@ -107,10 +107,18 @@ void Bus::Subscribe(const std::string& channel_regex,
     AddSubscription(channel_regex, [this, handler = std::move(handler)](
                                        const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         Msg msg;
-        if (msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size)) < 0) {
+        int decoded = -1;
+        try {
+            decoded = msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size));
+        } catch (const std::exception&) {
+            // lcm-gen's C++ decode sizes vectors from the payload: a corrupt or hostile length
+            // field throws (length_error, bad_alloc). That is bad input, not a bug here.
+            decoded = -1;
+        }
+        if (decoded < 0) {
             ++counters_.decode_errors;
             counters_.last_decode_error =
-                "channel " + channel + ": payload is not a " + Msg::getTypeName();
+                "channel " + channel + ": payload is not a valid " + Msg::getTypeName();
             return;
         }
         ++counters_.received;

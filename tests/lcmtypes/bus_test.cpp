@@ -10,6 +10,7 @@
 #include "bus/seq_tracker.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/run_event_t.hpp"
 
 namespace gyrocal {
 namespace {
@@ -113,6 +114,38 @@ TEST(Channels, PerSensorNamesAndValidation) {
     EXPECT_EQ(channels::SensorOf(channels::kGyroPrefix, "GYRO_S09"), "S09");
     EXPECT_EQ(channels::SensorOf(channels::kGyroPrefix, "RATE_S09"), std::nullopt);
     EXPECT_EQ(channels::SensorOf(channels::kGyroPrefix, "GYRO_"), std::nullopt);
+}
+
+}  // namespace
+}  // namespace gyrocal
+
+namespace gyrocal {
+namespace {
+
+// A payload with the right fingerprint and a hostile array length (negative num_sensors): the
+// generated decode throws inside LCM's dispatch; the bus must count it, not die.
+TEST(Bus, HostileArrayLengthIsADecodeErrorNotACrash) {
+    Bus bus(BusOptions{"memq://"});
+    int delivered = 0;
+    bus.Subscribe<run_event_t>("RUN_EVENT", [&](const run_event_t&, const std::string&) { ++delivered; });
+    run_event_t e;
+    e.run_id = "r";
+    e.event = "start";
+    e.num_sensors = 1;
+    e.sensor_ids = {"S01"};
+    std::vector<uint8_t> buf(static_cast<size_t>(e.getEncodedSize()));
+    e.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    // Layout after the 8-byte fingerprint: utime(8), run_id(4+len+1), event(4+len+1), reason(4+1),
+    // setpoint_index(4), setpoint_c(8), then num_sensors(int16).
+    const size_t at = 8 + 8 + (4 + 2) + (4 + 6) + (4 + 1) + 4 + 8;
+    buf[at] = 0x80;  // int16 big-endian: -32768 + ...
+    buf[at + 1] = 0x00;
+    bus.PublishRaw("RUN_EVENT", buf.data(), static_cast<int>(buf.size()));
+    bus.Publish("RUN_EVENT", e);
+    while (bus.Handle(std::chrono::milliseconds(20))) {
+    }
+    EXPECT_EQ(delivered, 1);
+    EXPECT_EQ(bus.counters().decode_errors, 1);
 }
 
 }  // namespace

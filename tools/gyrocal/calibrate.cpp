@@ -292,7 +292,7 @@ int Calibration::Run() {
     try {
         if (o_.source == "sim") {
             progress_ = std::make_unique<Progress>(setpoints, 2);
-            std::vector<std::string> rig = {"--mode", "commanded", "--sensors", std::to_string(o_.sensors),
+            std::vector<std::string> rig = {"--mode", "commanded", "--units", std::to_string(o_.sensors),
                                             "--preset", o_.preset, "--seed", std::to_string(o_.seed),
                                             "--speed", std::to_string(o_.speed), "--truth-out", o_.truth_out};
             for (const auto& e : o_.effects) {

@@ -1,0 +1,193 @@
+// The whole process graph, end to end, as separate OS processes over UDP multicast (TTL 0, this
+// file's own port 7781): `gyrocal calibrate` starts the simulated rig, plateau detector, rotation
+// estimator, fitter, compensator, recorder and sequencer, runs the seed's 3-point procedure on two
+// units, and the test checks the result against the rig's truth sidecar and the SQLite file.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "gyrocal/model_t.hpp"
+#include "launch/child_process.hpp"
+#include "model/model.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+const std::string kUrl = "udpm://239.255.76.67:7781?ttl=0&recv_buf_size=4194304";
+
+std::string ReadFile(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+// Minimal read-only SQL for the checks (the store's own library is tested in tests/store).
+class Sql {
+public:
+    explicit Sql(const std::string& path) {
+        if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
+            throw std::runtime_error("cannot open " + path);
+    }
+    ~Sql() { sqlite3_close(db_); }
+    std::vector<std::vector<std::string>> Rows(const std::string& sql) {
+        sqlite3_stmt* st = nullptr;
+        if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &st, nullptr) != SQLITE_OK)
+            throw std::runtime_error(std::string("bad SQL: ") + sqlite3_errmsg(db_) + ": " + sql);
+        std::vector<std::vector<std::string>> out;
+        while (sqlite3_step(st) == SQLITE_ROW) {
+            std::vector<std::string> row;
+            for (int i = 0; i < sqlite3_column_count(st); ++i) {
+                const unsigned char* t = sqlite3_column_text(st, i);
+                row.push_back(t ? reinterpret_cast<const char*>(t) : "");
+            }
+            out.push_back(row);
+        }
+        sqlite3_finalize(st);
+        return out;
+    }
+    int64_t Int(const std::string& sql) { return std::stoll(Rows(sql).at(0).at(0)); }
+    double Real(const std::string& sql) { return std::stod(Rows(sql).at(0).at(0)); }
+
+private:
+    sqlite3* db_ = nullptr;
+};
+
+double TruthAt(const json& curve, double die_c) {
+    const auto c = curve.at("coeffs").get<std::vector<double>>();
+    const double d = die_c - curve.at("t0_c").get<double>();
+    return c.at(0) + c.at(1) * d + c.at(2) * d * d;
+}
+
+// The model of a coefficient set as stored: terms, coefficients, covariance (role offset|sensitivity).
+model::Model StoredModel(Sql& sql, const std::string& row, const std::string& role) {
+    model::Model m;
+    const auto meta = sql.Rows("SELECT quantity, t0_c, temp_min_c, temp_max_c, method FROM coeff_models WHERE coeff_row_id=" +
+                               row + " AND role='" + role + "'");
+    m.quantity = meta.at(0).at(0);
+    m.t0_c = std::stod(meta.at(0).at(1));
+    m.temp_min_c = std::stod(meta.at(0).at(2));
+    m.temp_max_c = std::stod(meta.at(0).at(3));
+    m.method = meta.at(0).at(4);
+    const auto terms = sql.Rows("SELECT term_name, coeff FROM coeff_terms WHERE coeff_row_id=" + row + " AND role='" +
+                                role + "' ORDER BY term_index");
+    m.coeffs.resize(static_cast<Eigen::Index>(terms.size()));
+    for (size_t i = 0; i < terms.size(); ++i) {
+        m.term_names.push_back(terms[i][0]);
+        m.coeffs[static_cast<Eigen::Index>(i)] = std::stod(terms[i][1]);
+    }
+    m.covariance = Eigen::MatrixXd::Zero(m.coeffs.size(), m.coeffs.size());
+    for (const auto& c : sql.Rows("SELECT row_index, col_index, value FROM coeff_covariance WHERE coeff_row_id=" + row +
+                                  " AND role='" + role + "'"))
+        m.covariance(std::stoi(c[0]), std::stoi(c[1])) = c[2].empty() ? NAN : std::stod(c[2]);
+    return m;
+}
+
+TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
+    const std::string dir = ::testing::TempDir() + "gyrocal_e2e_" + std::to_string(getpid());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
+    // Fast thermal constants keep the simulated run short (~25 simulated minutes); the speed
+    // keeps every process far below the rate at which the loaded 2-core machine loses packets.
+    ChildProcess cal({GYROCAL_CLI, "calibrate", "--profile", "seed3", "--sensors", "2", "--seed", "7", "--speed", "40",
+                      "--db", db, "--lcm-url", kUrl, "--log-dir", dir + "/logs", "--quiet",
+                      "--rig-arg=--package-tau-s=40", "--rig-arg=--ramp-c-per-min=10",
+                      "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "400"},
+                     out, out);
+    auto ended = cal.Wait(std::chrono::seconds(420));
+    ASSERT_TRUE(ended.has_value()) << "calibrate did not finish:\n" << ReadFile(out);
+    ASSERT_TRUE(ended->exited && ended->code == 0) << ended->Describe() << "\n" << ReadFile(out);
+    const std::string printed = ReadFile(out);
+    EXPECT_NE(printed.find("stop: completed"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("fitted vs true"), std::string::npos) << printed;
+
+    const json truth = json::parse(ReadFile(dir + "/logs/truth.json"));
+    const json& noise = truth.at("config").at("noise");
+    Sql sql(db);
+    const std::string run = sql.Rows("SELECT run_id FROM runs WHERE run_id <> '' ORDER BY started_utime DESC").at(0).at(0);
+    EXPECT_EQ(sql.Rows("SELECT outcome FROM runs WHERE run_id='" + run + "'").at(0).at(0), "stop");
+
+    // Every published message is in the database: the rig's last heartbeat counts everything it
+    // published (itself included); gyro samples, encoder samples, chamber states and the rig's
+    // own heartbeats are all it publishes. And no sample is missing by sequence number.
+    const int64_t rig_published =
+        sql.Int("SELECT published FROM status WHERE process='gyrocal-sim-rig' ORDER BY published DESC LIMIT 1");
+    const int64_t stored = sql.Int("SELECT count(*) FROM gyro_samples") + sql.Int("SELECT count(*) FROM encoder_samples") +
+                           sql.Int("SELECT count(*) FROM chamber_states") +
+                           sql.Int("SELECT count(*) FROM status WHERE process='gyrocal-sim-rig'");
+    EXPECT_EQ(stored, rig_published);
+    for (const auto& r : sql.Rows("SELECT sensor_id, count(*), min(seq), max(seq) FROM gyro_samples GROUP BY sensor_id")) {
+        EXPECT_EQ(std::stoll(r[1]), std::stoll(r[3]) - std::stoll(r[2]) + 1) << "seq gaps for " << r[0];
+        EXPECT_EQ(std::stoll(r[2]), 0) << r[0];
+    }
+    EXPECT_EQ(sql.Int("SELECT coalesce(sum(seq_gaps + decode_errors + queue_drops), 0) FROM losses"), 0);
+
+    for (const json& unit : truth.at("units")) {
+        const std::string id = unit.at("sensor_id");
+        SCOPED_TRACE(id);
+        // Plateaus: one per setpoint; rotations: +90 and -90 at each, all accepted.
+        const auto plateaus = sql.Rows("SELECT temp_mean_c, gyro_mean_v, gyro_sem_v FROM plateaus WHERE run_id='" + run +
+                                       "' AND sensor_id='" + id + "' ORDER BY utime");
+        ASSERT_EQ(plateaus.size(), 3u);
+        EXPECT_EQ(sql.Int("SELECT count(*) FROM sensitivity_points WHERE accepted=1 AND run_id='" + run +
+                          "' AND sensor_id='" + id + "'"),
+                  6);
+        // The final coefficient set, linked to exactly those plateaus (provenance).
+        const std::string row = sql.Rows("SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id='" + run +
+                                         "' AND sensor_id='" + id + "'").at(0).at(0);
+        ASSERT_FALSE(row.empty());
+        EXPECT_EQ(sql.Int("SELECT count(*) FROM v_coeff_provenance WHERE coeff_row_id=" + row +
+                          " AND kind='plateau' AND item_found=1"),
+                  3);
+        const model::Model offset = StoredModel(sql, row, "offset");
+        const model::Model sens = StoredModel(sql, row, "sensitivity");
+        EXPECT_EQ(offset.method, "3point");
+        EXPECT_EQ(offset.term_names, (std::vector<std::string>{"1", "dT", "dT^2"}));
+        model::Evaluator off_eval(offset), sens_eval(sens);
+
+        // Offset at each plateau temperature vs the truth at the die temperature the sensor
+        // reported (reading = die + its offset). Three points fix a quadratic, so agreement at
+        // the three plateau temperatures is agreement of the coefficients. Tolerance, derived:
+        //  - statistical: the plateau mean of a 60 s window has the Allan deviation at tau = 60 s,
+        //    sigma_rate = sqrt(N^2/tau + (0.664 B)^2 + K^2 tau/3) (white, bias instability, rate
+        //    random walk), times the sensitivity; 4 sigma (two-sided 6e-5 per point);
+        //  - systematic: at a plateau the sensor still lags the die by slope x sensor_tau, with
+        //    slope <= the detector's 0.05 C/min, times the largest offset drift of the preset
+        //    spread (1 mV/K).
+        const double tau_s = 60.0;
+        const double n = noise.at("noise_density_dps_rthz"), b = noise.at("bias_instability_dps"),
+                     k = noise.at("rate_random_walk_dps_rts");
+        const double sigma_rate_dps = std::sqrt(n * n / tau_s + std::pow(0.664 * b, 2) + k * k * tau_s / 3.0);
+        const double sensor_tau_s = truth.at("config").at("thermal").at("sensor_tau_s");
+        const double systematic_v = 1.0e-3 * (0.05 / 60.0) * sensor_tau_s;
+        const double sensor_offset_c = unit.at("temp_sensor_offset_c");
+        for (const auto& p : plateaus) {
+            const double temp_c = std::stod(p[0]);
+            const double die_c = temp_c - sensor_offset_c;
+            const double s_true = TruthAt(unit.at("sensitivity_v_per_dps"), die_c);
+            const double tol_v = 4.0 * sigma_rate_dps * s_true + systematic_v;
+            model::ModelInputs in;
+            in.temp_c = temp_c;
+            EXPECT_NEAR(off_eval.Value(in, model::RangePolicy::kClip), TruthAt(unit.at("offset_v"), die_c), tol_v)
+                << "offset at " << temp_c << " C";
+            // Sensitivity: within 4 sigma of the fit's own uncertainty (phi' C phi) plus 0.1 %
+            // for the encoder's quantization of a 90 deg move (1 count of 20000 per rev = 0.02 %).
+            const model::Evaluation se = sens_eval.Evaluate(in, model::RangePolicy::kClip);
+            EXPECT_NEAR(se.value, s_true, 4.0 * std::sqrt(se.variance) + 1e-3 * s_true)
+                << "sensitivity at " << temp_c << " C";
+        }
+    }
+}
+
+}  // namespace
+}  // namespace gyrocal
