@@ -1,0 +1,99 @@
+// gyrocal-plateau: per-sensor stability (plateau) detector. See plateau_node.hpp for the threads
+// and plateau_detector.hpp for the criterion and its defaults.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "bus/shutdown.hpp"
+#include "plateau_node.hpp"
+
+namespace {
+
+constexpr const char* kExitCodes =
+    "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open),\n"
+    "            2 bad options.";
+
+void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
+    auto& d = o.detector;
+    app.add_option("--lcm-url", o.lcm_url,
+                   "LCM provider URL (default: $GYROCAL_LCM_URL, else udpm default)");
+    app.add_option("--sensors", o.sensors, "accept only these sensor ids (default: every valid id)")
+        ->delimiter(',');
+    app.add_option("--encoder-id", o.encoder_id, "encoder_id of the turntable encoder")
+        ->capture_default_str();
+    app.add_option("--window-s", d.window_s,
+                   "[s] sliding window of the stability criterion, 1..3600")
+        ->capture_default_str();
+    app.add_option("--slope-max-c-per-min", d.slope_max_c_per_min,
+                   "[degC/min] max |temperature slope| over the window")
+        ->capture_default_str();
+    app.add_option("--scatter-max-c", d.scatter_max_c,
+                   "[degC] max rms scatter about the window's line")
+        ->capture_default_str();
+    app.add_option("--min-stable-s", d.min_stable_s,
+                   "[s] criterion held this long before averaging")
+        ->capture_default_str();
+    app.add_option("--average-s", d.average_s, "[s] of still samples averaged per plateau")
+        ->capture_default_str();
+    app.add_option("--sem-batches", d.sem_batches,
+                   "batches for the batch-means standard error, 4..1000")
+        ->capture_default_str();
+    app.add_option("--rearm-band-c", d.rearm_band_c,
+                   "[degC] after a plateau, leaving it by more re-arms (data without a chamber)")
+        ->capture_default_str();
+    app.add_option("--min-move-fraction", d.min_move_fraction,
+                   "[0..1] of a setpoint change the temperature must move before it is judged")
+        ->capture_default_str();
+    app.add_option("--leave-factor", d.leave_factor, "thresholds x this abort an average, >= 1")
+        ->capture_default_str();
+    app.add_option("--state-period-s", d.state_period_s,
+                   "[s] of data time between STABILITY_<id> reports")
+        ->capture_default_str();
+    app.add_option("--motion-guard-s", o.motion_guard_s,
+                   "[s] samples this close to table motion are excluded")
+        ->capture_default_str();
+    app.add_option("--encoder-stale-s", o.encoder_stale_s,
+                   "[s] classify samples without the encoder once their stream is this far ahead")
+        ->capture_default_str();
+    app.add_option("--start-threshold-counts", o.move.start_threshold_counts,
+                   "[count] the table leaves rest when it moves more than this")
+        ->capture_default_str();
+    app.add_option("--settle-band-counts", o.move.settle_band_counts,
+                   "[count] encoder dither tolerated at rest")
+        ->capture_default_str();
+    app.add_option("--settle-s", o.move.settle_s, "[s] within the band this long = at rest")
+        ->capture_default_str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    gyrocal::PlateauOptions options = gyrocal::PlateauOptions::Defaults();
+    CLI::App app{
+        "gyrocal-plateau: stability (plateau) detector per sensor.\n"
+        "Subscribes GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT; publishes PLATEAU_<id>,\n"
+        "STABILITY_<id>, STATUS.",
+        "gyrocal-plateau"};
+    app.footer(kExitCodes);
+    AddOptions(app, options);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "gyrocal-plateau: " << e.what() << " (see --help)\n";
+        return 2;
+    }
+    if (std::string err = options.Validate(); !err.empty()) {
+        std::cerr << "gyrocal-plateau: " << err << "\n";
+        return 2;
+    }
+    try {
+        gyrocal::InstallStopHandlers();
+        gyrocal::PlateauNode node(options);
+        node.Run();
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal-plateau: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}

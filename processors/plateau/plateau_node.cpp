@@ -1,0 +1,273 @@
+#include "plateau_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#include "bus/channels.hpp"
+#include "gyrocal/plateau_state_t.hpp"
+#include "gyrocal/plateau_t.hpp"
+
+namespace gyrocal {
+
+namespace {
+
+// The libraries name a config field first ("window_s must be ..."); the option is that name
+// with dashes ("--window-s must be ...").
+std::string AsOption(std::string message) {
+    const size_t end = message.find(' ');
+    for (size_t i = 0; i < end && i < message.size(); ++i) {
+        if (message[i] == '_') message[i] = '-';
+    }
+    return "--" + message;
+}
+
+constexpr const char* kProcess = "gyrocal-plateau";
+
+bool Finite(double v) { return std::isfinite(v); }
+}  // namespace
+
+std::string PlateauOptions::Validate() const {
+    for (const std::string& s : sensors) {
+        if (!channels::IsValidSensorId(s))
+            return "--sensors: '" + s +
+                   "' is not a valid sensor id (1-32 letters, digits, '-', '_')";
+    }
+    if (encoder_id.empty()) return "--encoder-id must not be empty";
+    if (std::string e = detector.Validate(); !e.empty()) return AsOption(e);
+    if (std::string e = move.Validate(); !e.empty()) return AsOption(e);
+    if (!(motion_guard_s >= 0 && motion_guard_s <= 60))
+        return "--motion-guard-s must be in [0, 60] s";
+    if (!(encoder_stale_s > 0 && encoder_stale_s <= 600))
+        return "--encoder-stale-s must be in (0, 600] s";
+    return "";
+}
+
+PlateauNode::PlateauNode(const PlateauOptions& options)
+    : options_(options),
+      bus_(BusOptions{options.lcm_url}),
+      status_(bus_, kProcess),
+      motion_(options.move, options.motion_guard_s, options.encoder_stale_s),
+      chamber_setpoint_c_(std::numeric_limits<double>::quiet_NaN()) {
+    // Handlers never let an exception reach LCM: it is counted as a refusal with its text.
+    auto guarded = [this](auto fn) {
+        return [this, fn](const auto& m, const std::string& ch) {
+            try {
+                fn(m, ch);
+            } catch (const std::exception& e) {
+                status_.Reject("internal", ch + ": " + e.what());
+            }
+        };
+    };
+    bus_.Subscribe<gyro_sample_t>(
+        channels::AllSensors(channels::kGyroPrefix),
+        guarded([this](const gyro_sample_t& m, const std::string& ch) { OnGyro(m, ch); }));
+    bus_.Subscribe<encoder_sample_t>(
+        std::string(channels::kEncoder),
+        guarded([this](const encoder_sample_t& m, const std::string&) { OnEncoder(m); }));
+    bus_.Subscribe<chamber_state_t>(
+        std::string(channels::kChamberState),
+        guarded([this](const chamber_state_t& m, const std::string&) { OnChamberState(m); }));
+    bus_.Subscribe<run_event_t>(
+        std::string(channels::kRunEvent),
+        guarded([this](const run_event_t& m, const std::string&) { OnRunEvent(m); }));
+}
+
+void PlateauNode::Run() {
+    status_.set_state("running");
+    // A malformed payload can make LCM's generated decode throw (e.g. a negative array length:
+    // std::length_error) before any handler of ours runs; Bus::Handle rethrows it here. Count
+    // it and carry on: bad input must never stop the process. LCM failures (BusError) do.
+    for (;;) {
+        try {
+            RunLoop(bus_, status_);
+            return;
+        } catch (const BusError&) {
+            throw;
+        } catch (const std::exception& e) {
+            status_.Reject("malformed message", std::string("decode threw: ") + e.what());
+        }
+    }
+}
+
+PlateauNode::Sensor& PlateauNode::SensorFor(const std::string& id) {
+    auto it = sensors_.find(id);
+    if (it != sensors_.end()) return *it->second;
+    auto sensor = std::make_unique<Sensor>(options_.detector);
+    if (!run_id_.empty()) sensor->detector.StartRun(run_id_);
+    sensor->detector.SetChamberSetpoint(chamber_setpoint_c_);
+    Sensor& ref = *sensor;
+    sensors_.emplace(id, std::move(sensor));
+    status_.SetExtra("sensors", static_cast<double>(sensors_.size()));
+    return ref;
+}
+
+void PlateauNode::OnGyro(const gyro_sample_t& m, const std::string& channel) {
+    const auto id = channels::SensorOf(channels::kGyroPrefix, channel);
+    if (!id) {
+        status_.Reject("bad channel", channel + ": not GYRO_<sensor id>");
+        return;
+    }
+    if (m.sensor_id != *id) {
+        status_.Reject("sensor mismatch",
+                       channel + ": sensor_id '" + m.sensor_id + "' does not match the channel");
+        return;
+    }
+    if (!options_.sensors.empty() && std::find(options_.sensors.begin(), options_.sensors.end(),
+                                               *id) == options_.sensors.end()) {
+        status_.Reject("unknown sensor", channel + ": sensor '" + *id + "' is not in --sensors");
+        return;
+    }
+    if (!Finite(m.temp_c) || !Finite(m.gyro_v) || !Finite(m.temp_v)) {
+        status_.Reject("non-finite", channel + ": temp_c, gyro_v and temp_v must be finite (seq " +
+                                         std::to_string(m.seq) + ")");
+        return;
+    }
+    Sensor& sensor = SensorFor(*id);
+    if (sensor.any && m.utime <= sensor.newest_utime) {
+        status_.Reject("out-of-order", channel + ": utime " + std::to_string(m.utime) +
+                                           " is not after " + std::to_string(sensor.newest_utime));
+        return;
+    }
+    sensor.any = true;
+    sensor.newest_utime = m.utime;
+    plateau::Sample s;
+    s.utime = m.utime;
+    s.seq = m.seq;
+    s.temp_c = m.temp_c;
+    s.gyro_v = m.gyro_v;
+    s.temp_v = m.temp_v;
+    s.supply_v = m.supply_v;
+    sensor.pending.push_back(s);
+    Drain(*id, sensor);
+}
+
+void PlateauNode::OnEncoder(const encoder_sample_t& m) {
+    if (m.encoder_id != options_.encoder_id) {
+        status_.Reject("unknown encoder", "ENCODER: encoder_id '" + m.encoder_id +
+                                              "' is not --encoder-id '" + options_.encoder_id +
+                                              "'");
+        return;
+    }
+    if (m.counts_per_rev <= 0) {
+        status_.Reject("bad encoder", "ENCODER: counts_per_rev must be > 0, got " +
+                                          std::to_string(m.counts_per_rev));
+        return;
+    }
+    if (any_encoder_ && m.utime <= last_encoder_utime_) {
+        status_.Reject("out-of-order", "ENCODER: utime " + std::to_string(m.utime) +
+                                           " is not after " + std::to_string(last_encoder_utime_));
+        return;
+    }
+    any_encoder_ = true;
+    last_encoder_utime_ = m.utime;
+    motion_.Feed(motion::EncoderReading{m.utime, m.counts, m.counts_per_rev});
+    DrainAll();
+}
+
+void PlateauNode::OnChamberState(const chamber_state_t& m) {
+    if (any_chamber_ && m.utime <= last_chamber_utime_) {
+        status_.Reject("out-of-order", "CHAMBER_STATE: utime " + std::to_string(m.utime) +
+                                           " is not after " + std::to_string(last_chamber_utime_));
+        return;
+    }
+    if (std::isinf(m.setpoint_c)) {
+        status_.Reject("non-finite", "CHAMBER_STATE: setpoint_c is infinite");
+        return;
+    }
+    any_chamber_ = true;
+    last_chamber_utime_ = m.utime;
+    chamber_setpoint_c_ = m.setpoint_c;
+    for (auto& [id, sensor] : sensors_) sensor->detector.SetChamberSetpoint(m.setpoint_c);
+}
+
+void PlateauNode::OnRunEvent(const run_event_t& m) {
+    if (m.event == "start") {
+        run_id_ = m.run_id;
+        for (auto& [id, sensor] : sensors_) sensor->detector.StartRun(run_id_);
+    } else if (m.event == "stop" || m.event == "abort") {
+        run_id_.clear();
+        for (auto& [id, sensor] : sensors_) sensor->detector.EndRun();
+    } else if (m.event == "setpoint") {
+        if (std::isinf(m.setpoint_c)) {
+            status_.Reject("non-finite", "RUN_EVENT setpoint: setpoint_c is infinite");
+            return;
+        }
+        for (auto& [id, sensor] : sensors_) sensor->detector.OnSetpointEvent(m.setpoint_c);
+        if (std::isfinite(m.setpoint_c)) chamber_setpoint_c_ = m.setpoint_c;
+    } else if (m.event != "rotation") {
+        status_.Reject("unknown event", "RUN_EVENT: event '" + m.event +
+                                            "' is not start, setpoint, rotation, stop or abort");
+    }
+}
+
+void PlateauNode::Drain(const std::string& id, Sensor& sensor) {
+    while (!sensor.pending.empty() &&
+           motion_.Decided(sensor.pending.front().utime, sensor.newest_utime)) {
+        plateau::Sample s = sensor.pending.front();
+        sensor.pending.pop_front();
+        s.moving = motion_.Moving(s.utime);
+        Publish(id, sensor.detector.Feed(s));
+    }
+}
+
+void PlateauNode::DrainAll() {
+    int64_t oldest = std::numeric_limits<int64_t>::max();
+    for (auto& [id, sensor] : sensors_) {
+        Drain(id, *sensor);
+        oldest = std::min(
+            oldest, sensor->pending.empty() ? sensor->newest_utime : sensor->pending.front().utime);
+    }
+    if (!sensors_.empty()) motion_.Prune(oldest);
+}
+
+void PlateauNode::Publish(const std::string& id, const plateau::Step& step) {
+    if (step.plateau) {
+        const plateau::Plateau& p = *step.plateau;
+        plateau_t msg;
+        msg.utime = p.end_utime;
+        msg.sensor_id = id;
+        msg.run_id = p.run_id;
+        msg.plateau_id = p.plateau_id;
+        msg.setpoint_c = p.setpoint_c;
+        msg.start_utime = p.start_utime;
+        msg.end_utime = p.end_utime;
+        msg.first_seq = p.first_seq;
+        msg.last_seq = p.last_seq;
+        msg.n_samples = p.n_samples;
+        msg.n_excluded_motion = p.n_excluded_motion;
+        msg.seq_gaps = p.seq_gaps;
+        msg.temp_mean_c = p.temp_c.mean;
+        msg.temp_std_c = p.temp_c.std;
+        msg.temp_sem_c = p.temp_c.sem;
+        msg.temp_slope_c_per_min = p.temp_slope_c_per_min;
+        msg.gyro_mean_v = p.gyro_v.mean;
+        msg.gyro_std_v = p.gyro_v.std;
+        msg.gyro_sem_v = p.gyro_v.sem;
+        msg.temp_v_mean = p.temp_v_mean;
+        msg.supply_mean_v = p.supply_mean_v;
+        bus_.Publish(channels::Plateau(id), msg);
+        ++plateaus_;
+        status_.SetExtra("plateaus", static_cast<double>(plateaus_));
+    }
+    if (step.state) {
+        const plateau::StateReport& r = *step.state;
+        // For a progress display reading STATUS: state 0 waiting .. 3 done, and the fraction.
+        status_.SetExtra(id + ".state", static_cast<double>(static_cast<int>(r.state)));
+        status_.SetExtra(id + ".averaging_progress", r.averaging_progress);
+        plateau_state_t msg;
+        msg.utime = r.utime;
+        msg.sensor_id = id;
+        msg.state = plateau::StateName(r.state);
+        msg.temp_c = r.temp_c;
+        msg.temp_slope_c_per_min = r.temp_slope_c_per_min;
+        msg.temp_std_c = r.temp_std_c;
+        msg.stable_for_s = r.stable_for_s;
+        msg.averaging_progress = r.averaging_progress;
+        msg.last_plateau_id = r.last_plateau_id;
+        bus_.Publish(channels::Stability(id), msg);
+    }
+}
+
+}  // namespace gyrocal

@@ -1,0 +1,77 @@
+#pragma once
+// gyrocal-plateau: the LCM shell around PlateauDetector (one per sensor) and TableMotion.
+//
+// Threads: one. Bus::Handle dispatches GYRO_*, ENCODER, CHAMBER_STATE and RUN_EVENT on the Run()
+// thread. A gyro sample waits in its sensor's queue until the encoder has spoken about its
+// moment +- the motion guard (or the encoder is stale), then it is classified still/moving and
+// fed to the sensor's detector; plateaus and state reports are published at once. Processors use
+// message time only: nothing here reads a clock except the STATUS heartbeat.
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/status.hpp"
+#include "gyrocal/chamber_state_t.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/run_event_t.hpp"
+#include "plateau_detector.hpp"
+#include "table_motion.hpp"
+
+namespace gyrocal {
+
+struct PlateauOptions {
+    std::string lcm_url;               // "" = $GYROCAL_LCM_URL or the default
+    std::vector<std::string> sensors;  // accepted sensor ids; empty = every valid id
+    std::string encoder_id = "TABLE";  // encoder whose motion matters
+    plateau::PlateauConfig detector = plateau::PlateauConfig::Defaults();
+    motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
+    double motion_guard_s = 1.0;   // [s] a sample this close to table motion is "moving"
+    double encoder_stale_s = 2.0;  // [s] decide without the encoder once a stream is this far ahead
+    static PlateauOptions Defaults() { return {}; }
+    // "" when valid, else a one-line error naming the option and its valid range.
+    std::string Validate() const;
+};
+
+class PlateauNode {
+public:
+    explicit PlateauNode(const PlateauOptions& options);  // throws BusError when LCM cannot open
+    void Run();
+    int64_t plateaus_published() const { return plateaus_; }
+
+private:
+    struct Sensor {
+        explicit Sensor(const plateau::PlateauConfig& c) : detector(c) {}
+        plateau::PlateauDetector detector;
+        std::deque<plateau::Sample> pending;
+        int64_t newest_utime = 0;
+        bool any = false;
+    };
+    void OnGyro(const gyro_sample_t& msg, const std::string& channel);
+    void OnEncoder(const encoder_sample_t& msg);
+    void OnChamberState(const chamber_state_t& msg);
+    void OnRunEvent(const run_event_t& msg);
+    Sensor& SensorFor(const std::string& id);
+    void Drain(const std::string& id, Sensor& sensor);
+    void DrainAll();
+    void Publish(const std::string& id, const plateau::Step& step);
+
+    PlateauOptions options_;
+    Bus bus_;
+    StatusReporter status_;
+    motion::TableMotion motion_;
+    std::map<std::string, std::unique_ptr<Sensor>> sensors_;
+    std::string run_id_;
+    double chamber_setpoint_c_;
+    int64_t last_encoder_utime_ = 0;
+    bool any_encoder_ = false;
+    int64_t last_chamber_utime_ = 0;
+    bool any_chamber_ = false;
+    int64_t plateaus_ = 0;
+};
+
+}  // namespace gyrocal

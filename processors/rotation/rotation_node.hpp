@@ -1,0 +1,65 @@
+#pragma once
+// gyrocal-rotation: the LCM shell around one RotationEstimator per sensor and the shared
+// turntable MoveDetector.
+//
+// Threads: one. Bus::Handle dispatches GYRO_*, ENCODER and RUN_EVENT on the Run() thread. Each
+// completed move (from ENCODER) goes to every sensor's estimator; each sensor's point is
+// published on SENSITIVITY_<id> as soon as the rest window after the move is complete (by gyro
+// and encoder time). Message time only: no clock except the STATUS heartbeat.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/status.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/run_event_t.hpp"
+#include "rotation_estimator.hpp"
+#include "table_motion.hpp"
+
+namespace gyrocal {
+
+struct RotationOptions {
+    std::string lcm_url;               // "" = $GYROCAL_LCM_URL or the default
+    std::vector<std::string> sensors;  // accepted sensor ids; empty = every valid id
+    std::string encoder_id = "TABLE";
+    rotation::RotationConfig estimator = rotation::RotationConfig::Defaults();
+    motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
+    static RotationOptions Defaults() { return {}; }
+    // "" when valid, else a one-line error naming the option and its valid range.
+    std::string Validate() const;
+};
+
+class RotationNode {
+public:
+    explicit RotationNode(const RotationOptions& options);  // throws BusError when LCM cannot open
+    void Run();
+
+private:
+    struct Sensor {
+        explicit Sensor(const rotation::RotationConfig& c) : estimator(c) {}
+        rotation::RotationEstimator estimator;
+        int64_t newest_utime = 0;
+        bool any = false;
+    };
+    void OnGyro(const gyro_sample_t& msg, const std::string& channel);
+    void OnEncoder(const encoder_sample_t& msg);
+    void OnRunEvent(const run_event_t& msg);
+    void PollAndPublish(const std::string& id, Sensor& sensor);
+    rotation::MotionView View() const;
+
+    RotationOptions options_;
+    Bus bus_;
+    StatusReporter status_;
+    motion::MoveDetector detector_;
+    std::map<std::string, std::unique_ptr<Sensor>> sensors_;
+    std::string run_id_;
+    int64_t last_encoder_utime_ = 0;
+    bool any_encoder_ = false;
+    int64_t moves_ = 0, accepted_ = 0, refused_ = 0;
+};
+
+}  // namespace gyrocal

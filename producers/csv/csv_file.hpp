@@ -1,0 +1,27 @@
+#pragma once
+// A whole CSV file read and validated before anything is published, so a bad file under the
+// "stop" policy publishes nothing, and under "skip" every bad row is dropped whole (never half
+// a sample) and counted.
+#include <istream>
+#include <string>
+#include <vector>
+
+#include "row_parser.hpp"
+
+namespace gyrocal::csv {
+
+enum class OnError { kStop, kSkip };
+
+struct CsvFile {
+    std::vector<CsvRow> rows;          // valid rows in file order
+    std::vector<std::string> unknown;  // ignored columns (header order)
+    std::vector<std::string> errors;   // skip policy: one message per skipped row
+    long skipped = 0;                  // skip policy: rows dropped
+};
+
+// Reads `in` (named `file` in messages). Blank lines and '#' comments are ignored.
+// Throws CsvError for a bad header, and under kStop for the first bad row.
+CsvFile ReadCsv(std::istream& in, const std::string& file, const TempTransfer& transfer,
+                OnError policy);
+
+}  // namespace gyrocal::csv

@@ -1,0 +1,126 @@
+#include "csv_record_node.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "bus/channels.hpp"
+#include "bus/shutdown.hpp"
+#include "gyrocal/chamber_state_t.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+
+namespace gyrocal {
+namespace {
+// As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
+std::string FormatNumber(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+}  // namespace
+
+std::string CsvRecordOptions::Validate() const {
+    if (out.empty()) return "--out is required: the CSV file to write";
+    for (const std::string& id : sensors) {
+        if (!channels::IsValidSensorId(id)) {
+            return "--sensors: '" + id + "' is not a valid sensor id; use 1-32 letters, digits, " +
+                   "'-' or '_', comma separated";
+        }
+    }
+    if (!(idle_exit_s >= 0.0 && idle_exit_s <= 86400.0)) {
+        return "--idle-exit-s " + FormatNumber(idle_exit_s) +
+               " is out of range; valid: 0 (never) to 86400 s";
+    }
+    return "";
+}
+
+CsvRecordNode::CsvRecordNode(const CsvRecordOptions& options)
+    : options_(options),
+      out_(options.out, std::ios::out | std::ios::trunc),
+      bus_(BusOptions{options.lcm_url}),
+      status_(bus_, "gyrocal-csv-record") {
+    if (!out_) throw std::runtime_error("--out '" + options.out + "' cannot be created");
+    out_ << csv::kRecordHeader << '\n';
+
+    auto on_gyro = [this](const gyro_sample_t& s, const std::string& channel) {
+        const auto id = channels::SensorOf(channels::kGyroPrefix, channel);
+        if (!id || *id != s.sensor_id) {
+            status_.Reject("sensor_mismatch", "sample of '" + s.sensor_id + "' on " + channel);
+            return;
+        }
+        // Every written row must read back through gyrocal-csv-source: required values finite,
+        // time strictly increasing per sensor.
+        if (!std::isfinite(s.gyro_v) || !std::isfinite(s.temp_v)) {
+            status_.Reject("nonfinite_sample", channel + " seq " + std::to_string(s.seq) +
+                                                   ": gyro_v or temp_v is not finite; not written");
+            return;
+        }
+        auto [last, first] = last_utime_.try_emplace(s.sensor_id, s.utime);
+        if (!first && s.utime <= last->second) {
+            status_.Reject("out_of_order", channel + " seq " + std::to_string(s.seq) + ": utime " +
+                                               std::to_string(s.utime) + " not after " +
+                                               std::to_string(last->second) + "; not written");
+            return;
+        }
+        last->second = s.utime;
+        out_ << csv::FormatRecordRow(s, options_.time_origin_utime, encoder_deg_.At(s.utime),
+                                     chamber_c_.At(s.utime))
+             << '\n';
+        ++rows_;
+    };
+    if (options_.sensors.empty()) {
+        bus_.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix), on_gyro);
+    } else {
+        for (const std::string& id : options_.sensors) {
+            bus_.Subscribe<gyro_sample_t>(channels::Gyro(id), on_gyro);
+        }
+    }
+    bus_.Subscribe<encoder_sample_t>(
+        std::string(channels::kEncoder), [this](const encoder_sample_t& e, const std::string&) {
+            if (!std::isfinite(e.angle_deg)) {
+                status_.Reject("nonfinite_encoder", "ENCODER angle_deg is not finite");
+                return;
+            }
+            encoder_deg_.Add(e.utime, e.angle_deg);
+        });
+    bus_.Subscribe<chamber_state_t>(
+        std::string(channels::kChamberState), [this](const chamber_state_t& c, const std::string&) {
+            if (!std::isfinite(c.air_c)) {
+                status_.Reject("nonfinite_chamber", "CHAMBER_STATE air_c is not finite");
+                return;
+            }
+            chamber_c_.Add(c.utime, c.air_c);
+        });
+}
+
+bool CsvRecordNode::Idle() {
+    const auto now = Clock::now();
+    if (now - last_flush_ >= std::chrono::seconds(1)) {
+        out_.flush();
+        last_flush_ = now;
+        status_.SetExtra("rows_written", static_cast<double>(rows_));
+    }
+    if (bus_.counters().received != last_received_) {
+        last_received_ = bus_.counters().received;
+        last_activity_ = now;
+    }
+    return options_.idle_exit_s > 0 &&
+           now - last_activity_ >= std::chrono::duration<double>(options_.idle_exit_s);
+}
+
+int CsvRecordNode::Run() {
+    RunLoop(
+        bus_, status_, [this] { return Idle(); }, std::chrono::milliseconds(20));
+    out_.flush();
+    out_.close();
+    std::cerr << "gyrocal-csv-record: wrote " << rows_ << " rows to " << options_.out << "\n";
+    if (!out_) {
+        std::cerr << "gyrocal-csv-record: error: writing '" << options_.out << "' failed\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace gyrocal

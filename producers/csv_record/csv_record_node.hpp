@@ -1,0 +1,57 @@
+#pragma once
+// The CSV recorder process: one row per gyro sample, in arrival order, with the encoder angle
+// and chamber air temperature in force at the sample's time (csv/csv_writer.hpp). Samples that
+// gyrocal-csv-source could not read back (non-finite gyro_v/temp_v, utime not after the
+// sensor's previous one) are refused and counted in STATUS instead.
+//
+// Threads: one. Run() is RunLoop; handlers format and append to a buffered file, flushed once
+// a second and at exit. It stops on SIGINT/SIGTERM, or after --idle-exit-s without messages.
+#include <chrono>
+#include <cstdint>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/status.hpp"
+#include "csv/csv_writer.hpp"
+#include "csv/row_messages.hpp"
+
+namespace gyrocal {
+
+struct CsvRecordOptions {
+    std::string out;
+    std::string lcm_url;
+    std::vector<std::string> sensors;                     // empty = every GYRO_<id>
+    int64_t time_origin_utime = csv::kDefaultStartUtime;  // [us] utime written as time_s = 0
+    double idle_exit_s = 0.0;  // [s] of wall time without messages; 0 = never
+    static CsvRecordOptions Defaults() { return {}; }
+    std::string Validate() const;
+};
+
+class CsvRecordNode {
+public:
+    // Throws std::runtime_error when --out cannot be created.
+    explicit CsvRecordNode(const CsvRecordOptions& options);
+    // 0 on a normal stop, 1 when writing failed.
+    int Run();
+
+private:
+    using Clock = std::chrono::steady_clock;
+    bool Idle();
+
+    CsvRecordOptions options_;
+    std::ofstream out_;
+    Bus bus_;
+    StatusReporter status_;
+    csv::LatestAt encoder_deg_;
+    csv::LatestAt chamber_c_;
+    std::map<std::string, int64_t> last_utime_;  // [us] per sensor: rows only go forward
+    int64_t rows_ = 0;
+    int64_t last_received_ = 0;
+    Clock::time_point last_activity_ = Clock::now();
+    Clock::time_point last_flush_ = Clock::now();
+};
+
+}  // namespace gyrocal

@@ -1,0 +1,129 @@
+#include "csv_source_node.hpp"
+
+#include <algorithm>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "bus/channels.hpp"
+#include "bus/shutdown.hpp"
+
+namespace gyrocal {
+namespace {
+// As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
+std::string FormatNumber(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+}  // namespace
+
+std::string CsvSourceOptions::Validate() const {
+    if (!max && !(speed > 0.0 && speed <= 1e6)) {
+        return "--speed " + FormatNumber(speed) +
+               " is out of range; valid: > 0 and <= 1e6 data seconds per wall second (or --max)";
+    }
+    if (!(max_rate_hz >= 1.0 && max_rate_hz <= 1e7)) {
+        return "--max-rate-hz " + FormatNumber(max_rate_hz) +
+               " is out of range; valid: 1 to 1e7 messages per second";
+    }
+    if (!(drain_s >= 0.0 && drain_s <= 60.0)) {
+        return "--drain-s " + FormatNumber(drain_s) + " is out of range; valid: 0 to 60 s";
+    }
+    return conversion.Validate();
+}
+
+CsvSourceNode::CsvSourceNode(const CsvSourceOptions& options, csv::CsvFile file)
+    : options_(options),
+      file_(std::move(file)),
+      bus_(BusOptions{options.lcm_url}),
+      status_(bus_, "gyrocal-csv-source"),
+      builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)) {
+    status_.SetExtra("rows_total", static_cast<double>(file_.rows.size()));
+    status_.SetExtra("rows_skipped_bad", static_cast<double>(file_.skipped));
+}
+
+double CsvSourceNode::DueSeconds(size_t i) const {
+    // [wall s after start] by data time since the first row (--speed only).
+    return (file_.rows[i].time_s - file_.rows.front().time_s) / options_.speed;
+}
+
+void CsvSourceNode::PublishRow(const csv::CsvRow& row) {
+    const int64_t utime = csv::StreamUtime(options_.conversion.start_utime, row.time_s);
+    const csv::RowMessages m = builder_.Build(row, utime);
+    // Encoder and chamber first: a recorder then already knows the table angle and air
+    // temperature in force when the gyro sample of the same time arrives.
+    if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
+    if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
+    bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
+    messages_ += 1 + (m.encoder ? 1 : 0) + (m.chamber ? 1 : 0);
+}
+
+bool CsvSourceNode::Step() {
+    const auto now = Clock::now();
+    if (!started_) {
+        started_ = true;
+        start_ = now;
+        last_turn_ = now;
+        status_.set_state("replaying");
+    }
+    if (next_ < file_.rows.size()) {
+        const double elapsed_s = std::chrono::duration<double>(now - start_).count();
+        double wait_s = 0.0;
+        if (options_.max) {
+            // Token bucket at --max-rate-hz holding at most 4 ms of messages: publish what it
+            // allows (a batch of about 2 ms), then sleep 2 ms so that receivers on this host get
+            // the cores. A late turn never turns into a burst bigger than the cap. Small batches
+            // matter: lcm-logger 1.3.1 queues only 30 messages per subscription.
+            const double dt_s = std::chrono::duration<double>(now - last_turn_).count();
+            last_turn_ = now;
+            tokens_ = std::min(tokens_ + dt_s * options_.max_rate_hz,
+                               std::max(1.0, 0.004 * options_.max_rate_hz));
+            while (next_ < file_.rows.size() && tokens_ >= 1.0) {
+                const int64_t before = messages_;
+                PublishRow(file_.rows[next_++]);
+                tokens_ -= static_cast<double>(messages_ - before);
+            }
+            wait_s = 0.002;
+        } else {
+            while (next_ < file_.rows.size() && DueSeconds(next_) <= elapsed_s) {
+                PublishRow(file_.rows[next_++]);
+            }
+            if (next_ < file_.rows.size()) {
+                wait_s = std::clamp(DueSeconds(next_) - elapsed_s, 0.0, 0.02);
+            }
+        }
+        status_.SetExtra("rows_published", static_cast<double>(next_));
+        if (next_ == file_.rows.size()) {
+            finished_ = Clock::now();
+            status_.set_state("draining");
+            return false;
+        }
+        if (wait_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
+        return false;
+    }
+    // Drain: let receivers empty their sockets before the final STATUS and exit.
+    if (Clock::now() - finished_ >= std::chrono::duration<double>(options_.drain_s)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return false;
+}
+
+int CsvSourceNode::Run() {
+    if (file_.rows.empty()) finished_ = Clock::now();
+    RunLoop(
+        bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
+    const BusCounters& c = bus_.counters();
+    std::cerr << "gyrocal-csv-source: published " << next_ << " of " << file_.rows.size()
+              << " rows (" << messages_ << " messages) from " << options_.file;
+    if (file_.skipped > 0) std::cerr << "; skipped " << file_.skipped << " bad rows";
+    if (StopRequested() && next_ < file_.rows.size()) std::cerr << "; stopped by signal";
+    std::cerr << "\n";
+    if (c.publish_errors > 0) {
+        std::cerr << "gyrocal-csv-source: error: " << c.publish_errors
+                  << " messages could not be sent (LCM publish failed)\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace gyrocal

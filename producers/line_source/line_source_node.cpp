@@ -1,0 +1,139 @@
+#include "line_source_node.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "bus/channels.hpp"
+#include "bus/shutdown.hpp"
+#include "csv/fields.hpp"
+
+namespace gyrocal {
+namespace {
+// As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
+std::string FormatNumber(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+}  // namespace
+
+std::string LineSourceOptions::Validate() const {
+    if (!(drain_s >= 0.0 && drain_s <= 60.0)) {
+        return "--drain-s " + FormatNumber(drain_s) + " is out of range; valid: 0 to 60 s";
+    }
+    return conversion.Validate();
+}
+
+LineSourceNode::LineSourceNode(const LineSourceOptions& options, std::unique_ptr<LineInput> input)
+    : options_(options),
+      input_(std::move(input)),
+      bus_(BusOptions{options.lcm_url}),
+      status_(bus_, "gyrocal-line-source"),
+      builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)) {
+    std::string err;
+    transfer_ = *options_.conversion.Transfer(&err);  // validated by main
+    status_.set_state("waiting_header");
+}
+
+int64_t LineSourceNode::Utime(const csv::CsvRow& row) {
+    if (options_.time == TimeSource::kStream) {
+        return csv::StreamUtime(options_.conversion.start_utime, row.time_s);
+    }
+    // Wall time at reception; kept strictly increasing so that two lines read in the same
+    // microsecond still give every sensor increasing utimes.
+    const int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+    last_wall_utime_ = std::max(now, last_wall_utime_ + 1);
+    return last_wall_utime_;
+}
+
+void LineSourceNode::HandleLine(const InputLine& line) {
+    ++line_no_;
+    const std::string& name = input_->name();
+    if (line.overlong) {
+        ++bad_lines_;
+        status_.Reject("bad_line", name + ":" + std::to_string(line_no_) + ": longer than " +
+                                       std::to_string(LineInput::kMaxLineBytes) +
+                                       " bytes; skipped (expected a CSV line)");
+        return;
+    }
+    if (csv::IsBlankOrComment(line.text)) return;
+    if (!parser_) {
+        try {
+            csv::Header h = csv::ParseHeader(line.text, name, line_no_);
+            if (!h.unknown.empty()) {
+                std::string names;
+                for (const auto& n : h.unknown) names += (names.empty() ? "" : ", ") + n;
+                std::cerr << "gyrocal-line-source: warning: " << name
+                          << ": ignoring unknown column(s) " << names << "\n";
+            }
+            parser_.emplace(std::move(h), name, transfer_);
+            header_text_ = line.text;
+            status_.set_state("streaming");
+        } catch (const csv::CsvError& e) {
+            fatal_ = std::string(e.what()) + " (the first line of the stream must be the header)";
+        }
+        return;
+    }
+    if (line.text == header_text_) return;  // a DAQ that restarts may print its header again
+    try {
+        const csv::CsvRow row = parser_->Parse(line.text, line_no_);
+        const csv::RowMessages m = builder_.Build(row, Utime(row));
+        if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
+        if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
+        bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
+        ++published_rows_;
+    } catch (const csv::CsvError& e) {
+        ++bad_lines_;
+        status_.Reject("bad_line", std::string(e.what()) + "; line skipped");
+    }
+}
+
+bool LineSourceNode::Step() {
+    if (!fatal_.empty()) return true;
+    if (eof_) return true;
+    std::vector<InputLine> lines;
+    const bool more = input_->Read(50, &lines);
+    for (const InputLine& l : lines) {
+        HandleLine(l);
+        if (!fatal_.empty()) return true;
+    }
+    status_.SetExtra("rows_published", static_cast<double>(published_rows_));
+    status_.SetExtra("lines_bad", static_cast<double>(bad_lines_));
+    if (!more) {
+        eof_ = true;
+        status_.set_state("draining");
+        std::this_thread::sleep_for(std::chrono::duration<double>(options_.drain_s));
+        return true;
+    }
+    return false;
+}
+
+int LineSourceNode::Run() {
+    try {
+        RunLoop(
+            bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
+    } catch (const std::runtime_error& e) {
+        std::cerr << "gyrocal-line-source: error: " << e.what() << "\n";
+        return 1;
+    }
+    std::cerr << "gyrocal-line-source: published " << published_rows_ << " rows from "
+              << input_->name() << "; skipped " << bad_lines_ << " bad lines\n";
+    if (!fatal_.empty()) {
+        std::cerr << "gyrocal-line-source: error: " << fatal_ << "\n";
+        return 1;
+    }
+    if (bus_.counters().publish_errors > 0) {
+        std::cerr << "gyrocal-line-source: error: " << bus_.counters().publish_errors
+                  << " messages could not be sent (LCM publish failed)\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace gyrocal

@@ -1,0 +1,62 @@
+#pragma once
+// The live line-stream process: a DAQ or microcontroller prints the CSV columns as text lines
+// (first line: the header) on stdin, a serial device or a FIFO; each valid line is published
+// like a CSV row. A live stream cannot stop for a bad line: it is skipped whole, counted
+// (STATUS rejected / lines_bad) and warned about at most once a second, naming its line number.
+//
+// Threads: one. Run() is RunLoop with a zero poll; each turn waits up to 50 ms for input
+// (poll on the fd) and publishes the complete lines. End of input ends it (exit 0).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "bus/bus.hpp"
+#include "bus/status.hpp"
+#include "csv/conversion_options.hpp"
+#include "csv/row_messages.hpp"
+#include "csv/row_parser.hpp"
+#include "line_input.hpp"
+
+namespace gyrocal {
+
+enum class TimeSource { kStream, kWall };
+
+struct LineSourceOptions {
+    std::string device;  // "" = stdin
+    std::string lcm_url;
+    TimeSource time = TimeSource::kStream;
+    double drain_s = 0.2;  // [s] after end of input
+    csv::ConversionOptions conversion = csv::ConversionOptions::Defaults();
+    static LineSourceOptions Defaults() { return {}; }
+    std::string Validate() const;
+};
+
+class LineSourceNode {
+public:
+    LineSourceNode(const LineSourceOptions& options, std::unique_ptr<LineInput> input);
+    // 0 at end of input or on SIGINT/SIGTERM; 1 on a read error or a stream without a header.
+    int Run();
+
+private:
+    bool Step();
+    void HandleLine(const InputLine& line);
+    int64_t Utime(const csv::CsvRow& row);
+
+    LineSourceOptions options_;
+    std::unique_ptr<LineInput> input_;
+    csv::TempTransfer transfer_;
+    Bus bus_;
+    StatusReporter status_;
+    csv::MessageBuilder builder_;
+    std::optional<csv::RowParser> parser_;
+    std::string header_text_;
+    long line_no_ = 0;
+    int64_t published_rows_ = 0;
+    int64_t bad_lines_ = 0;
+    int64_t last_wall_utime_ = 0;
+    bool eof_ = false;
+    std::string fatal_;
+};
+
+}  // namespace gyrocal

@@ -1,0 +1,167 @@
+// gyrocal-rotation as a real OS process over UDP multicast (port 7741): the test publishes a
+// synthetic gyro (S01) and encoder with a +90 and a -90 deg move, and receives SENSITIVITY_S01.
+// Includes bad input that must be counted in STATUS while the process keeps working.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <thread>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/run_event_t.hpp"
+#include "gyrocal/sensitivity_point_t.hpp"
+#include "gyrocal/status_t.hpp"
+#include "launch/child_process.hpp"
+#include "synthetic_rotation.hpp"
+
+namespace gyrocal {
+namespace {
+
+constexpr const char* kUrl = "udpm://239.255.76.67:7741?ttl=0&recv_buf_size=4194304";
+
+bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (!done()) {
+        if (std::chrono::steady_clock::now() > end) return false;
+        bus.Handle(std::chrono::milliseconds(20));
+    }
+    return true;
+}
+
+TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
+    Bus bus(BusOptions{kUrl});
+    std::vector<sensitivity_point_t> points;
+    status_t last_status;
+    bool have_status = false;
+    bus.Subscribe<sensitivity_point_t>(
+        channels::AllSensors(channels::kSensitivityPrefix),
+        [&](const sensitivity_point_t& m, const std::string&) { points.push_back(m); });
+    bus.Subscribe<status_t>(std::string(channels::kStatus),
+                            [&](const status_t& m, const std::string&) {
+                                if (m.process != "gyrocal-rotation") return;
+                                last_status = m;
+                                have_status = true;
+                            });
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("gyrocal_rotation_mp_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    ChildProcess child({GYROCAL_ROTATION_BIN, "--lcm-url", kUrl, "--sensors", "S01"},
+                       (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
+    ASSERT_TRUE(WaitFor(
+        bus, [&] { return have_status; }, std::chrono::seconds(10)))
+        << "no STATUS from gyrocal-rotation";
+
+    // Bad input: a wrong type on GYRO_X (decode error), an unknown sensor, a NaN sample.
+    encoder_sample_t wrong;
+    wrong.encoder_id = "TABLE";
+    bus.Publish(channels::Gyro("X"), wrong);
+    gyro_sample_t bad;
+    bad.utime = rotation::testing::kT0Utime - 1000;
+    bad.sensor_id = "S07";
+    bad.gyro_v = bad.temp_c = bad.temp_v = 1.0;
+    bus.Publish(channels::Gyro("S07"), bad);
+    bad.sensor_id = "S01";
+    bad.gyro_v = std::numeric_limits<double>::quiet_NaN();
+    bus.Publish(channels::Gyro("S01"), bad);
+
+    run_event_t start;
+    start.utime = rotation::testing::kT0Utime;
+    start.run_id = "run-rot";
+    start.event = "start";
+    start.setpoint_index = -1;
+    start.setpoint_c = std::numeric_limits<double>::quiet_NaN();
+    start.num_sensors = 0;
+    bus.Publish(std::string(channels::kRunEvent), start);
+
+    // The synthetic rig with a 200 Hz encoder (fewer messages; start found within 5 ms).
+    rotation::testing::RigSpec spec;
+    spec.encoder_hz = 200;
+    spec.seed = 42;
+    const std::vector<rotation::testing::Move> moves{{5, 90}, {15, -90}};
+    int sent = 0;
+    for (const rotation::testing::Event& e : rotation::testing::Generate(spec, moves, 25)) {
+        if (e.is_gyro) {
+            gyro_sample_t s;
+            s.utime = e.utime;
+            s.sensor_id = "S01";
+            s.seq = e.seq;
+            s.gyro_v = e.gyro_v;
+            s.temp_c = e.temp_c;
+            s.temp_v = 2.5 + 0.009 * (e.temp_c - 25);
+            s.supply_v = std::numeric_limits<double>::quiet_NaN();
+            s.supply_counts = -1;
+            bus.Publish(channels::Gyro("S01"), s);
+        } else {
+            encoder_sample_t enc;
+            enc.utime = e.utime;
+            enc.encoder_id = "TABLE";
+            enc.seq = e.seq;
+            enc.counts = e.counts;
+            enc.counts_per_rev = spec.counts_per_rev;
+            enc.angle_deg = e.counts * 360.0 / spec.counts_per_rev;
+            bus.Publish(std::string(channels::kEncoder), enc);
+        }
+        if (++sent % 40 == 0) {  // pace: ~40 messages per 2 ms
+            bus.Handle(std::chrono::milliseconds(0));
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+    }
+    ASSERT_TRUE(WaitFor(
+        bus, [&] { return points.size() >= 2; }, std::chrono::seconds(10)))
+        << "points received: " << points.size();
+    ASSERT_EQ(points.size(), 2u);
+    const double sigma_s = rotation::testing::ExpectedSensitivityStderr(spec, 90, 0.5, 2.0);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const sensitivity_point_t& p = points[i];
+        SCOPED_TRACE(i);
+        EXPECT_TRUE(p.accepted) << p.reject_reason;
+        EXPECT_EQ(p.sensor_id, "S01");
+        EXPECT_EQ(p.run_id, "run-rot");
+        EXPECT_EQ(p.rotation_id, p.start_utime);
+        EXPECT_EQ(p.direction, i == 0 ? 1 : -1);
+        EXPECT_NEAR(p.encoder_angle_deg, moves[i].angle_deg, 360.0 / spec.counts_per_rev + 1e-12);
+        // Within 4 sigma of the truth, sigma from the noise (see ExpectedSensitivityStderr).
+        EXPECT_NEAR(p.sensitivity_v_per_dps, spec.sensitivity_v_per_dps, 4 * sigma_s);
+    }
+    // An out-of-order sample (earlier than the newest of S01) is refused too.
+    gyro_sample_t late;
+    late.utime = rotation::testing::kT0Utime + 1'000'000;
+    late.sensor_id = "S01";
+    late.seq = 100;
+    late.gyro_v = 2.5;
+    late.temp_c = 30;
+    late.temp_v = 2.545;
+    bus.Publish(channels::Gyro("S01"), late);
+    // STATUS: the decode error, the three refusals (unknown sensor, NaN, out of order; the
+    // heartbeat comes once a second) and the two accepted points.
+    auto extra = [&](const std::string& name) {
+        for (int i = 0; i < last_status.num_extra; ++i)
+            if (last_status.extra_names[i] == name) return last_status.extra_values[i];
+        return -1.0;
+    };
+    ASSERT_TRUE(WaitFor(
+        bus,
+        [&] {
+            return last_status.decode_errors >= 1 && last_status.rejected >= 3 &&
+                   extra("points_accepted") == 2;
+        },
+        std::chrono::seconds(5)))
+        << "decode_errors " << last_status.decode_errors << " rejected " << last_status.rejected
+        << " last_reject " << last_status.last_reject;
+    EXPECT_NE(last_status.last_reject.find("out-of-order"), std::string::npos)
+        << last_status.last_reject;
+    const ExitStatus st = child.Stop();
+    EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrocal
