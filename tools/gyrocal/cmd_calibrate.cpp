@@ -1,11 +1,29 @@
 #include "cmd_calibrate.hpp"
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
 #include "calibrate.hpp"
 
 namespace gyrocal::cli {
+namespace {
+
+// The recorder would refuse an unwritable database only after every process started; say it
+// before anything runs, with what to do.
+void CheckWritableDb(const std::string& db) {
+    namespace fs = std::filesystem;
+    const fs::path path(db);
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir))
+        throw CLI::ValidationError("--db", "folder '" + dir.string() + "' does not exist: create it or choose another path");
+    if (fs::exists(path) ? access(db.c_str(), W_OK) != 0 : access(dir.c_str(), W_OK) != 0)
+        throw CLI::ValidationError("--db", "'" + db + "' is not writable: choose a path you can write");
+}
+
+}  // namespace
 
 void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     auto o = std::make_shared<CalibrateOptions>(CalibrateOptions::Defaults());
@@ -54,6 +72,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
             throw CLI::ValidationError("--input", "is required with --source " + o->source);
         if (o->source == "sim" && !o->input.empty())
             throw CLI::ValidationError("--input", "is only for --source csv|log");
+        CheckWritableDb(o->db);
         action = [o] { return RunCalibration(*o); };
     });
 }

@@ -1,0 +1,91 @@
+#include "fit_util.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace gyrocal::fit::detail {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+std::string Fmt(double v, int prec) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+    return buf;
+}
+
+FitResult Refuse(Refusal r, std::string detail) {
+    FitResult out;
+    out.refusal = r;
+    out.detail = std::move(detail);
+    return out;
+}
+
+double ConditionNumber(const MatrixXd& m) {
+    Eigen::JacobiSVD<MatrixXd> svd(m);
+    const VectorXd& sv = svd.singularValues();
+    if (sv.size() == 0 || !(sv[sv.size() - 1] > 0.0))
+        return std::numeric_limits<double>::infinity();
+    return sv[0] / sv[sv.size() - 1];
+}
+
+std::optional<FitResult> CheckFinite(const std::vector<FitPoint>& pts) {
+    for (const FitPoint& p : pts) {
+        if (!std::isfinite(p.inputs.temp_c) || !std::isfinite(p.y) || !std::isfinite(p.sigma_y))
+            return Refuse(Refusal::kNonFiniteInput,
+                          "point " + std::to_string(p.id) +
+                              ": temp_c, value and standard error must be finite");
+        if (!(p.sigma_y > 0.0))
+            return Refuse(Refusal::kBadStandardError, "point " + std::to_string(p.id) +
+                                                          ": standard error " + Fmt(p.sigma_y) +
+                                                          " must be > 0");
+    }
+    return std::nullopt;
+}
+
+double WeightedRms(const VectorXd& r, const VectorXd& sigma) {
+    const VectorXd w = sigma.cwiseInverse().cwiseAbs2();
+    return std::sqrt((w.array() * r.array().square()).sum() / w.sum());
+}
+
+void FillFitStats(FitResult& out, const VectorXd& residuals, const VectorXd& sigma, int p) {
+    out.residuals = residuals;
+    out.chi2 = residuals.cwiseQuotient(sigma).squaredNorm();
+    out.dof = static_cast<int>(residuals.size()) - p;
+    if (out.dof > 0) {
+        out.chi2_per_dof = out.chi2 / out.dof;
+        out.scatter_exceeds_errors = out.chi2_per_dof > 1.0 + 3.0 * std::sqrt(2.0 / out.dof);
+    }
+    out.model.residual_rms = WeightedRms(residuals, sigma);
+}
+
+std::vector<int64_t> Ids(const std::vector<FitPoint>& pts) {
+    std::vector<int64_t> ids;
+    for (const FitPoint& p : pts) ids.push_back(p.id);
+    return ids;
+}
+
+std::vector<double> Temps(const std::vector<FitPoint>& pts) {
+    std::vector<double> t;
+    for (const FitPoint& p : pts) t.push_back(p.inputs.temp_c);
+    return t;
+}
+
+void SetRange(model::Model& m, const std::vector<FitPoint>& pts) {
+    const std::vector<double> t = Temps(pts);
+    m.temp_min_c = *std::min_element(t.begin(), t.end());
+    m.temp_max_c = *std::max_element(t.begin(), t.end());
+}
+
+std::string FitNotes(const FitResult& r) {
+    std::string s;
+    if (r.dof > 0)
+        s += ", chi2/dof " + Fmt(r.chi2_per_dof, 3) + " on " + std::to_string(r.dof) + " dof";
+    if (r.scatter_exceeds_errors)
+        s += ": scatter exceeds the stated standard errors (model too small or errors understated)";
+    return s;
+}
+
+}  // namespace gyrocal::fit::detail

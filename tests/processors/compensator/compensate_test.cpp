@@ -1,0 +1,215 @@
+// The live compensator's library: rate and angle against known truth, range policy, atomic swaps
+// and refusals of bad sets.
+#include "compensator/compensate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace gyrocal::compensate {
+namespace {
+
+model::Model Quadratic(const char* quantity, double c0, double c1, double c2) {
+    model::Model m;
+    m.quantity = quantity;
+    m.term_names = {"1", "dT", "dT^2"};
+    m.coeffs = Eigen::Vector3d(c0, c1, c2);
+    m.covariance = Eigen::Matrix3d::Identity() * 1e-14;
+    m.t0_c = 25.0;
+    m.temp_min_c = -10.0;
+    m.temp_max_c = 60.0;
+    m.method = "wls";
+    return m;
+}
+
+model::CoeffSet Set(int64_t id) {
+    model::CoeffSet s;
+    s.coeff_set_id = id;
+    s.utime = id;
+    s.sensor_id = "S01";
+    s.source = "fitter";
+    s.offset = Quadratic(model::kOffsetQuantity, 2.5, 4e-4, 3e-6);
+    s.sensitivity = Quadratic(model::kSensitivityQuantity, 0.006, 6e-7, -1.2e-8);
+    return s;
+}
+
+double Eval(const model::Model& m, double temp_c) {
+    model::ModelInputs in;
+    in.temp_c = temp_c;
+    return model::Evaluator(m).Value(in, model::RangePolicy::kExtrapolate);
+}
+
+// gyro_v a unit with exactly the set's curves produces at temp_c and rate_dps.
+double GyroV(const model::CoeffSet& s, double temp_c, double rate_dps) {
+    return Eval(s.offset, temp_c) + Eval(s.sensitivity, temp_c) * rate_dps;
+}
+
+TEST(SensorCompensator, NothingBeforeACoefficientSet) {
+    SensorCompensator c;
+    EXPECT_EQ(c.Apply({1, 0, 2.5, 25.0}).status, ApplyStatus::kNoCoefficients);
+    EXPECT_FALSE(c.has_coefficients());
+    EXPECT_EQ(c.coeff_set_id(), -1);
+}
+
+TEST(SensorCompensator, RateIsTheTruthAtEveryTemperatureInRange) {
+    SensorCompensator c;
+    const model::CoeffSet s = Set(10);
+    ASSERT_EQ(c.SetCoefficients(s).outcome, SetOutcome::kApplied);
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> temp(-10, 60), rate(-300, 300);
+    for (int k = 0; k < 1000; ++k) {
+        const double t = temp(rng), r = rate(rng);
+        const ApplyResult a = c.Apply({1000 + k * 10'000, k, GyroV(s, t, r), t});
+        ASSERT_EQ(a.status, ApplyStatus::kOk) << a.detail;
+        // 1e-9 deg/s: rounding of a ~2.5 V sum (~4e-16 V) divided by 6 mV/dps is ~1e-13 deg/s.
+        EXPECT_NEAR(a.out.rate_dps, r, 1e-9);
+        EXPECT_EQ(a.out.range, model::RangeFlag::kInRange);
+        EXPECT_EQ(a.out.coeff_set_id, 10);
+        EXPECT_GT(a.out.rate_stderr_dps, 0.0);
+    }
+}
+
+TEST(SensorCompensator, NoisyStillUnitAveragesToZeroRate) {
+    // gyro noise sigma_v = 1e-4 V is sigma_v / S = 0.0167 deg/s per sample; the mean of N = 2000
+    // samples has sd 0.0167/sqrt(2000) = 3.7e-4 deg/s: |mean| < 4 sd = 1.5e-3 deg/s.
+    SensorCompensator c;
+    const model::CoeffSet s = Set(10);
+    c.SetCoefficients(s);
+    std::mt19937_64 rng(2);
+    std::normal_distribution<double> noise(0, 1e-4);
+    double sum = 0;
+    const int kN = 2000;
+    for (int k = 0; k < kN; ++k) {
+        const double t = 0 + 50.0 * k / kN;  // across the range
+        sum += c.Apply({1000 + k * 10'000, k, GyroV(s, t, 0.0) + noise(rng), t}).out.rate_dps;
+    }
+    EXPECT_NEAR(sum / kN, 0.0, 4 * 1e-4 / 0.006 / std::sqrt(kN));
+}
+
+TEST(SensorCompensator, AngleIsTheTrapezoidIntegralOnSampleTime) {
+    // rate = A sin(w t): angle = A/w (1 - cos w t). The trapezoid rule's error over a span T with
+    // step h is at most T h^2 max|rate''| / 12 = T h^2 A w^2 / 12.
+    SensorCompensator c;
+    const model::CoeffSet s = Set(10);
+    c.SetCoefficients(s);
+    const double A = 90.0, w = 2 * M_PI * 0.5;
+    const int64_t t0 = 1'000'000'000'000'000;
+    double angle = 0;
+    const int kN = 400;
+    for (int k = 0; k <= kN; ++k) {
+        // uneven steps (9..11 ms) to show it integrates on utime, not on sample count
+        const int64_t utime = t0 + k * 10'000 + (k % 3 - 1) * 1'000;
+        const double ts = 1e-6 * static_cast<double>(utime - t0 + 1'000);  // first sample at t = 0
+        angle = c.Apply({utime, k, GyroV(s, 25.0, A * std::sin(w * ts)), 25.0}).out.angle_deg;
+        if (k == kN) {
+            const double truth = A / w * (1 - std::cos(w * ts));
+            const double h = 0.011;
+            EXPECT_NEAR(angle, truth, ts * h * h * A * w * w / 12.0);
+        }
+    }
+    EXPECT_NE(angle, 0.0);
+}
+
+TEST(SensorCompensator, NewSetSwapsBetweenSamplesAndRestartsTheAngleDuplicateDoesNot) {
+    SensorCompensator c;
+    model::CoeffSet s = Set(10);
+    c.SetCoefficients(s);
+    c.Apply({0, 0, GyroV(s, 25, 10.0), 25});
+    EXPECT_NEAR(c.Apply({1'000'000, 1, GyroV(s, 25, 10.0), 25}).out.angle_deg, 10.0, 1e-9);
+    // the fitter repeats its set on RUN_EVENT stop: not a new calibration
+    EXPECT_EQ(c.SetCoefficients(s).outcome, SetOutcome::kDuplicate);
+    EXPECT_NEAR(c.Apply({2'000'000, 2, GyroV(s, 25, 10.0), 25}).out.angle_deg, 20.0, 1e-9);
+    // a different set: takes effect with the next sample, angle from 0
+    model::CoeffSet s2 = Set(11);
+    s2.offset.coeffs[0] = 2.4;
+    EXPECT_EQ(c.SetCoefficients(s2).outcome, SetOutcome::kApplied);
+    const ApplyResult a = c.Apply({3'000'000, 3, GyroV(s2, 25, 5.0), 25});
+    EXPECT_EQ(a.out.coeff_set_id, 11);
+    EXPECT_NEAR(a.out.rate_dps, 5.0, 1e-9);
+    EXPECT_EQ(a.out.angle_deg, 0.0);
+    EXPECT_NEAR(c.Apply({4'000'000, 4, GyroV(s2, 25, 5.0), 25}).out.angle_deg, 5.0, 1e-9);
+}
+
+TEST(SensorCompensator, BadSetsAreRefusedAndTheOldOneStays) {
+    SensorCompensator c;
+    const model::CoeffSet good = Set(10);
+    c.SetCoefficients(good);
+    model::CoeffSet bad = Set(20);
+    bad.offset.term_names[2] = "dT^5";
+    SetResult r = c.SetCoefficients(bad);
+    EXPECT_EQ(r.outcome, SetOutcome::kRejected);
+    EXPECT_NE(r.detail.find("unknown term 'dT^5'"), std::string::npos) << r.detail;
+    bad = Set(21);
+    bad.sensitivity.coeffs =
+        Eigen::Vector3d(0.001, 1e-4, 0);  // S(T) = 0.001 + 1e-4 (T-25): 0 at 15 degC
+    r = c.SetCoefficients(bad);
+    EXPECT_EQ(r.outcome, SetOutcome::kRejected);
+    EXPECT_NE(r.detail.find("changes sign"), std::string::npos) << r.detail;
+    bad = Set(22);
+    bad.sensitivity.coeffs.resize(2);
+    EXPECT_EQ(c.SetCoefficients(bad).outcome, SetOutcome::kRejected);
+    const ApplyResult a = c.Apply({1, 0, GyroV(good, 30, 1.0), 30});
+    EXPECT_EQ(a.out.coeff_set_id, 10);
+    EXPECT_NEAR(a.out.rate_dps, 1.0, 1e-9);
+}
+
+TEST(SensorCompensator, OutOfRangeIsClippedOrExtrapolatedAndFlagged) {
+    const model::CoeffSet s = Set(10);
+    CompensatorOptions clip, extrap;
+    clip.range_policy = model::RangePolicy::kClip;
+    extrap.range_policy = model::RangePolicy::kExtrapolate;
+    SensorCompensator cc(clip), ce(extrap);
+    cc.SetCoefficients(s);
+    ce.SetCoefficients(s);
+    const double gyro_v = GyroV(s, 75.0, 20.0);  // a unit that really follows the curves at 75 degC
+    const ApplyResult a = cc.Apply({1, 0, gyro_v, 75.0});
+    const ApplyResult b = ce.Apply({1, 0, gyro_v, 75.0});
+    EXPECT_EQ(a.out.range, model::RangeFlag::kClipped);
+    EXPECT_EQ(b.out.range, model::RangeFlag::kExtrapolated);
+    EXPECT_NEAR(b.out.rate_dps, 20.0, 1e-9);  // extrapolation is exact for this unit
+    // clipped: offset and sensitivity evaluated at 60 degC
+    EXPECT_NEAR(a.out.rate_dps, (gyro_v - Eval(s.offset, 60)) / Eval(s.sensitivity, 60), 1e-9);
+}
+
+TEST(SensorCompensator, BadSamplesAreRefusedWithTheirReason) {
+    SensorCompensator c;
+    c.SetCoefficients(Set(10));
+    EXPECT_EQ(c.Apply({100, 0, 2.5, 25}).status, ApplyStatus::kOk);
+    EXPECT_EQ(c.Apply({100, 1, 2.5, 25}).status, ApplyStatus::kOutOfOrder);
+    EXPECT_EQ(c.Apply({50, 2, 2.5, 25}).status, ApplyStatus::kOutOfOrder);
+    EXPECT_EQ(c.Apply({200, 3, NAN, 25}).status, ApplyStatus::kNonFinite);
+    EXPECT_EQ(c.Apply({300, 4, 2.5, INFINITY}).status, ApplyStatus::kNonFinite);
+    EXPECT_EQ(c.Apply({400, 5, 2.5, 25}).status, ApplyStatus::kOk);
+}
+
+TEST(SensorCompensator, ExtendedTermsGetTheirInputsFromTheStream) {
+    // offset = 2.5 + 1e-3 dT + 3 V/(degC/s) * dT/dt; sensitivity differs by direction (+/-1 %).
+    model::CoeffSet s = Set(10);
+    s.offset.term_names = {"1", "dT", "dTdt"};
+    s.offset.coeffs = Eigen::Vector3d(2.5, 1e-3, 3.0);
+    s.sensitivity.term_names = {"1", "dT", "direction"};
+    s.sensitivity.coeffs = Eigen::Vector3d(0.006, 0.0, 6e-5);
+    SensorCompensator c;
+    ASSERT_EQ(c.SetCoefficients(s).outcome, SetOutcome::kApplied);
+    const double ramp_c_per_s = 1.0 / 60.0;  // 1 degC/min, noise-free: the window slope is exact
+    int not_computable = 0;
+    for (int k = 0; k < 3000; ++k) {
+        const double ts = 0.01 * k, t = 0.0 + ramp_c_per_s * ts;
+        const double rate = (k % 2 ? 50.0 : -50.0);
+        const double sens = 0.006 + 6e-5 * (rate > 0 ? 1 : -1);
+        const double off = 2.5 + 1e-3 * (t - 25) + 3.0 * ramp_c_per_s;
+        const ApplyResult a = c.Apply({k * 10'000, k, off + sens * rate, t});
+        if (a.status == ApplyStatus::kNotComputable) {
+            ++not_computable;  // until the dT/dt window (10 s) is half full
+            continue;
+        }
+        ASSERT_EQ(a.status, ApplyStatus::kOk);
+        EXPECT_NEAR(a.out.rate_dps, rate, 1e-6) << k;  // slope exact to ~1e-12 degC/s * 3 V / 6 mV
+    }
+    EXPECT_GT(not_computable, 400);
+    EXPECT_LT(not_computable, 600);
+}
+
+}  // namespace
+}  // namespace gyrocal::compensate

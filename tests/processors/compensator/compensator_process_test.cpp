@@ -1,0 +1,177 @@
+// gyrocal-compensator as a real OS process over UDP multicast (port 7751, TTL 0): samples before
+// any set are counted uncompensated; after a COEFFS_ the RATE_ values are the truth; a bad set is
+// rejected, counted in STATUS, and the old set stays in force; NaN, backwards and mislabelled
+// samples are refused and counted; bad options exit 2.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <thread>
+
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/rate_t.hpp"
+#include "gyrocal/status_t.hpp"
+#include "launch/child_process.hpp"
+#include "model/convert.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr const char* kUrl = "udpm://239.255.76.67:7751?ttl=0&recv_buf_size=4194304";
+constexpr int64_t kStartUtime = 1'000'000'000'000'000;
+
+model::Model Quadratic(const char* quantity, double c0, double c1, double c2) {
+    model::Model m;
+    m.quantity = quantity;
+    m.term_names = {"1", "dT", "dT^2"};
+    m.coeffs = Eigen::Vector3d(c0, c1, c2);
+    m.covariance = Eigen::Matrix3d::Identity() * 1e-14;
+    m.t0_c = 25.0;
+    m.temp_min_c = -10.0;
+    m.temp_max_c = 60.0;
+    m.n_points = 5;
+    m.method = "wls";
+    return m;
+}
+
+coeff_set_t Set(int64_t id) {
+    model::CoeffSet s;
+    s.utime = id;
+    s.coeff_set_id = id;
+    s.sensor_id = "S01";
+    s.run_id = "run-7751";
+    s.source = "fitter";
+    s.offset = Quadratic(model::kOffsetQuantity, 2.5, 4e-4, 3e-6);
+    s.sensitivity = Quadratic(model::kSensitivityQuantity, 0.006, 6e-7, -1.2e-8);
+    s.plateau_ids = {1, 2, 3, 4, 5};
+    return model::ToMsg(s);
+}
+
+struct Listener {
+    Bus bus{BusOptions{kUrl}};
+    std::vector<rate_t> rates;
+    std::optional<status_t> status;
+    Listener() {
+        bus.Subscribe<rate_t>(channels::AllSensors(channels::kRatePrefix),
+                              [this](const rate_t& m, const std::string&) { rates.push_back(m); });
+        bus.Subscribe<status_t>(std::string(channels::kStatus),
+                                [this](const status_t& m, const std::string&) {
+                                    if (m.process == "gyrocal-compensator") status = m;
+                                });
+    }
+    template <class F>
+    bool WaitFor(F&& cond, std::chrono::milliseconds timeout = 10s) {
+        const auto deadline = std::chrono::steady_clock::now() + timeout;
+        while (!cond()) {
+            if (std::chrono::steady_clock::now() > deadline) return false;
+            bus.Handle(50ms);
+        }
+        return true;
+    }
+    double Extra(const std::string& name) const {
+        for (size_t i = 0; status && i < status->extra_names.size(); ++i)
+            if (status->extra_names[i] == name) return status->extra_values[i];
+        return NAN;
+    }
+};
+
+gyro_sample_t Sample(int64_t seq, double temp_c, double rate_dps) {
+    const coeff_set_t set = Set(1);
+    const model::CoeffSet cs = model::FromMsg(set);
+    model::ModelInputs in;
+    in.temp_c = temp_c;
+    const model::Evaluator off(cs.offset), sens(cs.sensitivity);
+    gyro_sample_t s{};
+    s.utime = kStartUtime + seq * 10'000;  // 100 Hz
+    s.sensor_id = "S01";
+    s.seq = seq;
+    s.temp_c = temp_c;
+    s.temp_v = 2.5 + 0.009 * (temp_c - 25);
+    s.gyro_v = off.Value(in, model::RangePolicy::kExtrapolate) +
+               sens.Value(in, model::RangePolicy::kExtrapolate) * rate_dps;
+    s.supply_v = NAN;
+    s.supply_counts = -1;
+    return s;
+}
+
+TEST(CompensatorProcess, RatesFromCoeffsAndBadSetRejected) {
+    Listener l;
+    ChildProcess comp({GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl, "--out-of-range", "clip"});
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.has_value(); }))
+        << "no STATUS from gyrocal-compensator";
+
+    // GIVEN samples before any coefficient set: not published, counted.
+    int64_t seq = 0;
+    for (; seq < 5; ++seq) l.bus.Publish(channels::Gyro("S01"), Sample(seq, 20.0, 10.0));
+    // WHEN a set arrives, then samples at a constant 10 deg/s at temperatures across the range
+    l.bus.Publish(channels::Coeffs("S01"), Set(777));
+    std::this_thread::sleep_for(50ms);
+    const int64_t first_compensated = seq;
+    for (; seq < 105; ++seq)
+        l.bus.Publish(channels::Gyro("S01"), Sample(seq, -5.0 + 0.6 * (seq - 5), 10.0));
+    // a bad set (unknown term): must be refused and the old one kept
+    coeff_set_t bad = Set(888);
+    bad.offset.term_names[2] = "dT^9";
+    l.bus.Publish(channels::Coeffs("S01"), bad);
+    std::this_thread::sleep_for(50ms);
+    for (; seq < 110; ++seq)
+        l.bus.Publish(channels::Gyro("S01"), Sample(seq, 70.0, 10.0));  // above the range
+    // bad samples: NaN gyro_v, a timestamp going backwards, a sensor_id that is not the channel's
+    gyro_sample_t nan_sample = Sample(seq++, 25.0, 0.0);
+    nan_sample.gyro_v = NAN;
+    l.bus.Publish(channels::Gyro("S01"), nan_sample);
+    l.bus.Publish(channels::Gyro("S01"), Sample(3, 25.0, 0.0));
+    gyro_sample_t stray = Sample(seq++, 25.0, 0.0);
+    stray.sensor_id = "S02";
+    l.bus.Publish(channels::Gyro("S01"), stray);
+
+    ASSERT_TRUE(l.WaitFor([&] {
+        return l.rates.size() >= 105 && l.Extra("coeff_sets_rejected") >= 1 &&
+               l.Extra("uncompensated") >= 5 && l.status->rejected >= 4;
+    })) << "rates "
+        << l.rates.size() << ", rejected " << l.Extra("coeff_sets_rejected");
+    // THEN rate = truth to rounding (the test builds gyro_v from the same models: 1e-9 deg/s is
+    // ~1e-11 V / 6 mV/dps, far above double rounding of a 2.5 V sum), the angle is the trapezoid
+    // integral of a constant rate (exact: 10 deg/s * elapsed), and the range flag marks 70 degC.
+    ASSERT_EQ(l.rates.size(), 105u);
+    for (const rate_t& r : l.rates) {
+        EXPECT_EQ(r.coeff_set_id, 777);  // the bad set never took effect
+        const double elapsed_s =
+            1e-6 * static_cast<double>(r.utime - (kStartUtime + first_compensated * 10'000));
+        if (r.temp_c <= 60.0) {
+            EXPECT_NEAR(r.rate_dps, 10.0, 1e-9) << r.seq;
+            EXPECT_NEAR(r.angle_deg, 10.0 * elapsed_s, 1e-9) << r.seq;
+            EXPECT_EQ(r.range_flag, r.temp_c < -10.0 ? 1 : 0) << r.temp_c;
+        } else {
+            EXPECT_EQ(r.range_flag, 1);  // clipped: evaluated at 60 degC, so the rate is not 10
+        }
+    }
+    EXPECT_EQ(l.status->rejected, 4);  // the bad set and the three bad samples, none published
+    EXPECT_EQ(l.Extra("coeff_sets_applied"), 1.0);
+    EXPECT_EQ(l.Extra("uncompensated"), 5.0);
+    comp.Signal(SIGTERM);
+    const auto st = comp.Wait(5s);
+    ASSERT_TRUE(st.has_value());
+    EXPECT_EQ(st->code, 0);
+}
+
+TEST(CompensatorProcess, BadOptionsExitTwo) {
+    for (std::vector<std::string> argv :
+         {std::vector<std::string>{GYROCAL_COMPENSATOR_EXE, "--out-of-range", "wrap"},
+          {GYROCAL_COMPENSATOR_EXE, "--temp-rate-window-s", "0"},
+          {GYROCAL_COMPENSATOR_EXE, "--sensor", "S 01"},
+          {GYROCAL_COMPENSATOR_EXE, "--bogus"}}) {
+        ChildProcess p(argv, "/dev/null", "/dev/null");
+        const auto st = p.Wait(5s);
+        ASSERT_TRUE(st.has_value()) << argv[1];
+        EXPECT_EQ(st->code, 2) << argv[1];
+    }
+}
+
+}  // namespace
+}  // namespace gyrocal

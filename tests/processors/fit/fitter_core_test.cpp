@@ -1,0 +1,191 @@
+// The fitter's state machine without the bus: run scoping, when a set is emitted, what it holds,
+// and which inputs are refused with which reason.
+#include "fitter/fitter_core.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "model/convert.hpp"
+
+namespace gyrocal::fitter {
+namespace {
+
+double OffsetV(double t) { return 2.5 + 4e-4 * (t - 25) + 3e-6 * (t - 25) * (t - 25); }
+
+run_event_t Event(const std::string& what, const std::string& run,
+                  std::vector<std::string> sensors = {"S01"}) {
+    run_event_t e{};
+    e.run_id = run;
+    e.event = what;
+    e.sensor_ids = sensors;
+    e.num_sensors = static_cast<int16_t>(sensors.size());
+    return e;
+}
+
+plateau_t Plateau(double temp_c, int64_t id, const std::string& run = "A",
+                  const std::string& sensor = "S01") {
+    plateau_t p{};
+    p.utime = id + 60'000'000;
+    p.sensor_id = sensor;
+    p.run_id = run;
+    p.plateau_id = id;
+    p.temp_mean_c = temp_c;
+    p.gyro_mean_v = OffsetV(temp_c);
+    p.gyro_sem_v = 2e-5;
+    p.supply_mean_v = NAN;
+    return p;
+}
+
+sensitivity_point_t Rotation(double temp_c, int64_t id, int dir, bool accepted = true) {
+    sensitivity_point_t r{};
+    r.utime = id + 5'000'000;
+    r.sensor_id = "S01";
+    r.run_id = "A";
+    r.rotation_id = id;
+    r.direction = static_cast<int8_t>(dir);
+    r.temp_c = temp_c;
+    r.sensitivity_v_per_dps = 0.006 + 1e-6 * temp_c;
+    r.sensitivity_stderr_v_per_dps = 2e-6;
+    r.accepted = accepted;
+    return r;
+}
+
+bool HasRejection(const CoreOutput& out, const std::string& key) {
+    for (const Rejection& r : out.rejections)
+        if (r.key == key) return true;
+    return false;
+}
+
+TEST(FitterCore, EmitsWhenAFitBecomesPossibleAndAgainOnStop) {
+    FitterCore core(CoreOptions::Defaults());
+    EXPECT_TRUE(core.OnRunEvent(Event("start", "A")).publish.empty());
+    CoreOutput out = core.OnPlateau(Plateau(-10, 100), "S01");
+    EXPECT_TRUE(out.publish.empty());
+    EXPECT_TRUE(out.rejections.empty());  // too few temperatures is expected mid-run, not a refusal
+    out = core.OnPlateau(Plateau(30, 200), "S01");
+    EXPECT_TRUE(out.publish.empty());
+    EXPECT_NE(core.Summaries()["S01"].text.find("too_few_temperatures"), std::string::npos);
+    out = core.OnPlateau(Plateau(60, 300), "S01");
+    ASSERT_EQ(out.publish.size(), 1u);
+    const model::CoeffSet set = model::FromMsg(out.publish[0]);
+    EXPECT_EQ(set.offset.method, "3point");
+    EXPECT_EQ(set.sensitivity.method, "nominal");
+    EXPECT_EQ(set.plateau_ids, (std::vector<int64_t>{100, 200, 300}));
+    EXPECT_TRUE(set.rotation_ids.empty());
+    EXPECT_EQ(set.coeff_set_id, 300 + 60'000'000);  // utime of the newest plateau
+    EXPECT_EQ(set.run_id, "A");
+    EXPECT_EQ(set.source, "fitter");
+    EXPECT_NE(core.Summaries()["S01"].text.find("NOMINAL"), std::string::npos);
+
+    // An unaccepted rotation changes nothing: no new set.
+    out = core.OnSensitivity(Rotation(60, 400, 1, false), "S01");
+    EXPECT_TRUE(out.publish.empty());
+    EXPECT_EQ(core.not_accepted_rotations(), 1);
+    // Stop: the same set once more.
+    out = core.OnRunEvent(Event("stop", "A"));
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].coeff_set_id, set.coeff_set_id);
+}
+
+TEST(FitterCore, RotationsBecomeTheSensitivityModel) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    for (auto [t, id] : {std::pair{-10.0, 100}, {30.0, 200}, {60.0, 300}})
+        core.OnPlateau(Plateau(t, id), "S01");
+    // Rotations at only two temperatures: a weighted mean, said so in the summary.
+    core.OnSensitivity(Rotation(-10, 110, +1), "S01");
+    CoreOutput out = core.OnSensitivity(Rotation(-10, 120, -1), "S01");
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(model::FromMsg(out.publish[0]).sensitivity.method, "mean");
+    EXPECT_NE(core.Summaries()["S01"].text.find("MEAN"), std::string::npos);
+    core.OnSensitivity(Rotation(30, 210, +1), "S01");
+    core.OnSensitivity(Rotation(30, 220, -1), "S01");
+    core.OnSensitivity(Rotation(60, 310, +1), "S01");
+    out = core.OnSensitivity(Rotation(60, 320, -1), "S01");
+    ASSERT_EQ(out.publish.size(), 1u);
+    const model::CoeffSet set = model::FromMsg(out.publish[0]);
+    EXPECT_EQ(set.sensitivity.method, "wls");  // 6 points: wls, degree chosen by AIC
+    EXPECT_EQ(set.rotation_ids, (std::vector<int64_t>{110, 120, 210, 220, 310, 320}));
+    // the newest input: the 60 degC plateau's end (300 + 60 s) is later than any rotation's end
+    // here
+    EXPECT_EQ(set.coeff_set_id, std::max<int64_t>(300 + 60'000'000, 320 + 5'000'000));
+    // The sensitivity truth is linear: the fit reproduces it at the points within 4 sigma of
+    // the points' 2e-6 standard error (the fit's own error is smaller than a single point's).
+    const model::Evaluator sens(set.sensitivity);
+    model::ModelInputs in;
+    in.temp_c = 30;
+    EXPECT_NEAR(sens.Value(in, model::RangePolicy::kClip), 0.006 + 30e-6, 8e-6);
+}
+
+TEST(FitterCore, RunStartClearsAndOtherRunsAreRefused) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    core.OnPlateau(Plateau(-10, 100), "S01");
+    core.OnRunEvent(Event("start", "A"));  // a repeated start of the same run keeps the points
+    EXPECT_EQ(core.Summaries().size(), 1u);
+    core.OnRunEvent(Event("start", "B"));
+    EXPECT_TRUE(core.Summaries().empty());
+    const CoreOutput out = core.OnPlateau(Plateau(30, 200, "A"), "S01");
+    EXPECT_TRUE(HasRejection(out, "wrong_run"));
+    EXPECT_TRUE(core.Summaries().empty());
+}
+
+TEST(FitterCore, BadInputIsRefusedWithItsReason) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A", {"S01", "S02"}));
+    EXPECT_TRUE(HasRejection(core.OnPlateau(Plateau(30, 1, "A", "S02"), "S01"), "wrong_sensor"));
+    EXPECT_TRUE(HasRejection(core.OnPlateau(Plateau(30, 2, "A", "S07"), "S07"), "unknown_sensor"));
+    plateau_t p = Plateau(30, 3);
+    p.temp_mean_c = NAN;
+    EXPECT_TRUE(HasRejection(core.OnPlateau(p, "S01"), "non_finite"));
+    p = Plateau(30, 4);
+    p.gyro_sem_v = 0;
+    EXPECT_TRUE(HasRejection(core.OnPlateau(p, "S01"), "bad_sem"));
+    sensitivity_point_t r = Rotation(30, 5, 1);
+    r.sensitivity_v_per_dps = INFINITY;
+    EXPECT_TRUE(HasRejection(core.OnSensitivity(r, "S01"), "non_finite"));
+    EXPECT_TRUE(core.Summaries().empty());  // nothing was kept
+}
+
+TEST(FitterCore, IllPosedSetsAreRefusedOnceAndAtStop) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    core.OnPlateau(Plateau(20, 100), "S01");
+    core.OnPlateau(Plateau(23, 200), "S01");
+    CoreOutput out = core.OnPlateau(Plateau(60, 300), "S01");
+    EXPECT_TRUE(out.publish.empty());
+    ASSERT_TRUE(HasRejection(out, "fit_refused"));
+    EXPECT_NE(out.rejections[0].detail.find("temperatures_too_close"), std::string::npos);
+    // a replay of the same plateau: same reason, not counted again
+    out = core.OnPlateau(Plateau(60, 300), "S01");
+    EXPECT_TRUE(out.rejections.empty());
+    EXPECT_EQ(core.duplicates(), 1);
+    // at stop the refusal is reported again (the run ends without a calibration)
+    out = core.OnRunEvent(Event("stop", "A"));
+    EXPECT_TRUE(out.publish.empty());
+    EXPECT_TRUE(HasRejection(out, "fit_refused"));
+}
+
+TEST(FitterCore, TooFewTemperaturesAtStopIsARefusal) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    core.OnPlateau(Plateau(20, 100), "S01");
+    const CoreOutput out = core.OnRunEvent(Event("stop", "A"));
+    EXPECT_TRUE(out.publish.empty());
+    EXPECT_TRUE(HasRejection(out, "fit_refused"));
+}
+
+TEST(FitterCore, OptionsAreValidated) {
+    CoreOptions o;
+    EXPECT_EQ(o.Problem(), "");
+    o.nominal_sensitivity_v_per_dps = 0;
+    EXPECT_NE(o.Problem().find("--nominal-sensitivity-v-per-dps"), std::string::npos);
+    o = CoreOptions{};
+    o.fit.max_degree = 4;
+    EXPECT_NE(o.Problem().find("--max-degree"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gyrocal::fitter

@@ -1,0 +1,249 @@
+// gyrocal-fitter as a real OS process over UDP multicast (port 7750, TTL 0): plateaus, rotations
+// and RUN_EVENT in; COEFFS_<id> out with exactly the ids used and the right curves; bad input
+// counted in STATUS; bad options exit 2.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <random>
+#include <thread>
+
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/plateau_t.hpp"
+#include "gyrocal/run_event_t.hpp"
+#include "gyrocal/sensitivity_point_t.hpp"
+#include "gyrocal/status_t.hpp"
+#include "launch/child_process.hpp"
+#include "model/convert.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr const char* kUrl = "udpm://239.255.76.67:7750?ttl=0&recv_buf_size=4194304";
+constexpr int64_t kT0Utime = 1'000'000'000'000'000;
+
+// Truth: offset and sensitivity quadratics (ADXRS610-like magnitudes).
+double OffsetTruthV(double t) { return 2.5 + 4e-4 * (t - 25) + 3e-6 * (t - 25) * (t - 25); }
+double SensTruth(double t) { return 0.006 * (1 + 1e-4 * (t - 25) - 2e-6 * (t - 25) * (t - 25)); }
+
+struct Listener {
+    Bus bus{BusOptions{kUrl}};
+    std::vector<coeff_set_t> coeffs;
+    std::optional<status_t> status;
+    Listener() {
+        bus.Subscribe<coeff_set_t>(
+            channels::AllSensors(channels::kCoeffsPrefix),
+            [this](const coeff_set_t& m, const std::string&) { coeffs.push_back(m); });
+        bus.Subscribe<status_t>(std::string(channels::kStatus),
+                                [this](const status_t& m, const std::string&) {
+                                    if (m.process == "gyrocal-fitter") status = m;
+                                });
+    }
+    // Bounded wait for a condition, dispatching messages meanwhile.
+    template <class F>
+    bool WaitFor(F&& cond, std::chrono::milliseconds timeout = 10s) {
+        const auto deadline = std::chrono::steady_clock::now() + timeout;
+        while (!cond()) {
+            if (std::chrono::steady_clock::now() > deadline) return false;
+            bus.Handle(50ms);
+        }
+        return true;
+    }
+};
+
+run_event_t Event(const std::string& what, int64_t utime) {
+    run_event_t e{};
+    e.utime = utime;
+    e.run_id = "run-7750";
+    e.event = what;
+    e.setpoint_index = -1;
+    e.setpoint_c = NAN;
+    e.sensor_ids = {"S01", "S02", "S03"};
+    e.num_sensors = 3;
+    return e;
+}
+
+plateau_t Plateau(const std::string& id, double temp_c, int64_t start_utime) {
+    plateau_t p{};
+    p.utime = start_utime + 60'000'000;
+    p.sensor_id = id;
+    p.run_id = "run-7750";
+    p.plateau_id = start_utime;
+    p.start_utime = start_utime;
+    p.end_utime = p.utime;
+    p.n_samples = 6000;
+    p.temp_mean_c = temp_c;
+    p.gyro_mean_v = OffsetTruthV(temp_c);
+    p.gyro_sem_v = 2e-5;
+    p.supply_mean_v = NAN;
+    p.setpoint_c = temp_c;
+    return p;
+}
+
+sensitivity_point_t Rotation(const std::string& id, double temp_c, int64_t start_utime, int dir,
+                             bool accepted) {
+    sensitivity_point_t r{};
+    r.utime = start_utime + 5'000'000;
+    r.sensor_id = id;
+    r.run_id = "run-7750";
+    r.rotation_id = start_utime;
+    r.start_utime = start_utime;
+    r.end_utime = r.utime;
+    r.direction = static_cast<int8_t>(dir);
+    r.temp_c = temp_c;
+    r.encoder_angle_deg = 90.0 * dir;
+    r.sensitivity_v_per_dps = SensTruth(temp_c);
+    r.sensitivity_stderr_v_per_dps = 1e-6;
+    r.accepted = accepted;
+    r.reject_reason = accepted ? "" : "seq gap inside the move";
+    return r;
+}
+
+TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
+    Listener l;
+    ChildProcess fitter({GYROCAL_FITTER_EXE, "--lcm-url", kUrl}, "", "");
+    // The fitter's first STATUS comes after it has subscribed: then it hears what we publish.
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.has_value(); })) << "no STATUS from gyrocal-fitter";
+
+    l.bus.Publish(std::string(channels::kRunEvent), Event("start", kT0Utime));
+    std::vector<int64_t> plateau_ids, rotation_ids;
+    const double temps[] = {-10.0, 30.0, 60.0};
+    int64_t t = kT0Utime + 1'000'000;
+    for (double temp : temps) {
+        const plateau_t p = Plateau("S01", temp, t);
+        plateau_ids.push_back(p.plateau_id);
+        l.bus.Publish(channels::Plateau("S01"), p);
+        l.bus.Publish(channels::Plateau("S02"), Plateau("S02", temp, t));  // S02: no rotations
+        t += 100'000'000;
+        for (int dir : {+1, -1}) {
+            const sensitivity_point_t r = Rotation("S01", temp + 0.05 * dir, t, dir, true);
+            rotation_ids.push_back(r.rotation_id);
+            l.bus.Publish(channels::Sensitivity("S01"), r);
+            t += 10'000'000;
+        }
+        l.bus.Publish(channels::Sensitivity("S01"),
+                      Rotation("S01", temp, t, +1, false));  // not accepted
+        t += 10'000'000;
+        std::this_thread::sleep_for(20ms);  // keep UDP bursts small
+    }
+    // S03: five noisy plateaus (noise = the stated sem, 2e-5 V): the N-point path.
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> noise(0.0, 2e-5);
+    std::vector<int64_t> s3_ids;
+    for (double temp : {-10.0, 5.0, 25.0, 45.0, 60.0}) {
+        plateau_t p = Plateau("S03", temp, t);
+        p.gyro_mean_v += noise(rng);
+        s3_ids.push_back(p.plateau_id);
+        l.bus.Publish(channels::Plateau("S03"), p);
+        t += 100'000'000;
+    }
+    // Bad input: a plateau whose sensor_id disagrees with its channel; one for a sensor the run
+    // does not have; one with a NaN mean.
+    l.bus.Publish(channels::Plateau("S01"), Plateau("S02", 45.0, t + 1));
+    l.bus.Publish(channels::Plateau("S09"), Plateau("S09", 45.0, t + 2));
+    plateau_t nan_plateau = Plateau("S01", 45.0, t + 3);
+    nan_plateau.gyro_mean_v = NAN;
+    l.bus.Publish(channels::Plateau("S01"), nan_plateau);
+    l.bus.Publish(std::string(channels::kRunEvent), Event("stop", t + 10));
+
+    // After stop: the final set of each sensor (the last COEFFS_ per sensor).
+    auto last_of = [&](const std::string& id) -> const coeff_set_t* {
+        const coeff_set_t* last = nullptr;
+        for (const auto& c : l.coeffs)
+            if (c.sensor_id == id) last = &c;
+        return last;
+    };
+    // Each complete set arrives twice: when its last input arrived, and again on RUN_EVENT stop.
+    auto count = [&](const std::string& id, int plateaus, int rotations) {
+        int n = 0;
+        for (const auto& c : l.coeffs)
+            n += c.sensor_id == id && c.num_plateaus == plateaus && c.num_rotations == rotations;
+        return n;
+    };
+    ASSERT_TRUE(l.WaitFor([&] {
+        return count("S01", 3, 6) >= 2 && count("S02", 3, 0) >= 2 && count("S03", 5, 0) >= 2 &&
+               l.status && l.status->rejected >= 3;
+    })) << "coeffs received: "
+        << l.coeffs.size();
+    EXPECT_EQ(count("S01", 3, 6), 2);
+    EXPECT_EQ(count("S03", 5, 0), 2);
+
+    const coeff_set_t& s1 = *last_of("S01");
+    EXPECT_EQ(s1.run_id, "run-7750");
+    EXPECT_EQ(s1.source, "fitter");
+    EXPECT_EQ(s1.plateau_ids, plateau_ids);
+    EXPECT_EQ(s1.rotation_ids, rotation_ids);  // the unaccepted ones are not among them
+    // coeff_set_id = utime of the newest input used: the last accepted rotation's utime.
+    const int64_t newest = rotation_ids.back() + 5'000'000;
+    EXPECT_EQ(s1.coeff_set_id, newest);
+    EXPECT_EQ(s1.utime, newest);
+    const model::CoeffSet set = model::FromMsg(s1);
+    EXPECT_EQ(set.offset.method, "3point");
+    EXPECT_DOUBLE_EQ(set.offset.t0_c, -10.0);  // the seed's T0: the first plateau's temperature
+    EXPECT_EQ(set.sensitivity.method, "wls");
+    // Noise-free quadratic truth: both fits reproduce it to rounding. 1e-12 V is ~1e4 ulp of 2.5 V,
+    // far above rounding in a 3x3 solve and far below any fitting error that matters.
+    model::Evaluator off(set.offset), sens(set.sensitivity);
+    for (double temp = -10; temp <= 60; temp += 7) {
+        model::ModelInputs in;
+        in.temp_c = temp;
+        EXPECT_NEAR(off.Value(in, model::RangePolicy::kExtrapolate), OffsetTruthV(temp), 1e-12)
+            << temp;
+        EXPECT_NEAR(sens.Value(in, model::RangePolicy::kExtrapolate), SensTruth(temp), 1e-12)
+            << temp;
+    }
+
+    const model::CoeffSet set2 = model::FromMsg(*last_of("S02"));
+    EXPECT_EQ(set2.sensitivity.method, "nominal");
+    EXPECT_DOUBLE_EQ(set2.sensitivity.coeffs[0], 0.006);
+    EXPECT_EQ(last_of("S02")->num_rotations, 0);
+
+    // S03: wls over 5 points, reference at the rounded midpoint; the fitted curve agrees with the
+    // truth within 4 standard deviations of its own reported uncertainty (phi' C phi) at every
+    // calibration temperature: the covariance survived the wire.
+    ASSERT_NE(last_of("S03"), nullptr);
+    EXPECT_EQ(last_of("S03")->plateau_ids, s3_ids);
+    const model::CoeffSet set3 = model::FromMsg(*last_of("S03"));
+    EXPECT_EQ(set3.offset.method, "wls");
+    EXPECT_EQ(set3.offset.t0_c, 25.0);
+    EXPECT_EQ(set3.offset.n_points, 5);
+    for (double temp : {-10.0, 5.0, 25.0, 45.0, 60.0}) {
+        model::ModelInputs in;
+        in.temp_c = temp;
+        const model::Evaluation e = model::Evaluate(set3.offset, in, model::RangePolicy::kClip);
+        EXPECT_NEAR(e.value, OffsetTruthV(temp), 4 * std::sqrt(e.variance)) << temp;
+    }
+
+    EXPECT_GE(l.status->rejected, 3);
+    fitter.Signal(SIGTERM);
+    const auto st = fitter.Wait(5s);
+    ASSERT_TRUE(st.has_value());
+    EXPECT_TRUE(st->exited);
+    EXPECT_EQ(st->code, 0);
+}
+
+TEST(FitterProcess, BadOptionsExitTwo) {
+    for (std::vector<std::string> argv :
+         {std::vector<std::string>{GYROCAL_FITTER_EXE, "--method", "magic"},
+          {GYROCAL_FITTER_EXE, "--max-degree", "7"},
+          {GYROCAL_FITTER_EXE, "--nominal-sensitivity-v-per-dps", "-1"},
+          {GYROCAL_FITTER_EXE, "--no-such-option"}}) {
+        ChildProcess p(argv, "/dev/null", "/dev/null");
+        const auto st = p.Wait(5s);
+        ASSERT_TRUE(st.has_value()) << argv[1];
+        EXPECT_TRUE(st->exited);
+        EXPECT_EQ(st->code, 2) << argv[1];
+    }
+    ChildProcess help({GYROCAL_FITTER_EXE, "--help"}, "/dev/null", "/dev/null");
+    const auto st = help.Wait(5s);
+    ASSERT_TRUE(st.has_value());
+    EXPECT_EQ(st->code, 0);
+}
+
+}  // namespace
+}  // namespace gyrocal

@@ -1,0 +1,63 @@
+#include "model/terms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "model/model.hpp"
+
+namespace gyrocal::model {
+namespace {
+
+double Term(const std::string& name, double dT, const ModelInputs& in) {
+    ResolvedTerm t;
+    std::string error;
+    EXPECT_TRUE(ResolveTerm(name, &t, &error)) << error;
+    return t(dT, in);
+}
+
+TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
+    ModelInputs in;
+    in.dtemp_dt_c_per_s = 0.02;
+    in.supply_v = 5.1;
+    in.heating = -1;
+    in.direction = 1;
+    in.time_since_power_s = 600;
+    EXPECT_EQ(Term("1", 3.0, in), 1.0);
+    EXPECT_EQ(Term("dT", 3.0, in), 3.0);
+    EXPECT_EQ(Term("dT^2", 3.0, in), 9.0);
+    EXPECT_EQ(Term("dT^3", -2.0, in), -8.0);
+    EXPECT_EQ(Term("dTdt", 3.0, in), 0.02);
+    EXPECT_NEAR(Term("supply", 3.0, in), 0.1, 1e-15);  // about the 5 V nominal
+    EXPECT_EQ(Term("heating", 3.0, in), -1.0);
+    EXPECT_EQ(Term("direction", 3.0, in), 1.0);
+    EXPECT_NEAR(Term("warmup(300)", 3.0, in), std::exp(-2.0), 1e-15);
+}
+
+TEST(Terms, MissingInputGivesNaNNotAWrongNumber) {
+    ModelInputs in;  // only temperature-free terms known
+    EXPECT_TRUE(std::isnan(Term("dTdt", 1.0, in)));
+    EXPECT_TRUE(std::isnan(Term("supply", 1.0, in)));
+    EXPECT_TRUE(std::isnan(Term("heating", 1.0, in)));
+}
+
+TEST(Terms, UnknownOrMalformedNamesAreRefusedWithTheKnownList) {
+    for (const char* bad :
+         {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)", "1("}) {
+        std::string error;
+        EXPECT_FALSE(ResolveTerm(bad, nullptr, &error)) << bad;
+        EXPECT_FALSE(error.empty()) << bad;
+    }
+    std::string error;
+    ResolveTerm("dT^4", nullptr, &error);
+    EXPECT_NE(error.find("dT^3"), std::string::npos) << error;  // lists the known names
+    EXPECT_THROW(ResolveTerms({"1", "bogus"}), ModelError);
+}
+
+TEST(Terms, PolynomialTermNames) {
+    EXPECT_EQ(PolynomialTerms(2), (std::vector<std::string>{"1", "dT", "dT^2"}));
+    EXPECT_THROW(PolynomialTerms(4), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace gyrocal::model
