@@ -11,6 +11,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
+#include <csignal>
 
 #include "gyrocal/model_t.hpp"
 #include "launch/child_process.hpp"
@@ -186,7 +188,65 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
             EXPECT_NEAR(se.value, s_true, 4.0 * std::sqrt(se.variance) + 1e-3 * s_true)
                 << "sensitivity at " << temp_c << " C";
         }
+        // The still unit, compensated with the final set: the mean rate of every recorded still
+        // sample in each plateau window is zero within the same budget, in deg/s.
+        for (const auto& w : sql.Rows("SELECT start_utime, end_utime FROM plateaus WHERE run_id='" + run +
+                                      "' AND sensor_id='" + id + "'")) {
+            double sum_dps = 0;
+            int count = 0;
+            double temp_c = 0;
+            for (const auto& g : sql.Rows("SELECT gyro_v, temp_c FROM gyro_samples WHERE sensor_id='" + id +
+                                          "' AND utime BETWEEN " + w[0] + " AND " + w[1])) {
+                model::ModelInputs in;
+                in.temp_c = temp_c = std::stod(g[1]);
+                sum_dps += (std::stod(g[0]) - off_eval.Value(in, model::RangePolicy::kClip)) /
+                           sens_eval.Value(in, model::RangePolicy::kClip);
+                ++count;
+            }
+            ASSERT_GT(count, 1000);
+            EXPECT_NEAR(sum_dps / count, 0.0, 4.0 * sigma_rate_dps + systematic_v / 0.005)
+                << "mean compensated rate at " << temp_c << " C";
+        }
+        // The live compensator published rates for this unit.
+        EXPECT_GT(sql.Int("SELECT count(*) FROM rates WHERE sensor_id='" + id + "'"), 1000);
     }
+}
+
+bool AnyProcessMentions(const std::string& needle) {
+    for (const auto& e : std::filesystem::directory_iterator("/proc")) {
+        const std::string cmd = ReadFile(e.path().string() + "/cmdline");
+        if (cmd.find(needle) != std::string::npos && e.path().filename() != std::to_string(getpid())) return true;
+    }
+    return false;
+}
+
+// Ctrl-C in the middle of a run: the run is recorded as aborted by the operator, calibrate exits
+// 3, and no process of the graph is left behind.
+TEST(CalibrateEndToEnd, InterruptAbortsTheRunCleanly) {
+    const std::string dir = ::testing::TempDir() + "gyrocal_e2e_int_" + std::to_string(getpid());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
+    const std::string url = "udpm://239.255.76.67:7782?ttl=0&recv_buf_size=4194304";
+    ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--speed", "20", "--db", db, "--lcm-url", url,
+                      "--log-dir", dir + "/logs", "--quiet"},
+                     out, out);
+    // Wait (bounded) until the run has started, as a person would before pressing Ctrl-C.
+    for (int i = 0; i < 300 && ReadFile(dir + "/logs/gyrocal-sequencer.log").find("setpoint") == std::string::npos; ++i)
+        std::this_thread::sleep_for(100ms);
+    ASSERT_NE(ReadFile(dir + "/logs/gyrocal-sequencer.log").find("setpoint"), std::string::npos) << ReadFile(out);
+    std::this_thread::sleep_for(2s);
+    cal.Signal(SIGINT);
+    auto ended = cal.Wait(60s);
+    ASSERT_TRUE(ended.has_value()) << ReadFile(out);
+    EXPECT_TRUE(ended->exited);
+    EXPECT_EQ(ended->code, 3) << ReadFile(out);
+    Sql sql(db);
+    const auto run = sql.Rows("SELECT outcome, reason FROM runs WHERE run_id <> ''");
+    ASSERT_EQ(run.size(), 1u);
+    EXPECT_EQ(run[0][0], "abort");
+    EXPECT_NE(run[0][1].find("operator"), std::string::npos) << run[0][1];
+    EXPECT_FALSE(AnyProcessMentions("239.255.76.67:7782")) << "a process of the graph outlived calibrate";
 }
 
 }  // namespace

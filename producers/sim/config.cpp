@@ -1,0 +1,201 @@
+#include "config.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "bus_free_ids.hpp"
+
+namespace gyrocal::sim {
+
+namespace {
+
+std::string Num(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+// Refuses `value` of `option` unless lo <= value <= hi (and finite).
+void Range(const char* option, double value, double lo, double hi) {
+    if (!std::isfinite(value) || value < lo || value > hi) {
+        throw ConfigError(std::string(option) + " = " + Num(value) +
+                          " is out of range; valid: " + Num(lo) + " .. " + Num(hi));
+    }
+}
+
+// Refuses unless lo < value <= hi.
+void RangeOpenLow(const char* option, double value, double lo, double hi) {
+    if (!std::isfinite(value) || value <= lo || value > hi) {
+        throw ConfigError(std::string(option) + " = " + Num(value) + " is out of range; valid: > " +
+                          Num(lo) + " and <= " + Num(hi));
+    }
+}
+
+}  // namespace
+
+GyroPreset PresetByName(const std::string& name) {
+    GyroPreset p;
+    p.name = name;
+    if (name == "610") {  // myGyro610EB, ADXRS610
+        p.range_dps = 300.0;
+        p.sensitivity_v_per_dps = 0.006;
+    } else if (name == "613") {  // myGyro613EB, ADXRS613
+        p.range_dps = 150.0;
+        p.sensitivity_v_per_dps = 0.0125;
+    } else {
+        throw ConfigError("--preset '" + name +
+                          "' is unknown; valid: 610 (myGyro610EB, ADXRS610), "
+                          "613 (myGyro613EB, ADXRS613)");
+    }
+    return p;
+}
+
+bool EffectsConfig::AnyOn() const {
+    return temp_rate_v_per_c_per_min != 0.0 || hysteresis_v != 0.0 || temp_cubic_v_per_c3 != 0.0 ||
+           supply_v_per_v != 0.0 || sf_asymmetry != 0.0 || warmup_v != 0.0;
+}
+
+const std::vector<std::string>& EffectNames() {
+    static const std::vector<std::string> names = {"temp_rate", "hysteresis",   "temp_cubic",
+                                                   "supply",    "sf_asymmetry", "warmup"};
+    return names;
+}
+
+void SetEffect(EffectsConfig& e, const std::string& name, double value) {
+    // Bounds: far beyond anything physical, only to catch typos (a value in mV instead of V).
+    if (name == "temp_rate") {
+        Range("--effect temp_rate [V/(degC/min)]", value, -0.1, 0.1);
+        e.temp_rate_v_per_c_per_min = value;
+    } else if (name == "hysteresis") {
+        Range("--effect hysteresis [V]", value, -0.5, 0.5);
+        e.hysteresis_v = value;
+    } else if (name == "temp_cubic") {
+        Range("--effect temp_cubic [V/K^3]", value, -1e-5, 1e-5);
+        e.temp_cubic_v_per_c3 = value;
+    } else if (name == "supply") {
+        Range("--effect supply [V/V]", value, -1.0, 1.0);
+        e.supply_v_per_v = value;
+    } else if (name == "sf_asymmetry") {
+        Range("--effect sf_asymmetry [1]", value, -0.5, 0.5);
+        e.sf_asymmetry = value;
+    } else if (name == "warmup") {
+        Range("--effect warmup [V]", value, -0.5, 0.5);
+        e.warmup_v = value;
+    } else {
+        std::string valid;
+        for (const auto& n : EffectNames()) valid += (valid.empty() ? "" : ", ") + n;
+        throw ConfigError("--effect '" + name + "' is unknown; valid names: " + valid);
+    }
+}
+
+void ParseEffect(EffectsConfig& effects, const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) {
+        throw ConfigError("--effect '" + text + "': expected NAME=VALUE, e.g. temp_cubic=2e-8");
+    }
+    const std::string name = text.substr(0, eq);
+    const std::string value_text = text.substr(eq + 1);
+    double value = 0.0;
+    try {
+        size_t used = 0;
+        value = std::stod(value_text, &used);
+        if (used != value_text.size()) throw std::invalid_argument("trailing characters");
+    } catch (const std::exception&) {
+        throw ConfigError("--effect '" + text + "': VALUE '" + value_text + "' is not a number");
+    }
+    SetEffect(effects, name, value);
+}
+
+std::vector<std::string> RigConfig::UnitIds() const {
+    if (!sensor_ids.empty()) return sensor_ids;
+    std::vector<std::string> ids;
+    for (int i = 1; i <= num_units; ++i) {
+        char buf[16];
+        std::snprintf(buf, sizeof buf, "S%02d", i);
+        ids.emplace_back(buf);
+    }
+    return ids;
+}
+
+void RigConfig::Validate() const {
+    if (sensor_ids.empty()) Range("--units", num_units, 1, 256);
+    if (sensor_ids.size() > 256) {
+        throw ConfigError("--sensor-ids: " + std::to_string(sensor_ids.size()) +
+                          " ids; valid: 1 .. 256");
+    }
+    const std::vector<std::string> ids = UnitIds();
+    for (size_t i = 0; i < ids.size(); ++i) {
+        const std::string& id = ids[i];
+        for (size_t j = 0; j < i; ++j) {
+            if (ids[j] == id) {
+                throw ConfigError("--sensor-ids: '" + id +
+                                  "' appears twice; valid: distinct ids (each is a channel)");
+            }
+        }
+        if (!IsPlainSensorId(id)) {
+            throw ConfigError("--sensor-ids: '" + id +
+                              "' is not a valid sensor id; valid: 1..32 of A-Z a-z 0-9 _ -");
+        }
+    }
+    RangeOpenLow("--rate-hz", sample_rate_hz, 0.0, 10000.0);
+    Range("--start-utime", static_cast<double>(start_utime), 0.0, 4.0e18);
+    RangeOpenLow("--chamber-state-hz", chamber_state_hz, 0.0, 1000.0);
+    PresetByName(preset.name);  // refuses unknown names
+
+    Range("--noise-density", noise.noise_density_dps_rthz, 0.0, 10.0);
+    Range("--bias-instability-dps", noise.bias_instability_dps, 0.0, 10.0);
+    Range("--rrw-dps-rts", noise.rate_random_walk_dps_rts, 0.0, 1.0);
+    Range("--lpf-hz", noise.lpf_hz, 0.0, 100000.0);
+    Range("--temp-noise-v", noise.temp_noise_v, 0.0, 0.1);
+
+    Range("--start-temp-c", thermal.start_temp_c, thermal.min_setpoint_c, thermal.max_setpoint_c);
+    RangeOpenLow("--ramp-c-per-min", thermal.ramp_c_per_min, 0.0, 1000.0);
+    RangeOpenLow("--air-tau-s", thermal.air_tau_s, 0.0, 1e5);
+    Range("--air-noise-c", thermal.air_noise_c, 0.0, 5.0);
+    RangeOpenLow("--air-noise-tau-s", thermal.air_noise_tau_s, 0.0, 1e5);
+    RangeOpenLow("--package-tau-s", thermal.package_tau_s, 0.0, 1e5);
+    RangeOpenLow("--sensor-tau-s", thermal.sensor_tau_s, 0.0, 1e5);
+    RangeOpenLow("--setpoint-tolerance-c", thermal.setpoint_tolerance_c, 0.0, 20.0);
+    Range("--min-setpoint-c", thermal.min_setpoint_c, -100.0, thermal.max_setpoint_c);
+    Range("--max-setpoint-c", thermal.max_setpoint_c, thermal.min_setpoint_c, 200.0);
+
+    Range("--spread-null-std-v", spread.null_std_v, 0.0, 0.5);
+    Range("--temp-sensor-offset-std-c", spread.temp_sensor_offset_std_c, 0.0, 20.0);
+    Range("--package-tau-spread", spread.package_tau_spread_frac, 0.0, 0.3);
+    Range("--sens-std-frac", spread.sens_std_frac, 0.0, 0.3);
+
+    RangeOpenLow("--table-max-rate-dps", table.max_rate_dps, 0.0, 2000.0);
+    RangeOpenLow("--table-max-accel-dps2", table.max_accel_dps2, 0.0, 1e5);
+    RangeOpenLow("--table-rate-dps", table.default_rate_dps, 0.0, table.max_rate_dps);
+    RangeOpenLow("--table-accel-dps2", table.default_accel_dps2, 0.0, table.max_accel_dps2);
+    RangeOpenLow("--table-max-move-deg", table.max_move_deg, 0.0, 1e6);
+
+    Range("--encoder-lines", encoder.lines_per_rev, 1, 1'000'000);
+    if (encoder.quadrature != 1 && encoder.quadrature != 2 && encoder.quadrature != 4) {
+        throw ConfigError("--encoder-quadrature = " + std::to_string(encoder.quadrature) +
+                          " is not valid; valid: 1, 2 or 4");
+    }
+    RangeOpenLow("--encoder-hz", encoder.rate_hz, 0.0, 10000.0);
+
+    Range("--adc-bits", adc.bits, 0, 24);
+    if (adc.bits != 0 && adc.bits < 8) {
+        throw ConfigError("--adc-bits = " + std::to_string(adc.bits) +
+                          " is not valid; valid: 0 "
+                          "(no ADC) or 8 .. 24");
+    }
+    RangeOpenLow("--adc-vref-v", adc.vref_v, 0.0, 50.0);
+    RangeOpenLow("--adc-supply-divider", adc.supply_divider, 0.0, 1.0);
+
+    RangeOpenLow("--supply-nominal-v", supply.nominal_v, 0.0, 50.0);
+    Range("--supply-ripple-v", supply.ripple_v, 0.0, 1.0);
+    RangeOpenLow("--supply-ripple-hz", supply.ripple_hz, 0.0, 1e6);
+    Range("--supply-drift-std-v", supply.drift_std_v, 0.0, 1.0);
+    RangeOpenLow("--supply-drift-tau-s", supply.drift_tau_s, 0.0, 1e6);
+    Range("--supply-noise-v", supply.noise_v, 0.0, 1.0);
+
+    RangeOpenLow("--hysteresis-width-c", effects.hysteresis_width_c, 0.0, 50.0);
+    RangeOpenLow("--warmup-tau-s", effects.warmup_tau_s, 0.0, 1e5);
+}
+
+}  // namespace gyrocal::sim

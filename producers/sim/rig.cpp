@@ -1,0 +1,269 @@
+#include "rig.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gyrocal::sim {
+
+struct Rig::UnitState {
+    UnitState(const RigConfig& c, int index)
+        : rng(c.seed, UnitNoiseStream(index)), noise(c.noise, c.sample_rate_hz, rng) {}
+    Rng rng;
+    NoiseModel noise;
+    double die_c = 0.0;
+    double die_rate_c_per_s = 0.0;
+    double sensor_c = 0.0;
+    double hysteresis_mem_c = 0.0;  // play-operator memory
+    double package_alpha = 0.0;     // cached for last_dt_s_
+    double lpf_v = 0.0;
+    bool lpf_primed = false;
+    int64_t seq = 0;
+};
+
+namespace {
+
+// ADC code of `v` (0 .. max_code, rounding to nearest) for a converter of `lsb_v` per code.
+int32_t Code(double v, double lsb_v, int32_t max_code) {
+    const double c = std::floor(v / lsb_v + 0.5);
+    return static_cast<int32_t>(std::clamp(c, 0.0, static_cast<double>(max_code)));
+}
+
+}  // namespace
+
+Rig::Rig(const RigConfig& config)
+    : config_((config.Validate(), config)),
+      ids_(config.UnitIds()),
+      chamber_(config.thermal, config.seed),
+      table_(config.table),
+      encoder_(config.encoder, Rng(config.seed, kStreamEncoder).Uniform()),
+      supply_rng_(config.seed, kStreamSupply),
+      now_utime_(config.start_utime),
+      physics_utime_(config.start_utime) {
+    for (size_t i = 0; i < ids_.size(); ++i) {
+        units_.push_back(DrawUnit(config_, static_cast<int>(i), ids_[i]));
+        auto s = std::make_unique<UnitState>(config_, static_cast<int>(i));
+        s->die_c = config_.thermal.start_temp_c;
+        s->sensor_c = s->die_c;
+        s->hysteresis_mem_c = s->die_c;
+        state_.push_back(std::move(s));
+    }
+    supply_drift_v_ = config_.supply.drift_std_v * supply_rng_.Normal();  // stationary start
+    supply_true_v_ = config_.supply.nominal_v + supply_drift_v_;
+    gyro_period_us_ = 1e6 / config_.sample_rate_hz;
+    encoder_period_us_ = 1e6 / config_.encoder.rate_hz;
+    chamber_period_us_ = 1e6 / config_.chamber_state_hz;
+    if (config_.noise.lpf_hz > 0.0) {
+        lpf_alpha_ = 1.0 - std::exp(-2.0 * M_PI * config_.noise.lpf_hz / config_.sample_rate_hz);
+    }
+    if (config_.adc.bits > 0) {
+        max_code_ = static_cast<int32_t>((int64_t{1} << config_.adc.bits) - 1);
+        lsb_v_ = config_.adc.vref_v / static_cast<double>(int64_t{1} << config_.adc.bits);
+    }
+}
+
+Rig::~Rig() = default;
+
+int64_t Rig::GridTime(double period_us, int64_t k) const {
+    return config_.start_utime +
+           static_cast<int64_t>(std::llround(period_us * static_cast<double>(k)));
+}
+
+int64_t Rig::next_event_utime() const {
+    return std::min({GridTime(gyro_period_us_, gyro_k_), GridTime(encoder_period_us_, encoder_k_),
+                     GridTime(chamber_period_us_, chamber_k_)});
+}
+
+CommandResult Rig::ChamberCommand(int64_t cmd_id, double setpoint_c, double ramp_c_per_min) {
+    std::string why = chamber_.Command(cmd_id, setpoint_c, ramp_c_per_min);
+    fault_ = why;
+    return {why.empty(), why};
+}
+
+CommandResult Rig::TurntableCommand(int64_t cmd_id, double move_deg, double rate_dps,
+                                    double accel_dps2) {
+    const double now_s = (now_utime_ - config_.start_utime) * 1e-6;
+    std::string why = table_.Command(cmd_id, move_deg, rate_dps, accel_dps2, now_s);
+    fault_ = why;
+    return {why.empty(), why};
+}
+
+void Rig::RunUntil(int64_t until_utime, RigSink& sink) {
+    for (;;) {
+        const int64_t t_chamber = GridTime(chamber_period_us_, chamber_k_);
+        const int64_t t_encoder = GridTime(encoder_period_us_, encoder_k_);
+        const int64_t t_gyro = GridTime(gyro_period_us_, gyro_k_);
+        const int64_t t = std::min({t_chamber, t_encoder, t_gyro});
+        if (t > until_utime) break;
+        AdvancePhysics(t);
+        now_utime_ = t;
+        // Chamber first: a sink reacting to it (built-in profile) commands before the samples.
+        if (t == t_chamber) {
+            EmitChamber(t, sink);
+            ++chamber_k_;
+        }
+        if (t == t_encoder) {
+            EmitEncoder(t, sink);
+            ++encoder_k_;
+        }
+        if (t == t_gyro) {
+            EmitGyros(t, sink);
+            ++gyro_k_;
+        }
+        if (stop_requested_) {
+            stop_requested_ = false;
+            break;
+        }
+    }
+}
+
+void Rig::AdvancePhysics(int64_t utime) {
+    if (utime <= physics_utime_) return;
+    const double dt_s = (utime - physics_utime_) * 1e-6;
+    physics_utime_ = utime;
+    if (dt_s != last_dt_s_) {
+        last_dt_s_ = dt_s;
+        supply_phi_ = std::exp(-dt_s / config_.supply.drift_tau_s);
+        supply_drive_ = config_.supply.drift_std_v * std::sqrt(1.0 - supply_phi_ * supply_phi_);
+        sensor_alpha_ = 1.0 - std::exp(-dt_s / config_.thermal.sensor_tau_s);
+        for (size_t i = 0; i < state_.size(); ++i) {
+            state_[i]->package_alpha = 1.0 - std::exp(-dt_s / units_[i].package_tau_s);
+        }
+    }
+    chamber_.Advance(dt_s);
+    const double air_c = chamber_.air_c();
+    const double half_width = 0.5 * config_.effects.hysteresis_width_c;
+    for (size_t i = 0; i < state_.size(); ++i) {
+        UnitState& s = *state_[i];
+        s.die_c += (air_c - s.die_c) * s.package_alpha;
+        s.die_rate_c_per_s = (air_c - s.die_c) / units_[i].package_tau_s;
+        s.sensor_c += (s.die_c - s.sensor_c) * sensor_alpha_;
+        // Play operator: the memory follows the die only once it is half a width away.
+        if (s.die_c > s.hysteresis_mem_c + half_width) s.hysteresis_mem_c = s.die_c - half_width;
+        if (s.die_c < s.hysteresis_mem_c - half_width) s.hysteresis_mem_c = s.die_c + half_width;
+    }
+    supply_drift_v_ = supply_phi_ * supply_drift_v_ + supply_drive_ * supply_rng_.Normal();
+    const double t_s = (utime - config_.start_utime) * 1e-6;
+    supply_true_v_ =
+        config_.supply.nominal_v + supply_drift_v_ +
+        config_.supply.ripple_v * std::sin(2.0 * M_PI * config_.supply.ripple_hz * t_s);
+    table_.AdvanceTo(t_s);
+}
+
+void Rig::EmitChamber(int64_t utime, RigSink& sink) {
+    ChamberReading r;
+    r.utime = utime;
+    r.seq = chamber_seq_++;
+    r.cmd_id = chamber_.cmd_id();
+    r.setpoint_c = chamber_.setpoint_c();
+    r.air_c = chamber_.air_c();
+    r.at_setpoint = chamber_.at_setpoint();
+    r.fault = fault_;
+    sink.OnChamber(r);
+}
+
+void Rig::EmitEncoder(int64_t utime, RigSink& sink) {
+    EncoderReading r;
+    r.utime = utime;
+    r.seq = encoder_seq_++;
+    table_.At((utime - config_.start_utime) * 1e-6, r.true_angle_deg, r.true_rate_dps);
+    r.counts = encoder_.Counts(r.true_angle_deg);
+    r.counts_per_rev = encoder_.counts_per_rev();
+    r.angle_deg = encoder_.AngleOf(r.counts);
+    sink.OnEncoder(r);
+}
+
+void Rig::EmitGyros(int64_t utime, RigSink& sink) {
+    const RigConfig& c = config_;
+    const EffectsConfig& fx = c.effects;
+    const double t_on_s = (utime - c.start_utime) * 1e-6;
+    double table_angle_deg = 0.0, table_rate_dps = 0.0;
+    table_.At(t_on_s, table_angle_deg, table_rate_dps);
+    // One supply for all units, measured once per scan.
+    const double supply_meas_v = supply_true_v_ + c.supply.noise_v * supply_rng_.Normal();
+    const bool adc = c.adc.bits > 0;
+    int32_t supply_counts = 0;
+    double supply_v = supply_meas_v;
+    if (adc) {
+        supply_counts = Code(supply_meas_v * c.adc.supply_divider, lsb_v_, max_code_);
+        supply_v = supply_counts * lsb_v_ / c.adc.supply_divider;
+    }
+    const double half_width = 0.5 * fx.hysteresis_width_c;
+
+    for (size_t i = 0; i < state_.size(); ++i) {
+        UnitState& s = *state_[i];
+        const UnitTruth& u = units_[i];
+        GyroTruth truth;
+        truth.air_c = chamber_.air_c();
+        truth.die_c = s.die_c;
+        truth.die_rate_c_per_min = s.die_rate_c_per_s * 60.0;
+        truth.sensor_state_c = s.sensor_c;
+        truth.rate_true_dps = table_rate_dps;
+        truth.supply_true_v = supply_true_v_;
+        truth.hysteresis_branch = (s.die_c - s.hysteresis_mem_c) / half_width;
+        // Always the same draws per sample, whatever is switched on.
+        truth.rate_noise_dps = s.noise.Next(s.rng);
+        const double temp_noise_v = c.noise.temp_noise_v * s.rng.Normal();
+
+        truth.offset_v = u.OffsetV(s.die_c);
+        truth.sensitivity_v_per_dps = u.SensitivityVPerDps(s.die_c);
+        // Undeclared effects: each skipped entirely when 0 so that "off" is bit-identical.
+        double effect_v = 0.0;
+        if (fx.temp_rate_v_per_c_per_min != 0.0) {
+            effect_v += fx.temp_rate_v_per_c_per_min * truth.die_rate_c_per_min;
+        }
+        if (fx.hysteresis_v != 0.0) effect_v += 0.5 * fx.hysteresis_v * truth.hysteresis_branch;
+        if (fx.temp_cubic_v_per_c3 != 0.0) {
+            const double dt = s.die_c - kTruthT0C;
+            effect_v += fx.temp_cubic_v_per_c3 * dt * dt * dt;
+        }
+        if (fx.supply_v_per_v != 0.0)
+            effect_v += fx.supply_v_per_v * (supply_true_v_ - c.supply.nominal_v);
+        if (fx.warmup_v != 0.0) effect_v += fx.warmup_v * std::exp(-t_on_s / fx.warmup_tau_s);
+        if (fx.sf_asymmetry != 0.0 && table_rate_dps != 0.0) {
+            truth.effect_sens_factor =
+                table_rate_dps > 0.0 ? 1.0 + 0.5 * fx.sf_asymmetry : 1.0 - 0.5 * fx.sf_asymmetry;
+        }
+        truth.effect_offset_v = effect_v;
+
+        const double rate_dps = std::clamp(table_rate_dps + truth.rate_noise_dps,
+                                           -c.preset.range_dps, c.preset.range_dps);
+        double sens = truth.sensitivity_v_per_dps;
+        if (truth.effect_sens_factor != 1.0) sens *= truth.effect_sens_factor;
+        double offset = truth.offset_v;
+        if (effect_v != 0.0) offset += effect_v;
+        const double v =
+            std::clamp(offset + sens * rate_dps, c.preset.rail_low_v, c.preset.rail_high_v);
+        if (!s.lpf_primed) {  // powered up settled: no filter transient at t = 0
+            s.lpf_v = v;
+            s.lpf_primed = true;
+        } else {
+            s.lpf_v += (v - s.lpf_v) * lpf_alpha_;
+        }
+
+        const double sensor_read_c = s.sensor_c + u.temp_sensor_offset_c;
+        const double temp_analog_v =
+            c.preset.temp_v_at_25c + c.preset.temp_v_per_c * (sensor_read_c - 25.0) + temp_noise_v;
+
+        GyroReading r;
+        r.utime = utime;
+        r.unit_index = static_cast<int>(i);
+        r.sensor_id = &ids_[i];
+        r.seq = s.seq++;
+        r.has_adc = adc;
+        r.supply_v = supply_v;
+        if (adc) {
+            r.gyro_counts = Code(s.lpf_v, lsb_v_, max_code_);
+            r.temp_counts = Code(temp_analog_v, lsb_v_, max_code_);
+            r.supply_counts = supply_counts;
+            r.gyro_v = r.gyro_counts * lsb_v_;
+            r.temp_v = r.temp_counts * lsb_v_;
+        } else {
+            r.gyro_v = s.lpf_v;
+            r.temp_v = temp_analog_v;
+        }
+        r.temp_c = 25.0 + (r.temp_v - c.preset.temp_v_at_25c) / c.preset.temp_v_per_c;
+        sink.OnGyro(r, truth);
+    }
+}
+
+}  // namespace gyrocal::sim

@@ -1,0 +1,125 @@
+#include "truth.hpp"
+
+namespace gyrocal::sim {
+
+nlohmann::json ConfigJson(const RigConfig& c) {
+    using nlohmann::json;
+    json j;
+    j["seed"] = c.seed;
+    j["sensor_ids"] = c.UnitIds();
+    j["sample_rate_hz"] = c.sample_rate_hz;
+    j["start_utime"] = c.start_utime;
+    j["chamber_state_hz"] = c.chamber_state_hz;
+    j["preset"] = {{"name", c.preset.name},
+                   {"range_dps", c.preset.range_dps},
+                   {"null_v", c.preset.null_v},
+                   {"sensitivity_v_per_dps", c.preset.sensitivity_v_per_dps},
+                   {"rail_low_v", c.preset.rail_low_v},
+                   {"rail_high_v", c.preset.rail_high_v},
+                   {"temp_v_at_25c", c.preset.temp_v_at_25c},
+                   {"temp_v_per_c", c.preset.temp_v_per_c}};
+    j["noise"] = {{"noise_density_dps_rthz", c.noise.noise_density_dps_rthz},
+                  {"noise_density_convention", "allan_deviation(tau) = density / sqrt(tau)"},
+                  {"bias_instability_dps", c.noise.bias_instability_dps},
+                  {"rate_random_walk_dps_rts", c.noise.rate_random_walk_dps_rts},
+                  {"lpf_hz", c.noise.lpf_hz},
+                  {"temp_noise_v", c.noise.temp_noise_v}};
+    j["thermal"] = {{"start_temp_c", c.thermal.start_temp_c},
+                    {"ramp_c_per_min", c.thermal.ramp_c_per_min},
+                    {"air_tau_s", c.thermal.air_tau_s},
+                    {"air_noise_c", c.thermal.air_noise_c},
+                    {"air_noise_tau_s", c.thermal.air_noise_tau_s},
+                    {"package_tau_s", c.thermal.package_tau_s},
+                    {"sensor_tau_s", c.thermal.sensor_tau_s},
+                    {"setpoint_tolerance_c", c.thermal.setpoint_tolerance_c},
+                    {"min_setpoint_c", c.thermal.min_setpoint_c},
+                    {"max_setpoint_c", c.thermal.max_setpoint_c}};
+    j["table"] = {{"default_rate_dps", c.table.default_rate_dps},
+                  {"default_accel_dps2", c.table.default_accel_dps2},
+                  {"max_rate_dps", c.table.max_rate_dps},
+                  {"max_accel_dps2", c.table.max_accel_dps2},
+                  {"max_move_deg", c.table.max_move_deg}};
+    j["encoder"] = {{"lines_per_rev", c.encoder.lines_per_rev},
+                    {"quadrature", c.encoder.quadrature},
+                    {"counts_per_rev", c.encoder.lines_per_rev * c.encoder.quadrature},
+                    {"rate_hz", c.encoder.rate_hz}};
+    j["adc"] = {
+        {"bits", c.adc.bits}, {"vref_v", c.adc.vref_v}, {"supply_divider", c.adc.supply_divider}};
+    j["supply"] = {{"nominal_v", c.supply.nominal_v},     {"ripple_v", c.supply.ripple_v},
+                   {"ripple_hz", c.supply.ripple_hz},     {"drift_std_v", c.supply.drift_std_v},
+                   {"drift_tau_s", c.supply.drift_tau_s}, {"noise_v", c.supply.noise_v}};
+    return j;
+}
+
+namespace {
+
+nlohmann::json EffectsJson(const EffectsConfig& e) {
+    using nlohmann::json;
+    auto one = [](double value, const char* unit, const char* what) {
+        return json{{"on", value != 0.0}, {"value", value}, {"unit", unit}, {"model", what}};
+    };
+    json j;
+    j["temp_rate"] = one(e.temp_rate_v_per_c_per_min, "V/(degC/min)",
+                         "offset_v += value * dT_die/dt [degC/min]");
+    j["hysteresis"] = one(e.hysteresis_v, "V",
+                          "offset_v += value/2 * branch; branch in [-1,1] from a play operator of "
+                          "width hysteresis_width_c on T_die (+1 heating, -1 cooling)");
+    j["hysteresis"]["width_c"] = e.hysteresis_width_c;
+    j["temp_cubic"] = one(e.temp_cubic_v_per_c3, "V/K^3", "offset_v += value * (T_die - 25)^3");
+    j["supply"] =
+        one(e.supply_v_per_v, "V/V", "offset_v += value * (supply_true_v - supply.nominal_v)");
+    j["sf_asymmetry"] = one(e.sf_asymmetry, "1",
+                            "sensitivity *= 1 + value/2 for positive rate, 1 - value/2 negative");
+    j["warmup"] = one(e.warmup_v, "V", "offset_v += value * exp(-t_since_power_on / tau_s)");
+    j["warmup"]["tau_s"] = e.warmup_tau_s;
+    return j;
+}
+
+}  // namespace
+
+nlohmann::json TruthJson(const Rig& rig) {
+    using nlohmann::json;
+    const RigConfig& c = rig.config();
+    json j;
+    j["format"] = "gyrocal-sim-truth/1";
+    j["seed"] = c.seed;
+    j["start_utime"] = c.start_utime;
+    j["truth_temperature"] = "die_c";
+    j["truth_temperature_note"] =
+        "curves are functions of the DIE temperature T_die (chamber air through the package lag), "
+        "not of the reported temp_c: temp_c = T_die through the sensor lag (sensor_tau_s) + "
+        "temp_sensor_offset_c + noise, quantized";
+    j["t0_c"] = kTruthT0C;
+    j["noise_note"] =
+        "offset_v excludes the rate noise: bias instability and rate random walk (config.noise) "
+        "wander about zero on top of it, in deg/s times the sensitivity";
+    j["effects"] = EffectsJson(c.effects);
+    j["config"] = ConfigJson(c);
+    json units = json::array();
+    for (const UnitTruth& u : rig.units()) {
+        json ju;
+        ju["sensor_id"] = u.sensor_id;
+        ju["offset_v"] = {{"terms", {"1", "dT", "dT^2"}},
+                          {"coeffs", u.offset_coeffs},
+                          {"t0_c", kTruthT0C},
+                          {"temperature", "die_c"}};
+        ju["sensitivity_v_per_dps"] = {{"terms", {"1", "dT", "dT^2"}},
+                                       {"coeffs", u.sensitivity_coeffs},
+                                       {"t0_c", kTruthT0C},
+                                       {"temperature", "die_c"}};
+        ju["temp_sensor_offset_c"] = u.temp_sensor_offset_c;
+        ju["package_tau_s"] = u.package_tau_s;
+        json table = json::array();
+        for (int t = -40; t <= 85; t += 5) {
+            table.push_back({{"die_c", t},
+                             {"offset_v", u.OffsetV(t)},
+                             {"sensitivity_v_per_dps", u.SensitivityVPerDps(t)}});
+        }
+        ju["table"] = table;
+        units.push_back(ju);
+    }
+    j["units"] = units;
+    return j;
+}
+
+}  // namespace gyrocal::sim

@@ -1,0 +1,251 @@
+#include "cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sim/builtin_profile.hpp"
+
+namespace gyrocal {
+
+namespace {
+
+// The measured limit, stated in --help (see tests/bench/producers_sim and the report).
+const char* kFooter = R"(
+Exit codes: 0 normal stop (SIGINT/SIGTERM, --duration-s reached, built-in profile done),
+            1 runtime failure (LCM cannot be opened or fails), 2 bad options/configuration.
+
+Time: utime is the simulated clock (us), starting at --start-utime; the wall clock only paces
+publication: --speed simulated seconds per wall second, published in batches every --tick-ms.
+Speed limit, measured with tests/bench/producers_sim/gyrocal_bench_sim_rig_bus (the real rig
+and one subscriber on the same host, 2-core AMD EPYC shared with other builds): 4 units at
+100 Hz plus the encoder at 100 Hz are 500 messages per simulated second. Uncapped, the rig sent
+~70k messages/s (--speed ~140) with 0 lost at load ~4, but at load ~11 it lost 1-3 % of samples
+from 32k messages/s up. With the default cap of 30000 messages/s (--speed 60 for 4 units) 0 were
+lost at load ~11. UDP multicast has no flow control: with more subscribers or a busier host,
+lower --max-msgs-per-s; past the cap the simulation just runs slower (STATUS extra lag_s),
+never skipping a sample. The simulation alone generates ~11M samples/s (4 units).
+
+Truth: per-unit curves (functions of the DIE temperature, about 25 degC), effects and seed go only
+to --truth-out, never on the bus.
+Effects (off by default; each --effect NAME=VALUE, repeatable):
+  temp_rate=V_per_C_per_min  offset += VALUE * dT_die/dt [degC/min]
+  hysteresis=V               heating and cooling branches VALUE apart (--hysteresis-width-c)
+  temp_cubic=V_per_K3        offset += VALUE * (T_die - 25)^3
+  supply=V_per_V             offset += VALUE * (supply - nominal)
+  sf_asymmetry=FRACTION      sensitivity * (1 +- VALUE/2) for positive/negative rate
+  warmup=V                   offset += VALUE * exp(-t_on / --warmup-tau-s)
+)";
+
+SimRigOptions ParseInto(CLI::App& app, int argc, char** argv, int& exit_code) {
+    using sim::ConfigError;
+    SimRigOptions o = SimRigOptions::Defaults();
+    auto& r = o.rig;
+    std::string preset = r.preset.name;
+    double temp_v_at_25c = NAN, temp_v_per_c = NAN;  // NaN = the preset's
+    std::string profile_text = "-10,30,60";
+    std::string sensor_ids_text;
+    std::vector<std::string> effects;
+    long long start_utime = r.start_utime;
+    unsigned long long seed = r.seed;
+
+    app.add_option("--lcm-url", o.lcm_url,
+                   "LCM provider URL (default $GYROCAL_LCM_URL or LCM's udpm default)");
+    app.add_option("--mode", o.mode,
+                   "commanded (obey CHAMBER_CMD/TURNTABLE_CMD) or builtin (run --profile)")
+        ->capture_default_str();
+    app.add_option("--speed", o.speed, "simulated seconds per wall second, > 0 and <= 100000")
+        ->capture_default_str();
+    app.add_option("--duration-s", o.duration_s, "simulated seconds to run, 0 = until stopped")
+        ->capture_default_str();
+    app.add_option("--tick-ms", o.tick_ms, "wall milliseconds between publication batches, 1..100")
+        ->capture_default_str();
+    app.add_option("--max-msgs-per-s", o.max_msgs_per_s,
+                   "publication cap in messages per wall second (0 = none); past it the simulation "
+                   "slows down rather than flood subscribers")
+        ->capture_default_str();
+    app.add_option("--truth-out", o.truth_out, "write the truth sidecar JSON to this file");
+    app.add_option("--seed", seed, "random seed: same seed, same output")->capture_default_str();
+    app.add_option("--units", r.num_units, "number of units S01..S<n>, 1..256")
+        ->capture_default_str();
+    app.add_option("--sensor-ids", sensor_ids_text, "comma-separated unit ids (overrides --units)");
+    app.add_option("--preset", preset,
+                   "gyro module: 610 (ADXRS610, +-300 deg/s, 6 mV/(deg/s)) or 613 (ADXRS613, +-150 "
+                   "deg/s, 12.5 mV/(deg/s))")
+        ->capture_default_str();
+    app.add_option("--temp-v-at-25c", temp_v_at_25c,
+                   "temperature line at 25 degC [V] (default: the preset's, 2.5)");
+    app.add_option("--temp-v-per-c", temp_v_per_c,
+                   "temperature line slope [V/K] (default: the preset's, 0.009)");
+    app.add_option("--rate-hz", r.sample_rate_hz, "gyro sample rate [Hz]")->capture_default_str();
+    app.add_option("--start-utime", start_utime, "simulated clock at power-on [us]")
+        ->capture_default_str();
+    app.add_option("--effect", effects, "undeclared effect NAME=VALUE (see below), repeatable");
+    // Noise
+    app.add_option("--noise-density", r.noise.noise_density_dps_rthz,
+                   "white rate noise [deg/s/sqrt(Hz)] (Allan dev = value/sqrt(tau))")
+        ->capture_default_str();
+    app.add_option("--bias-instability-dps", r.noise.bias_instability_dps,
+                   "flat Allan-deviation level [deg/s]")
+        ->capture_default_str();
+    app.add_option("--rrw-dps-rts", r.noise.rate_random_walk_dps_rts,
+                   "rate random walk [deg/s/sqrt(s)]")
+        ->capture_default_str();
+    app.add_option("--lpf-hz", r.noise.lpf_hz, "module output low-pass corner [Hz], 0 = none")
+        ->capture_default_str();
+    app.add_option("--temp-noise-v", r.noise.temp_noise_v, "temperature line noise [V]")
+        ->capture_default_str();
+    // Thermal
+    app.add_option("--start-temp-c", r.thermal.start_temp_c, "chamber and units at power-on [degC]")
+        ->capture_default_str();
+    app.add_option("--ramp-c-per-min", r.thermal.ramp_c_per_min,
+                   "chamber ramp-rate limit [degC/min]")
+        ->capture_default_str();
+    app.add_option("--air-tau-s", r.thermal.air_tau_s, "air settling lag [s]")
+        ->capture_default_str();
+    app.add_option("--air-noise-c", r.thermal.air_noise_c, "air control fluctuation [degC]")
+        ->capture_default_str();
+    app.add_option("--package-tau-s", r.thermal.package_tau_s, "die lag behind the air [s]")
+        ->capture_default_str();
+    app.add_option("--package-tau-spread", r.spread.package_tau_spread_frac,
+                   "per-unit relative spread of the package lag")
+        ->capture_default_str();
+    app.add_option("--sensor-tau-s", r.thermal.sensor_tau_s,
+                   "temperature sensor lag behind the die [s]")
+        ->capture_default_str();
+    app.add_option("--temp-sensor-offset-std-c", r.spread.temp_sensor_offset_std_c,
+                   "per-unit temperature sensor offset spread [degC]")
+        ->capture_default_str();
+    app.add_option("--setpoint-tolerance-c", r.thermal.setpoint_tolerance_c,
+                   "at_setpoint band [degC]")
+        ->capture_default_str();
+    app.add_option("--min-setpoint-c", r.thermal.min_setpoint_c, "lowest accepted setpoint [degC]")
+        ->capture_default_str();
+    app.add_option("--max-setpoint-c", r.thermal.max_setpoint_c, "highest accepted setpoint [degC]")
+        ->capture_default_str();
+    // Table and encoder
+    app.add_option("--table-rate-dps", r.table.default_rate_dps, "default cruise rate [deg/s]")
+        ->capture_default_str();
+    app.add_option("--table-accel-dps2", r.table.default_accel_dps2,
+                   "default acceleration [deg/s^2]")
+        ->capture_default_str();
+    app.add_option("--table-max-rate-dps", r.table.max_rate_dps,
+                   "faster orders are refused [deg/s]")
+        ->capture_default_str();
+    app.add_option("--encoder-lines", r.encoder.lines_per_rev, "encoder lines per revolution")
+        ->capture_default_str();
+    app.add_option("--encoder-quadrature", r.encoder.quadrature, "counts per line: 1, 2 or 4")
+        ->capture_default_str();
+    app.add_option("--encoder-hz", r.encoder.rate_hz, "encoder publication rate [Hz]")
+        ->capture_default_str();
+    // ADC and supply
+    app.add_option("--adc-bits", r.adc.bits, "ADC resolution, 0 = no ADC (analog volts)")
+        ->capture_default_str();
+    app.add_option("--adc-vref-v", r.adc.vref_v, "ADC full scale [V]")->capture_default_str();
+    app.add_option("--supply-ripple-v", r.supply.ripple_v, "supply ripple amplitude [V]")
+        ->capture_default_str();
+    app.add_option("--supply-drift-std-v", r.supply.drift_std_v, "supply slow drift [V]")
+        ->capture_default_str();
+    // Effects' shapes
+    app.add_option("--hysteresis-width-c", r.effects.hysteresis_width_c,
+                   "reversal that switches branch [degC]")
+        ->capture_default_str();
+    app.add_option("--warmup-tau-s", r.effects.warmup_tau_s, "warm-up transient time constant [s]")
+        ->capture_default_str();
+    // Built-in profile
+    app.add_option("--profile", profile_text, "builtin mode: setpoints [degC], comma-separated")
+        ->capture_default_str();
+    app.add_option("--dwell-s", o.profile.dwell_s,
+                   "builtin mode: time at setpoint before rotating [s]")
+        ->capture_default_str();
+    app.add_option("--rest-s", o.profile.rest_s, "builtin mode: rest after each move [s]")
+        ->capture_default_str();
+    app.add_option("--move-deg", o.profile.move_deg, "builtin mode: rotation (+ then -) [deg]")
+        ->capture_default_str();
+    app.footer(kFooter);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        exit_code = app.exit(e);
+        return o;
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "gyrocal-sim-rig: " << e.what() << " (see --help)\n";
+        exit_code = 2;
+        return o;
+    }
+    try {
+        r.seed = seed;
+        r.start_utime = start_utime;
+        r.preset = sim::PresetByName(preset);
+        // The transfer function both simulates the sensor line and converts it to temp_c.
+        if (!std::isnan(temp_v_at_25c)) {
+            if (!std::isfinite(temp_v_at_25c) || temp_v_at_25c <= 0.0 || temp_v_at_25c >= 50.0) {
+                throw sim::ConfigError("--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
+            }
+            r.preset.temp_v_at_25c = temp_v_at_25c;
+        }
+        if (!std::isnan(temp_v_per_c)) {
+            if (!std::isfinite(temp_v_per_c) || temp_v_per_c <= 0.0 || temp_v_per_c > 1.0) {
+                throw sim::ConfigError("--temp-v-per-c is out of range; valid: > 0 and <= 1 V/K");
+            }
+            r.preset.temp_v_per_c = temp_v_per_c;
+        }
+        if (!sensor_ids_text.empty()) {
+            std::stringstream ss(sensor_ids_text);
+            std::string id;
+            while (std::getline(ss, id, ',')) r.sensor_ids.push_back(id);
+        }
+        for (const auto& e : effects) sim::ParseEffect(r.effects, e);
+        if (o.mode != "commanded" && o.mode != "builtin") {
+            throw ConfigError("--mode '" + o.mode + "' is unknown; valid: commanded, builtin");
+        }
+        if (!std::isfinite(o.speed) || o.speed <= 0.0 || o.speed > 100000.0) {
+            std::ostringstream v;
+            v << o.speed;
+            throw ConfigError(
+                "--speed " + v.str() +
+                " is out of range; valid: > 0 and <= 100000 (simulated s per wall s)");
+        }
+        if (!std::isfinite(o.duration_s) || o.duration_s < 0.0) {
+            throw ConfigError("--duration-s must be >= 0 (0 = until stopped)");
+        }
+        if (!std::isfinite(o.max_msgs_per_s) || o.max_msgs_per_s < 0.0) {
+            throw ConfigError("--max-msgs-per-s must be >= 0 (0 = no cap)");
+        }
+        if (!std::isfinite(o.tick_ms) || o.tick_ms < 1.0 || o.tick_ms > 100.0) {
+            throw ConfigError("--tick-ms is out of range; valid: 1 .. 100");
+        }
+        if (!(o.profile.dwell_s >= 0.0) || !(o.profile.rest_s >= 0.0) ||
+            !std::isfinite(o.profile.move_deg) ||
+            std::abs(o.profile.move_deg) > r.table.max_move_deg) {
+            throw ConfigError(
+                "--dwell-s, --rest-s must be >= 0 and |--move-deg| <= the table's limit");
+        }
+        o.profile.setpoints_c = sim::ParseProfile(profile_text, r.thermal);
+        r.Validate();
+    } catch (const ConfigError& e) {
+        std::cerr << "gyrocal-sim-rig: " << e.what() << "\n";
+        exit_code = 2;
+    }
+    return o;
+}
+
+}  // namespace
+
+std::optional<int> ParseSimRigOptions(int argc, char** argv, SimRigOptions& options) {
+    CLI::App app{
+        "gyrocal-sim-rig: simulated temperature chamber, turntable, encoder and gyro "
+        "modules; publishes GYRO_<id>, ENCODER, CHAMBER_STATE, obeys CHAMBER_CMD and "
+        "TURNTABLE_CMD",
+        "gyrocal-sim-rig"};
+    int exit_code = -1;
+    options = ParseInto(app, argc, argv, exit_code);
+    if (exit_code >= 0) return exit_code;
+    return std::nullopt;
+}
+
+}  // namespace gyrocal

@@ -1,0 +1,13 @@
+#pragma once
+// Command line of gyrocal-sim-rig: every option, its default and its valid range (--help).
+#include <optional>
+
+#include "rig_node.hpp"
+
+namespace gyrocal {
+
+// Parses and validates argv into `options`. Returns nullopt to go on, or the exit code to leave
+// with: 0 after --help, 2 after a bad option (a one-line reason naming it is on stderr).
+std::optional<int> ParseSimRigOptions(int argc, char** argv, SimRigOptions& options);
+
+}  // namespace gyrocal

@@ -1,0 +1,33 @@
+// gyrocal-sim-rig: the simulated chamber, turntable, encoder and gyro units on LCM.
+// Parses options (cli.cpp; exit 2 with a one-line reason), writes the truth sidecar if asked,
+// and runs SimRigNode until SIGINT/SIGTERM, --duration-s or the end of the built-in profile.
+#include <iostream>
+#include <string>
+
+#include "bus/shutdown.hpp"
+#include "cli.hpp"
+#include "rig_node.hpp"
+#include "truth_file.hpp"
+
+int main(int argc, char** argv) {
+    gyrocal::SimRigOptions options = gyrocal::SimRigOptions::Defaults();
+    if (const auto exit_code = gyrocal::ParseSimRigOptions(argc, argv, options)) return *exit_code;
+    if (!options.truth_out.empty()) {
+        std::string error;
+        if (!gyrocal::WriteTruthFile(options.truth_out, options, error)) {
+            std::cerr << "gyrocal-sim-rig: " << error << "\n";
+            return 2;
+        }
+    }
+    gyrocal::InstallStopHandlers();
+    try {
+        gyrocal::SimRigNode node(options);
+        return node.Run();
+    } catch (const gyrocal::sim::ConfigError& e) {
+        std::cerr << "gyrocal-sim-rig: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal-sim-rig: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,68 @@
+#pragma once
+// gyrocal-sim-rig's node: the simulated rig (gyrocal_sim) on LCM.
+//
+// Threads: one. LCM's receive thread only queues CHAMBER_CMD / TURNTABLE_CMD; this thread runs
+// RunLoop, and between bus polls advances the simulation up to where the pacing says the
+// simulated clock should be (sim = start + speed * wall elapsed), publishing every sample due in
+// that batch. Publication is also capped at --max-msgs-per-s (wall clock): a sender faster than
+// the subscribers on the same host can drain only makes them lose samples, so past the cap the
+// simulation slows down instead. When behind, batches are capped (commands are still served)
+// and the lag is reported in STATUS (extra "lag_s"). It stops on SIGINT/SIGTERM, at
+// --duration-s of simulated time, or when the built-in profile is done.
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/status.hpp"
+#include "gyrocal/chamber_cmd_t.hpp"
+#include "gyrocal/turntable_cmd_t.hpp"
+#include "sim/builtin_profile.hpp"
+#include "sim/rig.hpp"
+
+namespace gyrocal {
+
+struct SimRigOptions {
+    std::string lcm_url;              // "" = $GYROCAL_LCM_URL or the default
+    std::string mode = "commanded";   // "commanded" or "builtin"
+    double speed = 1.0;               // [sim s / wall s]
+    double duration_s = 0.0;          // [s] simulated; 0 = until stopped (or profile done)
+    std::string truth_out;            // truth sidecar JSON; "" = none
+    double tick_ms = 5.0;             // [ms] wall time between publication batches
+    double max_msgs_per_s = 30000.0;  // [1/s] wall-clock publication cap; 0 = none
+    sim::RigConfig rig = sim::RigConfig::Defaults();
+    sim::ProfileConfig profile = sim::ProfileConfig::Defaults();
+    static SimRigOptions Defaults() { return {}; }
+};
+
+class SimRigNode : private sim::RigSink {
+public:
+    // Throws sim::ConfigError for a bad configuration, BusError when LCM cannot be opened.
+    explicit SimRigNode(const SimRigOptions& options);
+    // Runs until stopped; returns the process exit code.
+    int Run();
+
+private:
+    void OnChamberCmd(const chamber_cmd_t& cmd);
+    void OnTurntableCmd(const turntable_cmd_t& cmd);
+    bool Advance();  // pacing step; true when finished
+    bool OverMessageBudget() const;
+    void OnGyro(const sim::GyroReading& r, const sim::GyroTruth& truth) override;
+    void OnEncoder(const sim::EncoderReading& r) override;
+    void OnChamber(const sim::ChamberReading& r) override;
+
+    SimRigOptions options_;
+    Bus bus_;
+    StatusReporter status_;
+    sim::Rig rig_;
+    std::optional<sim::BuiltinProfile> profile_;
+    std::vector<std::string> gyro_channels_;
+    std::chrono::steady_clock::time_point wall_start_;
+    int64_t end_utime_ = 0;  // 0 = none
+    bool finished_ = false;
+};
+
+}  // namespace gyrocal

@@ -1,0 +1,112 @@
+#include "format_util.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "model_eval.hpp"
+#include "report.hpp"
+
+namespace gyrocal::store::report::detail {
+
+Table::Table(std::vector<std::string> headers) { rows_.push_back(std::move(headers)); }
+
+void Table::Add(std::vector<std::string> row) {
+    for (auto& cell : row) cell = Printable(cell);
+    rows_.push_back(std::move(row));
+}
+
+std::string Table::str() const {
+    std::vector<size_t> width;
+    for (const auto& r : rows_) {
+        if (width.size() < r.size()) width.resize(r.size(), 0);
+        for (size_t i = 0; i < r.size(); ++i) width[i] = std::max(width[i], r[i].size());
+    }
+    std::ostringstream out;
+    for (size_t k = 0; k < rows_.size(); ++k) {
+        const auto& r = rows_[k];
+        std::string line;
+        for (size_t i = 0; i < r.size(); ++i) {
+            line += r[i];
+            if (i + 1 < r.size()) line += std::string(width[i] - r[i].size() + 2, ' ');
+        }
+        out << line << "\n";
+        if (k == 0) {
+            size_t total = 0;
+            for (size_t i = 0; i < width.size(); ++i) {
+                total += width[i] + (i + 1 < width.size() ? 2 : 0);
+            }
+            out << std::string(total, '-') << "\n";
+        }
+    }
+    return out.str();
+}
+
+std::string Num(double v, int precision) {
+    if (!std::isfinite(v)) return "-";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+    return buf;
+}
+
+std::string Fixed(double v, int decimals) {
+    if (!std::isfinite(v)) return "-";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+    return buf;
+}
+
+std::string Opt(std::optional<int64_t> v) { return v ? std::to_string(*v) : "-"; }
+
+nlohmann::json OptJson(std::optional<int64_t> v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+std::string RunLabel(const std::string& run_id) { return run_id.empty() ? "(no run)" : run_id; }
+
+std::string Join(const std::vector<std::string>& v, const std::string& sep) {
+    std::string out;
+    for (size_t i = 0; i < v.size(); ++i) out += (i ? sep : "") + v[i];
+    return out;
+}
+
+std::string Terms(const ModelRow& m) {
+    std::vector<std::string> parts;
+    for (size_t i = 0; i < m.term_names.size(); ++i) {
+        parts.push_back(m.term_names[i] + "=" + Num(i < m.coeffs.size() ? m.coeffs[i] : NAN, 6));
+    }
+    return Join(parts, " ");
+}
+
+nlohmann::json ModelJson(const ModelRow& m) {
+    nlohmann::json j;
+    j["quantity"] = m.quantity;
+    j["term_names"] = m.term_names;
+    nlohmann::json coeffs = nlohmann::json::array();
+    for (double c : m.coeffs) coeffs.push_back(Finite(c));
+    j["coeffs"] = coeffs;
+    nlohmann::json cov = nlohmann::json::array();
+    for (const auto& row : m.covariance) {
+        nlohmann::json r = nlohmann::json::array();
+        for (double v : row) r.push_back(Finite(v));
+        cov.push_back(r);
+    }
+    j["covariance"] = cov;
+    j["t0_c"] = Finite(m.t0_c);
+    j["temp_min_c"] = Finite(m.temp_min_c);
+    j["temp_max_c"] = Finite(m.temp_max_c);
+    j["residual_rms"] = Finite(m.residual_rms);
+    j["n_points"] = m.n_points;
+    j["condition_number"] = Finite(m.condition_number);
+    j["method"] = m.method;
+    return j;
+}
+
+std::optional<double> Eval(const ModelRow& m, double temp_c) {
+    return EvalPolynomialModel(m.term_names, m.coeffs, m.t0_c, temp_c);
+}
+
+}  // namespace gyrocal::store::report::detail

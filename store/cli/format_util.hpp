@@ -1,0 +1,36 @@
+#pragma once
+// Small text helpers shared by the store reports and exports (not part of the public API).
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rows.hpp"
+
+namespace gyrocal::store::report::detail {
+
+// Column-aligned text table; cells are made printable (untrusted text).
+class Table {
+public:
+    explicit Table(std::vector<std::string> headers);
+    void Add(std::vector<std::string> row);
+    std::string str() const;
+
+private:
+    std::vector<std::vector<std::string>> rows_;
+};
+
+std::string Num(double v, int precision = 6);    // "%.*g"; "-" when not finite
+std::string Fixed(double v, int decimals);       // "%.*f"; "-" when not finite
+std::string Opt(std::optional<int64_t> v);       // "-" when absent
+nlohmann::json OptJson(std::optional<int64_t> v);
+nlohmann::json Finite(double v);                 // null when not finite (JSON has no NaN)
+std::string RunLabel(const std::string& run_id); // "(no run)" for ''
+std::string Join(const std::vector<std::string>& v, const std::string& sep);
+std::string Terms(const ModelRow& m);            // "1=2.5 dT=0.001"
+nlohmann::json ModelJson(const ModelRow& m);
+// The model at temp_c [degC], or nullopt when it has non-polynomial terms (local evaluator).
+std::optional<double> Eval(const ModelRow& m, double temp_c);
+
+}  // namespace gyrocal::store::report::detail

@@ -1,0 +1,374 @@
+// Human tables and JSON for runs, a run's detail and a sensor's history.
+#include "report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <sstream>
+
+#include "format_util.hpp"
+
+namespace gyrocal::store::report {
+
+using namespace detail;
+
+std::string Printable(const std::string& s) {
+    std::string out = s;
+    for (char& c : out) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u < 0x20 || u == 0x7f) c = '?';
+    }
+    return out;
+}
+
+std::string UtcText(std::optional<int64_t> utime) {
+    if (!utime) return "-";
+    const std::time_t t = static_cast<std::time_t>(*utime / 1000000);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S", &tm);
+    return buf;
+}
+
+std::optional<int64_t> ParseUtc(const std::string& text) {
+    int y = 0, mo = 0, d = 0, h = 0, mi = 0, s = 0;
+    int n = 0;
+    if (std::sscanf(text.c_str(), "%4d-%2d-%2d%n", &y, &mo, &d, &n) != 3 || n != 10) {
+        return std::nullopt;
+    }
+    std::string tail = text.substr(10);
+    if (!tail.empty()) {
+        if (tail[0] != 'T' && tail[0] != ' ') return std::nullopt;
+        int m = 0;
+        const int got = std::sscanf(tail.c_str() + 1, "%2d:%2d%n:%2d%n", &h, &mi, &m, &s, &m);
+        if (got < 2) return std::nullopt;
+        const std::string after = tail.substr(1 + static_cast<size_t>(m));
+        if (!(after.empty() || after == "Z")) return std::nullopt;
+    }
+    if (mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 || s > 60 || y < 1970) {
+        return std::nullopt;
+    }
+    std::tm tm{};
+    tm.tm_year = y - 1900;
+    tm.tm_mon = mo - 1;
+    tm.tm_mday = d;
+    tm.tm_hour = h;
+    tm.tm_min = mi;
+    tm.tm_sec = s;
+    const std::time_t t = timegm(&tm);
+    std::tm back{};
+    gmtime_r(&t, &back);
+    if (back.tm_mday != d) return std::nullopt;  // e.g. 2026-02-31
+    return static_cast<int64_t>(t) * 1000000;
+}
+
+std::optional<std::vector<double>> ParseTemps(const std::string& text) {
+    std::vector<double> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        size_t used = 0;
+        double v = 0;
+        try {
+            v = std::stod(item, &used);
+        } catch (...) {
+            return std::nullopt;
+        }
+        while (used < item.size() && item[used] == ' ') ++used;
+        if (used != item.size() || !std::isfinite(v)) return std::nullopt;
+        out.push_back(v);
+    }
+    if (out.empty()) return std::nullopt;
+    return out;
+}
+
+std::string RunsTable(const std::vector<RunInfo>& runs) {
+    Table t({"RUN", "OUTCOME", "FIRST SEEN (UTC)", "SENSORS", "GYRO SAMPLES", "PLATEAUS",
+             "SENS PTS", "COEFF SETS", "SEQ GAPS", "DECODE ERR", "QUEUE DROPS", "VERSION"});
+    for (const auto& r : runs) {
+        t.Add({RunLabel(r.run_id), r.outcome, UtcText(r.first_recv_utime), Join(r.sensor_ids, ","),
+               std::to_string(r.gyro_samples), std::to_string(r.plateaus),
+               std::to_string(r.sensitivity_points), std::to_string(r.coeff_sets),
+               std::to_string(r.seq_gaps), std::to_string(r.decode_errors),
+               std::to_string(r.queue_drops), r.software_version});
+    }
+    return t.str();
+}
+
+static nlohmann::json RunJson(const RunInfo& r) {
+    nlohmann::json j;
+    j["run_id"] = r.run_id;
+    j["outcome"] = r.outcome;
+    j["reason"] = r.reason;
+    j["started_utime"] = OptJson(r.started_utime);
+    j["stopped_utime"] = OptJson(r.stopped_utime);
+    j["first_recv_utime"] = OptJson(r.first_recv_utime);
+    j["software_version"] = r.software_version;
+    j["command_line"] = r.command_line;
+    j["host"] = r.host;
+    j["recorder_version"] = r.recorder_version;
+    j["recorder_host"] = r.recorder_host;
+    j["sensor_ids"] = r.sensor_ids;
+    j["counts"] = {{"gyro_samples", r.gyro_samples},     {"encoder_samples", r.encoder_samples},
+                   {"chamber_states", r.chamber_states}, {"plateaus", r.plateaus},
+                   {"sensitivity_points", r.sensitivity_points},
+                   {"coeff_sets", r.coeff_sets},         {"raw_events", r.raw_events}};
+    j["losses"] = {{"seq_gaps", r.seq_gaps},
+                   {"decode_errors", r.decode_errors},
+                   {"queue_drops", r.queue_drops}};
+    return j;
+}
+
+nlohmann::json RunsJson(const std::vector<RunInfo>& runs) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& r : runs) a.push_back(RunJson(r));
+    return a;
+}
+
+static const ProvenanceSummary* FindProv(const std::vector<ProvenanceSummary>& p, int64_t id) {
+    for (const auto& s : p) {
+        if (s.coeff_row_id == id) return &s;
+    }
+    return nullptr;
+}
+
+std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+    const RunInfo& r = d.run;
+    std::ostringstream out;
+    out << "Run " << Printable(RunLabel(r.run_id)) << "\n";
+    out << "  outcome:          " << Printable(r.outcome)
+        << (r.reason.empty() ? "" : " (" + Printable(r.reason) + ")") << "\n";
+    out << "  started_utime:    " << Opt(r.started_utime) << "\n";
+    out << "  stopped_utime:    " << Opt(r.stopped_utime) << "\n";
+    out << "  first seen (UTC): " << UtcText(r.first_recv_utime) << "\n";
+    out << "  software_version: " << Printable(r.software_version) << "\n";
+    out << "  host:             " << Printable(r.host) << "\n";
+    out << "  command_line:     " << Printable(r.command_line) << "\n";
+    out << "  recorder:         " << Printable(r.recorder_version) << " on "
+        << Printable(r.recorder_host) << "\n";
+    out << "  sensors:          " << Printable(Join(r.sensor_ids, ", ")) << "\n";
+    out << "  recorded:         " << r.gyro_samples << " gyro samples, " << r.encoder_samples
+        << " encoder samples, " << r.chamber_states << " chamber states, " << r.raw_events
+        << " raw events, " << d.events.size() << " run events\n";
+
+    out << "\nConfiguration\n";
+    const auto cfg = nlohmann::json::parse(r.config_json, nullptr, false);
+    if (r.config_json.empty()) {
+        out << "  (none recorded)\n";
+    } else if (cfg.is_discarded()) {
+        out << "  (not JSON) " << Printable(r.config_json) << "\n";
+    } else {
+        std::istringstream lines(cfg.dump(2));
+        for (std::string line; std::getline(lines, line);) out << "  " << Printable(line) << "\n";
+    }
+
+    out << "\nPlateaus (" << d.plateaus.size() << ")\n";
+    if (!d.plateaus.empty()) {
+        Table t({"SENSOR", "PLATEAU_ID", "SETPOINT_C", "TEMP_MEAN_C", "TEMP_SLOPE_C_PER_MIN",
+                 "GYRO_MEAN_V", "GYRO_SEM_V", "N_SAMPLES", "SEQ_GAPS"});
+        for (const auto& p : d.plateaus) {
+            t.Add({p.sensor_id, std::to_string(p.plateau_id), Num(p.setpoint_c),
+                   Fixed(p.temp_mean_c, 3), Num(p.temp_slope_c_per_min, 3), Num(p.gyro_mean_v, 8),
+                   Num(p.gyro_sem_v, 3), std::to_string(p.n_samples), std::to_string(p.seq_gaps)});
+        }
+        out << t.str();
+    }
+
+    out << "\nSensitivity points (" << d.sensitivity_points.size() << ")\n";
+    if (!d.sensitivity_points.empty()) {
+        Table t({"SENSOR", "ROTATION_ID", "DIR", "TEMP_C", "ENCODER_ANGLE_DEG",
+                 "SENSITIVITY_V_PER_DPS", "STDERR", "ACCEPTED"});
+        for (const auto& s : d.sensitivity_points) {
+            t.Add({s.sensor_id, std::to_string(s.rotation_id), std::to_string(s.direction),
+                   Fixed(s.temp_c, 3), Num(s.encoder_angle_deg), Num(s.sensitivity_v_per_dps, 8),
+                   Num(s.sensitivity_stderr_v_per_dps, 3),
+                   s.accepted ? "yes" : "no: " + s.reject_reason});
+        }
+        out << t.str();
+    }
+
+    out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
+    for (const auto& c : d.coeff_sets) {
+        out << "  " << Printable(c.set.sensor_id) << "  set " << c.set.coeff_set_id << " ("
+            << Printable(c.set.source) << ")\n";
+        for (const auto* m : {&c.set.offset, &c.set.sensitivity}) {
+            out << "    " << Printable(m->quantity) << ": " << Printable(Terms(*m))
+                << "  T0=" << Num(m->t0_c) << " C, valid " << Num(m->temp_min_c) << ".."
+                << Num(m->temp_max_c) << " C, rms " << Num(m->residual_rms, 3) << ", "
+                << m->n_points << " points, " << Printable(m->method) << "\n";
+        }
+        if (const ProvenanceSummary* p = FindProv(provenance, c.coeff_row_id)) {
+            int64_t found = 0, samples = 0;
+            for (const auto& item : p->items) {
+                found += item.item_found ? 1 : 0;
+                samples += item.stored_samples;
+            }
+            out << "    from " << c.set.plateau_ids.size() << " plateaus and "
+                << c.set.rotation_ids.size() << " rotations (" << found << " of "
+                << p->items.size() << " found), " << samples << " raw gyro samples stored\n";
+        }
+    }
+
+    out << "\nLosses\n";
+    if (d.losses.empty()) {
+        out << "  none recorded\n";
+    } else {
+        Table t({"CHANNEL", "SEQ_GAPS", "SEQ_BACKWARDS", "DECODE_ERRORS", "QUEUE_DROPS"});
+        for (const auto& l : d.losses) {
+            t.Add({l.channel.empty() ? "(recorder)" : l.channel, std::to_string(l.seq_gaps),
+                   std::to_string(l.seq_backwards), std::to_string(l.decode_errors),
+                   std::to_string(l.queue_drops)});
+        }
+        out << t.str();
+    }
+
+    out << "\nProcesses (last STATUS of each in this run: their own view of loss and refusals)\n";
+    if (d.processes.empty()) {
+        out << "  none recorded\n";
+    } else {
+        Table t({"PROCESS", "HOST", "PID", "STATE", "RECEIVED", "PUBLISHED", "DECODE_ERRORS",
+                 "SEQ_GAPS", "QUEUE_DROPS", "REJECTED", "LAST_REJECT"});
+        for (const auto& p : d.processes) {
+            t.Add({p.process, p.host, std::to_string(p.pid), p.state, std::to_string(p.received),
+                   std::to_string(p.published), std::to_string(p.decode_errors),
+                   std::to_string(p.seq_gaps), std::to_string(p.queue_drops),
+                   std::to_string(p.rejected), p.last_reject.substr(0, 60)});
+        }
+        out << t.str();
+    }
+    return out.str();
+}
+
+nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+    nlohmann::json j = RunJson(d.run);
+    const auto cfg = nlohmann::json::parse(d.run.config_json, nullptr, false);
+    j["config"] = cfg.is_discarded() ? nlohmann::json(d.run.config_json) : cfg;
+    nlohmann::json plateaus = nlohmann::json::array();
+    for (const auto& p : d.plateaus) {
+        plateaus.push_back({{"sensor_id", p.sensor_id}, {"plateau_id", p.plateau_id},
+                            {"setpoint_c", Finite(p.setpoint_c)}, {"start_utime", p.start_utime},
+                            {"end_utime", p.end_utime}, {"first_seq", p.first_seq},
+                            {"last_seq", p.last_seq}, {"n_samples", p.n_samples},
+                            {"n_excluded_motion", p.n_excluded_motion}, {"seq_gaps", p.seq_gaps},
+                            {"temp_mean_c", Finite(p.temp_mean_c)},
+                            {"temp_std_c", Finite(p.temp_std_c)},
+                            {"temp_slope_c_per_min", Finite(p.temp_slope_c_per_min)},
+                            {"gyro_mean_v", Finite(p.gyro_mean_v)},
+                            {"gyro_std_v", Finite(p.gyro_std_v)},
+                            {"gyro_sem_v", Finite(p.gyro_sem_v)},
+                            {"supply_mean_v", Finite(p.supply_mean_v)}});
+    }
+    j["plateaus"] = plateaus;
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& s : d.sensitivity_points) {
+        points.push_back({{"sensor_id", s.sensor_id}, {"rotation_id", s.rotation_id},
+                          {"start_utime", s.start_utime}, {"end_utime", s.end_utime},
+                          {"n_samples", s.n_samples}, {"direction", s.direction},
+                          {"temp_c", Finite(s.temp_c)},
+                          {"encoder_angle_deg", Finite(s.encoder_angle_deg)},
+                          {"sensitivity_v_per_dps", Finite(s.sensitivity_v_per_dps)},
+                          {"sensitivity_stderr_v_per_dps", Finite(s.sensitivity_stderr_v_per_dps)},
+                          {"accepted", s.accepted}, {"reject_reason", s.reject_reason}});
+    }
+    j["sensitivity_points"] = points;
+    nlohmann::json sets = nlohmann::json::array();
+    for (const auto& c : d.coeff_sets) {
+        nlohmann::json cj = CoeffSetJson(c);
+        if (const ProvenanceSummary* p = FindProv(provenance, c.coeff_row_id)) {
+            nlohmann::json items = nlohmann::json::array();
+            for (const auto& it : p->items) {
+                items.push_back({{"kind", it.kind}, {"item_id", it.item_id},
+                                 {"found", it.item_found}, {"start_utime", OptJson(it.start_utime)},
+                                 {"end_utime", OptJson(it.end_utime)},
+                                 {"n_samples", OptJson(it.n_samples)},
+                                 {"stored_gyro_samples", it.stored_samples}});
+            }
+            cj["provenance"] = items;
+        }
+        sets.push_back(cj);
+    }
+    j["coeff_sets"] = sets;
+    nlohmann::json losses = nlohmann::json::array();
+    for (const auto& l : d.losses) {
+        losses.push_back({{"channel", l.channel}, {"seq_gaps", l.seq_gaps},
+                          {"seq_backwards", l.seq_backwards}, {"decode_errors", l.decode_errors},
+                          {"queue_drops", l.queue_drops}});
+    }
+    j["loss_by_channel"] = losses;
+    nlohmann::json events = nlohmann::json::array();
+    for (const auto& e : d.events) {
+        events.push_back({{"utime", e.utime}, {"event", e.event}, {"reason", e.reason},
+                          {"setpoint_index", e.setpoint_index},
+                          {"setpoint_c", Finite(e.setpoint_c)}});
+    }
+    j["events"] = events;
+    nlohmann::json procs = nlohmann::json::array();
+    for (const auto& p : d.processes) {
+        procs.push_back({{"process", p.process}, {"host", p.host}, {"pid", p.pid},
+                         {"state", p.state}, {"received", p.received},
+                         {"published", p.published}, {"decode_errors", p.decode_errors},
+                         {"seq_gaps", p.seq_gaps}, {"queue_drops", p.queue_drops},
+                         {"rejected", p.rejected}, {"last_reject", p.last_reject},
+                         {"utime", p.utime}});
+    }
+    j["processes"] = procs;
+    return j;
+}
+
+std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSetInfo>& sets,
+                         const std::vector<double>& ref_temps_c) {
+    std::ostringstream out;
+    out << "Sensor " << Printable(sensor_id) << ": " << sets.size() << " coefficient set"
+        << (sets.size() == 1 ? "" : "s")
+        << "; change is against the previous set at the same temperature\n";
+    Table t({"RECORDED (UTC)", "RUN", "COEFF_SET_ID", "SOURCE", "TEMP_C", "OFFSET_V",
+             "D_OFFSET_MV", "SENSITIVITY_V_PER_DPS", "D_SENSITIVITY_PCT"});
+    for (size_t k = 0; k < sets.size(); ++k) {
+        const CoeffSetRow& c = sets[k].set;
+        for (double temp : ref_temps_c) {
+            const auto off = Eval(c.offset, temp);
+            const auto sens = Eval(c.sensitivity, temp);
+            std::string d_off = "-", d_sens = "-";
+            if (k > 0) {
+                const auto p_off = Eval(sets[k - 1].set.offset, temp);
+                const auto p_sens = Eval(sets[k - 1].set.sensitivity, temp);
+                if (off && p_off) d_off = Num((*off - *p_off) * 1e3, 4);
+                if (sens && p_sens && *p_sens != 0) d_sens = Num((*sens / *p_sens - 1) * 100, 4);
+            }
+            t.Add({UtcText(c.recv_utime), RunLabel(c.run_id), std::to_string(c.coeff_set_id),
+                   c.source, Num(temp, 4), off ? Num(*off, 8) : "n/a", d_off,
+                   sens ? Num(*sens, 8) : "n/a", d_sens});
+        }
+    }
+    out << t.str();
+    out << "(n/a: the model has terms other than 1, dT, dT^2, dT^3; temperatures outside a set's"
+           " valid range are extrapolated)\n";
+    return out.str();
+}
+
+nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<CoeffSetInfo>& sets,
+                           const std::vector<double>& ref_temps_c) {
+    nlohmann::json j;
+    j["sensor_id"] = sensor_id;
+    j["ref_temps_c"] = ref_temps_c;
+    nlohmann::json arr = nlohmann::json::array();
+    for (const auto& s : sets) {
+        nlohmann::json e = CoeffSetJson(s);
+        nlohmann::json at = nlohmann::json::array();
+        for (double temp : ref_temps_c) {
+            const auto off = Eval(s.set.offset, temp);
+            const auto sens = Eval(s.set.sensitivity, temp);
+            at.push_back({{"temp_c", temp},
+                          {"offset_v", off ? Finite(*off) : nlohmann::json(nullptr)},
+                          {"sensitivity_v_per_dps", sens ? Finite(*sens) : nlohmann::json(nullptr)}});
+        }
+        e["at_ref_temps"] = at;
+        arr.push_back(e);
+    }
+    j["coeff_sets"] = arr;
+    return j;
+}
+
+
+}  // namespace gyrocal::store::report

@@ -1,0 +1,411 @@
+#include "query.hpp"
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "schema.hpp"
+
+namespace gyrocal::store {
+namespace {
+
+// Column list shared by GetRun/ListRuns; the counts use the (run_id, ...) indexes.
+constexpr const char* kRunColumns = R"sql(
+SELECT r.run_id, r.outcome, r.reason, r.software_version, r.config_json, r.command_line, r.host,
+  r.recorder_version, r.recorder_host, r.started_utime, r.stopped_utime, r.first_recv_utime,
+  (SELECT json_group_array(sensor_id) FROM (SELECT sensor_id FROM run_sensors s
+     WHERE s.run_id = r.run_id UNION SELECT DISTINCT sensor_id FROM coeff_sets c
+     WHERE c.run_id = r.run_id ORDER BY 1)),
+  (SELECT coalesce(sum(n_samples), 0) FROM gyro_blocks b WHERE b.run_id = r.run_id),
+  (SELECT count(*) FROM encoder_samples e WHERE e.run_id = r.run_id),
+  (SELECT count(*) FROM chamber_states c WHERE c.run_id = r.run_id),
+  (SELECT count(*) FROM plateaus p WHERE p.run_id = r.run_id),
+  (SELECT count(*) FROM sensitivity_points s WHERE s.run_id = r.run_id),
+  (SELECT count(*) FROM coeff_sets c WHERE c.run_id = r.run_id),
+  (SELECT count(*) FROM raw_events x WHERE x.run_id = r.run_id),
+  (SELECT coalesce(sum(seq_gaps), 0) FROM losses l WHERE l.run_id = r.run_id),
+  (SELECT coalesce(sum(decode_errors), 0) FROM losses l WHERE l.run_id = r.run_id),
+  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id)
+FROM runs r )sql";
+
+RunInfo ReadRun(const Stmt& s) {
+    RunInfo r;
+    r.run_id = s.Text(0);
+    r.outcome = s.Text(1);
+    r.reason = s.Text(2);
+    r.software_version = s.Text(3);
+    r.config_json = s.Text(4);
+    r.command_line = s.Text(5);
+    r.host = s.Text(6);
+    r.recorder_version = s.Text(7);
+    r.recorder_host = s.Text(8);
+    r.started_utime = s.OptInt(9);
+    r.stopped_utime = s.OptInt(10);
+    r.first_recv_utime = s.OptInt(11);
+    const std::string ids = s.Text(12);
+    if (!ids.empty()) {
+        for (const auto& v : nlohmann::json::parse(ids)) {
+            if (v.is_string()) r.sensor_ids.push_back(v.get<std::string>());
+        }
+    }
+    r.gyro_samples = s.Int(13);
+    r.encoder_samples = s.Int(14);
+    r.chamber_states = s.Int(15);
+    r.plateaus = s.Int(16);
+    r.sensitivity_points = s.Int(17);
+    r.coeff_sets = s.Int(18);
+    r.raw_events = s.Int(19);
+    r.seq_gaps = s.Int(20);
+    r.decode_errors = s.Int(21);
+    r.queue_drops = s.Int(22);
+    return r;
+}
+
+constexpr const char* kPlateauColumns =
+    "run_id, sensor_id, plateau_id, utime, setpoint_c, start_utime, end_utime, first_seq, "
+    "last_seq, n_samples, n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
+    "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_v_mean, supply_mean_v, "
+    "recv_utime";
+
+PlateauRow ReadPlateau(const Stmt& s) {
+    PlateauRow p;
+    p.run_id = s.Text(0);
+    p.sensor_id = s.Text(1);
+    p.plateau_id = s.Int(2);
+    p.utime = s.Int(3);
+    p.setpoint_c = s.Real(4);
+    p.start_utime = s.Int(5);
+    p.end_utime = s.Int(6);
+    p.first_seq = s.Int(7);
+    p.last_seq = s.Int(8);
+    p.n_samples = static_cast<int32_t>(s.Int(9));
+    p.n_excluded_motion = static_cast<int32_t>(s.Int(10));
+    p.seq_gaps = static_cast<int32_t>(s.Int(11));
+    p.temp_mean_c = s.Real(12);
+    p.temp_std_c = s.Real(13);
+    p.temp_sem_c = s.Real(14);
+    p.temp_slope_c_per_min = s.Real(15);
+    p.gyro_mean_v = s.Real(16);
+    p.gyro_std_v = s.Real(17);
+    p.gyro_sem_v = s.Real(18);
+    p.temp_v_mean = s.Real(19);
+    p.supply_mean_v = s.Real(20);
+    p.recv_utime = s.Int(21);
+    return p;
+}
+
+constexpr const char* kSensitivityColumns =
+    "run_id, sensor_id, rotation_id, utime, start_utime, end_utime, first_seq, last_seq, "
+    "n_samples, direction, temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
+    "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, reject_reason, recv_utime";
+
+SensitivityRow ReadSensitivity(const Stmt& s) {
+    SensitivityRow p;
+    p.run_id = s.Text(0);
+    p.sensor_id = s.Text(1);
+    p.rotation_id = s.Int(2);
+    p.utime = s.Int(3);
+    p.start_utime = s.Int(4);
+    p.end_utime = s.Int(5);
+    p.first_seq = s.Int(6);
+    p.last_seq = s.Int(7);
+    p.n_samples = static_cast<int32_t>(s.Int(8));
+    p.direction = static_cast<int32_t>(s.Int(9));
+    p.temp_c = s.Real(10);
+    p.encoder_angle_deg = s.Real(11);
+    p.offset_v = s.Real(12);
+    p.offset_stderr_v = s.Real(13);
+    p.integral_v_s = s.Real(14);
+    p.sensitivity_v_per_dps = s.Real(15);
+    p.sensitivity_stderr_v_per_dps = s.Real(16);
+    p.accepted = s.Int(17) != 0;
+    p.reject_reason = s.Text(18);
+    p.recv_utime = s.Int(19);
+    return p;
+}
+
+ModelRow ReadModel(Db& db, int64_t coeff_row_id, const char* role) {
+    ModelRow m;
+    Stmt s(db,
+           "SELECT quantity, t0_c, temp_min_c, temp_max_c, residual_rms, n_points, "
+           "condition_number, method FROM coeff_models WHERE coeff_row_id = ? AND role = ?");
+    s.Bind(1, coeff_row_id).Bind(2, role);
+    if (s.Step()) {
+        m.quantity = s.Text(0);
+        m.t0_c = s.Real(1);
+        m.temp_min_c = s.Real(2);
+        m.temp_max_c = s.Real(3);
+        m.residual_rms = s.Real(4);
+        m.n_points = static_cast<int32_t>(s.Int(5));
+        m.condition_number = s.Real(6);
+        m.method = s.Text(7);
+    }
+    Stmt t(db,
+           "SELECT term_name, coeff FROM coeff_terms WHERE coeff_row_id = ? AND role = ? "
+           "ORDER BY term_index");
+    t.Bind(1, coeff_row_id).Bind(2, role);
+    while (t.Step()) {
+        m.term_names.push_back(t.Text(0));
+        m.coeffs.push_back(t.Real(1));
+    }
+    const size_t n = m.term_names.size();
+    m.covariance.assign(n, std::vector<double>(n, 0.0));
+    Stmt c(db,
+           "SELECT row_index, col_index, value FROM coeff_covariance WHERE coeff_row_id = ? "
+           "AND role = ?");
+    c.Bind(1, coeff_row_id).Bind(2, role);
+    while (c.Step()) {
+        const auto i = static_cast<size_t>(c.Int(0));
+        const auto j = static_cast<size_t>(c.Int(1));
+        if (i < n && j < n) m.covariance[i][j] = c.Real(2);
+    }
+    return m;
+}
+
+CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
+    // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime
+    CoeffSetInfo info;
+    info.coeff_row_id = s.Int(0);
+    CoeffSetRow& c = info.set;
+    c.run_id = s.Text(1);
+    c.sensor_id = s.Text(2);
+    c.coeff_set_id = s.Int(3);
+    c.source = s.Text(4);
+    c.utime = s.Int(5);
+    c.recv_utime = s.Int(6);
+    c.offset = ReadModel(db, info.coeff_row_id, "offset");
+    c.sensitivity = ReadModel(db, info.coeff_row_id, "sensitivity");
+    Stmt p(db, "SELECT plateau_id FROM coeff_set_plateaus WHERE coeff_row_id = ? ORDER BY rowid");
+    p.Bind(1, info.coeff_row_id);
+    while (p.Step()) c.plateau_ids.push_back(p.Int(0));
+    Stmt r(db,
+           "SELECT rotation_id FROM coeff_set_rotations WHERE coeff_row_id = ? ORDER BY rowid");
+    r.Bind(1, info.coeff_row_id);
+    while (r.Step()) c.rotation_ids.push_back(r.Int(0));
+    return info;
+}
+
+constexpr const char* kCoeffColumns =
+    "SELECT coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime "
+    "FROM coeff_sets c ";
+// Keeps the newest row of each (run, sensor, source): the set in force at the end of a run.
+constexpr const char* kFinalOnly =
+    " AND c.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets d WHERE d.run_id = c.run_id "
+    "AND d.sensor_id = c.sensor_id AND d.source = c.source) ";
+
+}  // namespace
+
+std::vector<std::string> ParseIds(const std::string& json_text) {
+    std::vector<std::string> ids;
+    if (json_text.empty()) return ids;
+    const auto j = nlohmann::json::parse(json_text, nullptr, false);
+    if (!j.is_array()) return ids;
+    for (const auto& v : j) {
+        if (v.is_string()) ids.push_back(v.get<std::string>());
+    }
+    return ids;
+}
+
+
+std::unique_ptr<Db> OpenForQuery(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        throw StoreError("database '" + path + "' does not exist (use --db FILE)");
+    }
+    auto db = std::make_unique<Db>(path, Db::Mode::kReadOnly);
+    int version = 0;
+    try {
+        version = db->UserVersion();
+    } catch (const StoreError&) {
+        throw StoreError("'" + path + "' is not an SQLite database");
+    }
+    if (version == kSchemaVersion) return db;
+    if (version > kSchemaVersion) {
+        throw StoreError("database '" + path + "' has schema version " + std::to_string(version) +
+                         ", newer than this software (" + std::to_string(kSchemaVersion) + ")");
+    }
+    if (version == 0) throw StoreError("'" + path + "' is not a gyrocal database");
+    // An older gyrocal database: migrate it (additive, one transaction per step), then read.
+    db.reset();
+    {
+        Db rw(path, Db::Mode::kReadWrite);
+        ConfigureConnection(rw);
+        Migrate(rw);
+    }
+    return std::make_unique<Db>(path, Db::Mode::kReadOnly);
+}
+
+std::vector<RunInfo> ListRuns(Db& db, const RunFilter& f) {
+    std::string sql = std::string(kRunColumns) + R"sql(
+WHERE (?1 IS NULL OR EXISTS (SELECT 1 FROM run_sensors s WHERE s.run_id = r.run_id AND s.sensor_id = ?1)
+       OR EXISTS (SELECT 1 FROM gyro_blocks b WHERE b.run_id = r.run_id AND b.sensor_id = ?1)
+       OR EXISTS (SELECT 1 FROM coeff_sets c WHERE c.run_id = r.run_id AND c.sensor_id = ?1))
+  AND (?2 IS NULL OR r.first_recv_utime >= ?2)
+  AND (?3 IS NULL OR r.first_recv_utime < ?3)
+  AND (?4 IS NULL OR r.outcome = ?4)
+ORDER BY (r.run_id = '') ASC, r.first_recv_utime DESC, r.rowid DESC)sql";
+    Stmt s(db, sql);
+    if (f.sensor_id) s.Bind(1, *f.sensor_id);
+    if (f.since_utime) s.Bind(2, *f.since_utime);
+    if (f.until_utime) s.Bind(3, *f.until_utime);
+    if (f.outcome) s.Bind(4, *f.outcome);
+    std::vector<RunInfo> out;
+    while (s.Step()) {
+        RunInfo r = ReadRun(s);
+        const bool empty_bucket = r.run_id.empty() && r.gyro_samples == 0 &&
+                                  r.encoder_samples == 0 && r.chamber_states == 0 &&
+                                  r.plateaus == 0 && r.coeff_sets == 0 && r.raw_events == 0;
+        if (!empty_bucket) out.push_back(std::move(r));
+    }
+    return out;
+}
+
+bool RunExists(Db& db, const std::string& run_id) {
+    Stmt s(db, "SELECT 1 FROM runs WHERE run_id = ?");
+    s.Bind(1, run_id);
+    return s.Step();
+}
+
+bool SensorExists(Db& db, const std::string& sensor_id) {
+    Stmt s(db,
+           "SELECT 1 FROM sensors WHERE sensor_id = ?1 UNION ALL "
+           "SELECT 1 FROM coeff_sets WHERE sensor_id = ?1 LIMIT 1");
+    s.Bind(1, sensor_id);
+    return s.Step();
+}
+
+RunInfo GetRun(Db& db, const std::string& run_id) {
+    Stmt s(db, std::string(kRunColumns) + " WHERE r.run_id = ?");
+    s.Bind(1, run_id);
+    if (!s.Step()) throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
+    return ReadRun(s);
+}
+
+RunDetail ShowRun(Db& db, const std::string& run_id) {
+    RunDetail d;
+    d.run = GetRun(db, run_id);
+    {
+        Stmt s(db, std::string("SELECT ") + kPlateauColumns +
+                       " FROM plateaus WHERE run_id = ? ORDER BY sensor_id, plateau_id, "
+                       "plateau_row_id");
+        s.Bind(1, run_id);
+        while (s.Step()) d.plateaus.push_back(ReadPlateau(s));
+    }
+    {
+        Stmt s(db, std::string("SELECT ") + kSensitivityColumns +
+                       " FROM sensitivity_points WHERE run_id = ? ORDER BY sensor_id, "
+                       "rotation_id, rotation_row_id");
+        s.Bind(1, run_id);
+        while (s.Step()) d.sensitivity_points.push_back(ReadSensitivity(s));
+    }
+    d.coeff_sets = RunFinalCoeffs(db, run_id);
+    {
+        Stmt s(db,
+               "SELECT channel, seq_gaps, seq_backwards, decode_errors, queue_drops FROM losses "
+               "WHERE run_id = ? ORDER BY channel");
+        s.Bind(1, run_id);
+        while (s.Step()) {
+            d.losses.push_back({s.Text(0), s.Int(1), s.Int(2), s.Int(3), s.Int(4)});
+        }
+    }
+    {
+        Stmt s(db,
+               "SELECT run_id, utime, event, reason, setpoint_index, setpoint_c, sensor_ids_json, "
+               "software_version, config_json, command_line, host, recv_utime FROM run_events "
+               "WHERE run_id = ? ORDER BY rowid");
+        s.Bind(1, run_id);
+        while (s.Step()) {
+            RunEventRow e;
+            e.run_id = s.Text(0);
+            e.utime = s.Int(1);
+            e.event = s.Text(2);
+            e.reason = s.Text(3);
+            e.setpoint_index = static_cast<int32_t>(s.Int(4));
+            e.setpoint_c = s.Real(5);
+            e.sensor_ids = ParseIds(s.Text(6));
+            e.software_version = s.Text(7);
+            e.config_json = s.Text(8);
+            e.command_line = s.Text(9);
+            e.host = s.Text(10);
+            e.recv_utime = s.Int(11);
+            d.events.push_back(std::move(e));
+        }
+    }
+    {
+        Stmt s(db,
+               "SELECT process, host, pid, state, received, published, decode_errors, seq_gaps, "
+               "queue_drops, rejected, last_reject, utime, recv_utime FROM status WHERE rowid IN "
+               "(SELECT max(rowid) FROM status WHERE run_id = ?1 GROUP BY process, host, pid) "
+               "ORDER BY process, host, pid");
+        s.Bind(1, run_id);
+        while (s.Step()) {
+            StatusRow st;
+            st.run_id = run_id;
+            st.process = s.Text(0);
+            st.host = s.Text(1);
+            st.pid = static_cast<int32_t>(s.Int(2));
+            st.state = s.Text(3);
+            st.received = s.Int(4);
+            st.published = s.Int(5);
+            st.decode_errors = s.Int(6);
+            st.seq_gaps = s.Int(7);
+            st.queue_drops = s.Int(8);
+            st.rejected = s.Int(9);
+            st.last_reject = s.Text(10);
+            st.utime = s.Int(11);
+            st.recv_utime = s.Int(12);
+            d.processes.push_back(std::move(st));
+        }
+    }
+    return d;
+}
+
+std::vector<CoeffSetInfo> SensorHistory(Db& db, const std::string& sensor_id, bool final_only) {
+    if (!SensorExists(db, sensor_id)) {
+        throw NotFound("no sensor '" + sensor_id + "' in database '" + db.path() + "'");
+    }
+    Stmt s(db, std::string(kCoeffColumns) + "WHERE c.sensor_id = ? " +
+                   (final_only ? kFinalOnly : "") + "ORDER BY c.recv_utime, c.coeff_row_id");
+    s.Bind(1, sensor_id);
+    std::vector<CoeffSetInfo> out;
+    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
+    return out;
+}
+
+std::vector<CoeffSetInfo> RunFinalCoeffs(Db& db, const std::string& run_id) {
+    if (!RunExists(db, run_id)) {
+        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
+    }
+    Stmt s(db, std::string(kCoeffColumns) + "WHERE c.run_id = ? " + kFinalOnly +
+                   "ORDER BY c.sensor_id, c.source");
+    s.Bind(1, run_id);
+    std::vector<CoeffSetInfo> out;
+    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
+    return out;
+}
+
+std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {
+    Stmt s(db,
+           "SELECT v.kind, v.item_id, v.item_found, v.start_utime, v.end_utime, v.n_samples, "
+           "(SELECT count(*) FROM gyro_blocks b JOIN gyro_samples g ON g.rowid BETWEEN "
+           " b.first_rowid AND b.last_rowid AND g.run_id = b.run_id AND "
+           " g.sensor_id = b.sensor_id AND g.utime BETWEEN v.start_utime AND v.end_utime "
+           " WHERE b.run_id = v.run_id AND b.sensor_id = v.sensor_id AND "
+           " b.max_utime >= v.start_utime AND b.min_utime <= v.end_utime) "
+           "FROM v_coeff_provenance v WHERE v.coeff_row_id = ? ORDER BY v.kind, v.item_id");
+    s.Bind(1, coeff_row_id);
+    std::vector<ProvenanceItem> out;
+    while (s.Step()) {
+        ProvenanceItem p;
+        p.kind = s.Text(0);
+        p.item_id = s.Int(1);
+        p.item_found = s.Int(2) != 0;
+        p.start_utime = s.OptInt(3);
+        p.end_utime = s.OptInt(4);
+        p.n_samples = s.OptInt(5);
+        p.stored_samples = s.Int(6);
+        out.push_back(p);
+    }
+    return out;
+}
+
+}  // namespace gyrocal::store

@@ -1,0 +1,294 @@
+#include "schema.hpp"
+
+#include <array>
+#include <string_view>
+
+namespace gyrocal::store {
+namespace {
+
+// v0 -> v1. Columns carry their unit in the name; NaN is stored as NULL.
+constexpr std::string_view kV1 = R"sql(
+CREATE TABLE gyrocal_meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+INSERT INTO gyrocal_meta(key, value) VALUES ('application', 'gyrocal');
+
+-- One row per calibration run; run_id '' is the "no run" bucket for what arrives outside any run.
+CREATE TABLE runs (
+  run_id TEXT PRIMARY KEY,
+  started_utime INTEGER,          -- [us] sender clock of the start event
+  stopped_utime INTEGER,          -- [us] sender clock of stop/abort; NULL while running
+  outcome TEXT NOT NULL DEFAULT 'running',  -- 'running', 'stop', 'abort', 'none' (no-run bucket)
+  reason TEXT NOT NULL DEFAULT '',
+  software_version TEXT NOT NULL DEFAULT '',
+  config_json TEXT NOT NULL DEFAULT '',
+  command_line TEXT NOT NULL DEFAULT '',
+  host TEXT NOT NULL DEFAULT '',
+  recorder_version TEXT NOT NULL DEFAULT '',
+  recorder_host TEXT NOT NULL DEFAULT '',
+  first_recv_utime INTEGER        -- [us] recorder wall clock when the run was first seen
+);
+INSERT INTO runs(run_id, outcome, reason) VALUES ('', 'none', 'messages received outside any run');
+CREATE TABLE run_sensors (run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  PRIMARY KEY (run_id, sensor_id));
+CREATE TABLE sensors (sensor_id TEXT PRIMARY KEY, first_recv_utime INTEGER);
+
+CREATE TABLE gyro_samples (
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  utime INTEGER NOT NULL, seq INTEGER NOT NULL,
+  gyro_v REAL, temp_v REAL, temp_c REAL, supply_v REAL,
+  has_adc INTEGER NOT NULL, gyro_counts INTEGER, temp_counts INTEGER, supply_counts INTEGER,
+  recv_utime INTEGER NOT NULL     -- [us] recorder wall clock at reception (replay timing)
+);
+CREATE INDEX gyro_samples_run_sensor_utime ON gyro_samples(run_id, sensor_id, utime);
+
+CREATE TABLE encoder_samples (
+  run_id TEXT NOT NULL, encoder_id TEXT NOT NULL, utime INTEGER NOT NULL, seq INTEGER NOT NULL,
+  counts INTEGER, counts_per_rev INTEGER, angle_deg REAL, recv_utime INTEGER NOT NULL);
+CREATE INDEX encoder_samples_run_utime ON encoder_samples(run_id, utime);
+
+CREATE TABLE chamber_states (
+  run_id TEXT NOT NULL, utime INTEGER NOT NULL, seq INTEGER NOT NULL, cmd_id INTEGER,
+  setpoint_c REAL, air_c REAL, at_setpoint INTEGER, fault TEXT, recv_utime INTEGER NOT NULL);
+CREATE INDEX chamber_states_run_utime ON chamber_states(run_id, utime);
+
+CREATE TABLE chamber_cmds (
+  run_id TEXT NOT NULL, msg_run_id TEXT, utime INTEGER NOT NULL, cmd_id INTEGER,
+  setpoint_c REAL, ramp_rate_c_per_min REAL, recv_utime INTEGER NOT NULL);
+CREATE TABLE turntable_cmds (
+  run_id TEXT NOT NULL, msg_run_id TEXT, utime INTEGER NOT NULL, cmd_id INTEGER,
+  move_deg REAL, rate_dps REAL, accel_dps2 REAL, recv_utime INTEGER NOT NULL);
+
+CREATE TABLE plateau_states (
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL, utime INTEGER NOT NULL, state TEXT,
+  temp_c REAL, temp_slope_c_per_min REAL, temp_std_c REAL, stable_for_s REAL,
+  averaging_progress REAL, last_plateau_id INTEGER, recv_utime INTEGER NOT NULL);
+
+-- run_id of plateaus, sensitivity points and coefficient sets is the one the message carries.
+CREATE TABLE plateaus (
+  plateau_row_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL, plateau_id INTEGER NOT NULL,
+  utime INTEGER NOT NULL, setpoint_c REAL, start_utime INTEGER, end_utime INTEGER,
+  first_seq INTEGER, last_seq INTEGER, n_samples INTEGER, n_excluded_motion INTEGER,
+  seq_gaps INTEGER, temp_mean_c REAL, temp_std_c REAL, temp_sem_c REAL,
+  temp_slope_c_per_min REAL, gyro_mean_v REAL, gyro_std_v REAL, gyro_sem_v REAL,
+  temp_v_mean REAL, supply_mean_v REAL, recv_utime INTEGER NOT NULL);
+CREATE INDEX plateaus_key ON plateaus(run_id, sensor_id, plateau_id);
+
+CREATE TABLE sensitivity_points (
+  rotation_row_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL, rotation_id INTEGER NOT NULL,
+  utime INTEGER NOT NULL, start_utime INTEGER, end_utime INTEGER, first_seq INTEGER,
+  last_seq INTEGER, n_samples INTEGER, direction INTEGER, temp_c REAL, encoder_angle_deg REAL,
+  offset_v REAL, offset_stderr_v REAL, integral_v_s REAL, sensitivity_v_per_dps REAL,
+  sensitivity_stderr_v_per_dps REAL, accepted INTEGER, reject_reason TEXT,
+  recv_utime INTEGER NOT NULL);
+CREATE INDEX sensitivity_points_key ON sensitivity_points(run_id, sensor_id, rotation_id);
+
+-- A coefficient set (every message is kept; the newest row per key is the one in force).
+CREATE TABLE coeff_sets (
+  coeff_row_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL, coeff_set_id INTEGER NOT NULL,
+  source TEXT NOT NULL, utime INTEGER NOT NULL, recv_utime INTEGER NOT NULL);
+CREATE INDEX coeff_sets_sensor ON coeff_sets(sensor_id, recv_utime);
+-- Its two models: role 'offset' (offset_v [V]) and 'sensitivity' (sensitivity_v_per_dps).
+CREATE TABLE coeff_models (
+  coeff_row_id INTEGER NOT NULL, role TEXT NOT NULL, quantity TEXT, num_terms INTEGER,
+  t0_c REAL, temp_min_c REAL, temp_max_c REAL, residual_rms REAL, n_points INTEGER,
+  condition_number REAL, method TEXT, PRIMARY KEY (coeff_row_id, role));
+CREATE TABLE coeff_terms (
+  coeff_row_id INTEGER NOT NULL, role TEXT NOT NULL, term_index INTEGER NOT NULL,
+  term_name TEXT NOT NULL, coeff REAL, PRIMARY KEY (coeff_row_id, role, term_index));
+CREATE TABLE coeff_covariance (
+  coeff_row_id INTEGER NOT NULL, role TEXT NOT NULL, row_index INTEGER NOT NULL,
+  col_index INTEGER NOT NULL, value REAL, PRIMARY KEY (coeff_row_id, role, row_index, col_index));
+CREATE TABLE coeff_set_plateaus (coeff_row_id INTEGER NOT NULL, plateau_id INTEGER NOT NULL);
+CREATE INDEX coeff_set_plateaus_row ON coeff_set_plateaus(coeff_row_id);
+CREATE TABLE coeff_set_rotations (coeff_row_id INTEGER NOT NULL, rotation_id INTEGER NOT NULL);
+CREATE INDEX coeff_set_rotations_row ON coeff_set_rotations(coeff_row_id);
+
+CREATE TABLE rates (
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL, utime INTEGER NOT NULL, seq INTEGER,
+  rate_dps REAL, angle_deg REAL, temp_c REAL, coeff_set_id INTEGER, range_flag INTEGER,
+  recv_utime INTEGER NOT NULL);
+
+CREATE TABLE status (
+  run_id TEXT NOT NULL, utime INTEGER NOT NULL, process TEXT, host TEXT, pid INTEGER,
+  state TEXT, received INTEGER, published INTEGER, decode_errors INTEGER, seq_gaps INTEGER,
+  queue_drops INTEGER, rejected INTEGER, last_reject TEXT,
+  extra_json TEXT,                -- {"name": value, ...} of the process-specific counters
+  recv_utime INTEGER NOT NULL);
+
+CREATE TABLE run_events (
+  run_id TEXT NOT NULL, utime INTEGER NOT NULL, event TEXT NOT NULL, reason TEXT,
+  setpoint_index INTEGER, setpoint_c REAL, sensor_ids_json TEXT, software_version TEXT,
+  config_json TEXT, command_line TEXT, host TEXT, recv_utime INTEGER NOT NULL);
+
+-- Loss per run and per publisher stream (channel); channel '' = the recorder itself.
+CREATE TABLE losses (
+  run_id TEXT NOT NULL, channel TEXT NOT NULL,
+  seq_gaps INTEGER NOT NULL DEFAULT 0,      -- [count] samples missing per seq
+  seq_backwards INTEGER NOT NULL DEFAULT 0, -- [count] reordered/duplicated/restarted
+  decode_errors INTEGER NOT NULL DEFAULT 0, -- [count] known fingerprint that did not decode
+  queue_drops INTEGER NOT NULL DEFAULT 0,   -- [count] dropped by the recorder's bounded queue
+  PRIMARY KEY (run_id, channel));
+
+-- Messages of unknown type (or that failed to decode), undecoded.
+CREATE TABLE raw_events (
+  run_id TEXT NOT NULL, channel TEXT NOT NULL, recv_utime INTEGER NOT NULL,
+  fingerprint TEXT NOT NULL,      -- first 8 bytes of the message, hex
+  reason TEXT NOT NULL,           -- 'unknown_type' or 'decode_error'
+  data BLOB);
+)sql";
+
+// v1 -> v2: recorder sessions (crash/restart visibility), views for the common questions.
+constexpr std::string_view kV2 = R"sql(
+CREATE TABLE recorder_sessions (
+  session_id INTEGER PRIMARY KEY,
+  started_wall_utime INTEGER NOT NULL, stopped_wall_utime INTEGER,  -- NULL: crashed or running
+  host TEXT, pid INTEGER, recorder_version TEXT, resumed_run_id TEXT);
+
+-- From a coefficient set to each plateau and rotation it used, with the sample range.
+CREATE VIEW v_coeff_provenance AS
+SELECT c.coeff_row_id, c.sensor_id, c.run_id, c.coeff_set_id, c.source, 'plateau' AS kind,
+       l.plateau_id AS item_id, p.start_utime, p.end_utime, p.first_seq, p.last_seq,
+       p.n_samples, (p.plateau_row_id IS NOT NULL) AS item_found
+FROM coeff_sets c JOIN coeff_set_plateaus l ON l.coeff_row_id = c.coeff_row_id
+LEFT JOIN plateaus p ON p.plateau_row_id = (SELECT max(plateau_row_id) FROM plateaus q
+    WHERE q.run_id = c.run_id AND q.sensor_id = c.sensor_id AND q.plateau_id = l.plateau_id)
+UNION ALL
+SELECT c.coeff_row_id, c.sensor_id, c.run_id, c.coeff_set_id, c.source, 'rotation',
+       l.rotation_id, s.start_utime, s.end_utime, s.first_seq, s.last_seq, s.n_samples,
+       (s.rotation_row_id IS NOT NULL)
+FROM coeff_sets c JOIN coeff_set_rotations l ON l.coeff_row_id = c.coeff_row_id
+LEFT JOIN sensitivity_points s ON s.rotation_row_id = (SELECT max(rotation_row_id)
+    FROM sensitivity_points q WHERE q.run_id = c.run_id AND q.sensor_id = c.sensor_id
+    AND q.rotation_id = l.rotation_id);
+
+-- ... and on to every raw gyro sample in those ranges.
+CREATE VIEW v_coeff_samples AS
+SELECT v.coeff_row_id, v.kind, v.item_id, g.*
+FROM v_coeff_provenance v JOIN gyro_samples g
+  ON g.run_id = v.run_id AND g.sensor_id = v.sensor_id
+ AND g.utime BETWEEN v.start_utime AND v.end_utime;
+
+-- The newest coefficient set of each sensor, offset and sensitivity terms side by side.
+CREATE VIEW v_latest_coeffs AS
+SELECT c.sensor_id, c.run_id, c.coeff_set_id, c.coeff_row_id, c.source, c.recv_utime,
+  (SELECT group_concat(term_name || '=' || printf('%.10g', coeff), ' ') FROM
+     (SELECT * FROM coeff_terms t WHERE t.coeff_row_id = c.coeff_row_id AND t.role = 'offset'
+      ORDER BY term_index)) AS offset_terms,
+  (SELECT t0_c FROM coeff_models m WHERE m.coeff_row_id = c.coeff_row_id AND m.role = 'offset')
+     AS offset_t0_c,
+  (SELECT group_concat(term_name || '=' || printf('%.10g', coeff), ' ') FROM
+     (SELECT * FROM coeff_terms t WHERE t.coeff_row_id = c.coeff_row_id
+      AND t.role = 'sensitivity' ORDER BY term_index)) AS sensitivity_terms,
+  (SELECT t0_c FROM coeff_models m WHERE m.coeff_row_id = c.coeff_row_id
+      AND m.role = 'sensitivity') AS sensitivity_t0_c
+FROM coeff_sets c
+WHERE c.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets d WHERE d.sensor_id = c.sensor_id);
+
+-- One line per run: what was recorded and what was lost.
+CREATE VIEW v_run_summary AS
+SELECT r.run_id, r.outcome, r.started_utime, r.stopped_utime, r.software_version, r.host,
+  (SELECT count(*) FROM gyro_samples g WHERE g.run_id = r.run_id) AS gyro_samples,
+  (SELECT count(*) FROM plateaus p WHERE p.run_id = r.run_id) AS plateaus,
+  (SELECT count(*) FROM sensitivity_points s WHERE s.run_id = r.run_id) AS sensitivity_points,
+  (SELECT count(*) FROM coeff_sets c WHERE c.run_id = r.run_id) AS coeff_sets,
+  (SELECT coalesce(sum(seq_gaps), 0) FROM losses l WHERE l.run_id = r.run_id) AS seq_gaps,
+  (SELECT coalesce(sum(decode_errors), 0) FROM losses l WHERE l.run_id = r.run_id)
+     AS decode_errors,
+  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id) AS queue_drops
+FROM runs r;
+
+CREATE INDEX status_run ON status(run_id);
+CREATE INDEX run_events_run ON run_events(run_id);
+CREATE INDEX rates_run_sensor ON rates(run_id, sensor_id);
+)sql";
+
+// v2 -> v3: a block index replaces the per-row index of gyro_samples (and rates).
+constexpr std::string_view kV3 = R"sql(
+DROP INDEX gyro_samples_run_sensor_utime;
+DROP INDEX rates_run_sensor;
+-- One row per committed batch and (run, sensor): where that batch put the sensor's samples.
+-- Ranges of one (run, sensor) never overlap; other sensors' rows may lie inside a range.
+CREATE TABLE gyro_blocks (
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  first_rowid INTEGER NOT NULL, last_rowid INTEGER NOT NULL,  -- gyro_samples.rowid range
+  min_utime INTEGER NOT NULL, max_utime INTEGER NOT NULL,      -- [us] utime range of its samples
+  n_samples INTEGER NOT NULL);                                 -- [count] its samples in the range
+CREATE INDEX gyro_blocks_key ON gyro_blocks(run_id, sensor_id, max_utime);
+INSERT INTO gyro_blocks SELECT run_id, sensor_id, min(rowid), max(rowid), min(utime), max(utime),
+  count(*) FROM gyro_samples GROUP BY run_id, sensor_id;
+
+DROP VIEW v_coeff_samples;
+CREATE VIEW v_coeff_samples AS
+SELECT v.coeff_row_id, v.kind, v.item_id, g.*
+FROM v_coeff_provenance v
+JOIN gyro_blocks b ON b.run_id = v.run_id AND b.sensor_id = v.sensor_id
+ AND b.max_utime >= v.start_utime AND b.min_utime <= v.end_utime
+JOIN gyro_samples g ON g.rowid BETWEEN b.first_rowid AND b.last_rowid
+ AND g.run_id = v.run_id AND g.sensor_id = v.sensor_id
+ AND g.utime BETWEEN v.start_utime AND v.end_utime;
+
+DROP VIEW v_run_summary;
+CREATE VIEW v_run_summary AS
+SELECT r.run_id, r.outcome, r.started_utime, r.stopped_utime, r.software_version, r.host,
+  (SELECT coalesce(sum(n_samples), 0) FROM gyro_blocks b WHERE b.run_id = r.run_id) AS gyro_samples,
+  (SELECT count(*) FROM plateaus p WHERE p.run_id = r.run_id) AS plateaus,
+  (SELECT count(*) FROM sensitivity_points s WHERE s.run_id = r.run_id) AS sensitivity_points,
+  (SELECT count(*) FROM coeff_sets c WHERE c.run_id = r.run_id) AS coeff_sets,
+  (SELECT coalesce(sum(seq_gaps), 0) FROM losses l WHERE l.run_id = r.run_id) AS seq_gaps,
+  (SELECT coalesce(sum(decode_errors), 0) FROM losses l WHERE l.run_id = r.run_id)
+     AS decode_errors,
+  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id) AS queue_drops
+FROM runs r;
+)sql";
+
+constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3};
+
+bool IsGyrocalDb(Db& db) {
+    Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE name = 'gyrocal_meta'");
+    s.Step();
+    return s.Int(0) == 1;
+}
+
+bool IsEmpty(Db& db) {
+    Stmt s(db, "SELECT count(*) FROM sqlite_master");
+    s.Step();
+    return s.Int(0) == 0;
+}
+
+}  // namespace
+
+void ConfigureConnection(Db& db) {
+    db.Exec("PRAGMA journal_mode = WAL");
+    db.Exec("PRAGMA synchronous = NORMAL");
+    db.Exec("PRAGMA foreign_keys = OFF");
+}
+
+void Migrate(Db& db, int target_version) {
+    if (target_version < 0 || target_version > kSchemaVersion) {
+        throw StoreError("schema version " + std::to_string(target_version) +
+                         " is not valid (0.." + std::to_string(kSchemaVersion) + ")");
+    }
+    int version = db.UserVersion();
+    if (version > kSchemaVersion) {
+        throw StoreError("database '" + db.path() + "' has schema version " +
+                         std::to_string(version) + ", newer than this software (" +
+                         std::to_string(kSchemaVersion) + "): use a newer gyrocal");
+    }
+    if (version == 0 && !IsEmpty(db)) {
+        throw StoreError("'" + db.path() + "' is an SQLite file but not a gyrocal database");
+    }
+    if (version > 0 && !IsGyrocalDb(db)) {
+        throw StoreError("'" + db.path() + "' is not a gyrocal database (no gyrocal_meta table)");
+    }
+    while (version < target_version) {
+        Transaction tx(db);
+        db.Exec(kSteps[static_cast<size_t>(version)]);
+        db.SetUserVersion(version + 1);
+        tx.Commit();
+        ++version;
+    }
+}
+
+}  // namespace gyrocal::store

@@ -1,0 +1,31 @@
+#pragma once
+// The database schema and its migrations.
+//
+// Versioning: PRAGMA user_version holds the schema version; 0 is an empty (new) file. Migration
+// step k brings a database from version k to k+1 inside one transaction, so a database is always
+// at exactly one version. Opening runs every step from the file's version to kSchemaVersion;
+// a file newer than this software is refused (never downgraded). Steps are append-only: a
+// released step is never edited, a change is a new step.
+//   v1: tables (runs, samples, events, coefficient sets with child tables, losses, raw events)
+//   v2: recorder_sessions, provenance/summary views, query indexes
+//   v3: gyro_samples loses its (run_id, sensor_id, utime) index, which cost two thirds of the
+//       insert rate; gyro_blocks (per committed batch and run/sensor: rowid and utime ranges)
+//       finds a run's or a sensor's samples instead
+#include <string>
+
+#include "sqlite_db.hpp"
+
+namespace gyrocal::store {
+
+inline constexpr int kSchemaVersion = 3;
+
+// Brings `db` to `target_version` (default: current). Throws StoreError naming the file when the
+// file is not a gyrocal database, is newer than this software, or a step fails.
+void Migrate(Db& db, int target_version = kSchemaVersion);
+
+// Sets WAL journal, NORMAL sync (a committed transaction survives a process crash; only an OS
+// crash or power loss may lose the last commits) and foreign keys off (the recorder never
+// refuses a row because its run is unknown).
+void ConfigureConnection(Db& db);
+
+}  // namespace gyrocal::store

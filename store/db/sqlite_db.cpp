@@ -1,0 +1,151 @@
+#include "sqlite_db.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace gyrocal::store {
+
+Db::Db(const std::string& path, Mode mode) : path_(path) {
+    int flags = SQLITE_OPEN_NOMUTEX;
+    switch (mode) {
+        case Mode::kReadWriteCreate: flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE; break;
+        case Mode::kReadWrite: flags |= SQLITE_OPEN_READWRITE; break;
+        case Mode::kReadOnly: flags |= SQLITE_OPEN_READONLY; break;
+    }
+    const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+    if (rc != SQLITE_OK) {
+        std::string msg = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+        sqlite3_close(db_);
+        db_ = nullptr;
+        throw StoreError("cannot open database '" + path + "': " + msg);
+    }
+    // Concurrent readers (query tools) and the recorder's writer may meet: wait, do not fail.
+    sqlite3_busy_timeout(db_, 5000);
+}
+
+Db::~Db() { sqlite3_close_v2(db_); }
+
+void Db::Fail(std::string_view what) const {
+    throw StoreError("database '" + path_ + "': " + std::string(what) + ": " + sqlite3_errmsg(db_));
+}
+
+void Db::Exec(std::string_view sql) {
+    char* err = nullptr;
+    const std::string s(sql);
+    if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+        std::string msg = err ? err : "unknown error";
+        sqlite3_free(err);
+        throw StoreError("database '" + path_ + "': " + msg + " (in: " + s.substr(0, 120) + ")");
+    }
+}
+
+Stmt Db::Prepare(std::string_view sql) { return Stmt(*this, sql); }
+
+int64_t Db::LastInsertRowId() const { return sqlite3_last_insert_rowid(db_); }
+
+int Db::UserVersion() {
+    Stmt s(*this, "PRAGMA user_version");
+    s.Step();
+    return static_cast<int>(s.Int(0));
+}
+
+void Db::SetUserVersion(int version) { Exec("PRAGMA user_version = " + std::to_string(version)); }
+
+Stmt::Stmt(Db& db, std::string_view sql) : db_(&db), sql_(sql) {
+    if (sqlite3_prepare_v2(db.raw(), sql_.c_str(), static_cast<int>(sql_.size()), &stmt_,
+                           nullptr) != SQLITE_OK) {
+        db.Fail("cannot prepare '" + sql_.substr(0, 120) + "'");
+    }
+}
+
+Stmt::Stmt(Stmt&& other) noexcept
+    : db_(other.db_), stmt_(other.stmt_), sql_(std::move(other.sql_)) {
+    other.stmt_ = nullptr;
+}
+
+Stmt::~Stmt() { sqlite3_finalize(stmt_); }
+
+Stmt& Stmt::Bind(int i, int64_t v) {
+    if (sqlite3_bind_int64(stmt_, i, v) != SQLITE_OK) db_->Fail("bind");
+    return *this;
+}
+Stmt& Stmt::Bind(int i, double v) {
+    if (std::isnan(v)) return BindNull(i);
+    if (sqlite3_bind_double(stmt_, i, v) != SQLITE_OK) db_->Fail("bind");
+    return *this;
+}
+Stmt& Stmt::Bind(int i, std::string_view v) {
+    if (sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT) !=
+        SQLITE_OK) {
+        db_->Fail("bind");
+    }
+    return *this;
+}
+Stmt& Stmt::BindBlob(int i, const void* data, int size) {
+    if (sqlite3_bind_blob(stmt_, i, data, size, SQLITE_TRANSIENT) != SQLITE_OK) db_->Fail("bind");
+    return *this;
+}
+Stmt& Stmt::BindNull(int i) {
+    if (sqlite3_bind_null(stmt_, i) != SQLITE_OK) db_->Fail("bind");
+    return *this;
+}
+
+bool Stmt::Step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    const std::string msg = sqlite3_errmsg(db_->raw());
+    sqlite3_reset(stmt_);
+    throw StoreError("database '" + db_->path() + "': " + msg + " (in: " + sql_.substr(0, 120) +
+                     ")");
+}
+
+void Stmt::Reset() {
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+}
+
+bool Stmt::IsNull(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
+int64_t Stmt::Int(int col) const { return sqlite3_column_int64(stmt_, col); }
+double Stmt::Real(int col) const {
+    if (IsNull(col)) return std::numeric_limits<double>::quiet_NaN();
+    return sqlite3_column_double(stmt_, col);
+}
+std::string Stmt::Text(int col) const {
+    const auto* p = sqlite3_column_text(stmt_, col);
+    if (p == nullptr) return {};
+    return std::string(reinterpret_cast<const char*>(p),
+                       static_cast<size_t>(sqlite3_column_bytes(stmt_, col)));
+}
+std::vector<uint8_t> Stmt::Blob(int col) const {
+    const auto* p = static_cast<const uint8_t*>(sqlite3_column_blob(stmt_, col));
+    const int n = sqlite3_column_bytes(stmt_, col);
+    if (p == nullptr || n <= 0) return {};
+    return std::vector<uint8_t>(p, p + n);
+}
+std::optional<double> Stmt::OptReal(int col) const {
+    if (IsNull(col)) return std::nullopt;
+    return sqlite3_column_double(stmt_, col);
+}
+std::optional<int64_t> Stmt::OptInt(int col) const {
+    if (IsNull(col)) return std::nullopt;
+    return sqlite3_column_int64(stmt_, col);
+}
+int Stmt::ColumnCount() const { return sqlite3_column_count(stmt_); }
+std::string Stmt::ColumnName(int col) const { return sqlite3_column_name(stmt_, col); }
+
+Transaction::Transaction(Db& db) : db_(db) { db_.Exec("BEGIN IMMEDIATE"); }
+Transaction::~Transaction() {
+    if (!done_) {
+        try {
+            db_.Exec("ROLLBACK");
+        } catch (...) {
+        }
+    }
+}
+void Transaction::Commit() {
+    db_.Exec("COMMIT");
+    done_ = true;
+}
+
+}  // namespace gyrocal::store

@@ -1,0 +1,327 @@
+#include "writer.hpp"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "schema.hpp"
+
+namespace gyrocal::store {
+
+struct StoreWriter::Statements {
+    explicit Statements(Db& db)
+        : gyro(db, "INSERT INTO gyro_samples(run_id, sensor_id, utime, seq, gyro_v, temp_v, "
+                   "temp_c, supply_v, has_adc, gyro_counts, temp_counts, supply_counts, "
+                   "recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+          encoder(db, "INSERT INTO encoder_samples(run_id, encoder_id, utime, seq, counts, "
+                      "counts_per_rev, angle_deg, recv_utime) VALUES (?,?,?,?,?,?,?,?)"),
+          chamber(db, "INSERT INTO chamber_states(run_id, utime, seq, cmd_id, setpoint_c, air_c, "
+                      "at_setpoint, fault, recv_utime) VALUES (?,?,?,?,?,?,?,?,?)"),
+          chamber_cmd(db, "INSERT INTO chamber_cmds(run_id, msg_run_id, utime, cmd_id, "
+                          "setpoint_c, ramp_rate_c_per_min, recv_utime) VALUES (?,?,?,?,?,?,?)"),
+          turntable_cmd(db, "INSERT INTO turntable_cmds(run_id, msg_run_id, utime, cmd_id, "
+                            "move_deg, rate_dps, accel_dps2, recv_utime) "
+                            "VALUES (?,?,?,?,?,?,?,?)"),
+          plateau_state(db, "INSERT INTO plateau_states(run_id, sensor_id, utime, state, temp_c, "
+                            "temp_slope_c_per_min, temp_std_c, stable_for_s, "
+                            "averaging_progress, last_plateau_id, recv_utime) "
+                            "VALUES (?,?,?,?,?,?,?,?,?,?,?)"),
+          plateau(db, "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, setpoint_c, "
+                      "start_utime, end_utime, first_seq, last_seq, n_samples, "
+                      "n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
+                      "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_v_mean, "
+                      "supply_mean_v, recv_utime) "
+                      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+          sensitivity(db, "INSERT INTO sensitivity_points(run_id, sensor_id, rotation_id, utime, "
+                          "start_utime, end_utime, first_seq, last_seq, n_samples, direction, "
+                          "temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
+                          "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, "
+                          "reject_reason, recv_utime) "
+                          "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+          coeff_set(db, "INSERT INTO coeff_sets(run_id, sensor_id, coeff_set_id, source, utime, "
+                        "recv_utime) VALUES (?,?,?,?,?,?)"),
+          coeff_model(db, "INSERT INTO coeff_models(coeff_row_id, role, quantity, num_terms, "
+                          "t0_c, temp_min_c, temp_max_c, residual_rms, n_points, "
+                          "condition_number, method) VALUES (?,?,?,?,?,?,?,?,?,?,?)"),
+          coeff_term(db, "INSERT INTO coeff_terms(coeff_row_id, role, term_index, term_name, "
+                         "coeff) VALUES (?,?,?,?,?)"),
+          coeff_cov(db, "INSERT INTO coeff_covariance(coeff_row_id, role, row_index, col_index, "
+                        "value) VALUES (?,?,?,?,?)"),
+          coeff_plateau(db, "INSERT INTO coeff_set_plateaus(coeff_row_id, plateau_id) "
+                            "VALUES (?,?)"),
+          coeff_rotation(db, "INSERT INTO coeff_set_rotations(coeff_row_id, rotation_id) "
+                             "VALUES (?,?)"),
+          rate(db, "INSERT INTO rates(run_id, sensor_id, utime, seq, rate_dps, angle_deg, temp_c, "
+                   "coeff_set_id, range_flag, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?)"),
+          status(db, "INSERT INTO status(run_id, utime, process, host, pid, state, received, "
+                     "published, decode_errors, seq_gaps, queue_drops, rejected, last_reject, "
+                     "extra_json, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+          run_event(db, "INSERT INTO run_events(run_id, utime, event, reason, setpoint_index, "
+                        "setpoint_c, sensor_ids_json, software_version, config_json, "
+                        "command_line, host, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)"),
+          run_start(db, "INSERT INTO runs(run_id, started_utime, outcome, software_version, "
+                        "config_json, command_line, host, recorder_version, recorder_host, "
+                        "first_recv_utime) VALUES (?1,?2,'running',?3,?4,?5,?6,?7,?8,?9) "
+                        "ON CONFLICT(run_id) DO UPDATE SET started_utime = ?2, "
+                        "software_version = ?3, config_json = ?4, command_line = ?5, host = ?6, "
+                        "recorder_version = ?7, recorder_host = ?8"),
+          run_stop(db, "INSERT INTO runs(run_id, stopped_utime, outcome, reason, first_recv_utime) "
+                       "VALUES (?1,?2,?3,?4,?5) ON CONFLICT(run_id) DO UPDATE SET "
+                       "stopped_utime = ?2, outcome = ?3, reason = ?4"),
+          block(db, "INSERT INTO gyro_blocks(run_id, sensor_id, first_rowid, last_rowid, "
+                    "min_utime, max_utime, n_samples) VALUES (?,?,?,?,?,?,?)"),
+          run_bare(db, "INSERT OR IGNORE INTO runs(run_id, first_recv_utime) VALUES (?,?)"),
+          run_sensor(db, "INSERT OR IGNORE INTO run_sensors(run_id, sensor_id) VALUES (?,?)"),
+          sensor(db, "INSERT OR IGNORE INTO sensors(sensor_id, first_recv_utime) VALUES (?,?)"),
+          raw(db, "INSERT INTO raw_events(run_id, channel, recv_utime, fingerprint, reason, data) "
+                  "VALUES (?,?,?,?,?,?)"),
+          loss(db, "INSERT INTO losses(run_id, channel, seq_gaps, seq_backwards, decode_errors, "
+                   "queue_drops) VALUES (?1,?2,?3,?4,?5,?6) ON CONFLICT(run_id, channel) DO "
+                   "UPDATE SET seq_gaps = seq_gaps + ?3, seq_backwards = seq_backwards + ?4, "
+                   "decode_errors = decode_errors + ?5, queue_drops = queue_drops + ?6") {}
+
+    Stmt gyro, encoder, chamber, chamber_cmd, turntable_cmd, plateau_state, plateau, sensitivity,
+        coeff_set, coeff_model, coeff_term, coeff_cov, coeff_plateau, coeff_rotation, rate, status,
+        run_event, run_start, run_stop, block, run_bare, run_sensor, sensor, raw, loss;
+};
+
+StoreWriter::StoreWriter(const std::string& path, WriterInfo info) : info_(std::move(info)) {
+    db_ = std::make_unique<Db>(path, Db::Mode::kReadWriteCreate);
+    ConfigureConnection(*db_);
+    Migrate(*db_);
+    st_ = std::make_unique<Statements>(*db_);
+    Stmt runs(*db_, "SELECT run_id FROM runs");
+    while (runs.Step()) known_runs_.insert(runs.Text(0));
+    Stmt sensors(*db_, "SELECT sensor_id FROM sensors");
+    while (sensors.Step()) known_sensors_.insert(sensors.Text(0));
+}
+
+StoreWriter::~StoreWriter() = default;
+
+std::string StoreWriter::OpenRunId() {
+    Stmt s(*db_,
+           "SELECT run_id FROM runs WHERE run_id != '' AND started_utime IS NOT NULL AND "
+           "stopped_utime IS NULL AND outcome = 'running' "
+           "ORDER BY first_recv_utime DESC, rowid DESC LIMIT 1");
+    return s.Step() ? s.Text(0) : std::string();
+}
+
+std::vector<StoreWriter::StreamSeq> StoreWriter::LastSeqs(const std::string& run_id) {
+    std::vector<StreamSeq> out;
+    // One index seek per sensor (run_id, sensor_id, utime), not a scan of the run.
+    Stmt sensors(*db_, "SELECT sensor_id FROM sensors");
+    Stmt last(*db_,
+              "SELECT g.seq FROM (SELECT first_rowid, last_rowid FROM gyro_blocks WHERE "
+              "run_id = ?1 AND sensor_id = ?2 ORDER BY max_utime DESC LIMIT 1) b JOIN gyro_samples "
+              "g ON g.rowid BETWEEN b.first_rowid AND b.last_rowid AND g.run_id = ?1 AND "
+              "g.sensor_id = ?2 ORDER BY g.utime DESC, g.rowid DESC LIMIT 1");
+    while (sensors.Step()) {
+        const std::string id = sensors.Text(0);
+        last.Bind(1, run_id).Bind(2, id);
+        if (last.Step()) out.push_back({StreamSeq::Kind::kGyro, id, last.Int(0)});
+        last.Reset();
+    }
+    Stmt enc(*db_, "SELECT seq FROM encoder_samples WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
+    enc.Bind(1, run_id);
+    if (enc.Step()) out.push_back({StreamSeq::Kind::kEncoder, "", enc.Int(0)});
+    Stmt ch(*db_, "SELECT seq FROM chamber_states WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
+    ch.Bind(1, run_id);
+    if (ch.Step()) out.push_back({StreamSeq::Kind::kChamberState, "", ch.Int(0)});
+    return out;
+}
+
+void StoreWriter::BeginSession(int64_t wall_utime, const std::string& resumed_run_id) {
+    Stmt s(*db_,
+           "INSERT INTO recorder_sessions(started_wall_utime, host, pid, recorder_version, "
+           "resumed_run_id) VALUES (?,?,?,?,?)");
+    s.Bind(1, wall_utime).Bind(2, info_.host).Bind(3, info_.pid).Bind(4, info_.recorder_version);
+    s.Bind(5, resumed_run_id).Run();
+    session_id_ = db_->LastInsertRowId();
+}
+
+void StoreWriter::EndSession(int64_t wall_utime) {
+    if (session_id_ < 0) return;
+    Stmt s(*db_, "UPDATE recorder_sessions SET stopped_wall_utime = ? WHERE session_id = ?");
+    s.Bind(1, wall_utime).Bind(2, session_id_).Run();
+}
+
+void StoreWriter::EnsureRun(const std::string& run_id, int64_t recv_utime) {
+    if (known_runs_.count(run_id)) return;
+    st_->run_bare.Bind(1, run_id).Bind(2, recv_utime).Run();
+    known_runs_.insert(run_id);
+}
+
+void StoreWriter::EnsureSensor(const std::string& sensor_id, int64_t recv_utime) {
+    if (known_sensors_.count(sensor_id)) return;
+    st_->sensor.Bind(1, sensor_id).Bind(2, recv_utime).Run();
+    known_sensors_.insert(sensor_id);
+}
+
+void StoreWriter::Write(const std::vector<Row>& rows, const LossMap& losses) {
+    Transaction tx(*db_);
+    blocks_.clear();
+    for (const Row& row : rows) WriteOne(row);
+    for (const auto& [key, b] : blocks_) {
+        Stmt& s = st_->block;
+        s.Bind(1, key.first).Bind(2, key.second).Bind(3, b.first_rowid).Bind(4, b.last_rowid);
+        s.Bind(5, b.min_utime).Bind(6, b.max_utime).Bind(7, b.n_samples).Run();
+    }
+    for (const auto& [key, d] : losses) {
+        if (d.Empty()) continue;
+        EnsureRun(key.first, 0);
+        st_->loss.Bind(1, key.first).Bind(2, key.second).Bind(3, d.seq_gaps);
+        st_->loss.Bind(4, d.seq_backwards).Bind(5, d.decode_errors).Bind(6, d.queue_drops).Run();
+    }
+    tx.Commit();
+}
+
+void StoreWriter::WriteOne(const Row& row) {
+    std::visit([this](const auto& r) { EnsureRun(r.run_id, r.recv_utime); }, row);
+    if (const auto* g = std::get_if<GyroRow>(&row)) {
+        EnsureSensor(g->sensor_id, g->recv_utime);
+        Stmt& s = st_->gyro;
+        s.Bind(1, g->run_id).Bind(2, g->sensor_id).Bind(3, g->utime).Bind(4, g->seq);
+        s.Bind(5, g->gyro_v).Bind(6, g->temp_v).Bind(7, g->temp_c).Bind(8, g->supply_v);
+        s.Bind(9, g->has_adc ? 1 : 0);
+        if (g->has_adc) {
+            s.Bind(10, g->gyro_counts).Bind(11, g->temp_counts);
+        }
+        if (g->supply_counts >= 0) s.Bind(12, g->supply_counts);  // -1 = not measured -> NULL
+        s.Bind(13, g->recv_utime).Run();
+        NoteBlock(*g, db_->LastInsertRowId());
+    } else if (const auto* e = std::get_if<EncoderRow>(&row)) {
+        Stmt& s = st_->encoder;
+        s.Bind(1, e->run_id).Bind(2, e->encoder_id).Bind(3, e->utime).Bind(4, e->seq);
+        s.Bind(5, e->counts).Bind(6, e->counts_per_rev).Bind(7, e->angle_deg);
+        s.Bind(8, e->recv_utime).Run();
+    } else if (const auto* c = std::get_if<ChamberStateRow>(&row)) {
+        Stmt& s = st_->chamber;
+        s.Bind(1, c->run_id).Bind(2, c->utime).Bind(3, c->seq).Bind(4, c->cmd_id);
+        s.Bind(5, c->setpoint_c).Bind(6, c->air_c).Bind(7, c->at_setpoint ? 1 : 0);
+        s.Bind(8, c->fault).Bind(9, c->recv_utime).Run();
+    } else if (const auto* cc = std::get_if<ChamberCmdRow>(&row)) {
+        Stmt& s = st_->chamber_cmd;
+        s.Bind(1, cc->run_id).Bind(2, cc->msg_run_id).Bind(3, cc->utime).Bind(4, cc->cmd_id);
+        s.Bind(5, cc->setpoint_c).Bind(6, cc->ramp_rate_c_per_min).Bind(7, cc->recv_utime).Run();
+    } else if (const auto* t = std::get_if<TurntableCmdRow>(&row)) {
+        Stmt& s = st_->turntable_cmd;
+        s.Bind(1, t->run_id).Bind(2, t->msg_run_id).Bind(3, t->utime).Bind(4, t->cmd_id);
+        s.Bind(5, t->move_deg).Bind(6, t->rate_dps).Bind(7, t->accel_dps2);
+        s.Bind(8, t->recv_utime).Run();
+    } else if (const auto* ps = std::get_if<PlateauStateRow>(&row)) {
+        Stmt& s = st_->plateau_state;
+        s.Bind(1, ps->run_id).Bind(2, ps->sensor_id).Bind(3, ps->utime).Bind(4, ps->state);
+        s.Bind(5, ps->temp_c).Bind(6, ps->temp_slope_c_per_min).Bind(7, ps->temp_std_c);
+        s.Bind(8, ps->stable_for_s).Bind(9, ps->averaging_progress);
+        s.Bind(10, ps->last_plateau_id).Bind(11, ps->recv_utime).Run();
+    } else if (const auto* p = std::get_if<PlateauRow>(&row)) {
+        EnsureSensor(p->sensor_id, p->recv_utime);
+        Stmt& s = st_->plateau;
+        s.Bind(1, p->run_id).Bind(2, p->sensor_id).Bind(3, p->plateau_id).Bind(4, p->utime);
+        s.Bind(5, p->setpoint_c).Bind(6, p->start_utime).Bind(7, p->end_utime);
+        s.Bind(8, p->first_seq).Bind(9, p->last_seq).Bind(10, p->n_samples);
+        s.Bind(11, p->n_excluded_motion).Bind(12, p->seq_gaps).Bind(13, p->temp_mean_c);
+        s.Bind(14, p->temp_std_c).Bind(15, p->temp_sem_c).Bind(16, p->temp_slope_c_per_min);
+        s.Bind(17, p->gyro_mean_v).Bind(18, p->gyro_std_v).Bind(19, p->gyro_sem_v);
+        s.Bind(20, p->temp_v_mean).Bind(21, p->supply_mean_v).Bind(22, p->recv_utime).Run();
+    } else if (const auto* sp = std::get_if<SensitivityRow>(&row)) {
+        EnsureSensor(sp->sensor_id, sp->recv_utime);
+        Stmt& s = st_->sensitivity;
+        s.Bind(1, sp->run_id).Bind(2, sp->sensor_id).Bind(3, sp->rotation_id).Bind(4, sp->utime);
+        s.Bind(5, sp->start_utime).Bind(6, sp->end_utime).Bind(7, sp->first_seq);
+        s.Bind(8, sp->last_seq).Bind(9, sp->n_samples).Bind(10, sp->direction);
+        s.Bind(11, sp->temp_c).Bind(12, sp->encoder_angle_deg).Bind(13, sp->offset_v);
+        s.Bind(14, sp->offset_stderr_v).Bind(15, sp->integral_v_s);
+        s.Bind(16, sp->sensitivity_v_per_dps).Bind(17, sp->sensitivity_stderr_v_per_dps);
+        s.Bind(18, sp->accepted ? 1 : 0).Bind(19, sp->reject_reason).Bind(20, sp->recv_utime);
+        s.Run();
+    } else if (const auto* cs = std::get_if<CoeffSetRow>(&row)) {
+        WriteCoeffSet(*cs);
+    } else if (const auto* r = std::get_if<RateRow>(&row)) {
+        Stmt& s = st_->rate;
+        s.Bind(1, r->run_id).Bind(2, r->sensor_id).Bind(3, r->utime).Bind(4, r->seq);
+        s.Bind(5, r->rate_dps).Bind(6, r->angle_deg).Bind(7, r->temp_c).Bind(8, r->coeff_set_id);
+        s.Bind(9, r->range_flag).Bind(10, r->recv_utime).Run();
+    } else if (const auto* st = std::get_if<StatusRow>(&row)) {
+        Stmt& s = st_->status;
+        s.Bind(1, st->run_id).Bind(2, st->utime).Bind(3, st->process).Bind(4, st->host);
+        s.Bind(5, st->pid).Bind(6, st->state).Bind(7, st->received).Bind(8, st->published);
+        s.Bind(9, st->decode_errors).Bind(10, st->seq_gaps).Bind(11, st->queue_drops);
+        s.Bind(12, st->rejected).Bind(13, st->last_reject).Bind(14, st->extra_json);
+        s.Bind(15, st->recv_utime).Run();
+    } else if (const auto* ev = std::get_if<RunEventRow>(&row)) {
+        WriteRunEvent(*ev);
+    } else if (const auto* raw = std::get_if<RawEventRow>(&row)) {
+        Stmt& s = st_->raw;
+        s.Bind(1, raw->run_id).Bind(2, raw->channel).Bind(3, raw->recv_utime);
+        s.Bind(4, raw->fingerprint_hex).Bind(5, raw->reason);
+        s.BindBlob(6, raw->data.data(), static_cast<int>(raw->data.size())).Run();
+    }
+}
+
+void StoreWriter::NoteBlock(const GyroRow& g, int64_t rowid) {
+    auto [it, fresh] = blocks_.try_emplace({g.run_id, g.sensor_id});
+    Block& b = it->second;
+    if (fresh) {
+        b.first_rowid = rowid;
+        b.min_utime = b.max_utime = g.utime;
+    }
+    b.last_rowid = rowid;
+    b.min_utime = std::min(b.min_utime, g.utime);
+    b.max_utime = std::max(b.max_utime, g.utime);
+    ++b.n_samples;
+}
+
+void StoreWriter::WriteRunEvent(const RunEventRow& r) {
+    Stmt& s = st_->run_event;
+    s.Bind(1, r.run_id).Bind(2, r.utime).Bind(3, r.event).Bind(4, r.reason);
+    s.Bind(5, r.setpoint_index).Bind(6, r.setpoint_c);
+    s.Bind(7, nlohmann::json(r.sensor_ids).dump()).Bind(8, r.software_version);
+    s.Bind(9, r.config_json).Bind(10, r.command_line).Bind(11, r.host).Bind(12, r.recv_utime);
+    s.Run();
+    if (r.event == "start") {
+        Stmt& u = st_->run_start;
+        u.Bind(1, r.run_id).Bind(2, r.utime).Bind(3, r.software_version).Bind(4, r.config_json);
+        u.Bind(5, r.command_line).Bind(6, r.host).Bind(7, info_.recorder_version);
+        u.Bind(8, info_.host).Bind(9, r.recv_utime).Run();
+        for (const auto& id : r.sensor_ids) st_->run_sensor.Bind(1, r.run_id).Bind(2, id).Run();
+    } else if (r.event == "stop" || r.event == "abort") {
+        Stmt& u = st_->run_stop;
+        u.Bind(1, r.run_id).Bind(2, r.utime).Bind(3, r.event).Bind(4, r.reason);
+        u.Bind(5, r.recv_utime).Run();
+    }
+    known_runs_.insert(r.run_id);
+}
+
+void StoreWriter::WriteModel(int64_t coeff_row_id, const char* role, const ModelRow& m) {
+    Stmt& s = st_->coeff_model;
+    s.Bind(1, coeff_row_id).Bind(2, role).Bind(3, m.quantity);
+    s.Bind(4, static_cast<int64_t>(m.term_names.size())).Bind(5, m.t0_c).Bind(6, m.temp_min_c);
+    s.Bind(7, m.temp_max_c).Bind(8, m.residual_rms).Bind(9, m.n_points);
+    s.Bind(10, m.condition_number).Bind(11, m.method).Run();
+    for (size_t i = 0; i < m.term_names.size(); ++i) {
+        Stmt& t = st_->coeff_term;
+        t.Bind(1, coeff_row_id).Bind(2, role).Bind(3, static_cast<int64_t>(i));
+        t.Bind(4, m.term_names[i]).Bind(5, i < m.coeffs.size() ? m.coeffs[i] : 0.0 / 0.0).Run();
+    }
+    for (size_t i = 0; i < m.covariance.size(); ++i) {
+        for (size_t j = 0; j < m.covariance[i].size(); ++j) {
+            Stmt& c = st_->coeff_cov;
+            c.Bind(1, coeff_row_id).Bind(2, role).Bind(3, static_cast<int64_t>(i));
+            c.Bind(4, static_cast<int64_t>(j)).Bind(5, m.covariance[i][j]).Run();
+        }
+    }
+}
+
+void StoreWriter::WriteCoeffSet(const CoeffSetRow& r) {
+    EnsureSensor(r.sensor_id, r.recv_utime);
+    Stmt& s = st_->coeff_set;
+    s.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.coeff_set_id).Bind(4, r.source);
+    s.Bind(5, r.utime).Bind(6, r.recv_utime).Run();
+    const int64_t id = db_->LastInsertRowId();
+    WriteModel(id, "offset", r.offset);
+    WriteModel(id, "sensitivity", r.sensitivity);
+    for (int64_t p : r.plateau_ids) st_->coeff_plateau.Bind(1, id).Bind(2, p).Run();
+    for (int64_t q : r.rotation_ids) st_->coeff_rotation.Bind(1, id).Bind(2, q).Run();
+}
+
+}  // namespace gyrocal::store

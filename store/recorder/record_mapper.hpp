@@ -1,0 +1,60 @@
+#pragma once
+// RecordMapper: from one received LCM message (channel + bytes) to the store row it becomes.
+// LCM-type-aware but socket-free, so it is tested with encoded messages and no bus.
+//
+// Type by fingerprint: every LCM message starts with its type's 8-byte hash (big-endian). It is
+// compared with each known type's getHash(); an unknown hash becomes a raw event (kept whole,
+// undecoded); a known hash that then fails to decode counts a decode error on its channel and is
+// kept as a raw event too. The channel name is never used to guess a type.
+//
+// Run in force: the latest run event decides. "start" (and any other event except stop/abort)
+// makes its run_id current; "stop"/"abort" is stored with its run, then the current run becomes
+// "" (the no-run bucket). Plateaus, sensitivity points and coefficient sets keep the run_id they
+// carry; everything else gets the run in force.
+//
+// Loss: sample types with a seq (gyro, encoder, chamber state, rate) feed a SeqTracker per
+// channel; gaps and backward steps are returned as loss deltas of the run in force.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "bus/seq_tracker.hpp"
+#include "rows.hpp"
+
+namespace gyrocal::record {
+
+struct MapperOptions {
+    bool store_rates = true;  // false: RATE_* messages are counted but not stored
+    static MapperOptions Defaults() { return {}; }
+};
+
+struct Mapped {
+    std::optional<store::Row> row;  // nothing for skipped messages (rates when off)
+    bool essential = false;         // run events and coefficient sets: never dropped
+    std::string run_id;             // run the loss below belongs to
+    store::LossDelta loss;          // seq gaps / decode errors this message revealed
+};
+
+class RecordMapper {
+public:
+    RecordMapper(MapperOptions options, std::string initial_run_id);
+
+    // `recv_utime` [us] is the receive wall clock. Never throws on bad bytes.
+    Mapped Map(const std::string& channel, const void* data, int size, int64_t recv_utime);
+
+    const std::string& current_run() const { return run_id_; }
+    // Starts a channel's seq tracking at `last_seq` (a restarted recorder: what it missed while
+    // down then shows as a gap on the first message).
+    void SeedSeq(const std::string& channel, int64_t last_seq) { seq_.Observe(channel, last_seq); }
+
+private:
+    MapperOptions options_;
+    std::string run_id_;
+    SeqTracker seq_;
+};
+
+// The first 8 bytes as LCM writes a type hash (big-endian), or nullopt when size < 8.
+std::optional<uint64_t> Fingerprint(const void* data, int size);
+std::string FingerprintHex(const void* data, int size);
+
+}  // namespace gyrocal::record

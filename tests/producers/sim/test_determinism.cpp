@@ -1,0 +1,115 @@
+// Determinism by seed: the same seed gives the same bytes; other seeds give other units; a unit's
+// numbers do not depend on how many units share the run or on how the run is chunked in time.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "sim/rig.hpp"
+#include "sim/truth.hpp"
+#include "sim_test_support.hpp"
+
+namespace gyrocal::sim {
+namespace {
+
+// Serialises every published field of every reading, in order.
+std::vector<unsigned char> Bytes(const testing::Recorded& r) {
+    std::vector<unsigned char> out;
+    auto put = [&](const void* p, size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        out.insert(out.end(), b, b + n);
+    };
+    for (const GyroReading& g : r.gyro) {
+        put(&g.utime, 8), put(&g.seq, 8), put(&g.gyro_v, 8), put(&g.temp_v, 8), put(&g.temp_c, 8);
+        put(&g.supply_v, 8), put(&g.gyro_counts, 4), put(&g.temp_counts, 4),
+            put(&g.supply_counts, 4);
+        put(&g.unit_index, sizeof g.unit_index);  // sensor_id points into the (gone) Rig
+    }
+    for (const EncoderReading& e : r.encoder)
+        put(&e.utime, 8), put(&e.counts, 8), put(&e.angle_deg, 8);
+    for (const ChamberReading& c : r.chamber) {
+        put(&c.utime, 8), put(&c.air_c, 8), put(&c.setpoint_c, 8), put(&c.cmd_id, 8);
+        put(c.fault.data(), c.fault.size());
+    }
+    return out;
+}
+
+testing::Recorded RunScenario(uint64_t seed, int units, int64_t chunk_us) {
+    RigConfig c = RigConfig::Defaults();
+    c.seed = seed;
+    c.num_units = units;
+    Rig rig(c);
+    testing::RecordingSink sink;
+    const int64_t s = c.start_utime;
+    auto run_to = [&](int64_t t) {
+        for (int64_t u = rig.now_utime(); u < t; u += chunk_us)
+            rig.RunUntil(std::min(u + chunk_us, t), sink);
+        rig.RunUntil(t, sink);
+    };
+    rig.ChamberCommand(1, 50.0, 0.0);
+    run_to(s + 60'000'000);
+    rig.TurntableCommand(1, 90.0, 0.0, 0.0);
+    rig.ChamberCommand(2, 200.0, 0.0);  // refused: fault in the record
+    run_to(s + 120'000'000);
+    return sink.data;
+}
+
+TEST(SimDeterminism, SameSeedSameBytesWhateverTheChunking) {
+    const auto a = Bytes(RunScenario(7, 4, 60'000'000));
+    const auto b = Bytes(RunScenario(7, 4, 60'000'000));
+    const auto c = Bytes(RunScenario(7, 4, 3'333));  // batches of ~1/3 sample period
+    ASSERT_GT(a.size(), 100000u);
+    EXPECT_TRUE(a == b);
+    EXPECT_TRUE(a == c);
+}
+
+TEST(SimDeterminism, DifferentSeedsGiveDifferentUnits) {
+    RigConfig c = RigConfig::Defaults();
+    c.seed = 1;
+    Rig one(c);
+    c.seed = 2;
+    Rig two(c);
+    for (int u = 0; u < 4; ++u) {
+        EXPECT_NE(one.units()[u].offset_coeffs[0], two.units()[u].offset_coeffs[0]);
+        EXPECT_NE(one.units()[u].sensitivity_coeffs[1], two.units()[u].sensitivity_coeffs[1]);
+        EXPECT_NE(one.units()[u].temp_sensor_offset_c, two.units()[u].temp_sensor_offset_c);
+        for (int w = u + 1; w < 4; ++w) {  // and units of one run differ from each other
+            EXPECT_NE(one.units()[u].offset_coeffs[1], one.units()[w].offset_coeffs[1]);
+        }
+    }
+    EXPECT_FALSE(Bytes(RunScenario(1, 2, 60'000'000)) == Bytes(RunScenario(2, 2, 60'000'000)));
+}
+
+TEST(SimDeterminism, UnitsAreIndependentOfHowManyThereAre) {
+    const testing::Recorded one = RunScenario(3, 1, 60'000'000);
+    const testing::Recorded four = RunScenario(3, 4, 60'000'000);
+    size_t k = 0;
+    for (size_t i = 0; i < four.gyro.size(); ++i) {
+        if (four.gyro[i].unit_index != 0) continue;
+        ASSERT_EQ(four.gyro[i].gyro_v, one.gyro[k].gyro_v) << i;
+        ++k;
+    }
+    EXPECT_EQ(k, one.gyro.size());
+}
+
+TEST(SimDeterminism, DrawnUnitsAreRealisticForTheAdxrs610) {
+    // Over many units the draws stay in the configured bands (datasheet-like spread).
+    RigConfig c = RigConfig::Defaults();
+    c.num_units = 200;
+    Rig rig(c);
+    for (const UnitTruth& u : rig.units()) {
+        EXPECT_GE(std::abs(u.offset_coeffs[1]), 0.1e-3);
+        EXPECT_LE(std::abs(u.offset_coeffs[1]), 1.0e-3);
+        EXPECT_NEAR(u.offset_coeffs[0], 2.5, 6 * 0.03);
+        EXPECT_NEAR(u.sensitivity_coeffs[0], 0.006, 0.006 * 6 * 0.03);
+        // visibly non-linear over -40..85: the quadratic term at the ends is >= 1 mV
+        EXPECT_GE(std::abs(u.OffsetV(-40.0) + u.OffsetV(85.0) - 2 * u.OffsetV(22.5)), 1e-3);
+    }
+    const nlohmann::json j = TruthJson(rig);
+    EXPECT_EQ(j["units"].size(), 200u);
+    EXPECT_EQ(j["truth_temperature"], "die_c");
+    EXPECT_DOUBLE_EQ(j["t0_c"].get<double>(), 25.0);
+    EXPECT_EQ(j["effects"]["warmup"]["on"], false);
+}
+
+}  // namespace
+}  // namespace gyrocal::sim

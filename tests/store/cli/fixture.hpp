@@ -1,0 +1,164 @@
+#pragma once
+// A small database with known contents, written through the store's own writer:
+//   R1 (stop):  sensors S01, S02; plateaus, a rotation, final coefficient sets (+ one earlier)
+//   R2 (abort): sensor S01, a second calibration of S01 (offset +1 mV, sensitivity +1 %)
+//   R3 (running): sensor S03, nothing fitted yet
+//   ''  (no run): a few samples
+//   a hostile sensor id with quotes and a comment terminator, with a coefficient set in R1.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "writer.hpp"
+
+namespace gyrocal::testing {
+
+inline constexpr const char* kHostileSensor = "X\"*/ '; DROP TABLE runs; --";
+inline constexpr int64_t kDay = 86400LL * 1000000LL;
+inline constexpr int64_t kWall0 = 1767225600LL * 1000000LL;  // 2026-01-01 00:00:00 UTC
+
+inline store::ModelRow PolyModel(const std::string& quantity, std::vector<double> coeffs) {
+    store::ModelRow m;
+    m.quantity = quantity;
+    const std::vector<std::string> names = {"1", "dT", "dT^2", "dT^3"};
+    for (size_t i = 0; i < coeffs.size(); ++i) m.term_names.push_back(names[i]);
+    m.coeffs = coeffs;
+    m.covariance.assign(coeffs.size(), std::vector<double>(coeffs.size(), 0.0));
+    for (size_t i = 0; i < coeffs.size(); ++i) m.covariance[i][i] = 4e-10;  // stddev 2e-5
+    m.t0_c = 25.0;
+    m.temp_min_c = -10.0;
+    m.temp_max_c = 60.0;
+    m.residual_rms = 1e-5;
+    m.n_points = 3;
+    m.condition_number = 5.0;
+    m.method = "wls";
+    return m;
+}
+
+// Offset 2.5 + a*dT + b*dT^2 [V]; sensitivity s0 + s1*dT [V/dps].
+inline store::CoeffSetRow Set(const std::string& run, const std::string& sensor, int64_t id,
+                              double offset0, double sens0, int64_t recv_utime,
+                              std::vector<int64_t> plateaus = {},
+                              std::vector<int64_t> rotations = {}) {
+    store::CoeffSetRow c;
+    c.run_id = run;
+    c.sensor_id = sensor;
+    c.coeff_set_id = id;
+    c.source = "fitter";
+    c.utime = id;
+    c.offset = PolyModel("offset_v", {offset0, 1e-3, -2e-5});
+    c.sensitivity = PolyModel("sensitivity_v_per_dps", {sens0, 1e-6});
+    c.plateau_ids = std::move(plateaus);
+    c.rotation_ids = std::move(rotations);
+    c.recv_utime = recv_utime;
+    return c;
+}
+
+inline store::RunEventRow Event(const std::string& run, const std::string& ev,
+                                std::vector<std::string> sensors, int64_t recv_utime) {
+    store::RunEventRow e;
+    e.run_id = run;
+    e.utime = 1000;
+    e.event = ev;
+    e.reason = ev == "abort" ? "operator pressed stop" : "";
+    e.setpoint_c = std::nan("");
+    e.sensor_ids = std::move(sensors);
+    e.software_version = "v1.2.3";
+    e.config_json = R"({"setpoints_c":[0,25,50]})";
+    e.command_line = "gyrocal calibrate";
+    e.host = "lab-pc";
+    e.recv_utime = recv_utime;
+    return e;
+}
+
+inline store::GyroRow Sample(const std::string& run, const std::string& sensor, int64_t seq,
+                             int64_t recv_utime) {
+    store::GyroRow g;
+    g.run_id = run;
+    g.sensor_id = sensor;
+    g.seq = seq;
+    g.utime = 1000000 + seq * 10000;
+    g.gyro_v = 2.5;
+    g.temp_c = 25;
+    g.supply_v = std::nan("");
+    g.supply_counts = -1;
+    g.recv_utime = recv_utime;
+    return g;
+}
+
+inline void WriteFixture(const std::string& path) {
+    store::StoreWriter w(path, {"test", "host", 1});
+    std::vector<store::Row> rows;
+    // R1, ten days after kWall0.
+    const int64_t t1 = kWall0 + 10 * kDay;
+    rows.push_back(Event("R1", "start", {"S01", "S02"}, t1));
+    for (int64_t s = 0; s < 300; ++s) {
+        rows.push_back(Sample("R1", "S01", s, t1 + s));
+        rows.push_back(Sample("R1", "S02", s, t1 + s));
+    }
+    store::PlateauRow p;
+    p.run_id = "R1";
+    p.sensor_id = "S01";
+    p.plateau_id = 1000000;      // = start_utime, covers seq 0..99
+    p.start_utime = 1000000;
+    p.end_utime = 1000000 + 99 * 10000;
+    p.first_seq = 0;
+    p.last_seq = 99;
+    p.n_samples = 100;
+    p.setpoint_c = 25;
+    p.temp_mean_c = 25.01;
+    p.gyro_mean_v = 2.5;
+    p.supply_mean_v = std::nan("");
+    p.recv_utime = t1 + 400;
+    rows.push_back(p);
+    store::SensitivityRow r;
+    r.run_id = "R1";
+    r.sensor_id = "S01";
+    r.rotation_id = 2000000;  // covers seq 100..199
+    r.start_utime = 2000000;
+    r.end_utime = 2000000 + 99 * 10000;
+    r.n_samples = 100;
+    r.direction = 1;
+    r.temp_c = 25;
+    r.encoder_angle_deg = 90;
+    r.sensitivity_v_per_dps = 0.0067;
+    r.accepted = true;
+    r.recv_utime = t1 + 401;
+    rows.push_back(r);
+    rows.push_back(Set("R1", "S01", 10, 2.4, 0.0066, t1 + 500, {1000000}, {}));  // superseded
+    rows.push_back(Set("R1", "S01", 11, 2.5, 0.0067, t1 + 600, {1000000}, {2000000}));
+    rows.push_back(Set("R1", "S02", 11, 2.45, 0.0068, t1 + 600, {}, {}));
+    rows.push_back(Set("R1", kHostileSensor, 12, 2.45, 0.0068, t1 + 601, {}, {}));
+    for (int64_t k = 0; k < 2; ++k) {  // two heartbeats of one process: the last one counts
+        store::StatusRow st;
+        st.run_id = "R1";
+        st.process = "gyrocal-plateau";
+        st.host = "lab-pc";
+        st.pid = 42;
+        st.state = "running";
+        st.received = 100 * (k + 1);
+        st.seq_gaps = 7 * k;
+        st.rejected = k;
+        st.last_reject = k ? "non_finite: temp_c is NaN" : "";
+        st.recv_utime = t1 + 650 + k;
+        rows.push_back(st);
+    }
+    rows.push_back(Event("R1", "stop", {"S01", "S02"}, t1 + 700));
+    // R2, twenty days after: S01 recalibrated.
+    const int64_t t2 = kWall0 + 20 * kDay;
+    rows.push_back(Event("R2", "start", {"S01"}, t2));
+    rows.push_back(Set("R2", "S01", 21, 2.501, 0.0067 * 1.01, t2 + 10));
+    rows.push_back(Event("R2", "abort", {"S01"}, t2 + 20));
+    // R3, thirty days after: still running.
+    const int64_t t3 = kWall0 + 30 * kDay;
+    rows.push_back(Event("R3", "start", {"S03"}, t3));
+    rows.push_back(Sample("R3", "S03", 0, t3 + 1));
+    // Outside any run.
+    for (int64_t s = 0; s < 5; ++s) rows.push_back(Sample("", "S09", s, kWall0 + s));
+    store::LossMap losses;
+    losses[{"R1", "GYRO_S01"}].seq_gaps = 3;
+    losses[{"R1", ""}].queue_drops = 2;
+    w.Write(rows, losses);
+}
+
+}  // namespace gyrocal::testing

@@ -1,0 +1,248 @@
+// The store library without LCM: schema migrations, the writer's round trip, the batching
+// writer's bounds and drop accounting, and the local model evaluator.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+#include "async_writer.hpp"
+#include "model_eval.hpp"
+#include "query.hpp"
+#include "replay_reader.hpp"
+#include "schema.hpp"
+#include "writer.hpp"
+
+namespace gyrocal::store {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string FreshPath(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_db_tests";
+    std::filesystem::create_directories(dir);
+    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
+    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
+    return p;
+}
+
+int64_t Count(Db& db, const std::string& sql) {
+    Stmt s(db, sql);
+    return s.Step() ? s.Int(0) : -1;
+}
+
+GyroRow Sample(const std::string& run, int64_t seq) {
+    GyroRow g;
+    g.run_id = run;
+    g.sensor_id = "S01";
+    g.seq = seq;
+    g.utime = 1000 + seq;
+    g.gyro_v = 2.5 + 1e-6 * static_cast<double>(seq);
+    g.temp_c = 25;
+    g.supply_v = std::nan("");
+    g.supply_counts = -1;
+    g.recv_utime = 5000 + seq;
+    return g;
+}
+
+TEST(Schema, MigratesAVersionOneDatabaseWithItsData) {
+    const std::string path = FreshPath("v1.db");
+    {
+        // GIVEN a database at schema version 1 with a run, samples and a coefficient set
+        Db db(path, Db::Mode::kReadWriteCreate);
+        ConfigureConnection(db);
+        Migrate(db, 1);
+        ASSERT_EQ(db.UserVersion(), 1);
+        EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'recorder_sessions'"), 0);
+        db.Exec("INSERT INTO runs(run_id, started_utime, stopped_utime, outcome, first_recv_utime) "
+                "VALUES ('OLD', 1, 2, 'stop', 10)");
+        db.Exec("INSERT INTO gyro_samples(run_id, sensor_id, utime, seq, gyro_v, has_adc, "
+                "recv_utime) VALUES ('OLD', 'S01', 100, 0, 2.5, 0, 11), "
+                "('OLD', 'S01', 200, 1, 2.5, 0, 12)");
+        db.Exec("INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, start_utime, "
+                "end_utime, n_samples, recv_utime) VALUES ('OLD', 'S01', 100, 200, 100, 200, 2, 13)");
+        db.Exec("INSERT INTO coeff_sets(run_id, sensor_id, coeff_set_id, source, utime, "
+                "recv_utime) VALUES ('OLD', 'S01', 200, 'fitter', 200, 14)");
+        db.Exec("INSERT INTO coeff_set_plateaus(coeff_row_id, plateau_id) VALUES (1, 100)");
+    }
+    // WHEN the writer opens it THEN it is at the current version, data intact, views work
+    {
+        StoreWriter w(path, {"test", "h", 1});
+        EXPECT_EQ(w.db().UserVersion(), kSchemaVersion);
+        EXPECT_EQ(w.OpenRunId(), "");  // OLD was stopped
+        w.BeginSession(1, "");
+        // New samples after the migration join the old ones in every count and view.
+        GyroRow g = Sample("OLD", 2);
+        g.utime = 150;  // inside the old plateau [100, 200]
+        w.Write({g}, {});
+    }
+    Db db(path, Db::Mode::kReadOnly);
+    EXPECT_EQ(Count(db, "SELECT gyro_samples FROM v_run_summary WHERE run_id = 'OLD'"), 3);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_blocks"), 2);  // backfilled + new batch
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM v_coeff_samples"), 3);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM recorder_sessions"), 1);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check = 'ok'"), 1);
+}
+
+TEST(Schema, QueryToolsMigrateAnOlderFileToo) {
+    const std::string path = FreshPath("v1q.db");
+    {
+        Db db(path, Db::Mode::kReadWriteCreate);
+        Migrate(db, 1);
+    }
+    auto db = OpenForQuery(path);
+    EXPECT_EQ(db->UserVersion(), kSchemaVersion);
+    EXPECT_TRUE(ListRuns(*db, {}).empty());  // only the empty no-run bucket
+}
+
+TEST(Schema, RefusesNewerAndForeignFiles) {
+    const std::string newer = FreshPath("newer.db");
+    {
+        Db db(newer, Db::Mode::kReadWriteCreate);
+        Migrate(db);
+        db.SetUserVersion(kSchemaVersion + 1);
+    }
+    try {
+        StoreWriter w(newer, {});
+        FAIL() << "a newer schema was accepted";
+    } catch (const StoreError& e) {
+        EXPECT_NE(std::string(e.what()).find("newer than this software"), std::string::npos);
+    }
+    EXPECT_THROW(OpenForQuery(newer), StoreError);
+
+    const std::string foreign = FreshPath("foreign.db");
+    {
+        Db db(foreign, Db::Mode::kReadWriteCreate);
+        db.Exec("CREATE TABLE stuff(x)");
+    }
+    EXPECT_THROW(StoreWriter(foreign, {}), StoreError);
+    EXPECT_THROW(OpenForQuery(foreign), StoreError);
+    EXPECT_THROW(OpenForQuery(FreshPath("missing.db")), StoreError);
+}
+
+TEST(Writer, RoundTripsRowsRunsAndLosses) {
+    const std::string path = FreshPath("roundtrip.db");
+    StoreWriter w(path, {"rec-1", "host", 1});
+    RunEventRow start;
+    start.run_id = "R1";
+    start.event = "start";
+    start.utime = 1;
+    start.sensor_ids = {"S01"};
+    start.software_version = "sw";
+    start.config_json = "{}";
+    start.setpoint_c = std::nan("");
+    start.recv_utime = 100;
+    std::vector<Row> rows = {start, Sample("R1", 0), Sample("R1", 1)};
+    CoeffSetRow c;
+    c.run_id = "R1";
+    c.sensor_id = "S01";
+    c.coeff_set_id = 9;
+    c.source = "fitter";
+    c.offset.quantity = "offset_v";
+    c.offset.term_names = {"1", "dT"};
+    c.offset.coeffs = {2.5, 1e-3};
+    c.offset.covariance = {{1e-8, 2e-9}, {2e-9, 3e-8}};
+    c.offset.t0_c = 25;
+    c.plateau_ids = {7, 8};
+    c.recv_utime = 200;
+    rows.push_back(c);
+    LossMap losses;
+    losses[{"R1", "GYRO_S01"}].seq_gaps = 2;
+    w.Write(rows, losses);
+    w.Write({}, losses);  // loss deltas add up
+    EXPECT_EQ(w.OpenRunId(), "R1");
+
+    auto db = OpenForQuery(path);
+    const RunDetail d = ShowRun(*db, "R1");
+    EXPECT_EQ(d.run.software_version, "sw");
+    EXPECT_EQ(d.run.recorder_version, "rec-1");
+    EXPECT_EQ(d.run.gyro_samples, 2);
+    ASSERT_EQ(d.coeff_sets.size(), 1u);
+    EXPECT_EQ(d.coeff_sets[0].set.offset.covariance[1][0], 2e-9);
+    EXPECT_EQ(d.coeff_sets[0].set.plateau_ids, (std::vector<int64_t>{7, 8}));
+    ASSERT_EQ(d.losses.size(), 1u);
+    EXPECT_EQ(d.losses[0].seq_gaps, 4);
+    // NaN is stored as NULL and read back as NaN.
+    EXPECT_EQ(Count(*db, "SELECT count(*) FROM gyro_samples WHERE supply_v IS NULL AND "
+                         "supply_counts IS NULL AND gyro_counts IS NULL"), 2);
+    ReplayReader reader(*db, "R1");
+    int n = 0;
+    while (auto row = reader.Next()) {
+        if (const auto* g = std::get_if<GyroRow>(&*row)) {
+            EXPECT_TRUE(std::isnan(g->supply_v));
+            EXPECT_EQ(g->supply_counts, -1);
+        }
+        ++n;
+    }
+    EXPECT_EQ(n, 3);  // start event + 2 samples
+    EXPECT_THROW(ShowRun(*db, "nope"), NotFound);
+}
+
+TEST(AsyncWriter, CommitsWithinTheBatchInterval) {
+    const std::string path = FreshPath("interval.db");
+    StoreWriter w(path, {});
+    constexpr auto kInterval = 50ms;
+    AsyncWriter aw(w, {100000, 1000, kInterval});
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(aw.Push(Sample("", 0), "GYRO_S01"));
+    Db reader(path, Db::Mode::kReadOnly);
+    while (Count(reader, "SELECT count(*) FROM gyro_samples") != 1 &&
+           std::chrono::steady_clock::now() - t0 < 5s) {
+        std::this_thread::sleep_for(2ms);
+    }
+    const auto waited = std::chrono::steady_clock::now() - t0;
+    // One row far below batch_rows: only the interval can have committed it. Allowance: the
+    // commit itself (< 5 ms here) and scheduling on a loaded 2-core machine (250 ms).
+    EXPECT_LE(waited, kInterval + 250ms);
+    EXPECT_GE(waited, kInterval - 5ms);  // and not before the interval (steady-clock jitter)
+}
+
+TEST(AsyncWriter, FullQueueDropsCountedPerRunButEssentialRowsKept) {
+    const std::string path = FreshPath("drops.db");
+    StoreWriter w(path, {});
+    // Hold the write lock from another connection so the writer thread cannot commit.
+    Db blocker(path, Db::Mode::kReadWrite);
+    blocker.Exec("BEGIN IMMEDIATE");
+    AsyncWriter aw(w, {10, 5, 20ms});
+    int64_t accepted = 0;
+    for (int64_t s = 0; s < 100; ++s) accepted += aw.Push(Sample("R1", s), "GYRO_S01") ? 1 : 0;
+    RunEventRow stop;
+    stop.run_id = "R1";
+    stop.event = "stop";
+    stop.setpoint_c = 0;
+    EXPECT_TRUE(aw.Push(stop, "RUN_EVENT", /*essential=*/true));
+    const AsyncWriterStats before = aw.stats();
+    EXPECT_GT(before.dropped, 0);
+    EXPECT_EQ(before.dropped, 100 - accepted);
+    blocker.Exec("COMMIT");
+    aw.Stop();
+    ASSERT_FALSE(aw.failed()) << aw.error();
+    Db db(path, Db::Mode::kReadOnly);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples"), accepted);
+    EXPECT_EQ(Count(db, "SELECT queue_drops FROM losses WHERE run_id = 'R1' AND channel = 'GYRO_S01'"),
+              100 - accepted);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'R1' AND outcome = 'stop'"), 1);
+}
+
+TEST(AsyncWriter, AWriteFailureIsReportedNotThrown) {
+    const std::string path = FreshPath("fail.db");
+    StoreWriter w(path, {});
+    w.db().Exec("DROP TABLE gyro_samples");  // every later insert fails
+    AsyncWriter aw(w, {1000, 1, 10ms});
+    aw.Push(Sample("", 0), "GYRO_S01");
+    aw.Stop();
+    EXPECT_TRUE(aw.failed());
+    EXPECT_NE(aw.error().find("gyro_samples"), std::string::npos) << aw.error();
+    EXPECT_FALSE(aw.Push(Sample("", 1), "GYRO_S01"));
+}
+
+TEST(ModelEval, PolynomialTermsAndRefusalOfOthers) {
+    // y = 1 + 2 dT + 3 dT^2 + 4 dT^3 at dT = 2: 1 + 4 + 12 + 32 = 49
+    EXPECT_DOUBLE_EQ(*EvalPolynomialModel({"1", "dT", "dT^2", "dT^3"}, {1, 2, 3, 4}, 25, 27), 49);
+    EXPECT_FALSE(EvalPolynomialModel({"1", "dTdt"}, {1, 2}, 25, 27));
+    EXPECT_FALSE(EvalPolynomialModel({"1"}, {1, 2}, 25, 27));
+}
+
+}  // namespace
+}  // namespace gyrocal::store

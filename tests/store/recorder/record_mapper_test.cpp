@@ -1,0 +1,141 @@
+// RecordMapper without sockets: encoded messages in, rows out.
+#include "record_mapper.hpp"
+
+#include <gtest/gtest.h>
+
+#include "messages.hpp"
+
+namespace gyrocal::record {
+namespace {
+
+using namespace gyrocal::testing;
+
+template <class Msg>
+Mapped MapMsg(RecordMapper& m, const std::string& channel, const Msg& msg, int64_t recv = 7) {
+    const auto bytes = EncodeMsg(msg);
+    return m.Map(channel, bytes.data(), static_cast<int>(bytes.size()), recv);
+}
+
+TEST(RecordMapper, GyroSampleKeepsEveryFieldAndTheRunInForce) {
+    RecordMapper m(MapperOptions::Defaults(), "");
+    gyro_sample_t g = Gyro("S01", 5);
+    g.has_adc = true;
+    g.gyro_counts = 1234;
+    Mapped out = MapMsg(m, "GYRO_S01", g, 99);
+    ASSERT_TRUE(out.row);
+    const auto& r = std::get<store::GyroRow>(*out.row);
+    EXPECT_EQ(r.run_id, "");
+    EXPECT_EQ(r.sensor_id, "S01");
+    EXPECT_EQ(r.seq, 5);
+    EXPECT_EQ(r.utime, g.utime);
+    EXPECT_DOUBLE_EQ(r.gyro_v, g.gyro_v);
+    EXPECT_DOUBLE_EQ(r.temp_c, g.temp_c);
+    EXPECT_TRUE(std::isnan(r.supply_v));
+    EXPECT_EQ(r.gyro_counts, 1234);
+    EXPECT_EQ(r.recv_utime, 99);
+    EXPECT_FALSE(out.essential);
+}
+
+TEST(RecordMapper, RunEventsDecideTheRunOfLaterMessages) {
+    RecordMapper m(MapperOptions::Defaults(), "");
+    Mapped start = MapMsg(m, "RUN_EVENT", RunEvent("R1", "start", {"S01"}));
+    EXPECT_TRUE(start.essential);
+    EXPECT_EQ(std::get<store::RunEventRow>(*start.row).run_id, "R1");
+    EXPECT_EQ(m.current_run(), "R1");
+    EXPECT_EQ(std::get<store::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 0)).row).run_id, "R1");
+    // A plateau keeps the run it carries, even when another is in force.
+    EXPECT_EQ(std::get<store::PlateauRow>(*MapMsg(m, "PLATEAU_S01", Plateau("S01", "R0", 0, 9))
+                                               .row).run_id, "R0");
+    Mapped stop = MapMsg(m, "RUN_EVENT", RunEvent("R1", "stop", {"S01"}));
+    EXPECT_EQ(std::get<store::RunEventRow>(*stop.row).run_id, "R1");
+    EXPECT_EQ(m.current_run(), "");
+    EXPECT_EQ(std::get<store::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 1)).row).run_id, "");
+}
+
+TEST(RecordMapper, RestartedRecorderContinuesTheOpenRun) {
+    RecordMapper m(MapperOptions::Defaults(), "R7");
+    EXPECT_EQ(std::get<store::EncoderRow>(*MapMsg(m, "ENCODER", Encoder(0)).row).run_id, "R7");
+}
+
+TEST(RecordMapper, UnknownFingerprintBecomesARawEventWithItsBytes) {
+    RecordMapper m(MapperOptions::Defaults(), "R1");
+    const std::vector<uint8_t> bytes = {0xde, 0xad, 0xbe, 0xef, 0, 1, 2, 3, 42, 43};
+    Mapped out = m.Map("MYSTERY", bytes.data(), static_cast<int>(bytes.size()), 5);
+    const auto& r = std::get<store::RawEventRow>(*out.row);
+    EXPECT_EQ(r.channel, "MYSTERY");
+    EXPECT_EQ(r.reason, "unknown_type");
+    EXPECT_EQ(r.fingerprint_hex, "deadbeef00010203");
+    EXPECT_EQ(r.data, bytes);
+    EXPECT_EQ(r.run_id, "R1");
+    EXPECT_EQ(out.loss.decode_errors, 0);
+}
+
+TEST(RecordMapper, ShortMessageIsARawEventNotACrash) {
+    RecordMapper m(MapperOptions::Defaults(), "");
+    const uint8_t b[3] = {1, 2, 3};
+    Mapped out = m.Map("X", b, 3, 5);
+    EXPECT_EQ(std::get<store::RawEventRow>(*out.row).fingerprint_hex, "");
+    Mapped empty = m.Map("X", nullptr, 0, 5);
+    EXPECT_TRUE(std::get<store::RawEventRow>(*empty.row).data.empty());
+}
+
+TEST(RecordMapper, KnownFingerprintThatDoesNotDecodeCountsADecodeError) {
+    RecordMapper m(MapperOptions::Defaults(), "R1");
+    auto bytes = EncodeMsg(Gyro("S01", 1));
+    bytes.resize(bytes.size() - 5);  // truncated: the hash matches, the body does not
+    Mapped out = m.Map("GYRO_S01", bytes.data(), static_cast<int>(bytes.size()), 5);
+    EXPECT_EQ(std::get<store::RawEventRow>(*out.row).reason, "decode_error");
+    EXPECT_EQ(out.loss.decode_errors, 1);
+    EXPECT_EQ(out.run_id, "R1");
+}
+
+TEST(RecordMapper, TypeComesFromTheFingerprintNotTheChannel) {
+    RecordMapper m(MapperOptions::Defaults(), "");
+    Mapped out = MapMsg(m, "GYRO_S01", Encoder(3));  // an encoder sample on a gyro channel
+    EXPECT_TRUE(std::holds_alternative<store::EncoderRow>(*out.row));
+}
+
+TEST(RecordMapper, SequenceGapsAreCountedPerChannel) {
+    RecordMapper m(MapperOptions::Defaults(), "R1");
+    EXPECT_EQ(MapMsg(m, "GYRO_S01", Gyro("S01", 0)).loss.seq_gaps, 0);
+    EXPECT_EQ(MapMsg(m, "GYRO_S02", Gyro("S02", 0)).loss.seq_gaps, 0);
+    EXPECT_EQ(MapMsg(m, "GYRO_S01", Gyro("S01", 4)).loss.seq_gaps, 3);
+    EXPECT_EQ(MapMsg(m, "GYRO_S02", Gyro("S02", 1)).loss.seq_gaps, 0);
+    Mapped back = MapMsg(m, "GYRO_S01", Gyro("S01", 2));
+    EXPECT_EQ(back.loss.seq_backwards, 1);
+}
+
+TEST(RecordMapper, RatesCanBeSkippedButStillCountGaps) {
+    RecordMapper m(MapperOptions{false}, "");
+    EXPECT_FALSE(MapMsg(m, "RATE_S01", Rate("S01", 0)).row);
+    Mapped out = MapMsg(m, "RATE_S01", Rate("S01", 3));
+    EXPECT_FALSE(out.row);
+    EXPECT_EQ(out.loss.seq_gaps, 2);
+}
+
+TEST(RecordMapper, EveryKnownTypeMapsToItsRow) {
+    RecordMapper m(MapperOptions::Defaults(), "R1");
+    EXPECT_TRUE(std::holds_alternative<store::ChamberStateRow>(
+        *MapMsg(m, "CHAMBER_STATE", Chamber(0)).row));
+    EXPECT_TRUE(std::holds_alternative<store::ChamberCmdRow>(
+        *MapMsg(m, "CHAMBER_CMD", ChamberCmd("R1")).row));
+    EXPECT_TRUE(std::holds_alternative<store::TurntableCmdRow>(
+        *MapMsg(m, "TURNTABLE_CMD", TurntableCmd("R1")).row));
+    EXPECT_TRUE(std::holds_alternative<store::PlateauStateRow>(
+        *MapMsg(m, "STABILITY_S01", PlateauState("S01")).row));
+    EXPECT_TRUE(std::holds_alternative<store::SensitivityRow>(
+        *MapMsg(m, "SENSITIVITY_S01", Sensitivity("S01", "R1", 0, 9)).row));
+    EXPECT_TRUE(std::holds_alternative<store::RateRow>(*MapMsg(m, "RATE_S01", Rate("S01", 0)).row));
+    const auto st = std::get<store::StatusRow>(*MapMsg(m, "STATUS", Status("p")).row);
+    EXPECT_EQ(st.extra_json, R"({"x":1.5})");
+    Mapped c = MapMsg(m, "COEFFS_S01", Coeffs("S01", "R1", 5, {1, 2}, {3}));
+    EXPECT_TRUE(c.essential);
+    const auto& cs = std::get<store::CoeffSetRow>(*c.row);
+    EXPECT_EQ(cs.plateau_ids, (std::vector<int64_t>{1, 2}));
+    EXPECT_EQ(cs.rotation_ids, (std::vector<int64_t>{3}));
+    EXPECT_EQ(cs.offset.term_names.size(), 3u);
+    EXPECT_EQ(cs.sensitivity.covariance.size(), 2u);
+}
+
+}  // namespace
+}  // namespace gyrocal::record
