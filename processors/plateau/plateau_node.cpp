@@ -76,19 +76,9 @@ PlateauNode::PlateauNode(const PlateauOptions& options)
 
 void PlateauNode::Run() {
     status_.set_state("running");
-    // A malformed payload can make LCM's generated decode throw (e.g. a negative array length:
-    // std::length_error) before any handler of ours runs; Bus::Handle rethrows it here. Count
-    // it and carry on: bad input must never stop the process. LCM failures (BusError) do.
-    for (;;) {
-        try {
-            RunLoop(bus_, status_);
-            return;
-        } catch (const BusError&) {
-            throw;
-        } catch (const std::exception& e) {
-            status_.Reject("malformed message", std::string("decode threw: ") + e.what());
-        }
-    }
+    // Malformed payloads (wrong type, hostile array lengths) are counted by the bus as decode
+    // errors and never reach a handler; anything else thrown here is a bug and ends the process.
+    RunLoop(bus_, status_);
 }
 
 PlateauNode::Sensor& PlateauNode::SensorFor(const std::string& id) {

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "model_eval.hpp"
+#include "model_rows.hpp"
 #include "report.hpp"
 
 namespace gyrocal::store::report::detail {
@@ -106,7 +106,7 @@ nlohmann::json ModelJson(const ModelRow& m) {
 }
 
 std::optional<double> Eval(const ModelRow& m, double temp_c) {
-    return EvalPolynomialModel(m.term_names, m.coeffs, m.t0_c, temp_c);
+    return SteadyStateValue(m, temp_c);
 }
 
 }  // namespace gyrocal::store::report::detail

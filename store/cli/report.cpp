@@ -126,6 +126,31 @@ nlohmann::json RunsJson(const std::vector<RunInfo>& runs) {
     return a;
 }
 
+// Parsed JSON of a stored text column; the text itself when it is not JSON (never throws).
+static nlohmann::json ParsedOrText(const std::string& text) {
+    if (text.empty()) return nullptr;
+    const auto j = nlohmann::json::parse(text, nullptr, false);
+    return j.is_discarded() ? nlohmann::json(text) : j;
+}
+
+// "temp_rate,hysteresis": the effects of an analysis' added_json; "-" when none.
+static std::string AddedEffects(const std::string& added_json) {
+    const auto j = nlohmann::json::parse(added_json, nullptr, false);
+    std::vector<std::string> names;
+    if (j.is_array()) {
+        for (const auto& e : j) {
+            if (e.is_object() && e.contains("effect") && e["effect"].is_string()) {
+                names.push_back(e["effect"].get<std::string>());
+            }
+        }
+    }
+    return names.empty() ? "-" : Join(names, ",");
+}
+
+static std::string BeforeAfter(double before, double after, int precision) {
+    return Num(before, precision) + " -> " + Num(after, precision);
+}
+
 static const ProvenanceSummary* FindProv(const std::vector<ProvenanceSummary>& p, int64_t id) {
     for (const auto& s : p) {
         if (s.coeff_row_id == id) return &s;
@@ -208,6 +233,23 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
                 << c.set.rotation_ids.size() << " rotations (" << found << " of "
                 << p->items.size() << " found), " << samples << " raw gyro samples stored\n";
         }
+    }
+
+    out << "\nAnalyses (" << d.analyses.size() << ")\n";
+    if (!d.analyses.empty()) {
+        Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "VERDICT", "ADDED", "OFFSET_RMS_V",
+                 "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS", "COEFF_ROW_ID"});
+        for (const auto& a : d.analyses) {
+            t.Add({std::to_string(a.analysis_id), a.sensor_id, UtcText(a.created_wall_utime),
+                   a.verdict, AddedEffects(a.added_json),
+                   BeforeAfter(a.offset_rms_v_before, a.offset_rms_v_after, 3),
+                   BeforeAfter(a.rate_rms_dps_before, a.rate_rms_dps_after, 3),
+                   BeforeAfter(a.drift_dph_before, a.drift_dph_after, 3),
+                   Num(a.floor_rate_rms_dps, 3), Opt(a.coeff_row_id)});
+        }
+        out << t.str();
+        out << "  (before -> after: the run's declared model -> the extended model; an extended "
+               "set is stored with source analysis:<ANALYSIS_ID>)\n";
     }
 
     out << "\nLosses\n";
@@ -313,6 +355,30 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
                          {"utime", p.utime}});
     }
     j["processes"] = procs;
+    nlohmann::json analyses = nlohmann::json::array();
+    for (const auto& a : d.analyses) {
+        analyses.push_back(
+            {{"analysis_id", a.analysis_id},
+             {"sensor_id", a.sensor_id},
+             {"created_wall_utime", a.created_wall_utime},
+             {"software_version", a.software_version},
+             {"command_line", a.command_line},
+             {"verdict", a.verdict},
+             {"candidates", ParsedOrText(a.candidates_json)},
+             {"added", ParsedOrText(a.added_json)},
+             {"error_before", {{"offset_rms_v", Finite(a.offset_rms_v_before)},
+                               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
+                               {"drift_dph", Finite(a.drift_dph_before)}}},
+             {"error_after", {{"offset_rms_v", Finite(a.offset_rms_v_after)},
+                              {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
+                              {"drift_dph", Finite(a.drift_dph_after)}}},
+             {"floor_rate_rms_dps", Finite(a.floor_rate_rms_dps)},
+             {"result", ParsedOrText(a.result_json)},
+             {"coeff_row_id", OptJson(a.coeff_row_id)},
+             {"coeff_source", a.coeff_row_id ? nlohmann::json(AnalysisSource(a.analysis_id))
+                                             : nlohmann::json(nullptr)}});
+    }
+    j["analyses"] = analyses;
     return j;
 }
 
@@ -342,8 +408,9 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
         }
     }
     out << t.str();
-    out << "(n/a: the model has terms other than 1, dT, dT^2, dT^3; temperatures outside a set's"
-           " valid range are extrapolated)\n";
+    out << "(every term by the shared evaluator, at steady state: dT/dt 0, supply 5 V, between\n"
+           " heating and cooling and between directions, warmed up; temperatures outside a set's\n"
+           " valid range are extrapolated; n/a: the stored model is not usable)\n";
     return out.str();
 }
 

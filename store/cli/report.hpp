@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "query.hpp"
@@ -39,7 +40,12 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
 nlohmann::json CoeffSetJson(const CoeffSetInfo& c);
 std::string CoeffsCsv(const std::vector<CoeffSetInfo>& sets);
 // `origin` is what the header says it was exported from (e.g. "run R1 of gyrocal.db").
+// Every term of the registry (model/terms.hpp) is evaluated by the header's C function
+// gyrocal_eval(model, inputs) from a gyrocal_inputs_t; a stored name it does not know evaluates
+// to NAN.
 std::string CoeffsCHeader(const std::vector<CoeffSetInfo>& sets, const std::string& origin);
+// Whether the C header evaluates the registry term `registry_name` (TermDef::name).
+bool CHeaderKnowsTerm(std::string_view registry_name);
 
 // Replaces control characters (and DEL) by '?', for one-line display of untrusted text.
 std::string Printable(const std::string& s);

@@ -356,6 +356,7 @@ RunDetail ShowRun(Db& db, const std::string& run_id) {
             d.processes.push_back(std::move(st));
         }
     }
+    d.analyses = ListAnalyses(db, run_id);
     return d;
 }
 
@@ -377,6 +378,21 @@ std::vector<CoeffSetInfo> RunFinalCoeffs(Db& db, const std::string& run_id) {
     }
     Stmt s(db, std::string(kCoeffColumns) + "WHERE c.run_id = ? " + kFinalOnly +
                    "ORDER BY c.sensor_id, c.source");
+    s.Bind(1, run_id);
+    std::vector<CoeffSetInfo> out;
+    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
+    return out;
+}
+
+std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id) {
+    if (!RunExists(db, run_id)) {
+        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
+    }
+    // Newest = latest recv_utime, ties broken by insertion order (as SensorHistory orders).
+    Stmt s(db, std::string(kCoeffColumns) +
+                   "WHERE c.run_id = ?1 AND c.coeff_row_id = (SELECT d.coeff_row_id FROM "
+                   "coeff_sets d WHERE d.run_id = c.run_id AND d.sensor_id = c.sensor_id ORDER BY "
+                   "d.recv_utime DESC, d.coeff_row_id DESC LIMIT 1) ORDER BY c.sensor_id");
     s.Bind(1, run_id);
     std::vector<CoeffSetInfo> out;
     while (s.Step()) out.push_back(ReadCoeffSet(db, s));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "analyses.hpp"
 #include "rows.hpp"
 #include "sqlite_db.hpp"
 
@@ -58,6 +59,7 @@ struct RunDetail {
     std::vector<LossInfo> losses;
     std::vector<RunEventRow> events;
     std::vector<StatusRow> processes;  // last STATUS of each process (name, host, pid) in the run
+    std::vector<AnalysisRow> analyses;  // closed-loop analyses of the run, oldest first
 };
 
 // Newest first (by first reception); the no-run bucket '' last, listed only when not empty.
@@ -72,8 +74,12 @@ bool SensorExists(Db& db, const std::string& sensor_id);
 // Every coefficient set of a sensor, oldest first. `final_only`: only the newest set of each
 // (run, source), i.e. one per calibration. Throws NotFound when the sensor is unknown.
 std::vector<CoeffSetInfo> SensorHistory(Db& db, const std::string& sensor_id, bool final_only);
-// Newest coefficient set of each sensor of a run (final_only semantics). Throws NotFound.
+// Final coefficient set of each sensor AND source of a run (e.g. the fitter's and an
+// analysis'), by sensor then source. Throws NotFound.
 std::vector<CoeffSetInfo> RunFinalCoeffs(Db& db, const std::string& run_id);
+// The newest coefficient set of each sensor of a run, whatever its source (what an export of
+// the run gives: an analysis' extended model stored after the fitter's set wins). Throws NotFound.
+std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id);
 
 // Provenance of a coefficient set: each plateau/rotation and how many raw samples it covers.
 struct ProvenanceItem {

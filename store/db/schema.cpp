@@ -243,7 +243,46 @@ SELECT r.run_id, r.outcome, r.started_utime, r.stopped_utime, r.software_version
 FROM runs r;
 )sql";
 
-constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3};
+// v3 -> v4: closed-loop analyses stored with their run; a coefficient set is kept once per
+// (run, sensor, coeff_set_id, source) (the index makes the writer's existence check a seek).
+// No rates(run_id, sensor_id, utime) index: measured, it halves the recorder's insert rate on
+// its gyro + rate mix (README, "Schema versions").
+constexpr std::string_view kV4 = R"sql(
+CREATE TABLE analyses (
+  analysis_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL,               -- the analysed run
+  sensor_id TEXT NOT NULL,
+  created_wall_utime INTEGER NOT NULL,  -- [us] wall clock when the analysis was stored
+  software_version TEXT NOT NULL DEFAULT '',
+  command_line TEXT NOT NULL DEFAULT '',
+  verdict TEXT NOT NULL DEFAULT '',   -- e.g. 'no missing effect', 'added temp_rate', 'ambiguous'
+  candidates_json TEXT NOT NULL DEFAULT '[]',  -- [{effect, statistic, decision, ...}]: what was tested
+  added_json TEXT NOT NULL DEFAULT '[]',       -- [{effect, term, coefficient, stderr, unit}]: what was added
+  offset_rms_v_before REAL, offset_rms_v_after REAL,   -- [V] residual RMS, declared / extended model
+  rate_rms_dps_before REAL, rate_rms_dps_after REAL,   -- [deg/s]
+  drift_dph_before REAL, drift_dph_after REAL,         -- [deg/h] integrated drift, held-out stretch
+  floor_rate_rms_dps REAL,            -- [deg/s] noise floor the data allows (scatter in plateaus)
+  result_json TEXT NOT NULL DEFAULT '',  -- the analysis' whole JSON result for this sensor
+  coeff_row_id INTEGER                -- coeff_sets row of the extended model (source
+                                      -- 'analysis:<analysis_id>'); NULL when none was stored
+);
+CREATE INDEX analyses_run ON analyses(run_id, sensor_id);
+
+-- One line per analysis, with the coefficient set it produced (if any).
+CREATE VIEW v_analyses AS
+SELECT a.analysis_id, a.run_id, a.sensor_id, a.created_wall_utime,
+  datetime(a.created_wall_utime / 1000000, 'unixepoch') AS created_utc, a.verdict,
+  (SELECT group_concat(json_extract(e.value, '$.effect'), ',') FROM json_each(
+     CASE WHEN json_valid(a.added_json) THEN a.added_json ELSE '[]' END) e) AS added_effects,
+  a.offset_rms_v_before, a.offset_rms_v_after, a.rate_rms_dps_before, a.rate_rms_dps_after,
+  a.drift_dph_before, a.drift_dph_after, a.floor_rate_rms_dps, a.coeff_row_id,
+  c.coeff_set_id, c.source, a.software_version, a.command_line
+FROM analyses a LEFT JOIN coeff_sets c ON c.coeff_row_id = a.coeff_row_id;
+
+CREATE INDEX coeff_sets_key ON coeff_sets(run_id, sensor_id, coeff_set_id, source);
+)sql";
+
+constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4};
 
 bool IsGyrocalDb(Db& db) {
     Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE name = 'gyrocal_meta'");

@@ -11,13 +11,15 @@
 //   v3: gyro_samples loses its (run_id, sensor_id, utime) index, which cost two thirds of the
 //       insert rate; gyro_blocks (per committed batch and run/sensor: rowid and utime ranges)
 //       finds a run's or a sensor's samples instead
+//   v4: analyses (+ v_analyses), coeff_sets_key (one row per run/sensor/coeff_set_id/source);
+//       no per-row index on rates (it would halve the insert rate of the recorder's mix)
 #include <string>
 
 #include "sqlite_db.hpp"
 
 namespace gyrocal::store {
 
-inline constexpr int kSchemaVersion = 3;
+inline constexpr int kSchemaVersion = 4;
 
 // Brings `db` to `target_version` (default: current). Throws StoreError naming the file when the
 // file is not a gyrocal database, is newer than this software, or a step fails.

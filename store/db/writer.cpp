@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "analyses.hpp"
 #include "schema.hpp"
 
 namespace gyrocal::store {
@@ -37,19 +38,6 @@ struct StoreWriter::Statements {
                           "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, "
                           "reject_reason, recv_utime) "
                           "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
-          coeff_set(db, "INSERT INTO coeff_sets(run_id, sensor_id, coeff_set_id, source, utime, "
-                        "recv_utime) VALUES (?,?,?,?,?,?)"),
-          coeff_model(db, "INSERT INTO coeff_models(coeff_row_id, role, quantity, num_terms, "
-                          "t0_c, temp_min_c, temp_max_c, residual_rms, n_points, "
-                          "condition_number, method) VALUES (?,?,?,?,?,?,?,?,?,?,?)"),
-          coeff_term(db, "INSERT INTO coeff_terms(coeff_row_id, role, term_index, term_name, "
-                         "coeff) VALUES (?,?,?,?,?)"),
-          coeff_cov(db, "INSERT INTO coeff_covariance(coeff_row_id, role, row_index, col_index, "
-                        "value) VALUES (?,?,?,?,?)"),
-          coeff_plateau(db, "INSERT INTO coeff_set_plateaus(coeff_row_id, plateau_id) "
-                            "VALUES (?,?)"),
-          coeff_rotation(db, "INSERT INTO coeff_set_rotations(coeff_row_id, rotation_id) "
-                             "VALUES (?,?)"),
           rate(db, "INSERT INTO rates(run_id, sensor_id, utime, seq, rate_dps, angle_deg, temp_c, "
                    "coeff_set_id, range_flag, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?)"),
           status(db, "INSERT INTO status(run_id, utime, process, host, pid, state, received, "
@@ -80,8 +68,7 @@ struct StoreWriter::Statements {
                    "decode_errors = decode_errors + ?5, queue_drops = queue_drops + ?6") {}
 
     Stmt gyro, encoder, chamber, chamber_cmd, turntable_cmd, plateau_state, plateau, sensitivity,
-        coeff_set, coeff_model, coeff_term, coeff_cov, coeff_plateau, coeff_rotation, rate, status,
-        run_event, run_start, run_stop, block, run_bare, run_sensor, sensor, raw, loss;
+        rate, status, run_event, run_start, run_stop, block, run_bare, run_sensor, sensor, raw, loss;
 };
 
 StoreWriter::StoreWriter(const std::string& path, WriterInfo info) : info_(std::move(info)) {
@@ -292,36 +279,11 @@ void StoreWriter::WriteRunEvent(const RunEventRow& r) {
     known_runs_.insert(r.run_id);
 }
 
-void StoreWriter::WriteModel(int64_t coeff_row_id, const char* role, const ModelRow& m) {
-    Stmt& s = st_->coeff_model;
-    s.Bind(1, coeff_row_id).Bind(2, role).Bind(3, m.quantity);
-    s.Bind(4, static_cast<int64_t>(m.term_names.size())).Bind(5, m.t0_c).Bind(6, m.temp_min_c);
-    s.Bind(7, m.temp_max_c).Bind(8, m.residual_rms).Bind(9, m.n_points);
-    s.Bind(10, m.condition_number).Bind(11, m.method).Run();
-    for (size_t i = 0; i < m.term_names.size(); ++i) {
-        Stmt& t = st_->coeff_term;
-        t.Bind(1, coeff_row_id).Bind(2, role).Bind(3, static_cast<int64_t>(i));
-        t.Bind(4, m.term_names[i]).Bind(5, i < m.coeffs.size() ? m.coeffs[i] : 0.0 / 0.0).Run();
-    }
-    for (size_t i = 0; i < m.covariance.size(); ++i) {
-        for (size_t j = 0; j < m.covariance[i].size(); ++j) {
-            Stmt& c = st_->coeff_cov;
-            c.Bind(1, coeff_row_id).Bind(2, role).Bind(3, static_cast<int64_t>(i));
-            c.Bind(4, static_cast<int64_t>(j)).Bind(5, m.covariance[i][j]).Run();
-        }
-    }
-}
-
 void StoreWriter::WriteCoeffSet(const CoeffSetRow& r) {
     EnsureSensor(r.sensor_id, r.recv_utime);
-    Stmt& s = st_->coeff_set;
-    s.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.coeff_set_id).Bind(4, r.source);
-    s.Bind(5, r.utime).Bind(6, r.recv_utime).Run();
-    const int64_t id = db_->LastInsertRowId();
-    WriteModel(id, "offset", r.offset);
-    WriteModel(id, "sensitivity", r.sensitivity);
-    for (int64_t p : r.plateau_ids) st_->coeff_plateau.Bind(1, id).Bind(2, p).Run();
-    for (int64_t q : r.rotation_ids) st_->coeff_rotation.Bind(1, id).Bind(2, q).Run();
+    // Kept once per (run, sensor, coeff_set_id, source): a set that `gyrocal analyze` stored
+    // directly and then published is not stored again when the recorder hears it.
+    InsertCoeffSetOnce(*db_, r);
 }
 
 }  // namespace gyrocal::store

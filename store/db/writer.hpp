@@ -9,6 +9,10 @@
 //
 // gyro_samples has no per-row index (it would cost two thirds of the insert rate); instead each
 // batch adds one gyro_blocks row per (run, sensor) with the rowid and utime ranges it wrote.
+//
+// Coefficient sets are kept once per (run_id, sensor_id, coeff_set_id, source): a repeat (the
+// fitter's re-publish of an unchanged set on stop, or a set `gyrocal analyze` stored directly
+// and then published) is not stored twice (see analyses.hpp).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -66,7 +70,6 @@ private:
     void NoteBlock(const GyroRow& g, int64_t rowid);
     void WriteRunEvent(const RunEventRow& r);
     void WriteCoeffSet(const CoeffSetRow& r);
-    void WriteModel(int64_t coeff_row_id, const char* role, const ModelRow& m);
 
     WriterInfo info_;
     std::unique_ptr<Db> db_;

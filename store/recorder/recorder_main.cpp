@@ -9,6 +9,7 @@
 // closed, and the process exits 0.
 // Crash loss bound: a SIGKILL loses at most what arrived in the last --batch-ms plus one commit
 // (default 200 ms + commit time); committed data and the file's integrity survive (WAL).
+#include <glib.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -40,6 +41,27 @@ struct RecorderOptions {
     int batch_ms = 200;
     static RecorderOptions Defaults() { return {}; }
 };
+
+// An LCM channel regex is checked the way LCM compiles it (GLib regex, anchored "^(...)$"), so a
+// bad --channels is a bad option (exit 2) here, not a subscription that silently never matches.
+CLI::Validator LcmChannelRegex() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            const std::string anchored = "^" + text + "$";
+            GError* error = nullptr;
+            GRegex* re = g_regex_new(anchored.c_str(), static_cast<GRegexCompileFlags>(0),
+                                     static_cast<GRegexMatchFlags>(0), &error);
+            if (re) {
+                g_regex_unref(re);
+                return "";
+            }
+            std::string why = error ? error->message : "does not compile";
+            if (error) g_error_free(error);
+            return "'" + text + "' is not a valid channel regex (" + why +
+                   "); e.g. '.*' or 'GYRO_.*|RUN_EVENT'";
+        },
+        "REGEX");
+}
 
 int64_t WallUtime() {
     return std::chrono::duration_cast<std::chrono::microseconds>(
@@ -154,7 +176,9 @@ int main(int argc, char** argv) {
         "2 bad options (including a --db that cannot be opened or is not a gyrocal database)."};
     app.add_option("--db", o.db_path, "SQLite database file (created when missing)");
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
-    app.add_option("--channels", o.channels, "LCM channel regex to record")->capture_default_str();
+    app.add_option("--channels", o.channels, "LCM channel regex to record")
+        ->check(LcmChannelRegex())
+        ->capture_default_str();
     app.add_flag("--no-rates", o.no_rates, "do not store RATE_* (compensated rate) messages");
     app.add_option("--queue-rows", o.queue_rows, "rows queued before dropping")
         ->check(CLI::Range(size_t{1000}, size_t{100000000}))->capture_default_str();

@@ -314,7 +314,12 @@ int Calibration::Run() {
             progress_ = std::make_unique<Progress>(0, 0);
             AnnounceRun("start", "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
             if (o_.source == "csv") {
-                source_ = &Start(SiblingExecutable("gyrocal-csv-source"), common({o_.input}, o_.source_args));
+                // A file is replayed as fast as the pipeline keeps up (the source's own lossless
+                // cap) unless the caller chose a pace.
+                std::vector<std::string> pace;
+                if (o_.source_args.empty()) pace = {"--max"};
+                pace.insert(pace.begin(), o_.input);
+                source_ = &Start(SiblingExecutable("gyrocal-csv-source"), common(pace, o_.source_args));
             } else if (o_.source == "lines") {
                 source_ = &Start(SiblingExecutable("gyrocal-line-source"), common({}, o_.source_args));
             } else {  // log

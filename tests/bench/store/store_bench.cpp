@@ -7,8 +7,9 @@
 //     CPU and peak memory. Rises until the recorder loses (then one more step), until the
 //     publisher cannot reach the target twice, or to the last step.
 //  C. A sustained run at a fixed rate: the recorder's resident memory over time (must be flat).
+//  A2. What a rates(run_id, sensor_id, utime) index would cost on the recorder's gyro + rate mix.
 // Options: --step-s S (default 3), --long-s S (default 30), --port P (default 7779), --keep
-// (keep the temporary databases and logs).
+// (keep the temporary databases and logs), --store-only (parts A and A2 only).
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -73,6 +74,60 @@ st::GyroRow Row(int64_t i) {
     g.supply_counts = -1;
     g.recv_utime = i;
     return g;
+}
+
+st::RateRow RateRowOf(int64_t i) {
+    st::RateRow r;
+    r.run_id = "BENCH";
+    r.sensor_id = "S" + std::to_string(i % 16);
+    r.seq = i / 16;
+    r.utime = 1000000000000000 + i * 1000;
+    r.rate_dps = 0.01;
+    r.angle_deg = 1.0;
+    r.temp_c = 25.0;
+    r.coeff_set_id = 7;
+    r.recv_utime = i;
+    return r;
+}
+
+// What a rates(run_id, sensor_id, utime) index would cost: the recorder's real mix (each gyro
+// sample has its compensated rate), with the current schema and with that index added. (This
+// measurement is why schema v4 does not have it.)
+void RatesIndexCost(const std::string& dir) {
+    constexpr int64_t kSamples = 150000, kBatch = 500;  // 1000 rows per transaction
+    std::printf("\nA2. Cost of a rates(run_id, sensor_id, utime) index (%lld gyro + %lld rate "
+                "rows, 1000 per transaction; 3 repeats each, alternating)\n",
+                static_cast<long long>(kSamples), static_cast<long long>(kSamples));
+    std::printf("%-52s %12s %12s %12s\n", "path", "rows/s #1", "rows/s #2", "rows/s #3");
+    double rate[2][3] = {};
+    for (int rep = 0; rep < 3; ++rep) {
+        for (int with_index = 1; with_index >= 0; --with_index) {
+            const std::string p = dir + "/rates" + std::to_string(with_index) + ".db";
+            Remove(p);
+            st::StoreWriter w(p, {"bench", "h", 1});
+            if (with_index) {
+                w.db().Exec(
+                    "CREATE INDEX rates_run_sensor_utime ON rates(run_id, sensor_id, utime)");
+            }
+            const auto t0 = Clock::now();
+            std::vector<st::Row> batch;
+            for (int64_t b = 0; b < kSamples / kBatch; ++b) {
+                batch.clear();
+                for (int64_t k = 0; k < kBatch; ++k) {
+                    batch.push_back(Row(b * kBatch + k));
+                    batch.push_back(RateRowOf(b * kBatch + k));
+                }
+                w.Write(batch, {});
+            }
+            rate[with_index][rep] = 2.0 * kSamples / Seconds(Clock::now() - t0);
+        }
+    }
+    for (int with_index = 1; with_index >= 0; --with_index) {
+        std::printf("%-52s %12.0f %12.0f %12.0f\n",
+                    with_index ? "StoreWriter: gyro + rates, rates index added"
+                               : "StoreWriter: gyro + rates, schema v4 (no rates index)",
+                    rate[with_index][0], rate[with_index][1], rate[with_index][2]);
+    }
 }
 
 void StoreAlone(const std::string& dir) {
@@ -384,10 +439,16 @@ int main(int argc, char** argv) {
     double step_s = 3, long_s = 30;
     int port = 7779;
     bool keep = false;
+    bool store_only = false;  // part A only (no processes, no multicast)
     for (int i = 1; i < argc; i += 2) {
         const std::string a = argv[i];
         if (a == "--keep") {
             keep = true;
+            --i;
+            continue;
+        }
+        if (a == "--store-only") {
+            store_only = true;
             --i;
             continue;
         }
@@ -400,7 +461,7 @@ int main(int argc, char** argv) {
         else if (a == "--port") port = std::stoi(argv[i + 1]);
         else {
             std::cerr << "store_bench: unknown option " << a
-                      << " (valid: --step-s S, --long-s S, --port P, --keep)\n";
+                      << " (valid: --step-s S, --long-s S, --port P, --keep, --store-only)\n";
             return 2;
         }
     }
@@ -410,8 +471,11 @@ int main(int argc, char** argv) {
                 CpuModel().c_str(), sqlite3_libversion());
     const std::string dir = TempDir();
     StoreAlone(dir);
-    SideBySide(dir, url, step_s);
-    if (long_s > 0) LongRun(dir, url, long_s);
+    RatesIndexCost(dir);
+    if (!store_only) {
+        SideBySide(dir, url, step_s);
+        if (long_s > 0) LongRun(dir, url, long_s);
+    }
     if (keep) {
         std::printf("kept %s\n", dir.c_str());
     } else {

@@ -187,8 +187,9 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
         late.supply_v = 5.0;
         bus.Publish(channels::Gyro("S01"), late);
     }
-    // STATUS counts the decode error and the four refusals (unknown sensor, NaN, malformed,
-    // out of order; heartbeat once a second), and shows each sensor's state (3 = done).
+    // STATUS counts two decode errors (the wrong type, and the malformed run event whose array
+    // length the bus refuses), the three refusals (unknown sensor, NaN, out of order; heartbeat
+    // once a second), and shows each sensor's state (3 = done).
     auto extra = [&](const std::string& name) {
         for (int i = 0; i < last_status.num_extra; ++i)
             if (last_status.extra_names[i] == name) return last_status.extra_values[i];
@@ -197,7 +198,7 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
     ASSERT_TRUE(WaitFor(
         bus,
         [&] {
-            return last_status.decode_errors >= 1 && last_status.rejected >= 4 &&
+            return last_status.decode_errors >= 2 && last_status.rejected >= 3 &&
                    extra("S01.state") == 3 && extra("S02.state") == 3;
         },
         std::chrono::seconds(5)))

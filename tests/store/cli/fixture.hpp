@@ -5,10 +5,13 @@
 //   R3 (running): sensor S03, nothing fitted yet
 //   ''  (no run): a few samples
 //   a hostile sensor id with quotes and a comment terminator, with a coefficient set in R1.
+//   R2 also has a closed-loop analysis of S01 that stored an extended model (every registry
+//   term) with source "analysis:1", after the fitter's set: ExtendedOffset/ExtendedSensitivity.
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "analyses.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::testing {
@@ -52,6 +55,26 @@ inline store::CoeffSetRow Set(const std::string& run, const std::string& sensor,
     c.rotation_ids = std::move(rotations);
     c.recv_utime = recv_utime;
     return c;
+}
+
+// The analysis' extended model of S01 in R2: every term of the registry.
+inline store::ModelRow ExtendedOffset() {
+    store::ModelRow m = PolyModel("offset_v", {2.501, 1e-3, -2e-5, 3e-7});
+    for (const char* t : {"dTdt", "heating", "supply", "direction", "warmup(600)"}) {
+        m.term_names.push_back(t);
+    }
+    for (double c : {0.02, 4e-4, 0.01, -3e-4, 5e-3}) m.coeffs.push_back(c);
+    m.covariance.assign(m.coeffs.size(), std::vector<double>(m.coeffs.size(), 0.0));
+    m.method = "analysis";
+    return m;
+}
+inline store::ModelRow ExtendedSensitivity() {
+    store::ModelRow m = PolyModel("sensitivity_v_per_dps", {0.0067 * 1.01, 1e-6});
+    m.term_names.push_back("direction");
+    m.coeffs.push_back(3e-5);
+    m.covariance.assign(3, std::vector<double>(3, 0.0));
+    m.method = "analysis";
+    return m;
 }
 
 inline store::RunEventRow Event(const std::string& run, const std::string& ev,
@@ -159,6 +182,30 @@ inline void WriteFixture(const std::string& path) {
     losses[{"R1", "GYRO_S01"}].seq_gaps = 3;
     losses[{"R1", ""}].queue_drops = 2;
     w.Write(rows, losses);
+    // R2: the analysis of S01 and its extended model, stored after the fitter's set.
+    store::AnalysisRow a;
+    a.run_id = "R2";
+    a.sensor_id = "S01";
+    a.created_wall_utime = t2 + 30;
+    a.software_version = "v1.3.0";
+    a.command_line = "gyrocal analyze R2 --publish";
+    a.verdict = "added temp_rate";
+    a.candidates_json = R"([{"effect":"temp_rate","statistic":52.1,"decision":"added"},)"
+                        R"({"effect":"hysteresis","statistic":0.4,"decision":"rejected"}])";
+    a.added_json = R"j([{"effect":"temp_rate","term":"dTdt","coefficient":0.02,)j"
+                   R"j("stderr":0.001,"unit":"V/(degC/s)"}])j";
+    a.offset_rms_v_before = 2.1e-4;
+    a.offset_rms_v_after = 4.2e-5;
+    a.rate_rms_dps_before = 0.031;
+    a.rate_rms_dps_after = 0.0062;
+    a.drift_dph_before = 95;
+    a.drift_dph_after = 21;
+    a.floor_rate_rms_dps = 0.0058;
+    a.result_json = R"({"sensor_id":"S01","verdict":"added temp_rate"})";
+    store::CoeffSetRow ext = Set("R2", "S01", 22, 0, 0, 0);
+    ext.offset = ExtendedOffset();
+    ext.sensitivity = ExtendedSensitivity();
+    store::StoreAnalysis(w.db(), a, &ext);
 }
 
 }  // namespace gyrocal::testing

@@ -5,10 +5,16 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "fixture.hpp"
 #include "launch/child_process.hpp"
+#include "model/model.hpp"
+#include "model_rows.hpp"
+#include "report.hpp"
 #include "sqlite_db.hpp"
 
 namespace gyrocal::testing {
@@ -195,9 +201,11 @@ TEST_F(StoreCli, HistoryShowsHowCoefficientsMoved) {
     ASSERT_EQ(r.code, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     const auto& sets = j["coeff_sets"];
-    ASSERT_EQ(sets.size(), 2u);  // final of R1, final of R2
+    ASSERT_EQ(sets.size(), 3u);  // final of R1, final of R2 (fitter), R2's analysis
     EXPECT_EQ(sets[0]["coeff_set_id"], 11);
     EXPECT_EQ(sets[1]["coeff_set_id"], 21);
+    EXPECT_EQ(sets[2]["coeff_set_id"], 22);
+    EXPECT_EQ(sets[2]["source"], "analysis:1");
     for (size_t k = 0; k < 3; ++k) {
         const double t = sets[0]["at_ref_temps"][k]["temp_c"];
         const double dT = t - 25.0;
@@ -210,12 +218,20 @@ TEST_F(StoreCli, HistoryShowsHowCoefficientsMoved) {
         const double s1 = sets[1]["at_ref_temps"][k]["sensitivity_v_per_dps"];
         EXPECT_NEAR(s0, 0.0067 + 1e-6 * dT, 1e-15);
         EXPECT_NEAR(s1 - s0, 0.0067 * 0.01, 1e-15);
+        // The extended model through the shared evaluator at steady state: dT/dt 0, supply
+        // 5 V, heating and direction 0, warmed up: every non-polynomial term contributes 0.
+        const double off2 = sets[2]["at_ref_temps"][k]["offset_v"];
+        const double s2 = sets[2]["at_ref_temps"][k]["sensitivity_v_per_dps"];
+        EXPECT_NEAR(off2, 2.501 + 1e-3 * dT - 2e-5 * dT * dT + 3e-7 * dT * dT * dT, 1e-12);
+        EXPECT_NEAR(s2, 0.0067 * 1.01 + 1e-6 * dT, 1e-15);
     }
     const Result all = RunDb({"history", "S01", "--all", "--json"});
-    EXPECT_EQ(nlohmann::json::parse(all.out)["coeff_sets"].size(), 3u);
+    EXPECT_EQ(nlohmann::json::parse(all.out)["coeff_sets"].size(), 4u);
     const Result t = RunDb({"history", "S01"});
     ASSERT_EQ(t.code, 0);
-    EXPECT_EQ(Lines(t.out), 1 + 2 + 2 * 3 + 1);  // title, header+rule, 2 sets x 3 temps, note
+    EXPECT_EQ(Lines(t.out), 1 + 2 + 3 * 3 + 3);  // title, header+rule, 3 sets x 3 temps, note
+    EXPECT_NE(t.out.find("analysis:1"), std::string::npos) << t.out;
+    EXPECT_EQ(t.out.find("n/a"), t.out.rfind("n/a")) << t.out;  // only in the note
     EXPECT_NE(t.out.find("D_OFFSET_MV"), std::string::npos);
 }
 
@@ -228,8 +244,20 @@ TEST_F(StoreCli, ExportJsonAndCsv) {
     ASSERT_EQ(s.code, 0) << s.err;
     const auto sdoc = nlohmann::json::parse(s.out);
     ASSERT_EQ(sdoc["coeff_sets"].size(), 1u);
-    EXPECT_EQ(sdoc["coeff_sets"][0]["coeff_set_id"], 21);  // the newest
-    EXPECT_EQ(sdoc["coeff_sets"][0]["offset"]["term_names"][2], "dT^2");
+    EXPECT_EQ(sdoc["coeff_sets"][0]["coeff_set_id"], 22);  // the newest: R2's analysis
+    EXPECT_EQ(sdoc["coeff_sets"][0]["source"], "analysis:1");
+    EXPECT_EQ(sdoc["coeff_sets"][0]["offset"]["term_names"][4], "dTdt");
+    // A run's export: the newest set of each sensor, whatever its source.
+    const Result r2 = RunDb({"export", "R2", "--format", "json"});
+    ASSERT_EQ(r2.code, 0) << r2.err;
+    const auto r2doc = nlohmann::json::parse(r2.out);
+    ASSERT_EQ(r2doc["coeff_sets"].size(), 1u);
+    EXPECT_EQ(r2doc["coeff_sets"][0]["source"], "analysis:1");
+    const Result r2csv = RunDb({"export", "R2", "--format", "csv"});
+    ASSERT_EQ(r2csv.code, 0);
+    EXPECT_EQ(Lines(r2csv.out), 1 + 9 + 3);  // header + 9 offset + 3 sensitivity terms
+    EXPECT_NE(r2csv.out.find(",analysis:1,offset,offset_v,8,warmup(600),"), std::string::npos)
+        << r2csv.out;
 
     const std::string csv_path = dir_ + "/r1.csv";
     const Result c = RunDb({"export", "R1", "--format", "csv", "--out", csv_path});
@@ -244,32 +272,155 @@ TEST_F(StoreCli, ExportJsonAndCsv) {
     EXPECT_EQ(Lines(w.err), 1);
 }
 
+TEST_F(StoreCli, ShowListsTheRunsAnalysesWithBeforeAndAfter) {
+    const Result r = RunDb({"show", "R2", "--json"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["analyses"].size(), 1u);
+    const auto& a = j["analyses"][0];
+    EXPECT_EQ(a["analysis_id"], 1);
+    EXPECT_EQ(a["sensor_id"], "S01");
+    EXPECT_EQ(a["verdict"], "added temp_rate");
+    EXPECT_EQ(a["candidates"].size(), 2u);
+    EXPECT_EQ(a["candidates"][1]["decision"], "rejected");
+    EXPECT_EQ(a["added"][0]["term"], "dTdt");
+    EXPECT_EQ(a["error_before"]["rate_rms_dps"], 0.031);
+    EXPECT_EQ(a["error_after"]["drift_dph"], 21.0);
+    EXPECT_EQ(a["floor_rate_rms_dps"], 0.0058);
+    EXPECT_EQ(a["result"]["verdict"], "added temp_rate");
+    EXPECT_EQ(a["coeff_source"], "analysis:1");
+    // Its set is among the run's coefficient sets, with its source.
+    bool found = false;
+    for (const auto& c : j["coeff_sets"]) {
+        if (c["coeff_row_id"] == a["coeff_row_id"]) found = c["source"] == "analysis:1";
+    }
+    EXPECT_TRUE(found) << j["coeff_sets"].dump();
+    EXPECT_EQ(nlohmann::json::parse(RunDb({"show", "R1", "--json"}).out)["analyses"].size(), 0u);
+
+    const Result t = RunDb({"show", "R2"});
+    ASSERT_EQ(t.code, 0);
+    for (const char* s : {"Analyses (1)", "added temp_rate", "temp_rate", "0.031 -> 0.0062",
+                          "95 -> 21", "0.0058", "(analysis:1)"}) {
+        EXPECT_NE(t.out.find(s), std::string::npos) << s << " missing in:\n" << t.out;
+    }
+}
+
+// Every term of the registry is one the C header evaluates (a new term fails here first).
+TEST(StoreCHeader, KnowsEveryRegistryTerm) {
+    for (const model::TermDef& def : model::AllTerms()) {
+        EXPECT_TRUE(store::report::CHeaderKnowsTerm(def.name)) << def.name;
+    }
+    EXPECT_FALSE(store::report::CHeaderKnowsTerm("humidity"));
+}
+
+// Compiles `main_body` against the exported header with -Wall -Wextra -Werror and returns what
+// the program printed.
+std::string CompileAndRun(const std::string& dir, const std::string& header,
+                          const std::string& main_body) {
+    const std::string c = dir + "/use.c", exe = dir + "/use";
+    std::ofstream(c) << "#include <stdio.h>\n#include \"" << header << "\"\n"
+                     << "int main(void) {\n" << main_body << "  return 0;\n}\n";
+    ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wno-unused-const-variable",
+                     "-o", exe, c, "-lm"}, "", dir + "/cc.err");
+    const auto st = cc.Wait(60s);
+    EXPECT_TRUE(st && st->exited && st->code == 0) << Slurp(dir + "/cc.err");
+    ChildProcess run({exe}, dir + "/use.out", "");
+    EXPECT_TRUE(run.Wait(10s));
+    return Slurp(dir + "/use.out");
+}
+
 // The C header compiles (even with a hostile sensor id) and evaluates the models as stored.
 TEST_F(StoreCli, CHeaderCompilesAndEvaluates) {
     const std::string h = dir_ + "/coeffs.h";
     ASSERT_EQ(RunDb({"export", "R1", "--format", "c-header", "--out", h}).code, 0);
-    const std::string c = dir_ + "/use.c", exe = dir_ + "/use";
-    std::ofstream(c) << "#include <stdio.h>\n#include \"coeffs.h\"\n"
-                        "int main(void) {\n"
-                        "  printf(\"%.12f %.12f %.12f %lld\\n\", gyrocal_eval(&gyrocal_S01_offset, 35.0),\n"
-                        "         gyrocal_eval(&gyrocal_S01_sensitivity, 35.0),\n"
-                        "         gyrocal_eval(&gyrocal_S01_offset, 100.0),\n"
-                        "         (long long)GYROCAL_S01_COEFF_SET_ID);\n"
-                        "  return 0;\n}\n";
-    ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wno-unused-const-variable",
-                     "-o", exe, c, "-lm"}, "", dir_ + "/cc.err");
-    const auto st = cc.Wait(60s);
-    ASSERT_TRUE(st && st->exited && st->code == 0) << Slurp(dir_ + "/cc.err");
-    ChildProcess run({exe}, dir_ + "/use.out", "");
-    ASSERT_TRUE(run.Wait(10s));
+    const std::string out = CompileAndRun(
+        dir_, h,
+        "  gyrocal_inputs_t a = {35.0, NAN, NAN, NAN, NAN, NAN};\n"
+        "  gyrocal_inputs_t b = {100.0, NAN, NAN, NAN, NAN, NAN};\n"
+        "  printf(\"%.17g %.17g %.17g %lld\\n\", gyrocal_eval(&gyrocal_S01_offset, &a),\n"
+        "         gyrocal_eval(&gyrocal_S01_sensitivity, &a),\n"
+        "         gyrocal_eval(&gyrocal_S01_offset, &b),\n"
+        "         (long long)GYROCAL_S01_COEFF_SET_ID);\n");
     double off = 0, sens = 0, off_clip = 0;
     long long id = 0;
-    std::istringstream(Slurp(dir_ + "/use.out")) >> off >> sens >> off_clip >> id;
+    std::istringstream(out) >> off >> sens >> off_clip >> id;
     const double dT = 10.0, dT_max = 35.0;  // 35 C, and 100 C clipped to temp_max_c = 60 C
     EXPECT_NEAR(off, 2.5 + 1e-3 * dT - 2e-5 * dT * dT, 1e-12);
     EXPECT_NEAR(sens, 0.0067 + 1e-6 * dT, 1e-15);
     EXPECT_NEAR(off_clip, 2.5 + 1e-3 * dT_max - 2e-5 * dT_max * dT_max, 1e-12);
     EXPECT_EQ(id, 11);
+}
+
+// The extended model (every registry term) in C equals the shared C++ evaluator, for inputs on
+// both branches and directions, out of range (clipped by default, or extrapolated), and with an
+// input missing (NAN where a term needs it, like the C++ evaluator).
+TEST_F(StoreCli, CHeaderEvaluatesExtendedModelsLikeTheSharedEvaluator) {
+    const std::string h = dir_ + "/coeffs_ext.h";
+    ASSERT_EQ(RunDb({"export", "R2", "--format", "c-header", "--out", h}).code, 0);
+    const std::vector<model::ModelInputs> inputs = {
+        {35.0, 0.01, 5.1, 1.0, -1.0, 120.0},
+        {100.0, -0.02, 4.9, -1.0, 1.0, 1e4},  // above the valid range
+        {-30.0, 0.0, 5.0, 0.3, 0.0, 0.0},     // below it; heating counts by its sign
+        {20.0, 0.005, NAN, 1.0, 1.0, 600.0},  // supply unknown: offset NAN, sensitivity not
+    };
+    const double kGyroV = 2.6;
+    std::ostringstream body;
+    body.precision(17);
+    for (size_t k = 0; k < inputs.size(); ++k) {
+        const auto& in = inputs[k];
+        auto c = [](double v) { return std::isnan(v) ? std::string("NAN") : std::to_string(v); };
+        body << "  { gyrocal_inputs_t in = {" << c(in.temp_c) << ", " << c(in.dtemp_dt_c_per_s)
+             << ", " << c(in.supply_v) << ", " << c(in.heating) << ", " << c(in.direction) << ", "
+             << c(in.time_since_power_s) << "};\n"
+             << "    printf(\"%.17g %.17g %.17g %.17g\\n\", gyrocal_eval(&gyrocal_S01_offset, &in),"
+             << " gyrocal_eval(&gyrocal_S01_sensitivity, &in),"
+             << " gyrocal_eval_policy(&gyrocal_S01_offset, &in, GYROCAL_EXTRAPOLATE),"
+             << " gyrocal_rate_dps(&gyrocal_S01_offset, &gyrocal_S01_sensitivity, " << kGyroV
+             << ", &in)); }\n";
+    }
+    std::istringstream out(CompileAndRun(dir_, h, body.str()));
+    const model::Evaluator offset(store::ToModel(ExtendedOffset()));
+    const model::Evaluator sens(store::ToModel(ExtendedSensitivity()));
+    // Same products summed in a possibly different order: each of the n additions rounds by at
+    // most half an ulp of the running sum, so |C - C++| <= n * eps * sum|c_i phi_i|.
+    auto tol = [](const model::Evaluator& e, const model::ModelInputs& in, model::RangePolicy p) {
+        model::ModelInputs used = in;
+        if (p == model::RangePolicy::kClip && !e.InRange(in.temp_c)) {
+            used.temp_c = std::clamp(in.temp_c, e.model().temp_min_c, e.model().temp_max_c);
+        }
+        const Eigen::VectorXd phi = e.TermValues(used);
+        return static_cast<double>(phi.size()) * std::numeric_limits<double>::epsilon() *
+               phi.cwiseProduct(e.model().coeffs).cwiseAbs().sum();
+    };
+    auto expect = [](double c_value, double cpp_value, double tolerance, const std::string& what) {
+        if (std::isnan(cpp_value)) {
+            EXPECT_TRUE(std::isnan(c_value)) << what << ": C gave " << c_value;
+        } else {
+            EXPECT_NEAR(c_value, cpp_value, tolerance) << what;
+        }
+    };
+    for (size_t k = 0; k < inputs.size(); ++k) {
+        std::string line;
+        ASSERT_TRUE(std::getline(out, line)) << "no output for input " << k;
+        std::istringstream fields(line);
+        std::string f[4];
+        fields >> f[0] >> f[1] >> f[2] >> f[3];
+        double v[4];
+        for (int i = 0; i < 4; ++i) v[i] = f[i] == "nan" || f[i] == "-nan" ? NAN : std::stod(f[i]);
+        const auto& in = inputs[k];
+        const auto clip = model::RangePolicy::kClip, extra = model::RangePolicy::kExtrapolate;
+        const std::string at = "input " + std::to_string(k);
+        expect(v[0], offset.Value(in, clip), tol(offset, in, clip), at + " offset");
+        expect(v[1], sens.Value(in, clip), tol(sens, in, clip), at + " sensitivity");
+        expect(v[2], offset.Value(in, extra), tol(offset, in, extra), at + " offset extrapolated");
+        const double rate = (kGyroV - offset.Value(in, clip)) / sens.Value(in, clip);
+        expect(v[3], rate, 1e-9 * std::abs(rate), at + " rate");
+    }
+    // The clipped and extrapolated values differ where they must (input 1 is out of range).
+    EXPECT_NE(offset.Value(inputs[1], model::RangePolicy::kClip),
+              offset.Value(inputs[1], model::RangePolicy::kExtrapolate));
+    EXPECT_TRUE(std::isnan(offset.Value(inputs[3], model::RangePolicy::kClip)));
+    EXPECT_FALSE(std::isnan(sens.Value(inputs[3], model::RangePolicy::kClip)));
 }
 
 }  // namespace

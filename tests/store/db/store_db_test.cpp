@@ -1,5 +1,5 @@
 // The store library without LCM: schema migrations, the writer's round trip, the batching
-// writer's bounds and drop accounting, and the local model evaluator.
+// writer's bounds and drop accounting.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -8,7 +8,6 @@
 #include <thread>
 
 #include "async_writer.hpp"
-#include "model_eval.hpp"
 #include "query.hpp"
 #include "replay_reader.hpp"
 #include "schema.hpp"
@@ -235,13 +234,6 @@ TEST(AsyncWriter, AWriteFailureIsReportedNotThrown) {
     EXPECT_TRUE(aw.failed());
     EXPECT_NE(aw.error().find("gyro_samples"), std::string::npos) << aw.error();
     EXPECT_FALSE(aw.Push(Sample("", 1), "GYRO_S01"));
-}
-
-TEST(ModelEval, PolynomialTermsAndRefusalOfOthers) {
-    // y = 1 + 2 dT + 3 dT^2 + 4 dT^3 at dT = 2: 1 + 4 + 12 + 32 = 49
-    EXPECT_DOUBLE_EQ(*EvalPolynomialModel({"1", "dT", "dT^2", "dT^3"}, {1, 2, 3, 4}, 25, 27), 49);
-    EXPECT_FALSE(EvalPolynomialModel({"1", "dTdt"}, {1, 2}, 25, 27));
-    EXPECT_FALSE(EvalPolynomialModel({"1"}, {1, 2}, 25, 27));
 }
 
 }  // namespace

@@ -3,10 +3,14 @@
 // a restarted recorder continues the open run.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <thread>
 
+#include "analyses.hpp"
 #include "bus/channels.hpp"
 #include "messages.hpp"
+#include "model_rows.hpp"
 #include "recorder_harness.hpp"
 
 namespace gyrocal::testing {
@@ -189,6 +193,76 @@ TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_EQ(st->code, 2);
+}
+
+// `gyrocal analyze --publish`: the extended set is stored directly with its analysis, then
+// published for a live compensator; the recorder hears it and must not store it again. The
+// fitter's re-publish of an unchanged set (same coeff_set_id) is kept once too; another source
+// with the same id is another set.
+TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
+    const std::string db = TempPath("coeff_once.db");
+    const std::string url = UrlForPort(7767);
+    Bus bus(BusOptions{url});
+    ChildProcess rec = StartRecorder(db, url);
+    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
+    ASSERT_TRUE(bus.Publish(std::string(channels::kRunEvent), RunEvent("R5", "start", {"S01"})));
+    ASSERT_EQ(WaitForCount(db, "SELECT count(*) FROM runs WHERE run_id = 'R5'", 1, 10s), 1);
+
+    // GIVEN an analysis stored, with its extended set, while the recorder writes the same file
+    coeff_set_t extended = Coeffs("S01", "R5", 77, {}, {});
+    store::AnalysisRow a;
+    a.run_id = "R5";
+    a.sensor_id = "S01";
+    a.verdict = "added temp_rate";
+    store::StoredAnalysis stored;
+    {
+        auto rw = store::OpenForUpdate(db);
+        stored = store::StoreAnalysis(*rw, a, &extended);
+    }
+    ASSERT_TRUE(stored.coeff_row_id);
+    // WHEN it is published (twice), and the fitter's set with the same id (twice)
+    extended.source = stored.source;
+    const coeff_set_t fitter = Coeffs("S01", "R5", 77, {}, {});
+    for (int k = 0; k < 2; ++k) {
+        ASSERT_TRUE(bus.Publish(channels::Coeffs("S01"), extended));
+        ASSERT_TRUE(bus.Publish(channels::Coeffs("S01"), fitter));
+    }
+    ASSERT_TRUE(bus.Publish(std::string(channels::kRunEvent), RunEvent("R5", "stop", {"S01"})));
+    // (one writer, in order: once the stop is stored, the sets before it are too)
+    ASSERT_EQ(WaitForCount(db, "SELECT count(*) FROM run_events WHERE run_id = 'R5'", 2, 10s), 2);
+    EXPECT_EQ(rec.Stop().code, 0);
+
+    // THEN one row per source, and the analysis points at the row it stored
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets WHERE source = 'fitter'"), 1);
+    EXPECT_EQ(Count(db, "SELECT coeff_row_id FROM coeff_sets WHERE source = '" + stored.source +
+                        "'"), *stored.coeff_row_id);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_terms WHERE coeff_row_id = " +
+                        std::to_string(*stored.coeff_row_id)), 3 + 2);  // not doubled
+}
+
+TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
+    const std::string err = TempPath("bad_regex.err");
+    for (const std::string bad : {"GYRO_(", "*", "[a-"}) {
+        ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
+                          TempPath("bad_regex.db"), "--channels", bad, "--lcm-url",
+                          UrlForPort(7762)}, "", err);
+        const auto st = rec.Wait(10s);
+        ASSERT_TRUE(st);
+        EXPECT_TRUE(st->exited);
+        EXPECT_EQ(st->code, 2) << bad;
+        std::ifstream f(err);
+        const std::string text((std::istreambuf_iterator<char>(f)),
+                               std::istreambuf_iterator<char>());
+        EXPECT_NE(text.find("--channels"), std::string::npos) << text;
+        EXPECT_NE(text.find("not a valid channel regex"), std::string::npos) << text;
+    }
+    // A valid one is accepted: the recorder comes up (its heartbeat) and stops normally.
+    Bus bus(BusOptions{UrlForPort(7768)});
+    ChildProcess ok = StartRecorder(TempPath("good_regex.db"), UrlForPort(7768),
+                                    {"--channels", "GYRO_.*|RUN_EVENT"});
+    ASSERT_TRUE(WaitForRecorder(bus, ok.pid(), 10s));
+    EXPECT_EQ(ok.Stop().code, 0);
 }
 
 }  // namespace

@@ -1,0 +1,287 @@
+#include "virtual_lab.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <variant>
+
+namespace gyrocal::virtual_lab {
+
+LabConfig LabConfig::For(const std::string& profile, fit::Method method) {
+    LabConfig c;
+    const auto p = sequencer::NamedProfile(profile);
+    if (!p)
+        throw std::invalid_argument("virtual lab: profile '" + profile +
+                                    "' is unknown; valid: five, seed3");
+    c.procedure.profile = *p;
+    c.fitter.fit.method = method;
+    return c;
+}
+
+namespace {
+
+gyrocal::plateau_t ToMsg(const std::string& id, const plateau::Plateau& p) {
+    // Field for field what gyrocal-plateau publishes (plateau_node.cpp).
+    gyrocal::plateau_t m;
+    m.utime = p.end_utime;
+    m.sensor_id = id;
+    m.run_id = p.run_id;
+    m.plateau_id = p.plateau_id;
+    m.setpoint_c = p.setpoint_c;
+    m.start_utime = p.start_utime;
+    m.end_utime = p.end_utime;
+    m.first_seq = p.first_seq;
+    m.last_seq = p.last_seq;
+    m.n_samples = p.n_samples;
+    m.n_excluded_motion = p.n_excluded_motion;
+    m.seq_gaps = p.seq_gaps;
+    m.temp_mean_c = p.temp_c.mean;
+    m.temp_std_c = p.temp_c.std;
+    m.temp_sem_c = p.temp_c.sem;
+    m.temp_slope_c_per_min = p.temp_slope_c_per_min;
+    m.gyro_mean_v = p.gyro_v.mean;
+    m.gyro_std_v = p.gyro_v.std;
+    m.gyro_sem_v = p.gyro_v.sem;
+    m.temp_v_mean = p.temp_v_mean;
+    m.supply_mean_v = p.supply_mean_v;
+    return m;
+}
+
+gyrocal::sensitivity_point_t ToMsg(const std::string& id, const std::string& run_id,
+                                   const rotation::Point& p) {
+    // Field for field what gyrocal-rotation publishes (rotation_node.cpp).
+    gyrocal::sensitivity_point_t m;
+    m.utime = p.end_utime;
+    m.sensor_id = id;
+    m.run_id = run_id;
+    m.rotation_id = p.rotation_id;
+    m.start_utime = p.start_utime;
+    m.end_utime = p.end_utime;
+    m.first_seq = p.first_seq;
+    m.last_seq = p.last_seq;
+    m.n_samples = p.n_samples;
+    m.direction = p.direction;
+    m.temp_c = p.temp_c;
+    m.encoder_angle_deg = p.encoder_angle_deg;
+    m.offset_v = p.offset_v;
+    m.offset_stderr_v = p.offset_stderr_v;
+    m.integral_v_s = p.integral_v_s;
+    m.sensitivity_v_per_dps = p.sensitivity_v_per_dps;
+    m.sensitivity_stderr_v_per_dps = p.sensitivity_stderr_v_per_dps;
+    m.accepted = p.accepted;
+    m.reject_reason = p.reject_reason;
+    return m;
+}
+
+// The process graph as one RigSink. Each member mirrors one process's state.
+class Pipeline : public sim::RigSink {
+public:
+    Pipeline(const LabConfig& c, sim::Rig& rig, RunResult& out)
+        : c_(c),
+          rig_(rig),
+          out_(out),
+          procedure_(ProcedureOptionsFor(c, rig)),
+          motion_(c.move, c.motion_guard_s, c.encoder_stale_s),
+          rotation_moves_(c.move),
+          fitter_(c.fitter) {
+        for (const std::string& id : rig.sensor_ids()) {
+            sensors_.push_back(std::make_unique<Sensor>(id, c));
+            sensors_.back()->detector.SetChamberSetpoint(std::numeric_limits<double>::quiet_NaN());
+        }
+    }
+
+    bool done() const { return procedure_.done(); }
+    const sequencer::Procedure& procedure() const { return procedure_; }
+
+    void OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) override {
+        if (r.unit_index == 0) ++out_.samples_per_sensor;
+        AdvanceTime(r.utime);
+        Sensor& s = *sensors_[static_cast<size_t>(r.unit_index)];
+        // gyrocal-plateau: queue until the table's motion around the sample is known.
+        plateau::Sample ps;
+        ps.utime = r.utime;
+        ps.seq = r.seq;
+        ps.temp_c = r.temp_c;
+        ps.gyro_v = r.gyro_v;
+        ps.temp_v = r.temp_v;
+        ps.supply_v = r.supply_v;
+        s.pending.push_back(ps);
+        s.newest_utime = r.utime;
+        Drain(s);
+        // gyrocal-rotation.
+        s.estimator.AddSample(rotation::Sample{r.utime, r.seq, r.gyro_v, r.temp_c});
+        Poll(s);
+    }
+
+    void OnEncoder(const sim::EncoderReading& r) override {
+        const motion::EncoderReading e{r.utime, r.counts, r.counts_per_rev};
+        // gyrocal-plateau's table motion, then its queued samples.
+        motion_.Feed(e);
+        int64_t oldest = std::numeric_limits<int64_t>::max();
+        for (auto& s : sensors_) {
+            Drain(*s);
+            oldest =
+                std::min(oldest, s->pending.empty() ? s->newest_utime : s->pending.front().utime);
+        }
+        motion_.Prune(oldest);
+        // gyrocal-rotation's own move detector.
+        if (auto move = rotation_moves_.Feed(e)) {
+            for (auto& s : sensors_) s->estimator.AddMove(*move);
+        }
+        for (auto& s : sensors_) Poll(*s);
+    }
+
+    void OnChamber(const sim::ChamberReading& r) override {
+        for (auto& s : sensors_) s->detector.SetChamberSetpoint(r.setpoint_c);
+        AdvanceTime(r.utime);
+    }
+
+private:
+    struct Sensor {
+        Sensor(std::string sensor_id, const LabConfig& c)
+            : id(std::move(sensor_id)), detector(c.plateau), estimator(c.rotation) {}
+        std::string id;
+        plateau::PlateauDetector detector;
+        std::deque<plateau::Sample> pending;
+        int64_t newest_utime = 0;
+        rotation::RotationEstimator estimator;
+    };
+
+    static sequencer::ProcedureOptions ProcedureOptionsFor(const LabConfig& c,
+                                                           const sim::Rig& rig) {
+        sequencer::ProcedureOptions p = c.procedure;
+        if (p.sensor_ids.empty()) p.sensor_ids = rig.sensor_ids();
+        return p;
+    }
+
+    void AdvanceTime(int64_t utime) {
+        // The sequencer's guard: data time never runs backwards for the procedure.
+        if (utime <= procedure_now_utime_) return;
+        procedure_now_utime_ = utime;
+        Execute(procedure_.OnTime(utime));
+    }
+
+    void Drain(Sensor& s) {
+        while (!s.pending.empty() && motion_.Decided(s.pending.front().utime, s.newest_utime)) {
+            plateau::Sample ps = s.pending.front();
+            s.pending.pop_front();
+            ps.moving = motion_.Moving(ps.utime);
+            const plateau::Step step = s.detector.Feed(ps);
+            if (step.plateau) DeliverPlateau(s.id, *step.plateau);
+        }
+    }
+
+    void Poll(Sensor& s) {
+        const rotation::MotionView view{rotation_moves_.watermark_utime(),
+                                        rotation_moves_.current_start_utime()};
+        for (const rotation::Point& p : s.estimator.Poll(view)) {
+            out_.sensitivity_points.push_back(ToMsg(s.id, run_id_, p));
+            const gyrocal::sensitivity_point_t& m = out_.sensitivity_points.back();
+            if (!procedure_.done()) {
+                Collect(fitter_.OnSensitivity(m, s.id));
+                Execute(procedure_.OnSensitivity(s.id, m.utime));
+            }
+        }
+    }
+
+    void DeliverPlateau(const std::string& id, const plateau::Plateau& p) {
+        out_.plateaus.push_back(ToMsg(id, p));
+        const gyrocal::plateau_t& m = out_.plateaus.back();
+        if (procedure_.done()) return;  // after the run's stop: a process would refuse it too
+        Collect(fitter_.OnPlateau(m, id));
+        Execute(procedure_.OnPlateau(id, m.utime, m.setpoint_c));
+    }
+
+    void Collect(const fitter::CoreOutput& o) {
+        for (const auto& r : o.rejections) out_.fitter_rejections.push_back(r);
+        for (const auto& set : o.publish) {
+            out_.published.push_back(set);
+            out_.final_sets[set.sensor_id] = model::FromMsg(set);
+        }
+    }
+
+    gyrocal::run_event_t RunEvent(const sequencer::RunEventOrder& r) const {
+        gyrocal::run_event_t m;
+        m.utime = rig_.now_utime();
+        m.run_id = c_.run_id;
+        m.event = r.event;
+        m.reason = r.reason;
+        m.setpoint_index = r.setpoint_index;
+        m.setpoint_c = r.setpoint_c;
+        m.sensor_ids = ProcedureOptionsFor(c_, rig_).sensor_ids;
+        m.num_sensors = static_cast<int16_t>(m.sensor_ids.size());
+        return m;
+    }
+
+    void Execute(const std::vector<sequencer::Order>& orders) {
+        for (const sequencer::Order& order : orders) {
+            if (const auto* ch = std::get_if<sequencer::ChamberOrder>(&order)) {
+                const auto res =
+                    rig_.ChamberCommand(++chamber_cmd_id_, ch->setpoint_c, ch->ramp_rate_c_per_min);
+                if (!res.accepted) out_.notes.push_back("chamber refused: " + res.reason);
+            } else if (const auto* t = std::get_if<sequencer::TurntableOrder>(&order)) {
+                const auto res =
+                    rig_.TurntableCommand(++table_cmd_id_, t->move_deg, t->rate_dps, t->accel_dps2);
+                if (!res.accepted) out_.notes.push_back("turntable refused: " + res.reason);
+            } else if (const auto* r = std::get_if<sequencer::RunEventOrder>(&order)) {
+                OnRunEvent(*r);
+            }
+        }
+    }
+
+    void OnRunEvent(const sequencer::RunEventOrder& r) {
+        const gyrocal::run_event_t msg = RunEvent(r);
+        if (r.event == "start") {
+            out_.start_utime = rig_.now_utime();
+            run_id_ = c_.run_id;
+            for (auto& s : sensors_) s->detector.StartRun(run_id_);
+        } else if (r.event == "setpoint") {
+            for (auto& s : sensors_) s->detector.OnSetpointEvent(r.setpoint_c);
+        } else if (r.event == "stop" || r.event == "abort") {
+            out_.last_point_utime = rig_.now_utime();
+            run_id_.clear();
+            for (auto& s : sensors_) s->detector.EndRun();
+        }
+        Collect(fitter_.OnRunEvent(msg));
+        if (r.event == "stop" || r.event == "abort") rig_.StopAfterCurrentEvent();
+    }
+
+    const LabConfig& c_;
+    sim::Rig& rig_;
+    RunResult& out_;
+    sequencer::Procedure procedure_;
+    motion::TableMotion motion_;           // gyrocal-plateau's
+    motion::MoveDetector rotation_moves_;  // gyrocal-rotation's
+    fitter::FitterCore fitter_;
+    std::vector<std::unique_ptr<Sensor>> sensors_;
+    std::string run_id_;
+    int64_t procedure_now_utime_ = std::numeric_limits<int64_t>::min();
+    int64_t chamber_cmd_id_ = 0, table_cmd_id_ = 0;
+};
+
+}  // namespace
+
+RunResult Run(const LabConfig& config) {
+    sim::Rig rig(config.rig);
+    RunResult out;
+    out.truths = rig.units();
+    Pipeline pipeline(config, rig, out);
+    const int64_t cap_utime = config.rig.start_utime + static_cast<int64_t>(config.max_sim_s * 1e6);
+    rig.RunUntil(cap_utime, pipeline);  // returns at the run's stop, or at the cap
+    out.end_utime = rig.now_utime();
+    if (pipeline.done()) {
+        out.outcome = pipeline.procedure().outcome();
+        out.outcome_reason = pipeline.procedure().outcome_reason();
+    } else {
+        out.outcome = "cut";
+        out.outcome_reason = "simulated-time cap max_sim_s reached";
+        out.last_point_utime = out.end_utime;
+    }
+    for (const auto& n : pipeline.procedure().notes()) out.notes.push_back(n);
+    return out;
+}
+
+}  // namespace gyrocal::virtual_lab

@@ -1,0 +1,81 @@
+#pragma once
+// The virtual lab: a whole calibration run of the process graph, in one process, on the
+// simulated clock. The same pure libraries the processes wrap, wired as the processes wire them:
+//
+//   Procedure (sequencer) --chamber / turntable orders--> sim::Rig
+//   Rig --gyro samples, encoder, chamber state--> per sensor: motion queue -> PlateauDetector
+//                                                 per sensor: RotationEstimator (shared encoder
+//                                                             MoveDetector)
+//   plateaus, sensitivity points --> FitterCore --> coefficient sets
+//   plateaus, sensitivity points --> Procedure (which orders the next step)
+//   RUN_EVENT orders (start/setpoint/stop) --> detectors, fitter
+//
+// Delivery is synchronous and in event order: what the bus would deliver a few milliseconds
+// later arrives here before the next rig event. Like the plateau process, a gyro sample waits
+// until the encoder has reported its moment + the motion guard, then is classified still/moving
+// and fed to its detector (so plateaus end a guard interval after their last sample). Procedure
+// time advances on every chamber state and gyro scan, as the sequencer's does.
+//
+// No clock, no LCM runtime (the generated message structs carry plateaus, points and sets, so
+// the fitter core is the one the fitter process runs), no randomness of its own: a Run() is a
+// deterministic function of its configuration.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fitter/fitter_core.hpp"
+#include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/plateau_t.hpp"
+#include "gyrocal/sensitivity_point_t.hpp"
+#include "model/convert.hpp"
+#include "plateau_detector.hpp"
+#include "procedure.hpp"
+#include "rotation_estimator.hpp"
+#include "sim/rig.hpp"
+#include "table_motion.hpp"
+
+namespace gyrocal::virtual_lab {
+
+struct LabConfig {
+    sim::RigConfig rig = sim::RigConfig::Defaults();
+    // sensor_ids empty = every unit of the rig.
+    sequencer::ProcedureOptions procedure;
+    plateau::PlateauConfig plateau = plateau::PlateauConfig::Defaults();
+    motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
+    double motion_guard_s = 1.0;   // [s] as gyrocal-plateau's --motion-guard-s
+    double encoder_stale_s = 2.0;  // [s] as gyrocal-plateau's --encoder-stale-s
+    rotation::RotationConfig rotation = rotation::RotationConfig::Defaults();
+    fitter::CoreOptions fitter = fitter::CoreOptions::Defaults();
+    std::string run_id = "virtual-lab";
+    double max_sim_s = 24 * 3600.0;  // [s] simulated-time cap: the run is cut (outcome "cut")
+
+    // A lab running `profile` ("five" | "seed3") with the fitter forced to `method`.
+    // Throws std::invalid_argument on an unknown profile.
+    static LabConfig For(const std::string& profile, fit::Method method);
+};
+
+struct RunResult {
+    std::string outcome;             // "completed", "abort" (procedure's) or "cut" (max_sim_s)
+    std::string outcome_reason;      // the procedure's reason
+    std::vector<std::string> notes;  // skipped moves etc. (procedure notes)
+    std::vector<gyrocal::plateau_t> plateaus;                      // every plateau, in order
+    std::vector<gyrocal::sensitivity_point_t> sensitivity_points;  // every point, accepted or not
+    std::vector<gyrocal::coeff_set_t> published;  // every set the fitter core emitted, in order
+    std::map<std::string, model::CoeffSet> final_sets;  // the newest set of each sensor
+    std::vector<fitter::Rejection> fitter_rejections;
+    std::vector<sim::UnitTruth> truths;  // the rig's units (evaluation only)
+    int64_t start_utime = 0;             // [us] first order of the procedure (run start)
+    int64_t last_point_utime = 0;        // [us] when the last plateau/point needed arrived
+    int64_t end_utime = 0;               // [us] rig time when the run stopped
+    // [h] chamber time: from the first order to the last sensitivity point (the run's end).
+    double chamber_hours() const {
+        return 1e-6 * static_cast<double>(last_point_utime - start_utime) / 3600.0;
+    }
+    int64_t samples_per_sensor = 0;  // gyro scans simulated
+};
+
+// Runs the whole procedure. Throws sim::ConfigError / std::invalid_argument on a bad config.
+RunResult Run(const LabConfig& config);
+
+}  // namespace gyrocal::virtual_lab
