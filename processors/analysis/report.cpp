@@ -1,0 +1,123 @@
+#include "report.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "model/json.hpp"
+
+namespace gyrocal::analysis {
+
+namespace {
+
+nlohmann::json Num(double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json Errors(const ErrorFigures& e) {
+    return {{"offset_rms_v", Num(e.offset_rms_v)},
+            {"rate_rms_dps", Num(e.rate_rms_dps)},
+            {"drift_dph", Num(e.drift_dph)}};
+}
+
+std::string G(double v, int prec = 3) {
+    if (!std::isfinite(v)) return "-";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+    return buf;
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const SensorResult& r) {
+    using nlohmann::json;
+    json j;
+    j["sensor_id"] = r.sensor_id;
+    j["verdict"] = r.verdict;
+    json cands = json::array();
+    for (const CandidateResult& c : r.candidates)
+        cands.push_back({{"effect", c.effect},
+                         {"term", c.term},
+                         {"statistic", Num(c.z2)},
+                         {"statistic_name", "z2 (coefficient^2 / robust variance)"},
+                         {"cv_gain", Num(c.cv_gain)},
+                         {"effect_rms_v", Num(c.effect_rms_v)},
+                         {"decision", ToString(c.decision)},
+                         {"step", c.step},
+                         {"note", c.note}});
+    j["candidates"] = cands;
+    json added = json::array();
+    for (const AddedEffect& a : r.added)
+        added.push_back({{"effect", a.effect},
+                         {"term", a.term},
+                         {"coefficient", Num(a.coefficient)},
+                         {"stderr", Num(a.stderr_)},
+                         {"unit", a.unit}});
+    j["added"] = added;
+    j["error_before"] = Errors(r.error_before);
+    j["error_after"] = Errors(r.error_after);
+    j["floor_rate_rms_dps"] = Num(r.floor_rate_rms_dps);
+    j["floor_offset_rms_v"] = Num(r.floor_offset_rms_v);
+    j["floor_drift_dph"] = Num(r.floor_drift_dph);
+    j["residual_all_rms_v"] = Num(r.residual_all_rms_v);
+    j["residual_all_extended_rms_v"] = Num(r.residual_all_extended_rms_v);
+    j["sensitivity"] = {{"rel_rms_before", Num(r.sens_rel_rms_before)},
+                        {"rel_rms_after", Num(r.sens_rel_rms_after)},
+                        {"chi2_dof_before", Num(r.sens_chi2_dof_before)},
+                        {"chi2_dof_after", Num(r.sens_chi2_dof_after)},
+                        {"points", r.n_sensitivity_points}};
+    j["bin_s"] = r.bin_s;
+    j["bins"] = r.n_bins;
+    j["holdout_bins"] = r.n_holdout_bins;
+    j["plateaus"] = r.n_plateaus_used;
+    j["could_not_test"] = r.could_not_test;
+    j["notes"] = r.notes;
+    if (r.extended_offset) j["extended_offset"] = model::ToJson(*r.extended_offset);
+    if (r.extended_sensitivity) j["extended_sensitivity"] = model::ToJson(*r.extended_sensitivity);
+    return j;
+}
+
+nlohmann::json ToJson(const std::vector<SensorResult>& results) {
+    nlohmann::json s = nlohmann::json::array();
+    for (const SensorResult& r : results) s.push_back(ToJson(r));
+    return {{"sensors", s}};
+}
+
+std::string FormatReport(const SensorResult& r) {
+    std::string out = "sensor " + r.sensor_id + ": " + r.verdict + "\n";
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-13s %-14s %10s %9s  %s\n", "candidate", "term", "z2",
+                  "cv_gain", "decision");
+    out += line;
+    for (const CandidateResult& c : r.candidates) {
+        std::snprintf(line, sizeof line, "  %-13s %-14s %10s %9s  %s\n", c.effect.c_str(),
+                      c.term.c_str(), G(c.z2).c_str(), G(c.cv_gain, 2).c_str(),
+                      ToString(c.decision));
+        out += line;
+        if (!c.note.empty() && c.decision != Decision::kRejected) out += "      " + c.note + "\n";
+    }
+    for (const AddedEffect& a : r.added) {
+        std::snprintf(line, sizeof line, "  added %-12s %-14s %12.5g +- %-10.3g %s\n",
+                      a.effect.c_str(), a.term.c_str(), a.coefficient, a.stderr_, a.unit.c_str());
+        out += line;
+    }
+    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "held-out stretch", "offset_rms_v",
+                  "rate_rms_dps", "drift_dph");
+    out += line;
+    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "before (declared)",
+                  G(r.error_before.offset_rms_v).c_str(), G(r.error_before.rate_rms_dps).c_str(),
+                  G(r.error_before.drift_dph).c_str());
+    out += line;
+    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "after (extended)",
+                  G(r.error_after.offset_rms_v).c_str(), G(r.error_after.rate_rms_dps).c_str(),
+                  G(r.error_after.drift_dph).c_str());
+    out += line;
+    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "floor (plateau scatter)",
+                  G(r.floor_offset_rms_v).c_str(), G(r.floor_rate_rms_dps).c_str(),
+                  G(r.floor_drift_dph).c_str());
+    out += line;
+    for (const std::string& s : r.could_not_test) out += "  could not test: " + s + "\n";
+    for (const std::string& s : r.notes) out += "  note: " + s + "\n";
+    return out;
+}
+
+}  // namespace gyrocal::analysis

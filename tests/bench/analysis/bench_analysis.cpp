@@ -1,0 +1,221 @@
+// Benchmark (not a test): on the same held-out stretch of simulated runs, the seed's 3-point
+// method, the N-point fit, and the analysis' extended model, versus the noise floor.
+//
+// Each run (one unit; setpoints -10, 50, 10, 70, 30, 60, 20 with ramps between; see sim_run.hpp)
+// is split by the analysis into training data and a held-out stretch (the last 25 % of the still
+// bins: about the 60 -> 20 degC cooling ramp and the 20 degC dwell), so 5 training plateaus. Every
+// method is fitted on the training part only and applied to every 10 s still bin of the held-out
+// stretch:
+//   3-point : the seed's equations on 3 training plateaus (coldest, nearest mid-range, hottest, in
+//             acquisition order) for the offset, and on the rotations of those 3 setpoints for
+//             the sensitivity;
+//   N-point : weighted least squares with order selection on all training plateaus / rotations
+//             (what the fitter publishes);
+//   extended: the analysis' model (declared terms + the effects it added), fitted on the training
+//             bins; the N-point sensitivity.
+// Figures: rate RMS [deg/s] = RMS of (gyro_v - offset(T)) / S(T); drift [deg/h] = |integrated
+// angle| / duration; floor = scatter of 10 s bins inside the plateau windows (rate) and its
+// white-noise drift bound floor/sqrt(held-out bins). Mean over seeds per effect configuration.
+// Options: [seeds] (default 6).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "analysis/analyze.hpp"
+#include "analysis/bins.hpp"
+#include "fit/fit.hpp"
+#include "fit/levels.hpp"
+#include "sim_run.hpp"
+
+using namespace gyrocal;
+
+namespace {
+
+std::string CpuModel() {
+    std::ifstream f("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(f, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown";
+}
+
+struct Figures {
+    double rate_rms_dps = NAN, drift_dph = NAN;
+};
+
+Figures OnHeldOut(const std::vector<analysis::Bin>& bins, int64_t hold_utime, int64_t first_utime,
+                  const model::Model& offset, const model::Model& sens, double period_s) {
+    const model::Evaluator eo(offset), es(sens);
+    double ss = 0, angle = 0, dur = 0;
+    int n = 0;
+    for (const analysis::Bin& b : bins) {
+        if (b.start_utime < hold_utime) continue;
+        model::ModelInputs in = b.Inputs(first_utime);
+        in.direction = 0.0;
+        const double rate = (b.gyro_v - eo.Value(in, model::RangePolicy::kExtrapolate)) /
+                            es.Value(in, model::RangePolicy::kClip);
+        ss += rate * rate;
+        angle += rate * b.n * period_s;
+        dur += b.n * period_s;
+        ++n;
+    }
+    return {std::sqrt(ss / n), std::fabs(angle) / dur * 3600.0};
+}
+
+// Plateau / rotation points before `end_utime`.
+std::vector<fit::FitPoint> OffsetPoints(const analysis::SensorRun& run, int64_t end_utime) {
+    std::vector<fit::FitPoint> pts;
+    for (const auto& p : run.plateaus) {
+        if (p.end_utime > end_utime) continue;
+        fit::FitPoint f;
+        f.inputs.temp_c = p.temp_mean_c;
+        f.y = p.gyro_mean_v;
+        f.sigma_y = p.gyro_sem_v;
+        f.id = p.plateau_id;
+        pts.push_back(f);
+    }
+    return pts;
+}
+std::vector<fit::FitPoint> SensPoints(const analysis::SensorRun& run, int64_t end_utime) {
+    std::vector<fit::FitPoint> pts;
+    for (const auto& s : run.sensitivities) {
+        if (s.utime > end_utime) continue;
+        fit::FitPoint f;
+        f.inputs.temp_c = s.temp_c;
+        f.inputs.direction = s.direction;
+        f.y = s.sensitivity_v_per_dps;
+        f.sigma_y = s.stderr_v_per_dps;
+        f.id = s.rotation_id;
+        pts.push_back(f);
+    }
+    return pts;
+}
+
+// The seed's 3 points: coldest, nearest mid-range, hottest plateau, in acquisition order; and the
+// rotations whose temperature is within 3 degC of those plateaus.
+void SeedPoints(const std::vector<fit::FitPoint>& off, const std::vector<fit::FitPoint>& sens,
+                std::vector<fit::FitPoint>* off3, std::vector<fit::FitPoint>* sens3) {
+    size_t lo = 0, hi = 0;
+    for (size_t i = 0; i < off.size(); ++i) {
+        if (off[i].inputs.temp_c < off[lo].inputs.temp_c) lo = i;
+        if (off[i].inputs.temp_c > off[hi].inputs.temp_c) hi = i;
+    }
+    const double mid = 0.5 * (off[lo].inputs.temp_c + off[hi].inputs.temp_c);
+    size_t md = lo == 0 && hi != 0 ? 0 : 0;
+    double best = INFINITY;
+    for (size_t i = 0; i < off.size(); ++i)
+        if (i != lo && i != hi && std::fabs(off[i].inputs.temp_c - mid) < best)
+            best = std::fabs(off[i].inputs.temp_c - mid), md = i;
+    std::vector<size_t> idx = {lo, md, hi};
+    std::sort(idx.begin(), idx.end());
+    for (size_t i : idx) off3->push_back(off[i]);
+    for (const auto& s : sens)
+        for (size_t i : idx)
+            if (std::fabs(s.inputs.temp_c - off[i].inputs.temp_c) < 3.0) sens3->push_back(s);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const int seeds = argc > 1 ? std::atoi(argv[1]) : 6;
+    if (seeds < 1 || seeds > 1000) {
+        std::fprintf(stderr, "usage: %s [seeds 1..1000]\n", argv[0]);
+        return 2;
+    }
+    std::printf(
+        "gyrocal analysis benchmark: held-out stretch of simulated runs, mean over %d seeds\n",
+        seeds);
+    std::printf("machine: %u cores (nproc), %s\n", std::thread::hardware_concurrency(),
+                CpuModel().c_str());
+    struct Config {
+        const char* label;
+        std::vector<std::pair<const char*, double>> effects;
+    };
+    const std::vector<Config> configs = {{"clean", {}},
+                                         {"temp_rate=1e-4", {{"temp_rate", 1e-4}}},
+                                         {"hysteresis=1e-3", {{"hysteresis", 1e-3}}},
+                                         {"temp_cubic=2e-8", {{"temp_cubic", 2e-8}}},
+                                         {"supply=0.05", {{"supply", 0.05}}},
+                                         {"warmup=2e-3", {{"warmup", 2e-3}}},
+                                         {"rate+supply", {{"temp_rate", 1e-4}, {"supply", 0.05}}}};
+    std::printf("\n%-16s %-9s %13s %11s %9s   %s\n", "effect in rig", "method", "rate_rms_dps",
+                "drift_dph", "x floor", "found by the analysis");
+    const auto t_start = std::chrono::steady_clock::now();
+    for (const Config& c : configs) {
+        double rms[3] = {0, 0, 0}, drift[3] = {0, 0, 0}, floor_rms = 0, floor_drift = 0;
+        int used = 0, found = 0;
+        for (int s = 1; s <= seeds; ++s) {
+            analysis::testing::SimRunOptions o;
+            o.seed = 500 + s;
+            o.setpoints_c = {-10.0, 50.0, 10.0, 70.0, 30.0, 60.0, 20.0};
+            for (const auto& [name, value] : c.effects) sim::SetEffect(o.effects, name, value);
+            const auto sr = analysis::testing::MakeSimRun(o);
+            const analysis::SensorResult r = analysis::Analyze(sr.run);
+            if (!r.holdout_after_offset || !std::isfinite(r.floor_rate_rms_dps)) continue;
+            bool all = true;
+            for (const auto& [name, value] : c.effects) {
+                bool hit = false;
+                for (const auto& a : r.added) hit = hit || a.effect == name;
+                all = all && hit;
+            }
+            if (all && (!c.effects.empty() || r.added.empty())) ++found;
+            const auto bins = analysis::MakeBins(sr.run, analysis::BinOptions::Defaults());
+            const double period_s = analysis::SamplePeriodS(sr.run);
+            const auto off = OffsetPoints(sr.run, r.holdout_start_utime);
+            const auto sens = SensPoints(sr.run, r.holdout_start_utime);
+            std::vector<fit::FitPoint> off3, sens3;
+            SeedPoints(off, sens, &off3, &sens3);
+            fit::FitOptions three;
+            three.method = fit::Method::kThreePoint;
+            const fit::FitResult o3 = fit::FitPolynomial(off3, model::kOffsetQuantity, three);
+            const fit::FitResult s3 = fit::FitPolynomial(sens3, model::kSensitivityQuantity, three);
+            const fit::FitResult on = fit::FitPolynomial(off, model::kOffsetQuantity);
+            const fit::FitResult sn = fit::FitPolynomial(sens, model::kSensitivityQuantity);
+            if (s == 1 && &c == &configs[0])
+                std::printf(
+                    "(seed %llu: %zu training plateaus, %zu training rotations, %d held-out "
+                    "bins)\n",
+                    static_cast<unsigned long long>(o.seed), off.size(), sens.size(),
+                    r.n_holdout_bins);
+            if (!o3.ok() || !s3.ok() || !on.ok() || !sn.ok()) {
+                std::fprintf(stderr, "seed %d: a fit was refused: %s %s %s %s\n", s,
+                             o3.detail.c_str(), s3.detail.c_str(), on.detail.c_str(),
+                             sn.detail.c_str());
+                continue;
+            }
+            const Figures f[3] = {OnHeldOut(bins, r.holdout_start_utime, sr.run.first_sample_utime,
+                                            o3.model, s3.model, period_s),
+                                  OnHeldOut(bins, r.holdout_start_utime, sr.run.first_sample_utime,
+                                            on.model, sn.model, period_s),
+                                  OnHeldOut(bins, r.holdout_start_utime, sr.run.first_sample_utime,
+                                            *r.holdout_after_offset, sn.model, period_s)};
+            for (int m = 0; m < 3; ++m) {
+                rms[m] += f[m].rate_rms_dps;
+                drift[m] += f[m].drift_dph;
+            }
+            floor_rms += r.floor_rate_rms_dps;
+            floor_drift += r.floor_drift_dph;
+            ++used;
+        }
+        if (used == 0) continue;
+        const char* names[3] = {"3-point", "N-point", "extended"};
+        const double fl = floor_rms / used;
+        char found_text[64];
+        std::snprintf(found_text, sizeof found_text, "%d/%d runs", found, used);
+        for (int m = 0; m < 3; ++m)
+            std::printf("%-16s %-9s %13.4f %11.1f %9.2f   %s\n", m == 0 ? c.label : "", names[m],
+                        rms[m] / used, drift[m] / used, rms[m] / used / fl,
+                        m == 2 ? found_text : "");
+        std::printf("%-16s %-9s %13.4f %11.1f %9.2f\n", "", "floor", fl, floor_drift / used, 1.0);
+    }
+    std::printf(
+        "\nwall time %.1f s; drift floor is the white-noise bound (slow bias noise not in it)\n",
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
+    return 0;
+}

@@ -1,0 +1,268 @@
+// Model discovery on simulated runs with an undeclared effect switched on in the rig (announced to
+// nothing downstream: the analysis gets only what a recorder would have stored). The rig's truth
+// is used here only to check the answers.
+//
+// Run: 1 unit, 25 degC start, setpoints -10, 50, 10, 70, 30 (ramps both ways through shared
+// temperatures), 6 degC/min ramps, package tau 60 s, dwell 420 s, +-90 deg rotations; ~4700 s of
+// simulated time, ~0.4 s to simulate. Effect sizes are a few times the 10 s-bin noise floor
+// (~0.018 deg/s = 0.11 mV): temp_rate 1e-4 V/(degC/min) (0.6 mV at 6 degC/min), hysteresis 1 mV
+// apart, temp_cubic 2e-8 V/K^3 (1.8 mV at 45 K), supply 0.05 V/V (0.5 mV per 10 mV of drift),
+// warmup 2 mV, sf_asymmetry 2 %.
+//
+// Tolerances on a coefficient: 4 reported standard errors (the analysis' autocorrelation-robust
+// stderr; 4 sigma keeps a correct estimate inside with probability > 0.9999 per seed) plus a
+// stated model-mismatch allowance where the analysis' regressor is not exactly the rig's:
+//   temp_rate  5 %: the measured-temperature difference over 2 bins vs the die's instantaneous rate
+//              (they differ at ramp corners), plus the temperature sensor lag 0.1 s * |dV/dT|;
+//   hysteresis 5 %: the rig's branch is a play operator of width 2 degC on the die, continuous in
+//              [-1, 1]; the analysis' is +-1 from width 1 degC on the measured temperature;
+//   warmup    10 %: tau comes from a grid (ratio 1.21 between points) and trades against amplitude;
+//   sf_asymmetry 3 %: the rig scales S(T) (which varies ~2 % over the range), the term is constant.
+// Error after: on the held-out stretch, rate RMS within 2x the floor (the floor is the scatter of
+// 10 s bins inside 120 s plateau windows; slower noise - bias instability - is not in it, which
+// is what the factor 2 leaves room for). "Far below before": over all still data, the extended
+// model's residual RMS is below 0.7x the declared model's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "analysis/analyze.hpp"
+#include "analysis/report.hpp"
+#include "sim_run.hpp"
+
+namespace gyrocal::analysis {
+namespace {
+
+using testing::MakeSimRun;
+using testing::SimRun;
+using testing::SimRunOptions;
+
+bool Added(const SensorResult& r, const std::string& effect) {
+    for (const AddedEffect& a : r.added)
+        if (a.effect == effect) return true;
+    return false;
+}
+
+const AddedEffect* Find(const SensorResult& r, const std::string& effect) {
+    for (const AddedEffect& a : r.added)
+        if (a.effect == effect) return &a;
+    return nullptr;
+}
+
+struct EffectCase {
+    const char* name;  // rig effect name (sim::SetEffect)
+    double value;
+    double allowance;  // relative model-mismatch allowance (see the header)
+    // The coefficient the analysis should find, from the rig's truth.
+    std::function<double(const SimRun&)> truth;
+};
+
+double LagBias(const SimRun& s) {
+    // |dV/dT| over the range times the sensor lag: the offset seen through a lagging thermometer.
+    const auto& o = s.truth.offset_coeffs;
+    return (std::fabs(o[1]) + 2.0 * std::fabs(o[2]) * 50.0) * s.config.thermal.sensor_tau_s;
+}
+
+void RunEffect(const EffectCase& c, int seeds, bool offset_effect) {
+    int hits = 0, extra = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+        SimRunOptions o;
+        o.seed = 100 + seed;
+        sim::SetEffect(o.effects, c.name, c.value);
+        const SimRun s = MakeSimRun(o);
+        const SensorResult r = Analyze(s.run);
+        SCOPED_TRACE(std::string(c.name) + " seed " + std::to_string(o.seed) + "\n" +
+                     FormatReport(r));
+        if (!Added(r, c.name)) continue;
+        ++hits;
+        if (r.added.size() > 1) ++extra;
+        const AddedEffect* a = Find(r, c.name);
+        const double truth = c.truth(s);
+        double tol = 4.0 * a->stderr_ + c.allowance * std::fabs(truth);
+        if (std::string(c.name) == "temp_rate") tol += LagBias(s);
+        EXPECT_NEAR(a->coefficient, truth, tol) << a->unit;
+        if (offset_effect) {
+            EXPECT_LT(r.error_after.rate_rms_dps, 2.0 * r.floor_rate_rms_dps);
+            EXPECT_LT(r.residual_all_extended_rms_v, 0.7 * r.residual_all_rms_v);
+        } else {
+            EXPECT_LT(r.sens_rel_rms_after, 0.5 * r.sens_rel_rms_before);
+            EXPECT_LT(r.sens_chi2_dof_after, 3.0);
+        }
+    }
+    std::printf("[ analysis ] effect %-12s = %-8g hit rate %d/%d, runs with an extra effect %d\n",
+                c.name, c.value, hits, seeds, extra);
+    // At these sizes a miss is not expected at all; allow one in `seeds` for the unlucky draw.
+    EXPECT_GE(hits, seeds - 1);
+    EXPECT_LE(extra, 2);
+}
+
+constexpr int kSeeds = 8;
+
+TEST(Discovery, TempRate) {
+    RunEffect({"temp_rate", 1e-4, 0.05, [](const SimRun&) { return 1e-4 * 60.0; }}, kSeeds, true);
+}
+TEST(Discovery, Hysteresis) {
+    RunEffect({"hysteresis", 1e-3, 0.05, [](const SimRun&) { return 0.5e-3; }}, kSeeds, true);
+}
+TEST(Discovery, TempCubic) {
+    RunEffect({"temp_cubic", 2e-8, 0.0, [](const SimRun&) { return 2e-8; }}, kSeeds, true);
+}
+TEST(Discovery, Supply) {
+    RunEffect({"supply", 0.05, 0.0, [](const SimRun&) { return 0.05; }}, kSeeds, true);
+}
+TEST(Discovery, Warmup) {
+    RunEffect({"warmup", 2e-3, 0.10, [](const SimRun&) { return 2e-3; }}, kSeeds, true);
+}
+TEST(Discovery, SfAsymmetry) {
+    RunEffect({"sf_asymmetry", 0.02, 0.03,
+               [](const SimRun& s) { return 0.5 * 0.02 * s.truth.sensitivity_coeffs[0]; }},
+              kSeeds, false);
+}
+
+TEST(Discovery, TwoEffectsAtOnceAreBothFound) {
+    const std::vector<std::pair<const char*, const char*>> pairs = {{"temp_rate", "supply"},
+                                                                    {"hysteresis", "temp_cubic"}};
+    const std::map<std::string, double> size = {
+        {"temp_rate", 1e-4}, {"supply", 0.05}, {"hysteresis", 1e-3}, {"temp_cubic", 2e-8}};
+    for (const auto& [a, b] : pairs) {
+        int both = 0;
+        const int seeds = 3;
+        for (int seed = 1; seed <= seeds; ++seed) {
+            SimRunOptions o;
+            o.seed = 200 + seed;
+            sim::SetEffect(o.effects, a, size.at(a));
+            sim::SetEffect(o.effects, b, size.at(b));
+            const SensorResult r = Analyze(MakeSimRun(o).run);
+            SCOPED_TRACE(FormatReport(r));
+            EXPECT_TRUE(Added(r, a));
+            EXPECT_TRUE(Added(r, b));
+            if (Added(r, a) && Added(r, b)) ++both;
+        }
+        std::printf("[ analysis ] %s + %s: both found in %d/%d\n", a, b, both, seeds);
+    }
+}
+
+TEST(Discovery, CleanRunsSayNoMissingEffect) {
+    // 40 seeds; measured on 40 other seeds during development: 0 false positives. Asserted bound:
+    // at most 2/40 (5 %) - a rate above that would make "missing effect" mean little.
+    const int seeds = 40;
+    int false_positive = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+        SimRunOptions o;
+        o.seed = 300 + seed;
+        const SensorResult r = Analyze(MakeSimRun(o).run);
+        if (!r.added.empty()) {
+            ++false_positive;
+            std::printf("%s", FormatReport(r).c_str());
+        } else {
+            EXPECT_EQ(r.verdict, "no missing effect");
+        }
+    }
+    std::printf("[ analysis ] clean runs: %d/%d false positives (%.0f %%)\n", false_positive, seeds,
+                100.0 * false_positive / seeds);
+    EXPECT_LE(false_positive, 2);
+}
+
+bool Mentions(const std::vector<std::string>& lines, const std::string& what) {
+    for (const std::string& l : lines)
+        if (l.find(what) != std::string::npos) return true;
+    return false;
+}
+
+TEST(BadInput, NoRotationsNoSupplyFewPlateaus) {
+    SimRunOptions o;
+    o.seed = 401;
+    o.record_supply = false;
+    SimRun s = MakeSimRun(o);
+    s.run.sensitivities.clear();
+    s.run.plateaus.resize(2);
+    const SensorResult r = Analyze(s.run);
+    SCOPED_TRACE(FormatReport(r));
+    EXPECT_TRUE(Mentions(r.could_not_test, "sf_asymmetry"));
+    EXPECT_TRUE(Mentions(r.could_not_test, "no supply voltage recorded"));
+    EXPECT_TRUE(Mentions(r.could_not_test, "declared offset model"));
+    EXPECT_FALSE(std::isfinite(r.error_before.rate_rms_dps));  // no sensitivity: no deg/s
+    EXPECT_TRUE(r.added.empty());  // clean data: nothing invented to fill the gaps
+    for (const CandidateResult& c : r.candidates) {
+        if (c.effect == "supply" || c.effect == "sf_asymmetry") {
+            EXPECT_EQ(c.decision, Decision::kNotTested);
+        }
+    }
+}
+
+TEST(BadInput, NoRampsAndOneTemperature) {
+    // A run that stays at its start temperature: no ramps, no branches, one plateau.
+    SimRunOptions o;
+    o.seed = 402;
+    o.setpoints_c = {25.0, 25.0};
+    sim::SetEffect(o.effects, "temp_rate", 1e-4);  // present but unobservable without ramps
+    const SensorResult r = Analyze(MakeSimRun(o).run);
+    SCOPED_TRACE(FormatReport(r));
+    EXPECT_TRUE(Mentions(r.could_not_test, "temp_rate: no ramps"));
+    EXPECT_TRUE(Mentions(r.could_not_test, "hysteresis"));
+    EXPECT_TRUE(Mentions(r.could_not_test, "temp_cubic"));
+    EXPECT_FALSE(Added(r, "temp_rate"));
+}
+
+TEST(BadInput, GapsAndASensorThatNeverSettled) {
+    // GIVEN a clean run with 3 stretches of lost samples (5 % each) and no plateau published (the
+    // detector never saw the sensor settle)
+    SimRunOptions o;
+    o.seed = 404;
+    SimRun s = MakeSimRun(o, true);
+    std::vector<GyroSample> kept;
+    const size_t n = s.raw.size();
+    for (size_t i = 0; i < n; ++i) {
+        const double f = static_cast<double>(i) / n;
+        if ((f > 0.20 && f < 0.25) || (f > 0.50 && f < 0.55) || (f > 0.80 && f < 0.85)) continue;
+        kept.push_back(s.raw[i]);
+    }
+    const int64_t lost = static_cast<int64_t>(n - kept.size());
+    SensorRun run = BuildSensorRun("S01", kept, s.encoder, {}, s.run.sensitivities);
+    const SensorResult r = Analyze(run);
+    SCOPED_TRACE(FormatReport(r));
+    // THEN it says what is missing (sequence gaps, no declared model, no floor) and invents nothing
+    EXPECT_TRUE(Mentions(r.notes, std::to_string(lost) + " samples missing by sequence number"));
+    EXPECT_TRUE(Mentions(r.could_not_test, "declared offset model (0 usable plateaus)"));
+    EXPECT_TRUE(Mentions(r.could_not_test, "noise floor"));
+    EXPECT_FALSE(std::isfinite(r.error_before.rate_rms_dps));
+    EXPECT_TRUE(r.added.empty()) << r.verdict;
+}
+
+TEST(Report, JsonFollowsTheSchema) {
+    SimRunOptions o;
+    o.seed = 403;
+    sim::SetEffect(o.effects, "hysteresis", 1e-3);
+    const SimRun s = MakeSimRun(o);
+    const SensorResult r = Analyze(s.run);
+    const nlohmann::json j = ToJson(std::vector<SensorResult>{r});
+    ASSERT_EQ(j["sensors"].size(), 1u);
+    const auto& js = j["sensors"][0];
+    EXPECT_EQ(js["sensor_id"], "S01");
+    EXPECT_TRUE(js["verdict"].is_string());
+    for (const auto& c : js["candidates"]) {
+        EXPECT_TRUE(c.contains("effect") && c.contains("statistic") && c.contains("decision"));
+    }
+    ASSERT_GE(js["added"].size(), 1u);
+    for (const char* k : {"effect", "term", "coefficient", "stderr", "unit"})
+        EXPECT_TRUE(js["added"][0].contains(k));
+    for (const char* e : {"error_before", "error_after"})
+        for (const char* k : {"offset_rms_v", "rate_rms_dps", "drift_dph"})
+            EXPECT_TRUE(js[e][k].is_number()) << e << k;
+    EXPECT_TRUE(js["floor_rate_rms_dps"].is_number());
+    // The extended model is a coefficient set the compensator can take (it validates on build).
+    const auto set = ExtendedCoeffSet(r, "run-1", "7", 1);
+    ASSERT_TRUE(set.has_value());
+    EXPECT_EQ(set->source, "analysis:7");
+    EXPECT_NO_THROW(model::Evaluator{set->offset});
+    EXPECT_NE(std::find(set->offset.term_names.begin(), set->offset.term_names.end(), "heating"),
+              set->offset.term_names.end());
+}
+
+}  // namespace
+}  // namespace gyrocal::analysis

@@ -1,0 +1,164 @@
+#include "sim_run.hpp"
+
+#include <cmath>
+
+namespace gyrocal::analysis::testing {
+
+namespace {
+
+class Collector : public sim::RigSink {
+public:
+    Collector(sim::Rig& rig, sim::BuiltinProfile& profile, bool supply)
+        : rig_(rig), profile_(profile), supply_(supply) {}
+    void OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) override {
+        if (r.unit_index != 0) return;
+        gyro.push_back({r.utime, r.seq, r.temp_c, r.gyro_v, supply_ ? r.supply_v : kNan});
+    }
+    void OnEncoder(const sim::EncoderReading& r) override {
+        encoder.push_back({r.utime, r.angle_deg});
+    }
+    void OnChamber(const sim::ChamberReading& r) override { profile_.OnChamber(r, rig_); }
+    std::vector<GyroSample> gyro;
+    std::vector<EncoderSample> encoder;
+
+private:
+    sim::Rig& rig_;
+    sim::BuiltinProfile& profile_;
+    bool supply_;
+};
+
+struct Stats {
+    double mean = 0, sem = 0;
+    int n = 0;
+};
+
+// Mean of samples in [t0, t1) and its standard error from 1 s block means (the samples are
+// correlated by the module's low-pass filter and the slow noise; blocks make that honest enough).
+Stats WindowStats(const std::vector<GyroSample>& s, int64_t t0, int64_t t1, bool temp) {
+    Stats st;
+    std::vector<double> blocks;
+    double bsum = 0;
+    int bn = 0;
+    int64_t bstart = t0;
+    double sum = 0;
+    for (const GyroSample& g : s) {
+        if (g.utime < t0) continue;
+        if (g.utime >= t1) break;
+        const double v = temp ? g.temp_c : g.gyro_v;
+        sum += v;
+        ++st.n;
+        if (g.utime - bstart >= 1'000'000) {
+            if (bn > 0) blocks.push_back(bsum / bn);
+            bsum = 0;
+            bn = 0;
+            bstart = g.utime;
+        }
+        bsum += v;
+        ++bn;
+    }
+    if (bn > 0) blocks.push_back(bsum / bn);
+    if (st.n == 0) return st;
+    st.mean = sum / st.n;
+    double ss = 0, bm = 0;
+    for (double b : blocks) bm += b;
+    bm /= blocks.size();
+    for (double b : blocks) ss += (b - bm) * (b - bm);
+    st.sem = blocks.size() > 1 ? std::sqrt(ss / (blocks.size() - 1) / blocks.size()) : 0.0;
+    return st;
+}
+
+}  // namespace
+
+SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
+    SimRun out;
+    sim::RigConfig c = sim::RigConfig::Defaults();
+    c.seed = o.seed;
+    c.num_units = 1;
+    c.effects = o.effects;
+    c.thermal.ramp_c_per_min = o.ramp_c_per_min;
+    c.thermal.package_tau_s = o.package_tau_s;
+    c.thermal.air_tau_s = o.air_tau_s;
+    c.thermal.sensor_tau_s = o.sensor_tau_s;
+    out.config = c;
+    sim::Rig rig(c);
+    out.truth = rig.units()[0];
+    sim::ProfileConfig pc;
+    pc.setpoints_c = o.setpoints_c;
+    pc.dwell_s = o.dwell_s;
+    pc.rest_s = o.rest_s;
+    pc.move_deg = 90.0;
+    sim::BuiltinProfile profile(pc);
+    Collector col(rig, profile, o.record_supply);
+    const int64_t step = 60'000'000;
+    int64_t until = c.start_utime;
+    while (!profile.done() && until < c.start_utime + int64_t{40'000} * 1'000'000) {
+        until += step;
+        rig.RunUntil(until, col);
+    }
+    out.duration_s = (until - c.start_utime) * 1e-6;
+
+    // Plateau windows: the end of each dwell, which ends at the first (+) move of its setpoint.
+    const std::vector<MotionInterval> moves =
+        MotionFromEncoder(col.encoder, BuildOptions::Defaults());
+    std::vector<int64_t> dwell_ends;
+    for (size_t i = 0; i < moves.size(); i += 2)
+        dwell_ends.push_back(moves[i].start_utime - 1'000'000);
+    std::vector<PlateauInput> plateaus;
+    for (int64_t end : dwell_ends) {
+        const auto start = end - static_cast<int64_t>(o.plateau_window_s * 1e6);
+        const Stats t = WindowStats(col.gyro, start, end, true),
+                    v = WindowStats(col.gyro, start, end, false);
+        PlateauInput p;
+        p.plateau_id = start;
+        p.start_utime = start;
+        p.end_utime = end;
+        p.temp_mean_c = t.mean;
+        p.temp_sem_c = t.sem;
+        p.gyro_mean_v = v.mean;
+        p.gyro_sem_v = v.sem;
+        p.n_samples = v.n;
+        plateaus.push_back(p);
+    }
+    std::vector<SensitivityInput> sens;
+    const int64_t guard = 1'000'000, rest = 5'000'000;
+    for (const MotionInterval& m : moves) {
+        const Stats pre =
+            WindowStats(col.gyro, m.start_utime - guard - rest, m.start_utime - guard, false);
+        const Stats post =
+            WindowStats(col.gyro, m.end_utime + guard, m.end_utime + guard + rest, false);
+        const Stats temp = WindowStats(col.gyro, m.start_utime - guard, m.end_utime + guard, true);
+        if (pre.n == 0 || post.n == 0) continue;
+        const double offset = 0.5 * (pre.mean + post.mean);
+        double integral = 0;
+        int64_t prev = -1;
+        for (const GyroSample& g : col.gyro) {
+            if (g.utime < m.start_utime - guard) continue;
+            if (g.utime > m.end_utime + guard) break;
+            if (prev >= 0) integral += (g.gyro_v - offset) * (g.utime - prev) * 1e-6;
+            prev = g.utime;
+        }
+        const double dur_s = (m.end_utime - m.start_utime + 2 * guard) * 1e-6;
+        // Noise of the integral: 1 s block scatter (sem * sqrt(blocks) = block sd) times sqrt(dur);
+        // offset error times the duration.
+        const double block_sd = 0.5 * (pre.sem + post.sem) * std::sqrt(5.0);
+        const double sem_off = 0.5 * std::hypot(pre.sem, post.sem);
+        const double sd_int = std::hypot(block_sd * std::sqrt(dur_s), sem_off * dur_s);
+        SensitivityInput s;
+        s.rotation_id = m.start_utime;
+        s.utime = m.end_utime;
+        s.temp_c = temp.mean;
+        s.direction = m.angle_change_deg > 0 ? 1 : -1;
+        s.sensitivity_v_per_dps = integral / m.angle_change_deg;
+        s.stderr_v_per_dps = sd_int / std::fabs(m.angle_change_deg);
+        sens.push_back(s);
+    }
+    if (keep_raw) {
+        out.raw = col.gyro;
+        out.encoder = col.encoder;
+    }
+    out.run = BuildSensorRun(out.truth.sensor_id, std::move(col.gyro), col.encoder,
+                             std::move(plateaus), std::move(sens));
+    return out;
+}
+
+}  // namespace gyrocal::analysis::testing

@@ -1,0 +1,46 @@
+#pragma once
+// Test/benchmark support: one simulated unit run in-process on the rig library (gyrocal_sim),
+// turned into the analysis input exactly as a recorded run would be: raw gyro + encoder samples
+// through BuildSensorRun, plus the plateaus and sensitivity points that the plateau detector and
+// the rotation estimator would have published (computed here the same way: plateau = the last
+// plateau_window_s of each dwell; sensitivity = integral of (gyro_v - rest offset) over the move /
+// encoder angle, offset from 5 s rest windows before and after). The rig's truth is returned
+// beside it for the tests to check answers against; the analysis never sees it.
+#include <cstdint>
+#include <vector>
+
+#include "analysis/run_data.hpp"
+#include "sim/builtin_profile.hpp"
+#include "sim/rig.hpp"
+
+namespace gyrocal::analysis::testing {
+
+struct SimRunOptions {
+    uint64_t seed = 1;
+    sim::EffectsConfig effects;
+    // Start 25 degC; down, up, down, up, down: ramps in both directions through shared
+    // temperatures.
+    std::vector<double> setpoints_c = {-10.0, 50.0, 10.0, 70.0, 30.0};
+    double dwell_s = 420.0;           // [s] at setpoint before the rotations (7 package taus)
+    double rest_s = 20.0;             // [s] after each move
+    double plateau_window_s = 120.0;  // [s] end of the dwell averaged as the plateau
+    double ramp_c_per_min = 6.0;
+    double package_tau_s = 60.0;  // fast thermal constants keep the run short
+    double air_tau_s = 10.0;
+    double sensor_tau_s = 0.1;  // see the tests: a slow sensor is itself a temp_rate effect
+    bool record_supply = true;
+};
+
+struct SimRun {
+    SensorRun run;
+    sim::UnitTruth truth;
+    sim::RigConfig config;
+    double duration_s = 0.0;
+    std::vector<GyroSample> raw;  // every sample as recorded (for writing a database)
+    std::vector<EncoderSample> encoder;
+};
+
+// keep_raw: also return the raw samples and encoder readings (memory: ~40 bytes per sample).
+SimRun MakeSimRun(const SimRunOptions& options, bool keep_raw = false);
+
+}  // namespace gyrocal::analysis::testing

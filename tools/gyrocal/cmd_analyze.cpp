@@ -1,0 +1,179 @@
+#include "cmd_analyze.hpp"
+
+#include <algorithm>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <type_traits>
+#include <variant>
+
+#include "analysis/analyze.hpp"
+#include "analysis/report.hpp"
+#include "analysis/run_data.hpp"
+#include "gyrocal/version.hpp"
+#include "model_rows.hpp"
+#include "query.hpp"
+#include "replay_reader.hpp"
+
+namespace gyrocal::cli {
+
+namespace an = gyrocal::analysis;
+namespace st = gyrocal::store;
+
+namespace {
+
+struct Raw {
+    std::map<std::string, std::vector<an::GyroSample>> gyro;  // by sensor
+    std::vector<an::EncoderSample> encoder;
+};
+
+Raw ReadSamples(st::Db& db, const std::string& run_id) {
+    Raw raw;
+    st::ReplayReader reader(db, run_id);
+    while (auto row = reader.Next()) {
+        std::visit(
+            [&](const auto& r) {
+                using T = std::decay_t<decltype(r)>;
+                if constexpr (std::is_same_v<T, st::GyroRow>) {
+                    raw.gyro[r.sensor_id].push_back(
+                        {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
+                } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
+                    raw.encoder.push_back({r.utime, r.angle_deg});
+                }
+            },
+            *row);
+    }
+    return raw;
+}
+
+}  // namespace
+
+int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
+    try {
+        an::AnalysisOptions ao = an::AnalysisOptions::Defaults();
+        ao.bins.bin_s = o.bin_s;
+        ao.holdout_fraction = o.holdout_fraction;
+        if (const std::string p = ao.Problem(); !p.empty()) {
+            err << "gyrocal analyze: " << p << "\n";
+            return 2;
+        }
+        std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
+        const st::RunDetail detail = st::ShowRun(*db, o.run_id);
+        std::vector<std::string> sensors = detail.run.sensor_ids;
+        if (!o.sensor_id.empty()) {
+            if (std::find(sensors.begin(), sensors.end(), o.sensor_id) == sensors.end()) {
+                std::string known;
+                for (const auto& s : sensors) known += (known.empty() ? "" : ", ") + s;
+                err << "gyrocal analyze: --sensor '" << o.sensor_id << "' is not in run '"
+                    << o.run_id << "' (sensors: " << (known.empty() ? "none" : known) << ")\n";
+                return 1;
+            }
+            sensors = {o.sensor_id};
+        }
+        Raw raw = ReadSamples(*db, o.run_id);
+        std::vector<an::SensorResult> results;
+        std::vector<int64_t> end_utimes;
+        for (const std::string& id : sensors) {
+            std::vector<an::PlateauInput> plateaus;
+            for (const st::PlateauRow& p : detail.plateaus)
+                if (p.sensor_id == id)
+                    plateaus.push_back({p.plateau_id, p.start_utime, p.end_utime, p.temp_mean_c,
+                                        p.temp_sem_c, p.gyro_mean_v, p.gyro_sem_v, p.n_samples});
+            std::vector<an::SensitivityInput> sens;
+            for (const st::SensitivityRow& s : detail.sensitivity_points)
+                if (s.sensor_id == id)
+                    sens.push_back({s.rotation_id, s.utime, s.temp_c, s.direction,
+                                    s.sensitivity_v_per_dps, s.sensitivity_stderr_v_per_dps,
+                                    s.accepted});
+            const an::SensorRun run = an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder,
+                                                         std::move(plateaus), std::move(sens));
+            results.push_back(an::Analyze(run, ao));
+            end_utimes.push_back(run.still.empty() ? 0 : run.still.back().utime);
+        }
+        if (results.empty()) {
+            err << "gyrocal analyze: run '" << o.run_id << "' has no sensors with samples\n";
+            return 1;
+        }
+        if (o.store) {
+            std::unique_ptr<st::Db> rw = st::OpenForUpdate(o.db);
+            for (size_t i = 0; i < results.size(); ++i) {
+                const an::SensorResult& r = results[i];
+                st::AnalysisRow row;
+                row.run_id = o.run_id;
+                row.sensor_id = r.sensor_id;
+                row.software_version = gyrocal::kSoftwareVersion;
+                row.command_line = o.command_line;
+                row.verdict = r.verdict;
+                const nlohmann::json j = an::ToJson(r);
+                row.candidates_json = j["candidates"].dump();
+                row.added_json = j["added"].dump();
+                row.offset_rms_v_before = r.error_before.offset_rms_v;
+                row.offset_rms_v_after = r.error_after.offset_rms_v;
+                row.rate_rms_dps_before = r.error_before.rate_rms_dps;
+                row.rate_rms_dps_after = r.error_after.rate_rms_dps;
+                row.drift_dph_before = r.error_before.drift_dph;
+                row.drift_dph_after = r.error_after.drift_dph;
+                row.floor_rate_rms_dps = r.floor_rate_rms_dps;
+                row.result_json = j.dump();
+                // The extended model only when it differs from the declared one. Its id and time
+                // are the run's last still sample (message time; the store sets the source).
+                std::optional<model::CoeffSet> set;
+                if (!r.added.empty())
+                    set = an::ExtendedCoeffSet(r, o.run_id, "pending", end_utimes[i]);
+                const st::StoredAnalysis stored =
+                    st::StoreAnalysis(*rw, row, set ? &*set : nullptr);
+                err << "gyrocal analyze: " << r.sensor_id << ": stored as analysis "
+                    << stored.analysis_id
+                    << (stored.coeff_row_id
+                            ? ", extended model as coefficient set source " + stored.source
+                            : std::string())
+                    << "\n";
+            }
+        }
+        if (o.json) {
+            out << an::ToJson(results).dump(2) << "\n";
+        } else {
+            out << "run " << o.run_id << " (" << o.db << ")\n";
+            for (const an::SensorResult& r : results) out << an::FormatReport(r);
+        }
+        return out ? 0 : 1;
+    } catch (const std::exception& e) {
+        err << "gyrocal analyze: " << e.what() << "\n";
+        return 1;
+    }
+}
+
+void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
+    auto o = std::make_shared<AnalyzeOptions>();
+    CLI::App* sub = app.add_subcommand(
+        "analyze",
+        "find what the declared model lacks in a recorded run: candidate effects tested out of "
+        "sample, errors before/after on a held-out stretch, versus the noise floor");
+    sub->add_option("run", o->run_id, "run id (see `gyrocal runs`)")->required();
+    sub->add_option("--sensor", o->sensor_id,
+                    "analyse only this sensor (default: every sensor of the run)");
+    sub->add_option("--db", o->db, "SQLite database the recorder wrote")->capture_default_str();
+    sub->add_flag("--json", o->json, "print JSON (sensors[]) instead of the table");
+    sub->add_option("--bin-s", o->bin_s, "[s] bin length of the still data")
+        ->check(CLI::Range(0.5, 600.0))
+        ->capture_default_str();
+    sub->add_option("--holdout-fraction", o->holdout_fraction,
+                    "last fraction of the still data held out for the before/after figures")
+        ->check(CLI::Range(0.05, 0.8))
+        ->capture_default_str();
+    sub->add_flag("!--no-store", o->store,
+                  "do not keep the result (and extended model) in the database");
+    sub->footer(
+        "Exit codes: 0 analysed (whatever the verdict), 1 failure (database missing or unreadable, "
+        "run or sensor unknown), 2 bad options.");
+    sub->callback([o, &action] {
+        // What was asked, as the options were understood (recorded with the stored analysis).
+        o->command_line = "gyrocal analyze " + o->run_id + " --db " + o->db +
+                          (o->sensor_id.empty() ? "" : " --sensor " + o->sensor_id) + " --bin-s " +
+                          std::to_string(o->bin_s) + " --holdout-fraction " +
+                          std::to_string(o->holdout_fraction) + (o->json ? " --json" : "");
+        action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };
+    });
+}
+
+}  // namespace gyrocal::cli
