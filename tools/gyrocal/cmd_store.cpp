@@ -122,7 +122,8 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
     auto c = std::make_shared<Common>();
     auto run = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
-        "show", "a run: configuration, plateaus, sensitivity points, coefficient sets, losses");
+        "show",
+        "a run: configuration, plateaus, sensitivity points, coefficient sets, analyses, losses");
     sub->footer(kExitCodes);
     sub->add_option("run", *run, "run id ('' = the no-run bucket)")->required();
     AddDb(sub, *c);
@@ -182,7 +183,9 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
     auto out = std::make_shared<std::string>();
     auto kind = std::make_shared<std::string>("auto");
     CLI::App* sub = app.add_subcommand(
-        "export", "coefficients of a run (final set of each sensor) or of a sensor (its newest)");
+        "export",
+        "coefficients of a run (newest set of each sensor, whatever its source: an analysis'\n"
+        "extended model stored after the fitter's set wins) or of a sensor (its newest set)");
     sub->footer(kExitCodes);
     sub->add_option("id", *id, "run id or sensor id (a run id wins; see --kind)")->required();
     AddDb(sub, *c);
@@ -201,7 +204,7 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
                 std::vector<st::CoeffSetInfo> sets;
                 std::string origin;
                 if (is_run) {
-                    sets = st::RunFinalCoeffs(*db, *id);
+                    sets = st::RunNewestCoeffs(*db, *id);
                     origin = "run '" + *id + "' of " + c->db;
                 } else {
                     if (*kind == "auto" && !st::SensorExists(*db, *id)) {
