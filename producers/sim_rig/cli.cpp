@@ -28,6 +28,12 @@ from 32k messages/s up. With the default cap of 30000 messages/s (--speed 60 for
 lost at load ~11. UDP multicast has no flow control: with more subscribers or a busier host,
 lower --max-msgs-per-s; past the cap the simulation just runs slower (STATUS extra lag_s),
 never skipping a sample. The simulation alone generates ~11M samples/s (4 units).
+The WHOLE pipeline (rig, plateau, rotation, fitter, compensator publishing RATE_ for every
+sample, recorder, sequencer: 7 processes each receiving every packet of the group), measured
+with `gyrocal calibrate` on the same machine: 4 units at --speed 30 (15000 rig messages/s) lost
+0 samples at load ~6; at --speed 60 (30000/s) every process lost 1-2 % at load ~9. So the
+fastest lossless speed of the whole pipeline here is ~15000 rig messages/s: --speed 30 for 4
+units, 75 for 1; `gyrocal calibrate` picks that by default.
 
 Truth: per-unit curves (functions of the DIE temperature, about 25 degC), effects and seed go only
 to --truth-out, never on the bus.

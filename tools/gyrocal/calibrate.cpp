@@ -292,9 +292,10 @@ int Calibration::Run() {
     try {
         if (o_.source == "sim") {
             progress_ = std::make_unique<Progress>(setpoints, 2);
+            const double speed = o_.speed > 0 ? o_.speed : kAutoRigMessagesPerS / (100.0 * (o_.sensors + 1));
             std::vector<std::string> rig = {"--mode", "commanded", "--units", std::to_string(o_.sensors),
                                             "--preset", o_.preset, "--seed", std::to_string(o_.seed),
-                                            "--speed", std::to_string(o_.speed), "--truth-out", o_.truth_out};
+                                            "--speed", std::to_string(speed), "--truth-out", o_.truth_out};
             for (const auto& e : o_.effects) {
                 rig.push_back("--effect");
                 rig.push_back(e);

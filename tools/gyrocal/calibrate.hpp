@@ -15,6 +15,8 @@
 
 namespace gyrocal::cli {
 
+inline constexpr double kAutoRigMessagesPerS = 15000.0;
+
 struct CalibrateOptions {
     std::string source = "sim";   // sim | csv | lines | log
     std::string input;            // file for csv and log sources
@@ -23,7 +25,12 @@ struct CalibrateOptions {
     int sensors = 4;              // simulated units
     std::string preset = "610";   // module preset of the simulated units
     uint64_t seed = 1;
-    double speed = 100.0;         // simulated seconds per wall second
+    // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
+    // messages per simulated second, and the whole graph on the 2-core development machine lost
+    // nothing at 15000 rig messages/s (4 units at speed 30: 0 lost at load ~6) but 1-2 % at
+    // 30000/s (speed 60: ~4200 of 290000 samples per channel lost at load ~9), so auto keeps
+    // the rig at 15000 messages/s.
+    double speed = 0.0;
     std::string profile = "five";
     std::vector<double> setpoints_c;
     std::vector<std::string> effects;  // undeclared effects switched on in the rig (NAME=VALUE)
