@@ -1,6 +1,12 @@
 #include "cmd_analyze.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -8,8 +14,11 @@
 #include <variant>
 
 #include "analysis/analyze.hpp"
+#include "analysis/plot.hpp"
 #include "analysis/report.hpp"
 #include "analysis/run_data.hpp"
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
@@ -46,6 +55,66 @@ Raw ReadSamples(st::Db& db, const std::string& run_id) {
     return raw;
 }
 
+namespace fs = std::filesystem;
+
+// Full path of `program` found on $PATH, "" when absent.
+std::string FindOnPath(const std::string& program) {
+    const char* path = std::getenv("PATH");
+    std::string dirs = path ? path : "";
+    size_t start = 0;
+    while (start <= dirs.size()) {
+        const size_t end = std::min(dirs.find(':', start), dirs.size());
+        const std::string dir = dirs.substr(start, end - start);
+        const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
+        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+        start = end + 1;
+    }
+    return "";
+}
+
+// Runs `gnuplot script` with DIR as the working directory (scripts name files relative to it).
+// Returns "" on success, else what went wrong.
+std::string RunGnuplot(const std::string& gnuplot, const std::string& dir,
+                       const std::string& script) {
+    const pid_t pid = ::fork();
+    if (pid < 0) return "cannot start gnuplot (fork failed)";
+    if (pid == 0) {
+        if (::chdir(dir.c_str()) != 0) ::_exit(126);
+        ::execl(gnuplot.c_str(), "gnuplot", script.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    int status = 0;
+    if (::waitpid(pid, &status, 0) < 0) return "lost the gnuplot process";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+    return "gnuplot " + script + " in " + dir + " failed (" +
+           (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
+                              : std::string("killed by a signal")) +
+           ")";
+}
+
+// Writes the files and runs the scripts; "" on success, else the first problem.
+std::string WritePlots(const std::string& gnuplot, const std::string& dir,
+                       const std::vector<an::PlotSet>& plots, std::vector<std::string>* images) {
+    for (const an::PlotSet& set : plots) {
+        for (const an::PlotFile& f : set.files) {
+            const fs::path path = fs::path(dir) / f.name;
+            std::ofstream file(path, std::ios::binary | std::ios::trunc);
+            file << f.text;
+            if (!file.flush()) return "cannot write " + path.string();
+        }
+        for (const std::string& script : set.scripts)
+            if (std::string e = RunGnuplot(gnuplot, dir, script); !e.empty()) return e;
+        for (const std::string& image : set.images) {
+            const fs::path path = fs::path(dir) / image;
+            std::error_code ec;
+            if (!fs::exists(path, ec) || fs::file_size(path, ec) == 0)
+                return "gnuplot did not write " + path.string();
+            images->push_back(path.string());
+        }
+    }
+    return "";
+}
+
 }  // namespace
 
 int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
@@ -56,6 +125,46 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
         if (const std::string p = ao.Problem(); !p.empty()) {
             err << "gyrocal analyze: " << p << "\n";
             return 2;
+        }
+        std::string gnuplot;
+        if (!o.plot_dir.empty()) {
+            // Checked before the (long) analysis so a wrong DIR costs nothing.
+            fs::path dir = fs::absolute(o.plot_dir).lexically_normal();
+            if (!dir.has_filename()) dir = dir.parent_path();  // "pics/" -> "pics"
+            const fs::path parent = dir.parent_path();
+            std::error_code ec;
+            if (!fs::is_directory(parent, ec)) {
+                err << "gyrocal analyze: --plot " << o.plot_dir << ": parent directory '"
+                    << parent.string()
+                    << "' does not exist (DIR itself is created, its parent must exist)\n";
+                return 2;
+            }
+            if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+                err << "gyrocal analyze: --plot " << o.plot_dir
+                    << ": exists and is not a directory\n";
+                return 2;
+            }
+            gnuplot = FindOnPath("gnuplot");
+            if (gnuplot.empty()) {
+                err << "gyrocal analyze: --plot needs gnuplot on PATH (install the Debian package "
+                       "gnuplot-nox)\n";
+                return 1;
+            }
+        }
+        if (o.publish && !o.store) {
+            err << "gyrocal analyze: --publish needs the result stored (drop --no-store): the "
+                   "published set's source names the stored analysis\n";
+            return 2;
+        }
+        std::unique_ptr<Bus> bus;
+        if (o.publish) {
+            // Opened before the analysis: a bad --lcm-url fails at once, not after minutes.
+            try {
+                bus = std::make_unique<Bus>(BusOptions{o.lcm_url});
+            } catch (const std::exception& e) {
+                err << "gyrocal analyze: --lcm-url: " << e.what() << "\n";
+                return 1;
+            }
         }
         std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
         const st::RunDetail detail = st::ShowRun(*db, o.run_id);
@@ -73,6 +182,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
         Raw raw = ReadSamples(*db, o.run_id);
         std::vector<an::SensorResult> results;
         std::vector<int64_t> end_utimes;
+        std::vector<an::PlotSet> plots;
         for (const std::string& id : sensors) {
             std::vector<an::PlateauInput> plateaus;
             for (const st::PlateauRow& p : detail.plateaus)
@@ -88,6 +198,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
             const an::SensorRun run = an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder,
                                                          std::move(plateaus), std::move(sens));
             results.push_back(an::Analyze(run, ao));
+            if (!o.plot_dir.empty()) plots.push_back(an::MakePlots(run, results.back(), ao));
             end_utimes.push_back(run.still.empty() ? 0 : run.still.back().utime);
         }
         if (results.empty()) {
@@ -128,7 +239,39 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                             ? ", extended model as coefficient set source " + stored.source
                             : std::string())
                     << "\n";
+                if (!bus) continue;
+                if (!set || !stored.coeff_row_id) {
+                    err << "gyrocal analyze: " << r.sensor_id
+                        << ": nothing published (no effect added: the declared model stands)\n";
+                    continue;
+                }
+                set->source = stored.source;
+                // ToMsg fills the length fields, so the message is whole or not sent at all.
+                const gyrocal::coeff_set_t msg = model::ToMsg(*set);
+                if (!bus->Publish(channels::Coeffs(r.sensor_id), msg)) {
+                    err << "gyrocal analyze: " << r.sensor_id << ": publishing on "
+                        << channels::Coeffs(r.sensor_id) << " failed\n";
+                    return 1;
+                }
+                err << "gyrocal analyze: " << r.sensor_id << ": published coefficient set "
+                    << msg.coeff_set_id << " (" << msg.source << ") on "
+                    << channels::Coeffs(r.sensor_id) << "\n";
             }
+        }
+        if (!o.plot_dir.empty()) {
+            std::error_code ec;
+            fs::create_directory(o.plot_dir, ec);
+            if (ec) {
+                err << "gyrocal analyze: --plot " << o.plot_dir << ": " << ec.message() << "\n";
+                return 1;
+            }
+            std::vector<std::string> images;
+            if (const std::string e = WritePlots(gnuplot, o.plot_dir, plots, &images); !e.empty()) {
+                err << "gyrocal analyze: --plot: " << e << "\n";
+                return 1;
+            }
+            err << "gyrocal analyze: wrote " << images.size() << " pictures to " << o.plot_dir
+                << "\n";
         }
         if (o.json) {
             out << an::ToJson(results).dump(2) << "\n";
@@ -161,17 +304,28 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                     "last fraction of the still data held out for the before/after figures")
         ->check(CLI::Range(0.05, 0.8))
         ->capture_default_str();
+    sub->add_option("--plot", o->plot_dir,
+                    "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
+                    "created if its parent exists");
+    sub->add_flag("--publish", o->publish,
+                  "publish each stored extended model on COEFFS_<id> for the live compensator");
+    sub->add_option("--lcm-url", o->lcm_url,
+                    "LCM URL for --publish (default: $GYROCAL_LCM_URL or the udpm default)");
     sub->add_flag("!--no-store", o->store,
                   "do not keep the result (and extended model) in the database");
     sub->footer(
         "Exit codes: 0 analysed (whatever the verdict), 1 failure (database missing or unreadable, "
-        "run or sensor unknown), 2 bad options.");
+        "run or sensor unknown, gnuplot missing or failing), 2 bad options (incl. a --plot DIR "
+        "whose "
+        "parent does not exist, --publish with --no-store).");
     sub->callback([o, &action] {
         // What was asked, as the options were understood (recorded with the stored analysis).
         o->command_line = "gyrocal analyze " + o->run_id + " --db " + o->db +
                           (o->sensor_id.empty() ? "" : " --sensor " + o->sensor_id) + " --bin-s " +
                           std::to_string(o->bin_s) + " --holdout-fraction " +
-                          std::to_string(o->holdout_fraction) + (o->json ? " --json" : "");
+                          std::to_string(o->holdout_fraction) + (o->json ? " --json" : "") +
+                          (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
+                          (o->publish ? " --publish" : "");
         action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };
     });
 }

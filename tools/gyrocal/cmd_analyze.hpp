@@ -1,14 +1,23 @@
 #pragma once
-// `gyrocal analyze RUN [--sensor ID] [--json] [--db FILE] [--bin-s S] [--holdout-fraction F]`:
+// `gyrocal analyze RUN [--sensor ID] [--json] [--db FILE] [--bin-s S] [--holdout-fraction F]
+//  [--no-store] [--plot DIR] [--publish [--lcm-url URL]]`:
 // the closed-loop model discovery (processors/analysis) on a run recorded in the database.
 // Thin: reads the run's raw gyro and encoder samples, plateaus and sensitivity points through the
 // store's query library, builds the analysis input with analysis::BuildSensorRun, prints the
 // human report or the JSON (sensors[]), and (unless --no-store) keeps each sensor's result in the
 // database's analyses table with, when an effect was added, the extended model as a coefficient
 // set of source "analysis:<analysis_id>" (store::StoreAnalysis, one transaction per sensor).
+// --plot DIR: the data files, gnuplot scripts and their PNG + SVG pictures (analysis/plot.hpp) go
+// into DIR (created when its parent exists); gnuplot (Debian package gnuplot-nox) runs in DIR.
+// --publish [--lcm-url URL]: after storing, each stored extended model is published on COEFFS_<id>
+// (coeff_set_t, source "analysis:<analysis_id>" as stored) so a running gyrocal-compensator applies
+// it; the recorder keeps it once (the store's insert is idempotent on the set's key). Needs the
+// store (not with --no-store); a sensor without an added effect has nothing to publish (said).
 // Exit codes: 0 analysed (whatever the verdict), 1 failure (database missing or unreadable, run
-// or sensor unknown, no samples, storing failed), 2 bad options.
+// or sensor unknown, no samples, storing failed, gnuplot missing or failing), 2 bad options (incl.
+// a --plot DIR whose parent does not exist).
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <string>
@@ -23,6 +32,9 @@ struct AnalyzeOptions {
     double bin_s = 10.0;  // [s]
     double holdout_fraction = 0.25;
     bool store = true;         // keep the result in the database
+    std::string plot_dir;      // "" = no pictures; else gnuplot PNG+SVG written here
+    bool publish = false;      // publish each stored extended set on COEFFS_<id>
+    std::string lcm_url;       // "" = $GYROCAL_LCM_URL or the default
     std::string command_line;  // recorded with the stored analysis
 };
 

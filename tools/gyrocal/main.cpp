@@ -15,6 +15,9 @@
 #ifdef GYROCAL_HAVE_ANALYZE_CLI
 #include "cmd_analyze.hpp"
 #endif
+#ifdef GYROCAL_HAVE_COMPENSATE_CLI
+#include "cmd_compensate.hpp"
+#endif
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal: temperature calibration of analog MEMS gyros over LCM"};
@@ -29,6 +32,9 @@ int main(int argc, char** argv) {
 #endif
 #ifdef GYROCAL_HAVE_ANALYZE_CLI
     gyrocal::cli::AddAnalyzeCommand(app, action);
+#endif
+#ifdef GYROCAL_HAVE_COMPENSATE_CLI
+    gyrocal::cli::AddCompensateCommand(app, action);
 #endif
     try {
         app.parse(argc, argv);

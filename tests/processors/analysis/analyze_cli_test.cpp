@@ -4,13 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "analyses.hpp"
 #include "cmd_analyze.hpp"
 #include "query.hpp"
+#include "run_db.hpp"
 #include "sim_run.hpp"
 #include "writer.hpp"
 
@@ -19,86 +23,9 @@ namespace {
 
 namespace st = gyrocal::store;
 
-std::string WriteRunDb(const std::string& name) {
-    const std::string path = (std::filesystem::temp_directory_path() /
-                              ("gyrocal_analysis_cli_" + std::to_string(::getpid()) + "_" + name))
-                                 .string();
-    std::filesystem::remove(path);
-    testing::SimRunOptions o;
-    o.seed = 601;
-    sim::SetEffect(o.effects, "hysteresis", 1e-3);
-    const testing::SimRun s = testing::MakeSimRun(o, true);
-    st::StoreWriter w(path, {"test", "host", 1});
-    std::vector<st::Row> rows;
-    st::RunEventRow start;
-    start.run_id = "R1";
-    start.event = "start";
-    start.utime = s.raw.front().utime;
-    start.sensor_ids = {"S01"};
-    start.setpoint_c = NAN;
-    start.recv_utime = start.utime;
-    rows.push_back(start);
-    for (const GyroSample& g : s.raw) {
-        st::GyroRow r;
-        r.run_id = "R1";
-        r.sensor_id = "S01";
-        r.utime = g.utime;
-        r.seq = g.seq;
-        r.gyro_v = g.gyro_v;
-        r.temp_c = g.temp_c;
-        r.temp_v = NAN;
-        r.supply_v = g.supply_v;
-        r.recv_utime = g.utime;
-        rows.push_back(r);
-    }
-    int64_t seq = 0;
-    for (const EncoderSample& e : s.encoder) {
-        st::EncoderRow r;
-        r.run_id = "R1";
-        r.encoder_id = "E";
-        r.utime = e.utime;
-        r.seq = seq++;
-        r.angle_deg = e.angle_deg;
-        r.recv_utime = e.utime;
-        rows.push_back(r);
-    }
-    for (const PlateauInput& p : s.run.plateaus) {
-        st::PlateauRow r;
-        r.run_id = "R1";
-        r.sensor_id = "S01";
-        r.plateau_id = p.plateau_id;
-        r.utime = p.end_utime;
-        r.start_utime = p.start_utime;
-        r.end_utime = p.end_utime;
-        r.n_samples = static_cast<int32_t>(p.n_samples);
-        r.temp_mean_c = p.temp_mean_c;
-        r.temp_sem_c = p.temp_sem_c;
-        r.gyro_mean_v = p.gyro_mean_v;
-        r.gyro_sem_v = p.gyro_sem_v;
-        r.recv_utime = p.end_utime;
-        rows.push_back(r);
-    }
-    for (const SensitivityInput& si : s.run.sensitivities) {
-        st::SensitivityRow r;
-        r.run_id = "R1";
-        r.sensor_id = "S01";
-        r.rotation_id = si.rotation_id;
-        r.utime = si.utime;
-        r.direction = si.direction;
-        r.temp_c = si.temp_c;
-        r.sensitivity_v_per_dps = si.sensitivity_v_per_dps;
-        r.sensitivity_stderr_v_per_dps = si.stderr_v_per_dps;
-        r.accepted = true;
-        r.recv_utime = si.utime;
-        rows.push_back(r);
-    }
-    w.Write(rows, {});
-    return path;
-}
-
 class AnalyzeCli : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() { path_ = new std::string(WriteRunDb("hyst.db")); }
+    static void SetUpTestSuite() { path_ = new std::string(testing::WriteRunDb("hyst.db")); }
     static void TearDownTestSuite() {
         std::filesystem::remove(*path_);
         delete path_;
@@ -173,6 +100,77 @@ TEST_F(AnalyzeCli, UnknownRunSensorOrDatabaseFailsWithTheReason) {
     err.str("");
     EXPECT_EQ(cli::RunAnalyze(o, out, err), 2);
     EXPECT_NE(err.str().find("holdout_fraction"), std::string::npos) << err.str();
+}
+
+std::string Slurp(const std::filesystem::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+TEST_F(AnalyzeCli, PlotWritesPngAndSvgOfResidualsAndTheFoundEffect) {
+    const auto base = std::filesystem::temp_directory_path() /
+                      ("gyrocal_analysis_plot_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(base);
+    std::filesystem::create_directories(base);
+    cli::AnalyzeOptions o;
+    o.run_id = "R1";
+    o.db = *path_;
+    o.store = false;
+    o.plot_dir = (base / "pics").string();  // DIR itself is created
+    std::ostringstream out, err;
+    ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
+    // The run has hysteresis: residual vs time and temperature, and the effect vs its regressor.
+    for (const std::string name :
+         {"S01_residual_time", "S01_residual_temp", "S01_effect_hysteresis"}) {
+        const std::string png = Slurp(base / "pics" / (name + ".png"));
+        ASSERT_GT(png.size(), 8u) << name;
+        EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << name;
+        const std::string svg = Slurp(base / "pics" / (name + ".svg"));
+        ASSERT_FALSE(svg.empty()) << name;
+        EXPECT_TRUE(svg.rfind("<?xml", 0) == 0 || svg.rfind("<svg", 0) == 0) << svg.substr(0, 80);
+        EXPECT_NE(svg.find("</svg>"), std::string::npos) << name;
+        EXPECT_FALSE(Slurp(base / "pics" / (name + ".gp")).empty()) << name;
+    }
+    // The data behind the effect plot: two branches (regressor -1 and +1) whose partial residuals
+    // differ by about twice the coefficient (truth 0.5 mV, so about 1 mV apart).
+    std::istringstream dat(Slurp(base / "pics" / "S01_effect_hysteresis.dat"));
+    std::string line;
+    double sum_hi = 0, sum_lo = 0;
+    int n_hi = 0, n_lo = 0;
+    while (std::getline(dat, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream ls(line);
+        double x = 0, partial_mv = 0;
+        ls >> x >> partial_mv;
+        if (x > 0.5) sum_hi += partial_mv, ++n_hi;
+        if (x < -0.5) sum_lo += partial_mv, ++n_lo;
+    }
+    ASSERT_GT(n_hi, 10);
+    ASSERT_GT(n_lo, 10);
+    // Branch means of hundreds of bins: their noise is far below the 0.3 mV allowance.
+    EXPECT_NEAR(sum_hi / n_hi - sum_lo / n_lo, 1.0, 0.3);
+    std::filesystem::remove_all(base);
+}
+
+TEST_F(AnalyzeCli, PlotIntoAMissingParentOrWithoutGnuplotFailsClearly) {
+    cli::AnalyzeOptions o;
+    o.run_id = "R1";
+    o.db = *path_;
+    o.store = false;
+    o.plot_dir = "/nonexistent_gyrocal_parent/pics";
+    std::ostringstream out, err;
+    EXPECT_EQ(cli::RunAnalyze(o, out, err), 2);
+    EXPECT_NE(err.str().find("/nonexistent_gyrocal_parent"), std::string::npos) << err.str();
+    // No gnuplot on PATH: one line naming the package, exit 1.
+    const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
+    ::setenv("PATH", "/nonexistent_gyrocal_bin", 1);
+    o.plot_dir = (std::filesystem::temp_directory_path() / "gyrocal_plot_nognuplot").string();
+    err.str("");
+    const int rc = cli::RunAnalyze(o, out, err);
+    ::setenv("PATH", saved.c_str(), 1);
+    EXPECT_EQ(rc, 1);
+    EXPECT_NE(err.str().find("gnuplot-nox"), std::string::npos) << err.str();
+    EXPECT_FALSE(std::filesystem::exists(o.plot_dir));
 }
 
 }  // namespace

@@ -1,0 +1,105 @@
+#include "declared.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "candidates.hpp"
+#include "fit/levels.hpp"
+
+namespace gyrocal::analysis::detail {
+
+void ErrorsOn(const std::vector<Bin>& hold, const model::Evaluator& offset,
+              const std::optional<model::Evaluator>& sens, double period_s, int64_t first_utime,
+              ErrorFigures* e) {
+    double ss_v = 0.0, ss_r = 0.0, angle = 0.0, dur = 0.0;
+    int n = 0;
+    bool rate_ok = sens.has_value();
+    for (const Bin& b : hold) {
+        const model::ModelInputs in = b.Inputs(first_utime);
+        const double r = b.gyro_v - offset.Value(in, model::RangePolicy::kExtrapolate);
+        if (!std::isfinite(r)) continue;
+        ss_v += r * r;
+        ++n;
+        if (rate_ok) {
+            model::ModelInputs si = in;
+            si.direction = 0.0;  // at rest: no rotation direction (a direction term contributes 0)
+            const double s = sens->Value(si, model::RangePolicy::kClip);
+            if (!std::isfinite(s) || s == 0.0) {
+                rate_ok = false;
+                continue;
+            }
+            const double rate = r / s;
+            ss_r += rate * rate;
+            const double d = b.n * period_s;
+            angle += rate * d;
+            dur += d;
+        }
+    }
+    if (n == 0) return;
+    e->offset_rms_v = std::sqrt(ss_v / n);
+    if (rate_ok && dur > 0) {
+        e->rate_rms_dps = std::sqrt(ss_r / n);
+        e->drift_dph = std::fabs(angle) / dur * 3600.0;
+    }
+}
+
+std::vector<fit::FitPoint> PlateauPoints(const std::vector<PlateauInput>& plateaus,
+                                         int64_t before_utime) {
+    std::vector<fit::FitPoint> pts;
+    for (const PlateauInput& p : plateaus) {
+        if (p.end_utime > before_utime) continue;
+        if (!std::isfinite(p.temp_mean_c) || !std::isfinite(p.gyro_mean_v) || !(p.gyro_sem_v > 0.0))
+            continue;
+        fit::FitPoint f;
+        f.inputs.temp_c = p.temp_mean_c;
+        f.y = p.gyro_mean_v;
+        f.sigma_y = p.gyro_sem_v;
+        f.id = p.plateau_id;
+        pts.push_back(f);
+    }
+    return pts;
+}
+
+// The declared offset model on plateau means; nullopt with `why` when it cannot be fitted.
+std::optional<model::Model> DeclaredOffset(const std::vector<fit::FitPoint>& pts,
+                                           const AnalysisOptions& o, std::string* why) {
+    std::vector<double> temps;
+    for (const auto& p : pts) temps.push_back(p.inputs.temp_c);
+    const auto levels = fit::TemperatureLevels(temps, o.same_level_tolerance_c);
+    if (levels.size() < o.offset_terms.size()) {
+        *why = "fewer plateau temperatures (" + std::to_string(levels.size()) +
+               ") than declared offset terms (" + std::to_string(o.offset_terms.size()) + ")";
+        return std::nullopt;
+    }
+    const fit::FitResult f =
+        fit::FitWls(pts, o.offset_terms, RoundT0(levels.front().temp_c, levels.back().temp_c),
+                    model::kOffsetQuantity);
+    if (!f.ok()) {
+        *why = f.detail;
+        return std::nullopt;
+    }
+    return f.model;
+}
+
+// Model from a bin fit.
+model::Model BinModel(const std::vector<std::string>& terms, double t0,
+                      const std::vector<Bin>& bins, const LsFit& f) {
+    model::Model m;
+    m.quantity = model::kOffsetQuantity;
+    m.term_names = terms;
+    m.coeffs = f.coeffs;
+    m.covariance = f.covariance;
+    m.t0_c = t0;
+    m.temp_min_c = INFINITY;
+    m.temp_max_c = -INFINITY;
+    for (const Bin& b : bins) {
+        m.temp_min_c = std::min(m.temp_min_c, b.temp_c);
+        m.temp_max_c = std::max(m.temp_max_c, b.temp_c);
+    }
+    m.residual_rms = std::sqrt(f.rss / static_cast<double>(bins.size()));
+    m.n_points = static_cast<int32_t>(bins.size());
+    m.method = "analysis";
+    return m;
+}
+
+}  // namespace gyrocal::analysis::detail

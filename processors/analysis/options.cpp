@@ -1,0 +1,46 @@
+// AnalysisOptions validation and the decision names (analyze.hpp).
+#include <string>
+
+#include "analyze.hpp"
+
+namespace gyrocal::analysis {
+
+const char* ToString(Decision d) {
+    switch (d) {
+        case Decision::kAdded:
+            return "added";
+        case Decision::kRejected:
+            return "rejected";
+        case Decision::kAmbiguous:
+            return "ambiguous";
+        case Decision::kNotTested:
+            return "not_tested";
+    }
+    return "?";
+}
+
+std::string AnalysisOptions::Problem() const {
+    if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";
+    if (!(bins.min_fill > 0.0 && bins.min_fill <= 1.0)) return "min_fill must be in (0, 1]";
+    if (!(bins.branch_width_c > 0.0)) return "branch_width_c must be > 0";
+    if (offset_terms.empty()) return "offset_terms must not be empty";
+    if (sensitivity_terms.empty()) return "sensitivity_terms must not be empty";
+    for (const auto* list : {&offset_terms, &sensitivity_terms})
+        for (const std::string& t : *list) {
+            std::string error;
+            if (!model::ResolveTerm(t, nullptr, &error)) return "declared model: " + error;
+        }
+    if (!(min_z2 > 0.0)) return "min_z2 must be > 0";
+    if (!(min_cv_gain >= 0.0 && min_cv_gain < 1.0)) return "min_cv_gain must be in [0, 1)";
+    if (cv_blocks < 3 || cv_blocks > 100) return "cv_blocks must be 3..100";
+    if (!(cv_guard_s >= 0.0) || !(hac_lag_s >= 0.0)) return "cv_guard_s and hac_lag_s must be >= 0";
+    if (!(max_collinearity > 0.0 && max_collinearity < 1.0))
+        return "max_collinearity must be in (0, 1)";
+    if (!(holdout_fraction > 0.0 && holdout_fraction < 0.9))
+        return "holdout_fraction must be in (0, 0.9)";
+    if (!(warmup_tau_min_s > 0.0 && warmup_tau_max_s > warmup_tau_min_s))
+        return "warmup tau range must satisfy 0 < min < max";
+    return "";
+}
+
+}  // namespace gyrocal::analysis

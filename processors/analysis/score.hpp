@@ -1,0 +1,39 @@
+#pragma once
+// Internal to gyrocal_analysis: one candidate's statistics at one selection step (analyze.hpp,
+// step 4): (a) z^2 of its coefficient with the autocorrelation-robust covariance (optionally with
+// a larger model's residuals as the noise), (b) the relative drop of the blocked-CV error, (c) its
+// size after projecting out the model. The warm-up time constant is found by a 1-D search first.
+#include <Eigen/Dense>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "analyze.hpp"
+#include "bins.hpp"
+#include "candidates.hpp"
+
+namespace gyrocal::analysis::detail {
+
+struct StepScore {
+    double z2 = 0.0, cv_gain = 0.0, coef = 0.0, var = 0.0, rss = INFINITY;
+    double effect_rms_v = 0.0;  // |coef| * RMS of the regressor after projecting out the model
+    std::string term;
+    Eigen::VectorXd column;
+    bool ok = false;
+};
+
+struct Context {
+    const std::vector<Bin>* bins;
+    int64_t first_utime;
+    double t0;
+    Eigen::VectorXd y;
+    std::vector<int> segment;
+    int hac_lag, cv_guard, cv_blocks;
+};
+
+// noise / noise_params: see regress.hpp FitLs.
+StepScore Score(const Context& c, const Eigen::MatrixXd& x, double base_cv, const Candidate& cand,
+                const AnalysisOptions& o, const Eigen::VectorXd* noise = nullptr,
+                int noise_params = 0);
+
+}  // namespace gyrocal::analysis::detail

@@ -1,0 +1,92 @@
+#include "run_db.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "sim_run.hpp"
+#include "writer.hpp"
+
+namespace gyrocal::analysis::testing {
+
+namespace st = gyrocal::store;
+
+std::string WriteRunDb(const std::string& name) {
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("gyrocal_analysis_cli_" + std::to_string(::getpid()) + "_" + name))
+                                 .string();
+    std::filesystem::remove(path);
+    SimRunOptions o;
+    o.seed = 601;
+    sim::SetEffect(o.effects, "hysteresis", 1e-3);
+    const SimRun s = MakeSimRun(o, true);
+    st::StoreWriter w(path, {"test", "host", 1});
+    std::vector<st::Row> rows;
+    st::RunEventRow start;
+    start.run_id = "R1";
+    start.event = "start";
+    start.utime = s.raw.front().utime;
+    start.sensor_ids = {"S01"};
+    start.setpoint_c = NAN;
+    start.recv_utime = start.utime;
+    rows.push_back(start);
+    for (const GyroSample& g : s.raw) {
+        st::GyroRow r;
+        r.run_id = "R1";
+        r.sensor_id = "S01";
+        r.utime = g.utime;
+        r.seq = g.seq;
+        r.gyro_v = g.gyro_v;
+        r.temp_c = g.temp_c;
+        r.temp_v = NAN;
+        r.supply_v = g.supply_v;
+        r.recv_utime = g.utime;
+        rows.push_back(r);
+    }
+    int64_t seq = 0;
+    for (const EncoderSample& e : s.encoder) {
+        st::EncoderRow r;
+        r.run_id = "R1";
+        r.encoder_id = "E";
+        r.utime = e.utime;
+        r.seq = seq++;
+        r.angle_deg = e.angle_deg;
+        r.recv_utime = e.utime;
+        rows.push_back(r);
+    }
+    for (const PlateauInput& p : s.run.plateaus) {
+        st::PlateauRow r;
+        r.run_id = "R1";
+        r.sensor_id = "S01";
+        r.plateau_id = p.plateau_id;
+        r.utime = p.end_utime;
+        r.start_utime = p.start_utime;
+        r.end_utime = p.end_utime;
+        r.n_samples = static_cast<int32_t>(p.n_samples);
+        r.temp_mean_c = p.temp_mean_c;
+        r.temp_sem_c = p.temp_sem_c;
+        r.gyro_mean_v = p.gyro_mean_v;
+        r.gyro_sem_v = p.gyro_sem_v;
+        r.recv_utime = p.end_utime;
+        rows.push_back(r);
+    }
+    for (const SensitivityInput& si : s.run.sensitivities) {
+        st::SensitivityRow r;
+        r.run_id = "R1";
+        r.sensor_id = "S01";
+        r.rotation_id = si.rotation_id;
+        r.utime = si.utime;
+        r.direction = si.direction;
+        r.temp_c = si.temp_c;
+        r.sensitivity_v_per_dps = si.sensitivity_v_per_dps;
+        r.sensitivity_stderr_v_per_dps = si.stderr_v_per_dps;
+        r.accepted = true;
+        r.recv_utime = si.utime;
+        rows.push_back(r);
+    }
+    w.Write(rows, {});
+    return path;
+}
+
+}  // namespace gyrocal::analysis::testing

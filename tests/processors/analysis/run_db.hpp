@@ -1,0 +1,12 @@
+#pragma once
+// A simulated run with an undeclared hysteresis effect (0.5 mV branch offset, seed 601), written
+// with the store's writer as the recorder would (run "R1", sensor "S01"): the database the
+// `gyrocal analyze` tests work on.
+#include <string>
+
+namespace gyrocal::analysis::testing {
+
+// Returns the path of a fresh database in the temp directory (name made unique by the pid).
+std::string WriteRunDb(const std::string& name);
+
+}  // namespace gyrocal::analysis::testing

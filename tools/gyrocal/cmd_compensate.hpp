@@ -1,0 +1,44 @@
+#pragma once
+// `gyrocal compensate CSV (--coeffs FILE | --db FILE (--run RUN [--sensor ID] | --sensor ID |
+//  --coeff-set-row N)) [--out FILE] [--out-of-range clip|extrapolate] [--temp-rate-window-s S]
+//  [--preset 610|613] [--temp-v-at-25c V] [--temp-v-per-k V]`:
+// applies a coefficient set to measured data offline (issue 6, step 7) and writes the compensated
+// rate per sample as CSV (time_s, sensor_id, rate_dps, angle_deg, temp_c, range_flag).
+// Thin: the CSV is read with the producers' reader (csv::ReadCsv, stop on the first bad row), the
+// sets come from the JSON export (analysis::CoeffSetsFromJson) or the store's query library, and
+// analysis::CompensateRows does the work with the live compensator's library.
+// Coefficient sources: --coeffs FILE (the format `gyrocal export --format json` writes); --db with
+// --run RUN: the newest set of each sensor of the run (only --sensor's with --sensor); --db with
+// only --sensor ID: that sensor's newest set; --db with --coeff-set-row N: that stored set.
+// Exit codes: 0 written, 1 failure (bad CSV, bad or missing coefficients, a sensor without a set,
+// database unreadable, output not writable), 2 bad options.
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace gyrocal::cli {
+
+struct CompensateOptions {
+    std::string csv_path;                  // measured data
+    std::string coeffs_path;               // JSON export; "" = from --db
+    std::string db;                        // SQLite database
+    std::string run_id;                    // with db
+    std::string sensor_id;                 // with db: filter (with run) or newest set of sensor
+    std::optional<int64_t> coeff_set_row;  // with db
+    std::string out_path;                  // "" = `out`
+    std::string range_policy = "clip";     // as gyrocal-compensator --out-of-range
+    double temp_rate_window_s = 10.0;      // [s] as gyrocal-compensator --temp-rate-window-s
+    std::string preset = "610";            // temperature transfer when the CSV has no temp_c
+    std::optional<double> temp_v_at_25c;   // [V]
+    std::optional<double> temp_v_per_k;    // [V/K]
+};
+
+// The command body (exit code as above); messages to `err`, the CSV to `out` unless out_path.
+int RunCompensate(const CompensateOptions& options, std::ostream& out, std::ostream& err);
+
+void AddCompensateCommand(CLI::App& app, std::function<int()>& action);
+
+}  // namespace gyrocal::cli
