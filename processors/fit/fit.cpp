@@ -65,6 +65,9 @@ std::string FitOptions::Problem() const {
         return "--fixed-degree must be 1..3, or 0 to choose on evidence";
     if (!(max_condition_number > 1.0)) return "max condition number must be > 1";
     if (t0_c && !std::isfinite(*t0_c)) return "t0_c must be finite";
+    if (pooled_dof < 0 || !std::isfinite(pooled_chi2) || pooled_chi2 < 0.0 ||
+        (pooled_dof == 0 && pooled_chi2 != 0.0))
+        return "pooled overdispersion must be a finite chi2 >= 0 on dof >= 0 (chi2 0 when dof 0)";
     return "";
 }
 

@@ -11,24 +11,49 @@
 // whitened by 1/sigma_i and columns scaled to unit norm before a column-pivoting Householder QR
 // (never the normal equations, never an explicit inverse of them); the condition number is that
 // of the scaled matrix. Covariance = (A'WA)^-1 from the triangular factor, NOT scaled by chi2/dof:
-// the sigmas are measured standard errors, so the covariance they imply is the honest one when the
-// model is right, and chi2/dof is reported beside it; when chi2/dof exceeds its 3-sigma band
-// (1 + 3 sqrt(2/dof)) the result says the scatter exceeds the stated errors (model too small or
-// errors understated) instead of silently inflating the covariance.
+// FitWls itself reports chi2/dof beside it and, when chi2/dof exceeds its 3-sigma band
+// (1 + 3 sqrt(2/dof)), says the scatter exceeds the stated errors (model too small or errors
+// understated); FitPolynomial then applies the overdispersion (below) and says so.
 // Reference T0 for wls: the midpoint of the temperature range rounded to a multiple of 5 degC:
 // centring makes the 1, dT, dT^2 columns close to orthogonal (small condition number, small
 // coefficient correlations) and a round T0 reads as "offset at 25 degC" across runs.
 //
-// Order selection (polynomial degree 1..3): Akaike's criterion with KNOWN variances,
-// AIC = chi2 + 2 p (p = number of terms; with known sigmas this is Mallows' Cp up to a constant;
-// AICc's small-sample term corrects for an ESTIMATED variance, which we do not have, and would
-// forbid the quadratic with 4 points). Between nested models that differ by one term, when the
-// smaller is true, chi2 drops by a chi2(1) variable (mean 1, sd 1.4); so AIC values within 2 of
-// the best are a tie, and a tie goes to the seed's quadratic when it is among them, else to the
-// lowest degree. Consequence: AIC(quadratic) - AIC(linear) = 2 - (chi2 drop) <= 2, so a linear
-// model is chosen only when the data cannot carry a quadratic (the seed's model is the default);
-// the criterion really decides between the quadratic and the cubic, which a quadratic truth
-// passes with probability P(chi2_1 < 4) = 0.954.
+// Order selection (polynomial degree 1..3) with known variances would be Akaike's AIC = chi2 + 2p
+// (p = number of terms). But the stated errors are not always the whole noise: a plateau's
+// standard error comes from its ~60 s window (batch means) and misses noise slower than the
+// window (bias instability at 100-1000 s, rate random walk), so real and simulated plateaus
+// scatter ~2x more than their stated errors (chi2/dof 3.5-4.7 on clean data), and AIC then buys
+// extra terms to chase that noise (a cubic for 15 of 48 clean units). The usual remedy is
+// quasi-likelihood: the errors are understated by a COMMON factor, the overdispersion
+//     c = chi2/dof of the reference model = the LARGEST candidate the data can carry
+// (it is unbiased whenever any candidate is right), pooled with the same statistic of other fits
+// of the same kind when the caller supplies it (FitOptions::pooled_*: the fitter pools the run's
+// units, whose plateaus share the window, the chamber and the sensor type), on nu dof in total.
+// Selection uses QAIC = chi2 / c' + 2 p with c' = max(1, c): c < 1 is read as noise, not as
+// overstated errors (a window's standard error misses slow noise, it does not invent noise).
+// Between nested models that differ by one term, when the smaller is true, (chi2 drop)/c is
+// F(1, nu) (not chi2(1): c is estimated), so a tie band fixed at 2 would admit an extra term far
+// more often than AIC does with known variances (P(F(1,1) > 4) = 0.30 against
+// P(chi2_1 > 4) = 0.0455). The small-sample correction therefore widens the tie band to
+// F(1, nu)^-1(1 - 0.0455) - 2, which keeps AIC's known-variance error rate (or below it, when
+// c < 1 is floored) and tends to 2 as nu grows (nu = 1: 193, 2: 18.5, 4: 6.2, 8: 3.6, 30: 2.4).
+// The price is power with few dof: a real but small cubic needs a larger drop (one unit alone on
+// five points, nu = 1, almost never shows one; hence the fitter's pooling). AICc's own correction 2K(K+1)/(n-K-1)
+// is not used: it corrects for a variance estimated separately inside each model by maximum
+// likelihood, and with the five points of a 5-setpoint run it is infinite for the quadratic
+// (K = 4 counting c) and forbids the cubic outright, so a real cubic could never be found.
+// Without dof to estimate c (the largest candidate has none, and nothing is pooled) the
+// behaviour is that of known variances: c' = 1, band 2.
+// Ties: QAIC values within the band of the best are a tie, and a tie goes to the seed's quadratic
+// when it is among them, else to the lowest degree. Consequence: QAIC(quadratic) - QAIC(linear)
+// = 2 - (chi2 drop)/c' <= 2, so a linear model is chosen only when the data cannot carry a
+// quadratic (the seed's model is the default); the criterion really decides between the
+// quadratic and the cubic, which a quadratic truth passes with probability >= 0.954.
+// Covariance of the chosen model: the Birge ratio, scaled by max(1, c) (the same c; reported in
+// FitResult::overdispersion and in detail), so that understated errors do not become understated
+// coefficient uncertainties; with c estimated on nu dof the normalised coefficient errors are
+// Student-t with nu dof (std sqrt(nu/(nu-2)), near 1 only for large nu). A fixed degree uses its
+// own chi2/dof (+ pooled) as c for the Birge ratio. The 3-point solution has no dof: unscaled.
 // Capacity: degree <= levels-1 (a polynomial of degree d needs d+1 distinct temperatures) and
 // terms <= points-1 (at least one degree of freedom to check the fit).
 // Temperature uncertainty is not in the weights: a plateau's temp_sem (~1e-3 degC) times the
@@ -68,6 +93,11 @@ struct FitOptions {
     int fixed_degree = 0;               // 1..3: use this degree (wls); 0 = choose on evidence
     double max_condition_number = 1e8;  // of the scaled design matrix; above: refuse
     std::optional<double> t0_c;         // [degC] wls reference; default: midpoint rounded to 5
+    // Overdispersion evidence from OTHER fits of the same kind (e.g. the run's other units): the
+    // sum of their reference models' chi2 and of their dof (FitResult::reference_chi2/_dof),
+    // added to this fit's own before c is formed. 0 and 0: this fit's own evidence only.
+    double pooled_chi2 = 0.0;
+    int pooled_dof = 0;
     static FitOptions Defaults() { return {}; }
     // "" when valid, else which option is wrong and its valid range.
     std::string Problem() const;
@@ -88,7 +118,7 @@ const char* ToString(Refusal refusal);
 struct DegreeCandidate {
     int degree = 0;
     double chi2 = 0.0;
-    double aic = 0.0;  // chi2 + 2 p
+    double aic = 0.0;  // QAIC = chi2 / max(1, c) + 2 p (= AIC when c is not estimated)
 };
 
 struct FitResult {
@@ -103,6 +133,15 @@ struct FitResult {
     double chi2_per_dof = model::kUnknown;  // NaN when dof == 0
     bool scatter_exceeds_errors = false;    // chi2/dof above 1 + 3 sqrt(2/dof)
     std::vector<DegreeCandidate> candidates;
+    // The overdispersion (see header): c = (reference chi2 + pooled chi2) / (reference dof +
+    // pooled dof), NaN when there is no dof to estimate it; the covariance was scaled by
+    // covariance_scale = max(1, c) (1 when c is NaN). reference_*: this fit's own reference model
+    // (the largest candidate, or the fixed degree), for a caller that pools across fits.
+    double overdispersion = model::kUnknown;
+    int overdispersion_dof = 0;
+    double covariance_scale = 1.0;
+    double reference_chi2 = 0.0;
+    int reference_dof = 0;
     std::vector<int64_t> used_ids;      // ids of the points used, in input order
     std::vector<double> level_temps_c;  // distinct temperatures found
 };

@@ -22,5 +22,9 @@ std::vector<double> Temps(const std::vector<FitPoint>& pts);
 void SetRange(model::Model& m, const std::vector<FitPoint>& pts);
 // chi2/dof and, when it is out of its band, the warning a person must see.
 std::string FitNotes(const FitResult& r);
+// Upper quantile of the F(1, nu) distribution: the x with P(F > x) = upper_tail; nu >= 1,
+// 0 < upper_tail < 1. F(1, nu) = t_nu^2, and P(t_nu^2 > x) = I_{nu/(nu+x)}(nu/2, 1/2) (regularised
+// incomplete beta, continued fraction), solved for x by bisection on log x.
+double FOneUpperQuantile(double upper_tail, int nu);
 
 }  // namespace gyrocal::fit::detail

@@ -44,6 +44,48 @@ std::vector<FitPoint> CombineLevels(const std::vector<FitPoint>& pts, std::vecto
     return out;
 }
 
+struct Overdispersion {
+    double c = model::kUnknown;  // NaN without dof
+    int dof = 0;
+};
+
+// c from the reference model's chi2 and dof plus what the caller pooled (see fit.hpp).
+Overdispersion EstimateOverdispersion(double reference_chi2, int reference_dof,
+                                      const FitOptions& o) {
+    const int own_dof = std::max(0, reference_dof);
+    Overdispersion od;
+    od.dof = own_dof + o.pooled_dof;
+    if (od.dof > 0) od.c = ((own_dof > 0 ? reference_chi2 : 0.0) + o.pooled_chi2) / od.dof;
+    return od;
+}
+
+// The QAIC tie band for one extra term (see fit.hpp): AIC's known-variance error rate
+// P(chi2_1 > 4) kept with c estimated on nu dof.
+double TieBand(int nu) {
+    if (nu <= 0) return 2.0;
+    const double alpha = std::erfc(std::sqrt(2.0));  // P(chi2_1 > 4) = P(|N(0,1)| > 2) = 0.0455
+    return FOneUpperQuantile(alpha, nu) - 2.0;
+}
+
+// Fills the overdispersion fields and scales the covariance by the Birge ratio max(1, c).
+void ApplyOverdispersion(FitResult& out, double reference_chi2, int reference_dof,
+                         const FitOptions& o) {
+    const Overdispersion od = EstimateOverdispersion(reference_chi2, reference_dof, o);
+    out.reference_chi2 = reference_dof > 0 ? reference_chi2 : 0.0;
+    out.reference_dof = std::max(0, reference_dof);
+    out.overdispersion = od.c;
+    out.overdispersion_dof = od.dof;
+    out.covariance_scale = std::isfinite(od.c) ? std::max(1.0, od.c) : 1.0;
+    out.model.covariance *= out.covariance_scale;
+}
+
+std::string OverdispersionNotes(const FitResult& r) {
+    if (!std::isfinite(r.overdispersion))
+        return "; overdispersion not estimated (no dof): covariance from the stated errors";
+    return "; overdispersion c " + Fmt(r.overdispersion, 3) + " on " +
+           std::to_string(r.overdispersion_dof) + " dof, covariance x" + Fmt(r.covariance_scale, 3);
+}
+
 }  // namespace
 
 FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& quantity,
@@ -108,9 +150,11 @@ FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& qua
         FitResult out = FitWls(pts, model::PolynomialTerms(o.fixed_degree), t0, quantity,
                                o.max_condition_number);
         out.level_temps_c = level_temps;
-        if (out.ok())
-            out.detail =
-                "degree " + std::to_string(o.fixed_degree) + " fixed by option" + FitNotes(out);
+        if (out.ok()) {
+            ApplyOverdispersion(out, out.chi2, out.dof, o);
+            out.detail = "degree " + std::to_string(o.fixed_degree) + " fixed by option" +
+                         FitNotes(out) + OverdispersionNotes(out);
+        }
         return out;
     }
     if (capacity < 1)
@@ -131,25 +175,34 @@ FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& qua
         why.level_temps_c = level_temps;
         return why;
     }
+    // The reference model is the largest candidate that could be fitted (see fit.hpp).
+    const FitResult& reference = fits.back();
+    const Overdispersion od = EstimateOverdispersion(reference.chi2, reference.dof, o);
+    const double c_select = std::isfinite(od.c) ? std::max(1.0, od.c) : 1.0;
+    const double band = TieBand(od.dof);
+    for (DegreeCandidate& c : candidates) c.aic = c.chi2 / c_select + 2.0 * (c.degree + 1);
     double best_aic = std::numeric_limits<double>::infinity();
     for (const DegreeCandidate& c : candidates) best_aic = std::min(best_aic, c.aic);
-    // AIC values within 2 of the best are a tie (see header); ties go to the quadratic, else to
-    // the lowest degree.
+    // QAIC values within the band of the best are a tie (see header); ties go to the quadratic,
+    // else to the lowest degree.
     size_t chosen = candidates.size();
     for (size_t k = 0; k < candidates.size(); ++k)
-        if (candidates[k].aic - best_aic <= 2.0 && candidates[k].degree == 2) chosen = k;
+        if (candidates[k].aic - best_aic <= band && candidates[k].degree == 2) chosen = k;
     if (chosen == candidates.size())
         for (size_t k = 0; k < candidates.size() && chosen == candidates.size(); ++k)
-            if (candidates[k].aic - best_aic <= 2.0) chosen = k;
+            if (candidates[k].aic - best_aic <= band) chosen = k;
+    const double reference_chi2 = reference.chi2;
+    const int reference_dof = reference.dof;
     FitResult out = std::move(fits[chosen]);
     out.candidates = candidates;
     out.level_temps_c = level_temps;
+    ApplyOverdispersion(out, reference_chi2, reference_dof, o);
     std::ostringstream why;
-    why << "degree " << candidates[chosen].degree << " by AIC (";
+    why << "degree " << candidates[chosen].degree << (od.dof > 0 ? " by QAIC (" : " by AIC (");
     for (size_t k = 0; k < candidates.size(); ++k)
         why << (k ? ", " : "") << "d" << candidates[k].degree << "=" << Fmt(candidates[k].aic, 5);
-    why << "; capacity " << capacity << ")";
-    out.detail = why.str() + FitNotes(out);
+    why << "; tie band " << Fmt(band, 3) << "; capacity " << capacity << ")";
+    out.detail = why.str() + FitNotes(out) + OverdispersionNotes(out);
     return out;
 }
 

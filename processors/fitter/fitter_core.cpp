@@ -33,6 +33,9 @@ std::string Describe(const fit::FitResult& r) {
         s += " d" + std::to_string(static_cast<int>(r.model.term_names.size()) - 1);
     s += " (" + std::to_string(r.model.n_points) + " pts";
     if (r.dof > 0) s += ", chi2/dof " + Fmt(r.chi2_per_dof, 3);
+    if (std::isfinite(r.overdispersion))
+        s += ", overdispersion c " + Fmt(r.overdispersion, 3) + " on " +
+             std::to_string(r.overdispersion_dof) + " dof";
     s += ")";
     if (r.scatter_exceeds_errors) s += " SCATTER EXCEEDS STATED ERRORS";
     return s;
@@ -173,7 +176,10 @@ void FitterCore::Refit(const std::string& sensor_id, SensorState& s, bool force,
         opts.push_back(pt);
         newest_utime = std::max(newest_utime, p.utime);
     }
-    const fit::FitResult offset = fit::FitPolynomial(opts, model::kOffsetQuantity, options_.fit);
+    const fit::FitResult offset =
+        fit::FitPolynomial(opts, model::kOffsetQuantity, Pooled(sensor_id, true));
+    s.offset_ref_chi2 = offset.ok() ? offset.reference_chi2 : 0.0;
+    s.offset_ref_dof = offset.ok() ? offset.reference_dof : 0;
     if (!offset.ok()) {
         const std::string why =
             std::string("offset refused: ") + fit::ToString(offset.refusal) + ": " + offset.detail;
@@ -220,7 +226,10 @@ void FitterCore::Refit(const std::string& sensor_id, SensorState& s, bool force,
             spts.push_back(pt);
             newest_utime = std::max(newest_utime, r.utime);
         }
-        fit::FitResult sens = fit::FitPolynomial(spts, model::kSensitivityQuantity, options_.fit);
+        fit::FitResult sens =
+            fit::FitPolynomial(spts, model::kSensitivityQuantity, Pooled(sensor_id, false));
+        s.sens_ref_chi2 = sens.ok() ? sens.reference_chi2 : 0.0;
+        s.sens_ref_dof = sens.ok() ? sens.reference_dof : 0;
         if (sens.ok()) {
             sens_text = "sensitivity " + Describe(sens);
         } else {
@@ -253,12 +262,23 @@ void FitterCore::Refit(const std::string& sensor_id, SensorState& s, bool force,
     s.last_refusal.clear();
     s.summary.fitted = true;
     s.summary.offset_chi2_per_dof = offset.chi2_per_dof;
+    s.summary.offset_overdispersion = offset.overdispersion;
     s.summary.text = "offset " + Describe(offset) + ", " + sens_text;
     if (force || !s.last || !SameSet(*s.last, msg)) {
         s.last = msg;
         out.publish.push_back(msg);
         ++published_;
     }
+}
+
+fit::FitOptions FitterCore::Pooled(const std::string& sensor_id, bool offset) const {
+    fit::FitOptions o = options_.fit;
+    for (const auto& [id, other] : sensors_) {
+        if (id == sensor_id) continue;
+        o.pooled_chi2 += offset ? other.offset_ref_chi2 : other.sens_ref_chi2;
+        o.pooled_dof += offset ? other.offset_ref_dof : other.sens_ref_dof;
+    }
+    return o;
 }
 
 std::map<std::string, SensorSummary> FitterCore::Summaries() const {

@@ -13,6 +13,14 @@
 // covariance NaN = unknown); with rotations too few or too close in temperature for a
 // temperature model it is their weighted mean (method "mean"). The offset is never guessed: when
 // its fit is refused nothing is published and the reason goes to STATUS.
+// Overdispersion (fit.hpp): a unit's five plateaus leave its largest model ONE dof, too few to
+// estimate by how much the plateaus' standard errors understate their scatter. The units of a run
+// share the plateau window, the chamber and the sensor type, so each fit pools the evidence of
+// the run's OTHER units (sum of their reference chi2 and dof from their latest fit of the same
+// quantity; a unit's own reference depends only on its own points, so there is no circularity).
+// A unit's c can therefore change when another unit gets a point; it is settled by the refit of
+// every sensor on RUN_EVENT "stop". c is reported in STATUS (the summary text) and in the
+// coefficient set's fit notes (model_t has no field for it; residual_rms stays the weighted RMS).
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -53,6 +61,7 @@ struct SensorSummary {
     bool fitted = false;
     std::string text;  // e.g. "offset wls d2 chi2/dof 1.1, sensitivity 3point" or the refusal
     double offset_chi2_per_dof = model::kUnknown;
+    double offset_overdispersion = model::kUnknown;  // c applied to the offset fit (fit.hpp)
 };
 
 class FitterCore {
@@ -78,7 +87,12 @@ private:
         std::optional<gyrocal::coeff_set_t> last;
         std::string last_refusal;
         SensorSummary summary;
+        // This unit's own overdispersion evidence (reference chi2, dof) from its latest fits.
+        double offset_ref_chi2 = 0.0, sens_ref_chi2 = 0.0;
+        int offset_ref_dof = 0, sens_ref_dof = 0;
     };
+    // FitOptions with the other units' overdispersion evidence pooled in.
+    fit::FitOptions Pooled(const std::string& sensor_id, bool offset) const;
 
     // Refits one sensor; emits when changed (or always when `force`).
     void Refit(const std::string& sensor_id, SensorState& s, bool force, CoreOutput& out);

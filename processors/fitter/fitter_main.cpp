@@ -85,6 +85,9 @@ private:
             status_.SetExtra(id + ".rotations", static_cast<double>(s.n_rotations));
             status_.SetExtra(id + ".fitted", s.fitted ? 1.0 : 0.0);
             status_.SetExtra(id + ".offset_chi2_per_dof", s.offset_chi2_per_dof);
+            // c by which the plateaus' stated errors understate their scatter (fit.hpp); NaN
+            // when there was no dof to estimate it.
+            status_.SetExtra(id + ".offset_overdispersion", s.offset_overdispersion);
         }
         status_.set_state((any_fitted ? "fitted: " : "waiting: ") +
                           (state.empty() ? "no points" : state));
@@ -128,7 +131,8 @@ int main(int argc, char** argv) {
                    "highest polynomial degree order selection may choose (1..3)")
         ->capture_default_str();
     app.add_option("--fixed-degree", o.core.fit.fixed_degree,
-                   "use this polynomial degree (1..3) for wls; 0 = choose by AIC")
+                   "use this polynomial degree (1..3) for wls; 0 = choose on evidence (QAIC: AIC "
+                   "with the overdispersion of the run's points, see processors/fit/fit.hpp)")
         ->capture_default_str();
     app.add_option("--nominal-sensitivity-v-per-dps", o.core.nominal_sensitivity_v_per_dps,
                    "sensitivity published while a sensor has no accepted rotation [V/(deg/s)]")

@@ -1,11 +1,15 @@
 // gyrocal-compensator as a real OS process over UDP multicast (port 7751, TTL 0): samples before
-// any set are counted uncompensated; after a COEFFS_ the RATE_ values are the truth; a bad set is
+// any set are counted uncompensated; after a COEFFS_ the RATE_ values are the truth (outside the
+// valid range too under the default policy, extrapolate, flagged 2; clipped and flagged 1 under
+// --out-of-range clip); a bad set is
 // rejected, counted in STATUS, and the old set stays in force; NaN, backwards and mislabelled
 // samples are refused and counted; bad options exit 2.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <thread>
 
@@ -99,9 +103,13 @@ gyro_sample_t Sample(int64_t seq, double temp_c, double rate_dps) {
     return s;
 }
 
-TEST(CompensatorProcess, RatesFromCoeffsAndBadSetRejected) {
+// One run of the process; `policy_args` empty = the default range policy (extrapolate).
+void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_args) {
+    const bool clip = !policy_args.empty() && policy_args.back() == "clip";
     Listener l;
-    ChildProcess comp({GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl, "--out-of-range", "clip"});
+    std::vector<std::string> argv = {GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl};
+    argv.insert(argv.end(), policy_args.begin(), policy_args.end());
+    ChildProcess comp(argv);
     ASSERT_TRUE(l.WaitFor([&] { return l.status.has_value(); }))
         << "no STATUS from gyrocal-compensator";
 
@@ -143,12 +151,21 @@ TEST(CompensatorProcess, RatesFromCoeffsAndBadSetRejected) {
         EXPECT_EQ(r.coeff_set_id, 777);  // the bad set never took effect
         const double elapsed_s =
             1e-6 * static_cast<double>(r.utime - (kStartUtime + first_compensated * 10'000));
-        if (r.temp_c <= 60.0) {
+        const bool outside = r.temp_c < -10.0 || r.temp_c > 60.0;
+        if (!outside) {
             EXPECT_NEAR(r.rate_dps, 10.0, 1e-9) << r.seq;
-            EXPECT_NEAR(r.angle_deg, 10.0 * elapsed_s, 1e-9) << r.seq;
-            EXPECT_EQ(r.range_flag, r.temp_c < -10.0 ? 1 : 0) << r.temp_c;
+            EXPECT_EQ(r.range_flag, 0) << r.temp_c;
+        } else if (clip) {
+            EXPECT_EQ(r.range_flag, 1) << r.temp_c;  // clipped: evaluated at the nearest bound
+            EXPECT_GT(std::abs(r.rate_dps - 10.0), 1e-3);  // the bound's value: not 10
         } else {
-            EXPECT_EQ(r.range_flag, 1);  // clipped: evaluated at 60 degC, so the rate is not 10
+            // extrapolated: the test's samples continue the same polynomials, so the rate is
+            // still the truth, and the flag says the sample was outside the calibrated range
+            EXPECT_EQ(r.range_flag, 2) << r.temp_c;
+            EXPECT_NEAR(r.rate_dps, 10.0, 1e-9) << r.seq;
+        }
+        if (!(clip && outside)) {  // a clipped rate is not 10, so neither is its angle
+            EXPECT_NEAR(r.angle_deg, 10.0 * elapsed_s, 1e-9) << r.seq;
         }
     }
     EXPECT_EQ(l.status->rejected, 4);  // the bad set and the three bad samples, none published
@@ -158,6 +175,32 @@ TEST(CompensatorProcess, RatesFromCoeffsAndBadSetRejected) {
     const auto st = comp.Wait(5s);
     ASSERT_TRUE(st.has_value());
     EXPECT_EQ(st->code, 0);
+}
+
+// Both policies on the same port, one after the other (one ctest entry: never in parallel).
+TEST(CompensatorProcess, RatesFromCoeffsAndBadSetRejectedUnderBothRangePolicies) {
+    {
+        SCOPED_TRACE("default policy (extrapolate)");
+        RatesFromCoeffsAndBadSetRejected({});
+    }
+    {
+        SCOPED_TRACE("--out-of-range clip");
+        RatesFromCoeffsAndBadSetRejected({"--out-of-range", "clip"});
+    }
+}
+
+TEST(CompensatorProcess, HelpStatesTheDefaultRangePolicyAndWhy) {
+    const std::string out_path = ::testing::TempDir() + "compensator_help.txt";
+    ChildProcess p({GYROCAL_COMPENSATOR_EXE, "--help"}, out_path, "/dev/null");
+    const auto st = p.Wait(5s);
+    ASSERT_TRUE(st.has_value());
+    EXPECT_EQ(st->code, 0);
+    std::ifstream f(out_path);
+    const std::string help((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_NE(help.find("extrapolate (continue the fitted polynomial; default)"), std::string::npos)
+        << help;
+    EXPECT_NE(help.find("range_flag"), std::string::npos) << help;
+    EXPECT_NE(help.find("Exit codes"), std::string::npos) << help;
 }
 
 TEST(CompensatorProcess, BadOptionsExitTwo) {

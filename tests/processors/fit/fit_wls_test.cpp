@@ -119,7 +119,7 @@ TEST(SeedThreePoint, ReportedCovarianceMatchesTheScatterOver500Seeds) {
     }
 }
 
-TEST(FitWls, UnderstatedErrorsAreReportedNotHidden) {
+TEST(FitWls, UnderstatedErrorsAreReportedAndTheCovarianceScaledByTheBirgeRatio) {
     // GIVEN sems 5x smaller than the real noise, chi2/dof ~ 25 >> 1 + 3 sqrt(2/4) = 3.1.
     std::mt19937_64 rng(3);
     std::vector<FitPoint> pts = Points(kQuadTruth, kTemps, {5e-5}, rng);
@@ -128,11 +128,16 @@ TEST(FitWls, UnderstatedErrorsAreReportedNotHidden) {
     ASSERT_TRUE(r.ok());
     EXPECT_TRUE(r.scatter_exceeds_errors) << r.chi2_per_dof;
     EXPECT_NE(r.detail.find("scatter exceeds"), std::string::npos) << r.detail;
-    // and the covariance is NOT inflated by chi2/dof: it is what the stated errors imply
-    const FitResult honest =
-        FitPolynomial(Points(kQuadTruth, kTemps, {1e-5}, rng), "offset_v", Quadratic());
-    EXPECT_NEAR(r.model.covariance(0, 0), honest.model.covariance(0, 0),
-                1e-9 * honest.model.covariance(0, 0));
+    // THEN with the degree fixed, c is the fit's own chi2/dof, reported, and the covariance is
+    // what the stated errors imply times max(1, c) (the Birge ratio, fit.hpp)
+    EXPECT_EQ(r.overdispersion_dof, 4);
+    EXPECT_DOUBLE_EQ(r.overdispersion, r.chi2_per_dof);
+    EXPECT_DOUBLE_EQ(r.covariance_scale, r.chi2_per_dof);
+    EXPECT_NE(r.detail.find("overdispersion c"), std::string::npos) << r.detail;
+    const FitResult stated = FitWls(pts, model::PolynomialTerms(2), r.model.t0_c, "offset_v");
+    ASSERT_TRUE(stated.ok());
+    EXPECT_NEAR(r.model.covariance(0, 0), r.chi2_per_dof * stated.model.covariance(0, 0),
+                1e-9 * r.model.covariance(0, 0));
 }
 
 TEST(FitWls, GeneralTermListsForTheAnalysis) {

@@ -187,5 +187,53 @@ TEST(FitterCore, OptionsAreValidated) {
     EXPECT_NE(o.Problem().find("--max-degree"), std::string::npos);
 }
 
+// A unit's five plateaus leave its cubic reference one dof; the fitter pools the other units'
+// reference chi2 and dof (fitter_core.hpp), so each unit's c is the run's.
+TEST(FitterCore, OverdispersionIsPooledAcrossTheRunsUnits) {
+    // GIVEN two units whose plateaus scatter by a fixed pattern of +-3 stated errors
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A", {"S01", "S02"}));
+    const std::vector<double> temps = {-40, -10, 25, 55, 85};
+    const std::vector<std::vector<double>> pattern = {{3, -3, 3, -3, 3}, {-3, 3, 3, -3, 0}};
+    std::vector<std::vector<fit::FitPoint>> own(2);
+    for (size_t u = 0; u < 2; ++u) {
+        const std::string sensor = u == 0 ? "S01" : "S02";
+        for (size_t i = 0; i < temps.size(); ++i) {
+            plateau_t p = Plateau(temps[i], static_cast<int64_t>(1000 * i + u), "A", sensor);
+            p.gyro_mean_v += pattern[u][i] * p.gyro_sem_v;
+            core.OnPlateau(p, sensor);
+            fit::FitPoint pt;
+            pt.inputs.temp_c = p.temp_mean_c;
+            pt.y = p.gyro_mean_v;
+            pt.sigma_y = p.gyro_sem_v;
+            pt.id = p.plateau_id;
+            own[u].push_back(pt);
+        }
+    }
+    // WHEN the run stops (every unit refitted with the others' latest evidence)
+    const CoreOutput out = core.OnRunEvent(Event("stop", "A", {"S01", "S02"}));
+    ASSERT_EQ(out.publish.size(), 2u);
+    // THEN each unit's c is the pooled (chi2_1 + chi2_2) / (1 + 1) of the units' own references
+    const fit::FitResult a = fit::FitPolynomial(own[0], "offset_v");
+    const fit::FitResult b = fit::FitPolynomial(own[1], "offset_v");
+    ASSERT_EQ(a.reference_dof, 1);
+    ASSERT_EQ(b.reference_dof, 1);
+    const double pooled = (a.reference_chi2 + b.reference_chi2) / 2.0;
+    for (const auto& [id, summary] : core.Summaries()) {
+        EXPECT_NEAR(summary.offset_overdispersion, pooled, 1e-9 * pooled) << id;
+        EXPECT_NE(summary.text.find("on 2 dof"), std::string::npos) << summary.text;
+    }
+    // AND the published covariance is the fit's with that c (Birge ratio, c > 1 here)
+    ASSERT_GT(pooled, 1.0);
+    fit::FitOptions o;
+    o.pooled_chi2 = b.reference_chi2;
+    o.pooled_dof = 1;
+    const fit::FitResult a_pooled = fit::FitPolynomial(own[0], "offset_v", o);
+    const model::CoeffSet s01 =
+        model::FromMsg(out.publish[0].sensor_id == "S01" ? out.publish[0] : out.publish[1]);
+    EXPECT_TRUE(s01.offset.covariance.isApprox(a_pooled.model.covariance, 1e-12));
+    EXPECT_DOUBLE_EQ(a_pooled.covariance_scale, pooled);
+}
+
 }  // namespace
 }  // namespace gyrocal::fitter
