@@ -7,7 +7,7 @@ namespace gyrocal::cli {
 namespace {
 
 run_event_t Event(const std::string& what, int index) {
-    run_event_t e;
+    run_event_t e{};
     e.run_id = "r1";
     e.event = what;
     e.setpoint_index = index;
@@ -34,7 +34,7 @@ TEST(Progress, FractionFollowsSetpointsAndMoves) {
 TEST(Progress, LineShowsSensorsStatesAndLosses) {
     Progress p(5, 2);
     p.OnRunEvent(Event("setpoint", 0));
-    plateau_state_t s;
+    plateau_state_t s{};
     s.sensor_id = "S01";
     s.state = "averaging";
     s.temp_c = -9.9;
@@ -44,7 +44,7 @@ TEST(Progress, LineShowsSensorsStatesAndLosses) {
     s.state = "settling";
     s.temp_slope_c_per_min = 0.21;
     p.OnStability(s);
-    status_t st;
+    status_t st{};  // value-initialised: lcm-gen types leave scalars uninitialised
     st.process = "gyrocal-recorder";
     st.host = "h";
     st.pid = 1;
