@@ -196,11 +196,13 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
                 seg.push_back(bins[static_cast<size_t>(i)].segment);
                 yt[i] = bins[static_cast<size_t>(i)].gyro_v;
             }
-            const LsFit ft = FitLs(x.topRows(train_end), yt, seg, 0);
+            const LsFit ft = FitLs(x.topRows(train_end), yt, seg, c.hac_lag);
             if (ft.ok) {
                 res.holdout_after_offset = BinModel(terms, t0, train, ft);
                 ErrorsOn(held, model::Evaluator(*res.holdout_after_offset), sens, period_s,
                          run.first_sample_utime, &res.error_after);
+                ExpectedAfter(ft, x.bottomRows(n - hold), held, sens, run.first_sample_utime,
+                              &res);
             } else {
                 res.could_not_test.push_back(
                     "error after on the held-out stretch: the data before it cannot "

@@ -115,6 +115,17 @@ struct SensorResult {
     double floor_offset_rms_v = kNan;
     double floor_rate_rms_dps = kNan;
     double floor_drift_dph = kNan;     // white-noise lower bound over the held-out stretch
+    // What error_after should be if the extended model is right: the training fit's residual
+    // variance (white and slow noise as that fit saw them) plus its prediction variance on the
+    // held-out bins (mean x' Cov x, robust covariance). The floor is the white scatter a perfect
+    // model would leave; this adds what fitting on part of the run costs, chiefly when the
+    // held-out stretch extrapolates in temperature. error_after far above it: the model is still
+    // wrong, or slow noise (bias instability over ~1000 s, which neither the floor nor a 300 s
+    // robust covariance fully sees) is large on this run.
+    double expected_after_offset_rms_v = kNan;
+    double expected_after_rate_rms_dps = kNan;
+    double prediction_rms_v = kNan;  // the prediction part alone
+    double prediction_rms_dps = kNan;
     double residual_all_rms_v = kNan;  // declared model on all still bins (step 2)
     double residual_all_extended_rms_v = kNan;
     double sens_rel_rms_before = kNan, sens_rel_rms_after = kNan;  // [1] sensitivity residuals

@@ -43,6 +43,33 @@ void ErrorsOn(const std::vector<Bin>& hold, const model::Evaluator& offset,
     }
 }
 
+void ExpectedAfter(const LsFit& fit, const Eigen::MatrixXd& x_held, const std::vector<Bin>& held,
+                   const std::optional<model::Evaluator>& sens, int64_t first_utime,
+                   SensorResult* r) {
+    const Eigen::Index n = x_held.rows(), p = fit.coeffs.size();
+    const Eigen::Index n_train = fit.residuals.size();
+    if (n == 0 || n_train <= p) return;
+    // Mean prediction variance x' C x over the held-out bins: how far the coefficients fitted
+    // before the stretch may put the model off on it, by their own (robust) covariance.
+    const double pred_var =
+        (x_held * fit.covariance).cwiseProduct(x_held).rowwise().sum().mean();
+    const double resid_var = fit.rss / static_cast<double>(n_train - p);
+    if (!(pred_var >= 0.0) || !std::isfinite(resid_var)) return;
+    r->prediction_rms_v = std::sqrt(pred_var);
+    r->expected_after_offset_rms_v = std::sqrt(resid_var + pred_var);
+    if (!sens) return;
+    double sum_inv = 0.0;
+    for (const Bin& b : held) {
+        model::ModelInputs in = b.Inputs(first_utime);
+        in.direction = 0.0;
+        const double s = sens->Value(in, model::RangePolicy::kClip);
+        if (!std::isfinite(s) || s == 0.0) return;
+        sum_inv += 1.0 / std::fabs(s);
+    }
+    r->expected_after_rate_rms_dps = r->expected_after_offset_rms_v * sum_inv / n;
+    r->prediction_rms_dps = r->prediction_rms_v * sum_inv / n;
+}
+
 std::vector<fit::FitPoint> PlateauPoints(const std::vector<PlateauInput>& plateaus,
                                          int64_t before_utime) {
     std::vector<fit::FitPoint> pts;

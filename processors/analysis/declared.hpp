@@ -6,6 +6,7 @@
 //   BinModel        a model::Model from a least-squares fit on bins (method "analysis")
 //   ErrorsOn        offset RMS [V], rate RMS [deg/s] and integrated-angle drift [deg/h] of a model
 //                   on held-out bins (analyze.hpp, step 5)
+//   ExpectedAfter   what the after figure should be if the extended model is right (analyze.hpp)
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,11 @@ namespace gyrocal::analysis::detail {
 void ErrorsOn(const std::vector<Bin>& hold, const model::Evaluator& offset,
               const std::optional<model::Evaluator>& sens, double period_s, int64_t first_utime,
               ErrorFigures* e);
+
+// fit: the extended model on the training bins; x_held: its columns on the held-out bins.
+void ExpectedAfter(const LsFit& fit, const Eigen::MatrixXd& x_held, const std::vector<Bin>& held,
+                   const std::optional<model::Evaluator>& sens, int64_t first_utime,
+                   SensorResult* r);
 
 std::vector<fit::FitPoint> PlateauPoints(const std::vector<PlateauInput>& plateaus,
                                          int64_t before_utime);

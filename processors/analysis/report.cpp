@@ -58,6 +58,10 @@ nlohmann::json ToJson(const SensorResult& r) {
     j["floor_rate_rms_dps"] = Num(r.floor_rate_rms_dps);
     j["floor_offset_rms_v"] = Num(r.floor_offset_rms_v);
     j["floor_drift_dph"] = Num(r.floor_drift_dph);
+    j["expected_after"] = {{"offset_rms_v", Num(r.expected_after_offset_rms_v)},
+                           {"rate_rms_dps", Num(r.expected_after_rate_rms_dps)},
+                           {"prediction_rms_v", Num(r.prediction_rms_v)},
+                           {"prediction_rms_dps", Num(r.prediction_rms_dps)}};
     j["residual_all_rms_v"] = Num(r.residual_all_rms_v);
     j["residual_all_extended_rms_v"] = Num(r.residual_all_extended_rms_v);
     j["sensitivity"] = {{"rel_rms_before", Num(r.sens_rel_rms_before)},
@@ -111,6 +115,12 @@ std::string FormatReport(const SensorResult& r) {
                   G(r.error_after.offset_rms_v).c_str(), G(r.error_after.rate_rms_dps).c_str(),
                   G(r.error_after.drift_dph).c_str());
     out += line;
+    if (std::isfinite(r.expected_after_offset_rms_v)) {
+        std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "after expected (fit)",
+                      G(r.expected_after_offset_rms_v).c_str(),
+                      G(r.expected_after_rate_rms_dps).c_str(), "");
+        out += line;
+    }
     std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "floor (plateau scatter)",
                   G(r.floor_offset_rms_v).c_str(), G(r.floor_rate_rms_dps).c_str(),
                   G(r.floor_drift_dph).c_str());

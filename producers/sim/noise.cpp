@@ -64,4 +64,14 @@ double NoiseModel::Next(Rng& rng) {
     return white + bias + rrw_state_dps_;
 }
 
+double SlowNoiseBinVariance(const NoiseConfig& c, double bin_s, double span_s) {
+    const double q = BiasInstabilityComponentSigma(c.bias_instability_dps);
+    double var = 0.0;
+    for (double t : kTaus) {
+        const double x = bin_s / t;
+        var += q * q * 2.0 * (x - 1.0 + std::exp(-x)) / (x * x);
+    }
+    return var + c.rate_random_walk_dps_rts * c.rate_random_walk_dps_rts * span_s / 2.0;
+}
+
 }  // namespace gyrocal::sim

@@ -40,5 +40,12 @@ double BiasInstabilityComponentSigma(double bias_instability_dps);
 // The Allan deviation [deg/s] that the configured model has in theory at averaging time tau
 // (sampling, low-pass filter and quantization ignored: valid for tau >> 1/fs).
 double TheoreticalAdev(const NoiseConfig& config, double tau_s);
+// Variance [(deg/s)^2] of bin_s-long means of the SLOW noise (bias instability and rate random
+// walk; not the white part), about zero, averaged over a record of span_s: what a perfect model
+// still leaves in bin means beyond the white scatter, and what scatter inside short plateau
+// windows does not show. A Gauss-Markov process of sigma q and time T averaged over b has
+// variance q^2 * 2 (T/b)^2 (b/T - 1 + exp(-b/T)); the random walk's K^2 t averages to
+// K^2 span / 2.
+double SlowNoiseBinVariance(const NoiseConfig& config, double bin_s, double span_s);
 
 }  // namespace gyrocal::sim

@@ -27,7 +27,7 @@ class AnalyzeCli : public ::testing::Test {
 protected:
     static void SetUpTestSuite() { path_ = new std::string(testing::WriteRunDb("hyst.db")); }
     static void TearDownTestSuite() {
-        std::filesystem::remove(*path_);
+        testing::RemoveRunDb(*path_);
         delete path_;
     }
     static std::string* path_;

@@ -85,7 +85,7 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
 
     const ExitStatus ended = comp.Stop();
     EXPECT_TRUE(ended.exited && ended.code == 0) << ended.Describe();
-    std::filesystem::remove(db);
+    testing::RemoveRunDb(db);
     std::filesystem::remove(log);
 }
 

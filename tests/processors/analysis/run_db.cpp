@@ -89,4 +89,8 @@ std::string WriteRunDb(const std::string& name) {
     return path;
 }
 
+void RemoveRunDb(const std::string& path) {
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+}
+
 }  // namespace gyrocal::analysis::testing

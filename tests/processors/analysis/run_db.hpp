@@ -8,5 +8,7 @@ namespace gyrocal::analysis::testing {
 
 // Returns the path of a fresh database in the temp directory (name made unique by the pid).
 std::string WriteRunDb(const std::string& name);
+// Removes the database and its WAL side files (-wal, -shm), which read-only readers leave.
+void RemoveRunDb(const std::string& path);
 
 }  // namespace gyrocal::analysis::testing

@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "launch/child_process.hpp"
+#include "sim/noise.hpp"
 
 namespace gyrocal {
 namespace {
@@ -83,9 +85,26 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
                 4.0 * added.at("stderr").get<double>() + 0.05 * k_true);
     const double before = s.at("error_before").at("rate_rms_dps");
     const double after = s.at("error_after").at("rate_rms_dps");
-    const double floor = s.at("floor_rate_rms_dps");
     EXPECT_LT(after, 0.2 * before) << "the extended model must cut the error far below the declared one";
-    EXPECT_LT(after, 2.0 * floor) << "and come within 2x of the floor the data allows";
+    // Near what the data allows. A perfect model would leave, on the held-out stretch, the white
+    // scatter of 10 s bins (the floor, from inside plateau windows) plus the slow noise the floor
+    // cannot see (bias instability and rate random walk in 10 s means, from the rig's noise
+    // settings in the truth sidecar: sim::SlowNoiseBinVariance, ~0.018 deg/s, as large as the
+    // floor). Coefficients fitted on the data before the stretch add their prediction error
+    // (the analysis reports it from the fit's covariance; here the stretch extrapolates to
+    // 85 degC). Slow noise and prediction error are each nearly one shape over the stretch (one
+    // degree of freedom), so the 3-sigma bound is 9x their variance:
+    //   after^2 < floor^2 + 9 (slow^2 + prediction^2).
+    // The declared model, missing the term, is 20x above it.
+    sim::NoiseConfig noise;
+    noise.bias_instability_dps = truth.at("config").at("noise").at("bias_instability_dps");
+    noise.rate_random_walk_dps_rts = truth.at("config").at("noise").at("rate_random_walk_dps_rts");
+    const double span_s = s.at("bins").get<double>() * s.at("bin_s").get<double>();
+    const double slow2 = sim::SlowNoiseBinVariance(noise, s.at("bin_s"), span_s);
+    const double floor = s.at("floor_rate_rms_dps");
+    const double pred = s.at("expected_after").at("prediction_rms_dps");
+    const double bound = std::sqrt(floor * floor + 9.0 * (slow2 + pred * pred));
+    EXPECT_LT(after, bound) << "floor " << floor << ", slow noise " << std::sqrt(slow2) << ", prediction " << pred;
     EXPECT_LT(s.at("error_after").at("drift_dph").get<double>(), s.at("error_before").at("drift_dph").get<double>());
 
     // Kept with the run: the analysis row and the extended coefficient set, linked by provenance.
