@@ -123,7 +123,12 @@ void SetEffect(EffectsConfig& effects, const std::string& name, double value);
 void ParseEffect(EffectsConfig& effects, const std::string& name_equals_value);
 
 struct RigConfig {
-    uint64_t seed = 1;
+    uint64_t seed = 1;  // draws the units (their truth) and, unless noise_seed is set, the noise
+    // Draws the noise alone (rate noise, chamber air, supply, encoder phase): the same units with
+    // a fresh realisation, for repeatability studies. 0 = use seed (the default, bit-identical to
+    // a rig without this option).
+    uint64_t noise_seed = 0;
+    uint64_t NoiseSeed() const { return noise_seed != 0 ? noise_seed : seed; }
     int num_units = 4;                    // units S01..S<n>
     std::vector<std::string> sensor_ids;  // empty = S01..S<num_units>; else overrides num_units
     double sample_rate_hz = 100.0;        // [Hz] gyro sample rate, all units sampled together

@@ -7,7 +7,7 @@ namespace gyrocal::sim {
 
 struct Rig::UnitState {
     UnitState(const RigConfig& c, int index)
-        : rng(c.seed, UnitNoiseStream(index)), noise(c.noise, c.sample_rate_hz, rng) {}
+        : rng(c.NoiseSeed(), UnitNoiseStream(index)), noise(c.noise, c.sample_rate_hz, rng) {}
     Rng rng;
     NoiseModel noise;
     double die_c = 0.0;
@@ -33,10 +33,10 @@ int32_t Code(double v, double lsb_v, int32_t max_code) {
 Rig::Rig(const RigConfig& config)
     : config_((config.Validate(), config)),
       ids_(config.UnitIds()),
-      chamber_(config.thermal, config.seed),
+      chamber_(config.thermal, config.NoiseSeed()),
       table_(config.table),
-      encoder_(config.encoder, Rng(config.seed, kStreamEncoder).Uniform()),
-      supply_rng_(config.seed, kStreamSupply),
+      encoder_(config.encoder, Rng(config.NoiseSeed(), kStreamEncoder).Uniform()),
+      supply_rng_(config.NoiseSeed(), kStreamSupply),
       now_utime_(config.start_utime),
       physics_utime_(config.start_utime) {
     for (size_t i = 0; i < ids_.size(); ++i) {

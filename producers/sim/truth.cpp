@@ -6,6 +6,7 @@ nlohmann::json ConfigJson(const RigConfig& c) {
     using nlohmann::json;
     json j;
     j["seed"] = c.seed;
+    j["noise_seed"] = c.NoiseSeed();
     j["sensor_ids"] = c.UnitIds();
     j["sample_rate_hz"] = c.sample_rate_hz;
     j["start_utime"] = c.start_utime;
@@ -83,6 +84,7 @@ nlohmann::json TruthJson(const Rig& rig) {
     json j;
     j["format"] = "gyrocal-sim-truth/1";
     j["seed"] = c.seed;
+    j["noise_seed"] = c.NoiseSeed();
     j["start_utime"] = c.start_utime;
     j["truth_temperature"] = "die_c";
     j["truth_temperature_note"] =

@@ -57,6 +57,7 @@ SimRigOptions ParseInto(CLI::App& app, int argc, char** argv, int& exit_code) {
     std::vector<std::string> effects;
     long long start_utime = r.start_utime;
     unsigned long long seed = r.seed;
+    unsigned long long noise_seed = r.noise_seed;
 
     app.add_option("--lcm-url", o.lcm_url,
                    "LCM provider URL (default $GYROCAL_LCM_URL or LCM's udpm default)");
@@ -75,6 +76,9 @@ SimRigOptions ParseInto(CLI::App& app, int argc, char** argv, int& exit_code) {
         ->capture_default_str();
     app.add_option("--truth-out", o.truth_out, "write the truth sidecar JSON to this file");
     app.add_option("--seed", seed, "random seed: same seed, same output")->capture_default_str();
+    app.add_option("--noise-seed", noise_seed,
+                   "seed of the noise alone (0 = --seed): the same units, another realisation")
+        ->capture_default_str();
     app.add_option("--units", r.num_units, "number of units S01..S<n>, 1..256")
         ->capture_default_str();
     app.add_option("--sensor-ids", sensor_ids_text, "comma-separated unit ids (overrides --units)");
@@ -185,6 +189,7 @@ SimRigOptions ParseInto(CLI::App& app, int argc, char** argv, int& exit_code) {
     }
     try {
         r.seed = seed;
+        r.noise_seed = noise_seed;
         r.start_utime = start_utime;
         r.preset = sim::PresetByName(preset);
         // The transfer function both simulates the sensor line and converts it to temp_c.

@@ -33,9 +33,10 @@ std::vector<unsigned char> Bytes(const testing::Recorded& r) {
     return out;
 }
 
-testing::Recorded RunScenario(uint64_t seed, int units, int64_t chunk_us) {
+testing::Recorded RunScenario(uint64_t seed, int units, int64_t chunk_us, uint64_t noise_seed = 0) {
     RigConfig c = RigConfig::Defaults();
     c.seed = seed;
+    c.noise_seed = noise_seed;
     c.num_units = units;
     Rig rig(c);
     testing::RecordingSink sink;
@@ -77,6 +78,30 @@ TEST(SimDeterminism, DifferentSeedsGiveDifferentUnits) {
         }
     }
     EXPECT_FALSE(Bytes(RunScenario(1, 2, 60'000'000)) == Bytes(RunScenario(2, 2, 60'000'000)));
+}
+
+TEST(SimDeterminism, NoiseSeedRedrawsTheNoiseAndKeepsTheUnits) {
+    // The noise seed set to the seed is the default, byte for byte.
+    EXPECT_TRUE(Bytes(RunScenario(5, 2, 60'000'000, 5)) == Bytes(RunScenario(5, 2, 60'000'000)));
+    // Another noise seed: the same units (truth), other samples.
+    RigConfig c = RigConfig::Defaults();
+    c.seed = 5;
+    Rig a(c);
+    c.noise_seed = 6;
+    Rig b(c);
+    for (int u = 0; u < 4; ++u) {
+        EXPECT_EQ(a.units()[u].offset_coeffs, b.units()[u].offset_coeffs);
+        EXPECT_EQ(a.units()[u].sensitivity_coeffs, b.units()[u].sensitivity_coeffs);
+        EXPECT_EQ(a.units()[u].temp_sensor_offset_c, b.units()[u].temp_sensor_offset_c);
+    }
+    EXPECT_EQ(TruthJson(b)["noise_seed"], 6);
+    EXPECT_EQ(TruthJson(a)["noise_seed"], 5);
+    const testing::Recorded r5 = RunScenario(5, 1, 60'000'000), r6 = RunScenario(5, 1, 60'000'000, 6);
+    ASSERT_EQ(r5.gyro.size(), r6.gyro.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < r5.gyro.size(); ++i) differ += r5.gyro[i].gyro_v != r6.gyro[i].gyro_v;
+    // White noise of ~40 LSB per sample: essentially every sample differs.
+    EXPECT_GT(differ, r5.gyro.size() * 9 / 10);
 }
 
 TEST(SimDeterminism, UnitsAreIndependentOfHowManyThereAre) {
