@@ -176,6 +176,7 @@ std::string Calibration::ConfigJson() const {
     j["sensors"] = o_.sensors;
     j["preset"] = o_.preset;
     j["seed"] = o_.seed;
+    j["noise_seed"] = o_.noise_seed;
     j["speed"] = o_.speed;
     j["profile"] = o_.profile;
     j["setpoints_c"] = o_.setpoints_c;
@@ -295,6 +296,7 @@ int Calibration::Run() {
             const double speed = o_.speed > 0 ? o_.speed : kAutoRigMessagesPerS / (100.0 * (o_.sensors + 1));
             std::vector<std::string> rig = {"--mode", "commanded", "--units", std::to_string(o_.sensors),
                                             "--preset", o_.preset, "--seed", std::to_string(o_.seed),
+                                            "--noise-seed", std::to_string(o_.noise_seed),
                                             "--speed", std::to_string(speed), "--truth-out", o_.truth_out};
             for (const auto& e : o_.effects) {
                 rig.push_back("--effect");

@@ -25,6 +25,7 @@ struct CalibrateOptions {
     int sensors = 4;              // simulated units
     std::string preset = "610";   // module preset of the simulated units
     uint64_t seed = 1;
+    uint64_t noise_seed = 0;      // 0 = seed (see gyrocal-sim-rig --noise-seed)
     // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
     // messages per simulated second, and the whole graph on the 2-core development machine lost
     // nothing at 15000 rig messages/s (4 units at speed 30: 0 lost at load ~6) but 1-2 % at

@@ -40,6 +40,9 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--preset", o->preset, "module preset of the simulated units: 610 or 613")
         ->check(CLI::IsMember({"610", "613"}))->capture_default_str();
     cmd->add_option("--seed", o->seed, "seed of the simulated units and noise")->capture_default_str();
+    cmd->add_option("--noise-seed", o->noise_seed,
+                    "seed of the simulated noise alone, 0 = --seed (same units, another realisation)")
+        ->capture_default_str();
     cmd->add_option("--speed", o->speed,
                     "simulated seconds per wall second; 0 = auto: the fastest the whole graph ran without "
                     "loss on a 2-core machine (15000 rig messages/s: speed 30 for 4 units, 75 for 1)")

@@ -16,6 +16,7 @@
 
 #include "gyrocal/model_t.hpp"
 #include "launch/child_process.hpp"
+#include "sim/noise.hpp"
 #include "model/model.hpp"
 
 namespace gyrocal {
@@ -160,16 +161,22 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
         // Offset at each plateau temperature vs the truth at the die temperature the sensor
         // reported (reading = die + its offset). Three points fix a quadratic, so agreement at
         // the three plateau temperatures is agreement of the coefficients. Tolerance, derived:
-        //  - statistical: the plateau mean of a 60 s window has the Allan deviation at tau = 60 s,
-        //    sigma_rate = sqrt(N^2/tau + (0.664 B)^2 + K^2 tau/3) (white, bias instability, rate
-        //    random walk), times the sensitivity; 4 sigma (two-sided 6e-5 per point);
+        //  - statistical: the plateau mean of a 60 s window is off the truth by the white noise
+        //    averaged over it, N^2/tau, plus the SLOW noise's value then (bias instability's
+        //    Gauss-Markov components and the rate random walk, as 60 s means about zero:
+        //    sim::SlowNoiseBinVariance; the Allan deviation would understate it, as it measures
+        //    differences, not the value), times the sensitivity; 4 sigma (two-sided 6e-5 per point);
         //  - systematic: at a plateau the sensor still lags the die by slope x sensor_tau, with
         //    slope <= the detector's 0.05 C/min, times the largest offset drift of the preset
         //    spread (1 mV/K).
         const double tau_s = 60.0;
-        const double n = noise.at("noise_density_dps_rthz"), b = noise.at("bias_instability_dps"),
-                     k = noise.at("rate_random_walk_dps_rts");
-        const double sigma_rate_dps = std::sqrt(n * n / tau_s + std::pow(0.664 * b, 2) + k * k * tau_s / 3.0);
+        sim::NoiseConfig nc;
+        nc.noise_density_dps_rthz = noise.at("noise_density_dps_rthz");
+        nc.bias_instability_dps = noise.at("bias_instability_dps");
+        nc.rate_random_walk_dps_rts = noise.at("rate_random_walk_dps_rts");
+        const double run_s = 1e-6 * (sql.Int("SELECT max(utime) FROM gyro_samples") - sql.Int("SELECT min(utime) FROM gyro_samples"));
+        const double sigma_rate_dps = std::sqrt(nc.noise_density_dps_rthz * nc.noise_density_dps_rthz / tau_s +
+                                                sim::SlowNoiseBinVariance(nc, tau_s, run_s));
         const double sensor_tau_s = truth.at("config").at("thermal").at("sensor_tau_s");
         const double systematic_v = 1.0e-3 * (0.05 / 60.0) * sensor_tau_s;
         const double sensor_offset_c = unit.at("temp_sensor_offset_c");
