@@ -24,10 +24,10 @@
 namespace gyrocal::compensate {
 
 struct CompensatorOptions {
-    // The PROCESS gyrocal-compensator defaults to extrapolate (compensator_main.cpp says why, with
-    // the benchmark's figures). This library default stays clip for now only because the virtual
-    // lab's held-out evaluation (tests/support, tests/bench/procedure) labels its rows by it.
-    model::RangePolicy range_policy = model::RangePolicy::kClip;
+    // Outside the calibrated range: extrapolate, flagged (compensator_main.cpp says why, with the
+    // benchmark's figures: a clipped quadratic stops following the unit's curvature). kClip is for
+    // models that must not be trusted outside their range.
+    model::RangePolicy range_policy = model::RangePolicy::kExtrapolate;
     double temp_rate_window_s = 10.0;  // [s] see temp_rate.hpp
     static CompensatorOptions Defaults() { return {}; }
 };

@@ -215,6 +215,12 @@ void HeldOutProfile::Validate(const sim::RigConfig& rig) const {
                                     "; valid: >= 2 samples and <= 3600 s");
 }
 
+compensate::CompensatorOptions ClippedOptions() {
+    compensate::CompensatorOptions o = compensate::CompensatorOptions::Defaults();
+    o.range_policy = model::RangePolicy::kClip;
+    return o;
+}
+
 HeldOutResult EvaluateHeldOut(const sim::RigConfig& rig_config, const HeldOutProfile& profile,
                               const std::vector<Candidate>& candidates,
                               const compensate::CompensatorOptions& options) {
