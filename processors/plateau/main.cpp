@@ -1,25 +1,16 @@
 // gyrocal-plateau: per-sensor stability (plateau) detector. See plateau_node.hpp for the threads
 // and plateau_detector.hpp for the criterion and its defaults.
 #include <CLI/CLI.hpp>
-#include <iostream>
 
-#include "bus/shutdown.hpp"
+#include "bus/process_main.hpp"
+#include "motion_options.hpp"
 #include "plateau_node.hpp"
 
 namespace {
 
-constexpr const char* kExitCodes =
-    "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open),\n"
-    "            2 bad options.";
-
 void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
     auto& d = o.detector;
-    app.add_option("--lcm-url", o.lcm_url,
-                   "LCM provider URL (default: $GYROCAL_LCM_URL, else udpm default)");
-    app.add_option("--sensors", o.sensors, "accept only these sensor ids (default: every valid id)")
-        ->delimiter(',');
-    app.add_option("--encoder-id", o.encoder_id, "encoder_id of the turntable encoder")
-        ->capture_default_str();
+    gyrocal::motion::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
     app.add_option("--window-s", d.window_s,
                    "[s] sliding window of the stability criterion, 1..3600")
         ->capture_default_str();
@@ -54,14 +45,7 @@ void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
     app.add_option("--encoder-stale-s", o.encoder_stale_s,
                    "[s] classify samples without the encoder once their stream is this far ahead")
         ->capture_default_str();
-    app.add_option("--start-threshold-counts", o.move.start_threshold_counts,
-                   "[count] the table leaves rest when it moves more than this")
-        ->capture_default_str();
-    app.add_option("--settle-band-counts", o.move.settle_band_counts,
-                   "[count] encoder dither tolerated at rest")
-        ->capture_default_str();
-    app.add_option("--settle-s", o.move.settle_s, "[s] within the band this long = at rest")
-        ->capture_default_str();
+    gyrocal::motion::AddMoveOptions(app, o.move, "at rest");
 }
 
 }  // namespace
@@ -73,27 +57,11 @@ int main(int argc, char** argv) {
         "Subscribes GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT; publishes PLATEAU_<id>,\n"
         "STABILITY_<id>, STATUS.",
         "gyrocal-plateau"};
-    app.footer(kExitCodes);
+    app.footer(gyrocal::kNodeExitCodes);
     AddOptions(app, options);
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "gyrocal-plateau: " << e.what() << " (see --help)\n";
-        return 2;
-    }
-    if (std::string err = options.Validate(); !err.empty()) {
-        std::cerr << "gyrocal-plateau: " << err << "\n";
-        return 2;
-    }
-    try {
-        gyrocal::InstallStopHandlers();
-        gyrocal::PlateauNode node(options);
-        node.Run();
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal-plateau: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-plateau",
+                                                   [&] { return options.Validate(); }))
+        return *exit_code;
+    return gyrocal::RunUntilStopped("gyrocal-plateau",
+                                    [&] { gyrocal::PlateauNode(options).Run(); });
 }

@@ -2,26 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 
 #include "bus/channels.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
+#include "motion_options.hpp"
 
 namespace gyrocal {
 
 namespace {
-
-// The libraries name a config field first ("window_s must be ..."); the option is that name
-// with dashes ("--window-s must be ...").
-std::string AsOption(std::string message) {
-    const size_t end = message.find(' ');
-    for (size_t i = 0; i < end && i < message.size(); ++i) {
-        if (message[i] == '_') message[i] = '-';
-    }
-    return "--" + message;
-}
 
 constexpr const char* kProcess = "gyrocal-plateau";
 
@@ -29,14 +19,9 @@ bool Finite(double v) { return std::isfinite(v); }
 }  // namespace
 
 std::string PlateauOptions::Validate() const {
-    for (const std::string& s : sensors) {
-        if (!channels::IsValidSensorId(s))
-            return "--sensors: '" + s +
-                   "' is not a valid sensor id (1-32 letters, digits, '-', '_')";
-    }
-    if (encoder_id.empty()) return "--encoder-id must not be empty";
-    if (std::string e = detector.Validate(); !e.empty()) return AsOption(e);
-    if (std::string e = move.Validate(); !e.empty()) return AsOption(e);
+    if (std::string e = motion::ValidateInput(sensors, encoder_id); !e.empty()) return e;
+    if (std::string e = detector.Validate(); !e.empty()) return motion::AsOption(e);
+    if (std::string e = move.Validate(); !e.empty()) return motion::AsOption(e);
     if (!(motion_guard_s >= 0 && motion_guard_s <= 60))
         return "--motion-guard-s must be in [0, 60] s";
     if (!(encoder_stale_s > 0 && encoder_stale_s <= 600))
@@ -48,30 +33,13 @@ PlateauNode::PlateauNode(const PlateauOptions& options)
     : options_(options),
       bus_(BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
+      inputs_(bus_, status_, options.sensors, options.encoder_id, *this),
       motion_(options.move, options.motion_guard_s, options.encoder_stale_s),
       chamber_setpoint_c_(std::numeric_limits<double>::quiet_NaN()) {
-    // Handlers never let an exception reach LCM: it is counted as a refusal with its text.
-    auto guarded = [this](auto fn) {
-        return [this, fn](const auto& m, const std::string& ch) {
-            try {
-                fn(m, ch);
-            } catch (const std::exception& e) {
-                status_.Reject("internal", ch + ": " + e.what());
-            }
-        };
-    };
-    bus_.Subscribe<gyro_sample_t>(
-        channels::AllSensors(channels::kGyroPrefix),
-        guarded([this](const gyro_sample_t& m, const std::string& ch) { OnGyro(m, ch); }));
-    bus_.Subscribe<encoder_sample_t>(
-        std::string(channels::kEncoder),
-        guarded([this](const encoder_sample_t& m, const std::string&) { OnEncoder(m); }));
     bus_.Subscribe<chamber_state_t>(
         std::string(channels::kChamberState),
-        guarded([this](const chamber_state_t& m, const std::string&) { OnChamberState(m); }));
-    bus_.Subscribe<run_event_t>(
-        std::string(channels::kRunEvent),
-        guarded([this](const run_event_t& m, const std::string&) { OnRunEvent(m); }));
+        motion::Guarded(
+            status_, [this](const chamber_state_t& m, const std::string&) { OnChamberState(m); }));
 }
 
 void PlateauNode::Run() {
@@ -93,35 +61,16 @@ PlateauNode::Sensor& PlateauNode::SensorFor(const std::string& id) {
     return ref;
 }
 
-void PlateauNode::OnGyro(const gyro_sample_t& m, const std::string& channel) {
-    const auto id = channels::SensorOf(channels::kGyroPrefix, channel);
-    if (!id) {
-        status_.Reject("bad channel", channel + ": not GYRO_<sensor id>");
-        return;
-    }
-    if (m.sensor_id != *id) {
-        status_.Reject("sensor mismatch",
-                       channel + ": sensor_id '" + m.sensor_id + "' does not match the channel");
-        return;
-    }
-    if (!options_.sensors.empty() && std::find(options_.sensors.begin(), options_.sensors.end(),
-                                               *id) == options_.sensors.end()) {
-        status_.Reject("unknown sensor", channel + ": sensor '" + *id + "' is not in --sensors");
-        return;
-    }
+void PlateauNode::OnGyro(const std::string& id, const gyro_sample_t& m,
+                         const std::string& channel) {
     if (!Finite(m.temp_c) || !Finite(m.gyro_v) || !Finite(m.temp_v)) {
         status_.Reject("non-finite", channel + ": temp_c, gyro_v and temp_v must be finite (seq " +
                                          std::to_string(m.seq) + ")");
         return;
     }
-    Sensor& sensor = SensorFor(*id);
-    if (sensor.any && m.utime <= sensor.newest_utime) {
-        status_.Reject("out-of-order", channel + ": utime " + std::to_string(m.utime) +
-                                           " is not after " + std::to_string(sensor.newest_utime));
-        return;
-    }
-    sensor.any = true;
-    sensor.newest_utime = m.utime;
+    Sensor& sensor = SensorFor(id);
+    if (!sensor.time.InOrder(m.utime, channel, status_)) return;
+    sensor.time.Advance(m.utime);
     plateau::Sample s;
     s.utime = m.utime;
     s.seq = m.seq;
@@ -130,44 +79,21 @@ void PlateauNode::OnGyro(const gyro_sample_t& m, const std::string& channel) {
     s.temp_v = m.temp_v;
     s.supply_v = m.supply_v;
     sensor.pending.push_back(s);
-    Drain(*id, sensor);
+    Drain(id, sensor);
 }
 
-void PlateauNode::OnEncoder(const encoder_sample_t& m) {
-    if (m.encoder_id != options_.encoder_id) {
-        status_.Reject("unknown encoder", "ENCODER: encoder_id '" + m.encoder_id +
-                                              "' is not --encoder-id '" + options_.encoder_id +
-                                              "'");
-        return;
-    }
-    if (m.counts_per_rev <= 0) {
-        status_.Reject("bad encoder", "ENCODER: counts_per_rev must be > 0, got " +
-                                          std::to_string(m.counts_per_rev));
-        return;
-    }
-    if (any_encoder_ && m.utime <= last_encoder_utime_) {
-        status_.Reject("out-of-order", "ENCODER: utime " + std::to_string(m.utime) +
-                                           " is not after " + std::to_string(last_encoder_utime_));
-        return;
-    }
-    any_encoder_ = true;
-    last_encoder_utime_ = m.utime;
-    motion_.Feed(motion::EncoderReading{m.utime, m.counts, m.counts_per_rev});
+void PlateauNode::OnEncoder(const motion::EncoderReading& reading) {
+    motion_.Feed(reading);
     DrainAll();
 }
 
 void PlateauNode::OnChamberState(const chamber_state_t& m) {
-    if (any_chamber_ && m.utime <= last_chamber_utime_) {
-        status_.Reject("out-of-order", "CHAMBER_STATE: utime " + std::to_string(m.utime) +
-                                           " is not after " + std::to_string(last_chamber_utime_));
-        return;
-    }
+    if (!chamber_time_.InOrder(m.utime, "CHAMBER_STATE", status_)) return;
     if (std::isinf(m.setpoint_c)) {
         status_.Reject("non-finite", "CHAMBER_STATE: setpoint_c is infinite");
         return;
     }
-    any_chamber_ = true;
-    last_chamber_utime_ = m.utime;
+    chamber_time_.Advance(m.utime);
     chamber_setpoint_c_ = m.setpoint_c;
     for (auto& [id, sensor] : sensors_) sensor->detector.SetChamberSetpoint(m.setpoint_c);
 }
@@ -194,7 +120,7 @@ void PlateauNode::OnRunEvent(const run_event_t& m) {
 
 void PlateauNode::Drain(const std::string& id, Sensor& sensor) {
     while (!sensor.pending.empty() &&
-           motion_.Decided(sensor.pending.front().utime, sensor.newest_utime)) {
+           motion_.Decided(sensor.pending.front().utime, sensor.time.newest_utime())) {
         plateau::Sample s = sensor.pending.front();
         sensor.pending.pop_front();
         s.moving = motion_.Moving(s.utime);
@@ -206,8 +132,8 @@ void PlateauNode::DrainAll() {
     int64_t oldest = std::numeric_limits<int64_t>::max();
     for (auto& [id, sensor] : sensors_) {
         Drain(id, *sensor);
-        oldest = std::min(
-            oldest, sensor->pending.empty() ? sensor->newest_utime : sensor->pending.front().utime);
+        oldest = std::min(oldest, sensor->pending.empty() ? sensor->time.newest_utime()
+                                                          : sensor->pending.front().utime);
     }
     if (!sensors_.empty()) motion_.Prune(oldest);
 }

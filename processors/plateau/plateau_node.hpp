@@ -16,9 +16,9 @@
 #include "bus/bus.hpp"
 #include "bus/status.hpp"
 #include "gyrocal/chamber_state_t.hpp"
-#include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
+#include "motion_inputs.hpp"
 #include "plateau_detector.hpp"
 #include "table_motion.hpp"
 
@@ -37,7 +37,8 @@ struct PlateauOptions {
     std::string Validate() const;
 };
 
-class PlateauNode {
+// Privately a MotionInputs::Handler: only its own MotionInputs calls the On* handlers.
+class PlateauNode : private motion::MotionInputs::Handler {
 public:
     explicit PlateauNode(const PlateauOptions& options);  // throws BusError when LCM cannot open
     void Run();
@@ -48,13 +49,13 @@ private:
         explicit Sensor(const plateau::PlateauConfig& c) : detector(c) {}
         plateau::PlateauDetector detector;
         std::deque<plateau::Sample> pending;
-        int64_t newest_utime = 0;
-        bool any = false;
+        motion::StreamTime time;
     };
-    void OnGyro(const gyro_sample_t& msg, const std::string& channel);
-    void OnEncoder(const encoder_sample_t& msg);
+    void OnGyro(const std::string& id, const gyro_sample_t& msg,
+                const std::string& channel) override;
+    void OnEncoder(const motion::EncoderReading& reading) override;
     void OnChamberState(const chamber_state_t& msg);
-    void OnRunEvent(const run_event_t& msg);
+    void OnRunEvent(const run_event_t& msg) override;
     Sensor& SensorFor(const std::string& id);
     void Drain(const std::string& id, Sensor& sensor);
     void DrainAll();
@@ -63,14 +64,12 @@ private:
     PlateauOptions options_;
     Bus bus_;
     StatusReporter status_;
+    motion::MotionInputs inputs_;
     motion::TableMotion motion_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;
     double chamber_setpoint_c_;
-    int64_t last_encoder_utime_ = 0;
-    bool any_encoder_ = false;
-    int64_t last_chamber_utime_ = 0;
-    bool any_chamber_ = false;
+    motion::StreamTime chamber_time_;
     int64_t plateaus_ = 0;
 };
 

@@ -1,25 +1,16 @@
 // gyrocal-rotation: sensitivity from encoder-measured rotations. See rotation_node.hpp for the
 // threads and rotation_estimator.hpp for the windows and the uncertainty.
 #include <CLI/CLI.hpp>
-#include <iostream>
 
-#include "bus/shutdown.hpp"
+#include "bus/process_main.hpp"
+#include "motion_options.hpp"
 #include "rotation_node.hpp"
 
 namespace {
 
-constexpr const char* kExitCodes =
-    "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open),\n"
-    "            2 bad options.";
-
 void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
     auto& e = o.estimator;
-    app.add_option("--lcm-url", o.lcm_url,
-                   "LCM provider URL (default: $GYROCAL_LCM_URL, else udpm default)");
-    app.add_option("--sensors", o.sensors, "accept only these sensor ids (default: every valid id)")
-        ->delimiter(',');
-    app.add_option("--encoder-id", o.encoder_id, "encoder_id of the turntable encoder")
-        ->capture_default_str();
+    gyrocal::motion::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
     app.add_option("--guard-s", e.guard_s, "[s] between the move and each rest window, 0..60")
         ->capture_default_str();
     app.add_option("--rest-s", e.rest_s,
@@ -35,15 +26,7 @@ void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
     app.add_option("--encoder-stale-s", e.encoder_stale_s,
                    "[s] finish a point without the encoder once samples are this far past it")
         ->capture_default_str();
-    app.add_option("--start-threshold-counts", o.move.start_threshold_counts,
-                   "[count] the table leaves rest when it moves more than this")
-        ->capture_default_str();
-    app.add_option("--settle-band-counts", o.move.settle_band_counts,
-                   "[count] encoder dither tolerated at rest")
-        ->capture_default_str();
-    app.add_option("--settle-s", o.move.settle_s,
-                   "[s] within the band this long = the move is over")
-        ->capture_default_str();
+    gyrocal::motion::AddMoveOptions(app, o.move, "the move is over");
 }
 
 }  // namespace
@@ -55,27 +38,11 @@ int main(int argc, char** argv) {
         "Subscribes GYRO_*, ENCODER, RUN_EVENT; publishes SENSITIVITY_<id> (one per move,\n"
         "after the rest window that follows it), STATUS.",
         "gyrocal-rotation"};
-    app.footer(kExitCodes);
+    app.footer(gyrocal::kNodeExitCodes);
     AddOptions(app, options);
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "gyrocal-rotation: " << e.what() << " (see --help)\n";
-        return 2;
-    }
-    if (std::string err = options.Validate(); !err.empty()) {
-        std::cerr << "gyrocal-rotation: " << err << "\n";
-        return 2;
-    }
-    try {
-        gyrocal::InstallStopHandlers();
-        gyrocal::RotationNode node(options);
-        node.Run();
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal-rotation: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-rotation",
+                                                   [&] { return options.Validate(); }))
+        return *exit_code;
+    return gyrocal::RunUntilStopped("gyrocal-rotation",
+                                    [&] { gyrocal::RotationNode(options).Run(); });
 }

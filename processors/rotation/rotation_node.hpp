@@ -14,9 +14,9 @@
 
 #include "bus/bus.hpp"
 #include "bus/status.hpp"
-#include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
+#include "motion_inputs.hpp"
 #include "rotation_estimator.hpp"
 #include "table_motion.hpp"
 
@@ -33,7 +33,8 @@ struct RotationOptions {
     std::string Validate() const;
 };
 
-class RotationNode {
+// Privately a MotionInputs::Handler: only its own MotionInputs calls the On* handlers.
+class RotationNode : private motion::MotionInputs::Handler {
 public:
     explicit RotationNode(const RotationOptions& options);  // throws BusError when LCM cannot open
     void Run();
@@ -42,23 +43,22 @@ private:
     struct Sensor {
         explicit Sensor(const rotation::RotationConfig& c) : estimator(c) {}
         rotation::RotationEstimator estimator;
-        int64_t newest_utime = 0;
-        bool any = false;
+        motion::StreamTime time;
     };
-    void OnGyro(const gyro_sample_t& msg, const std::string& channel);
-    void OnEncoder(const encoder_sample_t& msg);
-    void OnRunEvent(const run_event_t& msg);
+    void OnGyro(const std::string& id, const gyro_sample_t& msg,
+                const std::string& channel) override;
+    void OnEncoder(const motion::EncoderReading& reading) override;
+    void OnRunEvent(const run_event_t& msg) override;
     void PollAndPublish(const std::string& id, Sensor& sensor);
     rotation::MotionView View() const;
 
     RotationOptions options_;
     Bus bus_;
     StatusReporter status_;
+    motion::MotionInputs inputs_;
     motion::MoveDetector detector_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;
-    int64_t last_encoder_utime_ = 0;
-    bool any_encoder_ = false;
     int64_t moves_ = 0, accepted_ = 0, refused_ = 0;
 };
 

@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "bus/process_main.hpp"
 #include "bus/shutdown.hpp"
+#include "csv/producer_cli.hpp"
 #include "csv_record_node.hpp"
 
 namespace {
@@ -29,26 +31,16 @@ int main(int argc, char** argv) {
     CLI::App app{"gyrocal-csv-record: record gyro samples to a measured-data CSV file"};
     app.footer(kFooter);
     app.add_option("--out", o.out, "CSV file to write (overwritten)")->required();
-    app.add_option("--lcm-url", o.lcm_url,
-                   "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
+    csv::AddLcmUrlOption(app, o.lcm_url);
     app.add_option("--sensors", o.sensors, "only these sensor ids, comma separated (default all)")
         ->delimiter(',');
     app.add_option("--time-origin-utime", o.time_origin_utime,
                    "utime [us] written as time_s = 0 (default 1e15)");
     app.add_option("--idle-exit-s", o.idle_exit_s,
                    "exit after this many seconds without messages; 0 = never (default 0)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "gyrocal-csv-record: " << e.what() << " (see --help)\n";
-        return 2;
-    }
-    if (const std::string err = o.Validate(); !err.empty()) {
-        std::cerr << "gyrocal-csv-record: " << err << "\n";
-        return 2;
-    }
+    if (auto exit_code =
+            ParseCommandLine(app, argc, argv, "gyrocal-csv-record", [&] { return o.Validate(); }))
+        return *exit_code;
     InstallStopHandlers();
     try {
         CsvRecordNode node(o);

@@ -6,7 +6,9 @@
 #include <fstream>
 #include <iostream>
 
+#include "bus/process_main.hpp"
 #include "bus/shutdown.hpp"
+#include "csv/producer_cli.hpp"
 #include "csv_source_node.hpp"
 
 namespace {
@@ -50,8 +52,7 @@ int main(int argc, char** argv) {
     CLI::App app{"gyrocal-csv-source: replay a measured-data CSV file onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "CSV file to replay")->required();
-    app.add_option("--lcm-url", o.lcm_url,
-                   "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
+    csv::AddLcmUrlOption(app, o.lcm_url);
     auto* speed = app.add_option("--speed", o.speed,
                                  "data seconds per wall second, > 0 (default 1 = real time)");
     app.add_flag("--max", o.max, "as fast as receivers keep up (see --max-rate-hz)")
@@ -60,38 +61,17 @@ int main(int argc, char** argv) {
                    "message-rate cap of --max [msg/s], 1..1e7 (default 20000)");
     std::string on_error = "stop";
     app.add_option("--on-error", on_error, "stop|skip: what a bad row does (default stop)");
-    app.add_option("--start-utime", o.conversion.start_utime,
-                   "utime [us] of time_s = 0 (default 1e15), 0..4e18");
-    app.add_option("--preset", o.conversion.preset,
-                   "gyro module preset for the temperature transfer: 610|613 (default 610)");
-    app.add_option("--temp-v-at-25c", o.conversion.temp_v_at_25c,
-                   "temperature output at 25 degC [V] (preset: 2.5), -10..10");
-    app.add_option("--temp-v-per-k", o.conversion.temp_v_per_k,
-                   "temperature output slope [V/K] (preset: 0.009), > 0 and <= 1");
-    app.add_option("--encoder-counts-per-rev", o.conversion.encoder_counts_per_rev,
-                   "encoder counts per revolution incl. quadrature (default 20000), >= 1");
+    csv::AddConversionOptions(app, o.conversion,
+                              "utime [us] of time_s = 0 (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after the last row before exit [s] (default 0.5)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "gyrocal-csv-source: " << e.what() << " (see --help)\n";
-        return 2;
-    }
-    if (on_error == "stop")
-        o.on_error = csv::OnError::kStop;
-    else if (on_error == "skip")
-        o.on_error = csv::OnError::kSkip;
-    else {
-        std::cerr << "gyrocal-csv-source: --on-error '" << on_error
-                  << "' is unknown; valid: stop or skip\n";
-        return 2;
-    }
-    if (const std::string err = o.Validate(); !err.empty()) {
-        std::cerr << "gyrocal-csv-source: " << err << "\n";
-        return 2;
-    }
+    const auto validate = [&] {
+        const std::string err =
+            csv::Choose("--on-error", on_error,
+                        {{"stop", csv::OnError::kStop}, {"skip", csv::OnError::kSkip}}, o.on_error);
+        return err.empty() ? o.Validate() : err;
+    };
+    if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-csv-source", validate))
+        return *exit_code;
     std::ifstream in(o.file);
     if (!in) {
         std::cerr << "gyrocal-csv-source: --file '" << o.file

@@ -7,7 +7,9 @@
 #include <cstring>
 #include <iostream>
 
+#include "bus/process_main.hpp"
 #include "bus/shutdown.hpp"
+#include "csv/producer_cli.hpp"
 #include "line_source_node.hpp"
 
 namespace {
@@ -38,42 +40,19 @@ int main(int argc, char** argv) {
     CLI::App app{"gyrocal-line-source: publish a live CSV line stream onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("--device", o.device, "serial device or FIFO to read (default: stdin)");
-    app.add_option("--lcm-url", o.lcm_url,
-                   "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
+    csv::AddLcmUrlOption(app, o.lcm_url);
     std::string time = "stream";
     app.add_option("--time", time, "stream|wall: where utime comes from (default stream)");
-    app.add_option("--start-utime", o.conversion.start_utime,
-                   "utime [us] of time_s = 0 with --time stream (default 1e15), 0..4e18");
-    app.add_option("--preset", o.conversion.preset,
-                   "gyro module preset for the temperature transfer: 610|613 (default 610)");
-    app.add_option("--temp-v-at-25c", o.conversion.temp_v_at_25c,
-                   "temperature output at 25 degC [V] (preset: 2.5), -10..10");
-    app.add_option("--temp-v-per-k", o.conversion.temp_v_per_k,
-                   "temperature output slope [V/K] (preset: 0.009), > 0 and <= 1");
-    app.add_option("--encoder-counts-per-rev", o.conversion.encoder_counts_per_rev,
-                   "encoder counts per revolution incl. quadrature (default 20000), >= 1");
+    csv::AddConversionOptions(
+        app, o.conversion, "utime [us] of time_s = 0 with --time stream (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after end of input before exit [s] (default 0.2)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "gyrocal-line-source: " << e.what() << " (see --help)\n";
-        return 2;
-    }
-    if (time == "stream")
-        o.time = TimeSource::kStream;
-    else if (time == "wall")
-        o.time = TimeSource::kWall;
-    else {
-        std::cerr << "gyrocal-line-source: --time '" << time
-                  << "' is unknown; valid: stream or wall\n";
-        return 2;
-    }
-    if (const std::string err = o.Validate(); !err.empty()) {
-        std::cerr << "gyrocal-line-source: " << err << "\n";
-        return 2;
-    }
+    const auto validate = [&] {
+        const std::string err = csv::Choose(
+            "--time", time, {{"stream", TimeSource::kStream}, {"wall", TimeSource::kWall}}, o.time);
+        return err.empty() ? o.Validate() : err;
+    };
+    if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-line-source", validate))
+        return *exit_code;
     InstallStopHandlers();  // before a FIFO open that may wait for its writer
     int fd = 0;
     std::string name = "stdin";

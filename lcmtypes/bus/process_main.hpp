@@ -1,0 +1,27 @@
+#pragma once
+// The frame of a process's main(): the same exit codes and messages in every process, so a script
+// or the launcher tells a bad option (2) from a failure (1), and each message names its process.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace gyrocal {
+
+// The --help footer of a process that runs until stopped (RunUntilStopped's exit codes).
+inline constexpr const char* kNodeExitCodes =
+    "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open),\n"
+    "            2 bad options.";
+
+// Parses argv into what `app` binds, then asks `validate` ("" when the options are valid, else a
+// one-line error naming the option). Returns the exit code when the process must end now: 0 after
+// --help, 2 for a bad option (on stderr as "<process>: <error>"); nullopt to go on.
+std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
+                                    const std::string& process,
+                                    const std::function<std::string()>& validate);
+
+// Installs the SIGINT/SIGTERM handlers, then runs the node: 0 when `run` returns (it was
+// stopped), 1 when it throws (on stderr as "<process>: <what>").
+int RunUntilStopped(const std::string& process, const std::function<void()>& run);
+
+}  // namespace gyrocal

@@ -1,0 +1,46 @@
+#include "motion_options.hpp"
+
+#include "bus/channels.hpp"
+
+namespace gyrocal::motion {
+
+void AddInputOptions(CLI::App& app, std::string& lcm_url, std::vector<std::string>& sensors,
+                     std::string& encoder_id) {
+    app.add_option("--lcm-url", lcm_url,
+                   "LCM provider URL (default: $GYROCAL_LCM_URL, else udpm default)");
+    app.add_option("--sensors", sensors, "accept only these sensor ids (default: every valid id)")
+        ->delimiter(',');
+    app.add_option("--encoder-id", encoder_id, "encoder_id of the turntable encoder")
+        ->capture_default_str();
+}
+
+void AddMoveOptions(CLI::App& app, MoveDetectorConfig& move, const std::string& settled) {
+    app.add_option("--start-threshold-counts", move.start_threshold_counts,
+                   "[count] the table leaves rest when it moves more than this")
+        ->capture_default_str();
+    app.add_option("--settle-band-counts", move.settle_band_counts,
+                   "[count] encoder dither tolerated at rest")
+        ->capture_default_str();
+    app.add_option("--settle-s", move.settle_s, "[s] within the band this long = " + settled)
+        ->capture_default_str();
+}
+
+std::string ValidateInput(const std::vector<std::string>& sensors, const std::string& encoder_id) {
+    for (const std::string& s : sensors) {
+        if (!channels::IsValidSensorId(s))
+            return "--sensors: '" + s +
+                   "' is not a valid sensor id (1-32 letters, digits, '-', '_')";
+    }
+    if (encoder_id.empty()) return "--encoder-id must not be empty";
+    return "";
+}
+
+std::string AsOption(std::string message) {
+    const size_t end = message.find(' ');
+    for (size_t i = 0; i < end && i < message.size(); ++i) {
+        if (message[i] == '_') message[i] = '-';
+    }
+    return "--" + message;
+}
+
+}  // namespace gyrocal::motion

@@ -1,0 +1,23 @@
+#include "producer_cli.hpp"
+
+namespace gyrocal::csv {
+
+void AddLcmUrlOption(CLI::App& app, std::string& lcm_url) {
+    app.add_option("--lcm-url", lcm_url,
+                   "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
+}
+
+void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
+                          const std::string& start_utime_help) {
+    app.add_option("--start-utime", conversion.start_utime, start_utime_help);
+    app.add_option("--preset", conversion.preset,
+                   "gyro module preset for the temperature transfer: 610|613 (default 610)");
+    app.add_option("--temp-v-at-25c", conversion.temp_v_at_25c,
+                   "temperature output at 25 degC [V] (preset: 2.5), -10..10");
+    app.add_option("--temp-v-per-k", conversion.temp_v_per_k,
+                   "temperature output slope [V/K] (preset: 0.009), > 0 and <= 1");
+    app.add_option("--encoder-counts-per-rev", conversion.encoder_counts_per_rev,
+                   "encoder counts per revolution incl. quadrature (default 20000), >= 1");
+}
+
+}  // namespace gyrocal::csv

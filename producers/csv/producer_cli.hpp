@@ -1,0 +1,37 @@
+#pragma once
+// Command-line pieces the measured-data producers share (gyrocal-csv-source, gyrocal-line-source,
+// gyrocal-csv-record), so their common options keep the same names, help texts and messages.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "conversion_options.hpp"
+
+namespace gyrocal::csv {
+
+// --lcm-url: the LCM provider ("" = $GYROCAL_LCM_URL, else the default).
+void AddLcmUrlOption(CLI::App& app, std::string& lcm_url);
+
+// --start-utime (`start_utime_help`: what time_s = 0 means differs per source), --preset,
+// --temp-v-at-25c, --temp-v-per-k, --encoder-counts-per-rev.
+void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
+                          const std::string& start_utime_help);
+
+// Sets `value` to the choice named `text`: "" when found, else the one-line error naming
+// `option` and the valid names ("--time 'x' is unknown; valid: stream or wall").
+template <class T>
+std::string Choose(const std::string& option, const std::string& text,
+                   const std::vector<std::pair<std::string, T>>& choices, T& value) {
+    std::string valid;
+    for (size_t i = 0; i < choices.size(); ++i) {
+        if (choices[i].first == text) {
+            value = choices[i].second;
+            return "";
+        }
+        valid += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i].first;
+    }
+    return option + " '" + text + "' is unknown; valid: " + valid;
+}
+
+}  // namespace gyrocal::csv
