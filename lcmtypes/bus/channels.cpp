@@ -14,6 +14,13 @@ bool IsValidSensorId(std::string_view id) {
     return true;
 }
 
+std::string SensorIdsProblem(const std::vector<std::string>& sensor_ids, const std::string& option) {
+    for (const std::string& id : sensor_ids)
+        if (!IsValidSensorId(id))
+            return option + ": '" + id + "' is not a valid sensor id (1-32 letters, digits, '-', '_')";
+    return "";
+}
+
 std::string PerSensor(std::string_view prefix, std::string_view id) {
     if (!IsValidSensorId(id)) {
         throw std::invalid_argument("sensor id '" + std::string(id) +

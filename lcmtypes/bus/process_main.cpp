@@ -18,7 +18,7 @@ std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
         std::cerr << process << ": " << e.what() << " (see --help)\n";
         return 2;
     }
-    if (const std::string err = validate(); !err.empty()) {
+    if (const std::string err = validate ? validate() : ""; !err.empty()) {
         std::cerr << process << ": " << err << "\n";
         return 2;
     }

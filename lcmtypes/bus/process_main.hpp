@@ -14,11 +14,12 @@ inline constexpr const char* kNodeExitCodes =
     "            2 bad options.";
 
 // Parses argv into what `app` binds, then asks `validate` ("" when the options are valid, else a
-// one-line error naming the option). Returns the exit code when the process must end now: 0 after
-// --help, 2 for a bad option (on stderr as "<process>: <error>"); nullopt to go on.
+// one-line error naming the option; none when the options' own checks suffice). Returns the exit
+// code when the process must end now: 0 after --help, 2 for a bad option (on stderr as
+// "<process>: <error>"); nullopt to go on.
 std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
                                     const std::string& process,
-                                    const std::function<std::string()>& validate);
+                                    const std::function<std::string()>& validate = {});
 
 // Installs the SIGINT/SIGTERM handlers, then runs the node: 0 when `run` returns (it was
 // stopped), 1 when it throws (on stderr as "<process>: <what>").

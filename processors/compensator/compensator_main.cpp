@@ -3,13 +3,13 @@
 // samples is complete before the next sample is computed (the atomic swap). All numbers are
 // decided by SensorCompensator (compensate.hpp); handlers guard, call it and publish.
 #include <CLI/CLI.hpp>
-#include <iostream>
+#include <cmath>
 #include <map>
 #include <set>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
+#include "bus/process_main.hpp"
 #include "bus/status.hpp"
 #include "compensator/compensate.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -183,7 +183,8 @@ int main(int argc, char** argv) {
     CLI::App app{
         "gyrocal-compensator: applies the newest COEFFS_<id> to every GYRO_<id> sample and "
         "publishes "
-        "RATE_<id> (rate_dps, integrated angle_deg, range_flag)."};
+        "RATE_<id> (rate_dps, integrated angle_deg, range_flag).",
+        "gyrocal-compensator"};
     app.add_option(
         "--lcm-url", o.lcm_url,
         "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(gyrocal::kDefaultLcmUrl) + ")");
@@ -201,40 +202,16 @@ int main(int argc, char** argv) {
     app.add_option("--temp-rate-window-s", o.core.temp_rate_window_s,
                    "window of the dT/dt slope used by dTdt/heating terms [s]")
         ->capture_default_str();
-    app.footer(
-        "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open), "
-        "2 bad options.");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e);
-        return rc == 0 ? 0 : 2;
-    }
-    const auto p = gyrocal::model::ParseRangePolicy(policy);
-    if (!p) {
-        std::cerr << "gyrocal-compensator: --out-of-range '" << policy
-                  << "' is not valid: use clip or extrapolate\n";
-        return 2;
-    }
-    o.core.range_policy = *p;
-    if (!(o.core.temp_rate_window_s > 0.0) || !std::isfinite(o.core.temp_rate_window_s)) {
-        std::cerr << "gyrocal-compensator: --temp-rate-window-s must be a finite number > 0\n";
-        return 2;
-    }
-    for (const std::string& id : o.sensors) {
-        if (!gyrocal::channels::IsValidSensorId(id)) {
-            std::cerr << "gyrocal-compensator: --sensor '" << id
-                      << "' is not valid: use 1-32 letters, digits, '-' or '_'\n";
-            return 2;
-        }
-    }
-    try {
-        gyrocal::InstallStopHandlers();
-        gyrocal::CompensatorNode node(o);
-        node.Run();
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal-compensator: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+    app.footer(gyrocal::kNodeExitCodes);
+    const auto validate = [&]() -> std::string {
+        const auto p = gyrocal::model::ParseRangePolicy(policy);
+        if (!p) return "--out-of-range '" + policy + "' is not valid: use clip or extrapolate";
+        o.core.range_policy = *p;
+        if (!(o.core.temp_rate_window_s > 0.0) || !std::isfinite(o.core.temp_rate_window_s))
+            return "--temp-rate-window-s must be a finite number > 0";
+        return gyrocal::channels::SensorIdsProblem(o.sensors, "--sensor");
+    };
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, gyrocal::kProcess, validate))
+        return *exit_code;
+    return gyrocal::RunUntilStopped(gyrocal::kProcess, [&] { gyrocal::CompensatorNode(o).Run(); });
 }

@@ -26,11 +26,7 @@ void AddMoveOptions(CLI::App& app, MoveDetectorConfig& move, const std::string& 
 }
 
 std::string ValidateInput(const std::vector<std::string>& sensors, const std::string& encoder_id) {
-    for (const std::string& s : sensors) {
-        if (!channels::IsValidSensorId(s))
-            return "--sensors: '" + s +
-                   "' is not a valid sensor id (1-32 letters, digits, '-', '_')";
-    }
+    if (std::string e = channels::SensorIdsProblem(sensors, "--sensors"); !e.empty()) return e;
     if (encoder_id.empty()) return "--encoder-id must not be empty";
     return "";
 }

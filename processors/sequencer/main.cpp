@@ -7,6 +7,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "bus/channels.hpp"
+#include "bus/process_main.hpp"
 #include "bus/shutdown.hpp"
 #include "sequencer_node.hpp"
 #include <nlohmann/json.hpp>
@@ -17,7 +19,8 @@ int main(int argc, char** argv) {
     SequencerOptions o = SequencerOptions::Defaults();
     std::string profile_name = "five";
     std::vector<double> setpoints_c;
-    CLI::App app{"gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, rotations)"};
+    CLI::App app{"gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, rotations)",
+        "gyrocal-sequencer"};
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
     app.add_option("--profile", profile_name, "named profile: five (-40,-10,25,55,85 C) or seed3 (-10,30,60 C)")
         ->capture_default_str();
@@ -40,30 +43,36 @@ int main(int argc, char** argv) {
     app.add_option("--command-line", o.command_line, "command line to record (default: this one)");
     app.footer("Exit codes: 0 run completed, 1 runtime failure, 2 bad options, 3 run aborted "
                "(chamber fault, operator stop).");
-    try {
-        app.parse(argc, argv);
+    // Bad options are the frame's (exit 2, "gyrocal-sequencer: <reason>"); the run is not: its
+    // exit code is the procedure's (0 completed, 3 aborted), so it is kept here.
+    const auto validate = [&]() -> std::string {
         if (!setpoints_c.empty()) {
             o.procedure.profile = Profile{"custom", setpoints_c};
         } else if (auto p = NamedProfile(profile_name)) {
             o.procedure.profile = *p;
         } else {
-            throw CLI::ValidationError("--profile", "unknown profile '" + profile_name + "': valid are five, seed3");
+            return "--profile: unknown profile '" + profile_name + "': valid are five, seed3";
         }
-        if (o.procedure.sensor_ids.empty()) {
-            ProcedureOptions probe = o.procedure;
-            probe.sensor_ids = {"probe"};
-            probe.Validate();
-        } else {
-            o.procedure.Validate();
+        if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors");
+            !e.empty())
+            return e;
+        try {
+            if (o.procedure.sensor_ids.empty()) {
+                ProcedureOptions probe = o.procedure;
+                probe.sensor_ids = {"probe"};
+                probe.Validate();
+            } else {
+                o.procedure.Validate();
+            }
+        } catch (const std::invalid_argument& e) {
+            return e.what();
         }
         if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))
-            throw CLI::ValidationError("--run-config-json", "is not valid JSON");
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
-    } catch (const std::invalid_argument& e) {
-        std::cerr << "gyrocal-sequencer: " << e.what() << "\n";
-        return 2;
-    }
+            return "--run-config-json: is not valid JSON";
+        return "";
+    };
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-sequencer", validate))
+        return *exit_code;
     if (o.command_line.empty()) {
         std::ostringstream cl;
         for (int i = 0; i < argc; ++i) cl << (i ? " " : "") << argv[i];

@@ -2,11 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
-#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bus/process_main.hpp"
 #include "sim/builtin_profile.hpp"
 
 namespace gyrocal {
@@ -46,9 +46,8 @@ Effects (off by default; each --effect NAME=VALUE, repeatable):
   warmup=V                   offset += VALUE * exp(-t_on / --warmup-tau-s)
 )";
 
-SimRigOptions ParseInto(CLI::App& app, int argc, char** argv, int& exit_code) {
+std::optional<int> ParseInto(CLI::App& app, int argc, char** argv, SimRigOptions& o) {
     using sim::ConfigError;
-    SimRigOptions o = SimRigOptions::Defaults();
     auto& r = o.rig;
     std::string preset = r.preset.name;
     double temp_v_at_25c = NAN, temp_v_per_c = NAN;  // NaN = the preset's
@@ -177,72 +176,68 @@ SimRigOptions ParseInto(CLI::App& app, int argc, char** argv, int& exit_code) {
         ->capture_default_str();
     app.footer(kFooter);
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        exit_code = app.exit(e);
-        return o;
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "gyrocal-sim-rig: " << e.what() << " (see --help)\n";
-        exit_code = 2;
-        return o;
-    }
-    try {
-        r.seed = seed;
-        r.noise_seed = noise_seed;
-        r.start_utime = start_utime;
-        r.preset = sim::PresetByName(preset);
-        // The transfer function both simulates the sensor line and converts it to temp_c.
-        if (!std::isnan(temp_v_at_25c)) {
-            if (!std::isfinite(temp_v_at_25c) || temp_v_at_25c <= 0.0 || temp_v_at_25c >= 50.0) {
-                throw sim::ConfigError("--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
+    // The values CLI11 cannot check alone: their ConfigError is the one-line reason (exit 2).
+    const auto validate = [&]() -> std::string {
+        try {
+            r.seed = seed;
+            r.noise_seed = noise_seed;
+            r.start_utime = start_utime;
+            r.preset = sim::PresetByName(preset);
+            // The transfer function both simulates the sensor line and converts it to temp_c.
+            if (!std::isnan(temp_v_at_25c)) {
+                if (!std::isfinite(temp_v_at_25c) || temp_v_at_25c <= 0.0 ||
+                    temp_v_at_25c >= 50.0) {
+                    throw sim::ConfigError(
+                        "--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
+                }
+                r.preset.temp_v_at_25c = temp_v_at_25c;
             }
-            r.preset.temp_v_at_25c = temp_v_at_25c;
-        }
-        if (!std::isnan(temp_v_per_c)) {
-            if (!std::isfinite(temp_v_per_c) || temp_v_per_c <= 0.0 || temp_v_per_c > 1.0) {
-                throw sim::ConfigError("--temp-v-per-c is out of range; valid: > 0 and <= 1 V/K");
+            if (!std::isnan(temp_v_per_c)) {
+                if (!std::isfinite(temp_v_per_c) || temp_v_per_c <= 0.0 || temp_v_per_c > 1.0) {
+                    throw sim::ConfigError(
+                        "--temp-v-per-c is out of range; valid: > 0 and <= 1 V/K");
+                }
+                r.preset.temp_v_per_c = temp_v_per_c;
             }
-            r.preset.temp_v_per_c = temp_v_per_c;
+            if (!sensor_ids_text.empty()) {
+                std::stringstream ss(sensor_ids_text);
+                std::string id;
+                while (std::getline(ss, id, ',')) r.sensor_ids.push_back(id);
+            }
+            for (const auto& e : effects) sim::ParseEffect(r.effects, e);
+            if (o.mode != "commanded" && o.mode != "builtin") {
+                throw ConfigError("--mode '" + o.mode + "' is unknown; valid: commanded, builtin");
+            }
+            if (!std::isfinite(o.speed) || o.speed <= 0.0 || o.speed > 100000.0) {
+                std::ostringstream v;
+                v << o.speed;
+                throw ConfigError(
+                    "--speed " + v.str() +
+                    " is out of range; valid: > 0 and <= 100000 (simulated s per wall s)");
+            }
+            if (!std::isfinite(o.duration_s) || o.duration_s < 0.0) {
+                throw ConfigError("--duration-s must be >= 0 (0 = until stopped)");
+            }
+            if (!std::isfinite(o.max_msgs_per_s) || o.max_msgs_per_s < 0.0) {
+                throw ConfigError("--max-msgs-per-s must be >= 0 (0 = no cap)");
+            }
+            if (!std::isfinite(o.tick_ms) || o.tick_ms < 1.0 || o.tick_ms > 100.0) {
+                throw ConfigError("--tick-ms is out of range; valid: 1 .. 100");
+            }
+            if (!(o.profile.dwell_s >= 0.0) || !(o.profile.rest_s >= 0.0) ||
+                !std::isfinite(o.profile.move_deg) ||
+                std::abs(o.profile.move_deg) > r.table.max_move_deg) {
+                throw ConfigError(
+                    "--dwell-s, --rest-s must be >= 0 and |--move-deg| <= the table's limit");
+            }
+            o.profile.setpoints_c = sim::ParseProfile(profile_text, r.thermal);
+            r.Validate();
+        } catch (const ConfigError& e) {
+            return e.what();
         }
-        if (!sensor_ids_text.empty()) {
-            std::stringstream ss(sensor_ids_text);
-            std::string id;
-            while (std::getline(ss, id, ',')) r.sensor_ids.push_back(id);
-        }
-        for (const auto& e : effects) sim::ParseEffect(r.effects, e);
-        if (o.mode != "commanded" && o.mode != "builtin") {
-            throw ConfigError("--mode '" + o.mode + "' is unknown; valid: commanded, builtin");
-        }
-        if (!std::isfinite(o.speed) || o.speed <= 0.0 || o.speed > 100000.0) {
-            std::ostringstream v;
-            v << o.speed;
-            throw ConfigError(
-                "--speed " + v.str() +
-                " is out of range; valid: > 0 and <= 100000 (simulated s per wall s)");
-        }
-        if (!std::isfinite(o.duration_s) || o.duration_s < 0.0) {
-            throw ConfigError("--duration-s must be >= 0 (0 = until stopped)");
-        }
-        if (!std::isfinite(o.max_msgs_per_s) || o.max_msgs_per_s < 0.0) {
-            throw ConfigError("--max-msgs-per-s must be >= 0 (0 = no cap)");
-        }
-        if (!std::isfinite(o.tick_ms) || o.tick_ms < 1.0 || o.tick_ms > 100.0) {
-            throw ConfigError("--tick-ms is out of range; valid: 1 .. 100");
-        }
-        if (!(o.profile.dwell_s >= 0.0) || !(o.profile.rest_s >= 0.0) ||
-            !std::isfinite(o.profile.move_deg) ||
-            std::abs(o.profile.move_deg) > r.table.max_move_deg) {
-            throw ConfigError(
-                "--dwell-s, --rest-s must be >= 0 and |--move-deg| <= the table's limit");
-        }
-        o.profile.setpoints_c = sim::ParseProfile(profile_text, r.thermal);
-        r.Validate();
-    } catch (const ConfigError& e) {
-        std::cerr << "gyrocal-sim-rig: " << e.what() << "\n";
-        exit_code = 2;
-    }
-    return o;
+        return "";
+    };
+    return ParseCommandLine(app, argc, argv, "gyrocal-sim-rig", validate);
 }
 
 }  // namespace
@@ -253,10 +248,8 @@ std::optional<int> ParseSimRigOptions(int argc, char** argv, SimRigOptions& opti
         "modules; publishes GYRO_<id>, ENCODER, CHAMBER_STATE, obeys CHAMBER_CMD and "
         "TURNTABLE_CMD",
         "gyrocal-sim-rig"};
-    int exit_code = -1;
-    options = ParseInto(app, argc, argv, exit_code);
-    if (exit_code >= 0) return exit_code;
-    return std::nullopt;
+    options = SimRigOptions::Defaults();
+    return ParseInto(app, argc, argv, options);
 }
 
 }  // namespace gyrocal

@@ -21,6 +21,7 @@
 #include "async_writer.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus/process_main.hpp"
 #include "bus/shutdown.hpp"
 #include "bus/status.hpp"
 #include "gyrocal/version.hpp"
@@ -173,7 +174,8 @@ int main(int argc, char** argv) {
         "Known types go to their tables, unknown ones to raw_events; runs follow RUN_EVENT.\n"
         "A SIGKILL loses at most the last --batch-ms of data (plus one commit).\n"
         "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (database write, LCM),\n"
-        "2 bad options (including a --db that cannot be opened or is not a gyrocal database)."};
+        "2 bad options (including a --db that cannot be opened or is not a gyrocal database).",
+        "gyrocal-recorder"};
     app.add_option("--db", o.db_path, "SQLite database file (created when missing)");
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
     app.add_option("--channels", o.channels, "LCM channel regex to record")
@@ -186,12 +188,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(size_t{1}, size_t{1000000}))->capture_default_str();
     app.add_option("--batch-ms", o.batch_ms, "commit at least every N ms (crash loss bound)")
         ->check(CLI::Range(1, 60000))->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e);
-        return rc == 0 ? 0 : 2;
-    }
+    // The options check themselves (CLI::Range, LcmChannelRegex); --db is checked by opening it.
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kProcess)) return *exit_code;
 
     std::unique_ptr<gyrocal::store::StoreWriter> writer;
     try {

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "bus/bus.hpp"
+#include "bus/process_main.hpp"
 #include "bus/shutdown.hpp"
 #include "query.hpp"
 #include "replay_reader.hpp"
@@ -76,7 +77,8 @@ int main(int argc, char** argv) {
         "gyrocal-replay: publishes a stored run (GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT) back\n"
         "onto LCM with its original reception timing.\n"
         "Exit codes: 0 done (or stopped by SIGINT/SIGTERM), 1 unknown run, database or LCM\n"
-        "failure, 2 bad options."};
+        "failure, 2 bad options.",
+        "gyrocal-replay"};
     app.add_option("run", o.run_id, "run id to replay")->required();
     app.add_option("--db", o.db_path, "SQLite database file")->capture_default_str();
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
@@ -87,12 +89,7 @@ int main(int argc, char** argv) {
                       ->check(CLI::Range(1e-3, 1e6))
                       ->capture_default_str();
     app.add_flag("--max", o.max, "publish as fast as possible (no timing)")->excludes(speed);
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e);
-        return rc == 0 ? 0 : 2;
-    }
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kProcess)) return *exit_code;
     try {
         return Replay(o);
     } catch (const std::exception& e) {
