@@ -1,0 +1,62 @@
+// gyrocal-sequencer's options, as a process: every bad option exits 2 with one line that names the
+// process and the option, before anything is published; --help exits 0 and lists the exit codes.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "launch/child_process.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+
+struct Case {
+    std::vector<std::string> args;
+    std::string says;  // the stderr line must contain this
+};
+
+TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
+    const std::string err = ::testing::TempDir() + "gyrocal_seq_cli_" + std::to_string(getpid()) + ".err";
+    const std::vector<Case> cases = {
+        {{"--profile", "seven"}, "--profile: unknown profile 'seven'"},
+        {{"--sensors", "S01,bad id!"}, "--sensors: 'bad id!' is not a valid sensor id"},
+        {{"--ramp-rate-c-per-min", "0"}, "ramp"},
+        {{"--setpoints-c", "20,abc"}, "--setpoints-c"},
+        {{"--run-config-json", "{\"a\":"}, "--run-config-json: is not valid JSON"},
+        {{"--bogus"}, "--bogus"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> argv = {GYROCAL_SEQUENCER_EXE, "--lcm-url", "memq://"};
+        argv.insert(argv.end(), c.args.begin(), c.args.end());
+        ChildProcess p(argv, "/dev/null", err);
+        const auto st = p.Wait(10s);
+        ASSERT_TRUE(st.has_value()) << c.args[0] << ": did not exit";
+        EXPECT_TRUE(st->exited && st->code == 2) << c.args[0] << ": " << st->Describe();
+        const std::string said = ReadLog(err);
+        EXPECT_EQ(said.rfind("gyrocal-sequencer: ", 0), 0u) << said;
+        EXPECT_NE(said.find(c.says), std::string::npos) << said;
+    }
+    std::filesystem::remove(err);
+}
+
+TEST(SequencerCli, HelpExitsZeroWithTheExitCodes) {
+    const std::string out = ::testing::TempDir() + "gyrocal_seq_help_" + std::to_string(getpid()) + ".out";
+    ChildProcess p({GYROCAL_SEQUENCER_EXE, "--help"}, out, "/dev/null");
+    const auto st = p.Wait(10s);
+    ASSERT_TRUE(st.has_value());
+    EXPECT_TRUE(st->exited && st->code == 0) << st->Describe();
+    const std::string help = ReadLog(out);
+    EXPECT_NE(help.find("3 run aborted"), std::string::npos) << help;
+    EXPECT_NE(help.find("--sensors"), std::string::npos) << help;
+    std::filesystem::remove(out);
+}
+
+}  // namespace
+}  // namespace gyrocal
