@@ -6,8 +6,8 @@
 
 #include "bus/channels.hpp"
 #include "gyrocal/plateau_state_t.hpp"
-#include "gyrocal/plateau_t.hpp"
 #include "motion_options.hpp"
+#include "plateau_message.hpp"
 
 namespace gyrocal {
 
@@ -140,30 +140,7 @@ void PlateauNode::DrainAll() {
 
 void PlateauNode::Publish(const std::string& id, const plateau::Step& step) {
     if (step.plateau) {
-        const plateau::Plateau& p = *step.plateau;
-        plateau_t msg;
-        msg.utime = p.end_utime;
-        msg.sensor_id = id;
-        msg.run_id = p.run_id;
-        msg.plateau_id = p.plateau_id;
-        msg.setpoint_c = p.setpoint_c;
-        msg.start_utime = p.start_utime;
-        msg.end_utime = p.end_utime;
-        msg.first_seq = p.first_seq;
-        msg.last_seq = p.last_seq;
-        msg.n_samples = p.n_samples;
-        msg.n_excluded_motion = p.n_excluded_motion;
-        msg.seq_gaps = p.seq_gaps;
-        msg.temp_mean_c = p.temp_c.mean;
-        msg.temp_std_c = p.temp_c.std;
-        msg.temp_sem_c = p.temp_c.sem;
-        msg.temp_slope_c_per_min = p.temp_slope_c_per_min;
-        msg.gyro_mean_v = p.gyro_v.mean;
-        msg.gyro_std_v = p.gyro_v.std;
-        msg.gyro_sem_v = p.gyro_v.sem;
-        msg.temp_v_mean = p.temp_v_mean;
-        msg.supply_mean_v = p.supply_mean_v;
-        bus_.Publish(channels::Plateau(id), msg);
+        bus_.Publish(channels::Plateau(id), ToMessage(id, *step.plateau));
         ++plateaus_;
         status_.SetExtra("plateaus", static_cast<double>(plateaus_));
     }

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "bus/channels.hpp"
-#include "gyrocal/sensitivity_point_t.hpp"
 #include "motion_options.hpp"
+#include "rotation_message.hpp"
 
 namespace gyrocal {
 
@@ -79,27 +79,7 @@ void RotationNode::OnRunEvent(const run_event_t& m) {
 
 void RotationNode::PollAndPublish(const std::string& id, Sensor& sensor) {
     for (const rotation::Point& p : sensor.estimator.Poll(View())) {
-        sensitivity_point_t msg;
-        msg.utime = p.end_utime;
-        msg.sensor_id = id;
-        msg.run_id = run_id_;
-        msg.rotation_id = p.rotation_id;
-        msg.start_utime = p.start_utime;
-        msg.end_utime = p.end_utime;
-        msg.first_seq = p.first_seq;
-        msg.last_seq = p.last_seq;
-        msg.n_samples = p.n_samples;
-        msg.direction = p.direction;
-        msg.temp_c = p.temp_c;
-        msg.encoder_angle_deg = p.encoder_angle_deg;
-        msg.offset_v = p.offset_v;
-        msg.offset_stderr_v = p.offset_stderr_v;
-        msg.integral_v_s = p.integral_v_s;
-        msg.sensitivity_v_per_dps = p.sensitivity_v_per_dps;
-        msg.sensitivity_stderr_v_per_dps = p.sensitivity_stderr_v_per_dps;
-        msg.accepted = p.accepted;
-        msg.reject_reason = p.reject_reason;
-        bus_.Publish(channels::Sensitivity(id), msg);
+        bus_.Publish(channels::Sensitivity(id), ToMessage(id, run_id_, p));
         if (p.accepted) {
             ++accepted_;
         } else {

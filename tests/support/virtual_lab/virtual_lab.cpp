@@ -8,6 +8,9 @@
 #include <stdexcept>
 #include <variant>
 
+#include "plateau_message.hpp"
+#include "rotation_message.hpp"
+
 namespace gyrocal::virtual_lab {
 
 LabConfig LabConfig::For(const std::string& profile, fit::Method method) {
@@ -22,59 +25,6 @@ LabConfig LabConfig::For(const std::string& profile, fit::Method method) {
 }
 
 namespace {
-
-gyrocal::plateau_t ToMsg(const std::string& id, const plateau::Plateau& p) {
-    // Field for field what gyrocal-plateau publishes (plateau_node.cpp).
-    gyrocal::plateau_t m;
-    m.utime = p.end_utime;
-    m.sensor_id = id;
-    m.run_id = p.run_id;
-    m.plateau_id = p.plateau_id;
-    m.setpoint_c = p.setpoint_c;
-    m.start_utime = p.start_utime;
-    m.end_utime = p.end_utime;
-    m.first_seq = p.first_seq;
-    m.last_seq = p.last_seq;
-    m.n_samples = p.n_samples;
-    m.n_excluded_motion = p.n_excluded_motion;
-    m.seq_gaps = p.seq_gaps;
-    m.temp_mean_c = p.temp_c.mean;
-    m.temp_std_c = p.temp_c.std;
-    m.temp_sem_c = p.temp_c.sem;
-    m.temp_slope_c_per_min = p.temp_slope_c_per_min;
-    m.gyro_mean_v = p.gyro_v.mean;
-    m.gyro_std_v = p.gyro_v.std;
-    m.gyro_sem_v = p.gyro_v.sem;
-    m.temp_v_mean = p.temp_v_mean;
-    m.supply_mean_v = p.supply_mean_v;
-    return m;
-}
-
-gyrocal::sensitivity_point_t ToMsg(const std::string& id, const std::string& run_id,
-                                   const rotation::Point& p) {
-    // Field for field what gyrocal-rotation publishes (rotation_node.cpp).
-    gyrocal::sensitivity_point_t m;
-    m.utime = p.end_utime;
-    m.sensor_id = id;
-    m.run_id = run_id;
-    m.rotation_id = p.rotation_id;
-    m.start_utime = p.start_utime;
-    m.end_utime = p.end_utime;
-    m.first_seq = p.first_seq;
-    m.last_seq = p.last_seq;
-    m.n_samples = p.n_samples;
-    m.direction = p.direction;
-    m.temp_c = p.temp_c;
-    m.encoder_angle_deg = p.encoder_angle_deg;
-    m.offset_v = p.offset_v;
-    m.offset_stderr_v = p.offset_stderr_v;
-    m.integral_v_s = p.integral_v_s;
-    m.sensitivity_v_per_dps = p.sensitivity_v_per_dps;
-    m.sensitivity_stderr_v_per_dps = p.sensitivity_stderr_v_per_dps;
-    m.accepted = p.accepted;
-    m.reject_reason = p.reject_reason;
-    return m;
-}
 
 // The process graph as one RigSink. Each member mirrors one process's state.
 class Pipeline : public sim::RigSink {
@@ -178,7 +128,7 @@ private:
         const rotation::MotionView view{rotation_moves_.watermark_utime(),
                                         rotation_moves_.current_start_utime()};
         for (const rotation::Point& p : s.estimator.Poll(view)) {
-            out_.sensitivity_points.push_back(ToMsg(s.id, run_id_, p));
+            out_.sensitivity_points.push_back(ToMessage(s.id, run_id_, p));
             const gyrocal::sensitivity_point_t& m = out_.sensitivity_points.back();
             if (!procedure_.done()) {
                 Collect(fitter_.OnSensitivity(m, s.id));
@@ -188,7 +138,7 @@ private:
     }
 
     void DeliverPlateau(const std::string& id, const plateau::Plateau& p) {
-        out_.plateaus.push_back(ToMsg(id, p));
+        out_.plateaus.push_back(ToMessage(id, p));
         const gyrocal::plateau_t& m = out_.plateaus.back();
         if (procedure_.done()) return;  // after the run's stop: a process would refuse it too
         Collect(fitter_.OnPlateau(m, id));

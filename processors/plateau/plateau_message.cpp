@@ -1,0 +1,31 @@
+#include "plateau_message.hpp"
+
+namespace gyrocal {
+
+plateau_t ToMessage(const std::string& sensor_id, const plateau::Plateau& p) {
+    plateau_t m;
+    m.utime = p.end_utime;
+    m.sensor_id = sensor_id;
+    m.run_id = p.run_id;
+    m.plateau_id = p.plateau_id;
+    m.setpoint_c = p.setpoint_c;
+    m.start_utime = p.start_utime;
+    m.end_utime = p.end_utime;
+    m.first_seq = p.first_seq;
+    m.last_seq = p.last_seq;
+    m.n_samples = p.n_samples;
+    m.n_excluded_motion = p.n_excluded_motion;
+    m.seq_gaps = p.seq_gaps;
+    m.temp_mean_c = p.temp_c.mean;
+    m.temp_std_c = p.temp_c.std;
+    m.temp_sem_c = p.temp_c.sem;
+    m.temp_slope_c_per_min = p.temp_slope_c_per_min;
+    m.gyro_mean_v = p.gyro_v.mean;
+    m.gyro_std_v = p.gyro_v.std;
+    m.gyro_sem_v = p.gyro_v.sem;
+    m.temp_v_mean = p.temp_v_mean;
+    m.supply_mean_v = p.supply_mean_v;
+    return m;
+}
+
+}  // namespace gyrocal
