@@ -47,6 +47,9 @@ std::string CoreOptions::Problem() const {
     if (const std::string p = fit.Problem(); !p.empty()) return p;
     if (!std::isfinite(nominal_sensitivity_v_per_dps) || !(nominal_sensitivity_v_per_dps > 0.0))
         return "--nominal-sensitivity-v-per-dps must be a finite number > 0";
+    if (!std::isfinite(plateau_slow_noise_dps) || plateau_slow_noise_dps < 0.0 ||
+        plateau_slow_noise_dps > 10.0)
+        return "--plateau-slow-noise-dps must be in [0, 10] deg/s";
     return "";
 }
 
@@ -171,7 +174,8 @@ void FitterCore::Refit(const std::string& sensor_id, SensorState& s, bool force,
         pt.inputs.temp_c = p.temp_mean_c;
         pt.inputs.supply_v = p.supply_mean_v;
         pt.y = p.gyro_mean_v;
-        pt.sigma_y = p.gyro_sem_v;
+        pt.sigma_y = std::hypot(p.gyro_sem_v, options_.plateau_slow_noise_dps *
+                                                  options_.nominal_sensitivity_v_per_dps);
         pt.id = id;
         opts.push_back(pt);
         newest_utime = std::max(newest_utime, p.utime);

@@ -39,6 +39,14 @@ namespace gyrocal::fitter {
 struct CoreOptions {
     fit::FitOptions fit;                           // shared by offset and sensitivity fits
     double nominal_sensitivity_v_per_dps = 0.006;  // [V/(deg/s)] ADXRS610 datasheet value
+    // [deg/s] standard deviation of a plateau mean that its own standard error cannot show: the
+    // gyro's slow noise (bias instability, rate random walk) keeps its value through a ~1 minute
+    // window, so the window's scatter misses it. Known from an Allan-deviation characterisation
+    // of the gyro type (for the simulated rig at its defaults, 0.015 deg/s for 60 s means:
+    // sim::SlowNoiseBinVariance). Added in quadrature to each plateau's gyro_sem_v (converted with
+    // the nominal sensitivity). 0 = none: then only the overdispersion estimate (fit.hpp) can
+    // widen the errors, and a 3-point fit, with no dof, cannot.
+    double plateau_slow_noise_dps = 0.0;
     std::string source = "fitter";
     static CoreOptions Defaults() { return {}; }
     std::string Problem() const;  // "" when valid

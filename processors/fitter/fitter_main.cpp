@@ -2,11 +2,10 @@
 // Threads: one. Bus::Handle dispatches on this thread; each handler guards, calls FitterCore
 // (fitter_core.hpp, all the decisions) and publishes what it returns. SIGINT/SIGTERM end RunLoop.
 #include <CLI/CLI.hpp>
-#include <iostream>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
+#include "bus/process_main.hpp"
 #include "bus/status.hpp"
 #include "fitter/fitter_core.hpp"
 
@@ -110,7 +109,8 @@ int main(int argc, char** argv) {
     FitterOptions o = FitterOptions::Defaults();
     CLI::App app{
         "gyrocal-fitter: fits offset and sensitivity models per sensor from PLATEAU_* and "
-        "SENSITIVITY_* of the current run (RUN_EVENT) and publishes COEFFS_<sensor_id>."};
+        "SENSITIVITY_* of the current run (RUN_EVENT) and publishes COEFFS_<sensor_id>.",
+        "gyrocal-fitter"};
     app.add_option(
         "--lcm-url", o.lcm_url,
         "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(gyrocal::kDefaultLcmUrl) + ")");
@@ -137,33 +137,18 @@ int main(int argc, char** argv) {
     app.add_option("--nominal-sensitivity-v-per-dps", o.core.nominal_sensitivity_v_per_dps,
                    "sensitivity published while a sensor has no accepted rotation [V/(deg/s)]")
         ->capture_default_str();
-    app.footer(
-        "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open), "
-        "2 bad options.");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e);
-        return rc == 0 ? 0 : 2;
-    }
-    const auto method = gyrocal::fit::ParseMethod(o.method);
-    if (!method) {
-        std::cerr << "gyrocal-fitter: --method '" << o.method
-                  << "' is not valid: use auto, 3point or wls\n";
-        return 2;
-    }
-    o.core.fit.method = *method;
-    if (const std::string p = o.core.Problem(); !p.empty()) {
-        std::cerr << "gyrocal-fitter: " << p << "\n";
-        return 2;
-    }
-    try {
-        gyrocal::InstallStopHandlers();
-        gyrocal::FitterNode node(o);
-        node.Run();
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal-fitter: " << e.what() << "\n";
-        return 1;
-    }
-    return 0;
+    app.add_option("--plateau-slow-noise-dps", o.core.plateau_slow_noise_dps,
+                   "[deg/s] slow noise in a plateau mean that its standard error cannot show (from "
+                   "the gyro's Allan deviation), added in quadrature; 0 = none, 0..10")
+        ->capture_default_str();
+    app.footer(gyrocal::kNodeExitCodes);
+    const auto validate = [&]() -> std::string {
+        const auto method = gyrocal::fit::ParseMethod(o.method);
+        if (!method) return "--method '" + o.method + "' is not valid: use auto, 3point or wls";
+        o.core.fit.method = *method;
+        return o.core.Problem();
+    };
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, gyrocal::kProcess, validate))
+        return *exit_code;
+    return gyrocal::RunUntilStopped(gyrocal::kProcess, [&] { gyrocal::FitterNode(o).Run(); });
 }

@@ -5,6 +5,7 @@
 #include <csignal>
 
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <cstdio>
 #include <filesystem>
@@ -31,8 +32,20 @@
 #include "launch/child_process.hpp"
 #include "paths.hpp"
 #include "progress.hpp"
+#include "sim/config.hpp"
+#include "sim/noise.hpp"
 
 namespace gyrocal::cli {
+
+double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
+    // Over about an hour of run (the rate random walk's share grows with it; ~1 % here).
+    return std::sqrt(sim::SlowNoiseBinVariance(sim::NoiseConfig{}, average_s, 3600.0));
+}
+
+double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o) {
+    if (o.plateau_slow_noise_dps >= 0.0) return o.plateau_slow_noise_dps;
+    return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : 0.0;
+}
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -154,10 +167,13 @@ bool Calibration::AwaitHeartbeats(const std::set<std::string>& names, std::chron
         bool all = true;
         for (const auto& n : names) all = all && heard_.count(n) > 0;
         if (all) return true;
-        if (const Child* dead = DeadChild()) {
-            std::cerr << "gyrocal calibrate: " << dead->name << " ended at start-up ("
-                      << dead->proc->Poll()->Describe() << "); its log " << dead->log << ":\n"
-                      << TailOf(dead->log, 10);
+        // Any child that has ended by now failed at start-up, the source included (it only ends
+        // by itself once it has run).
+        for (const Child& c : children_) {
+            if (!c.proc->Poll()) continue;
+            std::cerr << "gyrocal calibrate: " << c.name << " ended at start-up (" << c.proc->Poll()->Describe()
+                      << "); its log " << c.log << ":\n"
+                      << TailOf(c.log, 10);
             return false;
         }
         bus_.Handle(50ms);
@@ -177,6 +193,7 @@ std::string Calibration::ConfigJson() const {
     j["preset"] = o_.preset;
     j["seed"] = o_.seed;
     j["noise_seed"] = o_.noise_seed;
+    j["plateau_slow_noise_dps"] = EffectivePlateauSlowNoiseDps(o_);
     j["speed"] = o_.speed;
     j["profile"] = o_.profile;
     j["setpoints_c"] = o_.setpoints_c;
@@ -278,7 +295,12 @@ int Calibration::Run() {
         Start(SiblingExecutable("gyrocal-recorder"), common({"--db", o_.db}, o_.recorder_args));
         Start(SiblingExecutable("gyrocal-plateau"), common({}, o_.plateau_args));
         Start(SiblingExecutable("gyrocal-rotation"), common({}, o_.rotation_args));
-        Start(SiblingExecutable("gyrocal-fitter"), common({}, o_.fitter_args));
+        std::vector<std::string> fitter = {"--plateau-slow-noise-dps",
+                                           std::to_string(EffectivePlateauSlowNoiseDps(o_))};
+        if (o_.source == "sim")
+            fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
+                                         std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
+        Start(SiblingExecutable("gyrocal-fitter"), common(fitter, o_.fitter_args));
         Start(SiblingExecutable("gyrocal-compensator"), common({}, o_.compensator_args));
     } catch (const std::exception& e) {
         std::cerr << "gyrocal calibrate: " << e.what() << " (is the project built? tools/run.sh setup)\n";

@@ -17,6 +17,11 @@ namespace gyrocal::cli {
 
 inline constexpr double kAutoRigMessagesPerS = 15000.0;
 
+// The slow noise (bias instability, rate random walk) in a plateau mean of `average_s` of the
+// simulated gyro type at the rig's default noise settings: what an Allan-deviation
+// characterisation of that gyro type tells the fitter (not a unit's truth).
+double PlateauSlowNoiseOfSimulatedGyroDps(double average_s = 60.0);
+
 struct CalibrateOptions {
     std::string source = "sim";   // sim | csv | lines | log
     std::string input;            // file for csv and log sources
@@ -26,6 +31,9 @@ struct CalibrateOptions {
     std::string preset = "610";   // module preset of the simulated units
     uint64_t seed = 1;
     uint64_t noise_seed = 0;      // 0 = seed (see gyrocal-sim-rig --noise-seed)
+    // [deg/s] gyrocal-fitter --plateau-slow-noise-dps; < 0 = auto: for the simulated rig its gyro
+    // type's characterisation (PlateauSlowNoiseOfSimulatedGyroDps), for measured data 0 (unknown).
+    double plateau_slow_noise_dps = -1.0;
     // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
     // messages per simulated second, and the whole graph on the 2-core development machine lost
     // nothing at 15000 rig messages/s (4 units at speed 30: 0 lost at load ~6) but 1-2 % at
@@ -45,6 +53,9 @@ struct CalibrateOptions {
     std::string command_line;
     static CalibrateOptions Defaults() { return {}; }
 };
+
+// The value gyrocal-fitter gets for --plateau-slow-noise-dps (the auto rule resolved).
+double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);
 
 // Runs the calibration; returns the exit code (0 completed with coefficients for every sensor,
 // 1 failure, 3 run aborted or incomplete).

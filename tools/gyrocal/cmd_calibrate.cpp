@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "calibrate.hpp"
+#include "sim/config.hpp"
 
 namespace gyrocal::cli {
 namespace {
@@ -43,6 +44,11 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--noise-seed", o->noise_seed,
                     "seed of the simulated noise alone, 0 = --seed (same units, another realisation)")
         ->capture_default_str();
+    cmd->add_option("--plateau-slow-noise-dps", o->plateau_slow_noise_dps,
+                    "[deg/s] slow noise in a plateau mean that its standard error cannot show (gyro "
+                    "characterisation), for the fitter's uncertainties; default: the simulated gyro's "
+                    "for --source sim, 0 for measured data")
+        ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--speed", o->speed,
                     "simulated seconds per wall second; 0 = auto: the fastest the whole graph ran without "
                     "loss on a 2-core machine (15000 rig messages/s: speed 30 for 4 units, 75 for 1)")
@@ -50,7 +56,17 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--profile", o->profile, "five (-40,-10,25,55,85 C) or seed3 (-10,30,60 C)")
         ->check(CLI::IsMember({"five", "seed3"}))->capture_default_str();
     cmd->add_option("--setpoints-c", o->setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
-    cmd->add_option("--effect", o->effects, "switch on an undeclared effect in the rig, NAME=VALUE (repeatable)");
+    cmd->add_option("--effect", o->effects, "switch on an undeclared effect in the rig, NAME=VALUE (repeatable)")
+        ->check([](const std::string& v) {
+            // The rig's own parser, so that a bad effect is refused here, before any process starts.
+            try {
+                sim::EffectsConfig effects;
+                sim::ParseEffect(effects, v);
+                return std::string();
+            } catch (const sim::ConfigError& e) {
+                return std::string(e.what());
+            }
+        });
     cmd->add_option("--log-dir", o->log_dir, "folder for the child processes' logs (default: a new one in $TMPDIR)");
     cmd->add_option("--wall-timeout-s", o->wall_timeout_s, "abort after this many wall seconds (0 = none)")
         ->check(CLI::NonNegativeNumber);

@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <random>
+#include <utility>
 
 #include "model/convert.hpp"
 
@@ -177,6 +180,52 @@ TEST(FitterCore, TooFewTemperaturesAtStopIsARefusal) {
     EXPECT_TRUE(HasRejection(out, "fit_refused"));
 }
 
+// Plateau means carry slow noise their window's standard error cannot show (the gyro's bias
+// instability keeps its value through the window). Seed method, three plateaus: without the
+// option the 3-point covariance (no dof to estimate any overdispersion) claims errors 5x too
+// small; with it the claimed standard error is the scatter's.
+TEST(FitterCore, PlateauSlowNoiseMakesTheThreePointUncertaintyHonest) {
+    const double sem_v = 2e-5, slow_dps = 0.015, s_v_per_dps = 0.006;
+    const double slow_v = slow_dps * s_v_per_dps;  // 9e-5 V: 4.5x the window's standard error
+    const int trials = 2000;
+    std::mt19937_64 rng(42);
+    std::normal_distribution<double> n01;
+    double z2_with = 0.0, z2_without = 0.0;
+    for (int k = 0; k < trials; ++k) {
+        CoreOptions with = CoreOptions::Defaults();
+        with.plateau_slow_noise_dps = slow_dps;
+        FitterCore a(with), b(CoreOptions::Defaults());
+        a.OnRunEvent(Event("start", "A"));
+        b.OnRunEvent(Event("start", "A"));
+        CoreOutput out_a, out_b;
+        int64_t id = 100;
+        for (double t : {-10.0, 30.0, 60.0}) {
+            plateau_t p = Plateau(t, id += 100);
+            p.gyro_mean_v += sem_v * n01(rng) + slow_v * n01(rng);
+            out_a = a.OnPlateau(p, "S01");
+            out_b = b.OnPlateau(p, "S01");
+        }
+        ASSERT_EQ(out_a.publish.size(), 1u);
+        ASSERT_EQ(out_b.publish.size(), 1u);
+        // At 45 degC, between plateaus: the error of the fit over its own claimed uncertainty.
+        model::ModelInputs in;
+        in.temp_c = 45.0;
+        for (auto [out, z2] : {std::pair{&out_a, &z2_with}, std::pair{&out_b, &z2_without}}) {
+            const model::CoeffSet set = model::FromMsg(out->publish[0]);
+            const model::Evaluation e =
+                model::Evaluator(set.offset).Evaluate(in, model::RangePolicy::kClip);
+            *z2 += (e.value - OffsetV(45.0)) * (e.value - OffsetV(45.0)) / e.variance;
+        }
+    }
+    // Mean z^2 is 1 when the claimed variance is the true one; its estimate from 2000 trials has
+    // sd sqrt(2/2000) = 0.032: 4 sigma = 0.13. Without the option it is (1 + 4.5^2) = 21.
+    std::printf("[ fitter ] 3-point fits, slow noise 4.5x the window SEM: mean z^2 at 45 degC %.3f "
+                "with --plateau-slow-noise-dps, %.1f without\n",
+                z2_with / trials, z2_without / trials);
+    EXPECT_NEAR(z2_with / trials, 1.0, 0.13);
+    EXPECT_GT(z2_without / trials, 10.0);
+}
+
 TEST(FitterCore, OptionsAreValidated) {
     CoreOptions o;
     EXPECT_EQ(o.Problem(), "");
@@ -185,6 +234,11 @@ TEST(FitterCore, OptionsAreValidated) {
     o = CoreOptions{};
     o.fit.max_degree = 4;
     EXPECT_NE(o.Problem().find("--max-degree"), std::string::npos);
+    o = CoreOptions{};
+    o.plateau_slow_noise_dps = -0.01;
+    EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
+    o.plateau_slow_noise_dps = NAN;
+    EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
 }
 
 // A unit's five plateaus leave its cubic reference one dof; the fitter pools the other units'

@@ -14,13 +14,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string ReadFile(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
 int CountLcmFiles() {
     int n = 0;
     for (const auto& e : std::filesystem::directory_iterator(GYROCAL_LCMTYPES_DIR))
@@ -36,15 +29,15 @@ TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
     const std::string expected = "Found " + std::to_string(CountLcmFiles()) + " LCM types";
     std::string out;
     for (int i = 0; i < 300 && out.find(expected) == std::string::npos; ++i) {
-        ASSERT_FALSE(spy.Poll().has_value()) << "lcm-spy ended early:\n" << ReadFile(log);
+        ASSERT_FALSE(spy.Poll().has_value()) << "lcm-spy ended early:\n" << ReadLog(log);
         std::this_thread::sleep_for(100ms);
-        out = ReadFile(log);
+        out = ReadLog(log);
     }
     EXPECT_NE(out.find(expected), std::string::npos) << out;
     // Still running a moment later: the window is up, not an exception at start.
     std::this_thread::sleep_for(1s);
-    EXPECT_FALSE(spy.Poll().has_value()) << ReadFile(log);
-    EXPECT_EQ(ReadFile(log).find("Exception"), std::string::npos) << ReadFile(log);
+    EXPECT_FALSE(spy.Poll().has_value()) << ReadLog(log);
+    EXPECT_EQ(ReadLog(log).find("Exception"), std::string::npos) << ReadLog(log);
 }
 
 TEST(Spy, MissingTypesJarIsAClearError) {
@@ -53,7 +46,7 @@ TEST(Spy, MissingTypesJarIsAClearError) {
     auto s = spy.Wait(10s);
     ASSERT_TRUE(s.has_value());
     EXPECT_EQ(s->code, 1);
-    EXPECT_NE(ReadFile(log).find("/nonexistent/types.jar"), std::string::npos) << ReadFile(log);
+    EXPECT_NE(ReadLog(log).find("/nonexistent/types.jar"), std::string::npos) << ReadLog(log);
 }
 
 }  // namespace

@@ -1,0 +1,74 @@
+// What `gyrocal calibrate` hands the fitter for the plateaus' slow noise: the simulated gyro type's
+// characterisation for the simulated rig, nothing invented for measured data, the user's value
+// whenever given; and a bad value is refused by the real CLI (exit 2, naming the option).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "calibrate.hpp"
+#include "launch/child_process.hpp"
+#include "sim/noise.hpp"
+
+namespace gyrocal::cli {
+namespace {
+
+TEST(CalibrateOptions, PlateauSlowNoiseIsTheSimulatedGyrosOnlyForTheRig) {
+    CalibrateOptions o;
+    // The rig's defaults (bias instability 0.008 deg/s, rate random walk 5e-5 deg/s/sqrt(s)) in a
+    // 60 s mean: 0.0152 deg/s (sim::SlowNoiseBinVariance, checked there against 60 simulated hours).
+    EXPECT_NEAR(EffectivePlateauSlowNoiseDps(o), 0.0152, 0.0005);
+    EXPECT_DOUBLE_EQ(EffectivePlateauSlowNoiseDps(o),
+                     std::sqrt(sim::SlowNoiseBinVariance(sim::NoiseConfig{}, 60.0, 3600.0)));
+    o.source = "csv";
+    EXPECT_EQ(EffectivePlateauSlowNoiseDps(o), 0.0);
+    o.plateau_slow_noise_dps = 0.02;
+    EXPECT_EQ(EffectivePlateauSlowNoiseDps(o), 0.02);
+    o.source = "sim";
+    o.plateau_slow_noise_dps = 0.0;
+    EXPECT_EQ(EffectivePlateauSlowNoiseDps(o), 0.0);
+}
+
+// Bad options of the real CLI: exit 2 with the option named, before any process starts; a child
+// that refuses its options ends the start-up at once (exit 1 with its log), not after a heartbeat
+// timeout. Port 7797, this file's own.
+TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
+    using namespace std::chrono_literals;
+    const std::string dir = ::testing::TempDir() + "gyrocal_cal_opts_" + std::to_string(getpid());
+    std::filesystem::create_directories(dir);
+    const std::string db = dir + "/x.db", err = dir + "/err.txt";
+    struct Case {
+        std::vector<std::string> args;
+        int code;
+        std::string says;
+    };
+    const std::vector<Case> cases = {
+        {{"--effect", "bogus=1"}, 2, "--effect 'bogus' is unknown; valid names:"},
+        {{"--effect", "supply=abc"}, 2, "is not a number"},
+        {{"--plateau-slow-noise-dps", "-1"}, 2, "--plateau-slow-noise-dps"},
+        {{"--sensors", "0"}, 2, "--sensors"},
+        {{"--profile", "seven"}, 2, "--profile"},
+        {{"--source", "csv"}, 2, "--input"},
+        {{"--rig-arg=--bogus"}, 1, "gyrocal-sim-rig ended at start-up (exit code 2)"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", db, "--quiet", "--log-dir", dir + "/logs",
+                                         "--lcm-url", "udpm://239.255.76.67:7797?ttl=0"};
+        argv.insert(argv.end(), c.args.begin(), c.args.end());
+        ChildProcess p(argv, "/dev/null", err);
+        // The child's failure is seen within the start-up poll, far below the 20 s heartbeat wait.
+        const auto st = p.Wait(15s);
+        ASSERT_TRUE(st.has_value()) << c.args[0] << ": still running";
+        EXPECT_TRUE(st->exited && st->code == c.code) << c.args[0] << ": " << st->Describe();
+        EXPECT_NE(ReadLog(err).find(c.says), std::string::npos) << ReadLog(err);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrocal::cli
