@@ -25,13 +25,6 @@ using namespace std::chrono_literals;
 const std::string kUrl = "udpm://239.255.76.67:7701?ttl=0&recv_buf_size=4194304";
 const std::string kProbe = GYROCAL_BUS_PROBE;
 
-std::string ReadFile(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
 // Waits (bounded) for a STATUS of the probe that satisfies `pred`.
 std::optional<status_t> AwaitProbeStatus(Bus& bus, const std::function<bool(const status_t&)>& pred,
                                          std::chrono::seconds limit) {
@@ -86,7 +79,7 @@ TEST(BusMultiProcess, UnknownOptionIsExitCode2WithMessage) {
     auto ex = probe.Wait(10s);
     ASSERT_TRUE(ex.has_value());
     EXPECT_EQ(ex->code, 2);
-    EXPECT_NE(ReadFile(err).find("--no-such-option"), std::string::npos);
+    EXPECT_NE(ReadLog(err).find("--no-such-option"), std::string::npos);
 }
 
 // A host without a multicast route: a fresh network namespace has only a down loopback.
@@ -102,8 +95,8 @@ TEST(BusMultiProcess, NoMulticastRouteGivesTheFix) {
     auto ex = probe.Wait(15s);
     std::system(("ip netns delete " + ns).c_str());
     ASSERT_TRUE(ex.has_value());
-    EXPECT_EQ(ex->code, 1) << ReadFile(err);
-    EXPECT_NE(ReadFile(err).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos) << ReadFile(err);
+    EXPECT_EQ(ex->code, 1) << ReadLog(err);
+    EXPECT_NE(ReadLog(err).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos) << ReadLog(err);
 }
 
 }  // namespace

@@ -8,10 +8,19 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
 namespace gyrocal {
+
+std::string ReadLog(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
 
 std::string ExitStatus::Describe() const {
     if (exited) return "exit code " + std::to_string(code);

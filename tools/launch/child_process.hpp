@@ -48,4 +48,7 @@ private:
     std::optional<ExitStatus> status_;
 };
 
+// The whole text of a file, "" when it cannot be read: what a child wrote to its log.
+std::string ReadLog(const std::string& path);
+
 }  // namespace gyrocal

@@ -27,13 +27,6 @@ using nlohmann::json;
 
 const std::string kUrl = "udpm://239.255.76.67:7781?ttl=0&recv_buf_size=4194304";
 
-std::string ReadFile(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
 // Minimal read-only SQL for the checks (the store's own library is tested in tests/store).
 class Sql {
 public:
@@ -108,13 +101,13 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
                       "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "400"},
                      out, out);
     auto ended = cal.Wait(std::chrono::seconds(420));
-    ASSERT_TRUE(ended.has_value()) << "calibrate did not finish:\n" << ReadFile(out);
-    ASSERT_TRUE(ended->exited && ended->code == 0) << ended->Describe() << "\n" << ReadFile(out);
-    const std::string printed = ReadFile(out);
+    ASSERT_TRUE(ended.has_value()) << "calibrate did not finish:\n" << ReadLog(out);
+    ASSERT_TRUE(ended->exited && ended->code == 0) << ended->Describe() << "\n" << ReadLog(out);
+    const std::string printed = ReadLog(out);
     EXPECT_NE(printed.find("stop: completed"), std::string::npos) << printed;
     EXPECT_NE(printed.find("fitted vs true"), std::string::npos) << printed;
 
-    const json truth = json::parse(ReadFile(dir + "/logs/truth.json"));
+    const json truth = json::parse(ReadLog(dir + "/logs/truth.json"));
     const json& noise = truth.at("config").at("noise");
     Sql sql(db);
     const std::string run = sql.Rows("SELECT run_id FROM runs WHERE run_id <> '' ORDER BY started_utime DESC").at(0).at(0);
@@ -221,7 +214,7 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
 
 bool AnyProcessMentions(const std::string& needle) {
     for (const auto& e : std::filesystem::directory_iterator("/proc")) {
-        const std::string cmd = ReadFile(e.path().string() + "/cmdline");
+        const std::string cmd = ReadLog(e.path().string() + "/cmdline");
         if (cmd.find(needle) != std::string::npos && e.path().filename() != std::to_string(getpid())) return true;
     }
     return false;
@@ -239,15 +232,15 @@ TEST(CalibrateEndToEnd, InterruptAbortsTheRunCleanly) {
                       "--log-dir", dir + "/logs", "--quiet"},
                      out, out);
     // Wait (bounded) until the run has started, as a person would before pressing Ctrl-C.
-    for (int i = 0; i < 300 && ReadFile(dir + "/logs/gyrocal-sequencer.log").find("setpoint") == std::string::npos; ++i)
+    for (int i = 0; i < 300 && ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint") == std::string::npos; ++i)
         std::this_thread::sleep_for(100ms);
-    ASSERT_NE(ReadFile(dir + "/logs/gyrocal-sequencer.log").find("setpoint"), std::string::npos) << ReadFile(out);
+    ASSERT_NE(ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint"), std::string::npos) << ReadLog(out);
     std::this_thread::sleep_for(2s);
     cal.Signal(SIGINT);
     auto ended = cal.Wait(60s);
-    ASSERT_TRUE(ended.has_value()) << ReadFile(out);
+    ASSERT_TRUE(ended.has_value()) << ReadLog(out);
     EXPECT_TRUE(ended->exited);
-    EXPECT_EQ(ended->code, 3) << ReadFile(out);
+    EXPECT_EQ(ended->code, 3) << ReadLog(out);
     Sql sql(db);
     const auto run = sql.Rows("SELECT outcome, reason FROM runs WHERE run_id <> ''");
     ASSERT_EQ(run.size(), 1u);

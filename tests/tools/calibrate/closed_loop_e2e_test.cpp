@@ -21,13 +21,6 @@ namespace {
 using namespace std::chrono_literals;
 using nlohmann::json;
 
-std::string ReadFile(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
 std::string SqlText(const std::string& db, const std::string& sql) {
     sqlite3* h = nullptr;
     sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
@@ -57,8 +50,8 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
                       "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "500"},
                      out, out);
     auto ended = cal.Wait(540s);
-    ASSERT_TRUE(ended.has_value()) << ReadFile(out);
-    ASSERT_EQ(ended->code, 0) << ReadFile(out);
+    ASSERT_TRUE(ended.has_value()) << ReadLog(out);
+    ASSERT_EQ(ended->code, 0) << ReadLog(out);
     const std::string run = SqlText(db, "SELECT run_id FROM runs WHERE run_id <> ''");
     ASSERT_FALSE(run.empty());
 
@@ -66,9 +59,9 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db, "--json"}, report, dir + "/analyze.err");
     auto an_end = an.Wait(120s);
     ASSERT_TRUE(an_end.has_value());
-    ASSERT_EQ(an_end->code, 0) << ReadFile(dir + "/analyze.err");
-    const json result = json::parse(ReadFile(report));
-    const json truth = json::parse(ReadFile(dir + "/logs/truth.json"));
+    ASSERT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");
+    const json result = json::parse(ReadLog(report));
+    const json truth = json::parse(ReadLog(dir + "/logs/truth.json"));
     const double k_true = truth.at("effects").at("supply").at("value");
 
     ASSERT_EQ(result.at("sensors").size(), 1u);

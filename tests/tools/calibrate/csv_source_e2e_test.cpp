@@ -23,13 +23,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string ReadFile(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
 std::vector<std::string> Lines(const std::string& path) {
     std::ifstream f(path);
     std::vector<std::string> out;
@@ -78,8 +71,8 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
                       url_a, "--truth-out", dir + "/truth.json"},
                      dir + "/rig.log", dir + "/rig.log");
     auto rig_end = rig.Wait(300s);
-    ASSERT_TRUE(rig_end.has_value()) << ReadFile(dir + "/rig.log");
-    ASSERT_EQ(rig_end->code, 0) << ReadFile(dir + "/rig.log");
+    ASSERT_TRUE(rig_end.has_value()) << ReadLog(dir + "/rig.log");
+    ASSERT_EQ(rig_end->code, 0) << ReadLog(dir + "/rig.log");
     std::this_thread::sleep_for(1s);
     rec_a.Stop();
     const auto rows_a = Lines(csv_a);
@@ -100,8 +93,8 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
                       "--wall-timeout-s", "300"},
                      out, out);
     auto cal_end = cal.Wait(330s);
-    ASSERT_TRUE(cal_end.has_value()) << ReadFile(out);
-    EXPECT_EQ(cal_end->code, 0) << ReadFile(out);
+    ASSERT_TRUE(cal_end.has_value()) << ReadLog(out);
+    EXPECT_EQ(cal_end->code, 0) << ReadLog(out);
     rec_b.Stop();
 
     // THEN the run is recorded like any other: every row, its plateaus and rotations, a fit
@@ -110,7 +103,7 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     EXPECT_EQ(SqlInt(db, "SELECT count(*) FROM plateaus"), 5);
     EXPECT_EQ(SqlInt(db, "SELECT count(*) FROM sensitivity_points WHERE accepted=1"), 2 * 5);
     EXPECT_GE(SqlInt(db, "SELECT count(*) FROM coeff_sets"), 1);
-    EXPECT_NE(ReadFile(out).find("stop: end of data"), std::string::npos) << ReadFile(out);
+    EXPECT_NE(ReadLog(out).find("stop: end of data"), std::string::npos) << ReadLog(out);
     // ... and the replayed samples are the recorded ones: time, sensor, gyro_v, temp_v, temp_c,
     // supply_v, encoder_deg identical as text (chamber_c is re-published at most once a second
     // of data time, so its latest value may trail by up to a second and is not compared).
@@ -133,8 +126,8 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
                     dir + "/analyze.err");
     auto an_end = an.Wait(120s);
     ASSERT_TRUE(an_end.has_value());
-    ASSERT_EQ(an_end->code, 0) << ReadFile(dir + "/analyze.err");
-    const auto result = nlohmann::json::parse(ReadFile(dir + "/analysis.json"));
+    ASSERT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");
+    const auto result = nlohmann::json::parse(ReadLog(dir + "/analysis.json"));
     const auto& sensor = result.at("sensors").at(0);
     ASSERT_EQ(sensor.at("added").size(), 1u) << sensor.dump(2);
     EXPECT_EQ(sensor.at("added").at(0).at("effect"), "supply");
