@@ -221,23 +221,18 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
     res.candidates = cands_out;
 
     if (std::isfinite(res.floor_offset_rms_v) && sens) {
-        double sum_inv = 0;
-        int k = 0;
-        for (const Bin& b : bins) {
-            if (b.plateau < 0) continue;
-            model::ModelInputs in = b.Inputs(run.first_sample_utime);
-            sum_inv += 1.0 / sens->Value(in, model::RangePolicy::kClip);
-            ++k;
-        }
-        if (k == 0) {
+        double inv_s = MeanInverseSensitivity(*sens, bins, run.first_sample_utime, true);
+        if (std::isnan(inv_s) && !run.plateaus.empty()) {
+            // No bin in a plateau window: at the plateau means' temperatures.
+            double sum_inv = 0;
             for (const PlateauInput& p : run.plateaus) {
                 model::ModelInputs in;
                 in.temp_c = p.temp_mean_c;
                 sum_inv += 1.0 / sens->Value(in, model::RangePolicy::kClip);
-                ++k;
             }
+            inv_s = sum_inv / static_cast<double>(run.plateaus.size());
         }
-        if (k > 0) res.floor_rate_rms_dps = res.floor_offset_rms_v * sum_inv / k;
+        if (std::isfinite(inv_s)) res.floor_rate_rms_dps = res.floor_offset_rms_v * inv_s;
         if (res.n_holdout_bins > 0)
             res.floor_drift_dph = res.floor_rate_rms_dps * 3600.0 / std::sqrt(res.n_holdout_bins);
     }

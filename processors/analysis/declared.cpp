@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "candidates.hpp"
 #include "fit/levels.hpp"
@@ -43,6 +44,22 @@ void ErrorsOn(const std::vector<Bin>& hold, const model::Evaluator& offset,
     }
 }
 
+double MeanInverseSensitivity(const model::Evaluator& sens, const std::vector<Bin>& bins,
+                              int64_t first_utime, bool plateau_only) {
+    double sum_inv = 0.0;
+    int n = 0;
+    for (const Bin& b : bins) {
+        if (plateau_only && b.plateau < 0) continue;
+        model::ModelInputs in = b.Inputs(first_utime);
+        in.direction = 0.0;  // at rest: no rotation direction
+        const double s = sens.Value(in, model::RangePolicy::kClip);
+        if (!std::isfinite(s) || s == 0.0) return std::numeric_limits<double>::quiet_NaN();
+        sum_inv += 1.0 / std::fabs(s);
+        ++n;
+    }
+    return n > 0 ? sum_inv / n : std::numeric_limits<double>::quiet_NaN();
+}
+
 void ExpectedAfter(const LsFit& fit, const Eigen::MatrixXd& x_held, const std::vector<Bin>& held,
                    const std::optional<model::Evaluator>& sens, int64_t first_utime,
                    SensorResult* r) {
@@ -58,16 +75,9 @@ void ExpectedAfter(const LsFit& fit, const Eigen::MatrixXd& x_held, const std::v
     r->prediction_rms_v = std::sqrt(pred_var);
     r->expected_after_offset_rms_v = std::sqrt(resid_var + pred_var);
     if (!sens) return;
-    double sum_inv = 0.0;
-    for (const Bin& b : held) {
-        model::ModelInputs in = b.Inputs(first_utime);
-        in.direction = 0.0;
-        const double s = sens->Value(in, model::RangePolicy::kClip);
-        if (!std::isfinite(s) || s == 0.0) return;
-        sum_inv += 1.0 / std::fabs(s);
-    }
-    r->expected_after_rate_rms_dps = r->expected_after_offset_rms_v * sum_inv / n;
-    r->prediction_rms_dps = r->prediction_rms_v * sum_inv / n;
+    const double inv_s = MeanInverseSensitivity(*sens, held, first_utime, false);
+    r->expected_after_rate_rms_dps = r->expected_after_offset_rms_v * inv_s;
+    r->prediction_rms_dps = r->prediction_rms_v * inv_s;
 }
 
 std::vector<fit::FitPoint> PlateauPoints(const std::vector<PlateauInput>& plateaus,

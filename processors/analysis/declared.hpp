@@ -22,6 +22,12 @@ void ErrorsOn(const std::vector<Bin>& hold, const model::Evaluator& offset,
               const std::optional<model::Evaluator>& sens, double period_s, int64_t first_utime,
               ErrorFigures* e);
 
+// Mean of 1 / sensitivity over the bins (at rest; those in a plateau window only when
+// plateau_only): converts an offset RMS [V] to a rate RMS [deg/s]. NaN when there is no bin or a
+// sensitivity is not finite or zero.
+double MeanInverseSensitivity(const model::Evaluator& sens, const std::vector<Bin>& bins,
+                              int64_t first_utime, bool plateau_only);
+
 // fit: the extended model on the training bins; x_held: its columns on the held-out bins.
 void ExpectedAfter(const LsFit& fit, const Eigen::MatrixXd& x_held, const std::vector<Bin>& held,
                    const std::optional<model::Evaluator>& sens, int64_t first_utime,

@@ -25,6 +25,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
+#include "sim/noise.hpp"
 
 namespace gyrocal {
 namespace {
@@ -52,28 +53,14 @@ double Curve(const nlohmann::json& model, double temp_c) {
 }
 
 // Standard deviation [deg/s] of the mean over a window of w_s seconds of the rig's bias
-// instability: 4 Gauss-Markov processes (correlation times 1, 10, 100, 1000 s) of one sigma q,
-// q scaled so that their summed Allan deviation averages `level_dps` over 10..500 s (the rig's
-// documented model, producers/sim/noise.hpp). A GM process's window mean has variance
-// q^2 (2T/W) (1 - (T/W)(1 - exp(-W/T))): the slow components are hardly averaged by a 60 s
-// window, so this is the part of a plateau's error that no within-window SEM can see.
+// instability alone (sim::SlowNoiseBinVariance with the other noise off): the slow components are
+// hardly averaged by a 60 s window, so this is the part of a plateau's error that no
+// within-window SEM can see.
 double BiasInstabilityOfMeanDps(double level_dps, double w_s) {
-    const double taus[] = {1.0, 10.0, 100.0, 1000.0};
-    auto avar = [](double t, double tau) {
-        const double x = tau / t;
-        return (2 * x - 3 + 4 * std::exp(-x) - std::exp(-2 * x)) / (x * x);
-    };
-    double sum = 0;
-    int n = 0;
-    for (double tau = 10.0; tau <= 500.0; tau *= 1.5, ++n) {
-        double a = 0;
-        for (double t : taus) a += avar(t, tau);
-        sum += std::sqrt(a);
-    }
-    const double q = level_dps / (sum / n);
-    double var = 0;
-    for (double t : taus) var += q * q * (2 * t / w_s) * (1 - (t / w_s) * (1 - std::exp(-w_s / t)));
-    return std::sqrt(var);
+    sim::NoiseConfig nc;
+    nc.bias_instability_dps = level_dps;
+    nc.rate_random_walk_dps_rts = 0.0;
+    return std::sqrt(sim::SlowNoiseBinVariance(nc, w_s, 0.0));
 }
 
 TEST(RigPipeline, PlateausAndSensitivitiesMatchTheRigTruth) {
