@@ -71,23 +71,25 @@ std::optional<model::Evaluator> EvaluatorOf(const std::optional<model::Model>& m
 
 PlotSet MakePlots(const SensorRun& run, const SensorResult& r, const AnalysisOptions& o) {
     PlotSet set;
-    const std::vector<Bin> bins = MakeBins(run, o.bins);
+    const BinnedRun binned(run, o.bins);
+    const std::vector<Bin>& bins = binned.bins();
     const std::optional<model::Evaluator> before = EvaluatorOf(r.declared_offset);
     const std::optional<model::Evaluator> after = EvaluatorOf(r.extended_offset);
+    const Eigen::VectorXd vb = before ? binned.Values(before->model()) : Eigen::VectorXd();
+    const Eigen::VectorXd va = after ? binned.Values(after->model()) : Eigen::VectorXd();
     const std::string id = r.sensor_id;
 
     // Residuals per bin: one data file for the time and temperature plots.
     std::ostringstream dat;
     dat << "# sensor " << id << ": still bins of " << Num(o.bins.bin_s) << " s\n"
         << "# time_h temp_c resid_before_mv resid_after_mv\n";
-    for (const Bin& b : bins) {
-        const model::ModelInputs in = b.Inputs(run.first_sample_utime);
-        const double rb =
-            before ? b.gyro_v - before->Value(in, model::RangePolicy::kExtrapolate) : kNan;
-        const double ra =
-            after ? b.gyro_v - after->Value(in, model::RangePolicy::kExtrapolate) : kNan;
-        dat << Num(in.time_since_power_s / 3600.0) << " " << Num(b.temp_c) << " " << Num(rb * 1e3)
-            << " " << Num(ra * 1e3) << "\n";
+    for (size_t i = 0; i < bins.size(); ++i) {
+        const Bin& b = bins[i];
+        const auto k = static_cast<Eigen::Index>(i);
+        const double rb = before ? b.gyro_v - vb[k] : kNan;
+        const double ra = after ? b.gyro_v - va[k] : kNan;
+        dat << Num((b.mid_utime - static_cast<double>(run.first_sample_utime)) * 1e-6 / 3600.0)
+            << " " << Num(b.temp_c) << " " << Num(rb * 1e3) << " " << Num(ra * 1e3) << "\n";
     }
     const std::string res_dat = id + "_residual.dat";
     set.files.push_back({res_dat, dat.str()});
@@ -121,8 +123,10 @@ PlotSet MakePlots(const SensorRun& run, const SensorResult& r, const AnalysisOpt
             double x, partial_mv, effect_mv;
         };
         std::vector<Row> rows;
-        for (const Bin& b : bins) {
-            const Eigen::VectorXd phi = after->TermValues(b.Inputs(run.first_sample_utime));
+        const gyrocal_tracker_config_t config = model::TrackerConfigFor(ext);
+        for (size_t i = 0; i < bins.size(); ++i) {
+            const Bin& b = bins[i];
+            const Eigen::VectorXd phi = after->TermValues(binned.Inputs(i, config));
             if (!phi.allFinite()) continue;
             const double others = phi.dot(ext.coeffs) - phi[k] * ext.coeffs[k];
             rows.push_back({phi[k], (b.gyro_v - others) * 1e3, phi[k] * ext.coeffs[k] * 1e3});

@@ -11,8 +11,8 @@
 //                          against the term's regressor (e.g. dT/dt [degC/s]), with the fitted
 //                          effect c * regressor drawn over it. The partial residual is exactly
 //                          what the term is fitted to, so a good fit lies along the line.
-// "before" = the declared model fitted on all plateaus; "after" = the extended model fitted on all
-// bins (equal to the declared terms refitted on the bins when nothing was added).
+// "before" = the declared model fitted on all bins; "after" = the extended model fitted on all
+// bins (the same when nothing was added).
 // Every script writes <name>.png (pngcairo) and <name>.svg. Missing values are written as "?".
 #include <string>
 #include <vector>

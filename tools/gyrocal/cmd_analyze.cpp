@@ -32,7 +32,8 @@ namespace st = gyrocal::store;
 namespace {
 
 struct Raw {
-    std::map<std::string, std::vector<an::GyroSample>> gyro;  // by sensor
+    std::map<std::string, std::vector<an::GyroSample>> gyro;    // by sensor
+    std::map<std::string, std::vector<an::PowerRecord>> power;  // by sensor
     std::vector<an::EncoderSample> encoder;
 };
 
@@ -47,7 +48,9 @@ Raw ReadSamples(st::Db& db, const std::string& run_id) {
                     raw.gyro[r.sensor_id].push_back(
                         {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
                 } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
-                    raw.encoder.push_back({r.utime, r.angle_deg});
+                    raw.encoder.push_back({r.utime, r.counts, r.counts_per_rev});
+                } else if constexpr (std::is_same_v<T, st::PowerStateRow>) {
+                    raw.power[r.sensor_id].push_back({r.utime, r.power_on_utime, r.source});
                 }
             },
             *row);
@@ -122,6 +125,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
         an::AnalysisOptions ao = an::AnalysisOptions::Defaults();
         ao.bins.bin_s = o.bin_s;
         ao.holdout_fraction = o.holdout_fraction;
+        ao.holdout_block_s = o.holdout_block_s;
         if (const std::string p = ao.Problem(); !p.empty()) {
             err << "gyrocal analyze: " << p << "\n";
             return 2;
@@ -195,11 +199,12 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                     sens.push_back({s.rotation_id, s.utime, s.temp_c, s.direction,
                                     s.sensitivity_v_per_dps, s.sensitivity_stderr_v_per_dps,
                                     s.accepted});
-            const an::SensorRun run = an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder,
-                                                         std::move(plateaus), std::move(sens));
+            const an::SensorRun run =
+                an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder, std::move(plateaus),
+                                   std::move(sens), raw.power[id]);
             results.push_back(an::Analyze(run, ao));
             if (!o.plot_dir.empty()) plots.push_back(an::MakePlots(run, results.back(), ao));
-            end_utimes.push_back(run.still.empty() ? 0 : run.still.back().utime);
+            end_utimes.push_back(run.samples.empty() ? 0 : run.samples.back().utime);
         }
         if (results.empty()) {
             err << "gyrocal analyze: run '" << o.run_id << "' has no sensors with samples\n";
@@ -301,8 +306,13 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
         ->check(CLI::Range(0.5, 600.0))
         ->capture_default_str();
     sub->add_option("--holdout-fraction", o->holdout_fraction,
-                    "last fraction of the still data held out for the before/after figures")
-        ->check(CLI::Range(0.05, 0.8))
+                    "fraction of the still data held out for the before/after figures and the "
+                    "confirmation of added terms: one block of --holdout-block-s in round(1/F)")
+        ->check(CLI::Range(0.05, 0.5))
+        ->capture_default_str();
+    sub->add_option("--holdout-block-s", o->holdout_block_s,
+                    "[s] length of the held-out blocks (interleaved with the training data)")
+        ->check(CLI::Range(60.0, 86400.0))
         ->capture_default_str();
     sub->add_option("--plot", o->plot_dir,
                     "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
@@ -323,7 +333,8 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
         o->command_line = "gyrocal analyze " + o->run_id + " --db " + o->db +
                           (o->sensor_id.empty() ? "" : " --sensor " + o->sensor_id) + " --bin-s " +
                           std::to_string(o->bin_s) + " --holdout-fraction " +
-                          std::to_string(o->holdout_fraction) + (o->json ? " --json" : "") +
+                          std::to_string(o->holdout_fraction) + " --holdout-block-s " +
+                          std::to_string(o->holdout_block_s) + (o->json ? " --json" : "") +
                           (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
                           (o->publish ? " --publish" : "");
         action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };

@@ -102,10 +102,6 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
             << "' is not valid: use clip or extrapolate\n";
         return 2;
     }
-    if (!(o.temp_rate_window_s > 0.0) || !std::isfinite(o.temp_rate_window_s)) {
-        err << me << "--temp-rate-window-s must be a finite number > 0\n";
-        return 2;
-    }
     csv::ConversionOptions conv;
     conv.preset = o.preset;
     conv.temp_v_at_25c = o.temp_v_at_25c;
@@ -131,7 +127,6 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
         }
         an::OfflineOptions oo;
         oo.core.range_policy = *policy;
-        oo.core.temp_rate_window_s = o.temp_rate_window_s;
         const an::OfflineResult r = an::CompensateRows(file.rows, sets, o.csv_path, origin, oo);
         const std::string text = an::FormatRatesCsv(r.rates);
         if (o.out_path.empty()) {
@@ -181,9 +176,6 @@ void AddCompensateCommand(CLI::App& app, std::function<int()>& action) {
     sub->add_option("--out", o->out_path, "write the CSV here instead of stdout");
     sub->add_option("--out-of-range", o->range_policy,
                     "outside a model's valid temperature range: clip or extrapolate")
-        ->capture_default_str();
-    sub->add_option("--temp-rate-window-s", o->temp_rate_window_s,
-                    "window of the dT/dt slope used by dTdt/heating terms [s]")
         ->capture_default_str();
     sub->add_option("--preset", o->preset,
                     "module preset for temp_v -> temp_c when the CSV has no temp_c: 610 or 613")

@@ -30,7 +30,6 @@ struct CompensateOptions {
     std::optional<int64_t> coeff_set_row;  // with db
     std::string out_path;                  // "" = `out`
     std::string range_policy = "extrapolate";  // the default of gyrocal-compensator --out-of-range
-    double temp_rate_window_s = 10.0;      // [s] as gyrocal-compensator --temp-rate-window-s
     std::string preset = "610";            // temperature transfer when the CSV has no temp_c
     std::optional<double> temp_v_at_25c;   // [V]
     std::optional<double> temp_v_per_k;    // [V/K]

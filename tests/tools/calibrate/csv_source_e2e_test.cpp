@@ -133,8 +133,9 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     EXPECT_EQ(sensor.at("added").at(0).at("effect"), "supply");
     EXPECT_NEAR(sensor.at("added").at(0).at("coefficient").get<double>(), 0.05,
                 4.0 * sensor.at("added").at(0).at("stderr").get<double>() + 0.05 * 0.05);
+    // Same fitter before and after (closed_loop_e2e_test.cpp says why half).
     EXPECT_LT(sensor.at("error_after").at("rate_rms_dps").get<double>(),
-              0.2 * sensor.at("error_before").at("rate_rms_dps").get<double>());
+              0.5 * sensor.at("error_before").at("rate_rms_dps").get<double>());
 }
 
 }  // namespace
