@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "acceptance/limits.hpp"
 #include "calibrate.hpp"
 #include "sim/config.hpp"
 
@@ -83,17 +84,31 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--recorder-arg", o->recorder_args, "extra argument for gyrocal-recorder")->allow_extra_args(false);
     cmd->add_option("--source-arg", o->source_args, "extra argument for the measured-data source")->allow_extra_args(false);
     cmd->add_flag("--quiet", o->quiet, "no progress line");
+    cmd->add_option("--limits", o->limits_file,
+                    "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
+                    "the run, each unit judged at the end");
     cmd->footer(
         "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
         "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
         "start or died; its log is named), 2 bad options, 3 run aborted or incomplete (chamber fault,\n"
-        "Ctrl-C, wall-clock limit, missing coefficients).");
+        "Ctrl-C, wall-clock limit, missing coefficients), 4 run completed but a unit did not pass its\n"
+        "--limits (each such unit and limit named).");
     cmd->callback([o, cmd, &action] {
         if ((o->source == "csv" || o->source == "log") && o->input.empty())
             throw CLI::ValidationError("--input", "is required with --source " + o->source);
         if (o->source == "sim" && !o->input.empty())
             throw CLI::ValidationError("--input", "is only for --source csv|log");
         CheckWritableDb(o->db);
+        if (!o->limits_file.empty()) {
+            // The whole file is checked here, before any process starts: a typo costs nothing.
+            if (!HasAfterRunHook())
+                throw CLI::ValidationError("--limits", "needs the store component (this gyrocal was built without it)");
+            try {
+                o->limits_json = acceptance::ToJson(acceptance::LoadLimitsFile(o->limits_file)).dump();
+            } catch (const acceptance::LimitsError& e) {
+                throw CLI::ValidationError("--limits", e.what());
+            }
+        }
         action = [o] { return RunCalibration(*o); };
     });
 }
