@@ -54,6 +54,7 @@ struct CalibrateOptions {
     std::string command_line;
     std::string limits_file;  // acceptance limits (--limits), recorded in the run's configuration
     std::string limits_json;  // their validated JSON; "" = none
+    std::string report_dir;   // write the run's report here at the end (--report); "" = none
     static CalibrateOptions Defaults() { return {}; }
 };
 

@@ -8,6 +8,7 @@
 
 #include "acceptance/limits.hpp"
 #include "calibrate.hpp"
+#include "plot/gnuplot.hpp"
 #include "sim/config.hpp"
 
 namespace gyrocal::cli {
@@ -23,6 +24,18 @@ void CheckWritableDb(const std::string& db) {
         throw CLI::ValidationError("--db", "folder '" + dir.string() + "' does not exist: create it or choose another path");
     if (fs::exists(path) ? access(db.c_str(), W_OK) != 0 : access(dir.c_str(), W_OK) != 0)
         throw CLI::ValidationError("--db", "'" + db + "' is not writable: choose a path you can write");
+}
+
+// The report is written after the run; what would stop it is said before anything runs.
+void CheckReportDir(const std::string& dir) {
+    namespace fs = std::filesystem;
+    fs::path p = fs::absolute(dir).lexically_normal();
+    if (!p.has_filename()) p = p.parent_path();
+    if (fs::exists(p) ? !fs::is_directory(p) : !fs::is_directory(p.parent_path()))
+        throw CLI::ValidationError("--report", "'" + dir + "' is not a directory and its parent does not exist");
+    if (!HasAfterRunHook())
+        throw CLI::ValidationError("--report", "needs the store component (this gyrocal was built without it)");
+    if (plot::FindOnPath("gnuplot").empty()) throw CLI::ValidationError("--report", plot::kGnuplotMissing);
 }
 
 }  // namespace
@@ -87,6 +100,9 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--limits", o->limits_file,
                     "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
                     "the run, each unit judged at the end");
+    cmd->add_option("--report", o->report_dir,
+                    "write the run's calibration report (gyrocal report) into this directory at the end "
+                    "(created if its parent exists)");
     cmd->footer(
         "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
         "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
@@ -109,6 +125,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
                 throw CLI::ValidationError("--limits", e.what());
             }
         }
+        if (!o->report_dir.empty()) CheckReportDir(o->report_dir);
         action = [o] { return RunCalibration(*o); };
     });
 }

@@ -110,8 +110,11 @@ void AddReportCommand(CLI::App& app, std::function<int()>& action) {
     });
 }
 
-int AcceptanceAfterRun(const CalibrateOptions& options, const std::string& run_id, int code) {
-    if (options.limits_json.empty()) return code;
+namespace {
+
+// The acceptance of the run just made: analysed first when a limit needs it, judged, each unit
+// that did not pass named; returns the exit code.
+int AcceptanceStep(const CalibrateOptions& options, const std::string& run_id, int code) {
     try {
         const acceptance::Limits limits =
             acceptance::FromJson(nlohmann::json::parse(options.limits_json), options.limits_file);
@@ -141,6 +144,37 @@ int AcceptanceAfterRun(const CalibrateOptions& options, const std::string& run_i
         std::cerr << "gyrocal calibrate: acceptance of run " << run_id << " not evaluated: " << e.what() << "\n";
         return code == 0 ? kExitUnitNotAccepted : code;
     }
+}
+
+// The report of the run just made (whatever its outcome); a report that cannot be written fails
+// a run that had succeeded.
+int ReportStep(const CalibrateOptions& options, const std::string& run_id, int code) {
+    if (const std::string p = PrepareOutDir(options.report_dir); !p.empty()) {
+        std::cerr << "gyrocal calibrate: " << p << "\n";
+        return code == 0 ? 1 : code;
+    }
+    try {
+        rr::ReportOptions ro;
+        ro.db = options.db;
+        ro.run_id = run_id;
+        ro.out_dir = options.report_dir;
+        ro.gnuplot = plot::FindOnPath("gnuplot");
+        ro.software_version = kSoftwareVersion;
+        if (ro.gnuplot.empty()) throw std::runtime_error(plot::kGnuplotMissing);
+        std::cout << "\nreport: " << rr::WriteReport(ro).path << "\n";
+        return code;
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal calibrate: the report of run " << run_id << " was not written: " << e.what() << "\n";
+        return code == 0 ? 1 : code;
+    }
+}
+
+}  // namespace
+
+int AfterCalibration(const CalibrateOptions& options, const std::string& run_id, int code) {
+    if (!options.limits_json.empty()) code = AcceptanceStep(options, run_id, code);
+    if (!options.report_dir.empty()) code = ReportStep(options, run_id, code);
+    return code;
 }
 
 }  // namespace gyrocal::cli

@@ -6,11 +6,13 @@
 // unreadable, run unknown, gnuplot missing or failing, page not writable), 2 bad options (incl. a
 // limits file that does not validate, an --out DIR whose parent does not exist).
 //
-// Also the acceptance step of `gyrocal calibrate --limits FILE` (AcceptanceAfterRun): once the
-// run has ended and the recorder has flushed, the run is read back from the database, analysed
-// when a limit needs the analysis (no_unexplained_residual), judged, and each unit that did not
-// pass is named with its limits; the exit code becomes 4 when the run had completed (0) and a
-// unit did not pass.
+// Also what `gyrocal calibrate` does after a run (AfterCalibration), once the recorder has flushed:
+//   --limits FILE: the run is read back from the database, analysed when a limit needs the
+//     analysis (no_unexplained_residual; stored like any analysis), judged, and each unit that
+//     did not pass is named with its limits; the exit code becomes 4 when the run had completed
+//     (0) and a unit did not pass;
+//   --report DIR: the run's report is written there (also for a failed or aborted run) and its
+//     path printed; when it cannot be written a completed run's exit code becomes 1.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <iosfwd>
@@ -38,6 +40,6 @@ int RunReport(const ReportCommandOptions& options, std::ostream& out, std::ostre
 void AddReportCommand(CLI::App& app, std::function<int()>& action);
 
 // For SetAfterRunHook (calibrate.hpp).
-int AcceptanceAfterRun(const CalibrateOptions& options, const std::string& run_id, int code);
+int AfterCalibration(const CalibrateOptions& options, const std::string& run_id, int code);
 
 }  // namespace gyrocal::cli

@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef GYROCAL_HAVE_REPORT_CLI
     gyrocal::cli::AddReportCommand(app, action);
-    gyrocal::cli::SetAfterRunHook(gyrocal::cli::AcceptanceAfterRun);
+    gyrocal::cli::SetAfterRunHook(gyrocal::cli::AfterCalibration);
 #endif
     try {
         app.parse(argc, argv);

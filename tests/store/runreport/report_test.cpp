@@ -289,7 +289,7 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
     o.limits_json = R"({"no_unexplained_residual": true})";
     ::testing::internal::CaptureStderr();
     ::testing::internal::CaptureStdout();
-    const int rc = cli::AcceptanceAfterRun(o, "R1", 0);
+    const int rc = cli::AfterCalibration(o, "R1", 0);
     const std::string err = ::testing::internal::GetCapturedStderr();
     const std::string out = ::testing::internal::GetCapturedStdout();
     EXPECT_EQ(rc, cli::kExitUnitNotAccepted) << out << err;
@@ -306,7 +306,7 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
     // An aborted run keeps its own exit code; limits that pass leave 0.
     ::testing::internal::CaptureStdout();
     ::testing::internal::CaptureStderr();
-    EXPECT_EQ(cli::AcceptanceAfterRun(o, "R1", 3), 3);
+    EXPECT_EQ(cli::AfterCalibration(o, "R1", 3), 3);
     // A fitter's set on every plateau of the run: min_plateaus 5 passes.
     {
         auto rw = store::OpenForUpdate(db);
@@ -327,9 +327,9 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
         store::StoreCoeffSet(*rw, set);
     }
     o.limits_json = R"({"min_plateaus": 5})";
-    EXPECT_EQ(cli::AcceptanceAfterRun(o, "R1", 0), 0);
+    EXPECT_EQ(cli::AfterCalibration(o, "R1", 0), 0);
     o.limits_json.clear();
-    EXPECT_EQ(cli::AcceptanceAfterRun(o, "R1", 0), 0);
+    EXPECT_EQ(cli::AfterCalibration(o, "R1", 0), 0);
     ::testing::internal::GetCapturedStderr();
     EXPECT_NE(::testing::internal::GetCapturedStdout().find("S01: pass"), std::string::npos);
     analysis::testing::RemoveRunDb(db);
