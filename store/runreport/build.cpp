@@ -6,6 +6,7 @@
 
 #include "figures.hpp"
 #include "html.hpp"
+#include "utc_text.hpp"
 #include "page.hpp"
 #include "plot/gnuplot.hpp"
 
@@ -51,7 +52,7 @@ ReportResult WriteReport(const ReportOptions& o) {
     const int64_t now_us = std::chrono::duration_cast<std::chrono::microseconds>(
                                std::chrono::system_clock::now().time_since_epoch())
                                .count();
-    in.generated_utc = html::UtcText(now_us);
+    in.generated_utc = store::UtcText(now_us);
     const std::string page = ReportHtml(in);
 
     const std::filesystem::path path = std::filesystem::path(o.out_dir) / ReportFileName(o.run_id);

@@ -13,11 +13,8 @@ namespace {
 
 constexpr int kCurvePoints = 101;
 
-model::ModelInputs At(double temp_c) {
-    model::ModelInputs in;
-    in.temp_c = temp_c;
-    return in;
-}
+// The models of a calibration are evaluated as gyrocal history does (steady state).
+model::ModelInputs At(double temp_c) { return store::SteadyStateInputs(temp_c); }
 
 std::optional<model::Evaluator> EvaluatorOf(const store::ModelRow& row) {
     try {
@@ -95,71 +92,44 @@ int64_t TimeOrigin(const store::RunDetail& d) {
     return t0;
 }
 
-std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0) {
+namespace {
+
+// The unit's calibration, evaluable (either may be missing or unusable).
+struct Fits {
     std::optional<model::Evaluator> off, sens;
     std::vector<int64_t> used_plateaus;
-    if (u.calibration) {
-        off = EvaluatorOf(u.calibration->set.offset);
-        sens = EvaluatorOf(u.calibration->set.sensitivity);
-        used_plateaus = u.calibration->set.plateau_ids;
-    }
-    const std::string id = u.sensor_id;
-    std::vector<plot::Figure> figures;
+};
 
-    // Offset vs temperature, and the residual tables.
+// Offset vs temperature, and the offset residuals vs temperature and time.
+void OffsetFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0, const Fits& fit,
+                   std::vector<plot::Figure>& figures) {
+    const std::string& id = u.sensor_id;
     plot::Table pts{stem + "_offset_pts", "plateau means", {"temp_c", "gyro_mean_v", "sigma_v"}, {}};
     plot::Table res{stem + "_resid", "plateau residuals", {"temp_c", "time_h", "resid_mv", "sigma_mv"}, {}};
     plot::Table unused{stem + "_resid_unused", "plateaus not in the fit", {"temp_c", "time_h", "resid_mv"}, {}};
     for (const auto& p : u.plateaus) {
-        const double sigma = PlateauSigmaV(p, slow_dps, sens);
+        const double sigma = PlateauSigmaV(p, slow_dps, fit.sens);
         pts.rows.push_back({p.temp_mean_c, p.gyro_mean_v, sigma});
-        if (!off) continue;
-        const double r_mv = (p.gyro_mean_v - off->Value(At(p.temp_mean_c), model::RangePolicy::kExtrapolate)) * 1e3;
+        if (!fit.off) continue;
+        const double r_mv = (p.gyro_mean_v - fit.off->Value(At(p.temp_mean_c), model::RangePolicy::kExtrapolate)) * 1e3;
         const double mid_h = (0.5 * (p.start_utime + p.end_utime) - static_cast<double>(t0)) / 3.6e9;
-        if (Used(used_plateaus, p.plateau_id))
+        if (Used(fit.used_plateaus, p.plateau_id))
             res.rows.push_back({p.temp_mean_c, mid_h, r_mv, sigma * 1e3});
         else
             unused.rows.push_back({p.temp_mean_c, mid_h, r_mv});
     }
     plot::Figure fo = Base(stem + "_offset", id + ": offset vs temperature", "temperature [degC]", "offset [V]");
-    if (off) {
-        const plot::Table c = Curve(*off, stem + "_offset_fit", 1.0, false);
+    if (fit.off) {
+        const plot::Table c = Curve(*fit.off, stem + "_offset_fit", 1.0, false);
         AddSeries(fo, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
         AddSeries(fo, c, {"", plot::Style::kLines, {1, 2}, "fitted offset", "#1f77b4"});
     }
     AddSeries(fo, pts, {"", plot::Style::kErrorBars, {1, 2, 3}, "plateau means", "#d62728"});
     if (!fo.series.empty()) figures.push_back(fo);
-
-    // Sensitivity vs temperature [mV/(deg/s)].
-    plot::Table acc{stem + "_sens_pts", "accepted turns", {"temp_c", "sens_mv_per_dps", "sigma_mv_per_dps"}, {}};
-    plot::Table rej{stem + "_sens_rej", "refused turns", {"temp_c", "sens_mv_per_dps"}, {}};
-    plot::Table sres{stem + "_sens_resid", "turn residuals", {"temp_c", "resid_pct", "sigma_pct"}, {}};
-    for (const auto& s : u.turns) {
-        if (!s.accepted) {
-            rej.rows.push_back({s.temp_c, s.sensitivity_v_per_dps * 1e3});
-            continue;
-        }
-        acc.rows.push_back({s.temp_c, s.sensitivity_v_per_dps * 1e3, s.sensitivity_stderr_v_per_dps * 1e3});
-        if (!sens) continue;
-        const double fit = sens->Value(At(s.temp_c), model::RangePolicy::kExtrapolate);
-        sres.rows.push_back({s.temp_c, 100.0 * (s.sensitivity_v_per_dps - fit) / fit,
-                             100.0 * s.sensitivity_stderr_v_per_dps / std::abs(fit)});
-    }
-    plot::Figure fs = Base(stem + "_sens", id + ": sensitivity vs temperature", "temperature [degC]",
-                           "sensitivity [mV/(deg/s)]");
-    if (sens) {
-        const plot::Table c = Curve(*sens, stem + "_sens_fit", 1e3, false);
-        AddSeries(fs, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
-        AddSeries(fs, c, {"", plot::Style::kLines, {1, 2}, "fitted sensitivity", "#1f77b4"});
-    }
-    AddSeries(fs, acc, {"", plot::Style::kErrorBars, {1, 2, 3}, "accepted turns", "#d62728"});
-    AddSeries(fs, rej, {"", plot::Style::kPoints, {1, 2}, "refused turns", "#7f7f7f"});
-    if (!fs.series.empty()) figures.push_back(fs);
-
-    if (!off) return figures;
-    // Residuals: the band around zero is the fitted curve's own uncertainty.
+    if (!fit.off) return;
+    // The band around zero is the fitted curve's own uncertainty.
     plot::Table band{stem + "_offset_band", "+-2 sigma of the fitted offset", {"temp_c", "zero", "low_mv", "high_mv"}, {}};
-    for (const auto& row : Curve(*off, "tmp", 1e3, true).rows) band.rows.push_back(row);
+    band.rows = Curve(*fit.off, "tmp", 1e3, true).rows;
     plot::Figure frt = Base(stem + "_resid_temp", id + ": offset residual vs temperature", "temperature [degC]",
                             "plateau mean - fit [mV]");
     AddSeries(frt, band, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
@@ -171,18 +141,60 @@ std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem
     AddSeries(frh, res, {"", plot::Style::kErrorBars, {2, 3, 4}, "plateaus in the fit", "#d62728"});
     AddSeries(frh, unused, {"", plot::Style::kPoints, {2, 3}, "plateaus not in the fit", "#7f7f7f"});
     if (!frh.series.empty()) figures.push_back(frh);
-    if (sens) {
-        plot::Table sband{stem + "_sens_band", "+-2 sigma of the fitted sensitivity", {"temp_c", "zero", "low_pct", "high_pct"}, {}};
-        for (const auto& row : Curve(*sens, "tmp", 1.0, false).rows) {
-            const double half_pct = 100.0 * (row[3] - row[1]) / std::abs(row[1]);
-            sband.rows.push_back({row[0], 0.0, -half_pct, half_pct});
+}
+
+// Sensitivity [mV/(deg/s)] vs temperature, and the turns' residuals [%].
+void SensitivityFigures(const UnitData& u, const std::string& stem, const Fits& fit, std::vector<plot::Figure>& figures) {
+    const std::string& id = u.sensor_id;
+    plot::Table acc{stem + "_sens_pts", "accepted turns", {"temp_c", "sens_mv_per_dps", "sigma_mv_per_dps"}, {}};
+    plot::Table rej{stem + "_sens_rej", "refused turns", {"temp_c", "sens_mv_per_dps"}, {}};
+    plot::Table res{stem + "_sens_resid", "turn residuals", {"temp_c", "resid_pct", "sigma_pct"}, {}};
+    for (const auto& s : u.turns) {
+        if (!s.accepted) {
+            rej.rows.push_back({s.temp_c, s.sensitivity_v_per_dps * 1e3});
+            continue;
         }
-        plot::Figure fsr = Base(stem + "_sens_resid", id + ": sensitivity residual vs temperature", "temperature [degC]",
-                                "turn - fit [%]");
-        AddSeries(fsr, sband, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
-        AddSeries(fsr, sres, {"", plot::Style::kErrorBars, {1, 2, 3}, "accepted turns", "#d62728"});
-        if (!fsr.series.empty() && AnyFinite(sres)) figures.push_back(fsr);
+        acc.rows.push_back({s.temp_c, s.sensitivity_v_per_dps * 1e3, s.sensitivity_stderr_v_per_dps * 1e3});
+        if (!fit.sens) continue;
+        const double f = fit.sens->Value(At(s.temp_c), model::RangePolicy::kExtrapolate);
+        res.rows.push_back({s.temp_c, 100.0 * (s.sensitivity_v_per_dps - f) / f,
+                            100.0 * s.sensitivity_stderr_v_per_dps / std::abs(f)});
     }
+    plot::Figure fs = Base(stem + "_sens", id + ": sensitivity vs temperature", "temperature [degC]",
+                           "sensitivity [mV/(deg/s)]");
+    if (fit.sens) {
+        const plot::Table c = Curve(*fit.sens, stem + "_sens_fit", 1e3, false);
+        AddSeries(fs, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
+        AddSeries(fs, c, {"", plot::Style::kLines, {1, 2}, "fitted sensitivity", "#1f77b4"});
+    }
+    AddSeries(fs, acc, {"", plot::Style::kErrorBars, {1, 2, 3}, "accepted turns", "#d62728"});
+    AddSeries(fs, rej, {"", plot::Style::kPoints, {1, 2}, "refused turns", "#7f7f7f"});
+    if (!fs.series.empty()) figures.push_back(fs);
+    if (!fit.sens || !AnyFinite(res)) return;
+    plot::Table band{stem + "_sens_band", "+-2 sigma of the fitted sensitivity", {"temp_c", "zero", "low_pct", "high_pct"}, {}};
+    for (const auto& row : Curve(*fit.sens, "tmp", 1.0, false).rows) {
+        const double half_pct = 100.0 * (row[3] - row[1]) / std::abs(row[1]);
+        band.rows.push_back({row[0], 0.0, -half_pct, half_pct});
+    }
+    plot::Figure fr = Base(stem + "_sens_resid", id + ": sensitivity residual vs temperature", "temperature [degC]",
+                           "turn - fit [%]");
+    AddSeries(fr, band, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
+    AddSeries(fr, res, {"", plot::Style::kErrorBars, {1, 2, 3}, "accepted turns", "#d62728"});
+    figures.push_back(fr);
+}
+
+}  // namespace
+
+std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0) {
+    Fits fit;
+    if (u.calibration) {
+        fit.off = EvaluatorOf(u.calibration->set.offset);
+        fit.sens = EvaluatorOf(u.calibration->set.sensitivity);
+        fit.used_plateaus = u.calibration->set.plateau_ids;
+    }
+    std::vector<plot::Figure> figures;
+    OffsetFigures(u, stem, slow_dps, t0, fit, figures);
+    SensitivityFigures(u, stem, fit, figures);
     return figures;
 }
 

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 
 #include "plot/svg.hpp"
 
@@ -54,16 +53,6 @@ footer { margin-top: 40px; color: var(--muted); font-size: 12px; border-top: 1px
 }  // namespace
 
 std::string Esc(const std::string& text) { return plot::XmlEscape(text); }
-
-std::string UtcText(std::optional<int64_t> utime) {
-    if (!utime) return "-";
-    const std::time_t t = static_cast<std::time_t>(*utime / 1000000);
-    std::tm tm{};
-    gmtime_r(&t, &tm);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S", &tm);
-    return buf;
-}
 
 std::string Num(double v, const char* format) {
     if (!std::isfinite(v)) return "-";

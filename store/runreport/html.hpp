@@ -15,9 +15,6 @@ namespace gyrocal::runreport::html {
 
 std::string Esc(const std::string& text);
 
-// "2026-11-21 05:14:00" (UTC) of a wall-clock utime [us]; "-" when absent.
-std::string UtcText(std::optional<int64_t> utime);
-
 // printf-style number ("%.6g" ...); "-" when not finite.
 std::string Num(double v, const char* format = "%.6g");
 

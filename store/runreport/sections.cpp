@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "html.hpp"
+#include "utc_text.hpp"
 #include "model/terms.hpp"
 
 namespace gyrocal::runreport {
@@ -176,7 +177,7 @@ Section Analysis(const UnitContext& c) {
         const auto& v = j["expected_after"][key];
         return v.is_number() ? v.get<double>() : NAN;
     };
-    s.html = "<p>Analysis " + std::to_string(a.analysis_id) + " (" + Esc(html::UtcText(a.created_wall_utime)) +
+    s.html = "<p>Analysis " + std::to_string(a.analysis_id) + " (" + Esc(store::UtcText(a.created_wall_utime)) +
              " UTC, " + Esc(a.software_version) + "): verdict <strong data-verdict>" + Esc(a.verdict) + "</strong></p>\n";
     html::Table t({"figure", "before (declared model)", "after (extended model)", "floor", "expected after (fit)"},
                   "analysis");
@@ -258,7 +259,7 @@ std::string TraceabilityHtml(const store::RunDetail& d, const std::string& versi
         {"length (producer clock)", r.started_utime && r.stopped_utime
                                         ? Num((*r.stopped_utime - *r.started_utime) / 3.6e9, "%.3g") + " h"
                                         : "-"},
-        {"first seen by the recorder (UTC)", html::UtcText(r.first_recv_utime)},
+        {"first seen by the recorder (UTC)", store::UtcText(r.first_recv_utime)},
         {"sensors", [&] {
              std::string s;
              for (const auto& id : r.sensor_ids) s += (s.empty() ? "" : ", ") + id;

@@ -26,15 +26,34 @@ void CheckWritableDb(const std::string& db) {
         throw CLI::ValidationError("--db", "'" + db + "' is not writable: choose a path you can write");
 }
 
-// The report is written after the run; what would stop it is said before anything runs.
-void CheckReportDir(const std::string& dir) {
+// What gyrocal calibrate does after the run (cmd_report.hpp: AfterCalibration).
+void AddAfterRunOptions(CLI::App* cmd, CalibrateOptions& o) {
+    cmd->add_option("--limits", o.limits_file,
+                    "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
+                    "the run, each unit judged at the end");
+    cmd->add_option("--report", o.report_dir,
+                    "write the run's calibration report (gyrocal report) into this directory at the end "
+                    "(created if its parent exists)");
+}
+
+// The limits and the report come after the run; what would stop them is said before anything runs.
+void CheckAfterRunOptions(CalibrateOptions& o) {
     namespace fs = std::filesystem;
-    fs::path p = fs::absolute(dir).lexically_normal();
+    for (const auto& [option, value] : {std::pair{"--limits", o.limits_file}, std::pair{"--report", o.report_dir}})
+        if (!value.empty() && !HasAfterRunHook())
+            throw CLI::ValidationError(option, "needs the store component (this gyrocal was built without it)");
+    if (!o.limits_file.empty()) {
+        try {
+            o.limits_json = acceptance::ToJson(acceptance::LoadLimitsFile(o.limits_file)).dump();
+        } catch (const acceptance::LimitsError& e) {
+            throw CLI::ValidationError("--limits", e.what());
+        }
+    }
+    if (o.report_dir.empty()) return;
+    fs::path p = fs::absolute(o.report_dir).lexically_normal();
     if (!p.has_filename()) p = p.parent_path();
     if (fs::exists(p) ? !fs::is_directory(p) : !fs::is_directory(p.parent_path()))
-        throw CLI::ValidationError("--report", "'" + dir + "' is not a directory and its parent does not exist");
-    if (!HasAfterRunHook())
-        throw CLI::ValidationError("--report", "needs the store component (this gyrocal was built without it)");
+        throw CLI::ValidationError("--report", "'" + o.report_dir + "' is not a directory and its parent does not exist");
     if (plot::FindOnPath("gnuplot").empty()) throw CLI::ValidationError("--report", plot::kGnuplotMissing);
 }
 
@@ -97,12 +116,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--recorder-arg", o->recorder_args, "extra argument for gyrocal-recorder")->allow_extra_args(false);
     cmd->add_option("--source-arg", o->source_args, "extra argument for the measured-data source")->allow_extra_args(false);
     cmd->add_flag("--quiet", o->quiet, "no progress line");
-    cmd->add_option("--limits", o->limits_file,
-                    "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
-                    "the run, each unit judged at the end");
-    cmd->add_option("--report", o->report_dir,
-                    "write the run's calibration report (gyrocal report) into this directory at the end "
-                    "(created if its parent exists)");
+    AddAfterRunOptions(cmd, *o);
     cmd->footer(
         "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
         "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
@@ -115,17 +129,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
         if (o->source == "sim" && !o->input.empty())
             throw CLI::ValidationError("--input", "is only for --source csv|log");
         CheckWritableDb(o->db);
-        if (!o->limits_file.empty()) {
-            // The whole file is checked here, before any process starts: a typo costs nothing.
-            if (!HasAfterRunHook())
-                throw CLI::ValidationError("--limits", "needs the store component (this gyrocal was built without it)");
-            try {
-                o->limits_json = acceptance::ToJson(acceptance::LoadLimitsFile(o->limits_file)).dump();
-            } catch (const acceptance::LimitsError& e) {
-                throw CLI::ValidationError("--limits", e.what());
-            }
-        }
-        if (!o->report_dir.empty()) CheckReportDir(o->report_dir);
+        CheckAfterRunOptions(*o);
         action = [o] { return RunCalibration(*o); };
     });
 }

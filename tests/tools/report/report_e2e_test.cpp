@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "headless_chromium.hpp"
 #include "launch/child_process.hpp"
@@ -116,6 +117,14 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
     EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "missing.json").string(), "--db", db.string()}, dir / "out.txt", 60s),
               2);
     EXPECT_NE(ReadLog((dir / "out.txt").string()).find("missing.json: cannot be read"), std::string::npos);
+    // A report directory that cannot be made is refused as early.
+    std::ofstream(dir / "limits.json") << R"({"min_turns": 6})";
+    EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "limits.json").string(), "--report", "/nonexistent_gyrocal/r",
+                   "--db", db.string(), "--lcm-url", kUnusedUrl, "--log-dir", (dir / "logs").string()},
+                  dir / "out.txt", 60s),
+              2);
+    EXPECT_NE(ReadLog((dir / "out.txt").string()).find("--report"), std::string::npos);
+    EXPECT_FALSE(fs::exists(db));
     // gyrocal report needs a run or --latest.
     EXPECT_EQ(Cli({"report", "--db", db.string()}, dir / "out.txt", 60s), 2);
     EXPECT_NE(ReadLog((dir / "out.txt").string()).find("--latest"), std::string::npos);
@@ -206,7 +215,9 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     // AND a real browser renders it without errors and without any request but the file
     const std::string chromium = testing::HeadlessChromium::Find();
     if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian chromium; tools/run.sh installs it)";
-    testing::HeadlessChromium browser(chromium, (dir / "chromium-profile").string(), (dir / "chromium.log").string());
+    std::optional<testing::HeadlessChromium> chrome;
+    chrome.emplace(chromium, (dir / "chromium-profile").string(), (dir / "chromium.log").string());
+    testing::HeadlessChromium& browser = *chrome;
     const std::string url = "file://" + page.string();
     const std::string s = browser.Open(url, 1200, 120s);
     const json dom = json::parse(browser.Evaluate(s, R"js(JSON.stringify({
@@ -286,6 +297,13 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
     std::ofstream(dir / "report.png", std::ios::binary) << png;
     if (const char* copy = std::getenv("GYROCAL_REPORT_SCREENSHOT")) std::ofstream(copy, std::ios::binary) << png;
+    // The page and its screenshot stay with the test's files; the database and profile go.
+    chrome.reset();
+    if (!HasFailure()) {
+        fs::remove_all(dir / "chromium-profile");
+        fs::remove_all(dir / "logs");
+        for (const char* f : {"run.db", "run.db-wal", "run.db-shm"}) fs::remove(dir / f);
+    }
 }
 
 }  // namespace
