@@ -115,7 +115,8 @@ std::string Script(const Figure& f, const std::vector<Terminal>& terminals) {
       << "set title \"" << Quote(f.title) << "\" noenhanced\n"
       << "set xlabel \"" << Quote(f.xlabel) << "\" noenhanced\n"
       << "set ylabel \"" << Quote(f.ylabel) << "\" noenhanced\n"
-      << "set grid\nset key outside top center horizontal noenhanced\n";
+      << "set grid\nset key outside top center horizontal noenhanced\n"
+      << "set offsets graph 0.02, graph 0.02, graph 0.05, graph 0.05\n";  // no point on the frame
     std::string plot = "plot ";
     for (size_t i = 0; i < f.series.size(); ++i) plot += (i ? ", " : "") + Clause(f.series[i]);
     const std::string size = std::to_string(f.width_px) + "," + std::to_string(f.height_px);

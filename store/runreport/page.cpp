@@ -17,8 +17,8 @@ std::string Header(const ReportInput& in) {
 }
 
 std::string Contents(const ReportInput& in) {
-    std::string s = "<nav>\n<h2>Contents</h2>\n<ul>\n<li><a href=\"#traceability\">Traceability</a></li>\n"
-                    "<li><a href=\"#acceptance\">Acceptance</a></li>\n<li><a href=\"#losses\">Losses per channel</a></li>\n"
+    std::string s = "<nav>\n<h2>Contents</h2>\n<ul>\n<li><a href=\"#acceptance\">Acceptance</a></li>\n"
+                    "<li><a href=\"#traceability\">Traceability</a></li>\n<li><a href=\"#losses\">Losses per channel</a></li>\n"
                     "<li><a href=\"#processes\">Processes</a></li>\n";
     for (size_t i = 0; i < in.units.size(); ++i) {
         s += "<li><a href=\"#" + in.stems[i] + "\">Unit " + html::Esc(in.units[i].sensor_id) + "</a>";
@@ -31,12 +31,12 @@ std::string Contents(const ReportInput& in) {
 }  // namespace
 
 std::string ReportHtml(const ReportInput& in) {
-    std::string body = Header(in) + Contents(in) + TraceabilityHtml(in.detail, in.software_version);
     LimitsInfo li;
     li.limits = in.limits ? &*in.limits : nullptr;
     li.origin = in.limits_origin;
     li.problem = in.limits_problem;
-    body += AcceptanceHtml(li, in.verdicts) + LossesHtml(in.detail) + ProcessesHtml(in.detail);
+    std::string body = Header(in) + Contents(in) + AcceptanceHtml(li, in.verdicts) +
+                       TraceabilityHtml(in.detail, in.software_version) + LossesHtml(in.detail) + ProcessesHtml(in.detail);
     if (!in.figures_note.empty()) body += "<p class=\"fail\">" + html::Esc(in.figures_note) + "</p>\n";
     for (size_t i = 0; i < in.units.size(); ++i) {
         const acceptance::UnitVerdict* v = i < in.verdicts.size() ? &in.verdicts[i] : nullptr;

@@ -2,7 +2,7 @@
 // The calibration report of one run as one self-contained HTML page: inline CSS (with a print
 // stylesheet), inline SVG figures, no script, no external file, no network request (a
 // Content-Security-Policy forbids both). Order: header with the run's outcome and acceptance,
-// contents, traceability, acceptance table, losses, processes, then one section per unit (the
+// contents, acceptance table, traceability, losses, processes, then one section per unit (the
 // builders of sections.hpp). Pure: everything read and drawn beforehand is handed in.
 #include <map>
 #include <optional>
