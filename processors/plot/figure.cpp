@@ -49,9 +49,9 @@ std::string Clause(const Series& s) {
         case Style::kLines: with = "lines lw 2"; break;
         case Style::kBand: with = "filledcurves fs transparent solid 0.25 noborder"; break;
     }
-    std::string clause = "\"" + Quote(s.table) + ".dat\" using " + Using(s) + " with " + with;
-    if (!s.color.empty()) clause += " lc rgb \"" + Quote(s.color) + "\"";
-    clause += s.title.empty() ? " notitle" : " title \"" + Quote(s.title) + "\"";
+    std::string clause = Literal(s.table + ".dat") + " using " + Using(s) + " with " + with;
+    if (!s.color.empty()) clause += " lc rgb " + Literal(s.color);
+    clause += s.title.empty() ? " notitle" : " title " + Literal(s.title);
     return clause;
 }
 
@@ -59,14 +59,14 @@ std::string Clause(const Series& s) {
 
 const char* Extension(Terminal t) { return t == Terminal::kPng ? "png" : "svg"; }
 
-std::string Quote(const std::string& text) {
-    std::string out;
+std::string Literal(const std::string& text) {
+    std::string out = "'";
     for (char ch : text) {
         if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) continue;
-        if (ch == '"' || ch == '\\') out += '\\';
+        if (ch == '\'') out += '\'';
         out += ch;
     }
-    return out;
+    return out + "'";
 }
 
 std::string Problem(const Figure& f) {
@@ -112,9 +112,9 @@ std::string Script(const Figure& f, const std::vector<Terminal>& terminals) {
     s << "# gyrocal figure " << f.name << "\n"
       << "reset\n"
       << "set datafile missing \"?\"\n"
-      << "set title \"" << Quote(f.title) << "\" noenhanced\n"
-      << "set xlabel \"" << Quote(f.xlabel) << "\" noenhanced\n"
-      << "set ylabel \"" << Quote(f.ylabel) << "\" noenhanced\n"
+      << "set title " << Literal(f.title) << " noenhanced\n"
+      << "set xlabel " << Literal(f.xlabel) << " noenhanced\n"
+      << "set ylabel " << Literal(f.ylabel) << " noenhanced\n"
       << "set grid\nset key outside top center horizontal noenhanced\n"
       << "set offsets graph 0.02, graph 0.02, graph 0.05, graph 0.05\n";  // no point on the frame
     std::string plot = "plot ";
@@ -125,7 +125,7 @@ std::string Script(const Figure& f, const std::vector<Terminal>& terminals) {
             s << "set terminal pngcairo size " << size << "\n";
         else
             s << "set terminal svg size " << size << " dynamic font \"sans,12\"\n";
-        s << "set output \"" << Quote(f.name) << "." << Extension(t) << "\"\n" << plot << "\n";
+        s << "set output " << Literal(f.name + "." + Extension(t)) << "\n" << plot << "\n";
     }
     s << "set output\n";
     return s.str();

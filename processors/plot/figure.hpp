@@ -65,8 +65,10 @@ struct File {
 };
 std::vector<File> Files(const Figure& figure, const std::vector<Terminal>& terminals);
 
-// Text safe inside a gnuplot double-quoted string (backslash and quote escaped, control
-// characters dropped).
-std::string Quote(const std::string& text);
+// `text` as a gnuplot single-quoted string literal: a quote is doubled, control characters are
+// dropped. Single quotes because gnuplot runs `backquoted` text as a shell command even inside
+// double quotes, and titles carry text from the database (sensor ids, verdicts) that came off
+// the network.
+std::string Literal(const std::string& text);
 
 }  // namespace gyrocal::plot

@@ -103,9 +103,8 @@ void AddReportCommand(CLI::App& app, std::function<int()>& action) {
     sub->footer(
         "Exit codes: 0 report written (whatever the units' outcome), 1 failure (database, unknown run, gnuplot "
         "missing or failing, page not writable), 2 bad options (incl. a limits file that does not validate).");
-    sub->callback([o, sub, &action] {
+    sub->callback([o, &action] {
         if (o->run_id.empty() && !o->latest) throw CLI::RequiredError("a RUN id or --latest");
-        (void)sub;
         action = [o] { return RunReport(*o, std::cout, std::cerr); };
     });
 }

@@ -58,11 +58,10 @@ TEST(Figure, DataFileWritesMissingValuesAsGnuplotsMarker) {
 TEST(Figure, ScriptResetsReadsItsDataFileAndWritesEachTerminal) {
     const std::string s = Script(Line("fig", 1), {Terminal::kPng, Terminal::kSvg});
     EXPECT_EQ(s.find("reset"), s.find('\n') + 1);  // first command: several scripts share one gnuplot
-    EXPECT_NE(s.find("set output \"fig.png\""), std::string::npos);
-    EXPECT_NE(s.find("set output \"fig.svg\""), std::string::npos);
-    EXPECT_NE(s.find("\"fig_data.dat\" using 1:2:3 with yerrorbars"), std::string::npos);
-    EXPECT_NE(s.find("\\\"quoted\\\""), std::string::npos);  // a quote cannot end gnuplot's string
-    EXPECT_EQ(Quote("a\"b\\c\nd"), "a\\\"b\\\\cd");
+    EXPECT_NE(s.find("set output 'fig.png'"), std::string::npos);
+    EXPECT_NE(s.find("set output 'fig.svg'"), std::string::npos);
+    EXPECT_NE(s.find("'fig_data.dat' using 1:2:3 with yerrorbars"), std::string::npos);
+    EXPECT_EQ(Literal("it's \"q\" `x`\n\\"), "'it''s \"q\" `x`\\'");
 }
 
 TEST(Svg, InlineSvgPrefixesIdsAndReferencesAndDropsTheProlog) {
@@ -108,6 +107,20 @@ TEST_F(Gnuplot, DrawsEveryFigureInOneRunAndTheirIdsDoNotCollide) {
     // gnuplot draws the y tic labels of each figure's range: the slope -2 line reaches -20.
     EXPECT_NE(svgs[1].find(">-20<"), std::string::npos);
     EXPECT_EQ(svgs[0].find(">-20<"), std::string::npos);
+}
+
+// Text from the database in a title is only text: gnuplot runs `...` as a shell command inside
+// double quotes, never inside the single-quoted literals the scripts use.
+TEST_F(Gnuplot, BackquotesInTitlesAreNotRunAsCommands) {
+    const auto marker = std::filesystem::temp_directory_path() / ("gyrocal_plot_injected_" + std::to_string(::getpid()));
+    std::filesystem::remove(marker);
+    Figure f = Line("inj", 1);
+    f.title = "S01`touch " + marker.string() + "`'quote\"";
+    f.series[0].title = f.title;
+    const std::vector<std::string> svg = DrawInlineSvgs(gnuplot_, {f});
+    EXPECT_FALSE(std::filesystem::exists(marker)) << "gnuplot ran a command from a title";
+    EXPECT_NE(svg[0].find("S01`touch "), std::string::npos);
+    std::filesystem::remove(marker);
 }
 
 TEST_F(Gnuplot, AFigureThatCannotBeDrawnOrThatGnuplotRefusesIsAnErrorNamingIt) {
