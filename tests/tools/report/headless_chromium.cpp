@@ -10,29 +10,13 @@
 #include <stdexcept>
 #include <thread>
 
+#include "plot/gnuplot.hpp"
+
 namespace gyrocal::testing {
-
-namespace {
-
-std::string OnPath(const std::string& program) {
-    const char* path = std::getenv("PATH");
-    std::string dirs = path ? path : "";
-    size_t start = 0;
-    while (start <= dirs.size()) {
-        size_t end = dirs.find(':', start);
-        if (end == std::string::npos) end = dirs.size();
-        const std::string candidate = dirs.substr(start, end - start) + "/" + program;
-        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-        start = end + 1;
-    }
-    return "";
-}
-
-}  // namespace
 
 std::string HeadlessChromium::Find() {
     for (const char* name : {"chromium", "chromium-browser"})
-        if (std::string p = OnPath(name); !p.empty()) return p;
+        if (std::string p = plot::FindOnPath(name); !p.empty()) return p;
     return "";
 }
 
