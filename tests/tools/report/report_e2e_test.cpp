@@ -163,11 +163,11 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     const std::string failing = truth["S01"] > limit ? "S01" : "S02";
     const std::string passing = failing == "S01" ? "S02" : "S01";
     const fs::path limits = dir / "limits.json";
+    // (No count limits: on a loaded machine a turn can be refused for lost samples, and the unit
+    // would then fail for that, rightly; the counts are tested on stored data in runreport_tests.)
     std::ofstream(limits) << json{{"description", "e2e"},
                                   {"max_offset_change_dps", limit},
-                                  {"max_sensitivity_rel_uncertainty_pct", 1.0},
-                                  {"min_plateaus", 3},
-                                  {"min_turns", 6}}
+                                  {"max_sensitivity_rel_uncertainty_pct", 1.0}}
                                  .dump();
 
     // WHEN the seed's 3-point procedure runs with those limits (fast thermal constants as in
