@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "query.hpp"
+#include "utc_text.hpp"
 
 namespace gyrocal::store::report {
 
 // "2026-11-21 05:14:00" (UTC) of a wall-clock utime [us]; "-" when absent.
-std::string UtcText(std::optional<int64_t> utime);
+using gyrocal::store::UtcText;
 // Parses "YYYY-MM-DD" or "YYYY-MM-DD[T ]HH:MM[:SS][Z]" as UTC into utime [us]; nullopt if invalid.
 std::optional<int64_t> ParseUtc(const std::string& text);
 // Parses "0,25,50" into temperatures [degC]; nullopt when a value is not a finite number.

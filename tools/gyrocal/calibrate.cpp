@@ -32,10 +32,21 @@
 #include "launch/child_process.hpp"
 #include "paths.hpp"
 #include "progress.hpp"
+#include "csv/file_digest.hpp"
 #include "sim/config.hpp"
 #include "sim/noise.hpp"
 
 namespace gyrocal::cli {
+
+namespace {
+AfterRunHook& Hook() {
+    static AfterRunHook hook;
+    return hook;
+}
+}  // namespace
+
+void SetAfterRunHook(AfterRunHook hook) { Hook() = std::move(hook); }
+bool HasAfterRunHook() { return static_cast<bool>(Hook()); }
 
 double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
     // Over about an hour of run (the rate random walk's share grows with it; ~1 % here).
@@ -73,6 +84,8 @@ public:
         }
         std::filesystem::create_directories(o_.log_dir);
         if (o_.truth_out.empty()) o_.truth_out = o_.log_dir + "/truth.json";
+        // Which measured data the run was made from, recorded with it (gyrocal report shows it).
+        if (o_.source == "csv" || o_.source == "log") input_sha256_ = csv::Sha256HexOfFile(o_.input);
         Subscribe();
     }
 
@@ -112,6 +125,7 @@ private:
     bool stop_seen_ = false;
     std::string run_id_;
     std::string run_outcome_;
+    std::string input_sha256_;
     Clock::time_point start_ = Clock::now();
     Clock::time_point last_line_{};
 };
@@ -198,6 +212,11 @@ std::string Calibration::ConfigJson() const {
     j["profile"] = o_.profile;
     j["setpoints_c"] = o_.setpoints_c;
     j["effects"] = o_.effects;
+    if (!input_sha256_.empty()) j["input_sha256"] = input_sha256_;
+    if (!o_.limits_json.empty()) {
+        j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);
+        j["acceptance_limits_file"] = o_.limits_file;
+    }
     j["args"] = {{"rig", o_.rig_args},           {"plateau", o_.plateau_args},
                  {"rotation", o_.rotation_args}, {"fitter", o_.fitter_args},
                  {"compensator", o_.compensator_args}, {"sequencer", o_.sequencer_args},
@@ -433,6 +452,7 @@ int Calibration::Finish(int code) {
         }
     }
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
+    if (Hook() && !run_id_.empty()) code = Hook()(o_, run_id_, code);
     return code;
 }
 

@@ -10,6 +10,7 @@
 // The launcher's own thread watches the bus (progress, coefficient sets) and the children (a
 // child that dies early fails the run with its log named). On completion or Ctrl-C it stops the
 // source first, lets the processors finish, and stops the recorder last so it can flush.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,9 @@ struct CalibrateOptions {
         sequencer_args, recorder_args, source_args;  // passed through verbatim
     bool quiet = false;
     std::string command_line;
+    std::string limits_file;  // acceptance limits (--limits), recorded in the run's configuration
+    std::string limits_json;  // their validated JSON; "" = none
+    std::string report_dir;   // write the run's report here at the end (--report); "" = none
     static CalibrateOptions Defaults() { return {}; }
 };
 
@@ -58,7 +62,16 @@ struct CalibrateOptions {
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);
 
 // Runs the calibration; returns the exit code (0 completed with coefficients for every sensor,
-// 1 failure, 3 run aborted or incomplete).
+// 1 failure, 3 run aborted or incomplete; the after-run hook may turn 0 into 4: a unit did not
+// pass its acceptance limits).
 int RunCalibration(const CalibrateOptions& options);
+
+// Called once a run has ended and every process (the recorder last) has stopped, so the database
+// holds the whole run, with the run id and the exit code so far; returns the exit code. The
+// launcher links no SQLite: the acceptance step lives with the report (cmd_report.hpp) and main
+// installs it when that component is built.
+using AfterRunHook = std::function<int(const CalibrateOptions&, const std::string& run_id, int code)>;
+void SetAfterRunHook(AfterRunHook hook);
+bool HasAfterRunHook();
 
 }  // namespace gyrocal::cli

@@ -1,8 +1,5 @@
 #include "cmd_analyze.hpp"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +14,7 @@
 #include "analysis/plot.hpp"
 #include "analysis/report.hpp"
 #include "analysis/run_data.hpp"
+#include "plot/gnuplot.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
@@ -60,64 +58,6 @@ Raw ReadSamples(st::Db& db, const std::string& run_id) {
 
 namespace fs = std::filesystem;
 
-// Full path of `program` found on $PATH, "" when absent.
-std::string FindOnPath(const std::string& program) {
-    const char* path = std::getenv("PATH");
-    std::string dirs = path ? path : "";
-    size_t start = 0;
-    while (start <= dirs.size()) {
-        const size_t end = std::min(dirs.find(':', start), dirs.size());
-        const std::string dir = dirs.substr(start, end - start);
-        const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
-        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-        start = end + 1;
-    }
-    return "";
-}
-
-// Runs `gnuplot script` with DIR as the working directory (scripts name files relative to it).
-// Returns "" on success, else what went wrong.
-std::string RunGnuplot(const std::string& gnuplot, const std::string& dir,
-                       const std::string& script) {
-    const pid_t pid = ::fork();
-    if (pid < 0) return "cannot start gnuplot (fork failed)";
-    if (pid == 0) {
-        if (::chdir(dir.c_str()) != 0) ::_exit(126);
-        ::execl(gnuplot.c_str(), "gnuplot", script.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    int status = 0;
-    if (::waitpid(pid, &status, 0) < 0) return "lost the gnuplot process";
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-    return "gnuplot " + script + " in " + dir + " failed (" +
-           (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
-                              : std::string("killed by a signal")) +
-           ")";
-}
-
-// Writes the files and runs the scripts; "" on success, else the first problem.
-std::string WritePlots(const std::string& gnuplot, const std::string& dir,
-                       const std::vector<an::PlotSet>& plots, std::vector<std::string>* images) {
-    for (const an::PlotSet& set : plots) {
-        for (const an::PlotFile& f : set.files) {
-            const fs::path path = fs::path(dir) / f.name;
-            std::ofstream file(path, std::ios::binary | std::ios::trunc);
-            file << f.text;
-            if (!file.flush()) return "cannot write " + path.string();
-        }
-        for (const std::string& script : set.scripts)
-            if (std::string e = RunGnuplot(gnuplot, dir, script); !e.empty()) return e;
-        for (const std::string& image : set.images) {
-            const fs::path path = fs::path(dir) / image;
-            std::error_code ec;
-            if (!fs::exists(path, ec) || fs::file_size(path, ec) == 0)
-                return "gnuplot did not write " + path.string();
-            images->push_back(path.string());
-        }
-    }
-    return "";
-}
-
 }  // namespace
 
 int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
@@ -148,10 +88,9 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                     << ": exists and is not a directory\n";
                 return 2;
             }
-            gnuplot = FindOnPath("gnuplot");
+            gnuplot = plot::FindOnPath("gnuplot");
             if (gnuplot.empty()) {
-                err << "gyrocal analyze: --plot needs gnuplot on PATH (install the Debian package "
-                       "gnuplot-nox)\n";
+                err << "gyrocal analyze: --plot " << plot::kGnuplotMissing << "\n";
                 return 1;
             }
         }
@@ -186,7 +125,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
         Raw raw = ReadSamples(*db, o.run_id);
         std::vector<an::SensorResult> results;
         std::vector<int64_t> end_utimes;
-        std::vector<an::PlotSet> plots;
+        std::vector<plot::Figure> plots;
         for (const std::string& id : sensors) {
             std::vector<an::PlateauInput> plateaus;
             for (const st::PlateauRow& p : detail.plateaus)
@@ -203,7 +142,8 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                 an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder, std::move(plateaus),
                                    std::move(sens), raw.power[id]);
             results.push_back(an::Analyze(run, ao));
-            if (!o.plot_dir.empty()) plots.push_back(an::MakePlots(run, results.back(), ao));
+            if (!o.plot_dir.empty())
+                for (plot::Figure& f : an::MakePlots(run, results.back(), ao)) plots.push_back(std::move(f));
             end_utimes.push_back(run.samples.empty() ? 0 : run.samples.back().utime);
         }
         if (results.empty()) {
@@ -271,8 +211,10 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                 return 1;
             }
             std::vector<std::string> images;
-            if (const std::string e = WritePlots(gnuplot, o.plot_dir, plots, &images); !e.empty()) {
-                err << "gyrocal analyze: --plot: " << e << "\n";
+            try {
+                images = plot::DrawInto(gnuplot, o.plot_dir, plots, {plot::Terminal::kPng, plot::Terminal::kSvg});
+            } catch (const plot::GnuplotError& e) {
+                err << "gyrocal analyze: --plot: " << e.what() << "\n";
                 return 1;
             }
             err << "gyrocal analyze: wrote " << images.size() << " pictures to " << o.plot_dir

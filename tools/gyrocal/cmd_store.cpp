@@ -15,6 +15,7 @@
 #include "query.hpp"
 #include "report.hpp"
 #include "samples_csv.hpp"
+#include "unit_data.hpp"
 
 namespace {
 
@@ -125,7 +126,7 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
     auto run = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
         "show",
-        "a run: configuration, plateaus, sensitivity points, coefficient sets, analyses, losses");
+        "a run: configuration, plateaus, sensitivity points, coefficient sets, analyses, losses, acceptance");
     sub->footer(kExitCodes);
     sub->add_option("run", *run, "run id ('' = the no-run bucket)")->required();
     AddDb(sub, *c);
@@ -136,8 +137,14 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
                 auto db = st::OpenForQuery(c->db);
                 const st::RunDetail d = st::ShowRun(*db, *run);
                 const auto prov = Provenance(*db, d.coeff_sets);
-                if (c->json) return Emit("show", rep::RunDetailJson(d, prov).dump(2) + "\n", "");
-                return Emit("show", rep::RunDetailText(d, prov), "");
+                // The outcome per unit against the limits stored with the run.
+                const auto accepted = gyrocal::runreport::AcceptRun(d);
+                if (c->json) {
+                    nlohmann::json j = rep::RunDetailJson(d, prov);
+                    j["acceptance"] = gyrocal::runreport::AcceptanceJson(accepted);
+                    return Emit("show", j.dump(2) + "\n", "");
+                }
+                return Emit("show", rep::RunDetailText(d, prov) + "\n" + gyrocal::runreport::AcceptanceText(accepted), "");
             });
         };
     });

@@ -18,6 +18,9 @@
 #ifdef GYROCAL_HAVE_COMPENSATE_CLI
 #include "cmd_compensate.hpp"
 #endif
+#ifdef GYROCAL_HAVE_REPORT_CLI
+#include "cmd_report.hpp"
+#endif
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal: temperature calibration of analog MEMS gyros over LCM"};
@@ -35,6 +38,10 @@ int main(int argc, char** argv) {
 #endif
 #ifdef GYROCAL_HAVE_COMPENSATE_CLI
     gyrocal::cli::AddCompensateCommand(app, action);
+#endif
+#ifdef GYROCAL_HAVE_REPORT_CLI
+    gyrocal::cli::AddReportCommand(app, action);
+    gyrocal::cli::SetAfterRunHook(gyrocal::cli::AfterCalibration);
 #endif
     try {
         app.parse(argc, argv);
