@@ -20,7 +20,7 @@
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
-#include "replay_reader.hpp"
+#include "run_loader.hpp"
 
 namespace gyrocal::cli {
 
@@ -28,33 +28,6 @@ namespace an = gyrocal::analysis;
 namespace st = gyrocal::store;
 
 namespace {
-
-struct Raw {
-    std::map<std::string, std::vector<an::GyroSample>> gyro;    // by sensor
-    std::map<std::string, std::vector<an::PowerRecord>> power;  // by sensor
-    std::vector<an::EncoderSample> encoder;
-};
-
-Raw ReadSamples(st::Db& db, const std::string& run_id) {
-    Raw raw;
-    st::ReplayReader reader(db, run_id);
-    while (auto row = reader.Next()) {
-        std::visit(
-            [&](const auto& r) {
-                using T = std::decay_t<decltype(r)>;
-                if constexpr (std::is_same_v<T, st::GyroRow>) {
-                    raw.gyro[r.sensor_id].push_back(
-                        {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
-                } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
-                    raw.encoder.push_back({r.utime, r.counts, r.counts_per_rev});
-                } else if constexpr (std::is_same_v<T, st::PowerStateRow>) {
-                    raw.power[r.sensor_id].push_back({r.utime, r.power_on_utime, r.source});
-                }
-            },
-            *row);
-    }
-    return raw;
-}
 
 namespace fs = std::filesystem;
 
@@ -122,25 +95,12 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
             }
             sensors = {o.sensor_id};
         }
-        Raw raw = ReadSamples(*db, o.run_id);
+        const std::map<std::string, an::SensorRun> runs = LoadSensorRuns(*db, detail, sensors);
         std::vector<an::SensorResult> results;
         std::vector<int64_t> end_utimes;
         std::vector<plot::Figure> plots;
         for (const std::string& id : sensors) {
-            std::vector<an::PlateauInput> plateaus;
-            for (const st::PlateauRow& p : detail.plateaus)
-                if (p.sensor_id == id)
-                    plateaus.push_back({p.plateau_id, p.start_utime, p.end_utime, p.temp_mean_c,
-                                        p.temp_sem_c, p.gyro_mean_v, p.gyro_sem_v, p.n_samples});
-            std::vector<an::SensitivityInput> sens;
-            for (const st::SensitivityRow& s : detail.sensitivity_points)
-                if (s.sensor_id == id)
-                    sens.push_back({s.rotation_id, s.utime, s.temp_c, s.direction,
-                                    s.sensitivity_v_per_dps, s.sensitivity_stderr_v_per_dps,
-                                    s.accepted});
-            const an::SensorRun run =
-                an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder, std::move(plateaus),
-                                   std::move(sens), raw.power[id]);
+            const an::SensorRun& run = runs.at(id);
             results.push_back(an::Analyze(run, ao));
             if (!o.plot_dir.empty())
                 for (plot::Figure& f : an::MakePlots(run, results.back(), ao)) plots.push_back(std::move(f));

@@ -19,10 +19,7 @@ namespace gyrocal::cli {
 namespace an = gyrocal::analysis;
 namespace st = gyrocal::store;
 
-namespace {
-
-// The sets the options name, by sensor; `origin` says where they came from (for messages).
-std::map<std::string, model::CoeffSet> LoadSets(const CompensateOptions& o, std::string* origin) {
+std::map<std::string, model::CoeffSet> LoadCoeffSets(const CoeffSource& o, std::string* origin) {
     std::map<std::string, model::CoeffSet> sets;
     if (!o.coeffs_path.empty()) {
         std::ifstream f(o.coeffs_path, std::ios::binary);
@@ -75,8 +72,6 @@ std::map<std::string, model::CoeffSet> LoadSets(const CompensateOptions& o, std:
     return sets;
 }
 
-}  // namespace
-
 int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& err) {
     const char* me = "gyrocal compensate: ";
     // Options first (exit 2): exactly one coefficient source, valid conversion options.
@@ -114,7 +109,8 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
     }
     try {
         std::string origin;
-        const std::map<std::string, model::CoeffSet> sets = LoadSets(o, &origin);
+        const std::map<std::string, model::CoeffSet> sets = LoadCoeffSets(
+            {o.coeffs_path, o.db, o.run_id, o.sensor_id, o.coeff_set_row}, &origin);
         std::ifstream in(o.csv_path, std::ios::binary);
         if (!in) {
             err << me << "cannot read CSV '" << o.csv_path << "'\n";

@@ -14,6 +14,7 @@
 #endif
 #ifdef GYROCAL_HAVE_ANALYZE_CLI
 #include "cmd_analyze.hpp"
+#include "cmd_validate.hpp"
 #endif
 #ifdef GYROCAL_HAVE_COMPENSATE_CLI
 #include "cmd_compensate.hpp"
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef GYROCAL_HAVE_ANALYZE_CLI
     gyrocal::cli::AddAnalyzeCommand(app, action);
+    gyrocal::cli::AddValidateCommand(app, action);
 #endif
 #ifdef GYROCAL_HAVE_COMPENSATE_CLI
     gyrocal::cli::AddCompensateCommand(app, action);
