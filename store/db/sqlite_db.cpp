@@ -1,9 +1,62 @@
 #include "sqlite_db.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace gyrocal::store {
+
+bool IsStorageFault(int code) {
+    switch (code & 0xff) {
+        case SQLITE_FULL:
+        case SQLITE_READONLY:
+        case SQLITE_BUSY:
+        case SQLITE_LOCKED:
+        case SQLITE_IOERR:
+        case SQLITE_CANTOPEN:
+        case SQLITE_PROTOCOL:
+            return true;
+        default:
+            return false;
+    }
+}
+
+std::string StorageFaultName(const StoreError& e) {
+    return StorageFaultName(e.sqlite_code(), e.os_errno());
+}
+
+std::string StorageFaultName(int code, int os_errno) {
+    if ((code & 0xff) == SQLITE_IOERR) {
+        if (os_errno == EROFS || os_errno == EPERM || os_errno == EACCES) return "read-only";
+        if (os_errno == ENOSPC || os_errno == EDQUOT) return "disk full";
+    }
+    switch (code & 0xff) {
+        case SQLITE_FULL: return "disk full";
+        case SQLITE_READONLY:
+            return code == SQLITE_READONLY_DBMOVED ? "file removed or replaced" : "read-only";
+        case SQLITE_BUSY:
+        case SQLITE_LOCKED:
+        case SQLITE_PROTOCOL: return "locked by another writer";
+        case SQLITE_IOERR: return "I/O error";
+        case SQLITE_CANTOPEN: return "cannot open";
+        default: return "";
+    }
+}
+
+namespace {
+// SQLite's message, with the OS error behind it when there is one (e.g. "disk I/O error (OS:
+// Operation not permitted)" for a write to a file made immutable).
+std::string Describe(sqlite3* db) {
+    std::string msg = sqlite3_errmsg(db);
+    const int primary = sqlite3_extended_errcode(db) & 0xff;
+    const int os = sqlite3_system_errno(db);
+    if (os != 0 && (primary == SQLITE_IOERR || primary == SQLITE_FULL || primary == SQLITE_CANTOPEN)) {
+        msg += std::string(" (OS: ") + std::strerror(os) + ")";
+    }
+    return msg;
+}
+}  // namespace
 
 Db::Db(const std::string& path, Mode mode) : path_(path) {
     int flags = SQLITE_OPEN_NOMUTEX;
@@ -14,11 +67,14 @@ Db::Db(const std::string& path, Mode mode) : path_(path) {
     }
     const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
     if (rc != SQLITE_OK) {
-        std::string msg = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+        std::string msg = db_ ? Describe(db_) : sqlite3_errstr(rc);
+        const int code = db_ ? sqlite3_extended_errcode(db_) : rc;
+        const int os = db_ ? sqlite3_system_errno(db_) : 0;
         sqlite3_close(db_);
         db_ = nullptr;
-        throw StoreError("cannot open database '" + path + "': " + msg);
+        throw StoreError("cannot open database '" + path + "': " + msg, code, os);
     }
+    sqlite3_extended_result_codes(db_, 1);
     // Concurrent readers (query tools) and the recorder's writer may meet: wait, do not fail.
     sqlite3_busy_timeout(db_, 5000);
 }
@@ -26,16 +82,24 @@ Db::Db(const std::string& path, Mode mode) : path_(path) {
 Db::~Db() { sqlite3_close_v2(db_); }
 
 void Db::Fail(std::string_view what) const {
-    throw StoreError("database '" + path_ + "': " + std::string(what) + ": " + sqlite3_errmsg(db_));
+    throw StoreError("database '" + path_ + "': " + std::string(what) + ": " + Describe(db_),
+                     sqlite3_extended_errcode(db_), sqlite3_system_errno(db_));
+}
+
+void Db::SetBusyTimeout(int ms) { sqlite3_busy_timeout(db_, ms); }
+
+bool Db::HasMoved() const {
+    int moved = 0;
+    return sqlite3_file_control(db_, "main", SQLITE_FCNTL_HAS_MOVED, &moved) == SQLITE_OK &&
+           moved != 0;
 }
 
 void Db::Exec(std::string_view sql) {
-    char* err = nullptr;
     const std::string s(sql);
-    if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
-        std::string msg = err ? err : "unknown error";
-        sqlite3_free(err);
-        throw StoreError("database '" + path_ + "': " + msg + " (in: " + s.substr(0, 120) + ")");
+    if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) {
+        throw StoreError("database '" + path_ + "': " + Describe(db_) + " (in: " +
+                             s.substr(0, 120) + ")",
+                         sqlite3_extended_errcode(db_), sqlite3_system_errno(db_));
     }
 }
 
@@ -94,10 +158,13 @@ bool Stmt::Step() {
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    const std::string msg = sqlite3_errmsg(db_->raw());
+    const std::string msg = Describe(db_->raw());
+    const int code = sqlite3_extended_errcode(db_->raw());
+    const int os = sqlite3_system_errno(db_->raw());
     sqlite3_reset(stmt_);
     throw StoreError("database '" + db_->path() + "': " + msg + " (in: " + sql_.substr(0, 120) +
-                     ")");
+                         ")",
+                     code, os);
 }
 
 void Stmt::Reset() {
