@@ -3,6 +3,7 @@
 // exception surfaced from Handle() rather than thrown through LCM's C code.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <stdexcept>
 
 #include "bus/bus.hpp"
@@ -188,6 +189,22 @@ TEST(Decode, AnArrayLengthThePayloadCannotHoldAllocatesNothing) {
     // A negative length is refused the same way (it threw std::length_error before).
     buf[at] = 0xff;
     EXPECT_EQ(out.decode(buf.data(), 0, static_cast<int>(buf.size())), -1);
+}
+
+// Found by the fuzz harness recorder_map (UBSan): a hostile seq near INT64_MIN or INT64_MAX
+// overflowed the gap arithmetic. Gaps are exact where they fit, saturate where they do not.
+TEST(SeqTracker, ExtremeSeqValuesNeitherOverflowNorWrap) {
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min();
+    constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
+    SeqTracker t;
+    t.Observe("A", kMin);
+    EXPECT_EQ(t.Observe("A", kMin + 3).missing, 2);
+    EXPECT_EQ(t.Observe("A", kMax).missing, kMax);  // 2^64 - 4 missing: saturated
+    EXPECT_EQ(t.total_missing(), kMax);
+    EXPECT_TRUE(t.Observe("A", 17).backwards);
+    EXPECT_EQ(t.Observe("A", kMax).missing, kMax - 18);  // exact: it fits
+    EXPECT_EQ(t.total_missing(), kMax);  // stays saturated, never wraps negative
+    EXPECT_TRUE(t.Observe("A", kMax).backwards);  // a repeat of INT64_MAX: no "next" to expect
 }
 
 }  // namespace
