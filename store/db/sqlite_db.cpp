@@ -56,6 +56,25 @@ std::string Describe(sqlite3* db) {
     }
     return msg;
 }
+// The start of a statement on one line (whitespace runs collapsed), for messages.
+std::string Snippet(std::string_view sql) {
+    std::string out;
+    for (char c : sql) {
+        const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
+        if (space && (out.empty() || out.back() == ' ')) continue;
+        out += space ? ' ' : c;
+        if (out.size() >= 100) return out + "...";
+    }
+    return out;
+}
+
+// "database 'PATH': " or, when the file itself is the problem, "database 'PATH' is damaged
+// (...)" so that the cause comes before the statement that met it.
+std::string Prefix(const std::string& path, int code) {
+    if ((code & 0xff) == SQLITE_CORRUPT) return "database '" + path + "' is damaged: ";
+    if ((code & 0xff) == SQLITE_NOTADB) return "'" + path + "' is not an SQLite database: ";
+    return "database '" + path + "': ";
+}
 }  // namespace
 
 Db::Db(const std::string& path, Mode mode) : path_(path) {
@@ -82,8 +101,9 @@ Db::Db(const std::string& path, Mode mode) : path_(path) {
 Db::~Db() { sqlite3_close_v2(db_); }
 
 void Db::Fail(std::string_view what) const {
-    throw StoreError("database '" + path_ + "': " + std::string(what) + ": " + Describe(db_),
-                     sqlite3_extended_errcode(db_), sqlite3_system_errno(db_));
+    const int code = sqlite3_extended_errcode(db_);
+    throw StoreError(Prefix(path_, code) + std::string(what) + ": " + Describe(db_), code,
+                     sqlite3_system_errno(db_));
 }
 
 void Db::SetBusyTimeout(int ms) { sqlite3_busy_timeout(db_, ms); }
@@ -97,9 +117,9 @@ bool Db::HasMoved() const {
 void Db::Exec(std::string_view sql) {
     const std::string s(sql);
     if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) {
-        throw StoreError("database '" + path_ + "': " + Describe(db_) + " (in: " +
-                             s.substr(0, 120) + ")",
-                         sqlite3_extended_errcode(db_), sqlite3_system_errno(db_));
+        const int code = sqlite3_extended_errcode(db_);
+        throw StoreError(Prefix(path_, code) + Describe(db_) + " (in: " + Snippet(s) + ")", code,
+                         sqlite3_system_errno(db_));
     }
 }
 
@@ -118,7 +138,7 @@ void Db::SetUserVersion(int version) { Exec("PRAGMA user_version = " + std::to_s
 Stmt::Stmt(Db& db, std::string_view sql) : db_(&db), sql_(sql) {
     if (sqlite3_prepare_v2(db.raw(), sql_.c_str(), static_cast<int>(sql_.size()), &stmt_,
                            nullptr) != SQLITE_OK) {
-        db.Fail("cannot prepare '" + sql_.substr(0, 120) + "'");
+        db.Fail("cannot prepare '" + Snippet(sql_) + "'");
     }
 }
 
@@ -162,9 +182,7 @@ bool Stmt::Step() {
     const int code = sqlite3_extended_errcode(db_->raw());
     const int os = sqlite3_system_errno(db_->raw());
     sqlite3_reset(stmt_);
-    throw StoreError("database '" + db_->path() + "': " + msg + " (in: " + sql_.substr(0, 120) +
-                         ")",
-                     code, os);
+    throw StoreError(Prefix(db_->path(), code) + msg + " (in: " + Snippet(sql_) + ")", code, os);
 }
 
 void Stmt::Reset() {
