@@ -187,9 +187,14 @@ TEST_F(Fault, AtTheMemoryBoundWhatIsDroppedIsCountedInLosses) {
     Publish(3000);
     ASSERT_TRUE(WaitStatus([&] { return status_.extra["rows_dropped"] > 0; }));
     blocker.Exec("COMMIT");
+    ASSERT_TRUE(WaitStatus([&] { return status_.state == "recording"; }));
+    const int64_t after = seq_;
     Publish(10);  // after the release: a lost UDP packet before these shows as a seq gap
     const int64_t published = seq_;
-    ASSERT_TRUE(WaitStatus([&] { return status_.state == "recording"; }));
+    // These have room again: wait until they are committed, so none is still on its way at stop.
+    EXPECT_EQ(WaitForCount(db_, "SELECT count(*) FROM gyro_samples WHERE seq >= " +
+                                    std::to_string(after), 10, 30s),
+              10);
     EXPECT_EQ(rec_->Stop(10s).code, 0);
     // Every sample is stored or counted: dropped at the bound (queue_drops) or, had the network
     // lost one, as a seq gap. The bound held: at most --queue-rows rows were kept meanwhile.
