@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "decode.hpp"
 #include "seq_tracker.hpp"
 
 namespace gyrocal {
@@ -107,15 +108,7 @@ void Bus::Subscribe(const std::string& channel_regex,
     AddSubscription(channel_regex, [this, handler = std::move(handler)](
                                        const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         Msg msg;
-        int decoded = -1;
-        try {
-            decoded = msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size));
-        } catch (const std::exception&) {
-            // lcm-gen's C++ decode sizes vectors from the payload: a corrupt or hostile length
-            // field throws (length_error, bad_alloc). That is bad input, not a bug here.
-            decoded = -1;
-        }
-        if (decoded < 0) {
+        if (!DecodeMessage(msg, rbuf.data, static_cast<int>(rbuf.data_size))) {
             ++counters_.decode_errors;
             counters_.last_decode_error =
                 "channel " + channel + ": payload is not a valid " + Msg::getTypeName();

@@ -1,12 +1,45 @@
 #include "writer.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "analyses.hpp"
 #include "schema.hpp"
 
 namespace gyrocal::store {
+
+namespace {
+
+// Why this process cannot write the database at `path`: its file, its WAL, or the folder where
+// SQLite creates the WAL and shared-memory files refuse writes (EROFS: read-only file system,
+// EPERM: an immutable file, EACCES: permissions; access(2) says so also for root). {0, ""}
+// when nothing refuses. SQLite itself reports such a failure as a plain "disk I/O error" or
+// "unable to open database file", without the cause.
+std::pair<int, std::string> NotWritable(const std::string& path) {
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    for (const std::string& p : {path, path + "-wal", dir.empty() ? std::string(".") : dir}) {
+        if (::access(p.c_str(), W_OK) != 0 && errno != ENOENT) {
+            const int e = errno;
+            return {e, "cannot write '" + p + "': " + std::strerror(e)};
+        }
+    }
+    return {0, ""};
+}
+
+// `e` with the reason the storage refuses writes added, when there is one.
+StoreError WithCause(const StoreError& e, const std::string& path) {
+    if (!IsStorageFault(e.sqlite_code())) return e;
+    const auto [os, why] = NotWritable(path);
+    if (os == 0) return e;
+    return StoreError(std::string(e.what()) + "; " + why, e.sqlite_code(), os);
+}
+
+}  // namespace
 
 struct StoreWriter::Statements {
     explicit Statements(Db& db)
@@ -74,21 +107,44 @@ struct StoreWriter::Statements {
         loss;
 };
 
-StoreWriter::StoreWriter(const std::string& path, WriterInfo info) : info_(std::move(info)) {
-    db_ = std::make_unique<Db>(path, Db::Mode::kReadWriteCreate);
-    ConfigureConnection(*db_);
-    Migrate(*db_);
-    st_ = std::make_unique<Statements>(*db_);
-    Stmt runs(*db_, "SELECT run_id FROM runs");
-    while (runs.Step()) known_runs_.insert(runs.Text(0));
-    Stmt sensors(*db_, "SELECT sensor_id FROM sensors");
-    while (sensors.Step()) known_sensors_.insert(sensors.Text(0));
+StoreWriter::StoreWriter(const std::string& path, WriterInfo info)
+    : path_(path), info_(std::move(info)) {
+    try {
+        Open();
+    } catch (const StoreError& e) {
+        throw WithCause(e, path_);
+    }
 }
 
 StoreWriter::~StoreWriter() = default;
 
+void StoreWriter::Open() {
+    st_.reset();
+    db_.reset();
+    known_runs_.clear();
+    known_sensors_.clear();
+    auto db = std::make_unique<Db>(path_, Db::Mode::kReadWriteCreate);
+    ConfigureConnection(*db);
+    Migrate(*db);
+    // Shorter than the readers' 5 s, so that a writer holding the lock shows as "locked" on
+    // STATUS within a second; the rows wait in the AsyncWriter meanwhile and are written again.
+    db->SetBusyTimeout(1000);
+    auto st = std::make_unique<Statements>(*db);
+    Stmt runs(*db, "SELECT run_id FROM runs");
+    while (runs.Step()) known_runs_.insert(runs.Text(0));
+    Stmt sensors(*db, "SELECT sensor_id FROM sensors");
+    while (sensors.Step()) known_sensors_.insert(sensors.Text(0));
+    db_ = std::move(db);
+    st_ = std::move(st);
+}
+
+Db& StoreWriter::db() {
+    if (!db_) throw StoreError("database '" + path_ + "' is not open (the last reopen failed)");
+    return *db_;
+}
+
 std::string StoreWriter::OpenRunId() {
-    Stmt s(*db_,
+    Stmt s(db(),
            "SELECT run_id FROM runs WHERE run_id != '' AND started_utime IS NOT NULL AND "
            "stopped_utime IS NULL AND outcome = 'running' "
            "ORDER BY first_recv_utime DESC, rowid DESC LIMIT 1");
@@ -97,9 +153,10 @@ std::string StoreWriter::OpenRunId() {
 
 std::vector<StoreWriter::StreamSeq> StoreWriter::LastSeqs(const std::string& run_id) {
     std::vector<StreamSeq> out;
+    Db& d = db();
     // One index seek per sensor (run_id, sensor_id, utime), not a scan of the run.
-    Stmt sensors(*db_, "SELECT sensor_id FROM sensors");
-    Stmt last(*db_,
+    Stmt sensors(d, "SELECT sensor_id FROM sensors");
+    Stmt last(d,
               "SELECT g.seq FROM (SELECT first_rowid, last_rowid FROM gyro_blocks WHERE "
               "run_id = ?1 AND sensor_id = ?2 ORDER BY max_utime DESC LIMIT 1) b JOIN gyro_samples "
               "g ON g.rowid BETWEEN b.first_rowid AND b.last_rowid AND g.run_id = ?1 AND "
@@ -110,17 +167,17 @@ std::vector<StoreWriter::StreamSeq> StoreWriter::LastSeqs(const std::string& run
         if (last.Step()) out.push_back({StreamSeq::Kind::kGyro, id, last.Int(0)});
         last.Reset();
     }
-    Stmt enc(*db_, "SELECT seq FROM encoder_samples WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
+    Stmt enc(d, "SELECT seq FROM encoder_samples WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
     enc.Bind(1, run_id);
     if (enc.Step()) out.push_back({StreamSeq::Kind::kEncoder, "", enc.Int(0)});
-    Stmt ch(*db_, "SELECT seq FROM chamber_states WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
+    Stmt ch(d, "SELECT seq FROM chamber_states WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
     ch.Bind(1, run_id);
     if (ch.Step()) out.push_back({StreamSeq::Kind::kChamberState, "", ch.Int(0)});
     return out;
 }
 
 void StoreWriter::BeginSession(int64_t wall_utime, const std::string& resumed_run_id) {
-    Stmt s(*db_,
+    Stmt s(db(),
            "INSERT INTO recorder_sessions(started_wall_utime, host, pid, recorder_version, "
            "resumed_run_id) VALUES (?,?,?,?,?)");
     s.Bind(1, wall_utime).Bind(2, info_.host).Bind(3, info_.pid).Bind(4, info_.recorder_version);
@@ -130,7 +187,7 @@ void StoreWriter::BeginSession(int64_t wall_utime, const std::string& resumed_ru
 
 void StoreWriter::EndSession(int64_t wall_utime) {
     if (session_id_ < 0) return;
-    Stmt s(*db_, "UPDATE recorder_sessions SET stopped_wall_utime = ? WHERE session_id = ?");
+    Stmt s(db(), "UPDATE recorder_sessions SET stopped_wall_utime = ? WHERE session_id = ?");
     s.Bind(1, wall_utime).Bind(2, session_id_).Run();
 }
 
@@ -146,22 +203,45 @@ void StoreWriter::EnsureSensor(const std::string& sensor_id, int64_t recv_utime)
     known_sensors_.insert(sensor_id);
 }
 
+
 void StoreWriter::Write(const std::vector<Row>& rows, const LossMap& losses) {
-    Transaction tx(*db_);
-    blocks_.clear();
-    for (const Row& row : rows) WriteOne(row);
-    for (const auto& [key, b] : blocks_) {
-        Stmt& s = st_->block;
-        s.Bind(1, key.first).Bind(2, key.second).Bind(3, b.first_rowid).Bind(4, b.last_rowid);
-        s.Bind(5, b.min_utime).Bind(6, b.max_utime).Bind(7, b.n_samples).Run();
+    try {
+        WriteBatch(rows, losses);
+    } catch (const StoreError& e) {
+        throw WithCause(e, path_);
     }
-    for (const auto& [key, d] : losses) {
-        if (d.Empty()) continue;
-        EnsureRun(key.first, 0);
-        st_->loss.Bind(1, key.first).Bind(2, key.second).Bind(3, d.seq_gaps);
-        st_->loss.Bind(4, d.seq_backwards).Bind(5, d.decode_errors).Bind(6, d.queue_drops).Run();
+}
+
+void StoreWriter::WriteBatch(const std::vector<Row>& rows, const LossMap& losses) {
+    // After a failed write the connection is opened again: a file that was replaced, removed or
+    // remounted is then the one at the path, and the caches of known runs and sensors, which the
+    // rolled-back transaction may have filled, are read again from what was committed.
+    if (reopen_) Open();
+    reopen_ = true;
+    if (db_->HasMoved()) {  // SQLite would go on writing into the removed file, silently
+        throw StoreError("database '" + path_ + "': the file was removed or replaced while open; "
+                         "it is opened (created) again at that path",
+                         SQLITE_READONLY_DBMOVED);
     }
-    tx.Commit();
+    {
+        Transaction tx(*db_);
+        blocks_.clear();
+        for (const Row& row : rows) WriteOne(row);
+        for (const auto& [key, b] : blocks_) {
+            Stmt& s = st_->block;
+            s.Bind(1, key.first).Bind(2, key.second).Bind(3, b.first_rowid).Bind(4, b.last_rowid);
+            s.Bind(5, b.min_utime).Bind(6, b.max_utime).Bind(7, b.n_samples).Run();
+        }
+        for (const auto& [key, d] : losses) {
+            if (d.Empty()) continue;
+            EnsureRun(key.first, 0);
+            st_->loss.Bind(1, key.first).Bind(2, key.second).Bind(3, d.seq_gaps);
+            st_->loss.Bind(4, d.seq_backwards).Bind(5, d.decode_errors).Bind(6, d.queue_drops);
+            st_->loss.Run();
+        }
+        tx.Commit();
+    }
+    reopen_ = false;
 }
 
 void StoreWriter::WriteOne(const Row& row) {

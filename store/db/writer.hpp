@@ -57,12 +57,17 @@ public:
     void EndSession(int64_t wall_utime);
 
     // Writes all rows and adds all loss deltas in one transaction; throws StoreError (the
-    // transaction is rolled back) on failure.
+    // transaction is rolled back) on failure. The call after a failure first opens the database
+    // again (so a failure to reopen is thrown from there): the same rows can simply be written
+    // again once the storage recovers (see IsStorageFault).
     void Write(const std::vector<Row>& rows, const LossMap& losses);
 
-    Db& db() { return *db_; }
+    // Throws StoreError when the last reopen failed.
+    Db& db();
 
 private:
+    void Open();
+    void WriteBatch(const std::vector<Row>& rows, const LossMap& losses);
     struct Statements;
     void EnsureRun(const std::string& run_id, int64_t recv_utime);
     void EnsureSensor(const std::string& sensor_id, int64_t recv_utime);
@@ -71,7 +76,9 @@ private:
     void WriteRunEvent(const RunEventRow& r);
     void WriteCoeffSet(const CoeffSetRow& r);
 
+    std::string path_;
     WriterInfo info_;
+    bool reopen_ = false;  // the last Write failed
     std::unique_ptr<Db> db_;
     std::unique_ptr<Statements> st_;
     // gyro_blocks of the batch being written, per (run_id, sensor_id).

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "bus/decode.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/power_state_t.hpp"
@@ -296,7 +297,7 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
     // Decodes as Msg when the fingerprint is Msg's; true when this type claimed the message.
     auto try_type = [&]<class Msg>(Msg msg) -> bool {
         if (!fp || *fp != static_cast<uint64_t>(Msg::getHash())) return false;
-        if (msg.decode(data, 0, size) < 0) {
+        if (!DecodeMessage(msg, data, size)) {
             raw("decode_error");
             out.loss.decode_errors = 1;
             return true;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -196,6 +197,65 @@ TEST_F(StoreCli, MissingOrForeignDatabaseIsOneLineAndExitOne) {
     const Result j = Run({"show", "R1", "--db", junk});
     EXPECT_EQ(j.code, 1);
     EXPECT_EQ(Lines(j.err), 1) << j.err;
+}
+
+std::vector<char> Bytes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::vector<char>(std::istreambuf_iterator<char>(f), {});
+}
+
+void WriteBytes(const std::string& path, const std::vector<char>& b) {
+    std::ofstream(path, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
+}
+
+// Every database entry point of the commands, on files that are not a readable gyrocal
+// database: a foreign SQLite file, an empty file, a gyrocal file cut in half (a copy that
+// stopped), one whose schema page is overwritten, one from a newer gyrocal. Each is one line
+// naming the file and what is wrong with it, exit 1, nothing on stdout, and the file untouched.
+TEST_F(StoreCli, DamagedForeignEmptyOrNewerDatabasesAreOneLineExitOneAndLeftAlone) {
+    const std::vector<char> good = Bytes(db_);
+    ASSERT_GT(good.size(), 32768u);
+    struct Bad {
+        std::string name, expect;
+        std::vector<char> bytes;
+    };
+    std::vector<Bad> bad;
+    {
+        const std::string foreign = dir_ + "/foreign.db";
+        store::Db db(foreign, store::Db::Mode::kReadWriteCreate);
+        db.Exec("CREATE TABLE t(a); INSERT INTO t VALUES (1)");
+    }
+    bad.push_back({"foreign.db", "is not a gyrocal database", Bytes(dir_ + "/foreign.db")});
+    bad.push_back({"empty.db", "is not a gyrocal database", {}});
+    bad.push_back({"half.db", "is a damaged SQLite file",
+                   std::vector<char>(good.begin(), good.begin() + good.size() / 2)});
+    // The schema's page overwritten after the 100-byte file header: still an SQLite file, but
+    // every statement fails (garbage elsewhere is only met by the queries that read it).
+    std::vector<char> overwritten = good;
+    std::fill(overwritten.begin() + 100, overwritten.begin() + 4096, '\xaa');
+    bad.push_back({"overwritten.db", "is damaged", overwritten});
+    std::vector<char> newer = good;
+    newer[63] = 99;  // PRAGMA user_version (big-endian at byte 60): 99
+    bad.push_back({"newer.db", "has schema version 99, newer than this software", newer});
+
+    const std::vector<std::vector<std::string>> commands = {
+        {"runs"}, {"show", "R1"}, {"history", "S01"}, {"export", "R1", "--format", "json"},
+        {"replay", "R1", "--lcm-url", "memq://"}};
+    for (const Bad& b : bad) {
+        const std::string path = dir_ + "/" + b.name;
+        WriteBytes(path, b.bytes);
+        for (auto args : commands) {
+            args.insert(args.end(), {"--db", path});
+            const Result r = Run(args);
+            SCOPED_TRACE(b.name + ": " + args[0]);
+            EXPECT_EQ(r.code, 1);
+            EXPECT_EQ(Lines(r.err), 1) << r.err;
+            EXPECT_NE(r.err.find(b.name), std::string::npos) << r.err;
+            EXPECT_NE(r.err.find(b.expect), std::string::npos) << r.err;
+            EXPECT_EQ(r.out, "");
+            EXPECT_TRUE(Bytes(path) == b.bytes) << "the command changed the file";
+        }
+    }
 }
 
 TEST_F(StoreCli, HistoryShowsHowCoefficientsMoved) {
