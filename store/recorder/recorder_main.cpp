@@ -25,6 +25,7 @@
 #include "bus/shutdown.hpp"
 #include "bus/status.hpp"
 #include "gyrocal/version.hpp"
+#include "open_run.hpp"
 #include "record_mapper.hpp"
 #include "writer.hpp"
 
@@ -76,14 +77,15 @@ public:
         : bus_(gyrocal::BusOptions{o.lcm_url}),
           status_(bus_, kProcess),
           store_(std::move(writer)),
-          mapper_(gyrocal::record::MapperOptions{!o.no_rates}, store_->OpenRunId()),
+          mapper_(gyrocal::record::MapperOptions{!o.no_rates},
+                  gyrocal::record::OpenRunOnBus(store_->db(), bus_.url())),
           writer_(*store_, gyrocal::store::AsyncWriterOptions{
                                o.queue_rows, o.batch_rows, std::chrono::milliseconds(o.batch_ms)}) {
         store_->BeginSession(WallUtime(), mapper_.current_run());
         if (!mapper_.current_run().empty()) {
             SeedSeqs(mapper_.current_run());
             std::cerr << kProcess << ": continuing run '" << mapper_.current_run()
-                      << "' (started, not stopped, in " << o.db_path << ")\n";
+                      << "' (started on this bus, not stopped, in " << o.db_path << ")\n";
         }
         bus_.SubscribeRaw(o.channels, [this](const lcm::ReceiveBuffer& rbuf,
                                              const std::string& channel) {
