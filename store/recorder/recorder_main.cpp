@@ -131,6 +131,8 @@ private:
         gyrocal::record::Mapped m = mapper_.Map(channel, rbuf.data,
                                                 static_cast<int>(rbuf.data_size), rbuf.recv_utime);
         writer_.AddLoss(m.run_id, channel, m.loss);
+        status_.AddSeqGaps(m.loss.seq_gaps);  // so the progress line shows what the recorder missed
+        status_.AddDecodeErrors(m.loss.decode_errors);
         if (m.loss.decode_errors > 0) {
             status_.Reject("decode_error", "channel " + channel + ": known fingerprint " +
                                                "that does not decode; kept in raw_events");
