@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "model/convert.hpp"
+#include "model_rows.hpp"
 #include "query.hpp"
 
 namespace gyrocal::record {
@@ -59,39 +61,6 @@ sensitivity_point_t ToMessage(const SensitivityRow& r) {
     return m;
 }
 
-model_t ToMessage(const ModelRow& r) {
-    model_t m;
-    m.quantity = r.quantity;
-    m.num_terms = static_cast<int16_t>(r.term_names.size());
-    m.term_names = r.term_names;
-    m.coeffs = r.coeffs;
-    m.covariance = r.covariance;
-    m.t0_c = r.t0_c;
-    m.temp_min_c = r.temp_min_c;
-    m.temp_max_c = r.temp_max_c;
-    m.residual_rms = r.residual_rms;
-    m.n_points = r.n_points;
-    m.condition_number = r.condition_number;
-    m.method = r.method;
-    return m;
-}
-
-coeff_set_t ToMessage(const CoeffSetRow& r) {
-    coeff_set_t m;
-    m.utime = r.utime;
-    m.sensor_id = r.sensor_id;
-    m.run_id = r.run_id;
-    m.coeff_set_id = r.coeff_set_id;
-    m.source = r.source;
-    m.offset = ToMessage(r.offset);
-    m.sensitivity = ToMessage(r.sensitivity);
-    m.num_plateaus = static_cast<int32_t>(r.plateau_ids.size());
-    m.plateau_ids = r.plateau_ids;
-    m.num_rotations = static_cast<int32_t>(r.rotation_ids.size());
-    m.rotation_ids = r.rotation_ids;
-    return m;
-}
-
 }  // namespace
 
 RecoveredRun ReadRecovery(Db& db, const std::string& run_id) {
@@ -102,7 +71,9 @@ RecoveredRun ReadRecovery(Db& db, const std::string& run_id) {
     auto by_time = [](const auto& a, const auto& b) { return a.utime < b.utime; };
     std::stable_sort(out.plateaus.begin(), out.plateaus.end(), by_time);
     std::stable_sort(out.rotations.begin(), out.rotations.end(), by_time);
-    for (const CoeffSetInfo& c : RunNewestCoeffs(db, run_id)) out.newest_coeffs.push_back(ToMessage(c.set));
+    // The shared conversions (stored rows -> model -> message), as `gyrocal analyze --publish` uses.
+    for (const CoeffSetInfo& c : RunNewestCoeffs(db, run_id))
+        out.newest_coeffs.push_back(model::ToMsg(ToCoeffSet(c.set)));
     return out;
 }
 
