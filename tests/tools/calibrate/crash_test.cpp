@@ -123,7 +123,7 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
         {"gyrocal-recorder", [](auto*, auto* s) { return Averaging(s, 1); }, "setpoint 2, averaging", false},
         {"gyrocal-sequencer", [](auto* e, auto*) { return EventAt(e, "rotation", 1, "move 90"); }, "setpoint 2, +90 turn ordered", false},
         // Late: a compensator only has coefficients to get back once the third plateau is in.
-        {"gyrocal-compensator", [](auto*, auto* s) { return Averaging(s, 3); }, "setpoint 4, averaging", false},
+        {"gyrocal-compensator", [](auto* e, auto*) { return EventAt(e, "setpoint", 3); }, "setpoint 4 ordered", false},
     };
     ChildProcess cal(CalibrateArgs(dir, port, "15,30,45,30"), dir + "/out.txt", dir + "/out.txt");
     int64_t committed_rowid = -1, committed_rows = -1;
@@ -161,10 +161,12 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
         EXPECT_GT(std::stoll(r[3]), 0) << r[0];
         gaps += std::stoll(r[3]);
     }
-    // Nothing of the run fell outside it across the restarts (the no-run bucket '' holds only the
-    // sequencer's sensor discovery before the start and the rig's last samples after the stop).
-    EXPECT_EQ(sql.Int("SELECT count(*) FROM gyro_samples WHERE run_id <> '" + run + "' AND utime > (SELECT utime FROM "
-                      "run_events WHERE event = 'start') AND utime < (SELECT utime FROM run_events WHERE event = 'stop')"),
+    // The restarted recorder continued the run: nothing it stored after its restart until the
+    // stop went to another run (the no-run bucket '' holds only the discovery before the start,
+    // samples overtaking the start event, and the rig's last samples after the stop).
+    EXPECT_EQ(sql.Int("SELECT count(*) FROM gyro_samples WHERE run_id <> '" + run + "' AND recv_utime > (SELECT "
+                      "recv_utime FROM run_events WHERE event = 'restart' AND config_json LIKE '%gyrocal-recorder%') "
+                      "AND utime < (SELECT utime FROM run_events WHERE event = 'stop')"),
               0);
     // Fitter: its state came back from the database: the final set of each sensor uses plateaus
     // of all three setpoints, the first of them taken before the fitter died (the resumed
