@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
     app.add_option("--move-attempts", o.procedure.move_attempts,
                    "orders of one move (a rejected or missing sensitivity point asks again), 1..5")
         ->capture_default_str();
+    app.add_option("--retry-wait-s", o.procedure.retry_wait_s,
+                   "[s] data time at rest before a move is ordered again, 0..600")
+        ->capture_default_str();
     app.add_option("--run-id", o.run_id, "run id (default: UTC time-host-pid)");
     app.add_option("--resume-setpoint-index", o.procedure.resume_setpoint_index,
                    "resume run --run-id at this 0-based setpoint (a restarted sequencer; needs "
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
             const std::string what = e.what();
             if (what.rfind("resume setpoint index", 0) == 0) return "--resume-setpoint-index: " + what;
             if (what.rfind("move attempts", 0) == 0) return "--move-attempts: " + what;
+            if (what.rfind("retry wait", 0) == 0) return "--retry-wait-s: " + what;
             return what;
         }
         if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))

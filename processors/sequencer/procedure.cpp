@@ -57,6 +57,8 @@ void ProcedureOptions::Validate() const {
         throw std::invalid_argument("rotation rate " + Num(rotation_rate_dps) + " deg/s: valid is (0, 300]");
     if (!(rotation_accel_dps2 > 0.0))
         throw std::invalid_argument("rotation acceleration " + Num(rotation_accel_dps2) + " deg/s^2: must be > 0");
+    if (!(retry_wait_s >= 0.0 && retry_wait_s <= 600.0))
+        throw std::invalid_argument("retry wait " + Num(retry_wait_s) + " s: valid is 0..600");
     if (move_attempts < 1 || move_attempts > 5)
         throw std::invalid_argument("move attempts " + std::to_string(move_attempts) + ": valid is 1..5");
     if (resume_setpoint_index < -1 || resume_setpoint_index >= static_cast<int>(profile.setpoints_c.size()))
@@ -70,6 +72,7 @@ const char* PhaseName(Phase p) {
         case Phase::kIdle: return "idle";
         case Phase::kWaitPlateau: return "waiting for plateaus";
         case Phase::kWaitRotation: return "rotating";
+        case Phase::kWaitRetry: return "at rest before turning again";
         case Phase::kDone: return "done";
     }
     return "?";
@@ -93,6 +96,8 @@ std::vector<Order> Procedure::OnTime(int64_t utime) {
                                    " s at setpoint " + Num(options_.profile.setpoints_c[setpoint_index_]) +
                                    " degC for sensors " + Join(pending_));
     }
+    if (phase_ == Phase::kWaitRetry && waited_s >= options_.retry_wait_s)
+        return EnterMove(move_index_, now_utime_, retry_why_);
     if (phase_ == Phase::kWaitRotation && waited_s > options_.rotation_timeout_s) {
         for (const auto& id : pending_)
             move_failed_[id] = "no sensitivity point within " + Num(options_.rotation_timeout_s) + " s";
@@ -129,9 +134,11 @@ std::vector<Order> Procedure::MoveDone(int64_t utime) {
                              " deg at setpoint " +
                              Num(options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]) + " degC";
     if (move_attempt_ < options_.move_attempts) {
-        return EnterMove(move_index_, utime,
-                         "attempt " + std::to_string(move_attempt_ + 1) + " of " +
-                             std::to_string(options_.move_attempts) + " after " + Join(move_failed_));
+        retry_why_ = "attempt " + std::to_string(move_attempt_ + 1) + " of " + std::to_string(options_.move_attempts) +
+                     " after " + Join(move_failed_);
+        phase_ = Phase::kWaitRetry;
+        phase_start_utime_ = std::max(utime, now_utime_);  // the rest counts from the data now
+        return OnTime(phase_start_utime_);                 // at once when retry_wait_s is 0
     }
     notes_.push_back(what + ": no accepted sensitivity point after " + std::to_string(move_attempt_) +
                      (move_attempt_ == 1 ? " attempt" : " attempts") + " (" + Join(move_failed_) + ")");

@@ -14,7 +14,9 @@
 // whose plateaus do not all arrive within plateau_timeout_s ends the run with outcome "abort"
 // and a reason naming the sensors that never settled (a chamber fault), never a hang. A move
 // whose sensitivity points do not all arrive within rotation_timeout_s, or arrive rejected (a
-// turn with samples lost on the network, a slip), is ordered again, up to move_attempts in all;
+// turn with samples lost on the network, a slip), is ordered again after retry_wait_s of data
+// (the estimator needs a rest window before the turn, and the first samples after a network
+// hole are no rest window), up to move_attempts in all;
 // a move still missing after that is noted, named in the stop event's reason, and skipped: the
 // offset calibration of that setpoint stays valid without it.
 //
@@ -51,6 +53,7 @@ struct ProcedureOptions {
     double rotation_accel_dps2 = 60.0;    // [deg/s^2]
     double rotation_timeout_s = 120.0;    // [s] data time per move
     int move_attempts = 2;                // [count] orders of one move before it is given up, 1..5
+    double retry_wait_s = 10.0;           // [s] data time at rest before a move is ordered again
     int resume_setpoint_index = -1;       // >= 0: resume a run there (no start event); -1 = new run
     // Throws std::invalid_argument naming the field and its valid range.
     void Validate() const;
@@ -74,7 +77,7 @@ struct RunEventOrder {
 };
 using Order = std::variant<ChamberOrder, TurntableOrder, RunEventOrder>;
 
-enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kDone };
+enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kWaitRetry, kDone };
 const char* PhaseName(Phase p);
 
 class Procedure {
@@ -119,6 +122,7 @@ private:
     std::set<std::string> pending_;
     int move_attempt_ = 0;                            // 1-based attempt of the current move
     std::map<std::string, std::string> move_failed_;  // sensor -> why, for the current attempt
+    std::string retry_why_;                           // kWaitRetry: what the next order says
     std::string outcome_;
     std::string outcome_reason_;
     std::vector<std::string> notes_;

@@ -124,9 +124,13 @@ TEST(Procedure, RejectedMoveIsOrderedAgainThenNamedAsMissing) {
     auto o = p.OnPlateau("B", kS, 25.0);
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
     EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, 90.0);
-    // WHEN B's +90 point is rejected for a hole THEN +90 is ordered again, saying why
+    // WHEN B's +90 point is rejected for a hole THEN +90 is ordered again after 10 s of data at
+    // rest (the default retry_wait_s: a rest window before the turn), saying why
     p.OnSensitivity("A", 2 * kS, true);
-    o = p.OnSensitivity("B", 3 * kS, false, "12 samples missing (sequence gaps)");
+    EXPECT_TRUE(p.OnSensitivity("B", 3 * kS, false, "12 samples missing (sequence gaps)").empty());
+    EXPECT_EQ(p.phase(), Phase::kWaitRetry);
+    EXPECT_TRUE(p.OnTime(12 * kS).empty());
+    o = p.OnTime(13 * kS);
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
     EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, 90.0);
     const auto& ev = std::get<RunEventOrder>(o[0]);
@@ -136,16 +140,17 @@ TEST(Procedure, RejectedMoveIsOrderedAgainThenNamedAsMissing) {
     EXPECT_TRUE(p.OnSensitivity("A", 2 * kS, true).empty());
     EXPECT_EQ(p.pending_sensors(), (std::set<std::string>{"A", "B"}));
     // WHEN both accept on the second attempt THEN the run moves on to -90
-    p.OnSensitivity("A", 4 * kS, true);
-    o = p.OnSensitivity("B", 4 * kS, true);
+    p.OnSensitivity("A", 14 * kS, true);
+    o = p.OnSensitivity("B", 14 * kS, true);
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
     EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, -90.0);
     // WHEN -90 fails twice (B silent, then rejected) THEN it is noted and the run completes naming it
-    p.OnSensitivity("A", 5 * kS, true);
-    o = p.OnTime(5 * kS + 61 * kS);  // B silent past the 60 s rotation timeout
+    p.OnSensitivity("A", 15 * kS, true);
+    EXPECT_TRUE(p.OnTime(14 * kS + 61 * kS).empty());  // B silent past the 60 s rotation timeout
+    o = p.OnTime(14 * kS + 71 * kS);
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
-    p.OnSensitivity("A", 70 * kS, true);
-    o = p.OnSensitivity("B", 71 * kS, false, "slip");
+    p.OnSensitivity("A", 90 * kS, true);
+    o = p.OnSensitivity("B", 91 * kS, false, "slip");
     EXPECT_EQ(FirstEvent(o), "stop");
     ASSERT_EQ(p.notes().size(), 1u);
     EXPECT_NE(p.notes()[0].find("move -90 deg at setpoint 25 degC"), std::string::npos) << p.notes()[0];
@@ -206,6 +211,9 @@ TEST(ProcedureOptions, RefusesWhatCannotBeDoneWithTheValidRange) {
     o = TwoSensorsSeed3();
     o.sensor_ids.clear();
     expect_refused(o, "sensor");
+    o = TwoSensorsSeed3();
+    o.retry_wait_s = -1;
+    expect_refused(o, "retry wait -1 s: valid is 0..600");
     o = TwoSensorsSeed3();
     o.move_attempts = 6;
     expect_refused(o, "valid is 1..5");

@@ -93,7 +93,9 @@ int64_t Differing(Sql& sql, const std::string& select_main, const std::string& s
 TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
     if (const std::string why = NetnsLab::Unavailable(); !why.empty()) GTEST_SKIP() << why;
     const std::string dir = FreshDir("gyrocal_multihost");
-    const auto common = Common("rig", "11", "40");
+    // --speed 20: 6000 messages/s, each crossing the bridge to two other hosts; at 40 a loaded
+    // CI host lost samples in the lab run, and a lost sample is a different database.
+    const auto common = Common("rig", "11", "20");
     // GIVEN the run on one host (TTL 0, this machine's loopback)
     {
         std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", dir + "/single.db", "--log-dir", dir + "/single",
@@ -119,6 +121,13 @@ TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
     const int64_t samples = sql.Int("SELECT count(*) FROM main.gyro_samples");
     EXPECT_EQ(samples, sql.Int("SELECT count(*) FROM one.gyro_samples"));
     EXPECT_GT(samples, 200000) << "two units at 100 Hz for ~23 simulated minutes";
+    // What arrived is the single-host run's; anything missing would be counted (then the rest of
+    // the comparison below cannot hold, and says where).
+    EXPECT_EQ(sql.Int("SELECT count(*) FROM (SELECT sensor_id, seq, gyro_v FROM main.gyro_samples EXCEPT SELECT "
+                      "sensor_id, seq, gyro_v FROM one.gyro_samples)"),
+              0);
+    EXPECT_EQ(sql.Int("SELECT count(*) FROM one.gyro_samples") - samples,
+              sql.Int("SELECT coalesce(sum(seq_gaps), 0) FROM main.losses WHERE channel LIKE 'GYRO_%'"));
     const std::string gyro = "sensor_id, seq, utime, gyro_v, temp_v, temp_c, supply_v, gyro_counts, temp_counts";
     EXPECT_EQ(Differing(sql, "SELECT " + gyro + " FROM main.gyro_samples", "SELECT " + gyro + " FROM one.gyro_samples"), 0);
     const std::string enc = "encoder_id, seq, utime, counts, angle_deg";
@@ -243,7 +252,11 @@ TEST(MultiHost, CableOutDuringAPlateauAndATurnIsCountedRefusedAndTakenAgain) {
     // The turn that lost samples was not fitted: rejected for its hole or never completed, and
     // ordered again; the accepted points hold no gap (first_seq..last_seq all received).
     EXPECT_GT(sql.Int("SELECT count(*) FROM run_events WHERE event = 'rotation' AND reason LIKE '%attempt 2 of 2%'"), 0);
-    EXPECT_EQ(sql.Int("SELECT count(*) FROM sensitivity_points WHERE accepted = 0 AND reject_reason NOT LIKE '%missing%'"), 0);
+    // Rejections are for the hole: samples missing inside the turn's windows, or a rest window
+    // left without samples by it.
+    EXPECT_EQ(sql.Int("SELECT count(*) FROM sensitivity_points WHERE accepted = 0 AND reject_reason NOT LIKE '%missing%' "
+                      "AND reject_reason NOT LIKE 'rest window % covers %'"),
+              0);
     for (const auto& p : sql.Rows("SELECT sensor_id, first_seq, last_seq FROM sensitivity_points WHERE accepted = 1"))
         EXPECT_EQ(sql.Int("SELECT count(*) FROM gyro_samples WHERE sensor_id = '" + p[0] + "' AND seq BETWEEN " + p[1] +
                           " AND " + p[2]),

@@ -63,8 +63,9 @@ TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
         {{"--procedure", "manual"}, 2, "--procedure"},
         {{"--procedure", "rig", "--source", "csv", "--input", "/etc/hostname"}, 2, "--procedure: rig is the simulated"},
         {{"--max-restarts", "21"}, 2, "--max-restarts"},
-        // The producers of a multi-host lab whose other roles never came: a clear failure.
-        {{"--role", "producers", "--await-peers-s", "1"}, 1,
+        // The producers of a multi-host lab whose other roles never came: a clear failure. On a
+        // port of its own (7812): on 7797 another worktree's run of this test may start a recorder.
+        {{"--role", "producers", "--await-peers-s", "1", "--lcm-url", "udpm://239.255.76.67:7812?ttl=0"}, 1,
          "no heartbeat from gyrocal-recorder within 1 s (start `gyrocal calibrate --role processors` and `--role "
          "recorder` on their hosts first"},
     };
