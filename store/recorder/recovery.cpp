@@ -71,7 +71,8 @@ RecoveredRun ReadRecovery(Db& db, const std::string& run_id) {
     auto by_time = [](const auto& a, const auto& b) { return a.utime < b.utime; };
     std::stable_sort(out.plateaus.begin(), out.plateaus.end(), by_time);
     std::stable_sort(out.rotations.begin(), out.rotations.end(), by_time);
-    // The shared conversions (stored rows -> model -> message), as `gyrocal analyze --publish` uses.
+    // The shared conversions (stored rows -> model -> message), as `gyrocal analyze --publish`
+    // uses.
     for (const CoeffSetInfo& c : RunNewestCoeffs(db, run_id))
         out.newest_coeffs.push_back(model::ToMsg(ToCoeffSet(c.set)));
     return out;

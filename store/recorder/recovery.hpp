@@ -15,9 +15,9 @@
 namespace gyrocal::record {
 
 struct RecoveredRun {
-    std::vector<plateau_t> plateaus;                 // in acquisition order
-    std::vector<sensitivity_point_t> rotations;      // in acquisition order, rejected ones too
-    std::vector<coeff_set_t> newest_coeffs;          // one per sensor
+    std::vector<plateau_t> plateaus;             // in acquisition order
+    std::vector<sensitivity_point_t> rotations;  // in acquisition order, rejected ones too
+    std::vector<coeff_set_t> newest_coeffs;      // one per sensor
 };
 
 // Throws store::NotFound when the run is not in the database, StoreError when it cannot be read.

@@ -33,7 +33,7 @@ private:
         std::vector<std::string> argv;  // as first started
         std::string log;
         std::unique_ptr<ChildProcess> proc;
-        int instance = 0;               // restarts so far
+        int instance = 0;  // restarts so far
     };
     struct PendingRecovery {
         Clock::time_point due;
@@ -96,7 +96,8 @@ private:
     bool run_ended_ = false;
     std::string run_id_;
     std::string run_outcome_;
-    int setpoint_index_ = -1;  // of the latest "setpoint" event (a restarted sequencer resumes there)
+    int setpoint_index_ =
+        -1;  // of the latest "setpoint" event (a restarted sequencer resumes there)
     double setpoint_c_ = 0;
     std::optional<Clock::time_point> ended_at_;
     Clock::time_point start_ = Clock::now();

@@ -33,20 +33,29 @@ std::optional<Role> ParseRole(std::string_view text) {
 
 const char* RoleName(Role role) {
     switch (role) {
-        case Role::kAll: return "all";
-        case Role::kProducers: return "producers";
-        case Role::kProcessors: return "processors";
-        case Role::kRecorder: return "recorder";
+        case Role::kAll:
+            return "all";
+        case Role::kProducers:
+            return "producers";
+        case Role::kProcessors:
+            return "processors";
+        case Role::kRecorder:
+            return "recorder";
     }
     return "?";
 }
 
 bool RoleRuns(Role role, std::string_view process) {
     switch (role) {
-        case Role::kAll: return In(kProducers, process) || In(kProcessors, process) || process == "gyrocal-recorder";
-        case Role::kProducers: return In(kProducers, process);
-        case Role::kProcessors: return In(kProcessors, process);
-        case Role::kRecorder: return process == "gyrocal-recorder";
+        case Role::kAll:
+            return In(kProducers, process) || In(kProcessors, process) ||
+                   process == "gyrocal-recorder";
+        case Role::kProducers:
+            return In(kProducers, process);
+        case Role::kProcessors:
+            return In(kProcessors, process);
+        case Role::kRecorder:
+            return process == "gyrocal-recorder";
     }
     return false;
 }
@@ -82,12 +91,14 @@ std::string ChamberUrl(const std::string& url, int chamber) {
     if (chamber == 1) return url;
     std::optional<UdpmAddress> a = ParseUdpm(url);
     if (!a)
-        throw std::invalid_argument("--chamber " + std::to_string(chamber) + " needs a udpm:// LCM URL with a port "
-                                    "to offset, not '" + url + "'");
+        throw std::invalid_argument("--chamber " + std::to_string(chamber) +
+                                    " needs a udpm:// LCM URL with a port "
+                                    "to offset, not '" +
+                                    url + "'");
     a->port += chamber - 1;
     if (a->port > 65535)
-        throw std::invalid_argument("--chamber " + std::to_string(chamber) + ": port " + std::to_string(a->port) +
-                                    " of '" + url + "' is past 65535");
+        throw std::invalid_argument("--chamber " + std::to_string(chamber) + ": port " +
+                                    std::to_string(a->port) + " of '" + url + "' is past 65535");
     return FormatUdpm(*a);
 }
 

@@ -54,8 +54,8 @@ bool Calibration::AwaitHeartbeats(const std::set<std::string>& names, std::chron
         // by itself once it has run).
         for (Child& c : children_) {
             if (!c.proc->Poll()) continue;
-            std::cerr << "gyrocal calibrate: " << c.name << " ended at start-up (" << c.proc->Poll()->Describe()
-                      << "); its log " << c.log << ":\n"
+            std::cerr << "gyrocal calibrate: " << c.name << " ended at start-up ("
+                      << c.proc->Poll()->Describe() << "); its log " << c.log << ":\n"
                       << TailOf(c.log, 10);
             return false;
         }
@@ -63,8 +63,8 @@ bool Calibration::AwaitHeartbeats(const std::set<std::string>& names, std::chron
     }
     for (const auto& n : names)
         if (!heard_.count(n))
-            std::cerr << "gyrocal calibrate: no heartbeat from " << n << " within " << limit.count() << " s" << hint
-                      << "\n";
+            std::cerr << "gyrocal calibrate: no heartbeat from " << n << " within " << limit.count()
+                      << " s" << hint << "\n";
     return false;
 }
 
@@ -82,12 +82,15 @@ std::optional<int> Calibration::Supervise() {
     for (Child& c : children_) {
         const std::optional<ExitStatus> how = c.proc->Poll();
         if (!how) continue;
-        if (&c == sequencer_ && how->exited && (how->code == 0 || how->code == 3)) continue;  // it ended the run
-        if (&c == source_ && (o_.source != "sim" || o_.procedure == "rig")) continue;  // its end is the data's
+        if (&c == sequencer_ && how->exited && (how->code == 0 || how->code == 3))
+            continue;  // it ended the run
+        if (&c == source_ && (o_.source != "sim" || o_.procedure == "rig"))
+            continue;  // its end is the data's
         if (ended_at_ || run_ended_) {
             if (&c == sequencer_ || &c == source_) continue;  // stopped after the end of the run
-            std::cerr << "\ngyrocal calibrate: " << c.name << " ended after the run (" << how->Describe() << "); log "
-                      << c.log << ":\n" << TailOf(c.log, 10);
+            std::cerr << "\ngyrocal calibrate: " << c.name << " ended after the run ("
+                      << how->Describe() << "); log " << c.log << ":\n"
+                      << TailOf(c.log, 10);
             return 1;
         }
         if (auto code = HandleCrash(c, *how)) return code;
@@ -96,17 +99,21 @@ std::optional<int> Calibration::Supervise() {
 }
 
 std::optional<int> Calibration::HandleCrash(Child& c, const ExitStatus& how) {
-    std::cerr << "\ngyrocal calibrate: " << c.name << " ended unexpectedly (" << how.Describe() << "); log " << c.log
-              << ":\n" << TailOf(c.log, 10);
+    std::cerr << "\ngyrocal calibrate: " << c.name << " ended unexpectedly (" << how.Describe()
+              << "); log " << c.log << ":\n"
+              << TailOf(c.log, 10);
     const std::string what = c.name + " ended unexpectedly (" + how.Describe() + ")";
     if (CrashPolicy(c.name) == OnCrash::kAbortRun) {
-        const std::string lost = c.name == "gyrocal-sim-rig" ? "the simulated chamber and units went with it"
-                                                             : "its position in the data went with it";
+        const std::string lost = c.name == "gyrocal-sim-rig"
+                                     ? "the simulated chamber and units went with it"
+                                     : "its position in the data went with it";
         return AbortRun(what + ": " + lost + "; a restart would be another experiment");
     }
     if (!budget_.Take(c.name))
-        return AbortRun(what + " after " + std::to_string(budget_.max()) + " restarts in this run (--max-restarts)");
-    if (!Restart(c, how)) return AbortRun(what + " and did not come back when restarted (log " + c.log + ")");
+        return AbortRun(what + " after " + std::to_string(budget_.max()) +
+                        " restarts in this run (--max-restarts)");
+    if (!Restart(c, how))
+        return AbortRun(what + " and did not come back when restarted (log " + c.log + ")");
     return std::nullopt;
 }
 
@@ -123,8 +130,9 @@ bool Calibration::Restart(Child& c, const ExitStatus& how) {
         return false;
     }
     if (!AwaitPid(c, 20s)) return false;
-    std::cerr << "gyrocal calibrate: restarted " << c.name << " as pid " << c.proc->pid() << " (restart "
-              << budget_.used(c.name) << " of " << budget_.max() << "); log " << c.log << "\n";
+    std::cerr << "gyrocal calibrate: restarted " << c.name << " as pid " << c.proc->pid()
+              << " (restart " << budget_.used(c.name) << " of " << budget_.max() << "); log "
+              << c.log << "\n";
     PublishRestart(c, how, previous_pid);
     return true;
 }
@@ -134,7 +142,11 @@ std::vector<std::string> Calibration::ResumeArgs(const Child& c) const {
     if (RecoveryOf(c.name) != Recovery::kResumeSequence || !RunIsOn() || setpoint_index_ < 0 ||
         run_sensors_.empty())
         return {};
-    return {"--run-id", run_id_, "--sensors", Joined(run_sensors_, ","), "--resume-setpoint-index",
+    return {"--run-id",
+            run_id_,
+            "--sensors",
+            Joined(run_sensors_, ","),
+            "--resume-setpoint-index",
             std::to_string(setpoint_index_)};
 }
 
@@ -148,21 +160,27 @@ void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int prev
     const Recovery r = RecoveryOf(c.name);
     run_event_t e;
     e.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch()).count();
+                  std::chrono::system_clock::now().time_since_epoch())
+                  .count();
     e.run_id = run_id_;
     e.event = "restart";
     e.reason = c.name + " ended unexpectedly (" + how.Describe() + "); restarted as pid " +
-               std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " + std::to_string(budget_.used(c.name)) +
-               " of " + std::to_string(budget_.max()) + "); recovery: " + kRecovery.at(r);
+               std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " +
+               std::to_string(budget_.used(c.name)) + " of " + std::to_string(budget_.max()) +
+               "); recovery: " + kRecovery.at(r);
     e.setpoint_index = setpoint_index_;
     e.setpoint_c = setpoint_index_ >= 0 ? setpoint_c_ : NAN;
     e.num_sensors = 0;
     e.software_version = kSoftwareVersion;
-    e.config_json = nlohmann::json{{"process", c.name},          {"pid", c.proc->pid()},
-                                   {"previous_pid", previous_pid}, {"ended", how.Describe()},
-                                   {"restart", budget_.used(c.name)}, {"max_restarts", budget_.max()},
-                                   {"host", HostName()}}
-                        .dump();
+    e.config_json = nlohmann::json{
+        {"process", c.name},
+        {"pid", c.proc->pid()},
+        {"previous_pid", previous_pid},
+        {"ended", how.Describe()},
+        {"restart", budget_.used(c.name)},
+        {"max_restarts", budget_.max()},
+        {"host",
+         HostName()}}.dump();
     e.command_line = Joined(c.proc ? c.argv : std::vector<std::string>{}, " ");
     e.host = HostName();
     bus_.Publish(std::string(channels::kRunEvent), e);
@@ -203,18 +221,21 @@ void Calibration::RecoverDue() {
             const record::RecoveredRun r = record::ReadRecovery(*db, it->run_id);
             size_t n = 0;
             if (it->what == Recovery::kStoredPoints) {
-                for (const auto& p : r.plateaus) n += bus_.Publish(channels::Plateau(p.sensor_id), p) ? 1 : 0;
-                for (const auto& s : r.rotations) n += bus_.Publish(channels::Sensitivity(s.sensor_id), s) ? 1 : 0;
+                for (const auto& p : r.plateaus)
+                    n += bus_.Publish(channels::Plateau(p.sensor_id), p) ? 1 : 0;
+                for (const auto& s : r.rotations)
+                    n += bus_.Publish(channels::Sensitivity(s.sensor_id), s) ? 1 : 0;
             } else {
-                for (const auto& c : r.newest_coeffs) n += bus_.Publish(channels::Coeffs(c.sensor_id), c) ? 1 : 0;
+                for (const auto& c : r.newest_coeffs)
+                    n += bus_.Publish(channels::Coeffs(c.sensor_id), c) ? 1 : 0;
             }
             std::cerr << "gyrocal calibrate: recovered " << it->process << ": published " << n
                       << (it->what == Recovery::kStoredPoints ? " plateaus and sensitivity points"
                                                               : " coefficient sets")
                       << " of run " << it->run_id << " from " << o_.db << "\n";
         } catch (const std::exception& e) {
-            std::cerr << "gyrocal calibrate: cannot recover " << it->process << " from " << o_.db << ": " << e.what()
-                      << "\n";
+            std::cerr << "gyrocal calibrate: cannot recover " << it->process << " from " << o_.db
+                      << ": " << e.what() << "\n";
         }
         it = recoveries_.erase(it);
     }
@@ -231,7 +252,8 @@ void Calibration::StopAll() {
         if (c.name == "gyrocal-recorder") {
             ExitStatus s = c.proc->Stop(std::chrono::milliseconds(15000));
             if (!s.exited || s.code != 0)
-                std::cerr << "gyrocal calibrate: recorder ended with " << s.Describe() << "; log " << c.log << "\n";
+                std::cerr << "gyrocal calibrate: recorder ended with " << s.Describe() << "; log "
+                          << c.log << "\n";
         }
 }
 

@@ -2,6 +2,8 @@
 // the open run of the recorder's own bus (two chambers in one file never continue each other's
 // runs), plateaus and sensitivity points kept once however often they are heard, and the
 // recovery messages that rebuild a restarted fitter or compensator.
+#include "recovery.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 
 #include "open_run.hpp"
 #include "query.hpp"
-#include "recovery.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::record {
@@ -25,7 +26,8 @@ std::string FreshPath(const std::string& name) {
     return p;
 }
 
-RunEventRow Event(const std::string& run, const std::string& event, const std::string& config, int64_t recv) {
+RunEventRow Event(const std::string& run, const std::string& event, const std::string& config,
+                  int64_t recv) {
     RunEventRow e;
     e.run_id = run;
     e.event = event;
@@ -99,8 +101,9 @@ TEST(Recovery, StoredPointsComeBackOnceAsTheMessagesTheyWere) {
     const std::string path = FreshPath("recovery.db");
     {
         StoreWriter w(path, {"rec", "h", 1});
-        w.Write({Event("R", "start", "{}", 1), Plateau("R", "A1", 200, 2.51), Plateau("R", "A1", 100, 2.50),
-                 Point("R", "A1", 300, true), Point("R", "A1", 400, false)},
+        w.Write({Event("R", "start", "{}", 1), Plateau("R", "A1", 200, 2.51),
+                 Plateau("R", "A1", 100, 2.50), Point("R", "A1", 300, true),
+                 Point("R", "A1", 400, false)},
                 {});
         // WHEN the same plateau and point are heard again (a recovery's republication)
         w.Write({Plateau("R", "A1", 100, 2.50), Point("R", "A1", 300, true)}, {});

@@ -28,10 +28,11 @@ TEST(NetnsLab, TwoHostsTalkOverTheBridgeUntilTheCableIsPulled) {
     int64_t receiver_gaps = -1;
     std::thread rx = lab.OnHost(2, [&] {
         Bus bus(BusOptions{kUrl});
-        bus.Subscribe<gyro_sample_t>(channels::Gyro("N1"), [&](const gyro_sample_t& m, const std::string&) {
-            std::lock_guard<std::mutex> l(mu);
-            got.push_back(m.seq);
-        });
+        bus.Subscribe<gyro_sample_t>(channels::Gyro("N1"),
+                                     [&](const gyro_sample_t& m, const std::string&) {
+                                         std::lock_guard<std::mutex> l(mu);
+                                         got.push_back(m.seq);
+                                     });
         listening = true;
         while (!done) bus.Handle(20ms);
         for (int i = 0; i < 10; ++i) bus.Handle(20ms);
@@ -73,7 +74,8 @@ TEST(NetnsLab, TwoHostsTalkOverTheBridgeUntilTheCableIsPulled) {
     // (the first packets after re-plugging may still be lost while the port comes up: bounded).
     EXPECT_EQ(got.front(), 0);
     for (int64_t s = 0; s < sent_before_cut; ++s) EXPECT_EQ(got[static_cast<size_t>(s)], s);
-    for (int64_t s : got) EXPECT_FALSE(s >= sent_before_cut + 2 && s < sent_after_restore) << "seq " << s;
+    for (int64_t s : got)
+        EXPECT_FALSE(s >= sent_before_cut + 2 && s < sent_after_restore) << "seq " << s;
     EXPECT_EQ(got.back(), sent - 1);
     // The receiver counted exactly what it did not get (no reordering on one cable).
     EXPECT_EQ(receiver_gaps, sent - static_cast<int64_t>(got.size()));

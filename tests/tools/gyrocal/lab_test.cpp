@@ -8,17 +8,18 @@
 namespace gyrocal::cli {
 namespace {
 
-const std::vector<std::string> kAll = {"gyrocal-sim-rig", "gyrocal-sequencer", "gyrocal-csv-source",
-                                       "gyrocal-line-source", "lcm-logplayer", "gyrocal-plateau",
-                                       "gyrocal-rotation", "gyrocal-fitter", "gyrocal-compensator",
-                                       "gyrocal-recorder"};
+const std::vector<std::string> kAll = {
+    "gyrocal-sim-rig",     "gyrocal-sequencer", "gyrocal-csv-source", "gyrocal-line-source",
+    "lcm-logplayer",       "gyrocal-plateau",   "gyrocal-rotation",   "gyrocal-fitter",
+    "gyrocal-compensator", "gyrocal-recorder"};
 
 TEST(Lab, EveryProcessRunsOnExactlyOneRoleAndAllRunsEverything) {
     for (const std::string& p : kAll) {
         SCOPED_TRACE(p);
         EXPECT_TRUE(RoleRuns(Role::kAll, p));
         int roles = 0;
-        for (Role r : {Role::kProducers, Role::kProcessors, Role::kRecorder}) roles += RoleRuns(r, p) ? 1 : 0;
+        for (Role r : {Role::kProducers, Role::kProcessors, Role::kRecorder})
+            roles += RoleRuns(r, p) ? 1 : 0;
         EXPECT_EQ(roles, 1);
     }
     EXPECT_TRUE(RoleRuns(Role::kProducers, "gyrocal-sequencer"));
@@ -31,10 +32,11 @@ TEST(Lab, EveryProcessRunsOnExactlyOneRoleAndAllRunsEverything) {
 }
 
 TEST(Lab, SourcesAbortTheRunEverythingElseIsRestartedWithItsRecovery) {
-    for (const char* p : {"gyrocal-sim-rig", "gyrocal-csv-source", "gyrocal-line-source", "lcm-logplayer", "other"})
+    for (const char* p :
+         {"gyrocal-sim-rig", "gyrocal-csv-source", "gyrocal-line-source", "lcm-logplayer", "other"})
         EXPECT_EQ(CrashPolicy(p), OnCrash::kAbortRun) << p;
-    for (const char* p : {"gyrocal-sequencer", "gyrocal-plateau", "gyrocal-rotation", "gyrocal-fitter",
-                          "gyrocal-compensator", "gyrocal-recorder"})
+    for (const char* p : {"gyrocal-sequencer", "gyrocal-plateau", "gyrocal-rotation",
+                          "gyrocal-fitter", "gyrocal-compensator", "gyrocal-recorder"})
         EXPECT_EQ(CrashPolicy(p), OnCrash::kRestart) << p;
     EXPECT_EQ(RecoveryOf("gyrocal-fitter"), Recovery::kStoredPoints);
     EXPECT_EQ(RecoveryOf("gyrocal-compensator"), Recovery::kStoredCoeffs);
