@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian bookworm machine:
-#   tools/run.sh calibrate [gyrocal calibrate options]   set up, build, run a simulated calibration
+#   tools/run.sh calibrate [gyrocal calibrate options]   set up, build, run a simulated calibration,
+#                                                        judge it by tools/acceptance/limits.json and
+#                                                        write its report (reports/, path printed)
 #   tools/run.sh test                                    set up, build, run every test (CTest)
 #   tools/run.sh setup                                   set up and build only
 # Set-up installs what is missing with apt-get (needs root or sudo) and is quick when all is there.
@@ -16,7 +18,8 @@ packages=(build-essential cmake pkg-config git
           liblcm-dev liblcm-bin liblcm-java libglib2.0-dev
           libeigen3-dev libsqlite3-dev sqlite3 libcli11-dev nlohmann-json3-dev
           libgtest-dev libgmock-dev libbenchmark-dev
-          default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2)
+          default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2
+          libssl-dev chromium)
 
 install_missing() {
     local missing=()
@@ -66,7 +69,11 @@ cmd="${1:-}"
 case "$cmd" in
     setup)     install_missing; check_multicast; build_all ;;
     calibrate) install_missing; check_multicast; build_all
-               exec "$build/bin/gyrocal" calibrate --db "${GYROCAL_DB:-$here/gyrocal.db}" "$@" ;;
+               # Example limits and the report of the run, unless the caller chose their own.
+               extra=()
+               case " $* " in *" --limits"*) ;; *) extra+=(--limits "$here/tools/acceptance/limits.json") ;; esac
+               case " $* " in *" --report"*) ;; *) extra+=(--report "${GYROCAL_REPORT_DIR:-$here/reports}") ;; esac
+               exec "$build/bin/gyrocal" calibrate --db "${GYROCAL_DB:-$here/gyrocal.db}" "${extra[@]}" "$@" ;;
     test)      install_missing; check_multicast; build_all
                cd "$build" && exec ctest --output-on-failure -j "$jobs" "$@" ;;
     *) echo "usage: tools/run.sh calibrate [options] | test [ctest options] | setup" >&2; exit 2 ;;

@@ -14,6 +14,7 @@ inline constexpr std::string_view kStabilityPrefix = "STABILITY_";  // plateau_s
 inline constexpr std::string_view kSensitivityPrefix = "SENSITIVITY_";
 inline constexpr std::string_view kCoeffsPrefix = "COEFFS_";
 inline constexpr std::string_view kRatePrefix = "RATE_";
+inline constexpr std::string_view kPowerPrefix = "POWER_";  // power_state_t
 
 inline constexpr std::string_view kEncoder = "ENCODER";
 inline constexpr std::string_view kChamberCmd = "CHAMBER_CMD";
@@ -37,6 +38,7 @@ inline std::string Stability(std::string_view id) { return PerSensor(kStabilityP
 inline std::string Sensitivity(std::string_view id) { return PerSensor(kSensitivityPrefix, id); }
 inline std::string Coeffs(std::string_view id) { return PerSensor(kCoeffsPrefix, id); }
 inline std::string Rate(std::string_view id) { return PerSensor(kRatePrefix, id); }
+inline std::string Power(std::string_view id) { return PerSensor(kPowerPrefix, id); }
 
 // Regex matching every sensor's channel of a prefix, e.g. "GYRO_[A-Za-z0-9_-]+". No prefix is a
 // prefix of another, so these never overlap.

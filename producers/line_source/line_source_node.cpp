@@ -86,6 +86,7 @@ void LineSourceNode::HandleLine(const InputLine& line) {
         const csv::RowMessages m = builder_.Build(row, Utime(row));
         if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
         if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
+        if (m.power) bus_.Publish(channels::Power(m.power->sensor_id), *m.power);
         bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
         ++published_rows_;
     } catch (const csv::CsvError& e) {

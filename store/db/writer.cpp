@@ -64,6 +64,8 @@ struct StoreWriter::Statements {
           block(db, "INSERT INTO gyro_blocks(run_id, sensor_id, first_rowid, last_rowid, "
                     "min_utime, max_utime, n_samples) VALUES (?,?,?,?,?,?,?)"),
           run_bare(db, "INSERT OR IGNORE INTO runs(run_id, first_recv_utime) VALUES (?,?)"),
+          power(db, "INSERT INTO power_states(run_id, sensor_id, utime, seq, power_on_utime, "
+                    "source, recv_utime) VALUES (?,?,?,?,?,?,?)"),
           run_sensor(db, "INSERT OR IGNORE INTO run_sensors(run_id, sensor_id) VALUES (?,?)"),
           sensor(db, "INSERT OR IGNORE INTO sensors(sensor_id, first_recv_utime) VALUES (?,?)"),
           raw(db, "INSERT INTO raw_events(run_id, channel, recv_utime, fingerprint, reason, data) "
@@ -74,7 +76,8 @@ struct StoreWriter::Statements {
                    "decode_errors = decode_errors + ?5, queue_drops = queue_drops + ?6") {}
 
     Stmt gyro, encoder, chamber, chamber_cmd, turntable_cmd, plateau_state, plateau, sensitivity,
-        rate, status, run_event, run_start, run_stop, block, run_bare, run_sensor, sensor, raw, loss;
+        rate, status, run_event, run_start, run_stop, block, run_bare, power, run_sensor, sensor, raw,
+        loss;
 };
 
 StoreWriter::StoreWriter(const std::string& path, WriterInfo info) : info_(std::move(info)) {
@@ -191,6 +194,10 @@ void StoreWriter::WriteOne(const Row& row) {
         s.Bind(1, c->run_id).Bind(2, c->utime).Bind(3, c->seq).Bind(4, c->cmd_id);
         s.Bind(5, c->setpoint_c).Bind(6, c->air_c).Bind(7, c->at_setpoint ? 1 : 0);
         s.Bind(8, c->fault).Bind(9, c->recv_utime).Run();
+    } else if (const auto* pw = std::get_if<PowerStateRow>(&row)) {
+        Stmt& s = st_->power;
+        s.Bind(1, pw->run_id).Bind(2, pw->sensor_id).Bind(3, pw->utime).Bind(4, pw->seq);
+        s.Bind(5, pw->power_on_utime).Bind(6, pw->source).Bind(7, pw->recv_utime).Run();
     } else if (const auto* cc = std::get_if<ChamberCmdRow>(&row)) {
         Stmt& s = st_->chamber_cmd;
         s.Bind(1, cc->run_id).Bind(2, cc->msg_run_id).Bind(3, cc->utime).Bind(4, cc->cmd_id);

@@ -5,6 +5,7 @@
 
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -57,6 +58,16 @@ ChamberStateRow ToRow(const chamber_state_t& m) {
     r.air_c = m.air_c;
     r.at_setpoint = m.at_setpoint;
     r.fault = m.fault;
+    return r;
+}
+
+PowerStateRow ToRow(const power_state_t& m) {
+    PowerStateRow r;
+    r.sensor_id = m.sensor_id;
+    r.utime = m.utime;
+    r.seq = m.seq;
+    r.power_on_utime = m.power_on_utime;
+    r.source = m.source;
     return r;
 }
 
@@ -323,7 +334,7 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         try_type(chamber_state_t{}) || try_type(plateau_t{}) || try_type(sensitivity_point_t{}) ||
         try_type(coeff_set_t{}) || try_type(rate_t{}) || try_type(status_t{}) ||
         try_type(run_event_t{}) || try_type(chamber_cmd_t{}) || try_type(turntable_cmd_t{}) ||
-        try_type(plateau_state_t{});
+        try_type(plateau_state_t{}) || try_type(power_state_t{});
     if (!known) raw("unknown_type");
     return out;
 }

@@ -33,11 +33,32 @@
 #include "launch/child_process.hpp"
 #include "paths.hpp"
 #include "progress.hpp"
+#include "csv/file_digest.hpp"
 #include "procedure.hpp"
 #include "sim/config.hpp"
 #include "sim/noise.hpp"
 
 namespace gyrocal::cli {
+
+namespace {
+AfterRunHook& Hook() {
+    static AfterRunHook hook;
+    return hook;
+}
+}  // namespace
+
+void SetAfterRunHook(AfterRunHook hook) { Hook() = std::move(hook); }
+bool HasAfterRunHook() { return static_cast<bool>(Hook()); }
+
+namespace {
+RecoveryReader& Reader() {
+    static RecoveryReader reader;
+    return reader;
+}
+}  // namespace
+
+void SetRecoveryReader(RecoveryReader reader) { Reader() = std::move(reader); }
+const RecoveryReader& InstalledRecoveryReader() { return Reader(); }
 
 double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
     // Over about an hour of run (the rate random walk's share grows with it; ~1 % here).
@@ -89,6 +110,8 @@ Calibration::Calibration(CalibrateOptions o)
     }
     std::filesystem::create_directories(o_.log_dir);
     if (o_.truth_out.empty()) o_.truth_out = o_.log_dir + "/truth.json";
+    // Which measured data the run was made from, recorded with it (gyrocal report shows it).
+    if (o_.source == "csv" || o_.source == "log") input_sha256_ = csv::Sha256HexOfFile(o_.input);
     Subscribe();
 }
 
@@ -256,6 +279,11 @@ std::string Calibration::ConfigJson() const {
     j["setpoints_c"] = o_.setpoints_c;
     j["effects"] = o_.effects;
     j["max_restarts"] = o_.max_restarts;
+    if (!input_sha256_.empty()) j["input_sha256"] = input_sha256_;
+    if (!o_.limits_json.empty()) {
+        j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);
+        j["acceptance_limits_file"] = o_.limits_file;
+    }
     j["args"] = {{"rig", o_.rig_args},           {"plateau", o_.plateau_args},
                  {"rotation", o_.rotation_args}, {"fitter", o_.fitter_args},
                  {"compensator", o_.compensator_args}, {"sequencer", o_.sequencer_args},
@@ -413,6 +441,8 @@ int Calibration::Finish(int code) {
         }
     }
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
+    // The acceptance step reads the database: on the host that holds it.
+    if (Hook() && !run_id_.empty() && Runs("gyrocal-recorder")) code = Hook()(o_, run_id_, code);
     return code;
 }
 

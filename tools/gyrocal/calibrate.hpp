@@ -15,8 +15,13 @@
 // The launcher's own thread watches the bus (progress, coefficient sets) and the children. On
 // completion or Ctrl-C it stops the source first, lets the processors finish, and stops the
 // recorder last so it can flush.
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/plateau_t.hpp"
+#include "gyrocal/sensitivity_point_t.hpp"
 
 namespace gyrocal::cli {
 
@@ -61,6 +66,9 @@ struct CalibrateOptions {
         sequencer_args, recorder_args, source_args;  // passed through verbatim
     bool quiet = false;
     std::string command_line;
+    std::string limits_file;  // acceptance limits (--limits), recorded in the run's configuration
+    std::string limits_json;  // their validated JSON; "" = none
+    std::string report_dir;   // write the run's report here at the end (--report); "" = none
     static CalibrateOptions Defaults() { return {}; }
 };
 
@@ -72,7 +80,30 @@ double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);
 std::string EffectiveLcmUrl(const CalibrateOptions& o);
 
 // Runs the calibration (this host's role of it); returns the exit code (0 completed with
-// coefficients for every sensor, 1 failure, 3 run aborted or incomplete).
+// coefficients for every sensor, 1 failure, 3 run aborted or incomplete; the after-run hook may
+// turn 0 into 4: a unit did not pass its acceptance limits).
 int RunCalibration(const CalibrateOptions& options);
+
+// Called once a run has ended and every process (the recorder last) has stopped, so the database
+// holds the whole run, with the run id and the exit code so far; returns the exit code. The
+// launcher links no SQLite: the acceptance step lives with the report (cmd_report.hpp) and main
+// installs it when that component is built.
+using AfterRunHook = std::function<int(const CalibrateOptions&, const std::string& run_id, int code)>;
+void SetAfterRunHook(AfterRunHook hook);
+bool HasAfterRunHook();
+
+// What a restarted fitter or compensator is given back from the database by the host that holds
+// it (lab.hpp): the run's plateaus and sensitivity points, the newest coefficient set of each
+// sensor. Read by the store component (store/recorder/recovery.hpp), installed by main like the
+// after-run hook, so the launcher links no SQLite; without it a restarted fitter or compensator
+// rebuilds from the live bus only (and the launcher says so).
+struct RecoveredState {
+    std::vector<plateau_t> plateaus;
+    std::vector<sensitivity_point_t> rotations;
+    std::vector<coeff_set_t> newest_coeffs;
+};
+// Throws std::exception with the reason when the database cannot be read.
+using RecoveryReader = std::function<RecoveredState(const std::string& db_path, const std::string& run_id)>;
+void SetRecoveryReader(RecoveryReader reader);
 
 }  // namespace gyrocal::cli

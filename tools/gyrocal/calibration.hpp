@@ -96,6 +96,7 @@ private:
     bool run_ended_ = false;
     std::string run_id_;
     std::string run_outcome_;
+    std::string input_sha256_;  // of --input, recorded with the run
     int setpoint_index_ =
         -1;  // of the latest "setpoint" event (a restarted sequencer resumes there)
     double setpoint_c_ = 0;
@@ -105,6 +106,7 @@ private:
 };
 
 double SecondsSince(Clock::time_point t0);
+const RecoveryReader& InstalledRecoveryReader();  // empty when none was installed
 std::string TailOf(const std::string& path, int lines);
 
 }  // namespace gyrocal::cli

@@ -6,7 +6,9 @@
 #include <memory>
 #include <sstream>
 
+#include "acceptance/limits.hpp"
 #include "calibrate.hpp"
+#include "plot/gnuplot.hpp"
 #include "sim/config.hpp"
 
 namespace gyrocal::cli {
@@ -22,6 +24,37 @@ void CheckWritableDb(const std::string& db) {
         throw CLI::ValidationError("--db", "folder '" + dir.string() + "' does not exist: create it or choose another path");
     if (fs::exists(path) ? access(db.c_str(), W_OK) != 0 : access(dir.c_str(), W_OK) != 0)
         throw CLI::ValidationError("--db", "'" + db + "' is not writable: choose a path you can write");
+}
+
+// What gyrocal calibrate does after the run (cmd_report.hpp: AfterCalibration).
+void AddAfterRunOptions(CLI::App* cmd, CalibrateOptions& o) {
+    cmd->add_option("--limits", o.limits_file,
+                    "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
+                    "the run, each unit judged at the end");
+    cmd->add_option("--report", o.report_dir,
+                    "write the run's calibration report (gyrocal report) into this directory at the end "
+                    "(created if its parent exists)");
+}
+
+// The limits and the report come after the run; what would stop them is said before anything runs.
+void CheckAfterRunOptions(CalibrateOptions& o) {
+    namespace fs = std::filesystem;
+    for (const auto& [option, value] : {std::pair{"--limits", o.limits_file}, std::pair{"--report", o.report_dir}})
+        if (!value.empty() && !HasAfterRunHook())
+            throw CLI::ValidationError(option, "needs the store component (this gyrocal was built without it)");
+    if (!o.limits_file.empty()) {
+        try {
+            o.limits_json = acceptance::ToJson(acceptance::LoadLimitsFile(o.limits_file)).dump();
+        } catch (const acceptance::LimitsError& e) {
+            throw CLI::ValidationError("--limits", e.what());
+        }
+    }
+    if (o.report_dir.empty()) return;
+    fs::path p = fs::absolute(o.report_dir).lexically_normal();
+    if (!p.has_filename()) p = p.parent_path();
+    if (fs::exists(p) ? !fs::is_directory(p) : !fs::is_directory(p.parent_path()))
+        throw CLI::ValidationError("--report", "'" + o.report_dir + "' is not a directory and its parent does not exist");
+    if (plot::FindOnPath("gnuplot").empty()) throw CLI::ValidationError("--report", plot::kGnuplotMissing);
 }
 
 }  // namespace
@@ -107,6 +140,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--recorder-arg", o->recorder_args, "extra argument for gyrocal-recorder")->allow_extra_args(false);
     cmd->add_option("--source-arg", o->source_args, "extra argument for the measured-data source")->allow_extra_args(false);
     cmd->add_flag("--quiet", o->quiet, "no progress line");
+    AddAfterRunOptions(cmd, *o);
     cmd->footer(
         "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
         "Several hosts: one command per host with --role, the same --lcm-url (ttl=1) and options;\n"
@@ -114,7 +148,8 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
         "recovered) or the run is aborted with the reason: see the README's Faults table.\n"
         "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
         "start or died; its log is named), 2 bad options, 3 run aborted or incomplete (chamber fault,\n"
-        "Ctrl-C, wall-clock limit, missing coefficients).");
+        "Ctrl-C, wall-clock limit, missing coefficients), 4 run completed but a unit did not pass its\n"
+        "--limits (each such unit and limit named).");
     cmd->callback([o, cmd, &action] {
         if ((o->source == "csv" || o->source == "log") && o->input.empty())
             throw CLI::ValidationError("--input", "is required with --source " + o->source);
@@ -128,6 +163,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
             throw CLI::ValidationError("--chamber", e.what());
         }
         if (o->role == "all" || o->role == "recorder") CheckWritableDb(o->db);
+        CheckAfterRunOptions(*o);
         action = [o] { return RunCalibration(*o); };
     });
 }

@@ -10,8 +10,6 @@
 #include "bus/status.hpp"
 #include "calibration.hpp"
 #include "gyrocal/version.hpp"
-#include "query.hpp"
-#include "recovery.hpp"
 
 namespace gyrocal::cli {
 namespace {
@@ -217,25 +215,22 @@ void Calibration::RecoverDue() {
             continue;
         }
         try {
-            auto db = store::OpenForQuery(o_.db);
-            const record::RecoveredRun r = record::ReadRecovery(*db, it->run_id);
+            if (!InstalledRecoveryReader())
+                throw std::runtime_error("this build has no database reader (store component)");
+            const RecoveredState r = InstalledRecoveryReader()(o_.db, it->run_id);
             size_t n = 0;
             if (it->what == Recovery::kStoredPoints) {
-                for (const auto& p : r.plateaus)
-                    n += bus_.Publish(channels::Plateau(p.sensor_id), p) ? 1 : 0;
-                for (const auto& s : r.rotations)
-                    n += bus_.Publish(channels::Sensitivity(s.sensor_id), s) ? 1 : 0;
+                for (const auto& p : r.plateaus) n += bus_.Publish(channels::Plateau(p.sensor_id), p) ? 1 : 0;
+                for (const auto& s : r.rotations) n += bus_.Publish(channels::Sensitivity(s.sensor_id), s) ? 1 : 0;
             } else {
-                for (const auto& c : r.newest_coeffs)
-                    n += bus_.Publish(channels::Coeffs(c.sensor_id), c) ? 1 : 0;
+                for (const auto& c : r.newest_coeffs) n += bus_.Publish(channels::Coeffs(c.sensor_id), c) ? 1 : 0;
             }
             std::cerr << "gyrocal calibrate: recovered " << it->process << ": published " << n
-                      << (it->what == Recovery::kStoredPoints ? " plateaus and sensitivity points"
-                                                              : " coefficient sets")
+                      << (it->what == Recovery::kStoredPoints ? " plateaus and sensitivity points" : " coefficient sets")
                       << " of run " << it->run_id << " from " << o_.db << "\n";
         } catch (const std::exception& e) {
-            std::cerr << "gyrocal calibrate: cannot recover " << it->process << " from " << o_.db
-                      << ": " << e.what() << "\n";
+            std::cerr << "gyrocal calibrate: cannot recover " << it->process << " from " << o_.db << ": " << e.what()
+                      << " (it goes on from the live bus only)\n";
         }
         it = recoveries_.erase(it);
     }

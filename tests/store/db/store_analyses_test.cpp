@@ -94,7 +94,7 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
         ConfigureConnection(db);
         Migrate(db, from);
         ASSERT_EQ(db.UserVersion(), from);
-        EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'analyses'"), 0);
+        EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'validations'"), 0);
         db.Exec(
             "INSERT INTO runs(run_id, started_utime, outcome, first_recv_utime) "
             "VALUES ('OLD', 1, 'running', 10)");
@@ -110,7 +110,7 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
     StoreWriter w(path, {"test", "h", 1});
     Db& db = w.db();
     EXPECT_EQ(db.UserVersion(), kSchemaVersion);
-    EXPECT_EQ(kSchemaVersion, 4);
+    EXPECT_EQ(kSchemaVersion, 5);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);  // history is never rewritten
     EXPECT_EQ(Count(db, "SELECT count(*) FROM rates"), 1);
     EXPECT_EQ(Count(db,

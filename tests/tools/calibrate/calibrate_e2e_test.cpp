@@ -84,12 +84,13 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
     EXPECT_EQ(sql.Rows("SELECT outcome FROM runs WHERE run_id='" + run + "'").at(0).at(0), "stop");
 
     // Every published message is in the database: the rig's last heartbeat counts everything it
-    // published (itself included); gyro samples, encoder samples, chamber states and the rig's
-    // own heartbeats are all it publishes. And no sample is missing by sequence number.
+    // published (itself included); gyro samples, encoder samples, chamber states, the units'
+    // power-on records and the rig's own heartbeats are all it publishes. And no sample is missing by sequence number.
     const int64_t rig_published =
         sql.Int("SELECT published FROM status WHERE process='gyrocal-sim-rig' ORDER BY published DESC LIMIT 1");
     const int64_t stored = sql.Int("SELECT count(*) FROM gyro_samples") + sql.Int("SELECT count(*) FROM encoder_samples") +
                            sql.Int("SELECT count(*) FROM chamber_states") +
+                           sql.Int("SELECT count(*) FROM power_states") +
                            sql.Int("SELECT count(*) FROM status WHERE process='gyrocal-sim-rig'");
     EXPECT_EQ(stored, rig_published);
     for (const auto& r : sql.Rows("SELECT sensor_id, count(*), min(seq), max(seq) FROM gyro_samples GROUP BY sensor_id")) {
