@@ -18,6 +18,7 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -37,6 +38,18 @@ struct BusOptions {
     static BusOptions Defaults() { return {}; }
     std::string ResolvedUrl() const;
 };
+
+// The multicast group and port of a udpm:// URL (LCM's default port 7667 when it names none):
+// what tells one bus from another (a lab's chambers use one port each; TTL and buffer options do
+// not make another bus). nullopt for any other provider or a malformed URL.
+struct UdpmAddress {
+    std::string group;  // dotted IPv4, e.g. "239.255.76.67"
+    int port = 7667;
+    std::string options;  // what follows '?', without it ("" when none)
+    bool operator==(const UdpmAddress& o) const { return group == o.group && port == o.port; }
+};
+std::optional<UdpmAddress> ParseUdpm(const std::string& url);
+std::string FormatUdpm(const UdpmAddress& a);  // back to a URL, options kept
 
 // Thrown when LCM cannot be opened; what() says what to do about it.
 class BusError : public std::runtime_error {

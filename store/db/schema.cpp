@@ -356,6 +356,12 @@ void Migrate(Db& db, int target_version) {
     }
     while (version < target_version) {
         Transaction tx(db);
+        // Another process may have migrated the file while this one waited for the write lock
+        // (two chambers' recorders creating one database at once): go on from what it says now.
+        if (const int now = db.UserVersion(); now != version) {
+            version = now;
+            continue;
+        }
         db.Exec(kSteps[static_cast<size_t>(version)]);
         db.SetUserVersion(version + 1);
         tx.Commit();

@@ -64,13 +64,19 @@ struct StoreWriter::Statements {
                       "n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
                       "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_v_mean, "
                       "supply_mean_v, recv_utime) "
-                      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+                      "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,?19,"
+                      "?20,?21,?22 "
+                      "WHERE NOT EXISTS (SELECT 1 FROM plateaus WHERE run_id = ?1 AND "
+                      "sensor_id = ?2 AND plateau_id = ?3)"),
           sensitivity(db, "INSERT INTO sensitivity_points(run_id, sensor_id, rotation_id, utime, "
                           "start_utime, end_utime, first_seq, last_seq, n_samples, direction, "
                           "temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
                           "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, "
                           "reject_reason, recv_utime) "
-                          "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+                          "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,"
+                          "?19,?20 "
+                          "WHERE NOT EXISTS (SELECT 1 FROM sensitivity_points WHERE run_id = ?1 "
+                          "AND sensor_id = ?2 AND rotation_id = ?3)"),
           rate(db, "INSERT INTO rates(run_id, sensor_id, utime, seq, rate_dps, angle_deg, temp_c, "
                    "coeff_set_id, range_flag, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?)"),
           status(db, "INSERT INTO status(run_id, utime, process, host, pid, state, received, "

@@ -12,7 +12,9 @@
 //
 // Coefficient sets are kept once per (run_id, sensor_id, coeff_set_id, source): a repeat (the
 // fitter's re-publish of an unchanged set on stop, or a set `gyrocal analyze` stored directly
-// and then published) is not stored twice (see analyses.hpp).
+// and then published) is not stored twice (see analyses.hpp). Plateaus and sensitivity points
+// likewise, once per (run_id, sensor_id, plateau_id / rotation_id): `gyrocal calibrate`
+// publishes a run's stored ones again to rebuild a restarted fitter.
 #include <cstdint>
 #include <map>
 #include <memory>

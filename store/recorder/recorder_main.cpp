@@ -25,6 +25,7 @@
 #include "bus/shutdown.hpp"
 #include "bus/status.hpp"
 #include "gyrocal/version.hpp"
+#include "open_run.hpp"
 #include "record_mapper.hpp"
 #include "writer_watch.hpp"
 #include "writer.hpp"
@@ -77,7 +78,8 @@ public:
         : bus_(gyrocal::BusOptions{o.lcm_url}),
           status_(bus_, kProcess),
           store_(std::move(writer)),
-          mapper_(gyrocal::record::MapperOptions{!o.no_rates}, store_->OpenRunId()),
+          mapper_(gyrocal::record::MapperOptions{!o.no_rates},
+                  gyrocal::record::OpenRunOnBus(store_->db(), bus_.url())),
           writer_(*store_, gyrocal::store::AsyncWriterOptions{
                                o.queue_rows, o.batch_rows, std::chrono::milliseconds(o.batch_ms)}),
           watch_(o.queue_rows) {
@@ -85,7 +87,7 @@ public:
         if (!mapper_.current_run().empty()) {
             SeedSeqs(mapper_.current_run());
             std::cerr << kProcess << ": continuing run '" << mapper_.current_run()
-                      << "' (started, not stopped, in " << o.db_path << ")\n";
+                      << "' (started on this bus, not stopped, in " << o.db_path << ")\n";
         }
         bus_.SubscribeRaw(o.channels, [this](const lcm::ReceiveBuffer& rbuf,
                                              const std::string& channel) {
@@ -136,6 +138,8 @@ private:
         gyrocal::record::Mapped m = mapper_.Map(channel, rbuf.data,
                                                 static_cast<int>(rbuf.data_size), rbuf.recv_utime);
         writer_.AddLoss(m.run_id, channel, m.loss);
+        status_.AddSeqGaps(m.loss.seq_gaps);  // so the progress line shows what the recorder missed
+        status_.AddDecodeErrors(m.loss.decode_errors);
         if (m.loss.decode_errors > 0) {
             status_.Reject("decode_error", "channel " + channel + ": known fingerprint " +
                                                "that does not decode; kept in raw_events");

@@ -209,3 +209,29 @@ TEST(SeqTracker, ExtremeSeqValuesNeitherOverflowNorWrap) {
 
 }  // namespace
 }  // namespace gyrocal
+
+namespace gyrocal {
+namespace {
+
+// What tells one bus from another: group and port; TTL and buffer options do not.
+TEST(UdpmUrl, GroupAndPortAreTheBus) {
+    auto a = ParseUdpm("udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
+    ASSERT_TRUE(a.has_value());
+    EXPECT_EQ(a->group, "239.255.76.67");
+    EXPECT_EQ(a->port, 7668);
+    EXPECT_EQ(a->options, "ttl=1&recv_buf_size=4194304");
+    EXPECT_EQ(FormatUdpm(*a), "udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
+    auto b = ParseUdpm("udpm://239.255.76.67:7668?ttl=0");
+    ASSERT_TRUE(b.has_value());
+    EXPECT_TRUE(*a == *b);
+    auto d = ParseUdpm("udpm://239.255.76.67");  // LCM's default port
+    ASSERT_TRUE(d.has_value());
+    EXPECT_EQ(d->port, 7667);
+    EXPECT_FALSE(*d == *b);
+    for (const char* bad : {"memq://", "udpm://", "udpm://not.an.ip:7667", "udpm://239.255.76.67:",
+                            "udpm://239.255.76.67:70000", "udpm://239.255.76.67:76x7"})
+        EXPECT_FALSE(ParseUdpm(bad).has_value()) << bad;
+}
+
+}  // namespace
+}  // namespace gyrocal

@@ -22,6 +22,11 @@
 #ifdef GYROCAL_HAVE_REPORT_CLI
 #include "cmd_report.hpp"
 #endif
+#ifdef GYROCAL_HAVE_RECORD
+#include "calibrate.hpp"
+#include "query.hpp"
+#include "recovery.hpp"
+#endif
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal: temperature calibration of analog MEMS gyros over LCM"};
@@ -44,6 +49,13 @@ int main(int argc, char** argv) {
 #ifdef GYROCAL_HAVE_REPORT_CLI
     gyrocal::cli::AddReportCommand(app, action);
     gyrocal::cli::SetAfterRunHook(gyrocal::cli::AfterCalibration);
+#endif
+#ifdef GYROCAL_HAVE_RECORD
+    gyrocal::cli::SetRecoveryReader([](const std::string& db_path, const std::string& run_id) {
+        auto db = gyrocal::store::OpenForQuery(db_path);
+        gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
+        return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations), std::move(r.newest_coeffs)};
+    });
 #endif
     try {
         app.parse(argc, argv);
