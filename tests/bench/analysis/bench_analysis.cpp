@@ -32,18 +32,11 @@
 #include "fit/fit.hpp"
 #include "fit/levels.hpp"
 #include "sim_run.hpp"
+#include "machine.hpp"
 
 using namespace gyrocal;
 
 namespace {
-
-std::string CpuModel() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown";
-}
 
 struct Figures {
     double rate_rms_dps = NAN, drift_dph = NAN;
@@ -153,8 +146,8 @@ int main(int argc, char** argv) {
     std::printf(
         "gyrocal analysis benchmark: held-out stretch of simulated runs, mean over %d seeds\n",
         seeds);
-    std::printf("machine: %u cores (nproc), %s\n", std::thread::hardware_concurrency(),
-                CpuModel().c_str());
+    std::printf("machine: %u cores (nproc), %s\n", gyrocal::bench::Nproc(),
+                gyrocal::bench::CpuModel().c_str());
     struct Config {
         const char* label;
         std::vector<std::pair<const char*, double>> effects;

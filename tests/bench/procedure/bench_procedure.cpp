@@ -29,6 +29,7 @@
 
 #include "held_out.hpp"
 #include "virtual_lab.hpp"
+#include "machine.hpp"
 
 namespace {
 
@@ -89,18 +90,6 @@ struct Row {
         }
     }
 };
-
-std::string CpuModel() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line)) {
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            return colon == std::string::npos ? line : line.substr(colon + 2);
-        }
-    }
-    return "unknown";
-}
 
 std::string Fmt(double v, const char* f = "%.4f") {
     if (!std::isfinite(v)) return "-";
@@ -298,6 +287,6 @@ int main(int argc, char** argv) {
         std::printf("; incomplete runs %d\n", rows[k].incomplete);
     }
     std::printf("machine: nproc %u, CPU %s; wall time %.1f s\n",
-                std::thread::hardware_concurrency(), CpuModel().c_str(), wall_s);
+                gyrocal::bench::Nproc(), gyrocal::bench::CpuModel().c_str(), wall_s);
     return failures == 0 ? 0 : 1;
 }

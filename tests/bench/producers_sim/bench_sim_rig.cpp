@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "sim/rig.hpp"
+#include "machine.hpp"
 
 namespace {
 
@@ -53,20 +54,11 @@ BENCHMARK(BM_SimRig)
     ->Args({4, 1})
     ->Unit(benchmark::kMillisecond);
 
-std::string CpuModel() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line)) {
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    }
-    return "unknown";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::AddCustomContext("cpu_model", CpuModel());
-    benchmark::AddCustomContext("nproc", std::to_string(std::thread::hardware_concurrency()));
+    benchmark::AddCustomContext("cpu_model", gyrocal::bench::CpuModel());
+    benchmark::AddCustomContext("nproc", std::to_string(gyrocal::bench::Nproc()));
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

@@ -15,17 +15,9 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "launch/child_process.hpp"
+#include "machine.hpp"
 
 namespace {
-
-std::string CpuModel() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line)) {
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    }
-    return "unknown";
-}
 
 }  // namespace
 
@@ -44,8 +36,8 @@ int main(int argc, char** argv) {
     if (!given.empty()) speeds = given;
     const std::string url = "udpm://239.255.76.67:7729?ttl=0&recv_buf_size=4194304";
     const double wall_s = 5.0;
-    std::printf("machine: %s, nproc %u; --max-msgs-per-s %s\n", CpuModel().c_str(),
-                std::thread::hardware_concurrency(), cap.empty() ? "(default)" : cap.c_str());
+    std::printf("machine: %s, nproc %u; --max-msgs-per-s %s\n", gyrocal::bench::CpuModel().c_str(),
+                gyrocal::bench::Nproc(), cap.empty() ? "(default)" : cap.c_str());
     std::printf("%8s %10s %12s %12s %10s %10s\n", "speed", "sim_s", "achieved_x", "msgs/s",
                 "received", "lost");
     for (double speed : speeds) {

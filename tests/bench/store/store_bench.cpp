@@ -34,22 +34,17 @@
 #include "launch/child_process.hpp"
 #include "sqlite_db.hpp"
 #include "writer.hpp"
+#include "machine.hpp"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 namespace st = gyrocal::store;
+using gyrocal::bench::ProcStats;
+using gyrocal::bench::ReadProcStats;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-std::string CpuModel() {
-    std::ifstream f("/proc/cpuinfo");
-    for (std::string line; std::getline(f, line);) {
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    }
-    return "unknown";
-}
 
 std::string TempDir() {
     const auto d = std::filesystem::temp_directory_path() / ("gyrocal_store_bench_" + std::to_string(getpid()));
@@ -186,35 +181,6 @@ void StoreAlone(const std::string& dir) {
     }
 }
 
-struct ProcStats {
-    double cpu_s = 0;     // user + system
-    int64_t hwm_kb = 0;   // peak resident
-    int64_t rss_kb = 0;
-};
-
-ProcStats ReadProc(pid_t pid) {
-    ProcStats s;
-    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-    std::string text((std::istreambuf_iterator<char>(stat)), {});
-    const auto close = text.rfind(')');
-    if (close != std::string::npos) {
-        std::istringstream in(text.substr(close + 2));
-        std::string f;
-        std::vector<std::string> fields;
-        while (in >> f) fields.push_back(f);
-        // fields[0] is state (field 3); utime = field 14, stime = field 15.
-        if (fields.size() > 13) {
-            s.cpu_s = (std::stod(fields[11]) + std::stod(fields[12])) / sysconf(_SC_CLK_TCK);
-        }
-    }
-    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-    for (std::string line; std::getline(status, line);) {
-        if (line.rfind("VmHWM:", 0) == 0) s.hwm_kb = std::stoll(line.substr(6));
-        if (line.rfind("VmRSS:", 0) == 0) s.rss_kb = std::stoll(line.substr(6));
-    }
-    return s;
-}
-
 int64_t CountRows(const std::string& db) {
     try {
         st::Db d(db, st::Db::Mode::kReadOnly);
@@ -315,7 +281,7 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
         std::this_thread::sleep_for(50ms);
     }
     const int64_t pings = bus.counters().published;
-    const ProcStats rec0 = ReadProc(rec.pid()), log0 = ReadProc(logger.pid());
+    const ProcStats rec0 = ReadProcStats(rec.pid()), log0 = ReadProcStats(logger.pid());
     const auto t0 = Clock::now();
     r.published = Publish(bus, units, hz, seconds) - pings;
     r.achieved_rate = r.published / Seconds(Clock::now() - t0);
@@ -336,7 +302,7 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
         std::this_thread::sleep_for(100ms);
     }
     const double wall = Seconds(Clock::now() - t0);
-    const ProcStats rec1 = ReadProc(rec.pid()), log1 = ReadProc(logger.pid());
+    const ProcStats rec1 = ReadProcStats(rec.pid()), log1 = ReadProcStats(logger.pid());
     r.rec_cpu_pct = 100 * (rec1.cpu_s - rec0.cpu_s) / wall;
     r.log_cpu_pct = 100 * (log1.cpu_s - log0.cpu_s) / wall;
     r.rec_hwm_kb = rec1.hwm_kb;
@@ -406,7 +372,7 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
     std::thread sampler([&] {
         const auto t0 = Clock::now();
         while (!done) {
-            rss.emplace_back(Seconds(Clock::now() - t0), ReadProc(rec.pid()).rss_kb);
+            rss.emplace_back(Seconds(Clock::now() - t0), ReadProcStats(rec.pid()).rss_kb);
             std::this_thread::sleep_for(2s);
         }
     });
@@ -414,7 +380,7 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
     done = true;
     sampler.join();
     std::this_thread::sleep_for(1s);
-    const ProcStats end = ReadProc(rec.pid());
+    const ProcStats end = ReadProcStats(rec.pid());
     rec.Stop(10s);
     int64_t gaps = 0, drops = 0;
     {
@@ -468,7 +434,7 @@ int main(int argc, char** argv) {
     const std::string url =
         "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304";
     std::printf("machine: %ld cores (nproc), %s; SQLite %s\n", sysconf(_SC_NPROCESSORS_ONLN),
-                CpuModel().c_str(), sqlite3_libversion());
+                gyrocal::bench::CpuModel().c_str(), sqlite3_libversion());
     const std::string dir = TempDir();
     StoreAlone(dir);
     RatesIndexCost(dir);
