@@ -86,10 +86,23 @@ TEST(FitterCore, EmitsWhenAFitBecomesPossibleAndAgainOnStop) {
     out = core.OnSensitivity(Rotation(60, 400, 1, false), "S01");
     EXPECT_TRUE(out.publish.empty());
     EXPECT_EQ(core.not_accepted_rotations(), 1);
-    // Stop: the same set once more.
-    out = core.OnRunEvent(Event("stop", "A"));
+    // Stop: the same models once more, as the FINAL set: its id is the stop event's (the input
+    // that made it final), and its report says it is partial (nominal sensitivity) and why.
+    run_event_t stop = Event("stop", "A");
+    stop.utime = 500 + 90'000'000;
+    out = core.OnRunEvent(stop);
     ASSERT_EQ(out.publish.size(), 1u);
-    EXPECT_EQ(out.publish[0].coeff_set_id, set.coeff_set_id);
+    EXPECT_EQ(out.publish[0].coeff_set_id, stop.utime);
+    EXPECT_EQ(model::FromMsg(out.publish[0]).offset.coeffs, set.offset.coeffs);
+    ASSERT_EQ(out.reports.size(), 1u);
+    const fit_report_t& r = out.reports[0];
+    EXPECT_TRUE(r.is_final);
+    EXPECT_EQ(r.coeff_set_id, stop.utime);
+    EXPECT_EQ(r.status, "partial");
+    EXPECT_NE(r.reason.find("no accepted rotation"), std::string::npos) << r.reason;
+    EXPECT_NE(r.offset_detail.find("cannot check"), std::string::npos) << r.offset_detail;
+    EXPECT_NE(r.slow_noise_source.find("none"), std::string::npos) << r.slow_noise_source;
+    EXPECT_TRUE(HasRejection(out, "fit_partial"));
 }
 
 TEST(FitterCore, RotationsBecomeTheSensitivityModel) {
@@ -102,7 +115,11 @@ TEST(FitterCore, RotationsBecomeTheSensitivityModel) {
     CoreOutput out = core.OnSensitivity(Rotation(-10, 120, -1), "S01");
     ASSERT_EQ(out.publish.size(), 1u);
     EXPECT_EQ(model::FromMsg(out.publish[0]).sensitivity.method, "mean");
-    EXPECT_NE(core.Summaries()["S01"].text.find("MEAN"), std::string::npos);
+    EXPECT_NE(core.Summaries()["S01"].text.find("sensitivity mean"), std::string::npos);
+    EXPECT_NE(core.Summaries()["S01"].text.find("PARTIAL"), std::string::npos);
+    ASSERT_EQ(out.reports.size(), 1u);
+    EXPECT_EQ(out.reports[0].status, "partial");
+    EXPECT_FALSE(out.reports[0].is_final);
     core.OnSensitivity(Rotation(30, 210, +1), "S01");
     core.OnSensitivity(Rotation(30, 220, -1), "S01");
     core.OnSensitivity(Rotation(60, 310, +1), "S01");
@@ -152,31 +169,56 @@ TEST(FitterCore, BadInputIsRefusedWithItsReason) {
     EXPECT_TRUE(core.Summaries().empty());  // nothing was kept
 }
 
-TEST(FitterCore, IllPosedSetsAreRefusedOnceAndAtStop) {
+// Temperatures closer than the separation are data, not a refusal: they add no degree, so the
+// set stays incomplete mid-run (nothing published), and the run's stop publishes what they allow
+// (a line through two separated temperatures), marked partial with the reason.
+TEST(FitterCore, CloseTemperaturesAreDataAndTheStopPublishesWhatTheyAllow) {
     FitterCore core(CoreOptions::Defaults());
     core.OnRunEvent(Event("start", "A"));
     core.OnPlateau(Plateau(20, 100), "S01");
     core.OnPlateau(Plateau(23, 200), "S01");
     CoreOutput out = core.OnPlateau(Plateau(60, 300), "S01");
     EXPECT_TRUE(out.publish.empty());
-    ASSERT_TRUE(HasRejection(out, "fit_refused"));
-    EXPECT_NE(out.rejections[0].detail.find("temperatures_too_close"), std::string::npos);
-    // a replay of the same plateau: same reason, not counted again
+    EXPECT_TRUE(out.rejections.empty());  // too few separated temperatures: normal mid-run
+    EXPECT_NE(core.Summaries()["S01"].text.find("too_few_temperatures"), std::string::npos);
+    // a replay of the same plateau is counted as such
     out = core.OnPlateau(Plateau(60, 300), "S01");
-    EXPECT_TRUE(out.rejections.empty());
     EXPECT_EQ(core.duplicates(), 1);
-    // at stop the refusal is reported again (the run ends without a calibration)
     out = core.OnRunEvent(Event("stop", "A"));
-    EXPECT_TRUE(out.publish.empty());
-    EXPECT_TRUE(HasRejection(out, "fit_refused"));
+    ASSERT_EQ(out.publish.size(), 1u);
+    const model::CoeffSet set = model::FromMsg(out.publish[0]);
+    EXPECT_EQ(set.offset.term_names, (std::vector<std::string>{"1", "dT"}));
+    EXPECT_EQ(set.plateau_ids, (std::vector<int64_t>{100, 200, 300}));
+    EXPECT_EQ(set.offset.temp_min_c, 20);
+    EXPECT_EQ(set.offset.temp_max_c, 60);
+    ASSERT_EQ(out.reports.size(), 1u);
+    EXPECT_EQ(out.reports[0].status, "partial");
+    EXPECT_NE(out.reports[0].reason.find("too_few_temperatures"), std::string::npos)
+        << out.reports[0].reason;
+    EXPECT_TRUE(HasRejection(out, "fit_partial"));
 }
 
-TEST(FitterCore, TooFewTemperaturesAtStopIsARefusal) {
+TEST(FitterCore, OnePlateauAtStopGivesAConstantOffsetAndNoPlateauGivesAReportOfNone) {
     FitterCore core(CoreOptions::Defaults());
-    core.OnRunEvent(Event("start", "A"));
+    core.OnRunEvent(Event("start", "A", {"S01", "S02"}));
     core.OnPlateau(Plateau(20, 100), "S01");
-    const CoreOutput out = core.OnRunEvent(Event("stop", "A"));
-    EXPECT_TRUE(out.publish.empty());
+    sensitivity_point_t r = Rotation(20, 110, 1);
+    r.sensor_id = "S02";
+    core.OnSensitivity(r, "S02");
+    const CoreOutput out = core.OnRunEvent(Event("stop", "A", {"S01", "S02"}));
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].sensor_id, "S01");
+    EXPECT_EQ(out.publish[0].offset.method, "mean");
+    ASSERT_EQ(out.reports.size(), 2u);
+    for (const fit_report_t& rep : out.reports) {
+        if (rep.sensor_id == "S01") {
+            EXPECT_EQ(rep.status, "partial");
+        } else {
+            EXPECT_EQ(rep.status, "none");
+            EXPECT_EQ(rep.coeff_set_id, -1);
+            EXPECT_NE(rep.reason.find("no plateau"), std::string::npos) << rep.reason;
+        }
+    }
     EXPECT_TRUE(HasRejection(out, "fit_refused"));
 }
 
@@ -235,10 +277,21 @@ TEST(FitterCore, OptionsAreValidated) {
     o.fit.max_degree = 4;
     EXPECT_NE(o.Problem().find("--max-degree"), std::string::npos);
     o = CoreOptions{};
-    o.plateau_slow_noise_dps = -0.01;
+    o.plateau_slow_noise_dps = -1;  // from the run's Allan deviation: valid
+    EXPECT_EQ(o.Problem(), "");
+    o.plateau_slow_noise_dps = 11;
     EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
     o.plateau_slow_noise_dps = NAN;
     EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
+    o = CoreOptions{};
+    o.outliers.family_alpha = 0.7;
+    EXPECT_NE(o.Problem().find("--outlier-alpha"), std::string::npos);
+    o = CoreOptions{};
+    o.pool_alpha = 0;
+    EXPECT_NE(o.Problem().find("--pool-alpha"), std::string::npos);
+    o = CoreOptions{};
+    o.repeat_tolerance_c = -1;
+    EXPECT_NE(o.Problem().find("--repeat-tolerance-c"), std::string::npos);
 }
 
 // A unit's five plateaus leave its cubic reference one dof; the fitter pools the other units'
