@@ -28,7 +28,8 @@
 // Slow noise: a plateau's standard error misses the gyro's noise slower than its window. It is
 // added in quadrature: the value of --plateau-slow-noise-dps when given (>= 0), else the unit's
 // own Allan deviation from NOISE_<id> (fit terms B, K; noise/allan.hpp: SlowNoiseVariance for the
-// plateaus' window within the span of the plateaus). The NOISE used is the newest one not later
+// plateaus' window within the span of the plateaus, widened for the estimate's own scatter:
+// slow_noise.hpp). The NOISE used is the newest one not later
 // than the unit's newest plateau (the plateau process publishes one just before each plateau),
 // so a replay gives the same fits whatever the timing. Which value and where it came from is in
 // every report.

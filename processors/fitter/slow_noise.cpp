@@ -49,13 +49,23 @@ SlowNoise ChooseSlowNoise(double option_dps, double nominal_v_per_dps,
     const double window_s = window_sum_s / static_cast<double>(plateaus.size());
     const double span_s = 1e-6 * static_cast<double>(newest_end - first_start);
     const double rrw = std::isfinite(n.rrw_v_rts) ? n.rrw_v_rts : 0.0;
-    out.v = std::sqrt(noise::SlowNoiseVariance(n.bias_instability_v, rrw, window_s, span_s));
+    const double var = noise::SlowNoiseVariance(n.bias_instability_v, rrw, window_s, span_s);
+    // The estimate's own scatter (predictive, Student-t): the variance ~ B^2 has relative variance
+    // (2 se_B / B)^2, i.e. nu = B^2 / (2 se_B^2) equivalent dof, and E[1/chi2_nu * nu] = nu/(nu-2).
+    double inflate = 1.0;
+    if (std::isfinite(n.bias_instability_stderr_v) && n.bias_instability_v > 0) {
+        const double nu = n.bias_instability_v * n.bias_instability_v /
+                          (2.0 * n.bias_instability_stderr_v * n.bias_instability_stderr_v);
+        inflate = nu > 2.5 ? nu / (nu - 2.0) : 5.0;
+    }
+    out.v = std::sqrt(var * inflate);
     std::snprintf(buf, sizeof buf,
                   "Allan deviation of this run (NOISE_%s at %lld: B %.3g +- %.2g mV, K %.3g "
-                  "mV/sqrt(s), %.0f s still in %d segments) for %.0f s windows over a %.0f s span",
+                  "mV/sqrt(s), %.0f s still in %d segments) for %.0f s windows over a %.0f s span, "
+                  "variance x%.3g for the estimate's own scatter",
                   sensor_id.c_str(), static_cast<long long>(n.utime), 1e3 * n.bias_instability_v,
                   1e3 * n.bias_instability_stderr_v, 1e3 * rrw, n.still_s, n.n_segments, window_s,
-                  span_s);
+                  span_s, inflate);
     out.source = buf;
     return out;
 }

@@ -32,13 +32,13 @@ struct Prefix {
 }  // namespace
 
 std::string TrackerConfig::Validate() const {
-    if (!In(bin_s, 0.001, 10)) return "noise bin must be in [0.001, 10] s";
+    if (!In(bin_s, 0.001, 10)) return "--noise-bin-s must be in [0.001, 10] s";
     if (!In(quiet_slope_c_per_min, 0.001, 10))
         return "--noise-quiet-slope-c-per-min must be in [0.001, 10] degC/min";
-    if (!In(slope_window_s, 1, 3600)) return "noise slope window must be in [1, 3600] s";
+    if (!In(slope_window_s, 1, 3600)) return "--noise-slope-window-s must be in [1, 3600] s";
     if (!In(min_segment_s, 4 * bin_s, 86400)) return "--noise-min-segment-s must be in [4 bins, 86400] s";
-    if (!In(min_fit_tau_s, bin_s, 100)) return "noise minimum fit tau must be in [bin, 100] s";
-    if (!In(max_tau_s, min_fit_tau_s, 1e6)) return "noise maximum tau must exceed the minimum";
+    if (!In(min_fit_tau_s, bin_s, 100)) return "--noise-min-fit-tau-s must be in [--noise-bin-s, 100] s";
+    if (!In(max_tau_s, min_fit_tau_s, 1e6)) return "--noise-max-tau-s must be at least --noise-min-fit-tau-s (and <= 1e6 s)";
     return "";
 }
 

@@ -31,6 +31,7 @@
 #include "gyrocal/version.hpp"
 #include "launch/child_process.hpp"
 #include "paths.hpp"
+#include "procedure.hpp"
 #include "progress.hpp"
 #include "sim/config.hpp"
 #include "sim/noise.hpp"
@@ -311,7 +312,9 @@ int Calibration::Run() {
                          20s))
         return Finish(1);
 
-    int setpoints = o_.setpoints_c.empty() ? (o_.profile == "seed3" ? 3 : 5) : static_cast<int>(o_.setpoints_c.size());
+    const auto named = sequencer::NamedProfile(o_.profile);
+    int setpoints = static_cast<int>(o_.setpoints_c.empty() ? (named ? named->setpoints_c.size() : 0)
+                                                            : o_.setpoints_c.size());
     try {
         if (o_.source == "sim") {
             progress_ = std::make_unique<Progress>(setpoints, 2);

@@ -40,7 +40,7 @@ struct CalibrateOptions {
     // 30000/s (speed 60: ~4200 of 290000 samples per channel lost at load ~9), so auto keeps
     // the rig at 15000 messages/s.
     double speed = 0.0;
-    std::string profile = "five";
+    std::string profile = "six";  // sequencer::kDefaultProfile
     std::vector<double> setpoints_c;
     std::vector<std::string> effects;  // undeclared effects switched on in the rig (NAME=VALUE)
     std::string log_dir;          // child logs; "" = a fresh folder under $TMPDIR
