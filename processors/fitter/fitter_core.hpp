@@ -21,7 +21,10 @@
 //
 // Overdispersion (fit.hpp): a unit's few plateaus leave its largest model few dof, so each fit
 // pools the evidence of the run's OTHER units, but only of units that agree (fit/pooling.hpp: an
-// F test; a unit whose scatter disagrees keeps its own evidence and gives none). A unit's pooled
+// F test; a unit whose scatter disagrees keeps its own evidence and gives none). A unit's
+// evidence for that test is its chi2 after its OWN outlier test (with its own dof only), so that
+// one bad plateau of a unit neither gets it thrown out of the pool nor, when several units are
+// bad, masks the good ones. A unit's pooled
 // c can therefore change when another unit gets a point; at "stop" every sensor is refitted twice
 // (the first pass settles the evidence, the second publishes).
 //
@@ -51,6 +54,10 @@
 #include "model/model.hpp"
 
 namespace gyrocal::fitter {
+
+// A unit's accepted rotations as fit points (temperature, direction, sensitivity, its error).
+std::vector<fit::FitPoint> RotationPoints(
+    const std::map<int64_t, gyrocal::sensitivity_point_t>& rotations);
 
 struct CoreOptions {
     fit::FitOptions fit;                           // shared by offset and sensitivity fits
@@ -127,6 +134,8 @@ private:
         bool final = false;   // the run's stop: publish whatever can be published
         int64_t stop_utime = 0;
     };
+    // The unit's own reference chi2 and dof, after its own outlier test without pooling.
+    Evidence OwnEvidence(const std::vector<fit::FitPoint>& points, const std::string& quantity) const;
     // FitOptions with the agreeing units' overdispersion evidence pooled in; `note` says what.
     fit::FitOptions Pooled(const std::string& sensor_id, bool offset, std::string& note) const;
 

@@ -162,11 +162,10 @@ OffsetPoints PlateauPoints(const std::map<int64_t, gyrocal::plateau_t>& plateaus
 }
 
 // The sensitivity part: nominal without rotations, else FitCalibration of the rotations.
-Part SensitivityPart(const std::map<int64_t, gyrocal::sensitivity_point_t>& rotations,
-                     const fit::FitOptions& pooled, const std::string& pool_note,
-                     const fit::OutlierOptions& outliers, double nominal, const model::Model& offset,
-                     int64_t& newest_utime, fit::FitResult& fitted) {
-    if (rotations.empty()) return Nominal(nominal, offset);
+}  // namespace
+
+std::vector<fit::FitPoint> RotationPoints(
+    const std::map<int64_t, gyrocal::sensitivity_point_t>& rotations) {
     std::vector<fit::FitPoint> spts;
     for (const auto& [rid, r] : rotations) {
         fit::FitPoint pt;
@@ -176,11 +175,20 @@ Part SensitivityPart(const std::map<int64_t, gyrocal::sensitivity_point_t>& rota
         pt.sigma_y = r.sensitivity_stderr_v_per_dps;
         pt.id = rid;
         spts.push_back(pt);
-        newest_utime = std::max(newest_utime, r.utime);
     }
+    return spts;
+}
+
+namespace {
+
+Part SensitivityPart(const std::map<int64_t, gyrocal::sensitivity_point_t>& rotations,
+                     const fit::FitOptions& pooled, const std::string& pool_note,
+                     const fit::OutlierOptions& outliers, double nominal, const model::Model& offset,
+                     int64_t& newest_utime) {
+    if (rotations.empty()) return Nominal(nominal, offset);
+    for (const auto& [rid, r] : rotations) newest_utime = std::max(newest_utime, r.utime);
     const fit::CalibrationFit c =
-        fit::FitCalibration(spts, model::kSensitivityQuantity, pooled, outliers);
-    fitted = c.fit;
+        fit::FitCalibration(RotationPoints(rotations), model::kSensitivityQuantity, pooled, outliers);
     if (c.fit.ok()) return FromCalibration(c, "sensitivity", pool_note);
     Part p = Nominal(nominal, offset);
     p.reason = "sensitivity: rotations unusable (" + c.fit.detail + "): nominal";
@@ -244,24 +252,22 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
                                            options_.nominal_sensitivity_v_per_dps, s.noise,
                                            s.plateaus, id);
     OffsetPoints pts = PlateauPoints(s.plateaus, slow.v);
+    // The unit's evidence for the pool: its own fit, after its own outlier test (fitter_core.hpp).
+    s.offset_evidence = OwnEvidence(pts.points, model::kOffsetQuantity);
     std::string pool_note;
     const fit::CalibrationFit offset = fit::FitCalibration(
         pts.points, model::kOffsetQuantity, Pooled(id, true, pool_note), options_.outliers);
-    s.offset_evidence = {offset.fit.ok() ? offset.fit.reference_chi2 : 0.0,
-                         offset.fit.ok() ? offset.fit.reference_dof : 0};
     if (!offset.fit.ok() || (!offset.complete && !how.final)) {
         NotYet(id, s, offset, how, out);
         return;
     }
     const Part off = FromCalibration(offset, "offset", pool_note);
+    s.sens_evidence = OwnEvidence(RotationPoints(s.rotations), model::kSensitivityQuantity);
     std::string sens_note;
     const fit::FitOptions sens_options = Pooled(id, false, sens_note);
-    fit::FitResult sens_fit;
     const Part sens = SensitivityPart(s.rotations, sens_options, sens_note, options_.outliers,
                                       options_.nominal_sensitivity_v_per_dps, off.model,
-                                      pts.newest_utime, sens_fit);
-    s.sens_evidence = {sens_fit.ok() ? sens_fit.reference_chi2 : 0.0,
-                       sens_fit.ok() ? sens_fit.reference_dof : 0};
+                                      pts.newest_utime);
 
     model::CoeffSet set;
     set.sensor_id = id;
@@ -297,6 +303,15 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
         out.reports.push_back(report);
         ++published_;
     }
+}
+
+FitterCore::Evidence FitterCore::OwnEvidence(const std::vector<fit::FitPoint>& points,
+                                             const std::string& quantity) const {
+    if (points.empty()) return {};
+    const fit::CalibrationFit own =
+        fit::FitCalibration(points, quantity, options_.fit, options_.outliers);
+    if (!own.fit.ok()) return {};
+    return {own.fit.reference_chi2, own.fit.reference_dof};
 }
 
 void FitterCore::NotYet(const std::string& id, SensorState& s, const fit::CalibrationFit& offset,

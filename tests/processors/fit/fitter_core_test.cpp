@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "model/convert.hpp"
+#include "noise/allan.hpp"
 
 namespace gyrocal::fitter {
 namespace {
@@ -340,6 +341,141 @@ TEST(FitterCore, OverdispersionIsPooledAcrossTheRunsUnits) {
         model::FromMsg(out.publish[0].sensor_id == "S01" ? out.publish[0] : out.publish[1]);
     EXPECT_TRUE(s01.offset.covariance.isApprox(a_pooled.model.covariance, 1e-12));
     EXPECT_DOUBLE_EQ(a_pooled.covariance_scale, pooled);
+}
+
+}  // namespace
+}  // namespace gyrocal::fitter
+
+namespace gyrocal::fitter {
+namespace {
+
+noise_t Noise(double bias_v, double bias_se_v, int64_t utime, const std::string& sensor = "S01") {
+    noise_t n{};
+    n.utime = utime;
+    n.sensor_id = sensor;
+    n.run_id = "A";
+    n.still_s = 1800;
+    n.n_segments = 6;
+    n.bias_instability_v = bias_v;
+    n.bias_instability_stderr_v = bias_se_v;
+    n.rrw_v_rts = 0.0;
+    n.arw_v_rthz = 3e-4;
+    return n;
+}
+
+plateau_t Windowed(double temp_c, int64_t start_utime, const std::string& sensor = "S01") {
+    plateau_t p = Plateau(temp_c, start_utime, "A", sensor);
+    p.start_utime = start_utime;
+    p.end_utime = start_utime + 60'000'000;
+    p.utime = p.end_utime;
+    return p;
+}
+
+// Without a hand-given value the slow noise is the unit's own Allan estimate: the newest NOISE
+// not later than its newest plateau, B and K through noise::SlowNoiseVariance for the plateaus'
+// window and span, widened by nu/(nu - 2) for the estimate's scatter; a later NOISE waits for
+// the next plateau.
+TEST(FitterCore, SlowNoiseComesFromTheUnitsAllanEstimate) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    const int64_t t0 = 1'000'000'000;
+    core.OnNoise(Noise(5e-5, 1e-5, t0 - 1), "S01");
+    core.OnPlateau(Windowed(-10, t0), "S01");
+    core.OnPlateau(Windowed(30, t0 + 3600'000'000), "S01");
+    core.OnNoise(Noise(9e-5, 1e-5, t0 + 7200'000'000 + 60'000'000 - 1), "S01");  // before the 3rd
+    core.OnNoise(Noise(5e-4, 1e-5, t0 + 7200'000'000 + 60'000'000 + 10), "S01");  // after it
+    const CoreOutput out = core.OnPlateau(Windowed(60, t0 + 7200'000'000), "S01");
+    ASSERT_EQ(out.reports.size(), 1u);
+    const fit_report_t& r = out.reports[0];
+    const double span_s = 7200 + 60, nu = 9e-5 * 9e-5 / (2 * 1e-5 * 1e-5);
+    const double want = std::sqrt(noise::SlowNoiseVariance(9e-5, 0.0, 60, span_s) * nu / (nu - 2));
+    EXPECT_NEAR(r.slow_noise_v, want, 1e-12);
+    EXPECT_NE(r.slow_noise_source.find("Allan deviation of this run (NOISE_S01"), std::string::npos)
+        << r.slow_noise_source;
+    EXPECT_NEAR(r.slow_noise_dps, want / 0.006, 1e-9);  // nominal sensitivity: no rotations
+    // the plateaus' errors in the set: the 3-point covariance at a plateau is its error squared
+    const model::CoeffSet set = model::FromMsg(out.publish.at(0));
+    model::ModelInputs in;
+    in.temp_c = 30;
+    EXPECT_NEAR(std::sqrt(model::Evaluate(set.offset, in, model::RangePolicy::kClip).variance),
+                std::hypot(2e-5, want), 1e-12);
+    // a hand-given value wins, and says so
+    CoreOptions given = CoreOptions::Defaults();
+    given.plateau_slow_noise_dps = 0.01;
+    FitterCore g(given);
+    g.OnRunEvent(Event("start", "A"));
+    g.OnNoise(Noise(9e-5, 1e-5, t0 - 1), "S01");
+    for (double t : {-10.0, 30.0}) g.OnPlateau(Windowed(t, t0 + static_cast<int64_t>(t * 1e8)), "S01");
+    const CoreOutput go = g.OnPlateau(Windowed(60, t0 + 7200'000'000), "S01");
+    ASSERT_EQ(go.reports.size(), 1u);
+    EXPECT_NEAR(go.reports[0].slow_noise_v, 0.01 * 0.006, 1e-15);
+    EXPECT_NE(go.reports[0].slow_noise_source.find("given"), std::string::npos);
+}
+
+// One unit's plateau 30 sigma off is left out (named in its report); a unit whose scatter is far
+// beyond the others' is left out of the pool; the clean units' covariance is what they would have
+// without the bad ones (no contamination).
+TEST(FitterCore, ABadUnitDoesNotContaminateTheOthers) {
+    const std::vector<double> temps = {25, -40, -10, 45, 65, 85};
+    std::mt19937_64 rng(21);
+    std::normal_distribution<double> n01;
+    std::map<std::string, std::vector<double>> z;  // the same noise for a unit in both runs
+    for (const std::string id : {"S01", "S02", "S03", "S04"})
+        for (size_t i = 0; i < temps.size(); ++i) z[id].push_back(n01(rng));
+    auto run = [&](bool with_bad) {
+        FitterCore core(CoreOptions::Defaults());
+        std::vector<std::string> ids = {"S01", "S02", "S03"};
+        if (with_bad) ids.push_back("S04");
+        core.OnRunEvent(Event("start", "A", ids));
+        for (size_t i = 0; i < temps.size(); ++i)
+            for (const std::string& id : ids) {
+                plateau_t p = Plateau(temps[i], static_cast<int64_t>(1000 * i + (id.back() - '0')), "A", id);
+                p.gyro_mean_v += 2e-5 * z[id][i] * (id == "S04" ? 40.0 : 1.0);  // S04: 40x noisier
+                if (id == "S02" && i == 3) p.gyro_mean_v += 30 * 2e-5;         // S02: one outlier
+                core.OnPlateau(p, id);
+            }
+        return core.OnRunEvent(Event("stop", "A", ids));
+    };
+    const CoreOutput clean = run(false), dirty = run(true);
+    std::map<std::string, const fit_report_t*> rep;
+    for (const auto& r : dirty.reports) rep[r.sensor_id] = &r;
+    ASSERT_EQ(rep.size(), 4u);
+    ASSERT_EQ(rep["S02"]->num_excluded, 1) << rep["S02"]->offset_detail;
+    EXPECT_EQ(rep["S02"]->excluded[0].kind, "plateau");
+    EXPECT_EQ(rep["S02"]->excluded[0].item_id, 3002);
+    EXPECT_NE(rep["S04"]->offset_detail.find("disagrees"), std::string::npos) << rep["S04"]->offset_detail;
+    EXPECT_NE(rep["S01"]->offset_detail.find("unit S04 left out of the pool"), std::string::npos)
+        << rep["S01"]->offset_detail;
+    for (const std::string id : {"S01", "S03"}) {
+        const coeff_set_t* a = nullptr;
+        const coeff_set_t* b = nullptr;
+        for (const auto& c : clean.publish) if (c.sensor_id == id) a = &c;
+        for (const auto& c : dirty.publish) if (c.sensor_id == id) b = &c;
+        ASSERT_TRUE(a && b);
+        EXPECT_TRUE(model::FromMsg(*a).offset.covariance.isApprox(model::FromMsg(*b).offset.covariance, 1e-9))
+            << id;
+    }
+}
+
+TEST(FitterCore, AReturnToTheStartIsReportedAsRepeatability) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    int64_t id = 0;
+    for (double t : {25.0, -10.0, 10.0, 30.0, 50.0, 70.0}) core.OnPlateau(Plateau(t, id += 1000), "S01");
+    plateau_t back = Plateau(25.3, id += 1000);
+    back.gyro_mean_v += 1e-4;  // 5 stated errors of sqrt(2) x 2e-5: not repeatable
+    core.OnPlateau(back, "S01");
+    const CoreOutput out = core.OnRunEvent(Event("stop", "A"));
+    ASSERT_EQ(out.reports.size(), 1u);
+    const fit_report_t& r = out.reports[0];
+    ASSERT_EQ(r.num_repeats, 1);
+    EXPECT_EQ(r.repeats[0].first_plateau_id, 1000);
+    EXPECT_EQ(r.repeats[0].second_plateau_id, id);
+    // the fit bends toward both visits, so the model step between 25 and 25.3 takes out little:
+    // the difference is the 0.1 mV added, within 2 % (the truth's step is subtracted exactly)
+    EXPECT_NEAR(r.repeats[0].offset_diff_v, 1e-4, 2e-6);
+    EXPECT_NEAR(r.repeats[0].offset_diff_stderr_v, std::sqrt(2.0) * 2e-5, 1e-12);
+    EXPECT_NE(r.repeats[0].verdict.find("not repeatable"), std::string::npos) << r.repeats[0].verdict;
 }
 
 }  // namespace
