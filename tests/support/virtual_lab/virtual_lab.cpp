@@ -81,7 +81,8 @@ public:
                 std::min(oldest, s->pending.empty() ? s->newest_utime : s->pending.front().utime);
         }
         motion_.Prune(oldest);
-        // gyrocal-rotation's own move detector.
+        // gyrocal-rotation's own move detector (every reading also to the slip check).
+        for (auto& s : sensors_) s->estimator.AddEncoder(e);
         if (auto move = rotation_moves_.Feed(e)) {
             for (auto& s : sensors_) s->estimator.AddMove(*move);
         }
