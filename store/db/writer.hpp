@@ -70,6 +70,8 @@ private:
     void NoteBlock(const GyroRow& g, int64_t rowid);
     void WriteRunEvent(const RunEventRow& r);
     void WriteCoeffSet(const CoeffSetRow& r);
+    void WriteNoise(const NoiseRow& r);          // writer_fit.cpp
+    void WriteFitReport(const FitReportRow& r);  // writer_fit.cpp
 
     WriterInfo info_;
     std::unique_ptr<Db> db_;

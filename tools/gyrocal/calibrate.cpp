@@ -22,8 +22,10 @@
 #include "bus/shutdown.hpp"
 #include "bus/status.hpp"
 #include "coeff_table.hpp"
+#include "final_verdict.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
@@ -45,7 +47,7 @@ double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
 
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o) {
     if (o.plateau_slow_noise_dps >= 0.0) return o.plateau_slow_noise_dps;
-    return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : 0.0;
+    return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : -1.0;
 }
 namespace {
 
@@ -110,6 +112,7 @@ private:
     std::set<std::string> stability_sensors_;
     std::map<std::string, coeff_set_t> coeffs_;        // newest per sensor
     std::set<std::string> final_coeffs_;               // sensors with a set after the stop
+    std::map<std::string, fit_report_t> final_reports_;  // the fitter's verdict at the stop
     bool stop_seen_ = false;
     std::string run_id_;
     std::string run_outcome_;
@@ -144,6 +147,10 @@ void Calibration::Subscribe() {
                                         [this](const sensitivity_point_t& s, const std::string&) {
                                             if (progress_) progress_->OnSensitivity(s);
                                         });
+    bus_.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
+                                 [this](const fit_report_t& r, const std::string&) {
+                                     if (r.is_final) final_reports_[r.sensor_id] = r;
+                                 });
     bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
                                 [this](const coeff_set_t& c, const std::string&) {
                                     coeffs_[c.sensor_id] = c;
@@ -263,8 +270,8 @@ std::set<std::string> Calibration::Sensors() const {
 bool Calibration::HaveFinalCoeffs() const {
     const auto sensors = Sensors();
     if (sensors.empty()) return false;
-    for (const auto& s : sensors)
-        if (!final_coeffs_.count(s)) return false;
+    for (const auto& s : sensors)  // a final report says "none" when there is no set to wait for
+        if (!final_reports_.count(s) && !final_coeffs_.count(s)) return false;
     return true;
 }
 
@@ -296,8 +303,9 @@ int Calibration::Run() {
         Start(SiblingExecutable("gyrocal-recorder"), common({"--db", o_.db}, o_.recorder_args));
         Start(SiblingExecutable("gyrocal-plateau"), common({}, o_.plateau_args));
         Start(SiblingExecutable("gyrocal-rotation"), common({}, o_.rotation_args));
-        std::vector<std::string> fitter = {"--plateau-slow-noise-dps",
-                                           std::to_string(EffectivePlateauSlowNoiseDps(o_))};
+        std::vector<std::string> fitter;
+        if (EffectivePlateauSlowNoiseDps(o_) >= 0)
+            fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
         if (o_.source == "sim")
             fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
                                          std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
@@ -416,6 +424,7 @@ int Calibration::Run() {
     }
     if (run_outcome_.rfind("stop", 0) != 0) code = 3;
     if (!HaveFinalCoeffs()) code = 3;
+    if (!FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_}.AllComplete()) code = 3;
     return Finish(code);
 }
 
@@ -425,7 +434,7 @@ int Calibration::Finish(int code) {
               << (run_outcome_.empty() ? "not finished" : run_outcome_) << "\n";
     if (progress_) std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops): " << progress_->drops() << "\n";
     if (!coeffs_.empty()) {
-        std::cout << "\n" << FormatCoeffTable(coeffs_);
+        std::cout << "\n" << FormatCoeffTable(coeffs_, FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_}.Labels());
         std::ifstream truth(o_.truth_out);
         if (truth && o_.source == "sim") {
             try {
@@ -436,6 +445,8 @@ int Calibration::Finish(int code) {
         }
     }
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
+    if (stop_seen_)
+        std::cerr << FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_}.Explain();
     return code;
 }
 

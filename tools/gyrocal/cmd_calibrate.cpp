@@ -48,7 +48,7 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--plateau-slow-noise-dps", o->plateau_slow_noise_dps,
                     "[deg/s] slow noise in a plateau mean that its standard error cannot show (gyro "
                     "characterisation), for the fitter's uncertainties; default: the simulated gyro's "
-                    "for --source sim, 0 for measured data")
+                    "for --source sim, each unit's own Allan deviation from the run for measured data")
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--speed", o->speed,
                     "simulated seconds per wall second; 0 = auto: the fastest the whole graph ran without "
