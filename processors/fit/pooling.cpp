@@ -55,6 +55,14 @@ Pool Pool::Decide(const std::vector<UnitEvidence>& units, double alpha) {
     return pool;
 }
 
+std::string Disagreement(const UnitEvidence& u, const PooledEvidence& others, double alpha) {
+    if (u.dof <= 0 || others.dof <= 0 || !(others.chi2 > 0.0)) return "";
+    const double c_rest = others.chi2 / others.dof;
+    const double upper = FUpperTail((u.chi2 / u.dof) / c_rest, u.dof, others.dof);
+    const double p = std::min(1.0, 2.0 * std::min(upper, 1.0 - upper));
+    return p < alpha ? Describe(u, c_rest, others.dof, p) : "";
+}
+
 PooledEvidence Pool::For(const std::string& id) const {
     PooledEvidence e;
     if (left_out_.count(id)) return e;

@@ -8,8 +8,11 @@
 // pooled over the other units of the pool. The unit with the smallest two-sided p-value is left
 // out when p < alpha / m (Bonferroni over the m units in the pool, alpha = 0.01), and the test is
 // repeated on the rest until every remaining unit agrees or fewer than two remain. A unit left
-// out keeps its own evidence only and gives none to the others; a unit without dof (e.g. three
-// points) is not tested and receives the pool's evidence.
+// out gives no evidence to the others; a unit without dof (e.g. three points) is not tested and
+// receives the pool's evidence. The fitter decides the pool a unit receives among the OTHER units
+// (so that the unit's own bad point, the thing its outlier test must find, cannot deny it the
+// others' evidence), and after its fit checks its own evidence against that pool (Disagreement):
+// a unit that disagrees is fitted on its own evidence.
 #include <map>
 #include <string>
 #include <vector>
@@ -26,6 +29,10 @@ struct PooledEvidence {
     double chi2 = 0.0;
     int dof = 0;
 };
+
+// "" when unit `u`'s own evidence agrees with the pooled evidence of the others (two-sided F test
+// at alpha), else why not (for the fit's notes). No dof on either side: agrees.
+std::string Disagreement(const UnitEvidence& u, const PooledEvidence& others, double alpha);
 
 class Pool {
 public:

@@ -69,23 +69,21 @@ struct Screen {
     size_t tested = 0;
 };
 
-// One pass of the leave-one-out test (see header) with the terms and T0 of `fit`.
-Screen ScreenOnce(const std::vector<FitPoint>& pts, const model::Model& fit,
-                  const std::string& quantity, const FitOptions& o, double alpha) {
+// One pass of the leave-one-out test (see header): each point against the model fitted, with its
+// order chosen on evidence, to the other points.
+Screen ScreenOnce(const std::vector<FitPoint>& pts, const std::string& quantity,
+                  const FitOptions& o, double alpha) {
     Screen s;
-    const size_t n = pts.size(), p = fit.term_names.size();
-    if (n < p + 2) {
-        s.why_not = "cannot check: " + std::to_string(n) + " points for " + std::to_string(p) +
-                    " coefficients leave no degree of freedom to test a point against the others";
-        return s;
-    }
+    const size_t n = pts.size();
     for (size_t i = 0; i < n; ++i) {
         std::vector<FitPoint> others;
         for (size_t k = 0; k < n; ++k)
             if (k != i) others.push_back(pts[k]);
-        FitResult f = FitWls(others, fit.term_names, fit.t0_c, quantity, o.max_condition_number);
-        if (!f.ok()) continue;  // the others cannot carry the terms: this point is not testable
-        ApplyOverdispersion(f, f.chi2, f.dof, o);
+        FitOptions loo = o;
+        if (loo.method == Method::kThreePoint) loo.method = Method::kAuto;
+        const FitResult f = FitPolynomial(others, quantity, loo);
+        // The others must carry a model with a degree of freedom left to check the point against.
+        if (!f.ok() || f.dof < 1) continue;
         const model::Evaluation e =
             model::Evaluate(f.model, pts[i].inputs, model::RangePolicy::kExtrapolate);
         const double sigma = std::sqrt(f.covariance_scale * pts[i].sigma_y * pts[i].sigma_y +
@@ -107,7 +105,10 @@ Screen ScreenOnce(const std::vector<FitPoint>& pts, const model::Model& fit,
         }
         s.can_check = true;
     }
-    if (!s.can_check) s.why_not = "cannot check: no point can be predicted from the others";
+    if (!s.can_check)
+        s.why_not = "cannot check: " + std::to_string(n) +
+                    " points; without any one of them the others leave no degree of freedom to "
+                    "test it against";
     return s;
 }
 
@@ -133,7 +134,7 @@ CalibrationFit FitCalibration(const std::vector<FitPoint>& points, const std::st
             out.outlier_check = oo.enabled ? "not checked: no fit" : "not checked (disabled)";
             return out;
         }
-        const Screen s = ScreenOnce(kept, out.fit.model, quantity, o, oo.family_alpha);
+        const Screen s = ScreenOnce(kept, quantity, o, oo.family_alpha);
         if (!s.can_check) {
             out.outlier_check = s.why_not;
             return out;

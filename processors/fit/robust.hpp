@@ -1,8 +1,9 @@
 #pragma once
 // What a calibration can publish from one unit's points, and which points it must not use.
 //
-// Outliers: a leave-one-out test. For each point i the model (same terms and T0 as the fit on all
-// kept points) is fitted to the OTHER points; the deleted residual r_i = y_i - yhat_(i) has
+// Outliers: a leave-one-out test. For each point i the model is fitted to the OTHER points, its
+// order chosen on their evidence (FitPolynomial: a point far off can make the fit on all points
+// buy a degree to chase it, or miss one the others need); the deleted residual r_i = y_i - yhat_(i) has
 // variance c_(i) sigma_i^2 + var(yhat_(i)), where c_(i) = max(1, overdispersion of the fit without
 // i, pooled with the other units' evidence as in fit.hpp) scales the point's stated error the
 // same way the fit scales its covariance. t_i = r_i / sqrt(that variance) is Student-t with nu
@@ -13,9 +14,9 @@
 // at most alpha = family_alpha (0.01) per test. The point with the largest |t_i| / threshold
 // beyond 1 is excluded, the order re-chosen on the rest, and the test repeated, up to
 // max_fraction of the points (at least one). Single deletion: two points far off together mask
-// each other unless other units' evidence pins c (pooling). A fit of p coefficients can only check a point
-// when the others leave at least one dof (n >= p + 2): the seed's 3-point fit, or a quadratic
-// on four points, cannot check, and says so.
+// each other unless other units' evidence pins c (pooling). A point can only be checked when the
+// fit of the others keeps at least one dof: the seed's 3-point fit, or a quadratic on four
+// points, cannot check, and says so.
 //
 // Publishable model (a ladder, never nothing while one point exists):
 //   complete   FitPolynomial's temperature model (order on evidence, or the forced method) over

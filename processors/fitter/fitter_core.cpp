@@ -158,21 +158,26 @@ CoreOutput FitterCore::OnNoise(const gyrocal::noise_t& n, const std::string& cha
 
 fit::FitOptions FitterCore::Pooled(const std::string& sensor_id, bool offset,
                                    std::string& note) const {
+    // The pool among the OTHER units (fit/pooling.hpp).
     std::vector<fit::UnitEvidence> units;
     for (const auto& [id, s] : sensors_) {
+        if (id == sensor_id) continue;
         const Evidence& e = offset ? s.offset_evidence : s.sens_evidence;
         units.push_back({id, e.chi2, e.dof});
     }
     const fit::Pool pool = fit::Pool::Decide(units, options_.pool_alpha);
-    const fit::PooledEvidence e = pool.For(sensor_id);
+    fit::PooledEvidence e;
+    for (const fit::UnitEvidence& u : units) {
+        if (pool.left_out().count(u.id) || u.dof <= 0) continue;
+        e.chi2 += u.chi2;
+        e.dof += u.dof;
+    }
     fit::FitOptions o = options_.fit;
     o.pooled_chi2 = e.chi2;
     o.pooled_dof = e.dof;
     note.clear();
-    if (auto it = pool.left_out().find(sensor_id); it != pool.left_out().end())
-        note = "this unit's " + it->second;
     for (const auto& [id, why] : pool.left_out())
-        if (id != sensor_id) note += (note.empty() ? "" : "; ") + std::string("unit ") + id + " left out of the pool";
+        note += (note.empty() ? "" : "; ") + std::string("unit ") + id + " left out of the pool";
     return o;
 }
 

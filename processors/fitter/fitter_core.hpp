@@ -21,10 +21,9 @@
 //
 // Overdispersion (fit.hpp): a unit's few plateaus leave its largest model few dof, so each fit
 // pools the evidence of the run's OTHER units, but only of units that agree (fit/pooling.hpp: an
-// F test; a unit whose scatter disagrees keeps its own evidence and gives none). A unit's
-// evidence for that test is its chi2 after its OWN outlier test (with its own dof only), so that
-// one bad plateau of a unit neither gets it thrown out of the pool nor, when several units are
-// bad, masks the good ones. A unit's pooled
+// F test among the OTHER units, so that the unit's own bad point cannot deny it their evidence;
+// a unit whose scatter, after its outlier test, still disagrees with them is fitted on its own
+// evidence and gives none). A unit's evidence is its chi2 after its outlier test. A unit's pooled
 // c can therefore change when another unit gets a point; at "stop" every sensor is refitted twice
 // (the first pass settles the evidence, the second publishes).
 //
@@ -134,9 +133,12 @@ private:
         bool final = false;   // the run's stop: publish whatever can be published
         int64_t stop_utime = 0;
     };
-    // The unit's own reference chi2 and dof, after its own outlier test without pooling.
-    Evidence OwnEvidence(const std::vector<fit::FitPoint>& points, const std::string& quantity) const;
-    // FitOptions with the agreeing units' overdispersion evidence pooled in; `note` says what.
+    // FitCalibration with the pool of the other units; a unit whose own evidence then disagrees
+    // with that pool is refitted on its own. `evidence`: what the unit gives the others (its own
+    // reference chi2 and dof after the points it lost); `note`: pooling notes.
+    fit::CalibrationFit FitPooled(const std::string& id, const std::vector<fit::FitPoint>& points,
+                                  bool offset, Evidence& evidence, std::string& note) const;
+    // FitOptions with the agreeing other units' overdispersion evidence pooled in.
     fit::FitOptions Pooled(const std::string& sensor_id, bool offset, std::string& note) const;
 
     // Refits one sensor (fitter_refit.cpp).

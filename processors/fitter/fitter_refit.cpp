@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "fit/pooling.hpp"
 #include "fit/repeatability.hpp"
 #include "fitter_core.hpp"
 #include "model/convert.hpp"
@@ -181,14 +182,12 @@ std::vector<fit::FitPoint> RotationPoints(
 
 namespace {
 
+// The sensitivity part: nominal without rotations, else the rotations' fit.
 Part SensitivityPart(const std::map<int64_t, gyrocal::sensitivity_point_t>& rotations,
-                     const fit::FitOptions& pooled, const std::string& pool_note,
-                     const fit::OutlierOptions& outliers, double nominal, const model::Model& offset,
-                     int64_t& newest_utime) {
+                     const fit::CalibrationFit& c, const std::string& pool_note, double nominal,
+                     const model::Model& offset, int64_t& newest_utime) {
     if (rotations.empty()) return Nominal(nominal, offset);
     for (const auto& [rid, r] : rotations) newest_utime = std::max(newest_utime, r.utime);
-    const fit::CalibrationFit c =
-        fit::FitCalibration(RotationPoints(rotations), model::kSensitivityQuantity, pooled, outliers);
     if (c.fit.ok()) return FromCalibration(c, "sensitivity", pool_note);
     Part p = Nominal(nominal, offset);
     p.reason = "sensitivity: rotations unusable (" + c.fit.detail + "): nominal";
@@ -252,20 +251,19 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
                                            options_.nominal_sensitivity_v_per_dps, s.noise,
                                            s.plateaus, id);
     OffsetPoints pts = PlateauPoints(s.plateaus, slow.v);
-    // The unit's evidence for the pool: its own fit, after its own outlier test (fitter_core.hpp).
-    s.offset_evidence = OwnEvidence(pts.points, model::kOffsetQuantity);
     std::string pool_note;
-    const fit::CalibrationFit offset = fit::FitCalibration(
-        pts.points, model::kOffsetQuantity, Pooled(id, true, pool_note), options_.outliers);
+    const fit::CalibrationFit offset =
+        FitPooled(id, pts.points, true, s.offset_evidence, pool_note);
     if (!offset.fit.ok() || (!offset.complete && !how.final)) {
         NotYet(id, s, offset, how, out);
         return;
     }
     const Part off = FromCalibration(offset, "offset", pool_note);
-    s.sens_evidence = OwnEvidence(RotationPoints(s.rotations), model::kSensitivityQuantity);
     std::string sens_note;
-    const fit::FitOptions sens_options = Pooled(id, false, sens_note);
-    const Part sens = SensitivityPart(s.rotations, sens_options, sens_note, options_.outliers,
+    fit::CalibrationFit sens_fit;
+    if (!s.rotations.empty())
+        sens_fit = FitPooled(id, RotationPoints(s.rotations), false, s.sens_evidence, sens_note);
+    const Part sens = SensitivityPart(s.rotations, sens_fit, sens_note,
                                       options_.nominal_sensitivity_v_per_dps, off.model,
                                       pts.newest_utime);
 
@@ -305,13 +303,28 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
     }
 }
 
-FitterCore::Evidence FitterCore::OwnEvidence(const std::vector<fit::FitPoint>& points,
-                                             const std::string& quantity) const {
-    if (points.empty()) return {};
-    const fit::CalibrationFit own =
-        fit::FitCalibration(points, quantity, options_.fit, options_.outliers);
-    if (!own.fit.ok()) return {};
-    return {own.fit.reference_chi2, own.fit.reference_dof};
+fit::CalibrationFit FitterCore::FitPooled(const std::string& id,
+                                         const std::vector<fit::FitPoint>& points, bool offset,
+                                         Evidence& evidence, std::string& note) const {
+    const std::string quantity = offset ? model::kOffsetQuantity : model::kSensitivityQuantity;
+    const fit::FitOptions pooled = Pooled(id, offset, note);
+    fit::CalibrationFit c = fit::FitCalibration(points, quantity, pooled, options_.outliers);
+    if (!c.fit.ok()) {
+        evidence = {};
+        return c;
+    }
+    const std::string disagrees =
+        fit::Disagreement({id, c.fit.reference_chi2, c.fit.reference_dof},
+                          {pooled.pooled_chi2, pooled.pooled_dof}, options_.pool_alpha);
+    if (!disagrees.empty()) {
+        // Its scatter is not the others': its own evidence only; what the test left out stays out.
+        fit::CalibrationFit own = fit::FitCalibration(c.kept, quantity, options_.fit, options_.outliers);
+        own.excluded.insert(own.excluded.begin(), c.excluded.begin(), c.excluded.end());
+        c = std::move(own);
+        note = "this unit's " + disagrees + (note.empty() ? "" : "; " + note);
+    }
+    evidence = {c.fit.ok() ? c.fit.reference_chi2 : 0.0, c.fit.ok() ? c.fit.reference_dof : 0};
+    return c;
 }
 
 void FitterCore::NotYet(const std::string& id, SensorState& s, const fit::CalibrationFit& offset,

@@ -155,6 +155,44 @@ std::vector<AllanPoint> Combine(const std::vector<SegmentSums>& segments, double
     return out;
 }
 
+std::vector<SegmentSums> ScreenSegments(const std::vector<SegmentSums>& segments, double tau0_s,
+                                        const std::vector<int64_t>& grid, double alpha,
+                                        std::string& note) {
+    std::vector<SegmentSums> kept = segments;
+    const size_t max_out = segments.size() / 3;
+    size_t out = 0;
+    while (out < max_out && kept.size() >= 3) {
+        int worst = -1;
+        double worst_excess = 1.0;  // ratio over its threshold
+        const double per_test = alpha / static_cast<double>(kept.size() * grid.size());
+        for (size_t j = 0; j < grid.size(); ++j) {
+            const double m = static_cast<double>(grid[j]);
+            if (m * tau0_s < 1.0) continue;
+            double sum = 0, edf = 0;
+            int64_t terms = 0;
+            for (const SegmentSums& g : kept)
+                if (g.terms[j] > 0) sum += g.sum_sq[j], terms += g.terms[j], edf += SegmentEdf(g.bins + 1, m);
+            for (size_t k = 0; k < kept.size(); ++k) {
+                const SegmentSums& g = kept[k];
+                if (g.terms[j] == 0 || terms == g.terms[j]) continue;
+                const double e_s = SegmentEdf(g.bins + 1, m), e_r = edf - e_s;
+                const double ratio = (g.sum_sq[j] / g.terms[j]) /
+                                     ((sum - g.sum_sq[j]) / static_cast<double>(terms - g.terms[j]));
+                const double limit = std::max(4.0, fit::FUpperQuantile(per_test, e_s, e_r));
+                if (ratio / limit > worst_excess) worst_excess = ratio / limit, worst = static_cast<int>(k);
+            }
+        }
+        if (worst < 0) break;
+        kept.erase(kept.begin() + worst);
+        ++out;
+    }
+    if (out > 0)
+        note = std::to_string(out) + " of " + std::to_string(segments.size()) +
+               " still segments left out: their Allan variance is far above the others' (a "
+               "disturbance inside them?)";
+    return kept;
+}
+
 NoiseTerms FitTerms(const std::vector<SegmentSums>& segments, double tau0_s,
                     const std::vector<int64_t>& grid, double min_tau_s, double min_rrw_tau_s) {
     NoiseTerms t;

@@ -72,6 +72,18 @@ std::vector<int64_t> TauGrid(int64_t max_m);
 // The sums of one segment of bins y (length tau0_s each) at each m of `grid`.
 SegmentSums SumSegment(const std::vector<double>& y, double tau0_s, const std::vector<int64_t>& grid);
 
+// Segments that disagree with the others: a disturbance inside a still stretch (a knock, a step
+// of the offset) inflates that segment's Allan variance by orders of magnitude and would make the
+// whole unit look noisy. Under one noise process a segment's AVAR over the others' is
+// F(edf_s, edf_rest) at each tau; a segment is left out when, at some tau >= 1 s, that ratio
+// exceeds both the F quantile at alpha / (segments x taus) (Bonferroni) and 4 (an Allan deviation
+// twice the others': far beyond the change of a gyro's noise with temperature). The worst is left
+// out first and the test repeated, at most a third of the segments. Returns the segments kept;
+// `note` says what was left out.
+std::vector<SegmentSums> ScreenSegments(const std::vector<SegmentSums>& segments, double tau0_s,
+                                        const std::vector<int64_t>& grid, double alpha,
+                                        std::string& note);
+
 // Allan deviation over segments (skipping `skip` when >= 0: for the jackknife).
 std::vector<AllanPoint> Combine(const std::vector<SegmentSums>& segments, double tau0_s,
                                 const std::vector<int64_t>& grid, int skip = -1);

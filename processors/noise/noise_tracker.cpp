@@ -145,8 +145,10 @@ NoiseEstimate NoiseTracker::Estimate() const {
         e.terms.note = "no still samples yet";
         return e;
     }
-    std::vector<SegmentSums> segments = closed_;
-    if (!bins_.empty()) Segment(bins_, segments);
+    std::vector<SegmentSums> all = closed_;
+    if (!bins_.empty()) Segment(bins_, all);
+    std::string screened;
+    const std::vector<SegmentSums> segments = ScreenSegments(all, tau0_s_, grid_, 0.01, screened);
     for (const SegmentSums& s : segments) {
         e.still_s += s.length_s;
         e.longest_s = std::max(e.longest_s, s.length_s);
@@ -154,6 +156,7 @@ NoiseEstimate NoiseTracker::Estimate() const {
     e.segments = static_cast<int>(segments.size());
     e.adev = Combine(segments, tau0_s_, grid_);
     e.terms = FitTerms(segments, tau0_s_, grid_, config_.min_fit_tau_s);
+    if (!screened.empty()) e.terms.note = screened + (e.terms.note.empty() ? "" : "; " + e.terms.note);
     return e;
 }
 

@@ -11,7 +11,9 @@
 // stays within quiet_slope_c_per_min; runs shorter than min_segment_s are dropped. What is left
 // of the offset's temperature dependence inside a segment (the settling tail moves the
 // temperature by a few tenths of a degree) is taken out by regressing the bin values on the
-// segment's smoothed temperature (a line), before the Allan sums are formed.
+// segment's smoothed temperature (a line), before the Allan sums are formed. Segments whose Allan
+// variance is far above the others' (a disturbance inside them) are left out (allan.hpp:
+// ScreenSegments, alpha 0.01) and the estimate's note says so.
 // Quiet threshold 0.1 degC/min: twice the plateau criterion's slope limit, so the settling tails
 // before each plateau count (5-15 minutes per setpoint instead of the plateau's 1-2); the sensor
 // lag of a 15 s temperature line then misstates the die by at most 0.025 degC, which the

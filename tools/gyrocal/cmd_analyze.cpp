@@ -21,6 +21,7 @@
 #include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
+#include "noise/allan_plot.hpp"
 #include "query.hpp"
 #include "replay_reader.hpp"
 
@@ -70,6 +71,23 @@ std::string FindOnPath(const std::string& program) {
         start = end + 1;
     }
     return "";
+}
+
+// The unit's Allan deviation from the run's newest NOISE_<id> (noise/allan_plot.hpp), when one
+// was recorded.
+void AddAllanPlot(const st::RunDetail& d, const std::string& id, std::vector<an::PlotSet>& plots) {
+    for (const st::NoiseInfo& ni : d.noise) {
+        if (ni.noise.sensor_id != id || ni.noise.tau_s.empty()) continue;
+        const st::NoiseRow& n = ni.noise;
+        const noise::AllanPlot p = noise::MakeAllanPlot(
+            {id, n.tau_s, n.adev_v, n.adev_lo_v, n.adev_hi_v, n.arw_v_rthz, n.bias_instability_v,
+             n.rrw_v_rts, ni.sensitivity_v_per_dps});
+        an::PlotSet set;
+        for (const noise::AllanPlotFile& f : p.files) set.files.push_back({f.name, f.text});
+        set.scripts = p.scripts;
+        set.images = p.images;
+        plots.push_back(std::move(set));
+    }
 }
 
 // Runs `gnuplot script` with DIR as the working directory (scripts name files relative to it).
@@ -198,7 +216,10 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
             const an::SensorRun run = an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder,
                                                          std::move(plateaus), std::move(sens));
             results.push_back(an::Analyze(run, ao));
-            if (!o.plot_dir.empty()) plots.push_back(an::MakePlots(run, results.back(), ao));
+            if (!o.plot_dir.empty()) {
+                plots.push_back(an::MakePlots(run, results.back(), ao));
+                AddAllanPlot(detail, id, plots);
+            }
             end_utimes.push_back(run.still.empty() ? 0 : run.still.back().utime);
         }
         if (results.empty()) {

@@ -65,13 +65,23 @@ TEST(Outliers, CleanSetsRarelyLoseAPoint) {
     EXPECT_LE(lost_pooled, 38);
 }
 
+// With other units' evidence pooled (c ~ 1 on 9 more dof, as three clean units bring) a point
+// 30 sigma off is excluded. Alone, c rests on the cubic reference's 2 dof (6 points left), the
+// threshold is t_2 at 0.01/7 = 26.4: only a point ~40 sigma off stands out.
 TEST(Outliers, APointThirtySigmaOffIsExcludedNamedAndTheFitRecovers) {
     std::mt19937_64 rng(11);
     auto pts = testing::Points(kTruth, kSeven, {2e-5}, rng);
     pts[3].y += 30 * 2e-5;  // 20 degC
-    const CalibrationFit c = FitCalibration(pts, "offset_v", FitOptions{});
+    EXPECT_TRUE(FitCalibration(pts, "offset_v", FitOptions{}).excluded.empty());
+    auto far = pts;
+    far[3].y += 30 * 2e-5;  // 60 sigma
+    EXPECT_EQ(FitCalibration(far, "offset_v", FitOptions{}).excluded.size(), 1u);
+    FitOptions pooled;
+    pooled.pooled_chi2 = 9.0;
+    pooled.pooled_dof = 9;
+    const CalibrationFit c = FitCalibration(pts, "offset_v", pooled);
     ASSERT_TRUE(c.complete);
-    ASSERT_EQ(c.excluded.size(), 1u);
+    ASSERT_EQ(c.excluded.size(), 1u) << c.outlier_check;
     EXPECT_EQ(c.excluded[0].id, pts[3].id);
     EXPECT_GT(std::abs(c.excluded[0].statistic), c.excluded[0].threshold);
     EXPECT_NE(c.excluded[0].reason.find("leave-one-out"), std::string::npos);
@@ -85,7 +95,7 @@ TEST(Outliers, APointThirtySigmaOffIsExcludedNamedAndTheFitRecovers) {
     // AND with the test off the point is kept and pulls the curve by far more than that
     OutlierOptions off;
     off.enabled = false;
-    const CalibrationFit kept = FitCalibration(pts, "offset_v", FitOptions{}, off);
+    const CalibrationFit kept = FitCalibration(pts, "offset_v", pooled, off);
     EXPECT_TRUE(kept.excluded.empty());
     EXPECT_EQ(kept.outlier_check, "not checked (disabled)");
 }

@@ -118,6 +118,34 @@ TEST(Tracker, RampsMotionAndGapsAreNotNoise) {
     EXPECT_EQ(tr.Estimate().segments, 0);
 }
 
+// A step of the offset inside one still stretch (a disturbance) must not make the unit look
+// noisy: that segment is left out; a segment 30 % noisier (noise that changes with temperature)
+// is not.
+TEST(Tracker, ASegmentWithAStepIsLeftOutAndOneSomewhatNoisierIsNot) {
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> n(0.0, 1e-3);
+    NoiseTracker tr(TrackerConfig::Defaults());
+    int64_t seq = 0, t_us = 0;
+    for (int s = 0; s < 6; ++s) {
+        const double scale = s == 2 ? 1.3 : 1.0;
+        for (int k = 0; k < 30000; ++k) {
+            const double step = (s == 4 && k > 15000) ? 3e-3 : 0.0;
+            tr.Add({t_us, seq++, 2.5 + step + scale * n(rng), 25.0, false});
+            t_us += 10000;
+        }
+        tr.Add({t_us, seq++, 2.5, 25.0, true});  // a turn between stretches
+        t_us += 10000;
+    }
+    const NoiseEstimate e = tr.Estimate();
+    EXPECT_EQ(e.segments, 5);  // the ones used
+    EXPECT_NE(e.terms.note.find("1 of 6 still segments left out"), std::string::npos) << e.terms.note;
+    // white noise of 1e-3 per 10 ms sample: B stays far below the step's ~1e-3 signature
+    EXPECT_LT(e.terms.bias, 1e-5);
+    for (const AllanPoint& p : e.adev)
+        if (p.tau_s >= 1 && p.tau_s <= 30)
+            EXPECT_LT(p.adev, 1.3 * 1e-3 * std::sqrt(0.01 / p.tau_s) * 1.25) << p.tau_s;
+}
+
 TEST(Tracker, BadConfigurationIsRefusedNamingTheOption) {
     TrackerConfig c;
     c.quiet_slope_c_per_min = 0;

@@ -38,13 +38,18 @@ int Index(const std::string& text, const std::string& what) {
 
 Disturbance ParseDisturbance(const std::string& text) {
     const auto f = Split(text, ':');
-    if (f.size() != 2 && f.size() != 3)
+    if (f.size() != 2 && f.size() != 3 && f.size() != 5)
         throw std::invalid_argument("--disturb '" + text +
-                                    "': expected DWELL:VOLTS or DWELL:SENSOR:VOLTS");
+                                    "': expected DWELL:VOLTS, DWELL:SENSOR:VOLTS or "
+                                    "DWELL:SENSOR:VOLTS:START_S:DURATION_S");
     Disturbance d;
     d.dwell_index = Index(f[0], "--disturb dwell");
-    if (f.size() == 3) d.sensor_id = f[1];
-    d.offset_v = Number(f.back(), "--disturb volts");
+    if (f.size() >= 3) d.sensor_id = f[1];
+    d.offset_v = Number(f[f.size() == 2 ? 1 : 2], "--disturb volts");
+    if (f.size() == 5) {
+        d.start_after_s = Number(f[3], "--disturb start");
+        d.duration_s = Number(f[4], "--disturb duration");
+    }
     return d;
 }
 
@@ -102,7 +107,9 @@ void AddOptions(CLI::App& app, Options& o, CliValues& v) {
         ->capture_default_str();
     app.add_flag("--no-supply", v.no_supply, "leave the supply_v column out");
     app.add_option("--disturb", v.disturb,
-                   "DWELL[:SENSOR]:VOLTS offset shift during that dwell (0-based), repeatable");
+                   "DWELL[:SENSOR]:VOLTS[:START_S:DURATION_S] offset shift during that dwell "
+                   "(0-based; SENSOR empty = all; default from the dwell's start to its turns), "
+                   "repeatable");
     app.add_option("--slip", v.slip, "TURN:DEG the encoder slips during that turn, repeatable");
 }
 

@@ -22,7 +22,8 @@ void AddOptions(CLI::App& app, Options& o, CliValues& v);
 // Completes `o` from `v` (profile, faults, supply); "" when all is valid, else the error naming
 // the option.
 std::string Finish(Options& o, CliValues& v);
-// "3:U2:0.004" (dwell 3, unit U2, 4 mV) or "3:0.004" (every unit). Throws invalid_argument.
+// "3:U2:0.004" (dwell 3, unit U2, 4 mV), "3:0.004" (every unit), "3:U2:0.004:100:200" (from
+// 100 s into the dwell for 200 s). Throws invalid_argument.
 Disturbance ParseDisturbance(const std::string& text);
 // "5:2.5" (turn 5 loses 2.5 deg). Throws invalid_argument.
 Slip ParseSlip(const std::string& text);
