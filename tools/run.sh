@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian bookworm machine:
-#   tools/run.sh calibrate [gyrocal calibrate options]   set up, build, run a simulated calibration
+#   tools/run.sh calibrate [gyrocal calibrate options]   set up, build, run a simulated calibration,
+#                                                        judge it by tools/acceptance/limits.json and
+#                                                        write its report (reports/, path printed)
 #   tools/run.sh test                                    set up, build, run every test (CTest)
 #   tools/run.sh setup                                   set up and build only
+#   tools/run.sh sanitize [asan|tsan|fast]               the tests under sanitizers (below)
+#   tools/run.sh fuzz [--seconds N] [HARNESS...]         run the fuzz harnesses (tests/fuzz/run.sh)
 # Set-up installs what is missing with apt-get (needs root or sudo) and is quick when all is there.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -16,7 +20,11 @@ packages=(build-essential cmake pkg-config git
           liblcm-dev liblcm-bin liblcm-java libglib2.0-dev
           libeigen3-dev libsqlite3-dev sqlite3 libcli11-dev nlohmann-json3-dev
           libgtest-dev libgmock-dev libbenchmark-dev
-          default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2)
+          default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2
+          libssl-dev chromium clang libclang-rt-14-dev e2fsprogs)
+# libssl-dev: SHA-256 of CSV/log inputs. chromium: the report's browser test. clang,
+# libclang-rt-14-dev: libFuzzer for tools/run.sh fuzz. e2fsprogs: mkfs.ext4 and chattr for the
+# read-only database test (tests/store/recorder/storage_fault_test.cpp).
 
 install_missing() {
     local missing=()
@@ -61,13 +69,79 @@ build_all() {
     cmake --build "$build" -j "$jobs"
 }
 
+# Sanitizer builds, each in its own folder, with clang (GCC 12's UBSan reports a false
+# "misaligned address"/"invalid vptr" inside LCM's own header, at its pointer-to-member call in
+# lcm-cpp-impl.hpp; clang's does not), -O1 with asserts on; a finding aborts the test:
+#   asan  ASan+UBSan, every test (build-asan)
+#   fast  ASan+UBSan, the unit tests of the pure libraries, the store and the fuzz inputs
+#         (build-asan, only their targets): what CI runs, a few minutes
+#   tsan  TSan, the threaded parts: the bus, the batching writer and the real recorder
+#         (build-tsan, only their targets)
+# Suppressions (tools/sanitizers/*.supp) cover third-party code only, each with its reason.
+# fast: the code that reads what comes from outside (bus decode, CSV and line parsers, the
+# store and its writer, the recorder's mapper, every fuzz input) within CI's time budget.
+fast_tests=(lcmtypes_bus_test lcmtypes_roundtrip_test model_unit_tests compensator_unit_tests
+            gyrocal_csv_parser_test gyrocal_csv_messages_test store_db_test
+            store_storage_fault_test store_record_mapper_test store_writer_watch_test
+            fuzz_replay_test)
+tsan_tests=(lcmtypes_bus_test lcmtypes_bus_multiprocess_test store_db_test store_storage_fault_test
+            store_recorder_process_test store_recorder_fault_test store_recorder_crash_test)
+
+# Runs test executables one by one (bounded time each); prints "N passed, M failed".
+run_test_binaries() {
+    local dir="$1"; shift
+    local passed=0 failed=0 t
+    for t in "$@"; do
+        if timeout 600 "$dir/bin/$t" >"$dir/$t.log" 2>&1; then
+            passed=$((passed + 1)); echo "run.sh: $t passed"
+        else
+            failed=$((failed + 1)); echo "run.sh: $t FAILED (log $dir/$t.log):"; tail -n 40 "$dir/$t.log"
+        fi
+    done
+    echo "sanitize: $passed passed, $failed failed"
+    [ "$failed" -eq 0 ]
+}
+
+sanitize() {
+    local mode="${1:-asan}" dir flags
+    case "$mode" in
+        asan|fast) dir="$here/build-asan"; flags="address,undefined" ;;
+        tsan)      dir="$here/build-tsan"; flags="thread" ;;
+        *) echo "usage: tools/run.sh sanitize [asan|tsan|fast]" >&2; exit 2 ;;
+    esac
+    command -v clang++ >/dev/null || die "clang++ not found: apt-get install clang libclang-rt-14-dev"
+    cmake -S "$here" -B "$dir" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+          -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DGYROCAL_SANITIZE="$flags" \
+          -DGYROCAL_BENCHMARKS=OFF >/dev/null
+    local supp="$here/tools/sanitizers"
+    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
+    export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+    export TSAN_OPTIONS="suppressions=$supp/tsan.supp:halt_on_error=1:second_deadlock_stack=1"
+    case "$mode" in
+        asan) cmake --build "$dir" -j "$jobs"
+              (cd "$dir" && ctest --output-on-failure -j "$jobs") ;;
+        fast) cmake --build "$dir" -j "$jobs" --target "${fast_tests[@]}"
+              run_test_binaries "$dir" "${fast_tests[@]}" ;;
+        tsan) cmake --build "$dir" -j "$jobs" --target "${tsan_tests[@]}"
+              run_test_binaries "$dir" "${tsan_tests[@]}" ;;
+    esac
+}
+
 cmd="${1:-}"
 [ $# -gt 0 ] && shift
 case "$cmd" in
     setup)     install_missing; check_multicast; build_all ;;
     calibrate) install_missing; check_multicast; build_all
-               exec "$build/bin/gyrocal" calibrate --db "${GYROCAL_DB:-$here/gyrocal.db}" "$@" ;;
+               # Example limits and the report of the run, unless the caller chose their own.
+               extra=()
+               case " $* " in *" --limits"*) ;; *) extra+=(--limits "$here/tools/acceptance/limits.json") ;; esac
+               case " $* " in *" --report"*) ;; *) extra+=(--report "${GYROCAL_REPORT_DIR:-$here/reports}") ;; esac
+               exec "$build/bin/gyrocal" calibrate --db "${GYROCAL_DB:-$here/gyrocal.db}" "${extra[@]}" "$@" ;;
     test)      install_missing; check_multicast; build_all
                cd "$build" && exec ctest --output-on-failure -j "$jobs" "$@" ;;
-    *) echo "usage: tools/run.sh calibrate [options] | test [ctest options] | setup" >&2; exit 2 ;;
+    sanitize)  install_missing; check_multicast; sanitize "$@" ;;
+    fuzz)      install_missing; exec "$here/tests/fuzz/run.sh" "$@" ;;
+    *) echo "usage: tools/run.sh calibrate [options] | test [ctest options] | setup |" \
+            "sanitize [asan|tsan|fast] | fuzz [--seconds N] [HARNESS...]" >&2; exit 2 ;;
 esac

@@ -17,6 +17,32 @@ std::string BusOptions::ResolvedUrl() const {
     return kDefaultLcmUrl;
 }
 
+std::optional<UdpmAddress> ParseUdpm(const std::string& url) {
+    const std::string scheme = "udpm://";
+    if (url.rfind(scheme, 0) != 0) return std::nullopt;
+    const std::string rest = url.substr(scheme.size());
+    const size_t q = rest.find('?');
+    const std::string hostport = rest.substr(0, q);
+    UdpmAddress a;
+    a.options = q == std::string::npos ? "" : rest.substr(q + 1);
+    const size_t colon = hostport.find(':');
+    a.group = hostport.substr(0, colon);
+    in_addr probe{};
+    if (a.group.empty() || inet_pton(AF_INET, a.group.c_str(), &probe) != 1) return std::nullopt;
+    if (colon != std::string::npos) {
+        const std::string port = hostport.substr(colon + 1);
+        if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos)
+            return std::nullopt;
+        a.port = std::stoi(port);
+        if (a.port < 1 || a.port > 65535) return std::nullopt;
+    }
+    return a;
+}
+
+std::string FormatUdpm(const UdpmAddress& a) {
+    return "udpm://" + a.group + ":" + std::to_string(a.port) + (a.options.empty() ? "" : "?" + a.options);
+}
+
 namespace {
 
 const char* kRouteFix =

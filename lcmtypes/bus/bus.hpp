@@ -18,10 +18,12 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "decode.hpp"
 #include "seq_tracker.hpp"
 
 namespace gyrocal {
@@ -36,6 +38,18 @@ struct BusOptions {
     static BusOptions Defaults() { return {}; }
     std::string ResolvedUrl() const;
 };
+
+// The multicast group and port of a udpm:// URL (LCM's default port 7667 when it names none):
+// what tells one bus from another (a lab's chambers use one port each; TTL and buffer options do
+// not make another bus). nullopt for any other provider or a malformed URL.
+struct UdpmAddress {
+    std::string group;  // dotted IPv4, e.g. "239.255.76.67"
+    int port = 7667;
+    std::string options;  // what follows '?', without it ("" when none)
+    bool operator==(const UdpmAddress& o) const { return group == o.group && port == o.port; }
+};
+std::optional<UdpmAddress> ParseUdpm(const std::string& url);
+std::string FormatUdpm(const UdpmAddress& a);  // back to a URL, options kept
 
 // Thrown when LCM cannot be opened; what() says what to do about it.
 class BusError : public std::runtime_error {
@@ -107,15 +121,7 @@ void Bus::Subscribe(const std::string& channel_regex,
     AddSubscription(channel_regex, [this, handler = std::move(handler)](
                                        const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         Msg msg;
-        int decoded = -1;
-        try {
-            decoded = msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size));
-        } catch (const std::exception&) {
-            // lcm-gen's C++ decode sizes vectors from the payload: a corrupt or hostile length
-            // field throws (length_error, bad_alloc). That is bad input, not a bug here.
-            decoded = -1;
-        }
-        if (decoded < 0) {
+        if (!DecodeMessage(msg, rbuf.data, static_cast<int>(rbuf.data_size))) {
             ++counters_.decode_errors;
             counters_.last_decode_error =
                 "channel " + channel + ": payload is not a valid " + Msg::getTypeName();

@@ -56,8 +56,8 @@ void StatusReporter::PublishNow() {
     s.state = state_;
     s.received = c.received;
     s.published = c.published + 1;  // counts this heartbeat too
-    s.decode_errors = c.decode_errors;
-    s.seq_gaps = c.seq_gaps;
+    s.decode_errors = c.decode_errors + decode_errors_;
+    s.seq_gaps = c.seq_gaps + seq_gaps_;
     s.queue_drops = queue_drops_;
     s.rejected = rejected_;
     s.last_reject = last_reject_.empty() ? c.last_decode_error : last_reject_;

@@ -36,6 +36,10 @@ public:
     // A decoded message refused by a guard: counted, reason kept for STATUS, warned (rate-limited).
     void Reject(const std::string& reason_key, const std::string& detail);
     void AddQueueDrops(int64_t n) { queue_drops_ += n; }
+    // Loss a process finds itself beyond its bus's typed subscriptions (the recorder decodes raw
+    // bytes): added to the bus's own counts in STATUS.
+    void AddSeqGaps(int64_t n) { seq_gaps_ += n; }
+    void AddDecodeErrors(int64_t n) { decode_errors_ += n; }
     void SetExtra(const std::string& name, double value) { extra_[name] = value; }
     int64_t rejected() const { return rejected_; }
 
@@ -51,6 +55,8 @@ private:
     std::string state_ = "starting";
     int64_t rejected_ = 0;
     int64_t queue_drops_ = 0;
+    int64_t seq_gaps_ = 0;
+    int64_t decode_errors_ = 0;
     std::string last_reject_;
     std::map<std::string, double> extra_;
     RateLimitedLog log_;

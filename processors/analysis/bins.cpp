@@ -5,54 +5,46 @@
 
 namespace gyrocal::analysis {
 
-model::ModelInputs Bin::Inputs(int64_t first_sample_utime) const {
-    model::ModelInputs in;
-    in.temp_c = temp_c;
-    in.dtemp_dt_c_per_s = dtemp_dt_c_per_s;
-    in.supply_v = supply_v;
-    in.heating = heating;
-    in.time_since_power_s = (mid_utime - static_cast<double>(first_sample_utime)) * 1e-6;
-    return in;
-}
-
 double SamplePeriodS(const SensorRun& run) {
-    if (run.still.size() < 2) return 0.0;
+    if (run.samples.size() < 2) return 0.0;
     std::vector<int64_t> d;
-    d.reserve(run.still.size() - 1);
-    for (size_t i = 1; i < run.still.size(); ++i)
-        d.push_back(run.still[i].utime - run.still[i - 1].utime);
+    d.reserve(run.samples.size() - 1);
+    for (size_t i = 1; i < run.samples.size(); ++i)
+        d.push_back(run.samples[i].utime - run.samples[i - 1].utime);
     std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
     return d[d.size() / 2] * 1e-6;
-}
-
-double BranchTracker::Update(double temp_c) {
-    if (!std::isfinite(temp_c)) return branch_;
-    if (!std::isfinite(memory_c_)) memory_c_ = temp_c;
-    if (temp_c > memory_c_ + half_width_c_) {
-        memory_c_ = temp_c - half_width_c_;
-        branch_ = 1.0;
-    } else if (temp_c < memory_c_ - half_width_c_) {
-        memory_c_ = temp_c + half_width_c_;
-        branch_ = -1.0;
-    }
-    return branch_;
 }
 
 namespace {
 
 struct Acc {
     int64_t cell = -1;
-    int n = 0, n_supply = 0;
-    double t0_s = 0, st = 0, stt = 0, sT = 0, stT = 0, sv = 0, ss = 0;
-    double sum_utime = 0;
+    int n = 0, n_supply = 0, n_moving = 0;
+    double sT = 0, sv = 0, ss = 0, sum_utime = 0;
+    std::vector<size_t> members;
+};
+
+// Power-on time in force at each sample: the latest record not after it, else the first sample.
+class PowerCursor {
+public:
+    explicit PowerCursor(const SensorRun& run) : run_(run) {}
+    // Feeds `tracker` the power-on of a sample at utime (new power cycles as they start).
+    void At(int64_t utime, model::InputTracker& tracker) {
+        while (next_ < run_.power_on_utimes.size() && run_.power_on_utimes[next_] <= utime)
+            tracker.PowerOn(run_.power_on_utimes[next_++]);
+    }
+
+private:
+    const SensorRun& run_;
+    size_t next_ = 0;
 };
 
 }  // namespace
 
-std::vector<Bin> MakeBins(const SensorRun& run, const BinOptions& o) {
-    std::vector<Bin> bins;
+BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin_s_(o.bin_s) {
+    bin_of_sample_.assign(run.samples.size(), -1);
     const double period_s = SamplePeriodS(run);
-    if (period_s <= 0.0 || !(o.bin_s > 0.0)) return bins;
+    if (period_s <= 0.0 || !(o.bin_s > 0.0)) return;
     const auto bin_us = static_cast<int64_t>(std::llround(o.bin_s * 1e6));
     const double expected = o.bin_s / period_s;
     const int64_t origin = run.first_sample_utime;
@@ -60,7 +52,7 @@ std::vector<Bin> MakeBins(const SensorRun& run, const BinOptions& o) {
     int segment = -1;
     Acc a;
     auto flush = [&]() {
-        if (a.n == 0 || a.n < o.min_fill * expected) return;
+        if (a.n == 0 || a.n_moving > 0 || a.n < o.min_fill * expected) return;
         Bin b;
         b.start_utime = origin + a.cell * bin_us;
         b.end_utime = b.start_utime + bin_us;
@@ -69,96 +61,131 @@ std::vector<Bin> MakeBins(const SensorRun& run, const BinOptions& o) {
         b.temp_c = a.sT / a.n;
         b.gyro_v = a.sv / a.n;
         b.supply_v = a.n_supply == a.n ? a.ss / a.n : kNan;
-        const double tm = a.st / a.n;
-        const double sxx = a.stt - a.n * tm * tm;
-        b.within_slope_c_per_s = sxx > 0 ? (a.stT - a.n * tm * b.temp_c) / sxx : kNan;
         if (a.cell != last_cell + 1) ++segment;
         b.segment = segment;
         last_cell = a.cell;
-        bins.push_back(b);
+        for (size_t k : a.members) bin_of_sample_[k] = static_cast<int>(bins_.size());
+        bins_.push_back(b);
     };
-    for (const GyroSample& s : run.still) {
+    for (size_t k = 0; k < run.samples.size(); ++k) {
+        const GyroSample& s = run.samples[k];
         const int64_t cell = (s.utime - origin) / bin_us;
         if (cell != a.cell) {
             flush();
             a = Acc{};
             a.cell = cell;
-            a.t0_s = (origin + cell * bin_us) * 1e-6;
         }
-        const double t = s.utime * 1e-6 - a.t0_s;  // seconds inside the cell: well conditioned
+        if (!run.still[k]) {
+            ++a.n_moving;  // a bin with a move inside is not still data
+            continue;
+        }
         ++a.n;
+        a.members.push_back(k);
         a.sum_utime += static_cast<double>(s.utime);
-        a.st += t;
-        a.stt += t * t;
         a.sT += s.temp_c;
-        a.stT += t * s.temp_c;
         a.sv += s.gyro_v;
-        if (std::isfinite(s.supply_v)) {
-            ++a.n_supply;
-            a.ss += s.supply_v;
-        }
+        if (std::isfinite(s.supply_v)) ++a.n_supply, a.ss += s.supply_v;
     }
     flush();
-
-    for (size_t i = 0; i < bins.size(); ++i) {
-        const bool prev = i > 0 && bins[i - 1].segment == bins[i].segment;
-        const bool next = i + 1 < bins.size() && bins[i + 1].segment == bins[i].segment;
-        const Bin* lo = prev ? &bins[i - 1] : &bins[i];
-        const Bin* hi = next ? &bins[i + 1] : &bins[i];
-        if (lo != hi)
-            bins[i].dtemp_dt_c_per_s =
-                (hi->temp_c - lo->temp_c) / ((hi->mid_utime - lo->mid_utime) * 1e-6);
-        else
-            bins[i].dtemp_dt_c_per_s = bins[i].within_slope_c_per_s;
+    // Time since power-on per bin: the tracker's, averaged (power cycles included).
+    std::vector<double> since(bins_.size(), 0.0);
+    model::InputTracker t;
+    PowerCursor power(run);
+    for (size_t k = 0; k < run.samples.size(); ++k) {
+        power.At(run.samples[k].utime, t);
+        const model::ModelInputs in = t.Update(run.samples[k].utime, run.samples[k].temp_c, kNan);
+        if (bin_of_sample_[k] >= 0) since[static_cast<size_t>(bin_of_sample_[k])] += in.time_since_power_s;
     }
-    BranchTracker branch(o.branch_width_c);
-    for (Bin& b : bins) b.heating = branch.Update(b.temp_c);
+    for (size_t i = 0; i < bins_.size(); ++i) bins_[i].time_since_power_s = since[i] / bins_[i].n;
     for (size_t p = 0; p < run.plateaus.size(); ++p)
-        for (Bin& b : bins)
+        for (Bin& b : bins_)
             if (b.start_utime >= run.plateaus[p].start_utime &&
                 b.end_utime <= run.plateaus[p].end_utime)
                 b.plateau = static_cast<int>(p);
-    return bins;
 }
 
-Floor NoiseFloor(const SensorRun& run, const std::vector<Bin>& bins, double bin_s,
-                 const std::vector<double>* values) {
+const BinnedRun::Tracked& BinnedRun::Track(const gyrocal_tracker_config_t& c) const {
+    const auto key = std::make_pair(c.rate_tau_s, c.branch_width_c);
+    if (auto it = tracked_.find(key); it != tracked_.end()) return it->second;
+    Tracked t;
+    t.rate.assign(bins_.size(), 0.0);
+    t.branch.assign(bins_.size(), 0.0);
+    t.heating.assign(bins_.size(), 0.0);
+    model::InputTracker tracker(c);
+    PowerCursor power(run_);
+    for (size_t k = 0; k < run_.samples.size(); ++k) {
+        const GyroSample& s = run_.samples[k];
+        power.At(s.utime, tracker);
+        const model::ModelInputs in = tracker.Update(s.utime, s.temp_c, s.supply_v);
+        const int b = bin_of_sample_[k];
+        if (b < 0) continue;
+        t.rate[static_cast<size_t>(b)] += in.dtemp_dt_c_per_s;
+        t.branch[static_cast<size_t>(b)] += in.branch;
+        t.heating[static_cast<size_t>(b)] += in.heating;
+    }
+    for (size_t i = 0; i < bins_.size(); ++i) {
+        t.rate[i] /= bins_[i].n;
+        t.branch[i] /= bins_[i].n;
+        t.heating[i] /= bins_[i].n;
+    }
+    return tracked_.emplace(key, std::move(t)).first->second;
+}
+
+model::ModelInputs BinnedRun::Inputs(size_t i, const gyrocal_tracker_config_t& c) const {
+    const Tracked& t = Track(c);
+    const Bin& b = bins_[i];
+    model::ModelInputs in;
+    in.temp_c = b.temp_c;
+    in.dtemp_dt_c_per_s = t.rate[i];
+    in.rate_tau_s = c.rate_tau_s;
+    in.supply_v = b.supply_v;
+    in.branch = t.branch[i];
+    in.heating = t.heating[i];
+    in.branch_width_c = c.branch_width_c;
+    in.direction = 0.0;  // at rest: a direction term contributes nothing
+    in.time_since_power_s = b.time_since_power_s;
+    return in;
+}
+
+Eigen::VectorXd BinnedRun::Column(const std::string& term, double t0_c) const {
+    model::Model one;
+    one.term_names = {term};
+    const gyrocal_tracker_config_t c = model::TrackerConfigFor(one);
+    const model::ResolvedTerm t = model::ResolveTerms({term}).front();
+    Eigen::VectorXd col(static_cast<Eigen::Index>(bins_.size()));
+    for (size_t i = 0; i < bins_.size(); ++i) {
+        const model::ModelInputs in = Inputs(i, c);
+        col[static_cast<Eigen::Index>(i)] = t(in.temp_c - t0_c, in);
+    }
+    return col;
+}
+
+Eigen::MatrixXd BinnedRun::Design(const std::vector<std::string>& terms, double t0_c) const {
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(bins_.size()), static_cast<Eigen::Index>(terms.size()));
+    for (size_t j = 0; j < terms.size(); ++j) x.col(static_cast<Eigen::Index>(j)) = Column(terms[j], t0_c);
+    return x;
+}
+
+Eigen::VectorXd BinnedRun::Values(const model::Model& m) const {
+    const model::Evaluator ev(m);
+    const gyrocal_tracker_config_t c = model::TrackerConfigFor(m);
+    Eigen::VectorXd v(static_cast<Eigen::Index>(bins_.size()));
+    for (size_t i = 0; i < bins_.size(); ++i)
+        v[static_cast<Eigen::Index>(i)] = ev.Value(Inputs(i, c), model::RangePolicy::kExtrapolate);
+    return v;
+}
+
+Floor NoiseFloor(const std::vector<Bin>& bins, const Eigen::VectorXd& values) {
     Floor f;
-    auto value = [&](size_t i) { return values ? (*values)[i] : bins[i].gyro_v; };
     double ss = 0.0;
-    for (size_t p = 0; p < run.plateaus.size(); ++p) {
-        double sum = 0.0;
-        int n = 0;
-        for (size_t i = 0; i < bins.size(); ++i)
-            if (bins[i].plateau == static_cast<int>(p)) {
-                sum += value(i);
-                ++n;
-            }
-        if (n < 3) continue;
-        const double mean = sum / n;
-        for (size_t i = 0; i < bins.size(); ++i)
-            if (bins[i].plateau == static_cast<int>(p)) ss += (value(i) - mean) * (value(i) - mean);
-        f.dof += n - 1;
+    for (size_t i = 1; i < bins.size(); ++i) {
+        if (bins[i].segment != bins[i - 1].segment) continue;
+        const double d = values[static_cast<Eigen::Index>(i)] - values[static_cast<Eigen::Index>(i - 1)];
+        if (!std::isfinite(d)) continue;
+        ss += d * d;
+        ++f.pairs;
     }
-    if (f.dof > 0) {
-        f.offset_rms_v = std::sqrt(ss / f.dof);
-        return f;
-    }
-    // sem * sqrt(window length / bin length): the standard error scaled to one bin.
-    double sv = 0.0;
-    int k = 0;
-    for (const PlateauInput& p : run.plateaus) {
-        const double window_s = (p.end_utime - p.start_utime) * 1e-6;
-        if (!(p.gyro_sem_v > 0.0) || !(window_s > 0.0)) continue;
-        const double v = p.gyro_sem_v * std::sqrt(window_s / bin_s);
-        sv += v * v;
-        ++k;
-    }
-    if (k > 0) {
-        f.offset_rms_v = std::sqrt(sv / k);
-        f.from_standard_errors = true;
-        f.dof = k;
-    }
+    if (f.pairs > 0) f.offset_rms_v = std::sqrt(ss / (2.0 * f.pairs));
     return f;
 }
 

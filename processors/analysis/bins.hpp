@@ -8,78 +8,90 @@
 // rate random walk, a slow supply or chamber wobble): bins do not remove it, so the tests that
 // use them account for residual autocorrelation explicitly (regress.hpp).
 // Bins sit on a grid from the first sample; a bin is kept only when it is filled to min_fill of
-// its expected samples (no move, no gap inside). Consecutive kept bins form a segment.
+// its expected samples with samples at rest (no move, no gap inside). Consecutive kept bins form
+// a segment.
 //
-// Per-bin regressors, each computed from MEASURED data only (never from a truth):
-//   dtemp_dt_c_per_s: central difference of the neighbouring bins' mean temperatures (a 2-bin
-//     window: unbiased on a ramp, noise ~ sem(T)/bin_s), one-sided at a segment edge, the
-//     within-bin slope for a lone bin;
-//   heating: a play operator of width branch_width_c on the bin temperatures: +1 once the
-//     temperature has risen by half the width from its last extreme, -1 once fallen, 0 before
-//     either (the branch is unknown at power-on);
-//   time_since_power_s: bin centre minus the run's first sample.
+// Model inputs of a bin: the means over its samples of the inputs the trackers of
+// model/inputs.hpp give at each sample - the very trackers the compensators run - fed with EVERY
+// sample of the run from the power-on (at rest or not), so that a coefficient fitted here means
+// what the compensators apply. Inputs that depend on a tracker parameter (dT/dt time constant,
+// branch width) are tracked once per parameter asked for. A term's value in a bin is the term at
+// the bin's mean inputs (terms that are not linear in their input, dT^2 or warm-up, differ from the
+// mean of the per-sample values by far less than the noise: (bin_s / tau)^2 / 24 relative).
+#include <Eigen/Dense>
 #include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
-#include "model/terms.hpp"
+#include "model/inputs.hpp"
 #include "run_data.hpp"
 
 namespace gyrocal::analysis {
 
 struct Bin {
-    int64_t start_utime = 0;             // [us] grid cell
-    int64_t end_utime = 0;               // [us]
-    double mid_utime = 0.0;              // [us] mean sample time
-    int n = 0;                           // samples
-    double temp_c = kNan;                // [degC] mean
-    double gyro_v = kNan;                // [V] mean
-    double supply_v = kNan;              // [V] mean; NaN when any sample lacks it
-    double within_slope_c_per_s = kNan;  // [degC/s] least-squares slope inside the bin
-    double dtemp_dt_c_per_s = kNan;      // [degC/s]
-    double heating = 0.0;                // [1] +1 heating, -1 cooling, 0 unknown
-    int segment = 0;                     // index of the run of consecutive bins
-    int plateau = -1;                    // index into SensorRun::plateaus when inside its window
-    model::ModelInputs Inputs(int64_t first_sample_utime) const;
+    int64_t start_utime = 0;           // [us] grid cell
+    int64_t end_utime = 0;             // [us]
+    double mid_utime = 0.0;            // [us] mean sample time
+    int n = 0;                         // samples
+    double temp_c = kNan;              // [degC] mean
+    double gyro_v = kNan;              // [V] mean
+    double supply_v = kNan;            // [V] mean; NaN when any sample lacks it
+    double time_since_power_s = kNan;  // [s] mean
+    int segment = 0;                   // index of the run of consecutive bins
+    int plateau = -1;                  // index into SensorRun::plateaus when inside its window
 };
 
 struct BinOptions {
-    double bin_s = 10.0;          // [s]
-    double min_fill = 0.8;        // [1] kept when n >= min_fill * expected
-    double branch_width_c = 1.0;  // [degC] play-operator width for the heating/cooling branch
+    double bin_s = 10.0;     // [s]
+    double min_fill = 0.8;   // [1] kept when n >= min_fill * expected
     static BinOptions Defaults() { return {}; }
 };
 
-// The run's nominal sample period [s] (median of still-sample spacings), 0 when < 2 samples.
+// The run's nominal sample period [s] (median of sample spacings), 0 when < 2 samples.
 double SamplePeriodS(const SensorRun& run);
 
-std::vector<Bin> MakeBins(const SensorRun& run, const BinOptions& options);
-
-// Heating/cooling branch by a play operator (what a live compensator runs on temp_c too).
-class BranchTracker {
+class BinnedRun {
 public:
-    explicit BranchTracker(double width_c) : half_width_c_(0.5 * width_c) {}
-    // Returns +1 (heating), -1 (cooling) or 0 (not yet known) after this temperature.
-    double Update(double temp_c);
+    // Keeps a reference to `run`: it must outlive this object.
+    BinnedRun(const SensorRun& run, const BinOptions& options);
+
+    const std::vector<Bin>& bins() const { return bins_; }
+    size_t size() const { return bins_.size(); }
+    const SensorRun& run() const { return run_; }
+    double bin_s() const { return bin_s_; }
+
+    // The inputs of bin i as trackers with `config` give them (means over its samples).
+    model::ModelInputs Inputs(size_t i, const gyrocal_tracker_config_t& config) const;
+    // The value of one registry term in every bin (tracked with the parameter the term names).
+    // Throws model::ModelError on an unknown term.
+    Eigen::VectorXd Column(const std::string& term, double t0_c) const;
+    Eigen::MatrixXd Design(const std::vector<std::string>& terms, double t0_c) const;
+    // A model's value in every bin (its own tracker configuration), extrapolated outside range.
+    Eigen::VectorXd Values(const model::Model& model) const;
 
 private:
-    double half_width_c_;
-    double memory_c_ = kNan;
-    double branch_ = 0.0;
+    struct Tracked {
+        std::vector<double> rate, branch, heating;  // bin means
+    };
+    const Tracked& Track(const gyrocal_tracker_config_t& config) const;
+
+    const SensorRun& run_;
+    double bin_s_;
+    std::vector<Bin> bins_;
+    std::vector<int> bin_of_sample_;  // -1 = not in a kept bin
+    mutable std::map<std::pair<double, double>, Tracked> tracked_;  // by (tau, width)
 };
 
-// Noise floor the data allows, from the scatter of bin means inside plateau windows (pooled over
-// plateaus with >= 3 bins, each plateau's own mean removed): the offset RMS a perfect model would
-// leave at this bin size. Falls back to the plateaus' standard errors scaled to the bin length
-// (white-noise assumption) when no plateau holds 3 bins. NaN when neither is possible.
+// Noise floor of a per-bin series (residuals of a model): the Allan deviation at the bin length,
+// sqrt(sum (v[i+1] - v[i])^2 / (2 m)) over the m pairs of consecutive bins in one segment. A model
+// error that changes slowly from bin to bin cancels in the differences, so this is what white
+// noise leaves in one bin, whatever the model, on plateaus and ramps alike. NaN with no pair.
 struct Floor {
     double offset_rms_v = kNan;  // [V]
-    int dof = 0;
-    bool from_standard_errors = false;
+    int pairs = 0;
 };
-// values: per-bin values to take the scatter of (default: the bins' gyro_v); the analysis passes
-// the residuals of its extended model, so that an effect that varies inside a plateau window (a
-// supply drift) does not count as noise.
-Floor NoiseFloor(const SensorRun& run, const std::vector<Bin>& bins, double bin_s,
-                 const std::vector<double>* values = nullptr);
+Floor NoiseFloor(const std::vector<Bin>& bins, const Eigen::VectorXd& values);
 
 }  // namespace gyrocal::analysis

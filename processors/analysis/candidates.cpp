@@ -20,23 +20,6 @@ std::string Fmt(double v, int prec) {
 
 double RoundT0(double lo_c, double hi_c) { return 5.0 * std::round(0.5 * (lo_c + hi_c) / 5.0); }
 
-MatrixXd Design(const std::vector<std::string>& terms, double t0_c, const std::vector<Bin>& bins,
-                int64_t first_utime) {
-    const std::vector<model::ResolvedTerm> resolved = model::ResolveTerms(terms);
-    MatrixXd x(static_cast<Index>(bins.size()), static_cast<Index>(terms.size()));
-    for (size_t i = 0; i < bins.size(); ++i)
-        x.row(static_cast<Index>(i)) =
-            model::TermValues(resolved, t0_c, bins[i].Inputs(first_utime)).transpose();
-    return x;
-}
-
-VectorXd Column(const std::string& term, double t0_c, const std::vector<Bin>& bins,
-                int64_t first_utime) {
-    return Design({term}, t0_c, bins, first_utime).col(0);
-}
-
-std::string WarmupTerm(double tau_s) { return "warmup(" + Fmt(tau_s, 3) + ")"; }
-
 // What measurement would tell two candidates apart.
 std::string Separation(const std::string& a, const std::string& b) {
     std::set<std::string> s{a, b};
@@ -47,8 +30,8 @@ std::string Separation(const std::string& a, const std::string& b) {
                "persists)";
     if (has("warmup"))
         return "a dwell at constant temperature right after power-on, or a second power cycle "
-               "later in "
-               "the run (the warm-up transient is then apart from the temperature changes)";
+               "later in the run (the warm-up transient is then apart from the temperature "
+               "changes)";
     if (has("supply"))
         return "a run with the supply voltage deliberately varied at constant temperature";
     if (has("temp_cubic"))
@@ -57,21 +40,48 @@ std::string Separation(const std::string& a, const std::string& b) {
     return "more data in which the two regressors vary independently";
 }
 
-std::vector<Candidate> OffsetCandidates(const SensorRun& run, const std::vector<Bin>& bins,
-                                        const AnalysisOptions& o) {
-    std::vector<Candidate> c = {{"temp_rate", "dTdt", "V/(degC/s)", false, ""},
-                                {"hysteresis", "heating", "V", false, ""},
-                                {"temp_cubic", "dT^3", "V/degC^3", false, ""},
-                                {"supply", "supply", "V/V", false, ""},
-                                {"warmup", "warmup", "V", true, ""}};
+namespace {
+
+// n values from lo to hi, equally spaced in log, written as the term names them.
+std::vector<std::string> LogGrid(double lo, double hi, int n, std::string (*name)(double)) {
+    std::vector<std::string> g;
+    for (int k = 0; k < n; ++k) {
+        const std::string t = name(n == 1 ? lo : lo * std::pow(hi / lo, k / double(n - 1)));
+        if (g.empty() || g.back() != t) g.push_back(t);
+    }
+    return g;
+}
+
+}  // namespace
+
+std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOptions& o) {
+    const std::vector<Bin>& bins = b.bins();
+    double lo = INFINITY, hi = -INFINITY;
+    for (const Bin& x : bins) lo = std::min(lo, x.temp_c), hi = std::max(hi, x.temp_c);
+    const double span_s = bins.empty() ? 0.0 : (bins.back().mid_utime - bins.front().mid_utime) * 1e-6;
+    // Shape parameters: rate time constants from fast to a few minutes; branch widths up to a
+    // third of the temperature range (a wider branch never completes a transition); warm-up up
+    // to a tenth of the still span (a slower "transient" cannot be told from the sensor's own
+    // slow drift in one power cycle).
+    const double w_max = std::min(o.branch_width_max_c, std::max(0.5, (hi - lo) / 3.0));
+    const double tau_max = std::min(o.warmup_tau_max_s, o.warmup_max_tau_fraction * span_s);
+    std::vector<Candidate> c = {
+        {"temp_rate", "V/(degC/s)", LogGrid(o.rate_tau_min_s, o.rate_tau_max_s, 6, model::RateTerm), ""},
+        {"hysteresis", "V", LogGrid(o.branch_width_min_c, w_max, 12, model::BranchTerm), ""},
+        {"temp_cubic", "V/degC^3", {"dT^3"}, ""},
+        {"supply", "V/V", {"supply"}, ""},
+        {"warmup", "V", LogGrid(o.warmup_tau_min_s, std::max(tau_max, o.warmup_tau_min_s), 25,
+                                model::WarmupTerm), ""}};
     int ramp = 0, heat = 0, cool = 0, supply = 0;
     std::set<long> levels;
-    for (const Bin& b : bins) {
-        if (std::fabs(b.dtemp_dt_c_per_s) >= o.min_ramp_c_per_s) ++ramp;
-        if (b.heating > 0) ++heat;
-        if (b.heating < 0) ++cool;
-        if (std::isfinite(b.supply_v)) ++supply;
-        levels.insert(std::lround(b.temp_c / 2.0));
+    const gyrocal_tracker_config_t def = gyrocal_tracker_config_default();
+    for (size_t i = 0; i < bins.size(); ++i) {
+        const model::ModelInputs in = b.Inputs(i, def);
+        if (std::fabs(in.dtemp_dt_c_per_s) >= o.min_ramp_c_per_s) ++ramp;
+        if (in.heating > 0.5) ++heat;
+        if (in.heating < -0.5) ++cool;
+        if (std::isfinite(bins[i].supply_v)) ++supply;
+        levels.insert(std::lround(bins[i].temp_c / 2.0));
     }
     const int n = static_cast<int>(bins.size());
     if (ramp < o.min_ramp_bins)
@@ -80,7 +90,7 @@ std::vector<Candidate> OffsetCandidates(const SensorRun& run, const std::vector<
                        " degC/min, need " + std::to_string(o.min_ramp_bins) + ")";
     if (heat < 3 || cool < 3)
         c[1].why_not = "the temperature did not move both up and down by more than " +
-                       Fmt(o.bins.branch_width_c) + " degC (" + std::to_string(heat) +
+                       Fmt(GYROCAL_SIGN_BRANCH_WIDTH_C) + " degC (" + std::to_string(heat) +
                        " heating bins, " + std::to_string(cool) +
                        " cooling bins): no branches to compare";
     if (levels.size() < 5)
@@ -90,11 +100,43 @@ std::vector<Candidate> OffsetCandidates(const SensorRun& run, const std::vector<
         c[3].why_not = supply == 0 ? "no supply voltage recorded"
                                    : "supply voltage recorded in only " + std::to_string(supply) +
                                          " of " + std::to_string(n) + " still bins";
-    const double first_on_s =
-        bins.empty() ? INFINITY : bins.front().Inputs(run.first_sample_utime).time_since_power_s;
+    const double first_on_s = bins.empty() ? INFINITY : bins.front().time_since_power_s;
     if (!(first_on_s <= 3.0 * o.warmup_tau_min_s + o.bins.bin_s))
         c[4].why_not = "no still data soon after power-on (first still bin " + Fmt(first_on_s) +
-                       " s after the first sample): a warm-up transient cannot be seen";
+                       " s after power-on): a warm-up transient cannot be seen";
+    else if (!(tau_max > o.warmup_tau_min_s))
+        c[4].why_not = "the still data span " + Fmt(span_s) + " s is too short to tell a warm-up "
+                       "transient from slow drift";
+    return c;
+}
+
+VectorXd Context::Column(const std::string& term) const { return binned->Column(term, t0)(rows); }
+
+MatrixXd Context::Design(const std::vector<std::string>& terms) const {
+    MatrixXd x(static_cast<Index>(rows.size()), static_cast<Index>(terms.size()));
+    for (size_t j = 0; j < terms.size(); ++j) x.col(static_cast<Index>(j)) = Column(terms[j]);
+    return x;
+}
+
+Context MakeContext(const BinnedRun& binned, std::vector<Index> rows, double t0,
+                    const AnalysisOptions& o) {
+    Context c;
+    c.binned = &binned;
+    c.t0 = t0;
+    c.y.resize(static_cast<Index>(rows.size()));
+    int seg = -1;
+    for (size_t k = 0; k < rows.size(); ++k) {
+        const Bin& b = binned.bins()[static_cast<size_t>(rows[k])];
+        c.y[static_cast<Index>(k)] = b.gyro_v;
+        const bool continues = k > 0 && rows[k] == rows[k - 1] + 1 &&
+                               binned.bins()[static_cast<size_t>(rows[k - 1])].segment == b.segment;
+        if (!continues) ++seg;
+        c.segment.push_back(seg);
+    }
+    c.rows = std::move(rows);
+    c.hac_lag = static_cast<int>(std::lround(o.hac_lag_s / o.bins.bin_s));
+    c.cv_guard = static_cast<int>(std::lround(o.cv_guard_s / o.bins.bin_s));
+    c.cv_blocks = o.cv_blocks;
     return c;
 }
 

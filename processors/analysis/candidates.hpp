@@ -1,11 +1,11 @@
 #pragma once
-// Internal to gyrocal_analysis: the candidate effects and the design matrices on bins.
-//   Candidate           one offset effect (a registry term, or a term with a searched parameter)
-//   OffsetCandidates    the five offset candidates with why each cannot be tested on this run
-//                       (too few ramp bins, no branches, too few temperature bands, supply not
-//                       recorded everywhere, no still data soon after power-on)
+// Internal to gyrocal_analysis: the candidate effects and the regressors they put on bins.
+//   Candidate           one offset effect: a registry term, or a family of terms with a shape
+//                       parameter searched on a grid (dT/dt time constant, branch width, warm-up
+//                       time constant); why it cannot be tested on this run
+//   OffsetCandidates    the candidates with their grids and testability
 //   Separation          the measurement that would tell two collinear candidates apart
-//   Design / Column     term values per bin (model::TermValues: the same code as the compensator)
+//   Context             the training rows the choice is made on
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -21,21 +21,28 @@ std::string Fmt(double v, int prec = 3);
 double RoundT0(double lo_c, double hi_c);
 
 struct Candidate {
-    std::string effect, term, unit;
-    bool search_tau = false;
-    std::string why_not;  // "" = testable
+    std::string effect, unit;
+    std::vector<std::string> grid;  // the term, or the term at each searched parameter value
+    std::string why_not;            // "" = testable
 };
-
-Eigen::MatrixXd Design(const std::vector<std::string>& terms, double t0_c,
-                       const std::vector<Bin>& bins, int64_t first_utime);
-Eigen::VectorXd Column(const std::string& term, double t0_c, const std::vector<Bin>& bins,
-                       int64_t first_utime);
-
-std::string WarmupTerm(double tau_s);
 
 std::string Separation(const std::string& a, const std::string& b);
 
-std::vector<Candidate> OffsetCandidates(const SensorRun& run, const std::vector<Bin>& bins,
-                                        const AnalysisOptions& o);
+std::vector<Candidate> OffsetCandidates(const BinnedRun& binned, const AnalysisOptions& o);
+
+// The rows (bins) a fit is made on, with their segments recomputed so that a row whose
+// predecessor bin is not among the rows starts a new segment.
+struct Context {
+    const BinnedRun* binned = nullptr;
+    std::vector<Eigen::Index> rows;
+    double t0 = 25.0;
+    Eigen::VectorXd y;
+    std::vector<int> segment;
+    int hac_lag = 0, cv_guard = 0, cv_blocks = 10;
+    Eigen::VectorXd Column(const std::string& term) const;
+    Eigen::MatrixXd Design(const std::vector<std::string>& terms) const;
+};
+Context MakeContext(const BinnedRun& binned, std::vector<Eigen::Index> rows, double t0,
+                    const AnalysisOptions& o);
 
 }  // namespace gyrocal::analysis::detail

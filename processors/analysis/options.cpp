@@ -22,7 +22,6 @@ const char* ToString(Decision d) {
 std::string AnalysisOptions::Problem() const {
     if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";
     if (!(bins.min_fill > 0.0 && bins.min_fill <= 1.0)) return "min_fill must be in (0, 1]";
-    if (!(bins.branch_width_c > 0.0)) return "branch_width_c must be > 0";
     if (offset_terms.empty()) return "offset_terms must not be empty";
     if (sensitivity_terms.empty()) return "sensitivity_terms must not be empty";
     for (const auto* list : {&offset_terms, &sensitivity_terms})
@@ -36,8 +35,15 @@ std::string AnalysisOptions::Problem() const {
     if (!(cv_guard_s >= 0.0) || !(hac_lag_s >= 0.0)) return "cv_guard_s and hac_lag_s must be >= 0";
     if (!(max_collinearity > 0.0 && max_collinearity < 1.0))
         return "max_collinearity must be in (0, 1)";
-    if (!(holdout_fraction > 0.0 && holdout_fraction < 0.9))
-        return "holdout_fraction must be in (0, 0.9)";
+    if (!(holdout_fraction >= 0.05 && holdout_fraction <= 0.5))
+        return "holdout_fraction must be in [0.05, 0.5] (one block in 2 to one in 20)";
+    if (!(holdout_block_s >= 10.0 * bins.bin_s))
+        return "holdout_block_s must be at least 10 bins long";
+    if (!(gate_min_z >= 0.0)) return "gate_min_z must be >= 0";
+    if (!(rate_tau_min_s > 0.0 && rate_tau_max_s > rate_tau_min_s))
+        return "dT/dt time constant range must satisfy 0 < min < max";
+    if (!(branch_width_min_c > 0.0 && branch_width_max_c > branch_width_min_c))
+        return "branch width range must satisfy 0 < min < max";
     if (!(warmup_tau_min_s > 0.0 && warmup_tau_max_s > warmup_tau_min_s))
         return "warmup tau range must satisfy 0 < min < max";
     return "";

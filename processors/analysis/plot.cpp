@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <sstream>
 
 #include "bins.hpp"
 
@@ -12,50 +11,11 @@ namespace gyrocal::analysis {
 
 namespace {
 
-// "?" is gnuplot's missing-value marker (set datafile missing "?").
-std::string Num(double v) {
-    if (!std::isfinite(v)) return "?";
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.9g", v);
-    return buf;
-}
-
 // 3 significant digits, for titles.
 std::string Short(double v) {
     char buf[40];
     std::snprintf(buf, sizeof buf, "%.3g", v);
     return buf;
-}
-
-// Text safe inside a gnuplot double-quoted string.
-std::string Quote(const std::string& s) {
-    std::string out;
-    for (char ch : s) {
-        if (ch == '"' || ch == '\\') out += '\\';
-        out += ch;
-    }
-    return out;
-}
-
-// The script header: both terminals, one output each (the plot command is repeated).
-std::string Script(const std::string& name, const std::string& title, const std::string& xlabel,
-                   const std::string& ylabel, const std::string& plot_command) {
-    std::ostringstream s;
-    s << "# gyrocal analyze --plot: " << name << "\n"
-      << "set datafile missing \"?\"\n"
-      << "set title \"" << Quote(title) << "\" noenhanced\n"
-      << "set xlabel \"" << Quote(xlabel) << "\" noenhanced\n"
-      << "set ylabel \"" << Quote(ylabel) << "\" noenhanced\n"
-      << "set grid\nset key outside top center horizontal noenhanced\n";
-    for (const char* term : {"png", "svg"}) {
-        if (std::string(term) == "png")
-            s << "set terminal pngcairo size 1000,600\n";
-        else
-            s << "set terminal svg size 1000,600 dynamic\n";
-        s << "set output \"" << Quote(name) << "." << term << "\"\n" << plot_command << "\n";
-    }
-    s << "set output\n";
-    return s.str();
 }
 
 std::optional<model::Evaluator> EvaluatorOf(const std::optional<model::Model>& m) {
@@ -67,90 +27,91 @@ std::optional<model::Evaluator> EvaluatorOf(const std::optional<model::Model>& m
     }
 }
 
-}  // namespace
-
-PlotSet MakePlots(const SensorRun& run, const SensorResult& r, const AnalysisOptions& o) {
-    PlotSet set;
-    const std::vector<Bin> bins = MakeBins(run, o.bins);
+// The residual of each bin, before and after: one table for the time and temperature figures.
+plot::Table ResidualTable(const BinnedRun& binned, const SensorResult& r) {
     const std::optional<model::Evaluator> before = EvaluatorOf(r.declared_offset);
     const std::optional<model::Evaluator> after = EvaluatorOf(r.extended_offset);
-    const std::string id = r.sensor_id;
-
-    // Residuals per bin: one data file for the time and temperature plots.
-    std::ostringstream dat;
-    dat << "# sensor " << id << ": still bins of " << Num(o.bins.bin_s) << " s\n"
-        << "# time_h temp_c resid_before_mv resid_after_mv\n";
-    for (const Bin& b : bins) {
-        const model::ModelInputs in = b.Inputs(run.first_sample_utime);
-        const double rb =
-            before ? b.gyro_v - before->Value(in, model::RangePolicy::kExtrapolate) : kNan;
-        const double ra =
-            after ? b.gyro_v - after->Value(in, model::RangePolicy::kExtrapolate) : kNan;
-        dat << Num(in.time_since_power_s / 3600.0) << " " << Num(b.temp_c) << " " << Num(rb * 1e3)
-            << " " << Num(ra * 1e3) << "\n";
+    const Eigen::VectorXd vb = before ? binned.Values(before->model()) : Eigen::VectorXd();
+    const Eigen::VectorXd va = after ? binned.Values(after->model()) : Eigen::VectorXd();
+    const double bin_s = binned.bin_s();
+    plot::Table t{r.sensor_id + "_residual",
+                  "sensor " + r.sensor_id + ": still bins of " + Short(bin_s) + " s",
+                  {"time_h", "temp_c", "resid_before_mv", "resid_after_mv"},
+                  {}};
+    const int64_t first = binned.run().first_sample_utime;
+    for (size_t i = 0; i < binned.size(); ++i) {
+        const Bin& b = binned.bins()[i];
+        const auto k = static_cast<Eigen::Index>(i);
+        const double rb = before ? b.gyro_v - vb[k] : kNan;
+        const double ra = after ? b.gyro_v - va[k] : kNan;
+        t.rows.push_back({(b.mid_utime - static_cast<double>(first)) * 1e-6 / 3600.0, b.temp_c,
+                          rb * 1e3, ra * 1e3});
     }
-    const std::string res_dat = id + "_residual.dat";
-    set.files.push_back({res_dat, dat.str()});
-    const std::string after_label =
-        r.added.empty() ? "after (declared terms refitted on all bins: nothing added)"
-                        : "after (extended model)";
-    auto residual_plot = [&](const std::string& suffix, int xcol, const std::string& xlabel) {
-        const std::string name = id + "_residual_" + suffix;
-        const std::string cmd = "plot \"" + res_dat + "\" using " + std::to_string(xcol) +
-                                ":3 with points pt 7 ps 0.5 title \"before (declared model)\", \"" +
-                                res_dat + "\" using " + std::to_string(xcol) +
-                                ":4 with points pt 7 ps 0.5 title \"" + after_label + "\"";
-        set.files.push_back(
-            {name + ".gp", Script(name, id + ": offset residual vs " + suffix + " - " + r.verdict,
-                                  xlabel, "residual [mV]", cmd)});
-        set.scripts.push_back(name + ".gp");
-        set.images.push_back(name + ".png");
-        set.images.push_back(name + ".svg");
-    };
-    residual_plot("time", 1, "time since first sample [h]");
-    residual_plot("temp", 2, "temperature [degC]");
+    return t;
+}
 
-    // Each added offset effect against its regressor, with the fitted effect over it.
-    if (!after) return set;
-    const model::Model& ext = after->model();
-    for (const AddedEffect& a : r.added) {
-        const auto it = std::find(ext.term_names.begin(), ext.term_names.end(), a.term);
-        if (it == ext.term_names.end()) continue;  // sf_asymmetry: a sensitivity term
-        const auto k = static_cast<Eigen::Index>(it - ext.term_names.begin());
-        struct Row {
-            double x, partial_mv, effect_mv;
-        };
-        std::vector<Row> rows;
-        for (const Bin& b : bins) {
-            const Eigen::VectorXd phi = after->TermValues(b.Inputs(run.first_sample_utime));
-            if (!phi.allFinite()) continue;
-            const double others = phi.dot(ext.coeffs) - phi[k] * ext.coeffs[k];
-            rows.push_back({phi[k], (b.gyro_v - others) * 1e3, phi[k] * ext.coeffs[k] * 1e3});
-        }
-        // Sorted by the regressor so the fitted effect is drawn as one line.
-        std::sort(rows.begin(), rows.end(), [](const Row& p, const Row& q) { return p.x < q.x; });
-        const std::string name = id + "_effect_" + a.effect;
-        std::ostringstream ed;
-        ed << "# sensor " << id << ": effect " << a.effect << ", term " << a.term
-           << ", coefficient " << Num(a.coefficient) << " +- " << Num(a.stderr_) << " " << a.unit
-           << "\n# regressor partial_resid_mv fitted_effect_mv\n";
-        for (const Row& row : rows)
-            ed << Num(row.x) << " " << Num(row.partial_mv) << " " << Num(row.effect_mv) << "\n";
-        set.files.push_back({name + ".dat", ed.str()});
-        const std::string cmd = "plot \"" + name +
-                                ".dat\" using 1:2 with points pt 7 ps 0.5 title \"residual without "
-                                "this term\", \"" +
-                                name + ".dat\" using 1:3 with lines lw 2 title \"fitted " +
-                                Quote(a.term) + ": " + Short(a.coefficient) + " +- " +
-                                Short(a.stderr_) + " " + Quote(a.unit) + "\"";
-        set.files.push_back(
-            {name + ".gp", Script(name, id + ": " + a.effect + " (" + a.term + ")",
-                                  "regressor " + a.term, "partial residual [mV]", cmd)});
-        set.scripts.push_back(name + ".gp");
-        set.images.push_back(name + ".png");
-        set.images.push_back(name + ".svg");
+// Each added offset effect against its regressor, with the fitted effect over it.
+std::optional<plot::Figure> EffectFigure(const BinnedRun& binned, const SensorResult& r,
+                                         const model::Evaluator& after, const AddedEffect& a) {
+    const model::Model& ext = after.model();
+    const auto it = std::find(ext.term_names.begin(), ext.term_names.end(), a.term);
+    if (it == ext.term_names.end()) return std::nullopt;  // sf_asymmetry: a sensitivity term
+    const auto k = static_cast<Eigen::Index>(it - ext.term_names.begin());
+    const std::string name = r.sensor_id + "_effect_" + a.effect;
+    plot::Table t{name,
+                  "sensor " + r.sensor_id + ": effect " + a.effect + ", term " + a.term + ", coefficient " +
+                      Short(a.coefficient) + " +- " + Short(a.stderr_) + " " + a.unit,
+                  {"regressor", "partial_resid_mv", "fitted_effect_mv"},
+                  {}};
+    const gyrocal_tracker_config_t config = model::TrackerConfigFor(ext);
+    for (size_t i = 0; i < binned.size(); ++i) {
+        const Bin& b = binned.bins()[i];
+        const Eigen::VectorXd phi = after.TermValues(binned.Inputs(i, config));
+        if (!phi.allFinite()) continue;
+        const double others = phi.dot(ext.coeffs) - phi[k] * ext.coeffs[k];
+        t.rows.push_back({phi[k], (b.gyro_v - others) * 1e3, phi[k] * ext.coeffs[k] * 1e3});
     }
-    return set;
+    // Sorted by the regressor so the fitted effect is drawn as one line.
+    std::sort(t.rows.begin(), t.rows.end(), [](const auto& p, const auto& q) { return p[0] < q[0]; });
+    plot::Figure f;
+    f.name = name;
+    f.title = r.sensor_id + ": " + a.effect + " (" + a.term + ")";
+    f.xlabel = "regressor " + a.term;
+    f.ylabel = "partial residual [mV]";
+    f.tables = {t};
+    f.series = {{name, plot::Style::kPoints, {1, 2}, "residual without this term", ""},
+                {name, plot::Style::kLines, {1, 3},
+                 "fitted " + a.term + ": " + Short(a.coefficient) + " +- " + Short(a.stderr_) + " " + a.unit, ""}};
+    return f;
+}
+
+}  // namespace
+
+std::vector<plot::Figure> MakePlots(const SensorRun& run, const SensorResult& r, const AnalysisOptions& o) {
+    const BinnedRun binned(run, o.bins);
+    const plot::Table residual = ResidualTable(binned, r);
+    const std::string after_label = r.added.empty()
+                                        ? "after (declared terms refitted on all bins: nothing added)"
+                                        : "after (extended model)";
+    std::vector<plot::Figure> figures;
+    for (const auto& [suffix, xcol, xlabel] :
+         {std::tuple<std::string, int, std::string>{"time", 1, "time since first sample [h]"},
+          {"temp", 2, "temperature [degC]"}}) {
+        plot::Figure f;
+        f.name = r.sensor_id + "_residual_" + suffix;
+        f.title = r.sensor_id + ": offset residual vs " + suffix + " - " + r.verdict;
+        f.xlabel = xlabel;
+        f.ylabel = "residual [mV]";
+        f.tables = {residual};
+        f.series = {{residual.name, plot::Style::kPoints, {xcol, 3}, "before (declared model)", ""},
+                    {residual.name, plot::Style::kPoints, {xcol, 4}, after_label, ""}};
+        figures.push_back(std::move(f));
+    }
+    const std::optional<model::Evaluator> after = EvaluatorOf(r.extended_offset);
+    if (!after) return figures;
+    for (const AddedEffect& a : r.added)
+        if (auto f = EffectFigure(binned, r, *after, a)) figures.push_back(std::move(*f));
+    return figures;
 }
 
 }  // namespace gyrocal::analysis

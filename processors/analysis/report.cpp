@@ -43,6 +43,7 @@ nlohmann::json ToJson(const SensorResult& r) {
                          {"effect_rms_v", Num(c.effect_rms_v)},
                          {"decision", ToString(c.decision)},
                          {"step", c.step},
+                         {"at_edge_of_search", c.grid_edge},
                          {"note", c.note}});
     j["candidates"] = cands;
     json added = json::array();
@@ -72,7 +73,14 @@ nlohmann::json ToJson(const SensorResult& r) {
     j["bin_s"] = r.bin_s;
     j["bins"] = r.n_bins;
     j["holdout_bins"] = r.n_holdout_bins;
-    j["plateaus"] = r.n_plateaus_used;
+    j["train_bins"] = r.n_train_bins;
+    j["holdout_blocks"] = r.n_holdout_blocks;
+    j["heldout_gain"] = {{"mean_v2", Num(r.heldout_gain_v2)},
+                         {"slope", Num(r.heldout_slope)},
+                         {"z", Num(r.heldout_gain_z)}};
+    j["unconfirmed"] = r.unconfirmed;
+    j["plateaus"] = r.n_plateaus;
+    j["power_on"] = r.power_on_source;
     j["could_not_test"] = r.could_not_test;
     j["notes"] = r.notes;
     if (r.extended_offset) j["extended_offset"] = model::ToJson(*r.extended_offset);
@@ -104,7 +112,15 @@ std::string FormatReport(const SensorResult& r) {
                       a.effect.c_str(), a.term.c_str(), a.coefficient, a.stderr_, a.unit.c_str());
         out += line;
     }
-    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "held-out stretch", "offset_rms_v",
+    if (!r.unconfirmed.empty() || std::isfinite(r.heldout_gain_z)) {
+        std::snprintf(line, sizeof line,
+                      "  held-out check of the chosen terms: prediction slope %s (%s standard "
+                      "errors), squared error drop %s V^2\n",
+                      G(r.heldout_slope).c_str(), G(r.heldout_gain_z).c_str(),
+                      G(r.heldout_gain_v2).c_str());
+        out += line;
+    }
+    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "held-out bins", "offset_rms_v",
                   "rate_rms_dps", "drift_dph");
     out += line;
     std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "before (declared)",
@@ -121,10 +137,11 @@ std::string FormatReport(const SensorResult& r) {
                       G(r.expected_after_rate_rms_dps).c_str(), "");
         out += line;
     }
-    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "floor (plateau scatter)",
+    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "floor (bin scatter)",
                   G(r.floor_offset_rms_v).c_str(), G(r.floor_rate_rms_dps).c_str(),
                   G(r.floor_drift_dph).c_str());
     out += line;
+    out += "  power-on: " + r.power_on_source + "\n";
     for (const std::string& s : r.could_not_test) out += "  could not test: " + s + "\n";
     for (const std::string& s : r.notes) out += "  note: " + s + "\n";
     return out;

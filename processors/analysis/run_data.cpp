@@ -2,46 +2,74 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace gyrocal::analysis {
 
-std::vector<MotionInterval> MotionFromEncoder(std::vector<EncoderSample> enc,
-                                              const BuildOptions& o) {
+std::vector<motion::TableMove> MovesFromEncoder(std::vector<EncoderSample> enc,
+                                                const BuildOptions& o) {
     std::sort(enc.begin(), enc.end(),
               [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
-    std::vector<MotionInterval> out;
-    const auto merge_us = static_cast<int64_t>(o.merge_gap_s * 1e6);
-    for (size_t i = 1; i < enc.size(); ++i) {
-        const double d = enc[i].angle_deg - enc[i - 1].angle_deg;
-        if (!std::isfinite(d) || std::fabs(d) <= o.min_move_deg) continue;
-        if (!out.empty() && enc[i - 1].utime - out.back().end_utime <= merge_us) {
-            out.back().end_utime = enc[i].utime;
-            out.back().angle_change_deg += d;
-        } else {
-            out.push_back({enc[i - 1].utime, enc[i].utime, d});
-        }
+    std::vector<motion::TableMove> moves;
+    motion::MoveDetector detector(o.move);
+    int64_t last = INT64_MIN;
+    for (const EncoderSample& e : enc) {
+        if (e.utime <= last || e.counts_per_rev <= 0) continue;  // as the live node guards
+        last = e.utime;
+        if (auto m = detector.Feed({e.utime, e.counts, e.counts_per_rev})) moves.push_back(*m);
     }
-    return out;
+    // A move still under way when the readings end lasts to the last reading.
+    if (const auto start = detector.current_start_utime()) {
+        motion::TableMove m;
+        m.start_utime = *start;
+        m.end_utime = last;
+        moves.push_back(m);
+    }
+    return moves;
 }
+
+namespace {
+
+void PowerOn(SensorRun& run, const std::vector<PowerRecord>& power) {
+    std::set<int64_t> on;
+    std::set<std::string> sources;
+    for (const PowerRecord& p : power) {
+        on.insert(p.power_on_utime);
+        sources.insert(p.source.empty() ? "unnamed" : p.source);
+    }
+    run.power_on_utimes.assign(on.begin(), on.end());
+    run.power_on_assumed = on.empty();
+    if (run.power_on_assumed) {
+        run.power_on_source = "assumed: the unit's first sample (no power-on record)";
+        return;
+    }
+    std::string list;
+    for (const std::string& s : sources) list += (list.empty() ? "" : ", ") + s;
+    run.power_on_source = std::to_string(on.size()) + " power-on record" +
+                          (on.size() > 1 ? "s" : "") + " (" + list + ")";
+}
+
+}  // namespace
 
 SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> raw,
                          const std::vector<EncoderSample>& encoder,
                          std::vector<PlateauInput> plateaus,
-                         std::vector<SensitivityInput> sensitivities, const BuildOptions& o) {
+                         std::vector<SensitivityInput> sensitivities,
+                         const std::vector<PowerRecord>& power, const BuildOptions& o) {
     SensorRun run;
     run.sensor_id = sensor_id;
     run.plateaus = std::move(plateaus);
     run.sensitivities = std::move(sensitivities);
     run.n_raw_samples = static_cast<int64_t>(raw.size());
     run.has_encoder = !encoder.empty();
-    run.motion = MotionFromEncoder(encoder, o);
+    run.moves = MovesFromEncoder(encoder, o);
+    PowerOn(run, power);
     std::stable_sort(raw.begin(), raw.end(),
                      [](const GyroSample& a, const GyroSample& b) { return a.utime < b.utime; });
     if (!raw.empty()) run.first_sample_utime = raw.front().utime;
     const auto guard_us = static_cast<int64_t>(o.guard_s * 1e6);
-    size_t m = 0;  // first motion interval whose guarded end is not before the sample
-    int64_t last_utime = INT64_MIN;
-    int64_t last_seq = -1;
+    size_t m = 0;  // first move whose guarded end is not before the sample
+    int64_t last_utime = INT64_MIN, last_seq = -1;
     bool have_seq = false;
     for (const GyroSample& s : raw) {
         if (have_seq && s.seq > last_seq + 1) run.n_seq_gaps += s.seq - last_seq - 1;
@@ -52,12 +80,11 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
             continue;
         }
         last_utime = s.utime;
-        while (m < run.motion.size() && run.motion[m].end_utime + guard_us < s.utime) ++m;
-        if (m < run.motion.size() && s.utime >= run.motion[m].start_utime - guard_us) {
-            ++run.n_moving_samples;
-            continue;
-        }
-        run.still.push_back(s);
+        while (m < run.moves.size() && run.moves[m].end_utime + guard_us < s.utime) ++m;
+        const bool moving = m < run.moves.size() && s.utime >= run.moves[m].start_utime - guard_us;
+        run.samples.push_back(s);
+        run.still.push_back(moving ? 0 : 1);
+        if (moving) ++run.n_moving_samples;
     }
     return run;
 }

@@ -1,16 +1,21 @@
 #pragma once
 // What the analysis reads about one sensor of one run: plain data, filled by a database loader,
 // a CSV reader or a test, through BuildSensorRun so that all of them share one definition of
-// "still" and "moving".
+// "still" and "moving" and of the power-on time.
 //
-// Still vs moving: the table moves wherever the encoder angle changes between two consecutive
-// encoder readings. Such intervals (merged when closer than merge_gap_s) are widened by guard_s
-// on both sides (the module's low-pass filter, table ringing, encoder/gyro clock skew) and every
-// gyro sample inside is excluded from the still data.
+// Still vs moving: the live detector's definition (motion::MoveDetector, processors/plateau/
+// table_motion.hpp, with its dither threshold and settle time) run over the encoder's counts; a
+// sample within guard_s of a move (before its start or after its end) is moving. No encoder
+// readings: every sample counts as still (reported).
+// Power-on: the power records of the unit (POWER_<id> on the bus, a CSV time_since_power_s
+// column); each distinct power_on_utime is a power cycle. None: the first sample is taken as the
+// power-on time and the result says it was assumed.
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "table_motion.hpp"
 
 namespace gyrocal::analysis {
 
@@ -25,14 +30,15 @@ struct GyroSample {
 };
 
 struct EncoderSample {
-    int64_t utime = 0;        // [us]
-    double angle_deg = kNan;  // [deg]
+    int64_t utime = 0;           // [us]
+    int64_t counts = 0;          // [count] cumulative
+    int32_t counts_per_rev = 0;  // [count/rev]
 };
 
-struct MotionInterval {
-    int64_t start_utime = 0;  // [us] first encoder reading of the move (guard not included)
-    int64_t end_utime = 0;    // [us] last
-    double angle_change_deg = 0.0;
+struct PowerRecord {
+    int64_t utime = 0;           // [us] when it was sent
+    int64_t power_on_utime = 0;  // [us] when the unit was powered
+    std::string source;          // "rig", "csv time_since_power_s", ...
 };
 
 // A plateau as the plateau detector published it (plateau_t).
@@ -60,35 +66,40 @@ struct SensitivityInput {
 
 struct SensorRun {
     std::string sensor_id;
-    int64_t first_sample_utime = 0;      // [us] power-on proxy: the first sample of the run
-    std::vector<GyroSample> still;       // time-ordered, finite temp_c and gyro_v, table at rest
-    std::vector<MotionInterval> motion;  // table moves seen on the encoder
+    std::vector<GyroSample> samples;        // every usable sample, time-ordered
+    std::vector<uint8_t> still;             // per sample: 1 when the table was at rest
+    std::vector<motion::TableMove> moves;   // table moves seen on the encoder
+    std::vector<int64_t> power_on_utimes;   // [us] distinct power-on times, ascending
+    std::string power_on_source;            // where they came from (or the assumption)
+    bool power_on_assumed = false;          // no record: the first sample is the power-on
     std::vector<PlateauInput> plateaus;
     std::vector<SensitivityInput> sensitivities;
-    int64_t n_raw_samples = 0;     // before exclusions
-    int64_t n_moving_samples = 0;  // excluded: inside a (guarded) motion interval
-    int64_t n_bad_samples = 0;     // excluded: non-finite temp_c / gyro_v, out of order
-    int64_t n_seq_gaps = 0;        // missing sequence numbers
+    int64_t first_sample_utime = 0;  // [us]
+    int64_t n_raw_samples = 0;       // before exclusions
+    int64_t n_moving_samples = 0;    // at rest: no (inside a guarded move)
+    int64_t n_bad_samples = 0;       // excluded: non-finite temp_c / gyro_v, out of order
+    int64_t n_seq_gaps = 0;          // missing sequence numbers
     bool has_encoder = false;
+    int64_t n_still() const { return static_cast<int64_t>(samples.size()) - n_moving_samples; }
 };
 
 struct BuildOptions {
-    double guard_s = 1.0;       // [s] excluded before and after every move
-    double merge_gap_s = 0.5;   // [s] moves closer than this are one
-    double min_move_deg = 0.0;  // [deg] a change above this between readings is motion
+    double guard_s = 1.0;  // [s] excluded before and after every move (gyrocal-plateau's default)
+    motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
     static BuildOptions Defaults() { return {}; }
 };
 
-// Motion intervals from encoder readings (any order; sorted here).
-std::vector<MotionInterval> MotionFromEncoder(std::vector<EncoderSample> encoder,
-                                              const BuildOptions& options);
+// The moves of the encoder readings (any order; sorted here).
+std::vector<motion::TableMove> MovesFromEncoder(std::vector<EncoderSample> encoder,
+                                                const BuildOptions& options);
 
-// Builds the analysis input from raw samples (any order; sorted by utime here) and encoder
-// readings. No encoder readings: every sample counts as still (has_encoder false, reported).
+// Builds the analysis input from raw samples, encoder readings and power records (any order;
+// sorted here).
 SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> raw,
                          const std::vector<EncoderSample>& encoder,
                          std::vector<PlateauInput> plateaus,
                          std::vector<SensitivityInput> sensitivities,
+                         const std::vector<PowerRecord>& power = {},
                          const BuildOptions& options = BuildOptions::Defaults());
 
 }  // namespace gyrocal::analysis

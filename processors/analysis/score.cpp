@@ -12,27 +12,19 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 StepScore Score(const Context& c, const MatrixXd& x, double base_cv, const Candidate& cand,
-                const AnalysisOptions& o, const VectorXd* noise, int noise_params) {
+                const AnalysisOptions&, const VectorXd* noise, int noise_params) {
     StepScore s;
     const Index p = x.cols();
     MatrixXd xe(x.rows(), p + 1);
     xe.leftCols(p) = x;
-    s.term = cand.term;
-    if (cand.search_tau) {
-        // 1-D search of tau on a log grid (ratio ~1.2 between points): the residual sum of squares
-        // is smooth in log(tau), and 25 fits of a few hundred bins cost nothing.
-        // tau is capped at a tenth of the still data's span: a slower "transient" cannot be told
-        // from the sensor's own slow drift (bias instability, rate random walk) in one power cycle.
-        const double span_s = (c.bins->back().mid_utime - c.bins->front().mid_utime) * 1e-6;
-        const double tau_max = std::min(o.warmup_tau_max_s, o.warmup_max_tau_fraction * span_s);
-        if (!(tau_max > o.warmup_tau_min_s)) return s;
+    s.term = cand.grid.front();
+    if (cand.grid.size() > 1) {
+        // 1-D search of the shape parameter on its grid by residual sum of squares (smooth in
+        // the log of the parameter; a few dozen fits of a few hundred bins cost nothing).
         double best_rss = INFINITY;
-        const int n_grid = 25;
-        for (int k = 0; k < n_grid; ++k) {
-            const double tau =
-                o.warmup_tau_min_s * std::pow(tau_max / o.warmup_tau_min_s, k / double(n_grid - 1));
-            const std::string term = WarmupTerm(tau);
-            xe.col(p) = Column(term, c.t0, *c.bins, c.first_utime);
+        for (const std::string& term : cand.grid) {
+            xe.col(p) = c.Column(term);
+            if (!xe.col(p).allFinite()) continue;
             const LsFit f = FitLs(xe, c.y, c.segment, 0);
             if (f.ok && f.rss < best_rss) {
                 best_rss = f.rss;
@@ -40,8 +32,10 @@ StepScore Score(const Context& c, const MatrixXd& x, double base_cv, const Candi
             }
         }
         if (!std::isfinite(best_rss)) return s;
+        s.grid_edge = s.term == cand.grid.front() || s.term == cand.grid.back();
     }
-    s.column = Column(s.term, c.t0, *c.bins, c.first_utime);
+    s.column = c.Column(s.term);
+    if (!s.column.allFinite()) return s;
     xe.col(p) = s.column;
     const LsFit f = FitLs(xe, c.y, c.segment, c.hac_lag, noise, noise_params);
     if (!f.ok) return s;

@@ -1,8 +1,9 @@
 #pragma once
 // Internal to gyrocal_analysis: one candidate's statistics at one selection step (analyze.hpp,
-// step 4): (a) z^2 of its coefficient with the autocorrelation-robust covariance (optionally with
+// step 4) on the training rows: (a) z^2 of its coefficient with the autocorrelation-robust covariance (optionally with
 // a larger model's residuals as the noise), (b) the relative drop of the blocked-CV error, (c) its
-// size after projecting out the model. The warm-up time constant is found by a 1-D search first.
+// size after projecting out the model. A shape parameter (dT/dt time constant, branch width, warm-up time constant) is found
+// by a 1-D search of its grid first.
 #include <Eigen/Dense>
 #include <cmath>
 #include <string>
@@ -20,15 +21,7 @@ struct StepScore {
     std::string term;
     Eigen::VectorXd column;
     bool ok = false;
-};
-
-struct Context {
-    const std::vector<Bin>* bins;
-    int64_t first_utime;
-    double t0;
-    Eigen::VectorXd y;
-    std::vector<int> segment;
-    int hac_lag, cv_guard, cv_blocks;
+    bool grid_edge = false;  // the searched parameter ended at an end of its grid
 };
 
 // noise / noise_params: see regress.hpp FitLs.

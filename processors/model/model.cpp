@@ -64,6 +64,19 @@ Evaluator::Evaluator(Model model) : model_(std::move(model)) {
     const std::string problem = Problem(model_);
     if (!problem.empty()) throw ModelError(problem);
     terms_ = ResolveTerms(model_.term_names);
+    for (const ResolvedTerm& t : terms_) c_terms_.push_back(t.c);
+}
+
+gyrocal_model_t Evaluator::CView() const {
+    gyrocal_model_t m;
+    m.num_terms = static_cast<int>(c_terms_.size());
+    m.term_names = nullptr;
+    m.terms = c_terms_.data();
+    m.coeffs = model_.coeffs.data();
+    m.t0_c = model_.t0_c;
+    m.temp_min_c = model_.temp_min_c;
+    m.temp_max_c = model_.temp_max_c;
+    return m;
 }
 
 bool Evaluator::InRange(double temp_c) const {
@@ -74,20 +87,21 @@ Eigen::VectorXd Evaluator::TermValues(const ModelInputs& in) const {
     return model::TermValues(terms_, model_.t0_c, in);
 }
 
+int CPolicy(RangePolicy policy) {
+    return policy == RangePolicy::kClip ? GYROCAL_CLIP : GYROCAL_EXTRAPOLATE;
+}
+
 Evaluation Evaluator::Evaluate(const ModelInputs& in, RangePolicy policy) const {
     Evaluation out;
-    ModelInputs used = in;
     if (!std::isfinite(in.temp_c)) return out;  // value NaN: no temperature, no number
-    if (!InRange(in.temp_c)) {
-        if (policy == RangePolicy::kClip) {
-            used.temp_c = std::clamp(in.temp_c, model_.temp_min_c, model_.temp_max_c);
-            out.range = RangeFlag::kClipped;
-        } else {
-            out.range = RangeFlag::kExtrapolated;
-        }
-    }
+    const gyrocal_model_t m = CView();
+    int flag = GYROCAL_IN_RANGE;
+    out.value = gyrocal_eval_policy(&m, &in, CPolicy(policy), &flag);
+    out.range = static_cast<RangeFlag>(flag);
+    ModelInputs used = in;
+    if (out.range == RangeFlag::kClipped)
+        used.temp_c = std::clamp(in.temp_c, model_.temp_min_c, model_.temp_max_c);
     const Eigen::VectorXd phi = TermValues(used);
-    out.value = phi.dot(model_.coeffs);
     out.variance = phi.dot(model_.covariance * phi);
     return out;
 }

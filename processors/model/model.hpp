@@ -44,6 +44,7 @@ struct Model {
 };
 
 enum class RangePolicy { kClip, kExtrapolate };
+int CPolicy(RangePolicy policy);  // GYROCAL_CLIP / GYROCAL_EXTRAPOLATE
 // Values are those of rate_t.range_flag.
 enum class RangeFlag : int8_t { kInRange = 0, kClipped = 1, kExtrapolated = 2 };
 
@@ -60,7 +61,9 @@ struct Evaluation {
     RangeFlag range = RangeFlag::kInRange;
 };
 
-// A model with its term names resolved once, so evaluation per sample is a few multiplies.
+// A model with its term names resolved once, so evaluation per sample is a few multiplies. The
+// value is gyrocal_model.h's gyrocal_eval_policy (the firmware's arithmetic, term by term in
+// order); the variance phi' C phi is computed beside it.
 class Evaluator {
 public:
     // Throws ModelError (with Problem()'s text) when the model is not usable.
@@ -75,10 +78,14 @@ public:
     bool InRange(double temp_c) const;
 
     const Model& model() const { return model_; }
+    // The model as gyrocal_model.h sees it; points into this Evaluator (valid while it lives and
+    // is not moved).
+    gyrocal_model_t CView() const;
 
 private:
     Model model_;
     std::vector<ResolvedTerm> terms_;
+    std::vector<gyrocal_term_t> c_terms_;
 };
 
 // One-off evaluation (resolves the terms each call): for tools and tests; per-sample consumers

@@ -1,89 +1,88 @@
 #include "terms.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
 namespace gyrocal::model {
 
-namespace {
-double Sign(double v) { return std::isfinite(v) ? (v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0)) : kUnknown; }
-}  // namespace
-
 const std::vector<TermDef>& AllTerms() {
     // One line per term. Keep names stable: they are stored in every coefficient set.
+    using P = ParamMode;
     static const std::vector<TermDef> kTerms = {
-        {"1", false, "1", "constant", [](double, const ModelInputs&, double) { return 1.0; }},
-        {"dT", false, "degC", "temp_c - t0_c",
-         [](double d, const ModelInputs&, double) { return d; }},
-        {"dT^2", false, "degC^2", "(temp_c - t0_c)^2",
-         [](double d, const ModelInputs&, double) { return d * d; }},
-        {"dT^3", false, "degC^3", "(temp_c - t0_c)^3",
-         [](double d, const ModelInputs&, double) { return d * d * d; }},
-        {"dTdt", false, "degC/s", "rate of temperature change",
-         [](double, const ModelInputs& in, double) { return in.dtemp_dt_c_per_s; }},
-        {"heating", false, "1", "+1 on the heating branch, -1 cooling",
-         [](double, const ModelInputs& in, double) { return Sign(in.heating); }},
-        {"supply", false, "V", "supply_v - 5 V nominal",
-         [](double, const ModelInputs& in, double) { return in.supply_v - kNominalSupplyV; }},
-        {"direction", false, "1", "+1 / -1 rotation direction",
-         [](double, const ModelInputs& in, double) { return Sign(in.direction); }},
-        {"warmup", true, "1", "exp(-time_since_power_s / tau_s), written warmup(<tau_s>)",
-         [](double, const ModelInputs& in, double tau_s) {
-             return std::exp(-in.time_since_power_s / tau_s);
-         }},
+        {"1", P::kNone, GYROCAL_TERM_ONE, "1", "constant"},
+        {"dT", P::kNone, GYROCAL_TERM_DT, "degC", "temp_c - t0_c"},
+        {"dT^2", P::kNone, GYROCAL_TERM_DT2, "degC^2", "(temp_c - t0_c)^2"},
+        {"dT^3", P::kNone, GYROCAL_TERM_DT3, "degC^3", "(temp_c - t0_c)^3"},
+        {"dTdt", P::kOptional, GYROCAL_TERM_DTDT, "degC/s",
+         "rate of temperature change, tracked with time constant tau_s (default 5): dTdt(<tau_s>)"},
+        {"heating", P::kNone, GYROCAL_TERM_HEATING, "1",
+         "+1 / -1 side of the heating/cooling branch last reached (play operator, 1 degC)"},
+        {"heating", P::kRequired, GYROCAL_TERM_BRANCH, "1",
+         "heating/cooling branch in [-1, 1], play operator of width w_c: heating(<w_c>)"},
+        {"supply", P::kNone, GYROCAL_TERM_SUPPLY, "V", "supply_v - 5 V nominal"},
+        {"direction", P::kNone, GYROCAL_TERM_DIRECTION, "1", "+1 / -1 rotation direction"},
+        {"warmup", P::kRequired, GYROCAL_TERM_WARMUP, "1",
+         "exp(-time_since_power_s / tau_s): warmup(<tau_s>)"},
     };
     return kTerms;
 }
+
+namespace {
+
+bool Fail(std::string* error, std::string text) {
+    if (error) *error = std::move(text);
+    return false;
+}
+
+}  // namespace
 
 bool ResolveTerm(std::string_view name, ResolvedTerm* out, std::string* error) {
     std::string_view base = name;
     std::string_view param_text;
     const auto open = name.find('(');
     if (open != std::string_view::npos) {
-        if (name.back() != ')' || open + 2 > name.size() - 1) {
-            if (error)
-                *error = "term '" + std::string(name) + "' is malformed: write name(<number>)";
-            return false;
-        }
+        if (name.back() != ')' || open + 2 > name.size() - 1)
+            return Fail(error, "term '" + std::string(name) + "' is malformed: write name(<number>)");
         base = name.substr(0, open);
         param_text = name.substr(open + 1, name.size() - open - 2);
     }
+    const bool has_param = !param_text.empty();
+    bool base_known = false;
     for (const TermDef& def : AllTerms()) {
         if (def.name != base) continue;
-        if (def.has_param != !param_text.empty()) {
-            if (error)
-                *error =
-                    "term '" + std::string(name) + "': '" + std::string(def.name) +
-                    (def.has_param ? "' needs a parameter, e.g. " + std::string(def.name) + "(600)"
-                                   : "' takes no parameter");
-            return false;
-        }
+        base_known = true;
+        if ((def.param == ParamMode::kNone && has_param) ||
+            (def.param == ParamMode::kRequired && !has_param))
+            continue;  // another entry of the same name may take (or not take) a parameter
         double param = 0.0;
-        if (def.has_param) {
+        if (has_param) {
             const std::string text(param_text);
             char* end = nullptr;
             param = std::strtod(text.c_str(), &end);
-            if (end != text.c_str() + text.size() || !std::isfinite(param) || param <= 0.0) {
-                if (error)
-                    *error = "term '" + std::string(name) + "': parameter '" + text +
-                             "' is not a positive finite number";
-                return false;
-            }
+            if (end != text.c_str() + text.size() || !std::isfinite(param) || param <= 0.0)
+                return Fail(error, "term '" + std::string(name) + "': parameter '" + text +
+                                       "' is not a positive finite number");
         }
-        if (out) *out = ResolvedTerm{&def, param};
+        if (out) *out = ResolvedTerm{&def, gyrocal_term_t{def.kind, param}};
         return true;
     }
-    if (error)
-        *error = "unknown term '" + std::string(name) + "' (known: " + KnownTermNames() + ")";
-    return false;
+    if (base_known)
+        return Fail(error, "term '" + std::string(name) + "': '" + std::string(base) +
+                               (has_param ? "' takes no parameter"
+                                          : "' needs a parameter, e.g. " + std::string(base) +
+                                                "(600)"));
+    return Fail(error, "unknown term '" + std::string(name) + "' (known: " + KnownTermNames() + ")");
 }
 
 std::string KnownTermNames() {
     std::string s;
     for (const TermDef& def : AllTerms()) {
         if (!s.empty()) s += ", ";
-        s += std::string(def.name) + (def.has_param ? "(<param>)" : "");
+        s += std::string(def.name);
+        if (def.param == ParamMode::kRequired) s += "(<param>)";
+        if (def.param == ParamMode::kOptional) s += "[(<param>)]";
     }
     return s;
 }
@@ -93,5 +92,17 @@ std::vector<std::string> PolynomialTerms(int degree) {
     if (degree < 0 || degree > 3) throw std::invalid_argument("polynomial degree must be 0..3");
     return std::vector<std::string>(kNames, kNames + degree + 1);
 }
+
+namespace {
+std::string WithParam(const char* name, double param) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s(%.3g)", name, param);
+    return buf;
+}
+}  // namespace
+
+std::string WarmupTerm(double tau_s) { return WithParam("warmup", tau_s); }
+std::string BranchTerm(double width_c) { return WithParam("heating", width_c); }
+std::string RateTerm(double tau_s) { return WithParam("dTdt", tau_s); }
 
 }  // namespace gyrocal::model

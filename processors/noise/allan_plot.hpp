@@ -1,13 +1,14 @@
 #pragma once
-// The Allan deviation of a unit as a picture (for `gyrocal analyze --plot`), in the style of
-// processors/analysis/plot.hpp: data file and gnuplot script as text, the caller writes them into
-// one directory and runs gnuplot there. Log-log: the measured points with their 68 % intervals,
-// the fitted sigma_A(tau) = sqrt(N^2/tau + B^2 + K^2 tau/3), and its three asymptotes with their
-// slopes marked: N/sqrt(tau) (-1/2, angle random walk), B (0, bias instability),
-// K sqrt(tau/3) (+1/2, rate random walk). <id>_allan.png and <id>_allan.svg.
+// The Allan deviation of a unit as a figure (plot::Figure, drawn by the one gnuplot path):
+// log-log, the measured points with their 68 % intervals, the fitted
+// sigma_A(tau) = sqrt(N^2/tau + B^2 + K^2 tau/3), and its three asymptotes with their slopes
+// marked: N/sqrt(tau) (-1/2, angle random walk), B (0, bias instability), K sqrt(tau/3) (+1/2,
+// rate random walk). Figure name <id>_allan.
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "plot/figure.hpp"
 
 namespace gyrocal::noise {
 
@@ -18,16 +19,6 @@ struct AllanPlotInput {
     std::optional<double> sensitivity_v_per_dps;       // converts to deg/s when given
 };
 
-struct AllanPlotFile {
-    std::string name, text;
-};
-
-struct AllanPlot {
-    std::vector<AllanPlotFile> files;  // the .dat and the .gp
-    std::vector<std::string> scripts;  // the .gp to run
-    std::vector<std::string> images;   // what it writes
-};
-
-AllanPlot MakeAllanPlot(const AllanPlotInput& in);
+plot::Figure MakeAllanPlot(const AllanPlotInput& in);
 
 }  // namespace gyrocal::noise

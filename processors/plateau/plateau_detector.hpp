@@ -19,6 +19,12 @@
 // Samples flagged `moving` (the table turned within a guard interval) are neither put in the
 // window nor averaged, and do not break the criterion: a rotation is not instability.
 //
+// A hole is refused, not averaged over: a sequence gap (samples lost on the network) inside the
+// averaging window throws the window away (Step::refused says why) and averaging starts again
+// at the first sample after the hole, the criterion still holding. A plateau that is emitted
+// therefore never has seq_gaps > 0. (Holes in the sliding criterion window are harmless: it
+// fits a line through whatever samples it holds.)
+//
 // Defaults and why (gyro: ~6 mV/(deg/s), noise ~0.05 deg/s/sqrt(Hz) -> ~2 mV rms at 100 Hz;
 // temperature line 9 mV/K):
 // - slope_max 0.05 degC/min: over the 60 s average the temperature then moves <= 0.05 degC; with
@@ -105,6 +111,7 @@ struct StateReport {
 struct Step {
     std::optional<StateReport> state;  // set at most every state_period_s and on state changes
     std::optional<Plateau> plateau;    // set when an averaging window completes
+    std::optional<std::string> refused;  // an averaging window thrown away, and why
 };
 
 class PlateauDetector {
@@ -121,6 +128,8 @@ public:
     // RUN_EVENT "start" (run id stamped on plateaus) and "stop"/"abort" (cleared); both re-arm.
     void StartRun(const std::string& run_id);
     void EndRun();
+    // A detector that joined a run late (restarted mid-run) learns its id: no re-arm.
+    void AdoptRun(const std::string& run_id) { run_id_ = run_id; }
 
     State state() const { return state_; }
     const std::string& run_id() const { return run_id_; }
@@ -131,6 +140,8 @@ private:
     bool CriterionHolds(const stats::LineFit& fit, double factor) const;
     Plateau Finish();
     StateReport Report(int64_t utime, const stats::LineFit& fit) const;
+    // The averaging window's refusal when `s` follows a sequence gap; the window restarts at s.
+    std::optional<std::string> RefuseHole(const Sample& s);
 
     PlateauConfig config_;
     State state_ = State::kWaiting;

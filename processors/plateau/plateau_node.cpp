@@ -103,6 +103,14 @@ void PlateauNode::OnChamberState(const chamber_state_t& m) {
 }
 
 void PlateauNode::OnRunEvent(const run_event_t& m) {
+    // A detector started (or restarted by its supervisor) in the middle of a run learns the run
+    // from the next event that names it; "restart" (another process came back) changes nothing
+    // else: re-arming would throw away windows being averaged.
+    if (run_id_.empty() && m.event != "stop" && m.event != "abort" && !m.run_id.empty()) {
+        run_id_ = m.run_id;
+        for (auto& [id, sensor] : sensors_) sensor->detector.AdoptRun(run_id_);
+    }
+    if (m.event == "restart") return;
     if (m.event == "start") {
         if (m.run_id != run_id_)
             for (auto& [id, sensor] : sensors_) sensor->noise.Reset();  // a new run's own noise
@@ -121,7 +129,7 @@ void PlateauNode::OnRunEvent(const run_event_t& m) {
         if (std::isfinite(m.setpoint_c)) chamber_setpoint_c_ = m.setpoint_c;
     } else if (m.event != "rotation") {
         status_.Reject("unknown event", "RUN_EVENT: event '" + m.event +
-                                            "' is not start, setpoint, rotation, stop or abort");
+                                            "' is not start, setpoint, rotation, restart, stop or abort");
     }
 }
 
@@ -156,6 +164,11 @@ void PlateauNode::PublishNoise(const std::string& id, Sensor& sensor) {
 }
 
 void PlateauNode::Publish(const std::string& id, const plateau::Step& step) {
+    if (step.refused) {
+        ++refused_;
+        status_.SetExtra("windows_refused", static_cast<double>(refused_));
+        status_.Reject("window refused", channels::Gyro(id) + ": " + *step.refused);
+    }
     if (step.plateau) {
         bus_.Publish(channels::Plateau(id), ToMessage(id, *step.plateau));
         ++plateaus_;

@@ -82,6 +82,7 @@ private:
     double chamber_setpoint_c_;
     motion::StreamTime chamber_time_;
     int64_t plateaus_ = 0;
+    int64_t refused_ = 0;  // averaging windows refused for a sequence gap
 };
 
 }  // namespace gyrocal

@@ -72,9 +72,12 @@ void RotationNode::OnRunEvent(const run_event_t& m) {
         run_id_ = m.run_id;
     } else if (m.event == "stop" || m.event == "abort") {
         run_id_.clear();
-    } else if (m.event != "setpoint" && m.event != "rotation") {
+    } else if (m.event == "setpoint" || m.event == "rotation" || m.event == "restart") {
+        // An estimator started (or restarted) mid-run learns the run from the next event.
+        if (run_id_.empty()) run_id_ = m.run_id;
+    } else {
         status_.Reject("unknown event", "RUN_EVENT: event '" + m.event +
-                                            "' is not start, setpoint, rotation, stop or abort");
+                                            "' is not start, setpoint, rotation, restart, stop or abort");
     }
 }
 

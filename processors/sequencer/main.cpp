@@ -38,7 +38,17 @@ int main(int argc, char** argv) {
     app.add_option("--rotation-accel-dps2", o.procedure.rotation_accel_dps2, "[deg/s^2]")->capture_default_str();
     app.add_option("--rotation-timeout-s", o.procedure.rotation_timeout_s, "[s] data time per move")
         ->capture_default_str();
+    app.add_option("--move-attempts", o.procedure.move_attempts,
+                   "orders of one move (a rejected or missing sensitivity point asks again), 1..5")
+        ->capture_default_str();
+    app.add_option("--retry-wait-s", o.procedure.retry_wait_s,
+                   "[s] data time at rest before a move is ordered again, 0..600")
+        ->capture_default_str();
     app.add_option("--run-id", o.run_id, "run id (default: UTC time-host-pid)");
+    app.add_option("--resume-setpoint-index", o.procedure.resume_setpoint_index,
+                   "resume run --run-id at this 0-based setpoint (a restarted sequencer; needs "
+                   "--run-id and --sensors); -1 = start a new run")
+        ->capture_default_str();
     app.add_option("--run-config-json", o.run_config_json, "configuration of the whole process graph, recorded");
     app.add_option("--command-line", o.command_line, "command line to record (default: this one)");
     app.footer("Exit codes: 0 run completed, 1 runtime failure, 2 bad options, 3 run aborted "
@@ -56,6 +66,8 @@ int main(int argc, char** argv) {
         if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors");
             !e.empty())
             return e;
+        if (o.procedure.resume_setpoint_index >= 0 && (o.run_id.empty() || o.procedure.sensor_ids.empty()))
+            return "--resume-setpoint-index: resuming needs the run's --run-id and --sensors";
         try {
             if (o.procedure.sensor_ids.empty()) {
                 ProcedureOptions probe = o.procedure;
@@ -65,7 +77,11 @@ int main(int argc, char** argv) {
                 o.procedure.Validate();
             }
         } catch (const std::invalid_argument& e) {
-            return e.what();
+            const std::string what = e.what();
+            if (what.rfind("resume setpoint index", 0) == 0) return "--resume-setpoint-index: " + what;
+            if (what.rfind("move attempts", 0) == 0) return "--move-attempts: " + what;
+            if (what.rfind("retry wait", 0) == 0) return "--retry-wait-s: " + what;
+            return what;
         }
         if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))
             return "--run-config-json: is not valid JSON";

@@ -19,6 +19,12 @@ std::string Num(double v) {
     return os.str();
 }
 
+std::string Join(const std::map<std::string, std::string>& why) {
+    std::string out;
+    for (const auto& [id, reason] : why) out += (out.empty() ? "" : "; ") + id + ": " + reason;
+    return out;
+}
+
 }  // namespace
 
 std::optional<Profile> NamedProfile(const std::string& name) {
@@ -62,6 +68,14 @@ void ProcedureOptions::Validate() const {
         throw std::invalid_argument("rotation rate " + Num(rotation_rate_dps) + " deg/s: valid is (0, 300]");
     if (!(rotation_accel_dps2 > 0.0))
         throw std::invalid_argument("rotation acceleration " + Num(rotation_accel_dps2) + " deg/s^2: must be > 0");
+    if (!(retry_wait_s >= 0.0 && retry_wait_s <= 600.0))
+        throw std::invalid_argument("retry wait " + Num(retry_wait_s) + " s: valid is 0..600");
+    if (move_attempts < 1 || move_attempts > 5)
+        throw std::invalid_argument("move attempts " + std::to_string(move_attempts) + ": valid is 1..5");
+    if (resume_setpoint_index < -1 || resume_setpoint_index >= static_cast<int>(profile.setpoints_c.size()))
+        throw std::invalid_argument("resume setpoint index " + std::to_string(resume_setpoint_index) +
+                                    ": valid is 0.." + std::to_string(profile.setpoints_c.size() - 1) +
+                                    " (0-based, of the profile's setpoints) or -1 for a new run");
 }
 
 const char* PhaseName(Phase p) {
@@ -69,6 +83,7 @@ const char* PhaseName(Phase p) {
         case Phase::kIdle: return "idle";
         case Phase::kWaitPlateau: return "waiting for plateaus";
         case Phase::kWaitRotation: return "rotating";
+        case Phase::kWaitRetry: return "at rest before turning again";
         case Phase::kDone: return "done";
     }
     return "?";
@@ -80,6 +95,7 @@ std::vector<Order> Procedure::OnTime(int64_t utime) {
     if (phase_ == Phase::kDone) return {};
     now_utime_ = std::max(now_utime_, utime);
     if (phase_ == Phase::kIdle) {
+        if (options_.resume_setpoint_index >= 0) return EnterSetpoint(options_.resume_setpoint_index, utime);
         std::vector<Order> out{RunEventOrder{"start", "profile " + options_.profile.name, -1, NAN}};
         auto more = EnterSetpoint(0, utime);
         out.insert(out.end(), more.begin(), more.end());
@@ -91,12 +107,13 @@ std::vector<Order> Procedure::OnTime(int64_t utime) {
                                    " s at setpoint " + Num(options_.profile.setpoints_c[setpoint_index_]) +
                                    " degC for sensors " + Join(pending_));
     }
+    if (phase_ == Phase::kWaitRetry && waited_s >= options_.retry_wait_s)
+        return EnterMove(move_index_, now_utime_, retry_why_);
     if (phase_ == Phase::kWaitRotation && waited_s > options_.rotation_timeout_s) {
-        notes_.push_back("move " + Num(options_.moves_deg[move_index_]) + " deg at setpoint " +
-                         Num(options_.profile.setpoints_c[setpoint_index_]) +
-                         " degC: no sensitivity point within " + Num(options_.rotation_timeout_s) +
-                         " s from " + Join(pending_));
-        return Advance(now_utime_);
+        for (const auto& id : pending_)
+            move_failed_[id] = "no sensitivity point within " + Num(options_.rotation_timeout_s) + " s";
+        pending_.clear();
+        return MoveDone(now_utime_);
     }
     return {};
 }
@@ -113,11 +130,38 @@ std::vector<Order> Procedure::OnPlateau(const std::string& sensor_id, int64_t ut
     return Advance(utime);
 }
 
-std::vector<Order> Procedure::OnSensitivity(const std::string& sensor_id, int64_t utime) {
+std::vector<Order> Procedure::OnSensitivity(const std::string& sensor_id, int64_t utime, bool accepted,
+                                            const std::string& reject_reason) {
     if (phase_ != Phase::kWaitRotation || utime < phase_start_utime_) return {};
-    pending_.erase(sensor_id);
+    if (!pending_.erase(sensor_id)) return {};  // not awaited, or already answered this attempt
+    if (!accepted) move_failed_[sensor_id] = "rejected: " + reject_reason;
     if (!pending_.empty()) return {};
+    return MoveDone(utime);
+}
+
+std::vector<Order> Procedure::MoveDone(int64_t utime) {
+    if (move_failed_.empty()) return Advance(utime);
+    const std::string what = "move " + Num(options_.moves_deg[static_cast<size_t>(move_index_)]) +
+                             " deg at setpoint " +
+                             Num(options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]) + " degC";
+    if (move_attempt_ < options_.move_attempts) {
+        retry_why_ = "attempt " + std::to_string(move_attempt_ + 1) + " of " + std::to_string(options_.move_attempts) +
+                     " after " + Join(move_failed_);
+        phase_ = Phase::kWaitRetry;
+        phase_start_utime_ = std::max(utime, now_utime_);  // the rest counts from the data now
+        return OnTime(phase_start_utime_);                 // at once when retry_wait_s is 0
+    }
+    notes_.push_back(what + ": no accepted sensitivity point after " + std::to_string(move_attempt_) +
+                     (move_attempt_ == 1 ? " attempt" : " attempts") + " (" + Join(move_failed_) + ")");
     return Advance(utime);
+}
+
+void Procedure::EndedElsewhere(const std::string& event, const std::string& reason) {
+    if (phase_ == Phase::kDone) return;
+    phase_ = Phase::kDone;
+    outcome_ = event == "stop" ? "completed" : "abort";
+    outcome_reason_ = reason;
+    pending_.clear();
 }
 
 std::vector<Order> Procedure::Abort(const std::string& reason) {
@@ -138,13 +182,16 @@ std::vector<Order> Procedure::EnterSetpoint(int index, int64_t utime) {
             ChamberOrder{sp, options_.ramp_rate_c_per_min}};
 }
 
-std::vector<Order> Procedure::EnterMove(int index, int64_t utime) {
+std::vector<Order> Procedure::EnterMove(int index, int64_t utime, const std::string& why) {
+    move_attempt_ = index == move_index_ && !why.empty() ? move_attempt_ + 1 : 1;
+    move_failed_.clear();
     move_index_ = index;
     phase_ = Phase::kWaitRotation;
     phase_start_utime_ = utime;
     pending_ = std::set<std::string>(options_.sensor_ids.begin(), options_.sensor_ids.end());
     const double move = options_.moves_deg[static_cast<size_t>(index)];
-    return {RunEventOrder{"rotation", "move " + Num(move) + " deg", setpoint_index_,
+    return {RunEventOrder{"rotation", "move " + Num(move) + " deg" + (why.empty() ? "" : " (" + why + ")"),
+                          setpoint_index_,
                           options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]},
             TurntableOrder{move, options_.rotation_rate_dps, options_.rotation_accel_dps2}};
 }
@@ -154,7 +201,10 @@ std::vector<Order> Procedure::Advance(int64_t utime) {
     if (next_move < static_cast<int>(options_.moves_deg.size())) return EnterMove(next_move, utime);
     const int next_sp = setpoint_index_ + 1;
     if (next_sp < static_cast<int>(options_.profile.setpoints_c.size())) return EnterSetpoint(next_sp, utime);
-    return Finish("stop", "completed");
+    if (notes_.empty()) return Finish("stop", "completed");
+    std::string missing;
+    for (const auto& n : notes_) missing += (missing.empty() ? "" : "; ") + n;
+    return Finish("stop", "completed; missing: " + missing);
 }
 
 std::vector<Order> Procedure::Finish(const std::string& event, const std::string& reason) {

@@ -13,9 +13,18 @@
 // simulated rig or a replayed log, and a missing plateau is decided on data time: a setpoint
 // whose plateaus do not all arrive within plateau_timeout_s ends the run with outcome "abort"
 // and a reason naming the sensors that never settled (a chamber fault), never a hang. A move
-// whose sensitivity points do not all arrive within rotation_timeout_s is noted and skipped:
-// the offset calibration of that setpoint stays valid without it.
+// whose sensitivity points do not all arrive within rotation_timeout_s, or arrive rejected (a
+// turn with samples lost on the network, a slip), is ordered again after retry_wait_s of data
+// (the estimator needs a rest window before the turn, and the first samples after a network
+// hole are no rest window), up to move_attempts in all;
+// a move still missing after that is noted, named in the stop event's reason, and skipped: the
+// offset calibration of that setpoint stays valid without it.
+//
+// Resume (a sequencer restarted after a crash, resume_setpoint_index >= 0): no "start"; the run
+// goes on at that setpoint, which is taken again from its chamber order (its plateaus and moves:
+// what the dead sequencer was waiting for is not known, so nothing of that setpoint is assumed).
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -56,6 +65,9 @@ struct ProcedureOptions {
     double rotation_rate_dps = 30.0;      // [deg/s] cruise rate of each move
     double rotation_accel_dps2 = 60.0;    // [deg/s^2]
     double rotation_timeout_s = 120.0;    // [s] data time per move
+    int move_attempts = 2;                // [count] orders of one move before it is given up, 1..5
+    double retry_wait_s = 10.0;           // [s] data time at rest before a move is ordered again
+    int resume_setpoint_index = -1;       // >= 0: resume a run there (no start event); -1 = new run
     // Throws std::invalid_argument naming the field and its valid range.
     void Validate() const;
 };
@@ -78,7 +90,7 @@ struct RunEventOrder {
 };
 using Order = std::variant<ChamberOrder, TurntableOrder, RunEventOrder>;
 
-enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kDone };
+enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kWaitRetry, kDone };
 const char* PhaseName(Phase p);
 
 class Procedure {
@@ -90,9 +102,13 @@ public:
     // setpoint_c: the plateau's own setpoint (NaN when unknown); a plateau of another setpoint
     // (one that finished averaging just after the chamber was reordered) does not count.
     std::vector<Order> OnPlateau(const std::string& sensor_id, int64_t utime, double setpoint_c);
-    std::vector<Order> OnSensitivity(const std::string& sensor_id, int64_t utime);
+    // accepted false (reject_reason says why) asks for the move again (see move_attempts).
+    std::vector<Order> OnSensitivity(const std::string& sensor_id, int64_t utime,
+                                     bool accepted = true, const std::string& reject_reason = "");
     // Operator stop (Ctrl-C): ends the run as "abort" with the reason given.
     std::vector<Order> Abort(const std::string& reason);
+    // The run was ended by someone else (a supervisor's abort of this run): done, nothing ordered.
+    void EndedElsewhere(const std::string& event, const std::string& reason);
 
     Phase phase() const { return phase_; }
     bool done() const { return phase_ == Phase::kDone; }
@@ -105,7 +121,8 @@ public:
 
 private:
     std::vector<Order> EnterSetpoint(int index, int64_t utime);
-    std::vector<Order> EnterMove(int index, int64_t utime);
+    std::vector<Order> EnterMove(int index, int64_t utime, const std::string& why = "");
+    std::vector<Order> MoveDone(int64_t utime);  // every sensor answered or the move timed out
     std::vector<Order> Advance(int64_t utime);  // after a setpoint's plateaus or a move completes
     std::vector<Order> Finish(const std::string& event, const std::string& reason);
 
@@ -116,6 +133,9 @@ private:
     int64_t phase_start_utime_ = 0;
     int64_t now_utime_ = 0;
     std::set<std::string> pending_;
+    int move_attempt_ = 0;                            // 1-based attempt of the current move
+    std::map<std::string, std::string> move_failed_;  // sensor -> why, for the current attempt
+    std::string retry_why_;                           // kWaitRetry: what the next order says
     std::string outcome_;
     std::string outcome_reason_;
     std::vector<std::string> notes_;

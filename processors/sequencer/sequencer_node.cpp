@@ -76,8 +76,17 @@ SequencerNode::SequencerNode(SequencerOptions options)
                               });
     bus_.Subscribe<sensitivity_point_t>(channels::AllSensors(channels::kSensitivityPrefix),
                                         [this](const sensitivity_point_t& s, const std::string&) {
-                                            if (procedure_) Publish(procedure_->OnSensitivity(s.sensor_id, s.utime));
+                                            if (procedure_)
+                                                Publish(procedure_->OnSensitivity(s.sensor_id, s.utime, s.accepted,
+                                                                                  s.reject_reason));
                                         });
+    // A supervisor ends the run when a process it cannot restart died (gyrocal calibrate: the
+    // rig); the sequencer then stops without ordering more. Its own events come back too (LCM
+    // loops them back): by then the procedure is done and this changes nothing.
+    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent), [this](const run_event_t& e, const std::string&) {
+        if (!procedure_ || e.run_id != options_.run_id) return;
+        if (e.event == "abort" || e.event == "stop") procedure_->EndedElsewhere(e.event, e.reason);
+    });
 }
 
 void SequencerNode::MaybeStart(int64_t utime) {

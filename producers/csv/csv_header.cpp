@@ -28,6 +28,8 @@ const char* ColumnName(Column c) {
             return "encoder_deg";
         case Column::kChamberC:
             return "chamber_c";
+        case Column::kTimeSincePowerS:
+            return "time_since_power_s";
     }
     return "?";
 }

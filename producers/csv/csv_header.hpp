@@ -21,11 +21,22 @@ private:
     std::string column_;
 };
 
-enum class Column { kTimeS, kSensorId, kGyroV, kTempV, kTempC, kSupplyV, kEncoderDeg, kChamberC };
-inline constexpr int kNumColumns = 8;
+enum class Column {
+    kTimeS,
+    kSensorId,
+    kGyroV,
+    kTempV,
+    kTempC,
+    kSupplyV,
+    kEncoderDeg,
+    kChamberC,
+    kTimeSincePowerS
+};
+inline constexpr int kNumColumns = 9;
 const char* ColumnName(Column c);
 inline constexpr const char* kRequiredColumns = "time_s, sensor_id, gyro_v, temp_v";
-inline constexpr const char* kOptionalColumns = "temp_c, supply_v, encoder_deg, chamber_c";
+inline constexpr const char* kOptionalColumns =
+    "temp_c, supply_v, encoder_deg, chamber_c, time_since_power_s";
 
 struct Header {
     int num_fields = 0;                     // fields in the header row

@@ -39,7 +39,8 @@ std::optional<double> LatestAt::At(int64_t utime) const {
 }
 
 std::string FormatRecordRow(const gyro_sample_t& s, int64_t time_origin_utime,
-                            std::optional<double> encoder_deg, std::optional<double> chamber_c) {
+                            std::optional<double> encoder_deg, std::optional<double> chamber_c,
+                            std::optional<int64_t> power_on_utime) {
     std::string line = FormatTimeS(s.utime - time_origin_utime);
     line += ',';
     line += s.sensor_id;
@@ -51,6 +52,8 @@ std::string FormatRecordRow(const gyro_sample_t& s, int64_t time_origin_utime,
     if (encoder_deg) line += FormatValue(*encoder_deg);
     line += ',';
     if (chamber_c) line += FormatValue(*chamber_c);
+    line += ',';
+    if (power_on_utime && *power_on_utime <= s.utime) line += FormatTimeS(s.utime - *power_on_utime);
     return line;
 }
 

@@ -1,6 +1,7 @@
 #include "row_messages.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace gyrocal::csv {
@@ -48,6 +49,25 @@ RowMessages MessageBuilder::Build(const CsvRow& row, int64_t utime) {
         c.fault = "";
         out.chamber = c;
         last_chamber_time_s_ = row.time_s;
+    }
+    if (row.time_since_power_s) {
+        const int64_t on = utime - TimeUs(*row.time_since_power_s);
+        const auto it = power_.find(row.sensor_id);
+        if (it == power_.end() || std::llabs(on - it->second.power_on_utime) > kPowerOnToleranceUs ||
+            utime - it->second.sent_utime >= TimeUs(kPowerRepeatS)) {
+            power_state_t p;
+            p.utime = utime;
+            p.sensor_id = row.sensor_id;
+            p.seq = power_seq_++;
+            // A repeat keeps the first value of the cycle, so rounding never moves it.
+            p.power_on_utime = it == power_.end() || std::llabs(on - it->second.power_on_utime) >
+                                                         kPowerOnToleranceUs
+                                   ? on
+                                   : it->second.power_on_utime;
+            p.source = kPowerSource;
+            out.power = p;
+            power_[row.sensor_id] = {p.power_on_utime, utime};
+        }
     }
     return out;
 }

@@ -9,6 +9,10 @@
 // - a chamber_state_t when the row has chamber_c and at least 1 s of data time has passed
 //   since the last one (a chamber reports about once a second; more would flood CHAMBER_STATE).
 //   The file has no setpoint: setpoint_c is NaN, cmd_id -1, at_setpoint false.
+// - a power_state_t for POWER_<sensor_id> when the row has time_since_power_s (power_on_utime =
+//   utime - time_since_power_s) on the sensor's first such row, whenever the power-on time moves
+//   by more than kPowerOnToleranceUs (a new power cycle), and at least every kPowerRepeatS of
+//   data time (for late joiners).
 // The caller supplies utime (from time_s, or the wall clock for a live stream).
 #include <cstdint>
 #include <map>
@@ -18,6 +22,7 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 #include "row_parser.hpp"
 
 namespace gyrocal::csv {
@@ -26,11 +31,16 @@ inline constexpr int64_t kDefaultStartUtime = 1'000'000'000'000'000;  // [us] 1e
 inline constexpr int32_t kDefaultEncoderCountsPerRev = 4 * 5000;      // [count/rev] quadrature
 inline constexpr const char* kEncoderId = "TABLE";
 inline constexpr double kChamberPeriodS = 1.0;  // [s] of data time
+inline constexpr double kPowerRepeatS = 10.0;   // [s] of data time
+// [us] a time_since_power_s written with fewer decimals moves the power-on time by its rounding.
+inline constexpr int64_t kPowerOnToleranceUs = 1000;
+inline constexpr const char* kPowerSource = "csv time_since_power_s";
 
 struct RowMessages {
     gyro_sample_t gyro;
     std::optional<encoder_sample_t> encoder;
     std::optional<chamber_state_t> chamber;
+    std::optional<power_state_t> power;  // before the gyro sample, when sent
 };
 
 class MessageBuilder {
@@ -48,6 +58,12 @@ private:
     int64_t chamber_seq_ = 0;
     std::optional<double> last_encoder_time_s_;
     std::optional<double> last_chamber_time_s_;
+    struct Power {
+        int64_t power_on_utime;
+        int64_t sent_utime;
+    };
+    std::map<std::string, Power> power_;
+    int64_t power_seq_ = 0;
 };
 
 // [us] utime of a row replayed with stream time.

@@ -84,6 +84,11 @@ CsvRow RowParser::Parse(const std::string& line, long line_no) {
     row.supply_v = number(Column::kSupplyV, false);
     row.encoder_deg = number(Column::kEncoderDeg, false);
     row.chamber_c = number(Column::kChamberC, false);
+    row.time_since_power_s = number(Column::kTimeSincePowerS, false);
+    if (row.time_since_power_s && *row.time_since_power_s < 0.0)
+        throw CsvError(file_, line_no, "time_since_power_s",
+                       *field(Column::kTimeSincePowerS) +
+                           " is negative; valid: seconds since the unit was powered, >= 0");
 
     const std::string time_text = *field(Column::kTimeS);  // quoted as written
     if (!(std::fabs(row.time_s) <= kMaxAbsTimeS)) {

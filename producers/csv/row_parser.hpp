@@ -29,6 +29,7 @@ struct CsvRow {
     std::optional<double> supply_v;     // [V]
     std::optional<double> encoder_deg;  // [deg] cumulative turntable angle
     std::optional<double> chamber_c;    // [degC] chamber air
+    std::optional<double> time_since_power_s;  // [s] since the unit was powered, >= 0
 };
 
 class RowParser {

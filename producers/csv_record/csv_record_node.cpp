@@ -10,6 +10,7 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 
 namespace gyrocal {
 namespace {
@@ -66,7 +67,7 @@ CsvRecordNode::CsvRecordNode(const CsvRecordOptions& options)
         }
         last->second = s.utime;
         out_ << csv::FormatRecordRow(s, options_.time_origin_utime, encoder_deg_.At(s.utime),
-                                     chamber_c_.At(s.utime))
+                                     chamber_c_.At(s.utime), PowerOn(s.sensor_id))
              << '\n';
         ++rows_;
     };
@@ -93,6 +94,17 @@ CsvRecordNode::CsvRecordNode(const CsvRecordOptions& options)
             }
             chamber_c_.Add(c.utime, c.air_c);
         });
+    bus_.Subscribe<power_state_t>(
+        channels::AllSensors(channels::kPowerPrefix),
+        [this](const power_state_t& p, const std::string&) {
+            power_on_utime_[p.sensor_id] = p.power_on_utime;
+        });
+}
+
+std::optional<int64_t> CsvRecordNode::PowerOn(const std::string& sensor_id) const {
+    const auto it = power_on_utime_.find(sensor_id);
+    if (it == power_on_utime_.end()) return std::nullopt;
+    return it->second;
 }
 
 bool CsvRecordNode::Idle() {

@@ -47,6 +47,8 @@ private:
     StatusReporter status_;
     csv::LatestAt encoder_deg_;
     csv::LatestAt chamber_c_;
+    std::map<std::string, int64_t> power_on_utime_;  // [us] newest POWER_<id> per sensor
+    std::optional<int64_t> PowerOn(const std::string& sensor_id) const;
     std::map<std::string, int64_t> last_utime_;  // [us] per sensor: rows only go forward
     int64_t rows_ = 0;
     int64_t last_received_ = 0;

@@ -55,8 +55,9 @@ void CsvSourceNode::PublishRow(const csv::CsvRow& row) {
     // temperature in force when the gyro sample of the same time arrives.
     if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
     if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
+    if (m.power) bus_.Publish(channels::Power(m.power->sensor_id), *m.power);
     bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
-    messages_ += 1 + (m.encoder ? 1 : 0) + (m.chamber ? 1 : 0);
+    messages_ += 1 + (m.encoder ? 1 : 0) + (m.chamber ? 1 : 0) + (m.power ? 1 : 0);
 }
 
 bool CsvSourceNode::Step() {

@@ -9,7 +9,6 @@
 
 #include "bus/channels.hpp"
 #include "bus/shutdown.hpp"
-#include "csv/fields.hpp"
 
 namespace gyrocal {
 namespace {
@@ -18,6 +17,10 @@ std::string FormatNumber(double v) {
     std::ostringstream os;
     os << v;
     return os.str();
+}
+csv::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
+    std::string err;
+    return *conversion.Transfer(&err);  // validated by main
 }
 }  // namespace
 
@@ -33,9 +36,8 @@ LineSourceNode::LineSourceNode(const LineSourceOptions& options, std::unique_ptr
       input_(std::move(input)),
       bus_(BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-line-source"),
+      stream_(input_->name(), TransferOf(options.conversion)),
       builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)) {
-    std::string err;
-    transfer_ = *options_.conversion.Transfer(&err);  // validated by main
     status_.set_state("waiting_header");
 }
 
@@ -53,45 +55,32 @@ int64_t LineSourceNode::Utime(const csv::CsvRow& row) {
 }
 
 void LineSourceNode::HandleLine(const InputLine& line) {
-    ++line_no_;
-    const std::string& name = input_->name();
-    if (line.overlong) {
-        ++bad_lines_;
-        status_.Reject("bad_line", name + ":" + std::to_string(line_no_) + ": longer than " +
-                                       std::to_string(LineInput::kMaxLineBytes) +
-                                       " bytes; skipped (expected a CSV line)");
-        return;
-    }
-    if (csv::IsBlankOrComment(line.text)) return;
-    if (!parser_) {
-        try {
-            csv::Header h = csv::ParseHeader(line.text, name, line_no_);
-            if (!h.unknown.empty()) {
+    const LineOutcome o = stream_.Feed(line);
+    switch (o.kind) {
+        case LineOutcome::Kind::kIgnored: return;
+        case LineOutcome::Kind::kFatal: fatal_ = o.message; return;
+        case LineOutcome::Kind::kBad:
+            ++bad_lines_;
+            status_.Reject("bad_line", o.message);
+            return;
+        case LineOutcome::Kind::kHeader:
+            if (!o.unknown_columns.empty()) {
                 std::string names;
-                for (const auto& n : h.unknown) names += (names.empty() ? "" : ", ") + n;
-                std::cerr << "gyrocal-line-source: warning: " << name
+                for (const auto& n : o.unknown_columns) names += (names.empty() ? "" : ", ") + n;
+                std::cerr << "gyrocal-line-source: warning: " << input_->name()
                           << ": ignoring unknown column(s) " << names << "\n";
             }
-            parser_.emplace(std::move(h), name, transfer_);
-            header_text_ = line.text;
             status_.set_state("streaming");
-        } catch (const csv::CsvError& e) {
-            fatal_ = std::string(e.what()) + " (the first line of the stream must be the header)";
-        }
-        return;
+            return;
+        case LineOutcome::Kind::kRow: break;
     }
-    if (line.text == header_text_) return;  // a DAQ that restarts may print its header again
-    try {
-        const csv::CsvRow row = parser_->Parse(line.text, line_no_);
-        const csv::RowMessages m = builder_.Build(row, Utime(row));
-        if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
-        if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
-        bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
-        ++published_rows_;
-    } catch (const csv::CsvError& e) {
-        ++bad_lines_;
-        status_.Reject("bad_line", std::string(e.what()) + "; line skipped");
-    }
+    const csv::CsvRow& row = *o.row;
+    const csv::RowMessages m = builder_.Build(row, Utime(row));
+    if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
+    if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
+    if (m.power) bus_.Publish(channels::Power(m.power->sensor_id), *m.power);
+    bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
+    ++published_rows_;
 }
 
 bool LineSourceNode::Step() {

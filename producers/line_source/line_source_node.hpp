@@ -15,8 +15,8 @@
 #include "bus/status.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/row_messages.hpp"
-#include "csv/row_parser.hpp"
 #include "line_input.hpp"
+#include "line_stream.hpp"
 
 namespace gyrocal {
 
@@ -45,13 +45,10 @@ private:
 
     LineSourceOptions options_;
     std::unique_ptr<LineInput> input_;
-    csv::TempTransfer transfer_;
     Bus bus_;
     StatusReporter status_;
+    LineStream stream_;
     csv::MessageBuilder builder_;
-    std::optional<csv::RowParser> parser_;
-    std::string header_text_;
-    long line_no_ = 0;
     int64_t published_rows_ = 0;
     int64_t bad_lines_ = 0;
     int64_t last_wall_utime_ = 0;

@@ -7,6 +7,7 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 
 namespace gyrocal {
 
@@ -17,6 +18,8 @@ const char* kProcess = "gyrocal-sim-rig";
 constexpr int64_t kMaxBatchGyroPeriods = 200;
 // Wall time one pacing step may spend publishing before returning to RunLoop (heartbeat, stop).
 constexpr std::chrono::milliseconds kBusyBudget(50);
+// The units' power-on time is repeated this often (sim time) for late joiners.
+constexpr int64_t kPowerRepeatUs = 10'000'000;
 }  // namespace
 
 SimRigNode::SimRigNode(const SimRigOptions& options)
@@ -62,7 +65,23 @@ void SimRigNode::OnTurntableCmd(const turntable_cmd_t& cmd) {
     if (!r.accepted) status_.Reject("turntable_cmd_refused", "TURNTABLE_CMD " + r.reason);
 }
 
+void SimRigNode::PublishPower(int64_t utime) {
+    // Every unit of the rig is powered when the rig starts (its simulated power-on).
+    for (const std::string& id : rig_.sensor_ids()) {
+        power_state_t p;
+        p.utime = utime;
+        p.sensor_id = id;
+        p.seq = power_seq_;
+        p.power_on_utime = options_.rig.start_utime;
+        p.source = "rig";
+        bus_.Publish(channels::Power(id), p);
+    }
+    ++power_seq_;
+    next_power_utime_ = utime + kPowerRepeatUs;
+}
+
 void SimRigNode::OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) {
+    if (r.unit_index == 0 && r.utime >= next_power_utime_) PublishPower(r.utime);
     gyro_sample_t m;
     m.utime = r.utime;
     m.sensor_id = *r.sensor_id;

@@ -53,6 +53,8 @@ private:
     void OnGyro(const sim::GyroReading& r, const sim::GyroTruth& truth) override;
     void OnEncoder(const sim::EncoderReading& r) override;
     void OnChamber(const sim::ChamberReading& r) override;
+    // POWER_<id> of every unit: before its first sample, then every kPowerRepeatS of sim time.
+    void PublishPower(int64_t utime);
 
     SimRigOptions options_;
     Bus bus_;
@@ -60,6 +62,8 @@ private:
     sim::Rig rig_;
     std::optional<sim::BuiltinProfile> profile_;
     std::vector<std::string> gyro_channels_;
+    int64_t power_seq_ = 0;
+    int64_t next_power_utime_ = 0;  // [us] sim time of the next POWER_<id> repeat
     std::chrono::steady_clock::time_point wall_start_;
     int64_t end_utime_ = 0;  // 0 = none
     bool finished_ = false;

@@ -22,16 +22,6 @@ std::string Printable(const std::string& s) {
     return out;
 }
 
-std::string UtcText(std::optional<int64_t> utime) {
-    if (!utime) return "-";
-    const std::time_t t = static_cast<std::time_t>(*utime / 1000000);
-    std::tm tm{};
-    gmtime_r(&t, &tm);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S", &tm);
-    return buf;
-}
-
 std::optional<int64_t> ParseUtc(const std::string& text) {
     int y = 0, mo = 0, d = 0, h = 0, mi = 0, s = 0;
     int n = 0;

@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "query.hpp"
+#include "utc_text.hpp"
 
 namespace gyrocal::store::report {
 
 // "2026-11-21 05:14:00" (UTC) of a wall-clock utime [us]; "-" when absent.
-std::string UtcText(std::optional<int64_t> utime);
+using gyrocal::store::UtcText;
 // Parses "YYYY-MM-DD" or "YYYY-MM-DD[T ]HH:MM[:SS][Z]" as UTC into utime [us]; nullopt if invalid.
 std::optional<int64_t> ParseUtc(const std::string& text);
 // Parses "0,25,50" into temperatures [degC]; nullopt when a value is not a finite number.
@@ -40,12 +41,10 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
 nlohmann::json CoeffSetJson(const CoeffSetInfo& c);
 std::string CoeffsCsv(const std::vector<CoeffSetInfo>& sets);
 // `origin` is what the header says it was exported from (e.g. "run R1 of gyrocal.db").
-// Every term of the registry (model/terms.hpp) is evaluated by the header's C function
-// gyrocal_eval(model, inputs) from a gyrocal_inputs_t; a stored name it does not know evaluates
-// to NAN.
+// The header carries gyrocal_model.h verbatim (the input trackers, every registry term and the
+// per-sample compensation), then each sensor's models and tracker configuration; a stored name
+// the registry does not know evaluates to NAN.
 std::string CoeffsCHeader(const std::vector<CoeffSetInfo>& sets, const std::string& origin);
-// Whether the C header evaluates the registry term `registry_name` (TermDef::name).
-bool CHeaderKnowsTerm(std::string_view registry_name);
 
 // Replaces control characters (and DEL) by '?', for one-line display of untrusted text.
 std::string Printable(const std::string& s);

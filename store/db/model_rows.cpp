@@ -1,5 +1,7 @@
 #include "model_rows.hpp"
 
+#include "model/inputs.hpp"
+
 #include <limits>
 
 namespace gyrocal::store {
@@ -112,21 +114,12 @@ int64_t StoreCoeffSet(Db& db, const gyrocal::coeff_set_t& set, int64_t recv_utim
     return StoreCoeffSet(db, model::FromMsg(set), recv_utime);
 }
 
-model::ModelInputs SteadyStateInputs(double temp_c) {
-    model::ModelInputs in;
-    in.temp_c = temp_c;
-    in.dtemp_dt_c_per_s = 0.0;
-    in.supply_v = model::kNominalSupplyV;
-    in.heating = 0.0;
-    in.direction = 0.0;
-    in.time_since_power_s = std::numeric_limits<double>::infinity();
-    return in;
-}
-
 std::optional<double> SteadyStateValue(const ModelRow& m, double temp_c) {
     try {
-        const model::Evaluator eval(ToModel(m));
-        return eval.Value(SteadyStateInputs(temp_c), model::RangePolicy::kExtrapolate);
+        const model::Model model = ToModel(m);
+        const model::Evaluator eval(model);
+        return eval.Value(model::SteadyStateInputs(model, temp_c),
+                          model::RangePolicy::kExtrapolate);
     } catch (const model::ModelError&) {
         return std::nullopt;
     }

@@ -40,15 +40,9 @@ StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const gyrocal::coef
 int64_t StoreCoeffSet(Db& db, const model::CoeffSet& set, int64_t recv_utime = 0);
 int64_t StoreCoeffSet(Db& db, const gyrocal::coeff_set_t& set, int64_t recv_utime = 0);
 
-// The inputs at which `gyrocal history` compares models at a reference temperature: steady
-// state, the unit warmed up, at nominal supply, between the heating and cooling branches and
-// between the rotation directions (dT/dt 0, supply 5 V, heating 0, direction 0,
-// time_since_power_s +inf), so that a term other than the polynomial ones contributes what it
-// does in that state (0 for every term in the registry today).
-model::ModelInputs SteadyStateInputs(double temp_c);
-
-// A stored model at the steady-state inputs of temp_c [degC], extrapolated outside its valid
-// range; nullopt when the model is not usable (unknown term, no terms, non-finite range ...).
+// A stored model at the steady-state inputs of temp_c [degC] (model::SteadyStateInputs: at
+// rest, warmed up, nominal supply, between branches and directions), extrapolated outside its
+// valid range; nullopt when the model is not usable (unknown term, no terms, bad range ...).
 std::optional<double> SteadyStateValue(const ModelRow& m, double temp_c);
 
 }  // namespace gyrocal::store

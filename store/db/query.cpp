@@ -215,8 +215,14 @@ std::unique_ptr<Db> OpenForQuery(const std::string& path) {
     int version = 0;
     try {
         version = db->UserVersion();
-    } catch (const StoreError&) {
-        throw StoreError("'" + path + "' is not an SQLite database");
+    } catch (const StoreError& e) {
+        // A text file, or an SQLite file cut short or overwritten: say which, with SQLite's words.
+        const bool damaged = (e.sqlite_code() & 0xff) == SQLITE_CORRUPT;
+        throw StoreError("'" + path + "' " +
+                             (damaged ? "is a damaged SQLite file (cut short or overwritten?)"
+                                      : "is not an SQLite database") +
+                             ": " + sqlite3_errstr(e.sqlite_code()),
+                         e.sqlite_code());
     }
     if (version == kSchemaVersion) return db;
     if (version > kSchemaVersion) {

@@ -64,6 +64,17 @@ struct ReplayReader::Cursor {
                 c.fault = s.Text(8);
                 return c;
             }
+            case 4: {
+                PowerStateRow p;
+                p.recv_utime = s.Int(0);
+                p.run_id = s.Text(1);
+                p.sensor_id = s.Text(2);
+                p.utime = s.Int(3);
+                p.seq = s.Int(4);
+                p.power_on_utime = s.Int(5);
+                p.source = s.Text(6);
+                return p;
+            }
             default: {
                 RunEventRow e;
                 e.recv_utime = s.Int(0);
@@ -111,6 +122,11 @@ ReplayReader::ReplayReader(Db& db, const std::string& run_id) {
         "sensor_ids_json, software_version, config_json, command_line, host FROM run_events "
         "WHERE run_id = ? ORDER BY rowid",
         run_id, 3));
+    cursors_.push_back(std::make_unique<Cursor>(
+        db,
+        "SELECT recv_utime, run_id, sensor_id, utime, seq, power_on_utime, source "
+        "FROM power_states WHERE run_id = ? ORDER BY rowid",
+        run_id, 4));
 }
 
 ReplayReader::~ReplayReader() = default;

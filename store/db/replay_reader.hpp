@@ -10,7 +10,7 @@
 
 namespace gyrocal::store {
 
-// Streams the replayable messages of a run (gyro, encoder, chamber state, run events) in
+// Streams the replayable messages of a run (gyro, encoder, chamber state, run events, power) in
 // reception order (merged by recv_utime). Throws NotFound.
 class ReplayReader {
 public:

@@ -36,6 +36,13 @@ struct ChamberStateRow {
     int64_t recv_utime = 0;
 };
 
+struct PowerStateRow {
+    std::string run_id, sensor_id;
+    int64_t utime = 0, seq = 0, power_on_utime = 0;
+    std::string source;
+    int64_t recv_utime = 0;
+};
+
 struct ChamberCmdRow {
     std::string run_id, msg_run_id;
     int64_t utime = 0, cmd_id = 0;
@@ -204,6 +211,7 @@ struct LossDelta {
 
 using Row = std::variant<GyroRow, EncoderRow, ChamberStateRow, ChamberCmdRow, TurntableCmdRow,
                          PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow,
-                         StatusRow, RunEventRow, RawEventRow, NoiseRow, FitReportRow>;
+                         StatusRow, RunEventRow, RawEventRow, PowerStateRow, NoiseRow,
+                         FitReportRow>;
 
 }  // namespace gyrocal::store

@@ -282,10 +282,43 @@ FROM analyses a LEFT JOIN coeff_sets c ON c.coeff_row_id = a.coeff_row_id;
 CREATE INDEX coeff_sets_key ON coeff_sets(run_id, sensor_id, coeff_set_id, source);
 )sql";
 
-// v4 -> v5: the fitter's reports on its coefficient sets (complete or partial and why, points
+// v4 -> v5: when each unit was powered (POWER_<id>: the origin of time since power-on for
+// warm-up terms), and validations (a stored model applied to another run of the same unit).
+constexpr std::string_view kV5 = R"sql(
+CREATE TABLE power_states (
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  utime INTEGER NOT NULL,           -- [us] producer clock when sent
+  seq INTEGER NOT NULL,
+  power_on_utime INTEGER NOT NULL,  -- [us] producer clock at which the unit was powered on
+  source TEXT NOT NULL DEFAULT '',  -- how it is known: 'rig', 'csv time_since_power_s', ...
+  recv_utime INTEGER NOT NULL);
+CREATE INDEX power_states_run_sensor ON power_states(run_id, sensor_id, utime);
+
+CREATE TABLE validations (
+  validation_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL,              -- the run the model was applied to
+  sensor_id TEXT NOT NULL,
+  created_wall_utime INTEGER NOT NULL,  -- [us] wall clock when stored
+  software_version TEXT NOT NULL DEFAULT '',
+  command_line TEXT NOT NULL DEFAULT '',
+  model_origin TEXT NOT NULL DEFAULT '',  -- where the model came from (database row, run, file)
+  coeff_row_id INTEGER,              -- coeff_sets row of the model when it came from this database
+  model_run_id TEXT,                 -- run the model was fitted on, when known
+  n_bins INTEGER,                    -- still bins compared
+  offset_rms_v REAL,                 -- [V] RMS of the bins' offset error
+  rate_rms_dps REAL,                 -- [deg/s] the same as a rate
+  drift_dph REAL,                    -- [deg/h] integrated error over the still stretches
+  floor_rate_rms_dps REAL,           -- [deg/s] white noise of the bins (successive differences)
+  power_on TEXT NOT NULL DEFAULT '', -- where time since power-on came from
+  result_json TEXT NOT NULL DEFAULT ''
+);
+CREATE INDEX validations_run ON validations(run_id, sensor_id);
+)sql";
+
+// v5 -> v6: the fitter's reports on its coefficient sets (complete or partial and why, points
 // excluded, the slow noise used and its source, repeatability at revisited temperatures) and the
 // units' noise estimates (Allan deviation of the run's still stretches), with views.
-constexpr std::string_view kV5 = R"sql(
+constexpr std::string_view kV6 = R"sql(
 CREATE TABLE noise_estimates (
   noise_row_id INTEGER PRIMARY KEY,
   run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
@@ -365,7 +398,7 @@ WHERE n.noise_row_id = (SELECT max(m.noise_row_id) FROM noise_estimates m
     WHERE m.run_id = n.run_id AND m.sensor_id = n.sensor_id);
 )sql";
 
-constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5};
+constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5, kV6};
 
 bool IsGyrocalDb(Db& db) {
     Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE name = 'gyrocal_meta'");
@@ -406,6 +439,12 @@ void Migrate(Db& db, int target_version) {
     }
     while (version < target_version) {
         Transaction tx(db);
+        // Another process may have migrated the file while this one waited for the write lock
+        // (two chambers' recorders creating one database at once): go on from what it says now.
+        if (const int now = db.UserVersion(); now != version) {
+            version = now;
+            continue;
+        }
         db.Exec(kSteps[static_cast<size_t>(version)]);
         db.SetUserVersion(version + 1);
         tx.Commit();

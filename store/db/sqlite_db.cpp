@@ -1,9 +1,81 @@
 #include "sqlite_db.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace gyrocal::store {
+
+bool IsStorageFault(int code) {
+    switch (code & 0xff) {
+        case SQLITE_FULL:
+        case SQLITE_READONLY:
+        case SQLITE_BUSY:
+        case SQLITE_LOCKED:
+        case SQLITE_IOERR:
+        case SQLITE_CANTOPEN:
+        case SQLITE_PROTOCOL:
+            return true;
+        default:
+            return false;
+    }
+}
+
+std::string StorageFaultName(const StoreError& e) {
+    return StorageFaultName(e.sqlite_code(), e.os_errno());
+}
+
+std::string StorageFaultName(int code, int os_errno) {
+    if ((code & 0xff) == SQLITE_IOERR) {
+        if (os_errno == EROFS || os_errno == EPERM || os_errno == EACCES) return "read-only";
+        if (os_errno == ENOSPC || os_errno == EDQUOT) return "disk full";
+    }
+    switch (code & 0xff) {
+        case SQLITE_FULL: return "disk full";
+        case SQLITE_READONLY:
+            return code == SQLITE_READONLY_DBMOVED ? "file removed or replaced" : "read-only";
+        case SQLITE_BUSY:
+        case SQLITE_LOCKED:
+        case SQLITE_PROTOCOL: return "locked by another writer";
+        case SQLITE_IOERR: return "I/O error";
+        case SQLITE_CANTOPEN: return "cannot open";
+        default: return "";
+    }
+}
+
+namespace {
+// SQLite's message, with the OS error behind it when there is one (e.g. "disk I/O error (OS:
+// Operation not permitted)" for a write to a file made immutable).
+std::string Describe(sqlite3* db) {
+    std::string msg = sqlite3_errmsg(db);
+    const int primary = sqlite3_extended_errcode(db) & 0xff;
+    const int os = sqlite3_system_errno(db);
+    if (os != 0 && (primary == SQLITE_IOERR || primary == SQLITE_FULL || primary == SQLITE_CANTOPEN)) {
+        msg += std::string(" (OS: ") + std::strerror(os) + ")";
+    }
+    return msg;
+}
+// The start of a statement on one line (whitespace runs collapsed), for messages.
+std::string Snippet(std::string_view sql) {
+    std::string out;
+    for (char c : sql) {
+        const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
+        if (space && (out.empty() || out.back() == ' ')) continue;
+        out += space ? ' ' : c;
+        if (out.size() >= 100) return out + "...";
+    }
+    return out;
+}
+
+// "database 'PATH': " or, when the file itself is the problem, "database 'PATH' is damaged
+// (...)" so that the cause comes before the statement that met it.
+std::string Prefix(const std::string& path, int code) {
+    if ((code & 0xff) == SQLITE_CORRUPT) return "database '" + path + "' is damaged: ";
+    if ((code & 0xff) == SQLITE_NOTADB) return "'" + path + "' is not an SQLite database: ";
+    return "database '" + path + "': ";
+}
+}  // namespace
 
 Db::Db(const std::string& path, Mode mode) : path_(path) {
     int flags = SQLITE_OPEN_NOMUTEX;
@@ -14,11 +86,14 @@ Db::Db(const std::string& path, Mode mode) : path_(path) {
     }
     const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
     if (rc != SQLITE_OK) {
-        std::string msg = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+        std::string msg = db_ ? Describe(db_) : sqlite3_errstr(rc);
+        const int code = db_ ? sqlite3_extended_errcode(db_) : rc;
+        const int os = db_ ? sqlite3_system_errno(db_) : 0;
         sqlite3_close(db_);
         db_ = nullptr;
-        throw StoreError("cannot open database '" + path + "': " + msg);
+        throw StoreError("cannot open database '" + path + "': " + msg, code, os);
     }
+    sqlite3_extended_result_codes(db_, 1);
     // Concurrent readers (query tools) and the recorder's writer may meet: wait, do not fail.
     sqlite3_busy_timeout(db_, 5000);
 }
@@ -26,16 +101,25 @@ Db::Db(const std::string& path, Mode mode) : path_(path) {
 Db::~Db() { sqlite3_close_v2(db_); }
 
 void Db::Fail(std::string_view what) const {
-    throw StoreError("database '" + path_ + "': " + std::string(what) + ": " + sqlite3_errmsg(db_));
+    const int code = sqlite3_extended_errcode(db_);
+    throw StoreError(Prefix(path_, code) + std::string(what) + ": " + Describe(db_), code,
+                     sqlite3_system_errno(db_));
+}
+
+void Db::SetBusyTimeout(int ms) { sqlite3_busy_timeout(db_, ms); }
+
+bool Db::HasMoved() const {
+    int moved = 0;
+    return sqlite3_file_control(db_, "main", SQLITE_FCNTL_HAS_MOVED, &moved) == SQLITE_OK &&
+           moved != 0;
 }
 
 void Db::Exec(std::string_view sql) {
-    char* err = nullptr;
     const std::string s(sql);
-    if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
-        std::string msg = err ? err : "unknown error";
-        sqlite3_free(err);
-        throw StoreError("database '" + path_ + "': " + msg + " (in: " + s.substr(0, 120) + ")");
+    if (sqlite3_exec(db_, s.c_str(), nullptr, nullptr, nullptr) != SQLITE_OK) {
+        const int code = sqlite3_extended_errcode(db_);
+        throw StoreError(Prefix(path_, code) + Describe(db_) + " (in: " + Snippet(s) + ")", code,
+                         sqlite3_system_errno(db_));
     }
 }
 
@@ -54,7 +138,7 @@ void Db::SetUserVersion(int version) { Exec("PRAGMA user_version = " + std::to_s
 Stmt::Stmt(Db& db, std::string_view sql) : db_(&db), sql_(sql) {
     if (sqlite3_prepare_v2(db.raw(), sql_.c_str(), static_cast<int>(sql_.size()), &stmt_,
                            nullptr) != SQLITE_OK) {
-        db.Fail("cannot prepare '" + sql_.substr(0, 120) + "'");
+        db.Fail("cannot prepare '" + Snippet(sql_) + "'");
     }
 }
 
@@ -94,10 +178,11 @@ bool Stmt::Step() {
     const int rc = sqlite3_step(stmt_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    const std::string msg = sqlite3_errmsg(db_->raw());
+    const std::string msg = Describe(db_->raw());
+    const int code = sqlite3_extended_errcode(db_->raw());
+    const int os = sqlite3_system_errno(db_->raw());
     sqlite3_reset(stmt_);
-    throw StoreError("database '" + db_->path() + "': " + msg + " (in: " + sql_.substr(0, 120) +
-                     ")");
+    throw StoreError(Prefix(db_->path(), code) + msg + " (in: " + Snippet(sql_) + ")", code, os);
 }
 
 void Stmt::Reset() {

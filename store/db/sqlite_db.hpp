@@ -15,8 +15,29 @@ namespace gyrocal::store {
 
 class StoreError : public std::runtime_error {
 public:
-    using std::runtime_error::runtime_error;
+    explicit StoreError(const std::string& what, int sqlite_code = 0, int os_errno = 0)
+        : std::runtime_error(what), sqlite_code_(sqlite_code), os_errno_(os_errno) {}
+    // SQLite's extended result code of the failure (e.g. SQLITE_FULL, SQLITE_IOERR_WRITE); 0 when
+    // the error is not SQLite's (bad input, a file that is not a gyrocal database...).
+    int sqlite_code() const { return sqlite_code_; }
+    // The OS error behind an I/O or open failure (errno), 0 when none.
+    int os_errno() const { return os_errno_; }
+
+private:
+    int sqlite_code_ = 0;
+    int os_errno_ = 0;
 };
+
+// A failure of the storage under the database rather than of the data or the file's contents:
+// the disk is full, the file or its file system became read-only, another writer holds the lock,
+// or an I/O error. Writing the same rows again can succeed once that is fixed.
+bool IsStorageFault(int sqlite_code);
+// What an operator should hear: "disk full", "read-only", "file removed or replaced", "locked by
+// another writer", "I/O error", "cannot open"; "" for any other code. An I/O error whose OS
+// error says read-only (EROFS, EPERM: e.g. an immutable file, EACCES) is "read-only", and one
+// that says no space (ENOSPC, EDQUOT) is "disk full".
+std::string StorageFaultName(int sqlite_code, int os_errno = 0);
+std::string StorageFaultName(const StoreError& e);
 
 class Stmt;
 
@@ -36,7 +57,13 @@ public:
     void SetUserVersion(int version);
     const std::string& path() const { return path_; }
     sqlite3* raw() const { return db_; }
+    // Throws StoreError: "database 'PATH': WHAT: SQLite's message" with the extended code, and the
+    // OS error behind an I/O, disk-full or open failure.
     [[noreturn]] void Fail(std::string_view what) const;
+    void SetBusyTimeout(int ms);
+    // True when the file at path() is no longer the one this connection has open (removed,
+    // renamed or replaced): writes would go to a file nobody can read any more.
+    bool HasMoved() const;
 
 private:
     std::string path_;

@@ -1,12 +1,45 @@
 #include "writer.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "analyses.hpp"
 #include "schema.hpp"
 
 namespace gyrocal::store {
+
+namespace {
+
+// Why this process cannot write the database at `path`: its file, its WAL, or the folder where
+// SQLite creates the WAL and shared-memory files refuse writes (EROFS: read-only file system,
+// EPERM: an immutable file, EACCES: permissions; access(2) says so also for root). {0, ""}
+// when nothing refuses. SQLite itself reports such a failure as a plain "disk I/O error" or
+// "unable to open database file", without the cause.
+std::pair<int, std::string> NotWritable(const std::string& path) {
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    for (const std::string& p : {path, path + "-wal", dir.empty() ? std::string(".") : dir}) {
+        if (::access(p.c_str(), W_OK) != 0 && errno != ENOENT) {
+            const int e = errno;
+            return {e, "cannot write '" + p + "': " + std::strerror(e)};
+        }
+    }
+    return {0, ""};
+}
+
+// `e` with the reason the storage refuses writes added, when there is one.
+StoreError WithCause(const StoreError& e, const std::string& path) {
+    if (!IsStorageFault(e.sqlite_code())) return e;
+    const auto [os, why] = NotWritable(path);
+    if (os == 0) return e;
+    return StoreError(std::string(e.what()) + "; " + why, e.sqlite_code(), os);
+}
+
+}  // namespace
 
 struct StoreWriter::Statements {
     explicit Statements(Db& db)
@@ -31,13 +64,19 @@ struct StoreWriter::Statements {
                       "n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
                       "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_v_mean, "
                       "supply_mean_v, recv_utime) "
-                      "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+                      "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,?19,"
+                      "?20,?21,?22 "
+                      "WHERE NOT EXISTS (SELECT 1 FROM plateaus WHERE run_id = ?1 AND "
+                      "sensor_id = ?2 AND plateau_id = ?3)"),
           sensitivity(db, "INSERT INTO sensitivity_points(run_id, sensor_id, rotation_id, utime, "
                           "start_utime, end_utime, first_seq, last_seq, n_samples, direction, "
                           "temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
                           "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, "
                           "reject_reason, recv_utime) "
-                          "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+                          "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,"
+                          "?19,?20 "
+                          "WHERE NOT EXISTS (SELECT 1 FROM sensitivity_points WHERE run_id = ?1 "
+                          "AND sensor_id = ?2 AND rotation_id = ?3)"),
           rate(db, "INSERT INTO rates(run_id, sensor_id, utime, seq, rate_dps, angle_deg, temp_c, "
                    "coeff_set_id, range_flag, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?)"),
           status(db, "INSERT INTO status(run_id, utime, process, host, pid, state, received, "
@@ -58,6 +97,8 @@ struct StoreWriter::Statements {
           block(db, "INSERT INTO gyro_blocks(run_id, sensor_id, first_rowid, last_rowid, "
                     "min_utime, max_utime, n_samples) VALUES (?,?,?,?,?,?,?)"),
           run_bare(db, "INSERT OR IGNORE INTO runs(run_id, first_recv_utime) VALUES (?,?)"),
+          power(db, "INSERT INTO power_states(run_id, sensor_id, utime, seq, power_on_utime, "
+                    "source, recv_utime) VALUES (?,?,?,?,?,?,?)"),
           run_sensor(db, "INSERT OR IGNORE INTO run_sensors(run_id, sensor_id) VALUES (?,?)"),
           sensor(db, "INSERT OR IGNORE INTO sensors(sensor_id, first_recv_utime) VALUES (?,?)"),
           raw(db, "INSERT INTO raw_events(run_id, channel, recv_utime, fingerprint, reason, data) "
@@ -68,24 +109,48 @@ struct StoreWriter::Statements {
                    "decode_errors = decode_errors + ?5, queue_drops = queue_drops + ?6") {}
 
     Stmt gyro, encoder, chamber, chamber_cmd, turntable_cmd, plateau_state, plateau, sensitivity,
-        rate, status, run_event, run_start, run_stop, block, run_bare, run_sensor, sensor, raw, loss;
+        rate, status, run_event, run_start, run_stop, block, run_bare, power, run_sensor, sensor, raw,
+        loss;
 };
 
-StoreWriter::StoreWriter(const std::string& path, WriterInfo info) : info_(std::move(info)) {
-    db_ = std::make_unique<Db>(path, Db::Mode::kReadWriteCreate);
-    ConfigureConnection(*db_);
-    Migrate(*db_);
-    st_ = std::make_unique<Statements>(*db_);
-    Stmt runs(*db_, "SELECT run_id FROM runs");
-    while (runs.Step()) known_runs_.insert(runs.Text(0));
-    Stmt sensors(*db_, "SELECT sensor_id FROM sensors");
-    while (sensors.Step()) known_sensors_.insert(sensors.Text(0));
+StoreWriter::StoreWriter(const std::string& path, WriterInfo info)
+    : path_(path), info_(std::move(info)) {
+    try {
+        Open();
+    } catch (const StoreError& e) {
+        throw WithCause(e, path_);
+    }
 }
 
 StoreWriter::~StoreWriter() = default;
 
+void StoreWriter::Open() {
+    st_.reset();
+    db_.reset();
+    known_runs_.clear();
+    known_sensors_.clear();
+    auto db = std::make_unique<Db>(path_, Db::Mode::kReadWriteCreate);
+    ConfigureConnection(*db);
+    Migrate(*db);
+    // Shorter than the readers' 5 s, so that a writer holding the lock shows as "locked" on
+    // STATUS within a second; the rows wait in the AsyncWriter meanwhile and are written again.
+    db->SetBusyTimeout(1000);
+    auto st = std::make_unique<Statements>(*db);
+    Stmt runs(*db, "SELECT run_id FROM runs");
+    while (runs.Step()) known_runs_.insert(runs.Text(0));
+    Stmt sensors(*db, "SELECT sensor_id FROM sensors");
+    while (sensors.Step()) known_sensors_.insert(sensors.Text(0));
+    db_ = std::move(db);
+    st_ = std::move(st);
+}
+
+Db& StoreWriter::db() {
+    if (!db_) throw StoreError("database '" + path_ + "' is not open (the last reopen failed)");
+    return *db_;
+}
+
 std::string StoreWriter::OpenRunId() {
-    Stmt s(*db_,
+    Stmt s(db(),
            "SELECT run_id FROM runs WHERE run_id != '' AND started_utime IS NOT NULL AND "
            "stopped_utime IS NULL AND outcome = 'running' "
            "ORDER BY first_recv_utime DESC, rowid DESC LIMIT 1");
@@ -94,9 +159,10 @@ std::string StoreWriter::OpenRunId() {
 
 std::vector<StoreWriter::StreamSeq> StoreWriter::LastSeqs(const std::string& run_id) {
     std::vector<StreamSeq> out;
+    Db& d = db();
     // One index seek per sensor (run_id, sensor_id, utime), not a scan of the run.
-    Stmt sensors(*db_, "SELECT sensor_id FROM sensors");
-    Stmt last(*db_,
+    Stmt sensors(d, "SELECT sensor_id FROM sensors");
+    Stmt last(d,
               "SELECT g.seq FROM (SELECT first_rowid, last_rowid FROM gyro_blocks WHERE "
               "run_id = ?1 AND sensor_id = ?2 ORDER BY max_utime DESC LIMIT 1) b JOIN gyro_samples "
               "g ON g.rowid BETWEEN b.first_rowid AND b.last_rowid AND g.run_id = ?1 AND "
@@ -107,17 +173,17 @@ std::vector<StoreWriter::StreamSeq> StoreWriter::LastSeqs(const std::string& run
         if (last.Step()) out.push_back({StreamSeq::Kind::kGyro, id, last.Int(0)});
         last.Reset();
     }
-    Stmt enc(*db_, "SELECT seq FROM encoder_samples WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
+    Stmt enc(d, "SELECT seq FROM encoder_samples WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
     enc.Bind(1, run_id);
     if (enc.Step()) out.push_back({StreamSeq::Kind::kEncoder, "", enc.Int(0)});
-    Stmt ch(*db_, "SELECT seq FROM chamber_states WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
+    Stmt ch(d, "SELECT seq FROM chamber_states WHERE run_id = ? ORDER BY utime DESC LIMIT 1");
     ch.Bind(1, run_id);
     if (ch.Step()) out.push_back({StreamSeq::Kind::kChamberState, "", ch.Int(0)});
     return out;
 }
 
 void StoreWriter::BeginSession(int64_t wall_utime, const std::string& resumed_run_id) {
-    Stmt s(*db_,
+    Stmt s(db(),
            "INSERT INTO recorder_sessions(started_wall_utime, host, pid, recorder_version, "
            "resumed_run_id) VALUES (?,?,?,?,?)");
     s.Bind(1, wall_utime).Bind(2, info_.host).Bind(3, info_.pid).Bind(4, info_.recorder_version);
@@ -127,7 +193,7 @@ void StoreWriter::BeginSession(int64_t wall_utime, const std::string& resumed_ru
 
 void StoreWriter::EndSession(int64_t wall_utime) {
     if (session_id_ < 0) return;
-    Stmt s(*db_, "UPDATE recorder_sessions SET stopped_wall_utime = ? WHERE session_id = ?");
+    Stmt s(db(), "UPDATE recorder_sessions SET stopped_wall_utime = ? WHERE session_id = ?");
     s.Bind(1, wall_utime).Bind(2, session_id_).Run();
 }
 
@@ -143,22 +209,45 @@ void StoreWriter::EnsureSensor(const std::string& sensor_id, int64_t recv_utime)
     known_sensors_.insert(sensor_id);
 }
 
+
 void StoreWriter::Write(const std::vector<Row>& rows, const LossMap& losses) {
-    Transaction tx(*db_);
-    blocks_.clear();
-    for (const Row& row : rows) WriteOne(row);
-    for (const auto& [key, b] : blocks_) {
-        Stmt& s = st_->block;
-        s.Bind(1, key.first).Bind(2, key.second).Bind(3, b.first_rowid).Bind(4, b.last_rowid);
-        s.Bind(5, b.min_utime).Bind(6, b.max_utime).Bind(7, b.n_samples).Run();
+    try {
+        WriteBatch(rows, losses);
+    } catch (const StoreError& e) {
+        throw WithCause(e, path_);
     }
-    for (const auto& [key, d] : losses) {
-        if (d.Empty()) continue;
-        EnsureRun(key.first, 0);
-        st_->loss.Bind(1, key.first).Bind(2, key.second).Bind(3, d.seq_gaps);
-        st_->loss.Bind(4, d.seq_backwards).Bind(5, d.decode_errors).Bind(6, d.queue_drops).Run();
+}
+
+void StoreWriter::WriteBatch(const std::vector<Row>& rows, const LossMap& losses) {
+    // After a failed write the connection is opened again: a file that was replaced, removed or
+    // remounted is then the one at the path, and the caches of known runs and sensors, which the
+    // rolled-back transaction may have filled, are read again from what was committed.
+    if (reopen_) Open();
+    reopen_ = true;
+    if (db_->HasMoved()) {  // SQLite would go on writing into the removed file, silently
+        throw StoreError("database '" + path_ + "': the file was removed or replaced while open; "
+                         "it is opened (created) again at that path",
+                         SQLITE_READONLY_DBMOVED);
     }
-    tx.Commit();
+    {
+        Transaction tx(*db_);
+        blocks_.clear();
+        for (const Row& row : rows) WriteOne(row);
+        for (const auto& [key, b] : blocks_) {
+            Stmt& s = st_->block;
+            s.Bind(1, key.first).Bind(2, key.second).Bind(3, b.first_rowid).Bind(4, b.last_rowid);
+            s.Bind(5, b.min_utime).Bind(6, b.max_utime).Bind(7, b.n_samples).Run();
+        }
+        for (const auto& [key, d] : losses) {
+            if (d.Empty()) continue;
+            EnsureRun(key.first, 0);
+            st_->loss.Bind(1, key.first).Bind(2, key.second).Bind(3, d.seq_gaps);
+            st_->loss.Bind(4, d.seq_backwards).Bind(5, d.decode_errors).Bind(6, d.queue_drops);
+            st_->loss.Run();
+        }
+        tx.Commit();
+    }
+    reopen_ = false;
 }
 
 void StoreWriter::WriteOne(const Row& row) {
@@ -185,6 +274,10 @@ void StoreWriter::WriteOne(const Row& row) {
         s.Bind(1, c->run_id).Bind(2, c->utime).Bind(3, c->seq).Bind(4, c->cmd_id);
         s.Bind(5, c->setpoint_c).Bind(6, c->air_c).Bind(7, c->at_setpoint ? 1 : 0);
         s.Bind(8, c->fault).Bind(9, c->recv_utime).Run();
+    } else if (const auto* pw = std::get_if<PowerStateRow>(&row)) {
+        Stmt& s = st_->power;
+        s.Bind(1, pw->run_id).Bind(2, pw->sensor_id).Bind(3, pw->utime).Bind(4, pw->seq);
+        s.Bind(5, pw->power_on_utime).Bind(6, pw->source).Bind(7, pw->recv_utime).Run();
     } else if (const auto* cc = std::get_if<ChamberCmdRow>(&row)) {
         Stmt& s = st_->chamber_cmd;
         s.Bind(1, cc->run_id).Bind(2, cc->msg_run_id).Bind(3, cc->utime).Bind(4, cc->cmd_id);

@@ -12,7 +12,9 @@
 //
 // Coefficient sets are kept once per (run_id, sensor_id, coeff_set_id, source): a repeat (the
 // fitter's re-publish of an unchanged set on stop, or a set `gyrocal analyze` stored directly
-// and then published) is not stored twice (see analyses.hpp).
+// and then published) is not stored twice (see analyses.hpp). Plateaus and sensitivity points
+// likewise, once per (run_id, sensor_id, plateau_id / rotation_id): `gyrocal calibrate`
+// publishes a run's stored ones again to rebuild a restarted fitter.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -57,12 +59,17 @@ public:
     void EndSession(int64_t wall_utime);
 
     // Writes all rows and adds all loss deltas in one transaction; throws StoreError (the
-    // transaction is rolled back) on failure.
+    // transaction is rolled back) on failure. The call after a failure first opens the database
+    // again (so a failure to reopen is thrown from there): the same rows can simply be written
+    // again once the storage recovers (see IsStorageFault).
     void Write(const std::vector<Row>& rows, const LossMap& losses);
 
-    Db& db() { return *db_; }
+    // Throws StoreError when the last reopen failed.
+    Db& db();
 
 private:
+    void Open();
+    void WriteBatch(const std::vector<Row>& rows, const LossMap& losses);
     struct Statements;
     void EnsureRun(const std::string& run_id, int64_t recv_utime);
     void EnsureSensor(const std::string& sensor_id, int64_t recv_utime);
@@ -73,7 +80,9 @@ private:
     void WriteNoise(const NoiseRow& r);          // writer_fit.cpp
     void WriteFitReport(const FitReportRow& r);  // writer_fit.cpp
 
+    std::string path_;
     WriterInfo info_;
+    bool reopen_ = false;  // the last Write failed
     std::unique_ptr<Db> db_;
     std::unique_ptr<Statements> st_;
     // gyro_blocks of the batch being written, per (run_id, sensor_id).

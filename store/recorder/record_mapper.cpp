@@ -3,8 +3,10 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "bus/decode.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
@@ -59,6 +61,16 @@ ChamberStateRow ToRow(const chamber_state_t& m) {
     r.air_c = m.air_c;
     r.at_setpoint = m.at_setpoint;
     r.fault = m.fault;
+    return r;
+}
+
+PowerStateRow ToRow(const power_state_t& m) {
+    PowerStateRow r;
+    r.sensor_id = m.sensor_id;
+    r.utime = m.utime;
+    r.seq = m.seq;
+    r.power_on_utime = m.power_on_utime;
+    r.source = m.source;
     return r;
 }
 
@@ -338,7 +350,7 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
     // Decodes as Msg when the fingerprint is Msg's; true when this type claimed the message.
     auto try_type = [&]<class Msg>(Msg msg) -> bool {
         if (!fp || *fp != static_cast<uint64_t>(Msg::getHash())) return false;
-        if (msg.decode(data, 0, size) < 0) {
+        if (!DecodeMessage(msg, data, size)) {
             raw("decode_error");
             out.loss.decode_errors = 1;
             return true;
@@ -378,7 +390,8 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         try_type(chamber_state_t{}) || try_type(plateau_t{}) || try_type(sensitivity_point_t{}) ||
         try_type(coeff_set_t{}) || try_type(rate_t{}) || try_type(status_t{}) ||
         try_type(run_event_t{}) || try_type(chamber_cmd_t{}) || try_type(turntable_cmd_t{}) ||
-        try_type(plateau_state_t{}) || try_type(noise_t{}) || try_type(fit_report_t{});
+        try_type(plateau_state_t{}) || try_type(power_state_t{}) || try_type(noise_t{}) ||
+        try_type(fit_report_t{});
     if (!known) raw("unknown_type");
     return out;
 }

@@ -25,7 +25,9 @@
 #include "bus/shutdown.hpp"
 #include "bus/status.hpp"
 #include "gyrocal/version.hpp"
+#include "open_run.hpp"
 #include "record_mapper.hpp"
+#include "writer_watch.hpp"
 #include "writer.hpp"
 
 namespace {
@@ -37,7 +39,7 @@ struct RecorderOptions {
     std::string lcm_url;          // "" = $GYROCAL_LCM_URL or the default
     std::string channels = ".*";  // LCM channel regex
     bool no_rates = false;
-    size_t queue_rows = 100000;  // ~55 MB at most (544 bytes per queued row)
+    size_t queue_rows = 100000;  // ~55 MB at most (544 bytes per held row)
     size_t batch_rows = 1000;
     int batch_ms = 200;
     static RecorderOptions Defaults() { return {}; }
@@ -76,14 +78,16 @@ public:
         : bus_(gyrocal::BusOptions{o.lcm_url}),
           status_(bus_, kProcess),
           store_(std::move(writer)),
-          mapper_(gyrocal::record::MapperOptions{!o.no_rates}, store_->OpenRunId()),
+          mapper_(gyrocal::record::MapperOptions{!o.no_rates},
+                  gyrocal::record::OpenRunOnBus(store_->db(), bus_.url())),
           writer_(*store_, gyrocal::store::AsyncWriterOptions{
-                               o.queue_rows, o.batch_rows, std::chrono::milliseconds(o.batch_ms)}) {
+                               o.queue_rows, o.batch_rows, std::chrono::milliseconds(o.batch_ms)}),
+          watch_(o.queue_rows) {
         store_->BeginSession(WallUtime(), mapper_.current_run());
         if (!mapper_.current_run().empty()) {
             SeedSeqs(mapper_.current_run());
             std::cerr << kProcess << ": continuing run '" << mapper_.current_run()
-                      << "' (started, not stopped, in " << o.db_path << ")\n";
+                      << "' (started on this bus, not stopped, in " << o.db_path << ")\n";
         }
         bus_.SubscribeRaw(o.channels, [this](const lcm::ReceiveBuffer& rbuf,
                                              const std::string& channel) {
@@ -102,7 +106,12 @@ public:
         writer_.Stop();
         Publish();
         if (writer_.failed()) {
+            const gyrocal::store::AsyncWriterStats s = writer_.stats();
             std::cerr << kProcess << ": error: " << writer_.error() << "\n";
+            if (s.unwritten_rows > 0) {
+                std::cerr << kProcess << ": error: " << s.unwritten_rows
+                          << " received rows were not written: " << s.unwritten_summary << "\n";
+            }
             return 1;
         }
         store_->EndSession(WallUtime());
@@ -129,6 +138,8 @@ private:
         gyrocal::record::Mapped m = mapper_.Map(channel, rbuf.data,
                                                 static_cast<int>(rbuf.data_size), rbuf.recv_utime);
         writer_.AddLoss(m.run_id, channel, m.loss);
+        status_.AddSeqGaps(m.loss.seq_gaps);  // so the progress line shows what the recorder missed
+        status_.AddDecodeErrors(m.loss.decode_errors);
         if (m.loss.decode_errors > 0) {
             status_.Reject("decode_error", "channel " + channel + ": known fingerprint " +
                                                "that does not decode; kept in raw_events");
@@ -138,7 +149,8 @@ private:
         }
     }
 
-    // Called by RunLoop between dispatches: counters to STATUS, stop on writer failure.
+    // Called by RunLoop between dispatches: counters to STATUS, stop on writer failure (a
+    // storage fault is not one: the writer holds the rows and retries, WriterWatch reports it).
     bool Poll() {
         const auto now = std::chrono::steady_clock::now();
         if (now - last_poll_ > std::chrono::milliseconds(250)) {
@@ -149,12 +161,14 @@ private:
     }
 
     void Publish() {
-        const gyrocal::store::AsyncWriterStats s = writer_.stats();
-        status_.SetExtra("rows_written", static_cast<double>(s.written));
-        status_.SetExtra("batches", static_cast<double>(s.batches));
-        status_.SetExtra("max_queue_rows", static_cast<double>(s.max_queue_rows));
-        status_.SetExtra("max_commit_ms", s.max_commit_ms);
-        status_.set_state(writer_.failed() ? "failed" : "recording");
+        const auto report = watch_.Update(writer_.stats(), std::chrono::steady_clock::now());
+        for (const auto& [name, value] : report.extras) status_.SetExtra(name, value);
+        for (const auto& line : report.log) std::cerr << kProcess << ": " << line << "\n";
+        const std::string state = writer_.failed() ? "failed" : report.state;
+        if (state != status_.state()) {
+            status_.set_state(state);
+            status_.PublishNow();
+        }
     }
 
     gyrocal::Bus bus_;
@@ -162,6 +176,7 @@ private:
     std::unique_ptr<gyrocal::store::StoreWriter> store_;
     gyrocal::record::RecordMapper mapper_;
     gyrocal::store::AsyncWriter writer_;
+    gyrocal::record::WriterWatch watch_;
     std::chrono::steady_clock::time_point last_poll_{};
 };
 
@@ -173,6 +188,9 @@ int main(int argc, char** argv) {
         "gyrocal-recorder: records every LCM message into an SQLite database (WAL, batched).\n"
         "Known types go to their tables, unknown ones to raw_events; runs follow RUN_EVENT.\n"
         "A SIGKILL loses at most the last --batch-ms of data (plus one commit).\n"
+        "Database on a full disk, read-only or locked: STATUS state db_blocked:<fault> and a log\n"
+        "line; received rows wait in memory (up to --queue-rows) and are written when it can\n"
+        "again; rows beyond the bound are counted in losses.queue_drops by run and channel.\n"
         "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (database write, LCM),\n"
         "2 bad options (including a --db that cannot be opened or is not a gyrocal database).",
         "gyrocal-recorder"};
@@ -182,7 +200,8 @@ int main(int argc, char** argv) {
         ->check(LcmChannelRegex())
         ->capture_default_str();
     app.add_flag("--no-rates", o.no_rates, "do not store RATE_* (compensated rate) messages");
-    app.add_option("--queue-rows", o.queue_rows, "rows queued before dropping")
+    app.add_option("--queue-rows", o.queue_rows,
+                   "rows held in memory (queued, or waiting for a blocked database) before dropping")
         ->check(CLI::Range(size_t{1000}, size_t{100000000}))->capture_default_str();
     app.add_option("--batch-rows", o.batch_rows, "commit every N rows")
         ->check(CLI::Range(size_t{1}, size_t{1000000}))->capture_default_str();

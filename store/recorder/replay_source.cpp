@@ -6,6 +6,7 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 
 namespace gyrocal::record {
@@ -49,6 +50,15 @@ std::optional<EncodedMessage> EncodeForReplay(const store::Row& row) {
         m.counts_per_rev = e->counts_per_rev;
         m.angle_deg = e->angle_deg;
         return Encode(std::string(channels::kEncoder), m);
+    }
+    if (const auto* p = std::get_if<store::PowerStateRow>(&row)) {
+        power_state_t m;
+        m.utime = p->utime;
+        m.sensor_id = p->sensor_id;
+        m.seq = p->seq;
+        m.power_on_utime = p->power_on_utime;
+        m.source = p->source;
+        return Encode(channels::Power(p->sensor_id), m);
     }
     if (const auto* c = std::get_if<store::ChamberStateRow>(&row)) {
         chamber_state_t m;

@@ -3,11 +3,14 @@
 // exception surfaced from Handle() rather than thrown through LCM's C code.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <stdexcept>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "bus/seq_tracker.hpp"
+#include "bus/decode.hpp"
+#include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -146,6 +149,88 @@ TEST(Bus, HostileArrayLengthIsADecodeErrorNotACrash) {
     }
     EXPECT_EQ(delivered, 1);
     EXPECT_EQ(bus.counters().decode_errors, 1);
+}
+
+// Found by the fuzz harnesses (tests/fuzz, README "Fuzzing"): lcm-gen 1.3.1 computed
+// (length - 1) of a string length of INT32_MIN, which wrapped into a 2 GB read past the payload:
+// a 62-byte RUN_EVENT segfaulted every process. Now a decode error, counted.
+TEST(Bus, AStringLengthOfIntMinIsADecodeErrorNotASegfault) {
+    Bus bus(BusOptions{"memq://"});
+    int delivered = 0;
+    bus.Subscribe<run_event_t>("RUN_EVENT", [&](const run_event_t&, const std::string&) { ++delivered; });
+    run_event_t e{};
+    e.run_id = "r";
+    e.event = "start";
+    std::vector<uint8_t> buf(static_cast<size_t>(e.getEncodedSize()));
+    e.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    const size_t at = 8 + 8;  // after the hash and utime: run_id's int32 length, big-endian
+    buf[at] = 0x80;
+    buf[at + 1] = buf[at + 2] = buf[at + 3] = 0x00;
+    bus.PublishRaw("RUN_EVENT", buf.data(), static_cast<int>(buf.size()));
+    Drain(bus);
+    EXPECT_EQ(delivered, 0);
+    EXPECT_EQ(bus.counters().decode_errors, 1);
+}
+
+// Also found by the fuzz harnesses: an array length is checked against the payload before it
+// sizes the array (an int32 num_plateaus of 2^31-1 made every COEFFS_* receiver zero 16 GB).
+// Here 1e6 claimed elements in a 400-byte payload: nothing may be allocated for them.
+TEST(Decode, AnArrayLengthThePayloadCannotHoldAllocatesNothing) {
+    coeff_set_t m{};
+    m.sensor_id = "S01";
+    std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
+    m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    const size_t at = buf.size() - 8;  // num_plateaus, then num_rotations (both 0 here)
+    const uint32_t claimed = 1000000;
+    for (int i = 0; i < 4; ++i) buf[at + i] = static_cast<uint8_t>(claimed >> (24 - 8 * i));
+    coeff_set_t out{};
+    EXPECT_FALSE(DecodeMessage(out, buf.data(), static_cast<int>(buf.size())));
+    EXPECT_EQ(out.plateau_ids.capacity(), 0u);
+    // A negative length is refused the same way (it threw std::length_error before).
+    buf[at] = 0xff;
+    EXPECT_EQ(out.decode(buf.data(), 0, static_cast<int>(buf.size())), -1);
+}
+
+// Found by the fuzz harness recorder_map (UBSan): a hostile seq near INT64_MIN or INT64_MAX
+// overflowed the gap arithmetic. Gaps are exact where they fit, saturate where they do not.
+TEST(SeqTracker, ExtremeSeqValuesNeitherOverflowNorWrap) {
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min();
+    constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
+    SeqTracker t;
+    t.Observe("A", kMin);
+    EXPECT_EQ(t.Observe("A", kMin + 3).missing, 2);
+    EXPECT_EQ(t.Observe("A", kMax).missing, kMax);  // 2^64 - 4 missing: saturated
+    EXPECT_EQ(t.total_missing(), kMax);
+    EXPECT_TRUE(t.Observe("A", 17).backwards);
+    EXPECT_EQ(t.Observe("A", kMax).missing, kMax - 18);  // exact: it fits
+    EXPECT_EQ(t.total_missing(), kMax);  // stays saturated, never wraps negative
+    EXPECT_TRUE(t.Observe("A", kMax).backwards);  // a repeat of INT64_MAX: no "next" to expect
+}
+
+}  // namespace
+}  // namespace gyrocal
+
+namespace gyrocal {
+namespace {
+
+// What tells one bus from another: group and port; TTL and buffer options do not.
+TEST(UdpmUrl, GroupAndPortAreTheBus) {
+    auto a = ParseUdpm("udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
+    ASSERT_TRUE(a.has_value());
+    EXPECT_EQ(a->group, "239.255.76.67");
+    EXPECT_EQ(a->port, 7668);
+    EXPECT_EQ(a->options, "ttl=1&recv_buf_size=4194304");
+    EXPECT_EQ(FormatUdpm(*a), "udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
+    auto b = ParseUdpm("udpm://239.255.76.67:7668?ttl=0");
+    ASSERT_TRUE(b.has_value());
+    EXPECT_TRUE(*a == *b);
+    auto d = ParseUdpm("udpm://239.255.76.67");  // LCM's default port
+    ASSERT_TRUE(d.has_value());
+    EXPECT_EQ(d->port, 7667);
+    EXPECT_FALSE(*d == *b);
+    for (const char* bad : {"memq://", "udpm://", "udpm://not.an.ip:7667", "udpm://239.255.76.67:",
+                            "udpm://239.255.76.67:70000", "udpm://239.255.76.67:76x7"})
+        EXPECT_FALSE(ParseUdpm(bad).has_value()) << bad;
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "calibrate.hpp"
+#include "calibration.hpp"
 
 #include <unistd.h>
 
@@ -33,12 +34,33 @@
 #include "gyrocal/version.hpp"
 #include "launch/child_process.hpp"
 #include "paths.hpp"
-#include "procedure.hpp"
 #include "progress.hpp"
+#include "csv/file_digest.hpp"
+#include "procedure.hpp"
 #include "sim/config.hpp"
 #include "sim/noise.hpp"
 
 namespace gyrocal::cli {
+
+namespace {
+AfterRunHook& Hook() {
+    static AfterRunHook hook;
+    return hook;
+}
+}  // namespace
+
+void SetAfterRunHook(AfterRunHook hook) { Hook() = std::move(hook); }
+bool HasAfterRunHook() { return static_cast<bool>(Hook()); }
+
+namespace {
+RecoveryReader& Reader() {
+    static RecoveryReader reader;
+    return reader;
+}
+}  // namespace
+
+void SetRecoveryReader(RecoveryReader reader) { Reader() = std::move(reader); }
+const RecoveryReader& InstalledRecoveryReader() { return Reader(); }
 
 double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
     // Over about an hour of run (the rate random walk's share grows with it; ~1 % here).
@@ -49,11 +71,6 @@ double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o) {
     if (o.plateau_slow_noise_dps >= 0.0) return o.plateau_slow_noise_dps;
     return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : -1.0;
 }
-namespace {
-
-using Clock = std::chrono::steady_clock;
-using namespace std::chrono_literals;
-
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 std::string TailOf(const std::string& path, int lines) {
@@ -66,74 +83,47 @@ std::string TailOf(const std::string& path, int lines) {
     return out;
 }
 
-class Calibration {
-public:
-    explicit Calibration(CalibrateOptions o) : o_(std::move(o)), bus_(BusOptions{o_.lcm_url}) {
-        url_ = bus_.url();
-        if (o_.log_dir.empty()) {
-            const char* tmp = std::getenv("TMPDIR");
-            o_.log_dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/gyrocal-calibrate-" + std::to_string(getpid());
-        }
-        std::filesystem::create_directories(o_.log_dir);
-        if (o_.truth_out.empty()) o_.truth_out = o_.log_dir + "/truth.json";
-        Subscribe();
+std::string EffectiveLcmUrl(const CalibrateOptions& o) {
+    return ChamberUrl(BusOptions{o.lcm_url}.ResolvedUrl(), o.chamber);
+}
+
+namespace {
+
+using namespace std::chrono_literals;
+
+// The consumers the producers must hear before publishing anything, so that no sample is missed.
+const std::set<std::string> kConsumers = {"gyrocal-recorder", "gyrocal-plateau", "gyrocal-rotation",
+                                          "gyrocal-fitter", "gyrocal-compensator"};
+
+std::string Join(const std::vector<std::string>& v, const char* sep) {
+    std::string out;
+    for (const auto& x : v) out += (out.empty() ? "" : sep) + x;
+    return out;
+}
+
+}  // namespace
+
+Calibration::Calibration(CalibrateOptions o)
+    : o_(std::move(o)), role_(*ParseRole(o_.role)), bus_(BusOptions{o_.lcm_url}), budget_(o_.max_restarts) {
+    url_ = bus_.url();
+    if (o_.log_dir.empty()) {
+        const char* tmp = std::getenv("TMPDIR");
+        o_.log_dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/gyrocal-calibrate-" + std::to_string(getpid());
     }
-
-    int Run();
-
-private:
-    struct Child {
-        std::string name;
-        std::string log;
-        std::unique_ptr<ChildProcess> proc;
-    };
-
-    void Subscribe();
-    Child& Start(const std::string& exe, std::vector<std::string> args);
-    bool AwaitHeartbeats(const std::set<std::string>& names, std::chrono::seconds limit);
-    std::string ConfigJson() const;
-    void AnnounceRun(const std::string& event, const std::string& reason);
-    void ShowProgress(bool force);
-    const Child* DeadChild();  // a child that ended although it should still run
-    void StopAll();
-    std::set<std::string> Sensors() const;
-    bool HaveFinalCoeffs() const;
-    int Finish(int code);
-
-    CalibrateOptions o_;
-    Bus bus_;
-    std::string url_;
-    std::deque<Child> children_;  // deque: Start() hands out references that must stay valid
-    Child* sequencer_ = nullptr;
-    Child* source_ = nullptr;
-    std::set<std::string> heard_;  // process names seen in STATUS
-    std::unique_ptr<Progress> progress_;
-    std::vector<std::string> run_sensors_;
-    std::set<std::string> stability_sensors_;
-    std::map<std::string, coeff_set_t> coeffs_;        // newest per sensor
-    std::set<std::string> final_coeffs_;               // sensors with a set after the stop
-    std::map<std::string, fit_report_t> final_reports_;  // the fitter's verdict at the stop
-    bool stop_seen_ = false;
-    std::string run_id_;
-    std::string run_outcome_;
-    Clock::time_point start_ = Clock::now();
-    Clock::time_point last_line_{};
-};
+    std::filesystem::create_directories(o_.log_dir);
+    if (o_.truth_out.empty()) o_.truth_out = o_.log_dir + "/truth.json";
+    // Which measured data the run was made from, recorded with it (gyrocal report shows it).
+    if (o_.source == "csv" || o_.source == "log") input_sha256_ = csv::Sha256HexOfFile(o_.input);
+    Subscribe();
+}
 
 void Calibration::Subscribe() {
     bus_.Subscribe<status_t>(std::string(channels::kStatus), [this](const status_t& s, const std::string&) {
-        heard_.insert(s.process);
+        heard_[s.process].insert(s.pid);
         if (progress_) progress_->OnStatus(s);
     });
-    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent), [this](const run_event_t& e, const std::string&) {
-        if (progress_) progress_->OnRunEvent(e);
-        run_id_ = e.run_id;
-        if (!e.sensor_ids.empty()) run_sensors_ = e.sensor_ids;
-        if (e.event == "stop" || e.event == "abort") {
-            stop_seen_ = true;
-            run_outcome_ = e.event + ": " + e.reason;
-        }
-    });
+    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
+                                [this](const run_event_t& e, const std::string&) { OnRunEvent(e); });
     bus_.Subscribe<chamber_state_t>(std::string(channels::kChamberState),
                                     [this](const chamber_state_t& s, const std::string&) {
                                         if (progress_) progress_->OnChamber(s);
@@ -159,36 +149,123 @@ void Calibration::Subscribe() {
                                 });
 }
 
-Calibration::Child& Calibration::Start(const std::string& exe, std::vector<std::string> args) {
-    Child c;
-    c.name = std::filesystem::path(exe).filename().string();
-    c.log = o_.log_dir + "/" + c.name + ".log";
-    args.insert(args.begin(), exe);
-    c.proc = std::make_unique<ChildProcess>(args, c.log, c.log);
-    children_.push_back(std::move(c));
-    return children_.back();
+void Calibration::OnRunEvent(const run_event_t& e) {
+    // This launcher's run is the first one it sees begin (or, on a host started late, go on);
+    // events of any other run are someone else's.
+    if (run_id_.empty() && (e.event == "stop" || e.event == "abort")) return;
+    if (!run_id_.empty() && e.run_id != run_id_) return;
+    run_id_ = e.run_id;
+    if (progress_) progress_->OnRunEvent(e);
+    if (!e.sensor_ids.empty()) run_sensors_ = e.sensor_ids;
+    if (e.event == "setpoint") {
+        setpoint_index_ = e.setpoint_index;
+        setpoint_c_ = e.setpoint_c;
+    } else if (e.event == "restart") {
+        OnRestartEvent(e);
+    } else if (e.event == "stop" || e.event == "abort") {
+        stop_seen_ = run_ended_ = true;
+        run_outcome_ = e.event + ": " + e.reason;
+    }
 }
 
-bool Calibration::AwaitHeartbeats(const std::set<std::string>& names, std::chrono::seconds limit) {
-    const auto deadline = Clock::now() + limit;
-    while (Clock::now() < deadline && !StopRequested()) {
-        bool all = true;
-        for (const auto& n : names) all = all && heard_.count(n) > 0;
-        if (all) return true;
-        // Any child that has ended by now failed at start-up, the source included (it only ends
-        // by itself once it has run).
-        for (const Child& c : children_) {
-            if (!c.proc->Poll()) continue;
-            std::cerr << "gyrocal calibrate: " << c.name << " ended at start-up (" << c.proc->Poll()->Describe()
-                      << "); its log " << c.log << ":\n"
-                      << TailOf(c.log, 10);
-            return false;
-        }
-        bus_.Handle(50ms);
+bool Calibration::StartConsumers() {
+    std::set<std::string> local;
+    auto start = [&](const std::string& exe, std::vector<std::string> args, const std::vector<std::string>& pass) {
+        if (!Runs(exe)) return;
+        args.insert(args.end(), pass.begin(), pass.end());
+        Start(SiblingExecutable(exe), args);
+        local.insert(exe);
+    };
+    try {
+        start("gyrocal-recorder", {"--db", o_.db}, o_.recorder_args);
+        start("gyrocal-plateau", {}, o_.plateau_args);
+        start("gyrocal-rotation", {}, o_.rotation_args);
+        std::vector<std::string> fitter;
+        if (EffectivePlateauSlowNoiseDps(o_) >= 0)
+            fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
+        if (o_.source == "sim")
+            fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
+                                         std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
+        start("gyrocal-fitter", fitter, o_.fitter_args);
+        start("gyrocal-compensator", {}, o_.compensator_args);
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal calibrate: " << e.what() << " (is the project built? tools/run.sh setup)\n";
+        return false;
     }
-    for (const auto& n : names)
-        if (!heard_.count(n)) std::cerr << "gyrocal calibrate: no heartbeat from " << n << " within " << limit.count() << " s\n";
-    return false;
+    return local.empty() || AwaitHeartbeats(local, 20s, "");
+}
+
+bool Calibration::StartProducers() {
+    // Every consumer must listen before the first sample: on other hosts they are the other roles.
+    const std::string hint = role_ == Role::kAll ? ""
+                                                 : " (start `gyrocal calibrate --role processors` and `--role recorder` "
+                                                   "on their hosts first, on the same LCM URL)";
+    if (!AwaitHeartbeats(kConsumers, std::chrono::seconds(static_cast<int64_t>(std::ceil(o_.await_peers_s))), hint))
+        return false;
+    try {
+        if (o_.source == "sim") {
+            StartSim();
+        } else {
+            StartMeasured();
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal calibrate: " << e.what() << "\n";
+        return false;
+    }
+    return o_.source != "sim" || AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "");
+}
+
+void Calibration::StartSim() {
+    const double speed = o_.speed > 0 ? o_.speed : kAutoRigMessagesPerS / (100.0 * (o_.sensors + 1));
+    std::vector<std::string> rig = {"--units", std::to_string(o_.sensors), "--preset", o_.preset,
+                                    "--seed", std::to_string(o_.seed), "--noise-seed", std::to_string(o_.noise_seed),
+                                    "--speed", std::to_string(speed), "--truth-out", o_.truth_out};
+    for (const auto& e : o_.effects) rig.insert(rig.end(), {"--effect", e});
+    std::vector<std::string> setpoints;
+    for (double t : o_.setpoints_c) setpoints.push_back(std::to_string(t));
+    if (o_.procedure == "rig") {
+        // The rig runs the profile itself, on data time only: the same seed gives the same run.
+        if (setpoints.empty())
+            if (const auto p = sequencer::NamedProfile(o_.profile))
+                for (double t : p->setpoints_c) setpoints.push_back(std::to_string(t));
+        rig.insert(rig.end(), {"--mode", "builtin", "--profile", Join(setpoints, ",")});
+        AnnounceRun("start", "the simulated rig's own procedure (profile " + Join(setpoints, ",") + ")");
+        rig.insert(rig.end(), o_.rig_args.begin(), o_.rig_args.end());
+        source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), rig);
+        return;
+    }
+    rig.insert(rig.end(), {"--mode", "commanded"});
+    rig.insert(rig.end(), o_.rig_args.begin(), o_.rig_args.end());
+    source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), rig);
+    if (!AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "")) throw std::runtime_error("the rig did not start");
+    std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line", o_.command_line};
+    if (!setpoints.empty()) {
+        seq.insert(seq.end(), {"--setpoints-c", Join(setpoints, ",")});
+    } else {
+        seq.insert(seq.end(), {"--profile", o_.profile});
+    }
+    seq.insert(seq.end(), o_.sequencer_args.begin(), o_.sequencer_args.end());
+    sequencer_ = &Start(SiblingExecutable("gyrocal-sequencer"), seq);
+}
+
+void Calibration::StartMeasured() {
+    AnnounceRun("start", "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
+    if (o_.source == "csv") {
+        // A file is replayed as fast as the pipeline keeps up (the source's own lossless cap)
+        // unless the caller chose a pace.
+        std::vector<std::string> pace;
+        if (o_.source_args.empty()) pace = {"--max"};
+        pace.insert(pace.begin(), o_.input);
+        pace.insert(pace.end(), o_.source_args.begin(), o_.source_args.end());
+        source_ = &Start(SiblingExecutable("gyrocal-csv-source"), pace);
+    } else if (o_.source == "lines") {
+        source_ = &Start(SiblingExecutable("gyrocal-line-source"), o_.source_args);
+    } else {  // log: lcm-logplayer takes the URL its own way
+        std::vector<std::string> a = {"--lcm-url=" + url_};
+        a.insert(a.end(), o_.source_args.begin(), o_.source_args.end());
+        a.push_back(o_.input);
+        source_ = &Start("lcm-logplayer", a);
+    }
 }
 
 std::string Calibration::ConfigJson() const {
@@ -197,6 +274,9 @@ std::string Calibration::ConfigJson() const {
     j["input"] = o_.input;
     j["db"] = o_.db;
     j["lcm_url"] = url_;
+    j["role"] = o_.role;
+    j["chamber"] = o_.chamber;
+    j["procedure"] = o_.procedure;
     j["sensors"] = o_.sensors;
     j["preset"] = o_.preset;
     j["seed"] = o_.seed;
@@ -206,6 +286,12 @@ std::string Calibration::ConfigJson() const {
     j["profile"] = o_.profile;
     j["setpoints_c"] = o_.setpoints_c;
     j["effects"] = o_.effects;
+    j["max_restarts"] = o_.max_restarts;
+    if (!input_sha256_.empty()) j["input_sha256"] = input_sha256_;
+    if (!o_.limits_json.empty()) {
+        j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);
+        j["acceptance_limits_file"] = o_.limits_file;
+    }
     j["args"] = {{"rig", o_.rig_args},           {"plateau", o_.plateau_args},
                  {"rotation", o_.rotation_args}, {"fitter", o_.fitter_args},
                  {"compensator", o_.compensator_args}, {"sequencer", o_.sequencer_args},
@@ -214,7 +300,8 @@ std::string Calibration::ConfigJson() const {
 }
 
 void Calibration::AnnounceRun(const std::string& event, const std::string& reason) {
-    // Measured data has no sequencer: the launcher owns the run and announces it itself.
+    // Without a sequencer (measured data, the rig's own procedure) the launcher owns the run and
+    // announces it; it also ends a run it must abort (a source died).
     run_event_t e;
     e.utime = std::chrono::duration_cast<std::chrono::microseconds>(
                   std::chrono::system_clock::now().time_since_epoch()).count();
@@ -227,22 +314,14 @@ void Calibration::AnnounceRun(const std::string& event, const std::string& reaso
     e.run_id = run_id_;
     e.event = event;
     e.reason = reason;
-    e.setpoint_index = -1;
-    e.setpoint_c = NAN;
+    e.setpoint_index = event == "abort" ? setpoint_index_ : -1;
+    e.setpoint_c = event == "abort" && setpoint_index_ >= 0 ? setpoint_c_ : NAN;
     e.num_sensors = 0;
     e.software_version = kSoftwareVersion;
     e.config_json = ConfigJson();
     e.command_line = o_.command_line;
     e.host = HostName();
     bus_.Publish(std::string(channels::kRunEvent), e);
-}
-
-const Calibration::Child* Calibration::DeadChild() {
-    for (auto& c : children_) {
-        if (&c == sequencer_ || &c == source_) continue;  // these end by themselves
-        if (c.proc->Poll()) return &c;
-    }
-    return nullptr;
 }
 
 void Calibration::ShowProgress(bool force) {
@@ -276,133 +355,68 @@ bool Calibration::HaveFinalCoeffs() const {
     return true;
 }
 
-void Calibration::StopAll() {
-    // Source first (no new data), then processors, recorder last so it can flush what they sent.
-    if (source_) source_->proc->Stop();
-    if (sequencer_) sequencer_->proc->Stop();
-    for (auto& c : children_)
-        if (c.name != "gyrocal-recorder") c.proc->Stop();
-    for (int i = 0; i < 10; ++i) bus_.Handle(20ms);  // let the last heartbeats arrive
-    for (auto& c : children_)
-        if (c.name == "gyrocal-recorder") {
-            ExitStatus s = c.proc->Stop(std::chrono::milliseconds(15000));
-            if (!s.exited || s.code != 0)
-                std::cerr << "gyrocal calibrate: recorder ended with " << s.Describe() << "; log " << c.log << "\n";
-        }
+FinalVerdict Calibration::Verdict() const {
+    return FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_};
+}
+
+bool Calibration::WaitsForCoeffs() const {
+    // The producers' host has nothing to do with the coefficients once its source is done.
+    return role_ != Role::kProducers && run_outcome_.rfind("stop", 0) == 0;
 }
 
 int Calibration::Run() {
-    const std::string url_arg = url_;
-    auto common = [&](std::vector<std::string> extra, const std::vector<std::string>& pass) {
-        std::vector<std::string> a = {"--lcm-url", url_arg};
-        a.insert(a.end(), extra.begin(), extra.end());
-        a.insert(a.end(), pass.begin(), pass.end());
-        return a;
-    };
-    std::cout << "gyrocal calibrate: logs in " << o_.log_dir << ", database " << o_.db << ", LCM " << url_ << "\n";
-    try {
-        Start(SiblingExecutable("gyrocal-recorder"), common({"--db", o_.db}, o_.recorder_args));
-        Start(SiblingExecutable("gyrocal-plateau"), common({}, o_.plateau_args));
-        Start(SiblingExecutable("gyrocal-rotation"), common({}, o_.rotation_args));
-        std::vector<std::string> fitter;
-        if (EffectivePlateauSlowNoiseDps(o_) >= 0)
-            fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
-        if (o_.source == "sim")
-            fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
-                                         std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
-        Start(SiblingExecutable("gyrocal-fitter"), common(fitter, o_.fitter_args));
-        Start(SiblingExecutable("gyrocal-compensator"), common({}, o_.compensator_args));
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal calibrate: " << e.what() << " (is the project built? tools/run.sh setup)\n";
-        return Finish(1);
-    }
-    if (!AwaitHeartbeats({"gyrocal-recorder", "gyrocal-plateau", "gyrocal-rotation", "gyrocal-fitter",
-                          "gyrocal-compensator"},
-                         20s))
-        return Finish(1);
-
+    std::cout << "gyrocal calibrate: role " << RoleName(role_) << ", logs in " << o_.log_dir << ", database "
+              << o_.db << ", LCM " << url_ << "\n";
     const auto named = sequencer::NamedProfile(o_.profile);
-    int setpoints = static_cast<int>(o_.setpoints_c.empty() ? (named ? named->setpoints_c.size() : 0)
-                                                            : o_.setpoints_c.size());
-    try {
-        if (o_.source == "sim") {
-            progress_ = std::make_unique<Progress>(setpoints, 2);
-            const double speed = o_.speed > 0 ? o_.speed : kAutoRigMessagesPerS / (100.0 * (o_.sensors + 1));
-            std::vector<std::string> rig = {"--mode", "commanded", "--units", std::to_string(o_.sensors),
-                                            "--preset", o_.preset, "--seed", std::to_string(o_.seed),
-                                            "--noise-seed", std::to_string(o_.noise_seed),
-                                            "--speed", std::to_string(speed), "--truth-out", o_.truth_out};
-            for (const auto& e : o_.effects) {
-                rig.push_back("--effect");
-                rig.push_back(e);
-            }
-            source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), common(rig, o_.rig_args));
-            if (!AwaitHeartbeats({"gyrocal-sim-rig"}, 20s)) return Finish(1);
-            std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line", o_.command_line};
-            if (!o_.setpoints_c.empty()) {
-                std::string list;
-                for (double t : o_.setpoints_c) list += (list.empty() ? "" : ",") + std::to_string(t);
-                seq.insert(seq.end(), {"--setpoints-c", list});
-            } else {
-                seq.insert(seq.end(), {"--profile", o_.profile});
-            }
-            sequencer_ = &Start(SiblingExecutable("gyrocal-sequencer"), common(seq, o_.sequencer_args));
-        } else {
-            progress_ = std::make_unique<Progress>(0, 0);
-            AnnounceRun("start", "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
-            if (o_.source == "csv") {
-                // A file is replayed as fast as the pipeline keeps up (the source's own lossless
-                // cap) unless the caller chose a pace.
-                std::vector<std::string> pace;
-                if (o_.source_args.empty()) pace = {"--max"};
-                pace.insert(pace.begin(), o_.input);
-                source_ = &Start(SiblingExecutable("gyrocal-csv-source"), common(pace, o_.source_args));
-            } else if (o_.source == "lines") {
-                source_ = &Start(SiblingExecutable("gyrocal-line-source"), common({}, o_.source_args));
-            } else {  // log
-                std::vector<std::string> a = {"--lcm-url=" + url_arg};
-                a.insert(a.end(), o_.source_args.begin(), o_.source_args.end());
-                a.push_back(o_.input);
-                source_ = &Start("lcm-logplayer", a);
-            }
-        }
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal calibrate: " << e.what() << "\n";
-        return Finish(1);
-    }
+    const int setpoints = static_cast<int>(
+        o_.setpoints_c.empty() ? (named ? named->setpoints_c.size() : 0) : o_.setpoints_c.size());
+    const bool sequenced = o_.source == "sim" && o_.procedure == "sequencer";
+    progress_ = std::make_unique<Progress>(sequenced ? setpoints : 0, sequenced ? 2 : 0);
+    if (!StartConsumers()) return Finish(1);
+    if (Runs("gyrocal-sim-rig") && !StartProducers()) return Finish(1);
+    return Watch();
+}
 
-    // Main watch loop: until the run has ended and every sensor's final coefficients arrived.
-    std::optional<Clock::time_point> ended_at;
+bool Calibration::DetectEnd() {
+    if (sequencer_) {
+        const auto s = sequencer_->proc->Poll();
+        return s && s->exited && (s->code == 0 || s->code == 3);  // it ended the run
+    }
+    if (source_) {
+        const auto s = source_->proc->Poll();
+        if (!s) return false;
+        if (!run_ended_) {
+            // Let the processors drain what the source published before closing the run.
+            for (int i = 0; i < 20; ++i) bus_.Handle(50ms);
+            AnnounceRun(s->exited && s->code == 0 ? "stop" : "abort",
+                        s->exited && s->code == 0 ? "end of data" : o_.source + " source " + s->Describe());
+        }
+        return true;
+    }
+    return run_ended_;  // a host without the source: the run's own end event
+}
+
+int Calibration::Watch() {
     while (true) {
         bus_.Handle(50ms);
         ShowProgress(false);
+        RecoverDue();
         if (StopRequested()) {
             std::cout << "\ngyrocal calibrate: interrupted; stopping the run\n";
             if (sequencer_) sequencer_->proc->Signal(SIGTERM);  // it records the abort
-            if (!sequencer_) AnnounceRun("abort", "operator stop (signal)");
+            if (!sequencer_ && source_) AnnounceRun("abort", "operator stop (signal)");
             for (int i = 0; i < 40 && sequencer_ && !sequencer_->proc->Poll(); ++i) bus_.Handle(50ms);
             run_outcome_ = "abort: operator stop";
             return Finish(3);
         }
-        if (const Child* dead = DeadChild()) {
-            std::cerr << "\ngyrocal calibrate: " << dead->name << " ended unexpectedly (" << dead->proc->Poll()->Describe()
-                      << "); log " << dead->log << ":\n" << TailOf(dead->log, 10);
-            if (!sequencer_) AnnounceRun("abort", dead->name + " failed");
-            return Finish(1);
-        }
-        if (!ended_at) {
-            if (sequencer_ && sequencer_->proc->Poll()) ended_at = Clock::now();
-            if (!sequencer_ && source_->proc->Poll()) {
-                const ExitStatus s = *source_->proc->Poll();
-                // Let the processors drain what the source published before closing the run.
-                for (int i = 0; i < 20; ++i) bus_.Handle(50ms);
-                AnnounceRun(s.exited && s.code == 0 ? "stop" : "abort",
-                            s.exited && s.code == 0 ? "end of data" : o_.source + " source " + s.Describe());
-                ended_at = Clock::now();
-            }
+        if (auto code = Supervise()) return Finish(*code);
+        if (!ended_at_) {
+            if (DetectEnd()) ended_at_ = Clock::now();
         } else {
-            if (HaveFinalCoeffs()) break;
-            if (SecondsSince(*ended_at) > o_.final_coeffs_wait_s) {
+            // Give the end event a moment to arrive (a source's own end is seen before its event).
+            if (!run_ended_ && SecondsSince(*ended_at_) < 2) continue;
+            if (!WaitsForCoeffs() || HaveFinalCoeffs()) break;
+            if (SecondsSince(*ended_at_) > o_.final_coeffs_wait_s) {
                 std::cerr << "\ngyrocal calibrate: no final coefficient set within " << o_.final_coeffs_wait_s
                           << " s from every sensor\n";
                 break;
@@ -419,13 +433,10 @@ int Calibration::Run() {
     ShowProgress(true);
     std::cout << "\n";
     int code = 0;
-    if (sequencer_) {
-        const ExitStatus s = *sequencer_->proc->Poll();
-        if (!s.exited || s.code != 0) code = 3;
-    }
+    if (sequencer_ && !(sequencer_->proc->Poll()->exited && sequencer_->proc->Poll()->code == 0)) code = 3;
     if (run_outcome_.rfind("stop", 0) != 0) code = 3;
-    if (!HaveFinalCoeffs()) code = 3;
-    if (!FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_}.AllComplete()) code = 3;
+    if (WaitsForCoeffs() && !HaveFinalCoeffs()) code = 3;
+    if (WaitsForCoeffs() && !Verdict().AllComplete()) code = 3;
     return Finish(code);
 }
 
@@ -435,7 +446,7 @@ int Calibration::Finish(int code) {
               << (run_outcome_.empty() ? "not finished" : run_outcome_) << "\n";
     if (progress_) std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops): " << progress_->drops() << "\n";
     if (!coeffs_.empty()) {
-        std::cout << "\n" << FormatCoeffTable(coeffs_, FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_}.Labels());
+        std::cout << "\n" << FormatCoeffTable(coeffs_, Verdict().Labels());
         std::ifstream truth(o_.truth_out);
         if (truth && o_.source == "sim") {
             try {
@@ -446,12 +457,11 @@ int Calibration::Finish(int code) {
         }
     }
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
-    if (stop_seen_)
-        std::cerr << FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_}.Explain();
+    if (stop_seen_ && WaitsForCoeffs()) std::cerr << Verdict().Explain();
+    // The acceptance step reads the database: on the host that holds it.
+    if (Hook() && !run_id_.empty() && Runs("gyrocal-recorder")) code = Hook()(o_, run_id_, code);
     return code;
 }
-
-}  // namespace
 
 int RunCalibration(const CalibrateOptions& options) {
     InstallStopHandlers();
@@ -462,6 +472,7 @@ int RunCalibration(const CalibrateOptions& options) {
         for (std::string arg; std::getline(f, arg, '\0');) o.command_line += (o.command_line.empty() ? "" : " ") + arg;
     }
     try {
+        o.lcm_url = EffectiveLcmUrl(o);
         Calibration c(o);
         return c.Run();
     } catch (const BusError& e) {

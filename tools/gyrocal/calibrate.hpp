@@ -3,15 +3,25 @@
 //
 //   recorder, plateau detector, rotation estimator, fitter, compensator   (started first; each
 //        must send a STATUS heartbeat before anything is published, so no sample is missed)
-//   source: the simulated rig (commanded by the sequencer) or measured data (CSV file, line
-//        stream on stdin, LCM log), for which this launcher itself announces the run
-//   sequencer (simulated rig only): drives the procedure and ends the run
+//   source: the simulated rig (commanded by the sequencer, or running its own procedure) or
+//        measured data (CSV file, line stream on stdin, LCM log), for which this launcher itself
+//        announces the run
+//   sequencer (simulated rig, --procedure sequencer): drives the procedure and ends the run
 //
-// The launcher's own thread watches the bus (progress, coefficient sets) and the children (a
-// child that dies early fails the run with its log named). On completion or Ctrl-C it stops the
-// source first, lets the processors finish, and stops the recorder last so it can flush.
+// On several hosts each host runs the part of its role (--role, lab.hpp); the producers wait
+// until they hear every consumer's heartbeat over the network. Each launcher supervises its own
+// children: one that dies mid-run is restarted with its state recovered, or the run is aborted
+// with the reason (the crash policy of lab.hpp); a restart is announced as a RUN_EVENT "restart".
+// The launcher's own thread watches the bus (progress, coefficient sets) and the children. On
+// completion or Ctrl-C it stops the source first, lets the processors finish, and stops the
+// recorder last so it can flush.
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/plateau_t.hpp"
+#include "gyrocal/sensitivity_point_t.hpp"
 
 namespace gyrocal::cli {
 
@@ -27,6 +37,11 @@ struct CalibrateOptions {
     std::string input;            // file for csv and log sources
     std::string db = "gyrocal.db";
     std::string lcm_url;          // "" = $GYROCAL_LCM_URL or the udpm TTL 0 default
+    std::string role = "all";     // all | producers | processors | recorder (lab.hpp)
+    int chamber = 1;              // 1..100: the bus is the URL's group at port + chamber - 1
+    std::string procedure = "sequencer";  // sim: sequencer (commanded rig) | rig (its own profile)
+    int max_restarts = 3;         // restarts of one process per run before the run is aborted
+    double await_peers_s = 20;    // wall seconds the producers wait for every consumer's heartbeat
     int sensors = 4;              // simulated units
     std::string preset = "610";   // module preset of the simulated units
     uint64_t seed = 1;
@@ -52,6 +67,9 @@ struct CalibrateOptions {
         sequencer_args, recorder_args, source_args;  // passed through verbatim
     bool quiet = false;
     std::string command_line;
+    std::string limits_file;  // acceptance limits (--limits), recorded in the run's configuration
+    std::string limits_json;  // their validated JSON; "" = none
+    std::string report_dir;   // write the run's report here at the end (--report); "" = none
     static CalibrateOptions Defaults() { return {}; }
 };
 
@@ -59,8 +77,35 @@ struct CalibrateOptions {
 // is passed and the fitter takes each unit's from the run's Allan deviation.
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);
 
-// Runs the calibration; returns the exit code (0 completed with coefficients for every sensor,
-// 1 failure, 3 run aborted or incomplete).
+// The LCM URL the run uses: --lcm-url (or $GYROCAL_LCM_URL, or the default) moved to --chamber's
+// port. Throws std::invalid_argument naming --chamber.
+std::string EffectiveLcmUrl(const CalibrateOptions& o);
+
+// Runs the calibration (this host's role of it); returns the exit code (0 completed with
+// coefficients for every sensor, 1 failure, 3 run aborted or incomplete; the after-run hook may
+// turn 0 into 4: a unit did not pass its acceptance limits).
 int RunCalibration(const CalibrateOptions& options);
+
+// Called once a run has ended and every process (the recorder last) has stopped, so the database
+// holds the whole run, with the run id and the exit code so far; returns the exit code. The
+// launcher links no SQLite: the acceptance step lives with the report (cmd_report.hpp) and main
+// installs it when that component is built.
+using AfterRunHook = std::function<int(const CalibrateOptions&, const std::string& run_id, int code)>;
+void SetAfterRunHook(AfterRunHook hook);
+bool HasAfterRunHook();
+
+// What a restarted fitter or compensator is given back from the database by the host that holds
+// it (lab.hpp): the run's plateaus and sensitivity points, the newest coefficient set of each
+// sensor. Read by the store component (store/recorder/recovery.hpp), installed by main like the
+// after-run hook, so the launcher links no SQLite; without it a restarted fitter or compensator
+// rebuilds from the live bus only (and the launcher says so).
+struct RecoveredState {
+    std::vector<plateau_t> plateaus;
+    std::vector<sensitivity_point_t> rotations;
+    std::vector<coeff_set_t> newest_coeffs;
+};
+// Throws std::exception with the reason when the database cannot be read.
+using RecoveryReader = std::function<RecoveredState(const std::string& db_path, const std::string& run_id)>;
+void SetRecoveryReader(RecoveryReader reader);
 
 }  // namespace gyrocal::cli

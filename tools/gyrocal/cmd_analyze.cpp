@@ -1,8 +1,5 @@
 #include "cmd_analyze.hpp"
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -17,13 +14,14 @@
 #include "analysis/plot.hpp"
 #include "analysis/report.hpp"
 #include "analysis/run_data.hpp"
+#include "plot/gnuplot.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
 #include "noise/allan_plot.hpp"
 #include "query.hpp"
-#include "replay_reader.hpp"
+#include "run_loader.hpp"
 
 namespace gyrocal::cli {
 
@@ -32,105 +30,17 @@ namespace st = gyrocal::store;
 
 namespace {
 
-struct Raw {
-    std::map<std::string, std::vector<an::GyroSample>> gyro;  // by sensor
-    std::vector<an::EncoderSample> encoder;
-};
-
-Raw ReadSamples(st::Db& db, const std::string& run_id) {
-    Raw raw;
-    st::ReplayReader reader(db, run_id);
-    while (auto row = reader.Next()) {
-        std::visit(
-            [&](const auto& r) {
-                using T = std::decay_t<decltype(r)>;
-                if constexpr (std::is_same_v<T, st::GyroRow>) {
-                    raw.gyro[r.sensor_id].push_back(
-                        {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
-                } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
-                    raw.encoder.push_back({r.utime, r.angle_deg});
-                }
-            },
-            *row);
-    }
-    return raw;
-}
-
 namespace fs = std::filesystem;
 
-// Full path of `program` found on $PATH, "" when absent.
-std::string FindOnPath(const std::string& program) {
-    const char* path = std::getenv("PATH");
-    std::string dirs = path ? path : "";
-    size_t start = 0;
-    while (start <= dirs.size()) {
-        const size_t end = std::min(dirs.find(':', start), dirs.size());
-        const std::string dir = dirs.substr(start, end - start);
-        const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
-        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-        start = end + 1;
-    }
-    return "";
-}
-
-// The unit's Allan deviation from the run's newest NOISE_<id> (noise/allan_plot.hpp), when one
-// was recorded.
-void AddAllanPlot(const st::RunDetail& d, const std::string& id, std::vector<an::PlotSet>& plots) {
+// The unit's Allan deviation from the run's newest NOISE_<id> record, when one was recorded.
+void AddAllanPlot(const st::RunDetail& d, const std::string& id, std::vector<plot::Figure>& plots) {
     for (const st::NoiseInfo& ni : d.noise) {
         if (ni.noise.sensor_id != id || ni.noise.tau_s.empty()) continue;
         const st::NoiseRow& n = ni.noise;
-        const noise::AllanPlot p = noise::MakeAllanPlot(
-            {id, n.tau_s, n.adev_v, n.adev_lo_v, n.adev_hi_v, n.arw_v_rthz, n.bias_instability_v,
-             n.rrw_v_rts, ni.sensitivity_v_per_dps});
-        an::PlotSet set;
-        for (const noise::AllanPlotFile& f : p.files) set.files.push_back({f.name, f.text});
-        set.scripts = p.scripts;
-        set.images = p.images;
-        plots.push_back(std::move(set));
+        plots.push_back(noise::MakeAllanPlot({id, n.tau_s, n.adev_v, n.adev_lo_v, n.adev_hi_v,
+                                              n.arw_v_rthz, n.bias_instability_v, n.rrw_v_rts,
+                                              ni.sensitivity_v_per_dps}));
     }
-}
-
-// Runs `gnuplot script` with DIR as the working directory (scripts name files relative to it).
-// Returns "" on success, else what went wrong.
-std::string RunGnuplot(const std::string& gnuplot, const std::string& dir,
-                       const std::string& script) {
-    const pid_t pid = ::fork();
-    if (pid < 0) return "cannot start gnuplot (fork failed)";
-    if (pid == 0) {
-        if (::chdir(dir.c_str()) != 0) ::_exit(126);
-        ::execl(gnuplot.c_str(), "gnuplot", script.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    int status = 0;
-    if (::waitpid(pid, &status, 0) < 0) return "lost the gnuplot process";
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-    return "gnuplot " + script + " in " + dir + " failed (" +
-           (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
-                              : std::string("killed by a signal")) +
-           ")";
-}
-
-// Writes the files and runs the scripts; "" on success, else the first problem.
-std::string WritePlots(const std::string& gnuplot, const std::string& dir,
-                       const std::vector<an::PlotSet>& plots, std::vector<std::string>* images) {
-    for (const an::PlotSet& set : plots) {
-        for (const an::PlotFile& f : set.files) {
-            const fs::path path = fs::path(dir) / f.name;
-            std::ofstream file(path, std::ios::binary | std::ios::trunc);
-            file << f.text;
-            if (!file.flush()) return "cannot write " + path.string();
-        }
-        for (const std::string& script : set.scripts)
-            if (std::string e = RunGnuplot(gnuplot, dir, script); !e.empty()) return e;
-        for (const std::string& image : set.images) {
-            const fs::path path = fs::path(dir) / image;
-            std::error_code ec;
-            if (!fs::exists(path, ec) || fs::file_size(path, ec) == 0)
-                return "gnuplot did not write " + path.string();
-            images->push_back(path.string());
-        }
-    }
-    return "";
 }
 
 }  // namespace
@@ -140,6 +50,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
         an::AnalysisOptions ao = an::AnalysisOptions::Defaults();
         ao.bins.bin_s = o.bin_s;
         ao.holdout_fraction = o.holdout_fraction;
+        ao.holdout_block_s = o.holdout_block_s;
         if (const std::string p = ao.Problem(); !p.empty()) {
             err << "gyrocal analyze: " << p << "\n";
             return 2;
@@ -162,10 +73,9 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                     << ": exists and is not a directory\n";
                 return 2;
             }
-            gnuplot = FindOnPath("gnuplot");
+            gnuplot = plot::FindOnPath("gnuplot");
             if (gnuplot.empty()) {
-                err << "gyrocal analyze: --plot needs gnuplot on PATH (install the Debian package "
-                       "gnuplot-nox)\n";
+                err << "gyrocal analyze: --plot " << plot::kGnuplotMissing << "\n";
                 return 1;
             }
         }
@@ -197,30 +107,17 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
             }
             sensors = {o.sensor_id};
         }
-        Raw raw = ReadSamples(*db, o.run_id);
+        const std::map<std::string, an::SensorRun> runs = LoadSensorRuns(*db, detail, sensors);
         std::vector<an::SensorResult> results;
         std::vector<int64_t> end_utimes;
-        std::vector<an::PlotSet> plots;
+        std::vector<plot::Figure> plots;
         for (const std::string& id : sensors) {
-            std::vector<an::PlateauInput> plateaus;
-            for (const st::PlateauRow& p : detail.plateaus)
-                if (p.sensor_id == id)
-                    plateaus.push_back({p.plateau_id, p.start_utime, p.end_utime, p.temp_mean_c,
-                                        p.temp_sem_c, p.gyro_mean_v, p.gyro_sem_v, p.n_samples});
-            std::vector<an::SensitivityInput> sens;
-            for (const st::SensitivityRow& s : detail.sensitivity_points)
-                if (s.sensor_id == id)
-                    sens.push_back({s.rotation_id, s.utime, s.temp_c, s.direction,
-                                    s.sensitivity_v_per_dps, s.sensitivity_stderr_v_per_dps,
-                                    s.accepted});
-            const an::SensorRun run = an::BuildSensorRun(id, std::move(raw.gyro[id]), raw.encoder,
-                                                         std::move(plateaus), std::move(sens));
+            const an::SensorRun& run = runs.at(id);
             results.push_back(an::Analyze(run, ao));
-            if (!o.plot_dir.empty()) {
-                plots.push_back(an::MakePlots(run, results.back(), ao));
-                AddAllanPlot(detail, id, plots);
-            }
-            end_utimes.push_back(run.still.empty() ? 0 : run.still.back().utime);
+            if (!o.plot_dir.empty())
+                for (plot::Figure& f : an::MakePlots(run, results.back(), ao)) plots.push_back(std::move(f));
+            if (!o.plot_dir.empty()) AddAllanPlot(detail, id, plots);
+            end_utimes.push_back(run.samples.empty() ? 0 : run.samples.back().utime);
         }
         if (results.empty()) {
             err << "gyrocal analyze: run '" << o.run_id << "' has no sensors with samples\n";
@@ -287,8 +184,10 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                 return 1;
             }
             std::vector<std::string> images;
-            if (const std::string e = WritePlots(gnuplot, o.plot_dir, plots, &images); !e.empty()) {
-                err << "gyrocal analyze: --plot: " << e << "\n";
+            try {
+                images = plot::DrawInto(gnuplot, o.plot_dir, plots, {plot::Terminal::kPng, plot::Terminal::kSvg});
+            } catch (const plot::GnuplotError& e) {
+                err << "gyrocal analyze: --plot: " << e.what() << "\n";
                 return 1;
             }
             err << "gyrocal analyze: wrote " << images.size() << " pictures to " << o.plot_dir
@@ -322,8 +221,13 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
         ->check(CLI::Range(0.5, 600.0))
         ->capture_default_str();
     sub->add_option("--holdout-fraction", o->holdout_fraction,
-                    "last fraction of the still data held out for the before/after figures")
-        ->check(CLI::Range(0.05, 0.8))
+                    "fraction of the still data held out for the before/after figures and the "
+                    "confirmation of added terms: one block of --holdout-block-s in round(1/F)")
+        ->check(CLI::Range(0.05, 0.5))
+        ->capture_default_str();
+    sub->add_option("--holdout-block-s", o->holdout_block_s,
+                    "[s] length of the held-out blocks (interleaved with the training data)")
+        ->check(CLI::Range(60.0, 86400.0))
         ->capture_default_str();
     sub->add_option("--plot", o->plot_dir,
                     "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
@@ -344,7 +248,8 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
         o->command_line = "gyrocal analyze " + o->run_id + " --db " + o->db +
                           (o->sensor_id.empty() ? "" : " --sensor " + o->sensor_id) + " --bin-s " +
                           std::to_string(o->bin_s) + " --holdout-fraction " +
-                          std::to_string(o->holdout_fraction) + (o->json ? " --json" : "") +
+                          std::to_string(o->holdout_fraction) + " --holdout-block-s " +
+                          std::to_string(o->holdout_block_s) + (o->json ? " --json" : "") +
                           (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
                           (o->publish ? " --publish" : "");
         action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };

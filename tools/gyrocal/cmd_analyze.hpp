@@ -31,6 +31,7 @@ struct AnalyzeOptions {
     bool json = false;
     double bin_s = 10.0;  // [s]
     double holdout_fraction = 0.25;
+    double holdout_block_s = 600.0;  // [s]
     bool store = true;         // keep the result in the database
     std::string plot_dir;      // "" = no pictures; else gnuplot PNG+SVG written here
     bool publish = false;      // publish each stored extended set on COEFFS_<id>

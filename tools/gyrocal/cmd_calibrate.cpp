@@ -6,7 +6,9 @@
 #include <memory>
 #include <sstream>
 
+#include "acceptance/limits.hpp"
 #include "calibrate.hpp"
+#include "plot/gnuplot.hpp"
 #include "procedure.hpp"
 #include "sim/config.hpp"
 
@@ -25,6 +27,37 @@ void CheckWritableDb(const std::string& db) {
         throw CLI::ValidationError("--db", "'" + db + "' is not writable: choose a path you can write");
 }
 
+// What gyrocal calibrate does after the run (cmd_report.hpp: AfterCalibration).
+void AddAfterRunOptions(CLI::App* cmd, CalibrateOptions& o) {
+    cmd->add_option("--limits", o.limits_file,
+                    "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
+                    "the run, each unit judged at the end");
+    cmd->add_option("--report", o.report_dir,
+                    "write the run's calibration report (gyrocal report) into this directory at the end "
+                    "(created if its parent exists)");
+}
+
+// The limits and the report come after the run; what would stop them is said before anything runs.
+void CheckAfterRunOptions(CalibrateOptions& o) {
+    namespace fs = std::filesystem;
+    for (const auto& [option, value] : {std::pair{"--limits", o.limits_file}, std::pair{"--report", o.report_dir}})
+        if (!value.empty() && !HasAfterRunHook())
+            throw CLI::ValidationError(option, "needs the store component (this gyrocal was built without it)");
+    if (!o.limits_file.empty()) {
+        try {
+            o.limits_json = acceptance::ToJson(acceptance::LoadLimitsFile(o.limits_file)).dump();
+        } catch (const acceptance::LimitsError& e) {
+            throw CLI::ValidationError("--limits", e.what());
+        }
+    }
+    if (o.report_dir.empty()) return;
+    fs::path p = fs::absolute(o.report_dir).lexically_normal();
+    if (!p.has_filename()) p = p.parent_path();
+    if (fs::exists(p) ? !fs::is_directory(p) : !fs::is_directory(p.parent_path()))
+        throw CLI::ValidationError("--report", "'" + o.report_dir + "' is not a directory and its parent does not exist");
+    if (plot::FindOnPath("gnuplot").empty()) throw CLI::ValidationError("--report", plot::kGnuplotMissing);
+}
+
 }  // namespace
 
 void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
@@ -37,6 +70,30 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--input", o->input, "input file for --source csv|log")->check(CLI::ExistingFile);
     cmd->add_option("--db", o->db, "SQLite database that records the run")->capture_default_str();
     cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
+    cmd->add_option("--role", o->role,
+                    "what this host runs: all, or one role of a multi-host lab: producers (rig/source and "
+                    "sequencer), processors (plateau, rotation, fitter, compensator), recorder (database)")
+        ->check(CLI::IsMember({"all", "producers", "processors", "recorder"}))
+        ->capture_default_str();
+    cmd->add_option("--chamber", o->chamber,
+                    "chamber number 1..100 of a lab with several chambers on one LCM group: the bus port "
+                    "is the URL's + chamber - 1 (chamber 1 = the URL as given)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    cmd->add_option("--procedure", o->procedure,
+                    "sim: sequencer (the sequencer commands the rig) or rig (the rig runs the profile "
+                    "itself on data time: the same seed gives the same samples, on one host or several)")
+        ->check(CLI::IsMember({"sequencer", "rig"}))
+        ->capture_default_str();
+    cmd->add_option("--max-restarts", o->max_restarts,
+                    "restarts of one crashed process per run before the run is aborted, 0..20")
+        ->check(CLI::Range(0, 20))
+        ->capture_default_str();
+    cmd->add_option("--await-peers-s", o->await_peers_s,
+                    "wall seconds the producers wait to hear every consumer (recorder, processors) "
+                    "before publishing, 1..3600")
+        ->check(CLI::Range(1.0, 3600.0))
+        ->capture_default_str();
     cmd->add_option("--sensors", o->sensors, "simulated units in the chamber")
         ->check(CLI::Range(1, 64))->capture_default_str();
     cmd->add_option("--preset", o->preset, "module preset of the simulated units: 610 or 613")
@@ -84,17 +141,30 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--recorder-arg", o->recorder_args, "extra argument for gyrocal-recorder")->allow_extra_args(false);
     cmd->add_option("--source-arg", o->source_args, "extra argument for the measured-data source")->allow_extra_args(false);
     cmd->add_flag("--quiet", o->quiet, "no progress line");
+    AddAfterRunOptions(cmd, *o);
     cmd->footer(
         "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
+        "Several hosts: one command per host with --role, the same --lcm-url (ttl=1) and options;\n"
+        "start the recorder and processors roles first. A crashed process is restarted (its state\n"
+        "recovered) or the run is aborted with the reason: see the README's Faults table.\n"
         "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
         "start or died; its log is named), 2 bad options, 3 run aborted or incomplete (chamber fault,\n"
-        "Ctrl-C, wall-clock limit, missing coefficients).");
+        "Ctrl-C, wall-clock limit, missing coefficients), 4 run completed but a unit did not pass its\n"
+        "--limits (each such unit and limit named).");
     cmd->callback([o, cmd, &action] {
         if ((o->source == "csv" || o->source == "log") && o->input.empty())
             throw CLI::ValidationError("--input", "is required with --source " + o->source);
         if (o->source == "sim" && !o->input.empty())
             throw CLI::ValidationError("--input", "is only for --source csv|log");
-        CheckWritableDb(o->db);
+        if (o->procedure == "rig" && o->source != "sim")
+            throw CLI::ValidationError("--procedure", "rig is the simulated rig's own procedure: only with --source sim");
+        try {
+            EffectiveLcmUrl(*o);
+        } catch (const std::invalid_argument& e) {
+            throw CLI::ValidationError("--chamber", e.what());
+        }
+        if (o->role == "all" || o->role == "recorder") CheckWritableDb(o->db);
+        CheckAfterRunOptions(*o);
         action = [o] { return RunCalibration(*o); };
     });
 }

@@ -19,10 +19,7 @@ namespace gyrocal::cli {
 namespace an = gyrocal::analysis;
 namespace st = gyrocal::store;
 
-namespace {
-
-// The sets the options name, by sensor; `origin` says where they came from (for messages).
-std::map<std::string, model::CoeffSet> LoadSets(const CompensateOptions& o, std::string* origin) {
+std::map<std::string, model::CoeffSet> LoadCoeffSets(const CoeffSource& o, std::string* origin) {
     std::map<std::string, model::CoeffSet> sets;
     if (!o.coeffs_path.empty()) {
         std::ifstream f(o.coeffs_path, std::ios::binary);
@@ -75,8 +72,6 @@ std::map<std::string, model::CoeffSet> LoadSets(const CompensateOptions& o, std:
     return sets;
 }
 
-}  // namespace
-
 int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& err) {
     const char* me = "gyrocal compensate: ";
     // Options first (exit 2): exactly one coefficient source, valid conversion options.
@@ -102,10 +97,6 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
             << "' is not valid: use clip or extrapolate\n";
         return 2;
     }
-    if (!(o.temp_rate_window_s > 0.0) || !std::isfinite(o.temp_rate_window_s)) {
-        err << me << "--temp-rate-window-s must be a finite number > 0\n";
-        return 2;
-    }
     csv::ConversionOptions conv;
     conv.preset = o.preset;
     conv.temp_v_at_25c = o.temp_v_at_25c;
@@ -118,7 +109,8 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
     }
     try {
         std::string origin;
-        const std::map<std::string, model::CoeffSet> sets = LoadSets(o, &origin);
+        const std::map<std::string, model::CoeffSet> sets = LoadCoeffSets(
+            {o.coeffs_path, o.db, o.run_id, o.sensor_id, o.coeff_set_row}, &origin);
         std::ifstream in(o.csv_path, std::ios::binary);
         if (!in) {
             err << me << "cannot read CSV '" << o.csv_path << "'\n";
@@ -131,7 +123,6 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
         }
         an::OfflineOptions oo;
         oo.core.range_policy = *policy;
-        oo.core.temp_rate_window_s = o.temp_rate_window_s;
         const an::OfflineResult r = an::CompensateRows(file.rows, sets, o.csv_path, origin, oo);
         const std::string text = an::FormatRatesCsv(r.rates);
         if (o.out_path.empty()) {
@@ -181,9 +172,6 @@ void AddCompensateCommand(CLI::App& app, std::function<int()>& action) {
     sub->add_option("--out", o->out_path, "write the CSV here instead of stdout");
     sub->add_option("--out-of-range", o->range_policy,
                     "outside a model's valid temperature range: clip or extrapolate")
-        ->capture_default_str();
-    sub->add_option("--temp-rate-window-s", o->temp_rate_window_s,
-                    "window of the dT/dt slope used by dTdt/heating terms [s]")
         ->capture_default_str();
     sub->add_option("--preset", o->preset,
                     "module preset for temp_v -> temp_c when the CSV has no temp_c: 610 or 613")

@@ -1,8 +1,8 @@
 #pragma once
 // `gyrocal compensate CSV (--coeffs FILE | --db FILE (--run RUN [--sensor ID] | --sensor ID |
-//  --coeff-set-row N)) [--out FILE] [--out-of-range clip|extrapolate] [--temp-rate-window-s S]
+//  --coeff-set-row N)) [--out FILE] [--out-of-range clip|extrapolate]
 //  [--preset 610|613] [--temp-v-at-25c V] [--temp-v-per-k V]`:
-// applies a coefficient set to measured data offline (issue 6, step 7) and writes the compensated
+// applies a coefficient set to measured data offline and writes the compensated
 // rate per sample as CSV (time_s, sensor_id, rate_dps, angle_deg, temp_c, range_flag).
 // Thin: the CSV is read with the producers' reader (csv::ReadCsv, stop on the first bad row), the
 // sets come from the JSON export (analysis::CoeffSetsFromJson) or the store's query library, and
@@ -16,8 +16,11 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <map>
 #include <optional>
 #include <string>
+
+#include "model/convert.hpp"
 
 namespace gyrocal::cli {
 
@@ -30,11 +33,24 @@ struct CompensateOptions {
     std::optional<int64_t> coeff_set_row;  // with db
     std::string out_path;                  // "" = `out`
     std::string range_policy = "extrapolate";  // the default of gyrocal-compensator --out-of-range
-    double temp_rate_window_s = 10.0;      // [s] as gyrocal-compensator --temp-rate-window-s
     std::string preset = "610";            // temperature transfer when the CSV has no temp_c
     std::optional<double> temp_v_at_25c;   // [V]
     std::optional<double> temp_v_per_k;    // [V/K]
 };
+
+// Where coefficient sets come from (shared with `gyrocal validate`): a JSON file, or a database
+// with a run (its newest set per sensor), a sensor (its newest set) or one stored set.
+struct CoeffSource {
+    std::string coeffs_path;               // JSON export; "" = from db
+    std::string db;
+    std::string run_id;                    // with db
+    std::string sensor_id;                 // filter (with run or file), or newest set of sensor
+    std::optional<int64_t> coeff_set_row;  // with db
+};
+// The sets by sensor; `origin` says where they came from. Throws analysis::OfflineError or
+// store::NotFound naming the file, run, sensor or row.
+std::map<std::string, model::CoeffSet> LoadCoeffSets(const CoeffSource& source,
+                                                     std::string* origin);
 
 // The command body (exit code as above); messages to `err`, the CSV to `out` unless out_path.
 int RunCompensate(const CompensateOptions& options, std::ostream& out, std::ostream& err);

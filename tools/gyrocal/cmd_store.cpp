@@ -8,11 +8,14 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "query.hpp"
 #include "report.hpp"
+#include "samples_csv.hpp"
+#include "unit_data.hpp"
 
 namespace {
 
@@ -123,7 +126,7 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
     auto run = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
         "show",
-        "a run: configuration, plateaus, sensitivity points, coefficient sets, analyses, losses");
+        "a run: configuration, plateaus, sensitivity points, coefficient sets, analyses, losses, acceptance");
     sub->footer(kExitCodes);
     sub->add_option("run", *run, "run id ('' = the no-run bucket)")->required();
     AddDb(sub, *c);
@@ -134,8 +137,14 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
                 auto db = st::OpenForQuery(c->db);
                 const st::RunDetail d = st::ShowRun(*db, *run);
                 const auto prov = Provenance(*db, d.coeff_sets);
-                if (c->json) return Emit("show", rep::RunDetailJson(d, prov).dump(2) + "\n", "");
-                return Emit("show", rep::RunDetailText(d, prov), "");
+                // The outcome per unit against the limits stored with the run.
+                const auto accepted = gyrocal::runreport::AcceptRun(d);
+                if (c->json) {
+                    nlohmann::json j = rep::RunDetailJson(d, prov);
+                    j["acceptance"] = gyrocal::runreport::AcceptanceJson(accepted);
+                    return Emit("show", j.dump(2) + "\n", "");
+                }
+                return Emit("show", rep::RunDetailText(d, prov) + "\n" + gyrocal::runreport::AcceptanceText(accepted), "");
             });
         };
     });
@@ -176,30 +185,51 @@ void AddHistory(CLI::App& app, std::function<int()>& action) {
     });
 }
 
+// A run's raw samples as CSV, streamed (a run holds millions of samples).
+int ExportSamples(st::Db& db, const std::string& run_id, const std::string& sensor,
+                  const std::string& out_path) {
+    std::ofstream file;
+    if (!out_path.empty()) file.open(out_path, std::ios::binary | std::ios::trunc);
+    std::ostream& out = out_path.empty() ? std::cout : file;
+    if (!out) throw std::runtime_error("--out: cannot write '" + out_path + "'");
+    const int64_t rows = rep::WriteRunSamplesCsv(db, run_id, sensor, out);
+    out.flush();
+    if (!out) throw std::runtime_error("--out: cannot write '" + out_path + "'");
+    if (rows == 0)
+        throw st::NotFound("run '" + run_id + "' has no samples" +
+                           (sensor.empty() ? std::string() : " of sensor '" + sensor + "'"));
+    std::cerr << "gyrocal export: " << rows << " samples\n";
+    return 0;
+}
+
 void AddExport(CLI::App& app, std::function<int()>& action) {
     auto c = std::make_shared<Common>();
     auto id = std::make_shared<std::string>();
     auto format = std::make_shared<std::string>("json");
     auto out = std::make_shared<std::string>();
     auto kind = std::make_shared<std::string>("auto");
+    auto sensor = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
         "export",
         "coefficients of a run (newest set of each sensor, whatever its source: an analysis'\n"
-        "extended model stored after the fitter's set wins) or of a sensor (its newest set)");
+        "extended model stored after the fitter's set wins) or of a sensor (its newest set);\n"
+        "--format samples: the run's raw samples as measured-data CSV (gyrocal compensate reads it)");
     sub->footer(kExitCodes);
     sub->add_option("id", *id, "run id or sensor id (a run id wins; see --kind)")->required();
     AddDb(sub, *c);
-    sub->add_option("--format", *format, "json, csv or c-header")
-        ->check(CLI::IsMember({"json", "csv", "c-header"}))
+    sub->add_option("--format", *format, "json, csv, c-header, or samples (a run's raw samples)")
+        ->check(CLI::IsMember({"json", "csv", "c-header", "samples"}))
         ->capture_default_str();
+    sub->add_option("--sensor", *sensor, "with --format samples: only this sensor");
     sub->add_option("--out", *out, "write to this file instead of stdout");
     sub->add_option("--kind", *kind, "what id names: auto, run or sensor")
         ->check(CLI::IsMember({"auto", "run", "sensor"}))
         ->capture_default_str();
-    sub->callback([&action, c, id, format, out, kind] {
-        action = [c, id, format, out, kind] {
+    sub->callback([&action, c, id, format, out, kind, sensor] {
+        action = [c, id, format, out, kind, sensor] {
             return Guarded("export", [&] {
                 auto db = st::OpenForQuery(c->db);
+                if (*format == "samples") return ExportSamples(*db, *id, *sensor, *out);
                 const bool is_run = *kind == "run" || (*kind == "auto" && st::RunExists(*db, *id));
                 std::vector<st::CoeffSetInfo> sets;
                 std::string origin;

@@ -14,9 +14,18 @@
 #endif
 #ifdef GYROCAL_HAVE_ANALYZE_CLI
 #include "cmd_analyze.hpp"
+#include "cmd_validate.hpp"
 #endif
 #ifdef GYROCAL_HAVE_COMPENSATE_CLI
 #include "cmd_compensate.hpp"
+#endif
+#ifdef GYROCAL_HAVE_REPORT_CLI
+#include "cmd_report.hpp"
+#endif
+#ifdef GYROCAL_HAVE_RECORD
+#include "calibrate.hpp"
+#include "query.hpp"
+#include "recovery.hpp"
 #endif
 
 int main(int argc, char** argv) {
@@ -32,9 +41,21 @@ int main(int argc, char** argv) {
 #endif
 #ifdef GYROCAL_HAVE_ANALYZE_CLI
     gyrocal::cli::AddAnalyzeCommand(app, action);
+    gyrocal::cli::AddValidateCommand(app, action);
 #endif
 #ifdef GYROCAL_HAVE_COMPENSATE_CLI
     gyrocal::cli::AddCompensateCommand(app, action);
+#endif
+#ifdef GYROCAL_HAVE_REPORT_CLI
+    gyrocal::cli::AddReportCommand(app, action);
+    gyrocal::cli::SetAfterRunHook(gyrocal::cli::AfterCalibration);
+#endif
+#ifdef GYROCAL_HAVE_RECORD
+    gyrocal::cli::SetRecoveryReader([](const std::string& db_path, const std::string& run_id) {
+        auto db = gyrocal::store::OpenForQuery(db_path);
+        gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
+        return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations), std::move(r.newest_coeffs)};
+    });
 #endif
     try {
         app.parse(argc, argv);

@@ -29,6 +29,8 @@ void Progress::OnChamber(const chamber_state_t& s) {
 void Progress::OnStability(const plateau_state_t& s) { stability_[s.sensor_id] = s; }
 
 void Progress::OnSensitivity(const sensitivity_point_t& s) {
+    // Once per point: a restarted fitter's recovery publishes the run's points again.
+    if (!points_seen_.insert({s.sensor_id, s.rotation_id}).second) return;
     (s.accepted ? rotations_accepted_ : rotations_rejected_) += 1;
 }
 

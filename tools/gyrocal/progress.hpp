@@ -3,6 +3,8 @@
 // Pure: fed decoded messages and the wall time, it returns the status line; no I/O.
 #include <cstdint>
 #include <map>
+#include <set>
+#include <utility>
 #include <string>
 
 #include "gyrocal/chamber_state_t.hpp"
@@ -53,6 +55,7 @@ private:
     std::map<std::string, plateau_state_t> stability_;
     std::map<std::string, int64_t> losses_by_process_;
     std::map<std::string, int> coeffs_by_sensor_;
+    std::set<std::pair<std::string, int64_t>> points_seen_;  // (sensor_id, rotation_id)
     int rotations_accepted_ = 0;
     int rotations_rejected_ = 0;
 };

@@ -46,8 +46,9 @@ OfflineResult CompensateRows(const std::vector<csv::CsvRow>& rows,
                                    row.sensor_id + "' refused: " + sr.detail);
         }
         // The message a CSV source publishes for this row, handed over as the live node does.
-        const gyro_sample_t m =
-            builder.Build(row, csv::StreamUtime(o.start_utime, row.time_s)).gyro;
+        const csv::RowMessages msgs = builder.Build(row, csv::StreamUtime(o.start_utime, row.time_s));
+        if (msgs.power) it->second.PowerOn(msgs.power->power_on_utime);
+        const gyro_sample_t& m = msgs.gyro;
         const compensate::ApplyResult r =
             it->second.Apply({m.utime, m.seq, m.gyro_v, m.temp_c, m.supply_v});
         if (r.status != compensate::ApplyStatus::kOk) {

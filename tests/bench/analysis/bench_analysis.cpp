@@ -2,10 +2,9 @@
 // method, the N-point fit, and the analysis' extended model, versus the noise floor.
 //
 // Each run (one unit; setpoints -10, 50, 10, 70, 30, 60, 20 with ramps between; see sim_run.hpp)
-// is split by the analysis into training data and a held-out stretch (the last 25 % of the still
-// bins: about the 60 -> 20 degC cooling ramp and the 20 degC dwell), so 5 training plateaus. Every
-// method is fitted on the training part only and applied to every 10 s still bin of the held-out
-// stretch:
+// is split by the analysis into training data and held-out bins (interleaved blocks: analyze.hpp,
+// step 2). Every method is fitted on the training part only (the plateaus and rotations outside
+// the held-out blocks) and applied to every 10 s still bin held out:
 //   3-point : the seed's equations on 3 training plateaus (coldest, nearest mid-range, hottest, in
 //             acquisition order) for the offset, and on the rotations of those 3 setpoints for
 //             the sensitivity;
@@ -13,9 +12,9 @@
 //             (what the fitter publishes);
 //   extended: the analysis' model (declared terms + the effects it added), fitted on the training
 //             bins; the N-point sensitivity.
-// Figures: rate RMS [deg/s] = RMS of (gyro_v - offset(T)) / S(T); drift [deg/h] = |integrated
-// angle| / duration; floor = scatter of 10 s bins inside the plateau windows (rate) and its
-// white-noise drift bound floor/sqrt(held-out bins). Mean over seeds per effect configuration.
+// Figures: rate RMS [deg/s] = RMS of (gyro_v - offset(T)) / S(T); drift [deg/h] = RMS over the
+// held-out blocks of |integrated angle| / block duration; floor = the Allan deviation of the
+// residual at the bin length (bins.hpp) and its white-noise drift bound. Mean over seeds.
 // Options: [seeds] (default 6).
 #include <algorithm>
 #include <chrono>
@@ -29,6 +28,7 @@
 
 #include "analysis/analyze.hpp"
 #include "analysis/bins.hpp"
+#include "model/inputs.hpp"
 #include "fit/fit.hpp"
 #include "fit/levels.hpp"
 #include "sim_run.hpp"
@@ -49,30 +49,50 @@ struct Figures {
     double rate_rms_dps = NAN, drift_dph = NAN;
 };
 
-Figures OnHeldOut(const std::vector<analysis::Bin>& bins, int64_t hold_utime, int64_t first_utime,
+Figures OnHeldOut(const analysis::BinnedRun& binned, const std::vector<int>& held,
                   const model::Model& offset, const model::Model& sens, double period_s) {
-    const model::Evaluator eo(offset), es(sens);
-    double ss = 0, angle = 0, dur = 0;
-    int n = 0;
-    for (const analysis::Bin& b : bins) {
-        if (b.start_utime < hold_utime) continue;
-        model::ModelInputs in = b.Inputs(first_utime);
-        in.direction = 0.0;
-        const double rate = (b.gyro_v - eo.Value(in, model::RangePolicy::kExtrapolate)) /
-                            es.Value(in, model::RangePolicy::kClip);
+    const Eigen::VectorXd vo = binned.Values(offset);
+    const model::Evaluator es(sens);
+    const gyrocal_tracker_config_t sc = model::TrackerConfigFor(sens);
+    // Held-out blocks are runs of consecutive held bins; drift per block, RMS over blocks.
+    double ss = 0, angle = 0, dur = 0, ss_drift = 0;
+    int blocks = 0;
+    for (size_t k = 0; k < held.size(); ++k) {
+        const auto i = static_cast<size_t>(held[k]);
+        const analysis::Bin& b = binned.bins()[i];
+        const double rate = (b.gyro_v - vo[static_cast<Eigen::Index>(i)]) /
+                            es.Value(binned.Inputs(i, sc), model::RangePolicy::kClip);
         ss += rate * rate;
         angle += rate * b.n * period_s;
         dur += b.n * period_s;
-        ++n;
+        const bool block_ends = k + 1 == held.size() ||
+                                binned.bins()[static_cast<size_t>(held[k + 1])].start_utime -
+                                        b.end_utime > 60'000'000;
+        if (block_ends) {
+            ss_drift += std::pow(angle / dur * 3600.0, 2);
+            ++blocks;
+            angle = dur = 0;
+        }
     }
-    return {std::sqrt(ss / n), std::fabs(angle) / dur * 3600.0};
+    return {std::sqrt(ss / held.size()), std::sqrt(ss_drift / blocks)};
 }
 
-// Plateau / rotation points before `end_utime`.
-std::vector<fit::FitPoint> OffsetPoints(const analysis::SensorRun& run, int64_t end_utime) {
+// Plateau / rotation points outside the held-out bins' time.
+bool InHeldTime(const analysis::BinnedRun& binned, const std::vector<int>& held, int64_t start,
+                int64_t end) {
+    for (int i : held) {
+        const analysis::Bin& b = binned.bins()[static_cast<size_t>(i)];
+        if (start < b.end_utime + 60'000'000 && end > b.start_utime - 60'000'000) return true;
+    }
+    return false;
+}
+
+std::vector<fit::FitPoint> OffsetPoints(const analysis::SensorRun& run,
+                                        const analysis::BinnedRun& binned,
+                                        const std::vector<int>& held) {
     std::vector<fit::FitPoint> pts;
     for (const auto& p : run.plateaus) {
-        if (p.end_utime > end_utime) continue;
+        if (InHeldTime(binned, held, p.start_utime, p.end_utime)) continue;
         fit::FitPoint f;
         f.inputs.temp_c = p.temp_mean_c;
         f.y = p.gyro_mean_v;
@@ -82,10 +102,12 @@ std::vector<fit::FitPoint> OffsetPoints(const analysis::SensorRun& run, int64_t 
     }
     return pts;
 }
-std::vector<fit::FitPoint> SensPoints(const analysis::SensorRun& run, int64_t end_utime) {
+std::vector<fit::FitPoint> SensPoints(const analysis::SensorRun& run,
+                                      const analysis::BinnedRun& binned,
+                                      const std::vector<int>& held) {
     std::vector<fit::FitPoint> pts;
     for (const auto& s : run.sensitivities) {
-        if (s.utime > end_utime) continue;
+        if (InHeldTime(binned, held, s.utime - 10'000'000, s.utime)) continue;
         fit::FitPoint f;
         f.inputs.temp_c = s.temp_c;
         f.inputs.direction = s.direction;
@@ -165,10 +187,10 @@ int main(int argc, char** argv) {
                 all = all && hit;
             }
             if (all && (!c.effects.empty() || r.added.empty())) ++found;
-            const auto bins = analysis::MakeBins(sr.run, analysis::BinOptions::Defaults());
+            const analysis::BinnedRun binned(sr.run, analysis::BinOptions::Defaults());
             const double period_s = analysis::SamplePeriodS(sr.run);
-            const auto off = OffsetPoints(sr.run, r.holdout_start_utime);
-            const auto sens = SensPoints(sr.run, r.holdout_start_utime);
+            const auto off = OffsetPoints(sr.run, binned, r.holdout_bins);
+            const auto sens = SensPoints(sr.run, binned, r.holdout_bins);
             std::vector<fit::FitPoint> off3, sens3;
             SeedPoints(off, sens, &off3, &sens3);
             fit::FitOptions three;
@@ -189,12 +211,10 @@ int main(int argc, char** argv) {
                              sn.detail.c_str());
                 continue;
             }
-            const Figures f[3] = {OnHeldOut(bins, r.holdout_start_utime, sr.run.first_sample_utime,
-                                            o3.model, s3.model, period_s),
-                                  OnHeldOut(bins, r.holdout_start_utime, sr.run.first_sample_utime,
-                                            on.model, sn.model, period_s),
-                                  OnHeldOut(bins, r.holdout_start_utime, sr.run.first_sample_utime,
-                                            *r.holdout_after_offset, sn.model, period_s)};
+            const Figures f[3] = {
+                OnHeldOut(binned, r.holdout_bins, o3.model, s3.model, period_s),
+                OnHeldOut(binned, r.holdout_bins, on.model, sn.model, period_s),
+                OnHeldOut(binned, r.holdout_bins, *r.holdout_after_offset, sn.model, period_s)};
             for (int m = 0; m < 3; ++m) {
                 rms[m] += f[m].rate_rms_dps;
                 drift[m] += f[m].drift_dph;

@@ -8,52 +8,79 @@
 #include "analysis/bins.hpp"
 #include "analysis/regress.hpp"
 #include "analysis/run_data.hpp"
+#include "model/inputs.hpp"
 
 namespace gyrocal::analysis {
 namespace {
 
-TEST(Motion, EncoderChangesBecomeGuardedIntervals) {
-    // GIVEN an encoder still, then moving for 3 s, then still; gyro samples at 100 Hz
+TEST(Motion, EncoderMovesAreTheLiveDetectorsGuarded) {
+    // GIVEN an encoder (20000 counts/rev) at rest, dithering by one count, then turning 90 deg
+    // from t = 4 s to 7 s, then at rest; gyro samples at 100 Hz
     std::vector<EncoderSample> enc;
     for (int i = 0; i < 1000; ++i) {
         const double t = i * 0.01;
         const double angle = t < 4.0 ? 0.0 : (t < 7.0 ? 30.0 * (t - 4.0) : 90.0);
-        enc.push_back({static_cast<int64_t>(t * 1e6), angle});
+        enc.push_back({static_cast<int64_t>(t * 1e6),
+                       std::llround(angle / 360.0 * 20000) + (i % 7 == 0 ? 1 : 0), 20000});
     }
     std::vector<GyroSample> raw;
     for (int i = 0; i < 1000; ++i) raw.push_back({i * 10'000, i, 25.0, 2.5, kNan});
     const SensorRun run = BuildSensorRun("S01", raw, enc, {}, {});
-    // THEN one move of 90 deg, and the samples within 1 s guard of it are excluded
-    ASSERT_EQ(run.motion.size(), 1u);
-    EXPECT_NEAR(run.motion[0].angle_change_deg, 90.0, 1e-9);
-    for (const GyroSample& s : run.still) EXPECT_TRUE(s.utime < 3'000'000 || s.utime > 8'000'000);
-    EXPECT_EQ(run.n_moving_samples + static_cast<int64_t>(run.still.size()), 1000);
+    // THEN one move of 90 deg (the one-count dither is not a move), and the samples within the
+    // 1 s guard of it are not still
+    ASSERT_EQ(run.moves.size(), 1u);
+    EXPECT_NEAR(run.moves[0].angle_deg(), 90.0, 0.05);
+    ASSERT_EQ(run.samples.size(), 1000u);
+    for (size_t k = 0; k < run.samples.size(); ++k)
+        if (run.still[k]) {
+            EXPECT_TRUE(run.samples[k].utime < 3'000'000 || run.samples[k].utime > 8'000'000);
+        }
+    EXPECT_GT(run.n_moving_samples, 500);
+    EXPECT_LT(run.n_moving_samples, 560);  // 3 s of motion + 2 x 1 s guard + settle
+    EXPECT_TRUE(run.power_on_assumed);
 }
 
-TEST(Branch, PlayOperatorNeedsHalfAWidthToSwitch) {
-    BranchTracker b(1.0);
-    EXPECT_EQ(b.Update(20.0), 0.0);  // unknown at start
-    EXPECT_EQ(b.Update(20.4), 0.0);  // within half a width
-    EXPECT_EQ(b.Update(20.6), 1.0);  // heating
-    EXPECT_EQ(b.Update(25.0), 1.0);
-    EXPECT_EQ(b.Update(24.6), 1.0);   // reversal smaller than the width: still heating
-    EXPECT_EQ(b.Update(23.9), -1.0);  // cooling
+// A run of samples at rest (no encoder), powered at power_on_utime when given.
+SensorRun StillRun(std::vector<GyroSample> raw, std::vector<PowerRecord> power = {}) {
+    return BuildSensorRun("S01", std::move(raw), {}, {}, {}, power);
 }
 
-TEST(Bins, RampRateAndMeansFromSamples) {
-    // GIVEN 200 s at 100 Hz of a 0.1 degC/s ramp, gyro 2.5 V, no noise
-    SensorRun run;
-    run.sensor_id = "S01";
-    for (int i = 0; i < 20000; ++i)
-        run.still.push_back({i * 10'000, i, 10.0 + 0.1 * i * 0.01, 2.5, 5.0});
-    const std::vector<Bin> bins = MakeBins(run, BinOptions::Defaults());
-    ASSERT_EQ(bins.size(), 20u);
-    for (const Bin& b : bins) {
-        EXPECT_NEAR(b.dtemp_dt_c_per_s, 0.1, 1e-9);
+TEST(Bins, MeansAndTrackedInputsFromEverySample) {
+    // GIVEN 400 s at 100 Hz of a 0.1 degC/s ramp, gyro 2.5 V, supply 5 V, powered 100 s earlier
+    std::vector<GyroSample> raw;
+    for (int i = 0; i < 40000; ++i) raw.push_back({i * 10'000, i, 10.0 + 0.1 * i * 0.01, 2.5, 5.0});
+    const SensorRun run = StillRun(raw, {{0, -100'000'000, "test"}});
+    const BinnedRun binned(run, BinOptions::Defaults());
+    ASSERT_EQ(binned.size(), 40u);
+    const gyrocal_tracker_config_t c = gyrocal_tracker_config_default();
+    for (size_t i = 0; i < binned.size(); ++i) {
+        const Bin& b = binned.bins()[i];
         EXPECT_NEAR(b.gyro_v, 2.5, 1e-12);
         EXPECT_EQ(b.segment, 0);
+        // the bin's mean time since power-on: 100 s + its centre
+        EXPECT_NEAR(b.time_since_power_s, 100.0 + 10.0 * i + 4.995, 1e-6);
+        const model::ModelInputs in = binned.Inputs(i, c);
+        // the tracker's dT/dt: 0 at the first sample, then within 2 r exp(-t / 2 tau) of the
+        // ramp: below 1e-6 from 250 s (2 * 0.1 * exp(-25) = 3e-12)
+        if (i >= 25) EXPECT_NEAR(in.dtemp_dt_c_per_s, 0.1, 1e-6);
+        if (i >= 1) EXPECT_EQ(in.heating, 1.0);  // the temperature rose by the 1 degC width
     }
-    EXPECT_EQ(bins.back().heating, 1.0);
+    // A column of a parametric term is tracked with its own parameter.
+    const Eigen::VectorXd w = binned.Column("warmup(100)", 25.0);
+    EXPECT_NEAR(w[0], std::exp(-(100.0 + 4.995) / 100.0), 1e-9);
+}
+
+TEST(Floor, SuccessiveDifferencesSeeWhiteNoiseNotSlowModelError) {
+    // GIVEN 2000 bins of white noise sigma 1e-4 V plus a slow sine of 1e-3 V (a model error):
+    // THEN the floor is sigma within 3 standard errors of the estimate (relative 1/sqrt(2 n)).
+    std::mt19937 rng(5);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    std::vector<Bin> bins(2000);
+    Eigen::VectorXd v(2000);
+    for (int i = 0; i < 2000; ++i) v[i] = 1e-3 * std::sin(i / 300.0) + 1e-4 * n01(rng);
+    const Floor f = NoiseFloor(bins, v);
+    EXPECT_EQ(f.pairs, 1999);
+    EXPECT_NEAR(f.offset_rms_v, 1e-4, 3e-4 / std::sqrt(2.0 * 1999));
 }
 
 TEST(Regress, RecoversCoefficientsAndCoversTheTruth) {
@@ -94,7 +121,7 @@ TEST(Options, BadOptionsAreRefusedByName) {
     o.offset_terms = {"1", "dT", "bogus"};
     EXPECT_NE(o.Problem().find("bogus"), std::string::npos);
     o = AnalysisOptions::Defaults();
-    o.holdout_fraction = 0.95;
+    o.holdout_fraction = 0.95;  // valid: 0.05 .. 0.5
     EXPECT_NE(o.Problem().find("holdout_fraction"), std::string::npos);
     EXPECT_THROW(Analyze(SensorRun{}, o), std::invalid_argument);
 }
@@ -108,8 +135,9 @@ TEST(Analyze, EmptyRunSaysWhatItCouldNotDo) {
     EXPECT_TRUE(r.added.empty());
 }
 
-// A synthetic run (10 Hz, white noise only) whose supply voltage follows dT/dt exactly: the offset
-// effect is a temp_rate one, but the data cannot tell it from a supply one.
+// A synthetic run (10 Hz, white noise only) whose offset follows the tracked dT/dt (the default
+// time constant) and whose supply voltage follows it too, exactly: the offset effect is a
+// temp_rate one, but the data cannot tell it from a supply one.
 SensorRun CollinearRun() {
     struct Leg {
         double to_c, hold_s;
@@ -118,23 +146,24 @@ SensorRun CollinearRun() {
     const double rate_c_per_s = 0.1, dt_s = 0.1;
     std::mt19937 rng(11);
     std::normal_distribution<double> n01(0.0, 1.0);
-    SensorRun run;
-    run.sensor_id = "SX";
-    run.has_encoder = true;
+    std::vector<GyroSample> raw;
+    std::vector<PlateauInput> plateaus;
     double temp = 25.0, t = 0.0;
     int64_t seq = 0;
-    auto emit = [&](double dtemp_dt) {
+    model::InputTracker tracker;
+    auto emit = [&]() {
         const double dT = temp - 25.0;
-        const double gyro = 2.5 + 5e-4 * dT + 3e-6 * dT * dT + 0.005 * dtemp_dt + 1e-3 * n01(rng);
-        run.still.push_back({static_cast<int64_t>(std::llround(t * 1e6)), seq++, temp, gyro,
-                             5.0 + 0.02 * dtemp_dt});
+        const int64_t utime = static_cast<int64_t>(std::llround(t * 1e6));
+        const double tracked = tracker.Update(utime, temp, kNan).dtemp_dt_c_per_s;
+        const double gyro = 2.5 + 5e-4 * dT + 3e-6 * dT * dT + 0.005 * tracked + 1e-3 * n01(rng);
+        raw.push_back({utime, seq++, temp, gyro, 5.0 + 0.02 * tracked});
         t += dt_s;
     };
-    for (int i = 0; i < 3000; ++i) emit(0.0);  // 300 s at 25 degC after power-on
+    for (int i = 0; i < 3000; ++i) emit();  // 300 s at 25 degC after power-on
     for (const Leg& l : legs) {
         const double dir = l.to_c > temp ? 1.0 : -1.0;
         while ((l.to_c - temp) * dir > 0) {
-            emit(dir * rate_c_per_s);
+            emit();
             temp += dir * rate_c_per_s * dt_s;
         }
         temp = l.to_c;
@@ -142,9 +171,9 @@ SensorRun CollinearRun() {
         double sum = 0, sum_t = 0;
         int n = 0;
         for (int i = 0; i < static_cast<int>(l.hold_s / dt_s); ++i) {
-            emit(0.0);
-            if (run.still.back().utime >= start) {
-                sum += run.still.back().gyro_v;
+            emit();
+            if (raw.back().utime >= start) {
+                sum += raw.back().gyro_v;
                 sum_t += temp;
                 ++n;
             }
@@ -152,16 +181,15 @@ SensorRun CollinearRun() {
         PlateauInput p;
         p.plateau_id = start;
         p.start_utime = start;
-        p.end_utime = run.still.back().utime;
+        p.end_utime = raw.back().utime;
         p.temp_mean_c = sum_t / n;
         p.temp_sem_c = 0.001;
         p.gyro_mean_v = sum / n;
         p.gyro_sem_v = 1e-3 / std::sqrt(n);
         p.n_samples = n;
-        run.plateaus.push_back(p);
+        plateaus.push_back(p);
     }
-    run.n_raw_samples = static_cast<int64_t>(run.still.size());
-    return run;
+    return BuildSensorRun("SX", std::move(raw), {}, std::move(plateaus), {}, {{0, 0, "test"}});
 }
 
 TEST(Analyze, CollinearCandidatesAreAmbiguousWithTheSeparatingMeasurement) {
@@ -187,10 +215,10 @@ TEST(Analyze, CollinearCandidatesAreAmbiguousWithTheSeparatingMeasurement) {
 
 TEST(Analyze, SameRunWithoutTheSupplyFindsTempRate) {
     // Control: the same data, supply not recorded: temp_rate is found with its coefficient
-    // (0.005 V/(degC/s); tolerance 4 reported standard errors + 5 % for the 2-bin difference
-    // versus the exact rate at ramp corners).
+    // (0.005 V/(degC/s); tolerance 4 reported standard errors + 5 % for the tracked dT/dt lagging
+    // the exact rate at ramp corners).
     SensorRun run = CollinearRun();
-    for (GyroSample& s : run.still) s.supply_v = kNan;
+    for (GyroSample& s : run.samples) s.supply_v = kNan;
     const SensorResult r = Analyze(run);
     ASSERT_EQ(r.added.size(), 1u) << r.verdict;
     EXPECT_EQ(r.added[0].effect, "temp_rate");

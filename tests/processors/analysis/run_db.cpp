@@ -51,8 +51,20 @@ std::string WriteRunDb(const std::string& name) {
         r.encoder_id = "E";
         r.utime = e.utime;
         r.seq = seq++;
-        r.angle_deg = e.angle_deg;
+        r.counts = e.counts;
+        r.counts_per_rev = e.counts_per_rev;
+        r.angle_deg = static_cast<double>(e.counts) * 360.0 / e.counts_per_rev;
         r.recv_utime = e.utime;
+        rows.push_back(r);
+    }
+    for (const PowerRecord& p : s.power) {
+        st::PowerStateRow r;
+        r.run_id = "R1";
+        r.sensor_id = "S01";
+        r.utime = p.utime;
+        r.power_on_utime = p.power_on_utime;
+        r.source = p.source;
+        r.recv_utime = p.utime;
         rows.push_back(r);
     }
     for (const PlateauInput& p : s.run.plateaus) {

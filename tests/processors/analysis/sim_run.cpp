@@ -15,7 +15,7 @@ public:
         gyro.push_back({r.utime, r.seq, r.temp_c, r.gyro_v, supply_ ? r.supply_v : kNan});
     }
     void OnEncoder(const sim::EncoderReading& r) override {
-        encoder.push_back({r.utime, r.angle_deg});
+        encoder.push_back({r.utime, r.counts, r.counts_per_rev});
     }
     void OnChamber(const sim::ChamberReading& r) override { profile_.OnChamber(r, rig_); }
     std::vector<GyroSample> gyro;
@@ -98,8 +98,8 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     out.duration_s = (until - c.start_utime) * 1e-6;
 
     // Plateau windows: the end of each dwell, which ends at the first (+) move of its setpoint.
-    const std::vector<MotionInterval> moves =
-        MotionFromEncoder(col.encoder, BuildOptions::Defaults());
+    const std::vector<motion::TableMove> moves =
+        MovesFromEncoder(col.encoder, BuildOptions::Defaults());
     std::vector<int64_t> dwell_ends;
     for (size_t i = 0; i < moves.size(); i += 2)
         dwell_ends.push_back(moves[i].start_utime - 1'000'000);
@@ -121,7 +121,7 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     }
     std::vector<SensitivityInput> sens;
     const int64_t guard = 1'000'000, rest = 5'000'000;
-    for (const MotionInterval& m : moves) {
+    for (const motion::TableMove& m : moves) {
         const Stats pre =
             WindowStats(col.gyro, m.start_utime - guard - rest, m.start_utime - guard, false);
         const Stats post =
@@ -147,17 +147,19 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
         s.rotation_id = m.start_utime;
         s.utime = m.end_utime;
         s.temp_c = temp.mean;
-        s.direction = m.angle_change_deg > 0 ? 1 : -1;
-        s.sensitivity_v_per_dps = integral / m.angle_change_deg;
-        s.stderr_v_per_dps = sd_int / std::fabs(m.angle_change_deg);
+        s.direction = m.angle_deg() > 0 ? 1 : -1;
+        s.sensitivity_v_per_dps = integral / m.angle_deg();
+        s.stderr_v_per_dps = sd_int / std::fabs(m.angle_deg());
         sens.push_back(s);
     }
     if (keep_raw) {
         out.raw = col.gyro;
         out.encoder = col.encoder;
     }
+    // The rig powers its units when it starts (the rig process announces it on POWER_<id>).
+    out.power = {{c.start_utime, c.start_utime, "rig"}};
     out.run = BuildSensorRun(out.truth.sensor_id, std::move(col.gyro), col.encoder,
-                             std::move(plateaus), std::move(sens));
+                             std::move(plateaus), std::move(sens), out.power);
     return out;
 }
 

@@ -38,6 +38,7 @@ struct SimRun {
     double duration_s = 0.0;
     std::vector<GyroSample> raw;  // every sample as recorded (for writing a database)
     std::vector<EncoderSample> encoder;
+    std::vector<PowerRecord> power;  // the unit's power-on (the rig's start)
 };
 
 // keep_raw: also return the raw samples and encoder readings (memory: ~40 bytes per sample).

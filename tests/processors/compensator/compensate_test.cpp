@@ -184,31 +184,60 @@ TEST(SensorCompensator, BadSamplesAreRefusedWithTheirReason) {
 }
 
 TEST(SensorCompensator, ExtendedTermsGetTheirInputsFromTheStream) {
-    // offset = 2.5 + 1e-3 dT + 3 V/(degC/s) * dT/dt; sensitivity differs by direction (+/-1 %).
+    // offset = 2.5 + 1e-3 dT + 3 V/(degC/s) * dT/dt + 4 mV * warmup(60); sensitivity differs by
+    // direction (+/-1 %). A noise-free ramp of 1 degC/min, 100 Hz, powered 10 s before the first
+    // sample (POWER record).
     model::CoeffSet s = Set(10);
-    s.offset.term_names = {"1", "dT", "dTdt"};
-    s.offset.coeffs = Eigen::Vector3d(2.5, 1e-3, 3.0);
+    s.offset.term_names = {"1", "dT", "dTdt", "warmup(60)"};
+    s.offset.coeffs = Eigen::Vector4d(2.5, 1e-3, 3.0, 4e-3);
+    s.offset.covariance = Eigen::Matrix4d::Zero();
     s.sensitivity.term_names = {"1", "dT", "direction"};
     s.sensitivity.coeffs = Eigen::Vector3d(0.006, 0.0, 6e-5);
     SensorCompensator c;
     ASSERT_EQ(c.SetCoefficients(s).outcome, SetOutcome::kApplied);
-    const double ramp_c_per_s = 1.0 / 60.0;  // 1 degC/min, noise-free: the window slope is exact
-    int not_computable = 0;
-    for (int k = 0; k < 3000; ++k) {
+    c.PowerOn(-10'000'000);
+    const double ramp_c_per_s = 1.0 / 60.0;
+    for (int k = 0; k < 30000; ++k) {
         const double ts = 0.01 * k, t = 0.0 + ramp_c_per_s * ts;
         const double rate = (k % 2 ? 50.0 : -50.0);
         const double sens = 0.006 + 6e-5 * (rate > 0 ? 1 : -1);
-        const double off = 2.5 + 1e-3 * (t - 25) + 3.0 * ramp_c_per_s;
+        const double off =
+            2.5 + 1e-3 * (t - 25) + 3.0 * ramp_c_per_s + 4e-3 * std::exp(-(ts + 10.0) / 60.0);
         const ApplyResult a = c.Apply({k * 10'000, k, off + sens * rate, t});
-        if (a.status == ApplyStatus::kNotComputable) {
-            ++not_computable;  // until the dT/dt window (10 s) is half full
-            continue;
-        }
-        ASSERT_EQ(a.status, ApplyStatus::kOk);
-        EXPECT_NEAR(a.out.rate_dps, rate, 1e-6) << k;  // slope exact to ~1e-12 degC/s * 3 V / 6 mV
+        // Every sample is computed: the inputs are defined from the first sample on.
+        ASSERT_EQ(a.status, ApplyStatus::kOk) << k << ": " << a.detail;
+        EXPECT_FALSE(c.power_on_assumed());
+        EXPECT_DOUBLE_EQ(a.out.inputs.time_since_power_s, ts + 10.0);
+        // dT/dt starts at 0 and converges as exp(-t / 2 tau) (tau 5 s): after 200 s the
+        // remaining error 3 V/(degC/s) * ramp * exp(-20) is ~1e-10 V, i.e. ~2e-8 deg/s.
+        if (ts > 200.0) EXPECT_NEAR(a.out.rate_dps, rate, 1e-6) << k;
     }
-    EXPECT_GT(not_computable, 400);
-    EXPECT_LT(not_computable, 600);
+}
+
+TEST(SensorCompensator, ANewTrackerConfigurationRestartsThoseTrackersAndSaysSo) {
+    SensorCompensator c;
+    ASSERT_EQ(c.SetCoefficients(Set(1)).outcome, SetOutcome::kApplied);
+    for (int k = 0; k < 100; ++k) c.Apply({k * 10'000, k, 2.5, 20.0 + 0.01 * k});
+    model::CoeffSet s = Set(2);
+    s.offset.term_names = {"1", "dT", "heating(3)"};
+    const SetResult r = c.SetCoefficients(s);
+    EXPECT_EQ(r.outcome, SetOutcome::kApplied);
+    EXPECT_NE(r.detail.find("trackers restarted"), std::string::npos) << r.detail;
+    const ApplyResult a = c.Apply({100 * 10'000, 100, 2.5, 21.0});
+    ASSERT_EQ(a.status, ApplyStatus::kOk);
+    EXPECT_EQ(a.out.inputs.branch, 0.0);  // unknown again until the temperature travels 1.5 degC
+    EXPECT_EQ(a.out.inputs.branch_width_c, 3.0);
+    EXPECT_EQ(a.out.inputs.time_since_power_s, 1.0);  // power-on (the first sample) is kept
+}
+
+TEST(SensorCompensator, TwoBranchWidthsInOneSetAreRefused) {
+    SensorCompensator c;
+    model::CoeffSet s = Set(3);
+    s.offset.term_names = {"1", "dT", "heating(2)"};
+    s.sensitivity.term_names = {"1", "dT", "heating(1)"};
+    const SetResult r = c.SetCoefficients(s);
+    EXPECT_EQ(r.outcome, SetOutcome::kRejected);
+    EXPECT_NE(r.detail.find("branch widths"), std::string::npos) << r.detail;
 }
 
 }  // namespace

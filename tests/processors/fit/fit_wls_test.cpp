@@ -164,7 +164,10 @@ TEST(FitWls, GeneralTermListsForTheAnalysis) {
               Refusal::kNonFiniteInput);
     // collinear terms: ill-conditioned
     EXPECT_EQ(FitWls(pts, {"1", "heating"}, 25.0, "offset_v").refusal, Refusal::kNonFiniteInput);
-    for (FitPoint& p : pts) p.inputs.heating = 1.0;
+    for (FitPoint& p : pts) {
+        p.inputs.heating = 1.0;
+        p.inputs.branch_width_c = GYROCAL_SIGN_BRANCH_WIDTH_C;  // as the tracker reports it
+    }
     EXPECT_EQ(FitWls(pts, {"1", "heating"}, 25.0, "offset_v").refusal, Refusal::kIllConditioned);
 }
 

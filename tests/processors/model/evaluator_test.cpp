@@ -58,7 +58,11 @@ TEST(Evaluator, ExtendedTermsUseTheirInputs) {
     ModelInputs in;
     in.temp_c = 26.0;
     in.dtemp_dt_c_per_s = 0.01;
+    in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;
     EXPECT_NEAR(ev.Value(in, RangePolicy::kClip), 2.5 + 1e-3 + 0.005, 1e-15);
+    in.rate_tau_s = 20.0;  // tracked with another time constant than "dTdt" means: not this input
+    EXPECT_TRUE(std::isnan(ev.Value(in, RangePolicy::kClip)));
+    in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;
     in.dtemp_dt_c_per_s = kUnknown;
     EXPECT_TRUE(std::isnan(ev.Value(in, RangePolicy::kClip)));
 }

@@ -19,8 +19,11 @@ double Term(const std::string& name, double dT, const ModelInputs& in) {
 TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
     ModelInputs in;
     in.dtemp_dt_c_per_s = 0.02;
+    in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;
     in.supply_v = 5.1;
     in.heating = -1;
+    in.branch = -0.4;
+    in.branch_width_c = GYROCAL_SIGN_BRANCH_WIDTH_C;
     in.direction = 1;
     in.time_since_power_s = 600;
     EXPECT_EQ(Term("1", 3.0, in), 1.0);
@@ -28,10 +31,26 @@ TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
     EXPECT_EQ(Term("dT^2", 3.0, in), 9.0);
     EXPECT_EQ(Term("dT^3", -2.0, in), -8.0);
     EXPECT_EQ(Term("dTdt", 3.0, in), 0.02);
+    EXPECT_EQ(Term("dTdt(5)", 3.0, in), 0.02);  // the default time constant written out
     EXPECT_NEAR(Term("supply", 3.0, in), 0.1, 1e-15);  // about the 5 V nominal
-    EXPECT_EQ(Term("heating", 3.0, in), -1.0);
+    EXPECT_EQ(Term("heating", 3.0, in), -1.0);          // sign-only: the side last reached
+    EXPECT_EQ(Term("heating(1)", 3.0, in), -0.4);       // the continuous branch of width 1
     EXPECT_EQ(Term("direction", 3.0, in), 1.0);
     EXPECT_NEAR(Term("warmup(300)", 3.0, in), std::exp(-2.0), 1e-15);
+}
+
+TEST(Terms, InputsTrackedWithAnotherParameterAreNotUsed) {
+    ModelInputs in;
+    in.dtemp_dt_c_per_s = 0.02;
+    in.rate_tau_s = 20.0;
+    in.branch = 0.5;
+    in.heating = 1.0;
+    in.branch_width_c = 2.0;
+    EXPECT_TRUE(std::isnan(Term("dTdt", 0.0, in)));        // 5 s meant, 20 s tracked
+    EXPECT_EQ(Term("dTdt(20)", 0.0, in), 0.02);
+    EXPECT_TRUE(std::isnan(Term("heating(2.5)", 0.0, in)));  // 2.5 degC meant, 2 tracked
+    EXPECT_TRUE(std::isnan(Term("heating", 0.0, in)));       // the sign-only form is 1 degC
+    EXPECT_EQ(Term("heating(2)", 0.0, in), 0.5);
 }
 
 TEST(Terms, MissingInputGivesNaNNotAWrongNumber) {
@@ -39,11 +58,23 @@ TEST(Terms, MissingInputGivesNaNNotAWrongNumber) {
     EXPECT_TRUE(std::isnan(Term("dTdt", 1.0, in)));
     EXPECT_TRUE(std::isnan(Term("supply", 1.0, in)));
     EXPECT_TRUE(std::isnan(Term("heating", 1.0, in)));
+    EXPECT_TRUE(std::isnan(Term("warmup(60)", 1.0, in)));
+}
+
+TEST(Terms, ParametricNamesAreWrittenOneWay) {
+    EXPECT_EQ(WarmupTerm(407.3), "warmup(407)");
+    EXPECT_EQ(BranchTerm(2.25), "heating(2.25)");
+    EXPECT_EQ(RateTerm(5.0), "dTdt(5)");
+    ResolvedTerm t;
+    ASSERT_TRUE(ResolveTerm(BranchTerm(1.2345), &t, nullptr));
+    EXPECT_EQ(t.c.kind, GYROCAL_TERM_BRANCH);
+    EXPECT_EQ(t.c.param, 1.23);
 }
 
 TEST(Terms, UnknownOrMalformedNamesAreRefusedWithTheKnownList) {
     for (const char* bad :
-         {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)", "1("}) {
+         {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)", "1(",
+          "supply(2)", "heating(0)", "dTdt(-5)"}) {
         std::string error;
         EXPECT_FALSE(ResolveTerm(bad, nullptr, &error)) << bad;
         EXPECT_FALSE(error.empty()) << bad;

@@ -209,7 +209,7 @@ TEST(PlateauDetector, RotationNeitherBreaksStabilityNorIsAveraged) {
 }
 
 TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
-    // GIVEN a flat 40 degC trace with white noise, 7 samples lost inside the averaging window
+    // GIVEN a flat 40 degC trace with white noise
     StreamSpec spec;
     spec.temp_true_c = [](double) { return 40.0; };
     spec.seed = 3;
@@ -221,7 +221,6 @@ TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
     std::vector<Plateau> got;
     for (int k = 0; k < 300 * 100; ++k) {
         Sample s = stream.Next();
-        if (s.seq >= 15000 && s.seq < 15007) continue;  // lost on the network
         if (auto p = det.Feed(s).plateau) got.push_back(*p);
     }
     ASSERT_EQ(got.size(), 1u);
@@ -229,12 +228,12 @@ TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
     EXPECT_EQ(p.run_id, "run-7");
     EXPECT_EQ(p.setpoint_c, 40);
     EXPECT_EQ(p.plateau_id, p.start_utime);
-    EXPECT_EQ(p.seq_gaps, 7);
+    EXPECT_EQ(p.seq_gaps, 0);
     EXPECT_EQ(p.n_excluded_motion, 0);
-    EXPECT_EQ(p.last_seq - p.first_seq + 1 - p.seq_gaps, p.n_samples);
-    // 60 s of still time at 100 Hz: 6001 samples spanning 60 s, minus the 7 lost ones
+    EXPECT_EQ(p.last_seq - p.first_seq + 1, p.n_samples);
+    // 60 s of still time at 100 Hz: 6001 samples spanning 60 s
     EXPECT_NEAR((p.end_utime - p.start_utime) * 1e-6, cfg.average_s, 0.011);
-    EXPECT_EQ(p.n_samples, 6001 - 7);
+    EXPECT_EQ(p.n_samples, 6001);
     const double n = p.n_samples;
     // Means within 4 sigma/sqrt(n); sample std within 4 of its standard error sigma/sqrt(2n).
     EXPECT_NEAR(p.temp_c.mean, 40.0, 4 * spec.temp_noise_c / std::sqrt(n));
@@ -250,6 +249,40 @@ TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
     EXPECT_NEAR(p.temp_slope_c_per_min, 0.0, 4 * SlopeSePerMin(spec.temp_noise_c, cfg.average_s));
     EXPECT_NEAR(p.temp_v_mean, 2.5 + 0.009 * 15, 4 * 0.009 * spec.temp_noise_c / std::sqrt(n));
     EXPECT_DOUBLE_EQ(p.supply_mean_v, 5.0);
+}
+
+// Samples lost on the network inside the averaging window: the window is refused (with the
+// reason), not averaged over the hole, and averaging starts again right after it.
+TEST(PlateauDetector, RefusesAWindowWithASequenceGapAndAveragesAgain) {
+    // GIVEN a flat 40 degC trace; averaging starts at ~120 s (90 s window + 30 s stable), and
+    // 7 samples are lost at 150 s, inside the first averaging window
+    StreamSpec spec;
+    spec.temp_true_c = [](double) { return 40.0; };
+    spec.seed = 3;
+    Stream stream(spec);
+    const PlateauConfig cfg = PlateauConfig::Defaults();
+    PlateauDetector det(cfg);
+    det.StartRun("run-7");
+    det.SetChamberSetpoint(40);
+    std::vector<Plateau> got;
+    std::vector<std::string> refused;
+    for (int k = 0; k < 300 * 100; ++k) {
+        Sample s = stream.Next();
+        if (s.seq >= 15000 && s.seq < 15007) continue;  // lost on the network
+        Step st = det.Feed(s);
+        if (st.plateau) got.push_back(*st.plateau);
+        if (st.refused) refused.push_back(*st.refused);
+    }
+    // THEN one refusal naming the hole, and one plateau that starts after it, without a gap
+    ASSERT_EQ(refused.size(), 1u);
+    EXPECT_NE(refused[0].find("7 samples missing (sequence gap after seq 14999)"), std::string::npos)
+        << refused[0];
+    EXPECT_NE(refused[0].find("averaging again from seq 15007"), std::string::npos) << refused[0];
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].first_seq, 15007);
+    EXPECT_EQ(got[0].seq_gaps, 0);
+    EXPECT_EQ(got[0].n_samples, 6001);
+    EXPECT_EQ(got[0].last_seq - got[0].first_seq + 1, got[0].n_samples);
 }
 
 TEST(PlateauDetector, RearmsOnSetpointChangesAndRunEvents) {

@@ -99,6 +99,7 @@ TEST(Procedure, MissingPlateauEndsTheRunAsChamberFaultOnDataTime) {
 TEST(Procedure, MissingSensitivityIsNotedAndTheRunGoesOn) {
     ProcedureOptions opt = TwoSensorsSeed3();
     opt.profile = Profile{"one", {25.0}};
+    opt.move_attempts = 1;  // no second order: the note comes at once
     Procedure p(opt);
     p.OnTime(0);
     p.OnPlateau("A", kS, 25.0);
@@ -109,6 +110,79 @@ TEST(Procedure, MissingSensitivityIsNotedAndTheRunGoesOn) {
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
     ASSERT_EQ(p.notes().size(), 1u);
     EXPECT_NE(p.notes()[0].find("B"), std::string::npos);
+}
+
+// A turn that lost samples on the network is rejected by the estimator; the sequencer orders the
+// same move again, and only after the last attempt notes it as missing (in the stop reason too).
+TEST(Procedure, RejectedMoveIsOrderedAgainThenNamedAsMissing) {
+    ProcedureOptions opt = TwoSensorsSeed3();
+    opt.profile = Profile{"one", {25.0}};
+    opt.move_attempts = 2;
+    Procedure p(opt);
+    p.OnTime(0);
+    p.OnPlateau("A", kS, 25.0);
+    auto o = p.OnPlateau("B", kS, 25.0);
+    ASSERT_EQ(Count<TurntableOrder>(o), 1);
+    EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, 90.0);
+    // WHEN B's +90 point is rejected for a hole THEN +90 is ordered again after 10 s of data at
+    // rest (the default retry_wait_s: a rest window before the turn), saying why
+    p.OnSensitivity("A", 2 * kS, true);
+    EXPECT_TRUE(p.OnSensitivity("B", 3 * kS, false, "12 samples missing (sequence gaps)").empty());
+    EXPECT_EQ(p.phase(), Phase::kWaitRetry);
+    EXPECT_TRUE(p.OnTime(12 * kS).empty());
+    o = p.OnTime(13 * kS);
+    ASSERT_EQ(Count<TurntableOrder>(o), 1);
+    EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, 90.0);
+    const auto& ev = std::get<RunEventOrder>(o[0]);
+    EXPECT_NE(ev.reason.find("attempt 2 of 2 after B: rejected: 12 samples missing"), std::string::npos) << ev.reason;
+    EXPECT_TRUE(p.notes().empty());
+    // A point of the first attempt arriving late does not count for the second.
+    EXPECT_TRUE(p.OnSensitivity("A", 2 * kS, true).empty());
+    EXPECT_EQ(p.pending_sensors(), (std::set<std::string>{"A", "B"}));
+    // WHEN both accept on the second attempt THEN the run moves on to -90
+    p.OnSensitivity("A", 14 * kS, true);
+    o = p.OnSensitivity("B", 14 * kS, true);
+    ASSERT_EQ(Count<TurntableOrder>(o), 1);
+    EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, -90.0);
+    // WHEN -90 fails twice (B silent, then rejected) THEN it is noted and the run completes naming it
+    p.OnSensitivity("A", 15 * kS, true);
+    EXPECT_TRUE(p.OnTime(14 * kS + 61 * kS).empty());  // B silent past the 60 s rotation timeout
+    o = p.OnTime(14 * kS + 71 * kS);
+    ASSERT_EQ(Count<TurntableOrder>(o), 1);
+    p.OnSensitivity("A", 90 * kS, true);
+    o = p.OnSensitivity("B", 91 * kS, false, "slip");
+    EXPECT_EQ(FirstEvent(o), "stop");
+    ASSERT_EQ(p.notes().size(), 1u);
+    EXPECT_NE(p.notes()[0].find("move -90 deg at setpoint 25 degC"), std::string::npos) << p.notes()[0];
+    EXPECT_NE(p.notes()[0].find("after 2 attempts (B: rejected: slip)"), std::string::npos) << p.notes()[0];
+    EXPECT_EQ(p.outcome(), "completed");
+    EXPECT_EQ(p.outcome_reason().rfind("completed; missing: move -90 deg", 0), 0u) << p.outcome_reason();
+}
+
+// A restarted sequencer resumes its run at the setpoint it was at: no second start, that
+// setpoint ordered again, the ones after it follow.
+TEST(Procedure, ResumeTakesTheSetpointAgainWithoutAStart) {
+    ProcedureOptions opt = TwoSensorsSeed3();
+    opt.resume_setpoint_index = 1;
+    Procedure p(opt);
+    auto o = p.OnTime(100 * kS);
+    ASSERT_EQ(FirstEvent(o), "setpoint");
+    ASSERT_EQ(Count<ChamberOrder>(o), 1);
+    EXPECT_DOUBLE_EQ(std::get<ChamberOrder>(o[1]).setpoint_c, 30.0);
+    EXPECT_EQ(p.setpoint_index(), 1);
+    EXPECT_EQ(std::get<RunEventOrder>(o[0]).setpoint_index, 1);
+}
+
+// A supervisor's abort of the run ends the procedure without further orders.
+TEST(Procedure, EndedElsewhereOrdersNothingMore) {
+    Procedure p(TwoSensorsSeed3());
+    p.OnTime(0);
+    p.EndedElsewhere("abort", "gyrocal-sim-rig died");
+    EXPECT_TRUE(p.done());
+    EXPECT_EQ(p.outcome(), "abort");
+    EXPECT_EQ(p.outcome_reason(), "gyrocal-sim-rig died");
+    EXPECT_TRUE(p.OnTime(10 * kS).empty());
+    EXPECT_TRUE(p.Abort("operator stop").empty()) << "no second end event";
 }
 
 TEST(Procedure, AbortByOperatorIsRecorded) {
@@ -137,6 +211,15 @@ TEST(ProcedureOptions, RefusesWhatCannotBeDoneWithTheValidRange) {
     o = TwoSensorsSeed3();
     o.sensor_ids.clear();
     expect_refused(o, "sensor");
+    o = TwoSensorsSeed3();
+    o.retry_wait_s = -1;
+    expect_refused(o, "retry wait -1 s: valid is 0..600");
+    o = TwoSensorsSeed3();
+    o.move_attempts = 6;
+    expect_refused(o, "valid is 1..5");
+    o = TwoSensorsSeed3();
+    o.resume_setpoint_index = 3;
+    expect_refused(o, "valid is 0..2");
     o = TwoSensorsSeed3();
     o.moves_deg = {0};
     expect_refused(o, "without 0");

@@ -31,6 +31,10 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
         {{"--setpoints-c", "20,abc"}, "--setpoints-c"},
         {{"--run-config-json", "{\"a\":"}, "--run-config-json: is not valid JSON"},
         {{"--bogus"}, "--bogus"},
+        {{"--resume-setpoint-index", "1"}, "--resume-setpoint-index: resuming needs the run's --run-id and --sensors"},
+        {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "5"},
+         "--resume-setpoint-index: resume setpoint index 5: valid is 0..4"},
+        {{"--move-attempts", "0"}, "--move-attempts: move attempts 0: valid is 1..5"},
     };
     for (const Case& c : cases) {
         std::vector<std::string> argv = {GYROCAL_SEQUENCER_EXE, "--lcm-url", "memq://"};

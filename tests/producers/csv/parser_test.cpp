@@ -65,7 +65,7 @@ TEST(CsvHeader, EachMissingRequiredColumnIsNamed) {
         EXPECT_EQ(ErrorOf(header + ",supply_v\n"),
                   "f.csv:1: column " + missing +
                       ": missing from the header; required columns are time_s, sensor_id, "
-                      "gyro_v, temp_v (optional: temp_c, supply_v, encoder_deg, chamber_c)");
+                      "gyro_v, temp_v (optional: temp_c, supply_v, encoder_deg, chamber_c, time_since_power_s)");
     }
 }
 

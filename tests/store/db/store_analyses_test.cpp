@@ -96,6 +96,8 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
         ASSERT_EQ(db.UserVersion(), from);
         EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'analyses'"),
                   from >= 4 ? 1 : 0);
+        EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'validations'"),
+                  from >= 5 ? 1 : 0);
         db.Exec(
             "INSERT INTO runs(run_id, started_utime, outcome, first_recv_utime) "
             "VALUES ('OLD', 1, 'running', 10)");
@@ -111,7 +113,7 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
     StoreWriter w(path, {"test", "h", 1});
     Db& db = w.db();
     EXPECT_EQ(db.UserVersion(), kSchemaVersion);
-    EXPECT_EQ(kSchemaVersion, 5);
+    EXPECT_EQ(kSchemaVersion, 6);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);  // history is never rewritten
     EXPECT_EQ(Count(db, "SELECT count(*) FROM rates"), 1);
     EXPECT_EQ(Count(db,

@@ -132,7 +132,7 @@ TEST(FitReports, AVersionFourFileGainsTheTablesAndKeepsItsRows) {
         db.Exec("INSERT INTO runs(run_id, outcome, first_recv_utime) VALUES ('OLD', 'stop', 1)");
     }
     StoreWriter w(path, {"test", "h", 1});
-    EXPECT_EQ(w.db().UserVersion(), 5);
+    EXPECT_EQ(w.db().UserVersion(), kSchemaVersion);
     EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM runs WHERE run_id = 'OLD'"), 1);
     EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM sqlite_master WHERE name IN ('fit_reports', "
                             "'fit_exclusions', 'repeatability', 'noise_estimates', 'noise_adev', "

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "model/convert.hpp"
+#include "model/inputs.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
 #include "writer.hpp"
@@ -94,7 +95,7 @@ TEST(ModelRows, SteadyStateValueIsTheSharedEvaluatorAtSteadyInputs) {
         const auto got = SteadyStateValue(row, temp_c);
         ASSERT_TRUE(got);
         EXPECT_NEAR(*got, want, 1e-15 * 4);  // a few ulps of 2.5
-        EXPECT_EQ(*got, model::Evaluate(ToModel(row), SteadyStateInputs(temp_c),
+        EXPECT_EQ(*got, model::Evaluate(ToModel(row), model::SteadyStateInputs(ToModel(row), temp_c),
                                         model::RangePolicy::kExtrapolate)
                             .value);
     }

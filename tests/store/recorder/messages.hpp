@@ -10,6 +10,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
+#include "gyrocal/power_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -199,6 +200,15 @@ inline plateau_state_t PlateauState(const std::string& id) {
     m.sensor_id = id;
     m.state = "averaging";
     m.last_plateau_id = -1;
+    return m;
+}
+
+inline power_state_t Power(const std::string& id) {
+    power_state_t m{};
+    m.utime = kT0Utime;
+    m.sensor_id = id;
+    m.power_on_utime = kT0Utime - 600 * 1000000LL;  // powered ten minutes before
+    m.source = "rig";
     return m;
 }
 

@@ -92,6 +92,23 @@ TEST(RecordMapper, KnownFingerprintThatDoesNotDecodeCountsADecodeError) {
     EXPECT_EQ(out.run_id, "R1");
 }
 
+// Found by the fuzz harness recorder_map: the mapper called the generated decode directly, so a
+// negative array length escaped as std::length_error and ended gyrocal-recorder. Now it is a
+// decode error like any other, kept whole as a raw event.
+TEST(RecordMapper, AHostileArrayLengthIsADecodeErrorNotAnException) {
+    RecordMapper m(MapperOptions::Defaults(), "R1");
+    auto bytes = EncodeMsg(RunEvent("R2", "start", {"S01"}));
+    // After hash, utime, run_id "R2", event "start", reason "", setpoint_index, setpoint_c:
+    // num_sensors (int16, big-endian) made negative.
+    const size_t at = 8 + 8 + (4 + 3) + (4 + 6) + (4 + 1) + 4 + 8;
+    bytes[at] = 0x80;
+    Mapped out;
+    ASSERT_NO_THROW(out = m.Map("RUN_EVENT", bytes.data(), static_cast<int>(bytes.size()), 5));
+    EXPECT_EQ(std::get<store::RawEventRow>(*out.row).reason, "decode_error");
+    EXPECT_EQ(out.loss.decode_errors, 1);
+    EXPECT_EQ(m.current_run(), "R1");  // an event that did not decode changes nothing
+}
+
 TEST(RecordMapper, TypeComesFromTheFingerprintNotTheChannel) {
     RecordMapper m(MapperOptions::Defaults(), "");
     Mapped out = MapMsg(m, "GYRO_S01", Encoder(3));  // an encoder sample on a gyro channel

@@ -31,10 +31,14 @@ TEST(RecorderWithRig, StoresEveryMessageTheRigPublished) {
     ASSERT_GT(rig_published, 0);
     const std::string stored_sql =
         "SELECT (SELECT count(*) FROM gyro_samples) + (SELECT count(*) FROM encoder_samples) + "
-        "(SELECT count(*) FROM chamber_states) + (SELECT count(*) FROM status WHERE pid = " +
+        "(SELECT count(*) FROM chamber_states) + (SELECT count(*) FROM power_states) + "
+        "(SELECT count(*) FROM status WHERE pid = " +
         std::to_string(rig.pid()) + " AND process = 'gyrocal-sim-rig')";
     EXPECT_EQ(WaitForCount(db, stored_sql, rig_published, 10s), rig_published);
     EXPECT_EQ(rec.Stop().code, 0);
+    // Every unit's power-on time (the rig's start) is announced every 10 s: t = 0, 10, .. 40 s.
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM power_states WHERE power_on_utime = "
+                        "(SELECT min(utime) FROM gyro_samples)"), 4 * 5);
     // 40 simulated seconds at 100 Hz: 4001 samples per unit (t = 0 .. 40 s), seq without holes.
     EXPECT_EQ(Count(db, "SELECT count(*) FROM (SELECT sensor_id FROM gyro_samples GROUP BY "
                         "sensor_id HAVING count(*) = max(seq) + 1 AND min(seq) = 0)"), 4);

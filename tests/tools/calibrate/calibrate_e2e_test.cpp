@@ -18,6 +18,7 @@
 #include "launch/child_process.hpp"
 #include "sim/noise.hpp"
 #include "model/model.hpp"
+#include "sql.hpp"
 
 namespace gyrocal {
 namespace {
@@ -26,37 +27,6 @@ using namespace std::chrono_literals;
 using nlohmann::json;
 
 const std::string kUrl = "udpm://239.255.76.67:7781?ttl=0&recv_buf_size=4194304";
-
-// Minimal read-only SQL for the checks (the store's own library is tested in tests/store).
-class Sql {
-public:
-    explicit Sql(const std::string& path) {
-        if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
-            throw std::runtime_error("cannot open " + path);
-    }
-    ~Sql() { sqlite3_close(db_); }
-    std::vector<std::vector<std::string>> Rows(const std::string& sql) {
-        sqlite3_stmt* st = nullptr;
-        if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &st, nullptr) != SQLITE_OK)
-            throw std::runtime_error(std::string("bad SQL: ") + sqlite3_errmsg(db_) + ": " + sql);
-        std::vector<std::vector<std::string>> out;
-        while (sqlite3_step(st) == SQLITE_ROW) {
-            std::vector<std::string> row;
-            for (int i = 0; i < sqlite3_column_count(st); ++i) {
-                const unsigned char* t = sqlite3_column_text(st, i);
-                row.push_back(t ? reinterpret_cast<const char*>(t) : "");
-            }
-            out.push_back(row);
-        }
-        sqlite3_finalize(st);
-        return out;
-    }
-    int64_t Int(const std::string& sql) { return std::stoll(Rows(sql).at(0).at(0)); }
-    double Real(const std::string& sql) { return std::stod(Rows(sql).at(0).at(0)); }
-
-private:
-    sqlite3* db_ = nullptr;
-};
 
 double TruthAt(const json& curve, double die_c) {
     const auto c = curve.at("coeffs").get<std::vector<double>>();
@@ -114,12 +84,13 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
     EXPECT_EQ(sql.Rows("SELECT outcome FROM runs WHERE run_id='" + run + "'").at(0).at(0), "stop");
 
     // Every published message is in the database: the rig's last heartbeat counts everything it
-    // published (itself included); gyro samples, encoder samples, chamber states and the rig's
-    // own heartbeats are all it publishes. And no sample is missing by sequence number.
+    // published (itself included); gyro samples, encoder samples, chamber states, the units'
+    // power-on records and the rig's own heartbeats are all it publishes. And no sample is missing by sequence number.
     const int64_t rig_published =
         sql.Int("SELECT published FROM status WHERE process='gyrocal-sim-rig' ORDER BY published DESC LIMIT 1");
     const int64_t stored = sql.Int("SELECT count(*) FROM gyro_samples") + sql.Int("SELECT count(*) FROM encoder_samples") +
                            sql.Int("SELECT count(*) FROM chamber_states") +
+                           sql.Int("SELECT count(*) FROM power_states") +
                            sql.Int("SELECT count(*) FROM status WHERE process='gyrocal-sim-rig'");
     EXPECT_EQ(stored, rig_published);
     for (const auto& r : sql.Rows("SELECT sensor_id, count(*), min(seq), max(seq) FROM gyro_samples GROUP BY sensor_id")) {

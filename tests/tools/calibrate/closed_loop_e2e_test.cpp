@@ -78,17 +78,23 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
                 4.0 * added.at("stderr").get<double>() + 0.05 * k_true);
     const double before = s.at("error_before").at("rate_rms_dps");
     const double after = s.at("error_after").at("rate_rms_dps");
-    EXPECT_LT(after, 0.2 * before) << "the extended model must cut the error far below the declared one";
-    // Near what the data allows. A perfect model would leave, on the held-out stretch, the white
-    // scatter of 10 s bins (the floor, from inside plateau windows) plus the slow noise the floor
-    // cannot see (bias instability and rate random walk in 10 s means, from the rig's noise
-    // settings in the truth sidecar: sim::SlowNoiseBinVariance, ~0.018 deg/s, as large as the
-    // floor). Coefficients fitted on the data before the stretch add their prediction error
-    // (the analysis reports it from the fit's covariance; here the stretch extrapolates to
-    // 85 degC). Slow noise and prediction error are each nearly one shape over the stretch (one
-    // degree of freedom), so the 3-sigma bound is 9x their variance:
+    // Before and after come from the same fitter on the same training bins, so "before" is the
+    // best the declared terms can do: the quadratic takes up part of the supply drift. The drift
+    // (0.01 V over ~600 s, times 0.05 V/V = 0.5 mV = ~0.08 deg/s) still dominates the white and
+    // slow noise (~0.025 deg/s together), so the term must at least halve the held-out error;
+    // the bound below says how close to the noise it gets.
+    EXPECT_LT(after, 0.5 * before) << "the extended model must cut the error well below the declared one";
+    EXPECT_GT(s.at("heldout_gain").at("z").get<double>(), 2.0);  // confirmed on held-out bins
+    // Near what the data allows. A perfect model would leave, on the held-out bins, the white
+    // scatter of 10 s bins (the floor: the Allan deviation of the residual at 10 s) plus the slow
+    // noise the floor cannot see (bias instability and rate random walk in 10 s means, from the
+    // rig's noise settings in the truth sidecar: sim::SlowNoiseBinVariance, ~0.018 deg/s, as
+    // large as the floor). Coefficients fitted on the training bins add their prediction error
+    // (the analysis reports it from the fit's covariance). Slow noise and prediction error are
+    // each nearly one shape over a held-out block (few degrees of freedom), so the 3-sigma bound
+    // is 9x their variance:
     //   after^2 < floor^2 + 9 (slow^2 + prediction^2).
-    // The declared model, missing the term, is 20x above it.
+    // The declared model, missing the term, is several times above it.
     sim::NoiseConfig noise;
     noise.bias_instability_dps = truth.at("config").at("noise").at("bias_instability_dps");
     noise.rate_random_walk_dps_rts = truth.at("config").at("noise").at("rate_random_walk_dps_rts");

@@ -121,7 +121,15 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
     const std::string run = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
     sqlite3_finalize(st);
+    // The run records which file it came from: the input's SHA-256 as sha256sum computes it.
+    sqlite3_prepare_v2(h, "SELECT config_json FROM runs WHERE outcome='stop'", -1, &st, nullptr);
+    ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+    const auto config = nlohmann::json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)));
+    sqlite3_finalize(st);
     sqlite3_close(h);
+    ChildProcess sum({"sha256sum", csv_a}, dir + "/sha256.txt", dir + "/sha256.err");
+    ASSERT_TRUE(sum.Wait(60s).has_value());
+    EXPECT_EQ(config.value("input_sha256", ""), ReadLog(dir + "/sha256.txt").substr(0, 64)) << config.dump();
     ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", run, "--db", db, "--json"}, dir + "/analysis.json",
                     dir + "/analyze.err");
     auto an_end = an.Wait(120s);
@@ -133,8 +141,9 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     EXPECT_EQ(sensor.at("added").at(0).at("effect"), "supply");
     EXPECT_NEAR(sensor.at("added").at(0).at("coefficient").get<double>(), 0.05,
                 4.0 * sensor.at("added").at(0).at("stderr").get<double>() + 0.05 * 0.05);
+    // Same fitter before and after (closed_loop_e2e_test.cpp says why half).
     EXPECT_LT(sensor.at("error_after").at("rate_rms_dps").get<double>(),
-              0.2 * sensor.at("error_before").at("rate_rms_dps").get<double>());
+              0.5 * sensor.at("error_before").at("rate_rms_dps").get<double>());
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ std::string Fresh(const std::string& name) {
 }
 
 // gyrocal-othersim with `args`, then calibrate on `port`, then show (text and JSON).
-Lab Run(const std::string& name, std::vector<std::string> args, int port) {
+Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
     Lab lab;
     lab.dir = Fresh(name);
     lab.csv = lab.dir + "/lab.csv";
@@ -128,7 +128,7 @@ void ExpectCompleteAcrossTheRange(const Lab& lab, const std::vector<std::string>
 
 TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRange) {
     // GIVEN the lab profile 25, -10, 10, 30, 50, 70, 25 degC on two units
-    const Lab lab = Run("rts", {"--units", "2", "--seed", "5"}, 7891);
+    const Lab lab = RunLab("rts", {"--units", "2", "--seed", "5"}, 7891);
     // THEN the run ends with exit 0 and complete sets spanning every plateau
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
@@ -188,7 +188,7 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
 
 TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReported) {
     // GIVEN every setpoint visited twice, from both sides
-    const Lab lab = Run("repeat", {"--units", "1", "--seed", "9", "--setpoints-c", "-10,30,70,30,-10,70"},
+    const Lab lab = RunLab("repeat", {"--units", "1", "--seed", "9", "--setpoints-c", "-10,30,70,30,-10,70"},
                         7892);
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     // THEN the set is complete over the range and uses all six plateaus
@@ -208,7 +208,7 @@ TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReporte
 
 TEST(OthersimCalibration, AnOutlierPlateauIsExcludedNamedAndLeavesTheOtherUnitAlone) {
     // GIVEN U2's offset shifted by 3 mV (~40 of its plateau errors) through its 30 degC dwell
-    const Lab lab = Run("outlier", {"--units", "2", "--seed", "8", "--disturb", "3:U2:0.003:0:480"}, 7893);
+    const Lab lab = RunLab("outlier", {"--units", "2", "--seed", "8", "--disturb", "3:U2:0.003:0:480"}, 7893);
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
     // THEN U2's report excludes exactly the plateau averaged inside the disturbance
@@ -235,7 +235,7 @@ TEST(OthersimCalibration, AnOutlierPlateauIsExcludedNamedAndLeavesTheOtherUnitAl
 
 TEST(OthersimCalibration, AnEncoderSlipRejectsThatTurnWithItsReasonAndTheSetStaysComplete) {
     // GIVEN the encoder losing 2 deg in the sixth turn (dwell 2's -90)
-    const Lab lab = Run("slip", {"--units", "1", "--seed", "4", "--slip", "5:2"}, 7894);
+    const Lab lab = RunLab("slip", {"--units", "1", "--seed", "4", "--slip", "5:2"}, 7894);
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1"});
     // THEN that rotation is rejected as an encoder slip, and only that one

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -55,10 +56,23 @@ TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
         {{"--profile", "seven"}, 2, "--profile"},
         {{"--source", "csv"}, 2, "--input"},
         {{"--rig-arg=--bogus"}, 1, "gyrocal-sim-rig ended at start-up (exit code 2)"},
+        {{"--role", "hub"}, 2, "--role"},
+        {{"--chamber", "0"}, 2, "--chamber"},
+        {{"--chamber", "2", "--lcm-url", "memq://"}, 2, "--chamber 2 needs a udpm:// LCM URL"},
+        {{"--chamber", "100", "--lcm-url", "udpm://239.255.76.67:65500?ttl=0"}, 2, "is past 65535"},
+        {{"--procedure", "manual"}, 2, "--procedure"},
+        {{"--procedure", "rig", "--source", "csv", "--input", "/etc/hostname"}, 2, "--procedure: rig is the simulated"},
+        {{"--max-restarts", "21"}, 2, "--max-restarts"},
+        // The producers of a multi-host lab whose other roles never came: a clear failure. On a
+        // port of its own (7812): on 7797 another worktree's run of this test may start a recorder.
+        {{"--role", "producers", "--await-peers-s", "1", "--lcm-url", "udpm://239.255.76.67:7812?ttl=0"}, 1,
+         "no heartbeat from gyrocal-recorder within 1 s (start `gyrocal calibrate --role processors` and `--role "
+         "recorder` on their hosts first"},
     };
     for (const Case& c : cases) {
-        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", db, "--quiet", "--log-dir", dir + "/logs",
-                                         "--lcm-url", "udpm://239.255.76.67:7797?ttl=0"};
+        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", db, "--quiet", "--log-dir", dir + "/logs"};
+        if (std::find(c.args.begin(), c.args.end(), "--lcm-url") == c.args.end())
+            argv.insert(argv.end(), {"--lcm-url", "udpm://239.255.76.67:7797?ttl=0"});
         argv.insert(argv.end(), c.args.begin(), c.args.end());
         ChildProcess p(argv, "/dev/null", err);
         // The child's failure is seen within the start-up poll, far below the 20 s heartbeat wait.

@@ -21,6 +21,8 @@ cmake -S "$src" -B "$scratch/b1" -DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=TRUE >"$scr
 check "missing Eigen names libeigen3-dev" nz $rc "$scratch/1.out" "apt-get install libeigen3-dev"
 cmake -S "$src" -B "$scratch/b2" -DCMAKE_DISABLE_FIND_PACKAGE_SQLite3=TRUE >"$scratch/2.out" 2>&1; rc=$?
 check "missing SQLite names libsqlite3-dev" nz $rc "$scratch/2.out" "apt-get install libsqlite3-dev"
+cmake -S "$src" -B "$scratch/b5" -DCMAKE_DISABLE_FIND_PACKAGE_OpenSSL=TRUE >"$scratch/5.out" 2>&1; rc=$?
+check "missing OpenSSL names libssl-dev" nz $rc "$scratch/5.out" "apt-get install libssl-dev"
 
 # 2. Unknown command: usage and exit 2.
 "$src/tools/run.sh" frobnicate >"$scratch/3.out" 2>&1; rc=$?

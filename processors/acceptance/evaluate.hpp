@@ -1,0 +1,84 @@
+#pragma once
+// A unit's calibration against acceptance limits (limits.hpp): each limit, the measured value and
+// pass / FAIL / not evaluated, and the unit's outcome. Never a silent pass: a limit whose evidence
+// this run does not have (no analysis for no_unexplained_residual, no degree of freedom for the
+// residual) is "not evaluated" and the unit is then not a pass; a limit whose evidence the
+// calibration should have but lacks (no coefficient set, a nominal sensitivity without
+// uncertainty) fails.
+//
+// The measures, on the unit's final calibration (the fitter's coefficient set of the run):
+//   residual over floor  sqrt(chi2 / dof), chi2 = sum ((y_i - offset(T_i)) / sigma_i)^2 over the
+//                        plateaus the set was fitted on, sigma_i = the plateau's standard error
+//                        combined in quadrature with the run's plateau slow noise
+//                        (slow_noise_dps x the fitted sensitivity at T_i), dof = plateaus - terms;
+//   offset change        (max - min of offset(T)) / |S(T_mid)| over [temp_min_c, temp_max_c] of the
+//                        offset model, on a grid of 201 temperatures;
+//   sensitivity uncert.  max over the sensitivity model's range of 100 sqrt(var S(T)) / |S(T)|,
+//                        var = phi' C phi (model::Evaluator);
+//   plateaus, turns      ids the set lists;
+//   unexplained residual the newest analysis' verdict: "no missing effect" passes, "missing
+//                        effect..." or "ambiguous" fails, "not analysed..." or none: not evaluated.
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "acceptance/limits.hpp"
+#include "model/model.hpp"
+
+namespace gyrocal::acceptance {
+
+struct PlateauPoint {
+    double temp_c = NAN;       // [degC] plateau mean temperature
+    double gyro_mean_v = NAN;  // [V]
+    double gyro_sem_v = NAN;   // [V] standard error of the mean from the plateau window
+};
+
+struct UnitEvidence {
+    std::string sensor_id;
+    bool has_calibration = false;  // false: no coefficient set for the unit in this run
+    model::Model offset, sensitivity;
+    std::vector<PlateauPoint> plateaus;  // those the set was fitted on
+    int n_plateaus = 0;                  // plateau ids the set lists
+    int n_turns = 0;                     // rotation ids the set lists
+    double plateau_slow_noise_dps = 0;   // [deg/s] as the run declared it (0 = none)
+    std::optional<std::string> analysis_verdict;  // newest analysis of the unit, if any
+};
+
+enum class Outcome { kPass, kFail, kNotEvaluated };
+const char* ToString(Outcome o);  // "pass", "FAIL", "not evaluated"
+
+// A measured value, or NaN with why it could not be measured.
+struct Measure {
+    double value = NAN;
+    std::string note;
+};
+Measure ResidualOverFloor(const UnitEvidence& unit);
+Measure OffsetChangeDps(const model::Model& offset, const model::Model& sensitivity);
+Measure MaxSensitivityRelUncertaintyPct(const model::Model& sensitivity);
+
+struct Check {
+    std::string key, unit, kind;  // as LimitDef
+    double limit = NAN;           // the limit (1 for require)
+    double measured = NAN;        // NaN when not measured
+    std::string measured_text;    // what was measured, for people (e.g. the verdict)
+    Outcome outcome = Outcome::kNotEvaluated;
+    std::string note;             // why not evaluated / why it failed, when useful
+};
+
+struct UnitVerdict {
+    std::string sensor_id;
+    std::vector<Check> checks;  // in LimitDefs() order, only the limits given
+    Outcome outcome = Outcome::kNotEvaluated;  // FAIL if any fails, else not evaluated if any is
+};
+
+UnitVerdict Evaluate(const Limits& limits, const UnitEvidence& unit);
+
+// "S02: max_offset_change_dps 3.4 > 3 deg/s; min_turns 6 < 10": the checks that did not pass
+// (failed or not evaluated), or "S01: pass".
+std::string Summary(const UnitVerdict& verdict);
+
+// "3.42" style: 3 significant digits, "-" for NaN.
+std::string Short(double v);
+
+}  // namespace gyrocal::acceptance

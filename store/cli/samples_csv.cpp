@@ -1,0 +1,53 @@
+#include "samples_csv.hpp"
+
+#include <map>
+#include <type_traits>
+#include <variant>
+
+#include "csv/csv_writer.hpp"
+#include "csv/row_messages.hpp"
+#include "replay_reader.hpp"
+
+namespace gyrocal::store::report {
+
+int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string& sensor_id,
+                           std::ostream& out) {
+    ReplayReader reader(db, run_id);
+    csv::LatestAt encoder_deg, chamber_c;
+    std::map<std::string, int64_t> power_on;
+    int64_t rows = 0;
+    out << csv::kRecordHeader << '\n';
+    while (auto row = reader.Next()) {
+        std::visit(
+            [&](const auto& r) {
+                using T = std::decay_t<decltype(r)>;
+                if constexpr (std::is_same_v<T, EncoderRow>) {
+                    encoder_deg.Add(r.utime, r.angle_deg);
+                } else if constexpr (std::is_same_v<T, ChamberStateRow>) {
+                    chamber_c.Add(r.utime, r.air_c);
+                } else if constexpr (std::is_same_v<T, PowerStateRow>) {
+                    power_on[r.sensor_id] = r.power_on_utime;
+                } else if constexpr (std::is_same_v<T, GyroRow>) {
+                    if (!sensor_id.empty() && r.sensor_id != sensor_id) return;
+                    gyro_sample_t s;
+                    s.utime = r.utime;
+                    s.sensor_id = r.sensor_id;
+                    s.gyro_v = r.gyro_v;
+                    s.temp_v = r.temp_v;
+                    s.temp_c = r.temp_c;
+                    s.supply_v = r.supply_v;
+                    const auto p = power_on.find(r.sensor_id);
+                    out << csv::FormatRecordRow(s, csv::kDefaultStartUtime, encoder_deg.At(r.utime),
+                                                chamber_c.At(r.utime),
+                                                p == power_on.end() ? std::nullopt
+                                                                    : std::optional(p->second))
+                        << '\n';
+                    ++rows;
+                }
+            },
+            *row);
+    }
+    return rows;
+}
+
+}  // namespace gyrocal::store::report

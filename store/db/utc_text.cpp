@@ -1,0 +1,17 @@
+#include "utc_text.hpp"
+
+#include <ctime>
+
+namespace gyrocal::store {
+
+std::string UtcText(std::optional<int64_t> utime) {
+    if (!utime) return "-";
+    const std::time_t t = static_cast<std::time_t>(*utime / 1000000);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S", &tm);
+    return buf;
+}
+
+}  // namespace gyrocal::store

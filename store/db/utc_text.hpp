@@ -1,0 +1,12 @@
+#pragma once
+// Wall-clock times of the database for people: "2026-11-21 05:14:00" (UTC).
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace gyrocal::store {
+
+// The UTC date and time of a wall-clock utime [us]; "-" when absent.
+std::string UtcText(std::optional<int64_t> utime);
+
+}  // namespace gyrocal::store

@@ -1,0 +1,169 @@
+#include "unit_data.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "model_rows.hpp"
+
+namespace gyrocal::runreport {
+
+namespace {
+
+bool IsAnalysisSource(const std::string& source) { return source.rfind("analysis:", 0) == 0; }
+
+nlohmann::json Config(const store::RunInfo& run) {
+    const auto j = nlohmann::json::parse(run.config_json, nullptr, false);
+    return j.is_object() ? j : nlohmann::json::object();
+}
+
+}  // namespace
+
+std::vector<UnitData> Units(const store::RunDetail& d) {
+    std::set<std::string> ids(d.run.sensor_ids.begin(), d.run.sensor_ids.end());
+    for (const auto& p : d.plateaus) ids.insert(p.sensor_id);
+    for (const auto& s : d.sensitivity_points) ids.insert(s.sensor_id);
+    for (const auto& c : d.coeff_sets) ids.insert(c.set.sensor_id);
+    for (const auto& a : d.analyses) ids.insert(a.sensor_id);
+    std::vector<UnitData> units;
+    for (const std::string& id : ids) {
+        UnitData u;
+        u.sensor_id = id;
+        for (const auto& p : d.plateaus)
+            if (p.sensor_id == id) u.plateaus.push_back(p);
+        for (const auto& s : d.sensitivity_points)
+            if (s.sensor_id == id) u.turns.push_back(s);
+        for (const auto& c : d.coeff_sets) {
+            if (c.set.sensor_id != id) continue;
+            if (IsAnalysisSource(c.set.source)) {
+                u.other_sets.push_back(c);
+            } else if (!u.calibration || c.coeff_row_id > u.calibration->coeff_row_id) {
+                if (u.calibration) u.other_sets.push_back(*u.calibration);
+                u.calibration = c;
+            } else {
+                u.other_sets.push_back(c);
+            }
+        }
+        for (const auto& a : d.analyses)
+            if (a.sensor_id == id) u.analyses.push_back(a);
+        units.push_back(std::move(u));
+    }
+    return units;
+}
+
+double PlateauSlowNoiseDps(const store::RunInfo& run) {
+    const nlohmann::json c = Config(run);
+    const auto it = c.find("plateau_slow_noise_dps");
+    if (it == c.end() || !it->is_number()) return 0.0;
+    const double v = it->get<double>();
+    return std::isfinite(v) && v > 0 ? v : 0.0;
+}
+
+acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
+    acceptance::UnitEvidence e;
+    e.sensor_id = u.sensor_id;
+    e.plateau_slow_noise_dps = slow_noise_dps;
+    if (u.calibration) {
+        const store::CoeffSetRow& set = u.calibration->set;
+        e.has_calibration = true;
+        e.offset = store::ToModel(set.offset);
+        e.sensitivity = store::ToModel(set.sensitivity);
+        e.n_plateaus = static_cast<int>(set.plateau_ids.size());
+        e.n_turns = static_cast<int>(set.rotation_ids.size());
+        for (int64_t id : set.plateau_ids) {
+            // A re-published plateau id keeps its newest row (the fitter keeps the newest too).
+            const store::PlateauRow* found = nullptr;
+            for (const auto& p : u.plateaus)
+                if (p.plateau_id == id) found = &p;
+            if (found) e.plateaus.push_back({found->temp_mean_c, found->gyro_mean_v, found->gyro_sem_v});
+        }
+    }
+    if (!u.analyses.empty()) e.analysis_verdict = u.analyses.back().verdict;
+    return e;
+}
+
+RunLimits StoredLimits(const store::RunInfo& run) {
+    RunLimits out;
+    const nlohmann::json c = Config(run);
+    const auto it = c.find(kLimitsKey);
+    if (it == c.end() || it->is_null()) return out;
+    const auto file = c.find(kLimitsFileKey);
+    out.origin = "stored with run " + run.run_id +
+                 (file != c.end() && file->is_string() ? " (from " + file->get<std::string>() + ")" : "");
+    try {
+        out.limits = acceptance::FromJson(*it, "limits stored with run " + run.run_id);
+    } catch (const acceptance::LimitsError& e) {
+        out.problem = e.what();
+    }
+    return out;
+}
+
+std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& d, const acceptance::Limits& limits) {
+    const double slow = PlateauSlowNoiseDps(d.run);
+    std::vector<acceptance::UnitVerdict> out;
+    for (const UnitData& u : Units(d)) out.push_back(acceptance::Evaluate(limits, Evidence(u, slow)));
+    return out;
+}
+
+acceptance::Outcome RunOutcome(const std::vector<acceptance::UnitVerdict>& verdicts) {
+    using acceptance::Outcome;
+    const auto any = [&](Outcome o) {
+        return std::any_of(verdicts.begin(), verdicts.end(), [o](const auto& v) { return v.outcome == o; });
+    };
+    if (verdicts.empty()) return Outcome::kNotEvaluated;
+    return any(Outcome::kFail) ? Outcome::kFail : any(Outcome::kNotEvaluated) ? Outcome::kNotEvaluated : Outcome::kPass;
+}
+
+}  // namespace gyrocal::runreport
+
+namespace gyrocal::runreport {
+
+RunAcceptance AcceptRun(const store::RunDetail& d, const std::optional<acceptance::Limits>& given,
+                        const std::string& given_origin) {
+    RunAcceptance a;
+    if (given) {
+        a.limits.limits = given;
+        a.limits.origin = given_origin;
+    } else {
+        a.limits = StoredLimits(d.run);
+    }
+    if (a.limits.limits) a.verdicts = Accept(d, *a.limits.limits);
+    return a;
+}
+
+std::string AcceptanceText(const RunAcceptance& a) {
+    if (!a.limits.limits) {
+        std::string s = "Acceptance: no limits for this run (gyrocal calibrate --limits FILE, or gyrocal report --limits FILE)\n";
+        if (!a.limits.problem.empty()) s += "  stored limits cannot be read: " + a.limits.problem + "\n";
+        return s;
+    }
+    std::string s = "Acceptance (limits " + a.limits.origin + "): " + acceptance::ToString(RunOutcome(a.verdicts)) + "\n";
+    for (const auto& v : a.verdicts) s += "  " + acceptance::Summary(v) + "\n";
+    return s;
+}
+
+nlohmann::json AcceptanceJson(const RunAcceptance& a) {
+    nlohmann::json j;
+    j["limits"] = a.limits.limits ? acceptance::ToJson(*a.limits.limits) : nlohmann::json(nullptr);
+    j["limits_origin"] = a.limits.origin;
+    if (!a.limits.problem.empty()) j["limits_problem"] = a.limits.problem;
+    if (!a.limits.limits) return j;
+    j["outcome"] = acceptance::ToString(RunOutcome(a.verdicts));
+    nlohmann::json units = nlohmann::json::array();
+    for (const auto& v : a.verdicts) {
+        nlohmann::json checks = nlohmann::json::array();
+        for (const auto& c : v.checks)
+            checks.push_back({{"limit", c.key},
+                              {"kind", c.kind},
+                              {"unit", c.unit},
+                              {"limit_value", c.kind == "require" ? nlohmann::json(true) : nlohmann::json(c.limit)},
+                              {"measured", std::isfinite(c.measured) ? nlohmann::json(c.measured) : nlohmann::json(nullptr)},
+                              {"measured_text", c.measured_text},
+                              {"outcome", acceptance::ToString(c.outcome)},
+                              {"note", c.note}});
+        units.push_back({{"sensor_id", v.sensor_id}, {"outcome", acceptance::ToString(v.outcome)}, {"checks", checks}});
+    }
+    j["units"] = units;
+    return j;
+}
+
+}  // namespace gyrocal::runreport

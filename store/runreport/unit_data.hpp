@@ -1,0 +1,75 @@
+#pragma once
+// A run as the report and the acceptance check see it: per unit, everything the store holds
+// about it (plateaus, turns, the calibration, other coefficient sets, analyses), taken from
+// store::RunDetail (the query library: ShowRun). Pure: structs in, structs out.
+//
+// The calibration judged is the unit's final coefficient set from the fitter (the newest final
+// set whose source is not "analysis:<id>"): the model a temperature alone evaluates. An analysis'
+// extended set needs inputs a temperature does not give (dT/dt, branch ...); it is shown beside it
+// and judged through the analysis' verdict (no_unexplained_residual).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "acceptance/evaluate.hpp"
+#include "acceptance/limits.hpp"
+#include "query.hpp"
+
+namespace gyrocal::runreport {
+
+struct UnitData {
+    std::string sensor_id;
+    std::vector<store::PlateauRow> plateaus;      // every plateau of the unit in the run
+    std::vector<store::SensitivityRow> turns;     // every turn, accepted or not
+    std::optional<store::CoeffSetInfo> calibration;
+    std::vector<store::CoeffSetInfo> other_sets;  // final sets of other sources (analyses)
+    std::vector<store::AnalysisRow> analyses;     // oldest first
+};
+
+// The units of a run, by sensor id: those the run declared and any other with data in it.
+std::vector<UnitData> Units(const store::RunDetail& detail);
+
+// [deg/s] the plateau slow noise the run declared (configuration plateau_slow_noise_dps; the
+// fitter added it to each plateau's standard error); 0 when the run did not declare one.
+double PlateauSlowNoiseDps(const store::RunInfo& run);
+
+acceptance::UnitEvidence Evidence(const UnitData& unit, double plateau_slow_noise_dps);
+
+// Limits stored with a run (configuration key "acceptance_limits", written by gyrocal calibrate
+// --limits). `problem` says why stored limits cannot be used (then `limits` is empty).
+struct RunLimits {
+    std::optional<acceptance::Limits> limits;
+    std::string origin;   // where they came from, for people
+    std::string problem;  // "" when fine
+};
+RunLimits StoredLimits(const store::RunInfo& run);
+
+// Key of the run configuration that holds the limits (and of their file name and hash).
+inline constexpr const char* kLimitsKey = "acceptance_limits";
+inline constexpr const char* kLimitsFileKey = "acceptance_limits_file";
+
+std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& detail, const acceptance::Limits& limits);
+
+// "pass" when every unit passed; else "FAIL" when any failed; else "not evaluated".
+acceptance::Outcome RunOutcome(const std::vector<acceptance::UnitVerdict>& verdicts);
+
+}  // namespace gyrocal::runreport
+
+namespace gyrocal::runreport {
+
+// The acceptance of a run: limits (given, else stored with the run) and each unit's verdict.
+struct RunAcceptance {
+    RunLimits limits;
+    std::vector<acceptance::UnitVerdict> verdicts;  // empty without limits
+};
+// `given`: limits handed in by the caller (e.g. gyrocal report --limits FILE) instead of the
+// stored ones; `given_origin` says where they came from.
+RunAcceptance AcceptRun(const store::RunDetail& detail, const std::optional<acceptance::Limits>& given = {},
+                        const std::string& given_origin = "");
+
+// For people: "Acceptance (limits ...): run FAIL" and one line per unit (acceptance::Summary);
+// "Acceptance: no limits ..." without limits.
+std::string AcceptanceText(const RunAcceptance& acceptance);
+nlohmann::json AcceptanceJson(const RunAcceptance& acceptance);
+
+}  // namespace gyrocal::runreport

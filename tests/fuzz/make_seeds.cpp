@@ -1,0 +1,153 @@
+// Writes the binary and generated seeds of the fuzz corpora (tests/fuzz/corpus/<harness>/):
+// valid encodings of every message type, a message stream for the recorder's mapper, small
+// gyrocal databases (current schema, schema v1) and a foreign SQLite file, and coefficient JSON
+// as `gyrocal export --format json` writes it. The CSV and line-stream seeds are plain text,
+// written by hand. Usage: fuzz_make_seeds tests/fuzz/corpus
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "messages.hpp"
+#include "model/convert.hpp"
+#include "model/json.hpp"
+#include "schema.hpp"
+#include "writer.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace gyrocal;
+using namespace gyrocal::testing;
+
+fs::path g_root;
+
+void Put(const std::string& harness, const std::string& name, const std::vector<uint8_t>& bytes) {
+    const fs::path dir = g_root / harness;
+    fs::create_directories(dir);
+    std::ofstream(dir / name, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+void PutText(const std::string& harness, const std::string& name, const std::string& text) {
+    Put(harness, name, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+template <class Msg>
+void PutMsg(const std::string& name, const Msg& m) {
+    Put("decode_" + std::string(Msg::getTypeName()), name,
+        EncodeMsg(m));
+}
+
+void MessageSeeds() {
+    PutMsg("typical", Gyro("S01", 7));
+    PutMsg("typical", Encoder(3));
+    PutMsg("typical", Chamber(2));
+    PutMsg("typical", ChamberCmd("R1"));
+    PutMsg("typical", TurntableCmd("R1"));
+    PutMsg("typical", PlateauState("S01"));
+    PutMsg("typical", Plateau("S01", "R1", 10, 20));
+    PutMsg("typical", Sensitivity("S01", "R1", 30, 40));
+    PutMsg("typical", Rate("S01", 5));
+    PutMsg("typical", Status("gyrocal-recorder"));
+    PutMsg("typical", Power("S01"));
+    PutMsg("start", RunEvent("R1", "start", {"S01", "S02"}));
+    PutMsg("stop", RunEvent("R1", "stop", {}));
+    PutMsg("typical", Coeffs("S01", "R1", 99, {10, 11, 12}, {30}));
+    PutMsg("empty_arrays", Coeffs("S01", "R1", 99, {}, {}));
+}
+
+// Records of [channel index][length, 2 bytes big-endian][payload] (recorder_map_fuzz.cpp).
+void MapperSeed() {
+    std::vector<uint8_t> out;
+    auto add = [&](uint8_t channel, const std::vector<uint8_t>& b) {
+        out.push_back(channel);
+        out.push_back(static_cast<uint8_t>(b.size() >> 8));
+        out.push_back(static_cast<uint8_t>(b.size() & 0xff));
+        out.insert(out.end(), b.begin(), b.end());
+    };
+    add(3, EncodeMsg(RunEvent("R1", "start", {"S01"})));
+    for (int64_t s = 0; s < 3; ++s) add(0, EncodeMsg(Gyro("S01", s == 2 ? 5 : s)));
+    add(1, EncodeMsg(Encoder(0)));
+    add(4, EncodeMsg(Coeffs("S01", "R1", 99, {10}, {30})));
+    add(5, EncodeMsg(Status("gyrocal-plateau")));
+    add(9, EncodeMsg(Power("S01")));
+    add(8, {1, 2, 3, 4, 5, 6, 7, 8, 9});
+    add(3, EncodeMsg(RunEvent("R1", "stop", {})));
+    Put("recorder_map", "run", out);
+}
+
+std::vector<uint8_t> ReadFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+// A small database: 512-byte pages, a run with samples, a coefficient set, losses.
+void DbSeeds() {
+    const fs::path tmp = fs::temp_directory_path() / "gyrocal_make_seeds.db";
+    for (const char* ext : {"", "-wal", "-shm"}) fs::remove(tmp.string() + ext);
+    {
+        store::StoreWriter w(tmp.string(), store::WriterInfo{"seed", "seedhost", 1});
+        std::vector<store::Row> rows;
+        store::RunEventRow e;
+        e.run_id = "R1";
+        e.event = "start";
+        e.sensor_ids = {"S01"};
+        e.config_json = "{}";
+        rows.push_back(e);
+        for (int64_t s = 0; s < 5; ++s) {
+            store::GyroRow g;
+            g.run_id = "R1";
+            g.sensor_id = "S01";
+            g.utime = kT0Utime + s * kPeriodUs;
+            g.seq = s;
+            g.gyro_v = 2.5;
+            rows.push_back(g);
+        }
+        w.Write(rows, {{{"R1", "GYRO_S01"}, store::LossDelta{2, 0, 0, 1}}});
+        w.db().Exec("PRAGMA wal_checkpoint(TRUNCATE)");
+        w.db().Exec("PRAGMA journal_mode = DELETE");
+        w.db().Exec("PRAGMA page_size = 512");
+        w.db().Exec("VACUUM");
+    }
+    Put("store_open", "gyrocal_v" + std::to_string(store::kSchemaVersion), ReadFile(tmp));
+    for (const char* ext : {"", "-wal", "-shm"}) fs::remove(tmp.string() + ext);
+    {
+        store::Db db(tmp.string(), store::Db::Mode::kReadWriteCreate);
+        db.Exec("PRAGMA page_size = 512");
+        store::Migrate(db, 1);
+        db.Exec("VACUUM");
+    }
+    Put("store_open", "gyrocal_v1", ReadFile(tmp));
+    for (const char* ext : {"", "-wal", "-shm"}) fs::remove(tmp.string() + ext);
+    {
+        store::Db db(tmp.string(), store::Db::Mode::kReadWriteCreate);
+        db.Exec("PRAGMA page_size = 512; CREATE TABLE t(a, b); INSERT INTO t VALUES (1, 'x')");
+    }
+    Put("store_open", "foreign_sqlite", ReadFile(tmp));
+    fs::remove(tmp);
+}
+
+void JsonSeeds() {
+    const model::CoeffSet set = model::FromMsg(Coeffs("S01", "R1", 99, {10}, {30}));
+    nlohmann::json exported;
+    exported["coeff_sets"] = nlohmann::json::array({model::ToJson(set)});
+    PutText("coeff_json", "export", exported.dump(1));
+    PutText("coeff_json", "one_set", model::ToJson(set).dump());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::cerr << "usage: fuzz_make_seeds CORPUS_DIR (tests/fuzz/corpus)\n";
+        return 2;
+    }
+    g_root = argv[1];
+    MessageSeeds();
+    MapperSeed();
+    DbSeeds();
+    JsonSeeds();
+    return 0;
+}

@@ -1,0 +1,163 @@
+// Each limit measured on models and points whose answer is known in closed form, and the
+// outcome rules: fail, pass, not evaluated (never a silent pass).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "acceptance/evaluate.hpp"
+
+namespace gyrocal::acceptance {
+namespace {
+
+model::Model Offset() {
+    // 2.5 + 3e-4 dT + 5e-6 dT^2 about 25 degC on -40..85 degC: minimum 2.4955 V at -5 degC (dT
+    // -30, on the 0.625 degC grid), maximum 2.536 V at 85 degC: a change of 0.0405 V.
+    model::Model m;
+    m.quantity = model::kOffsetQuantity;
+    m.term_names = {"1", "dT", "dT^2"};
+    m.coeffs = Eigen::Vector3d(2.5, 3e-4, 5e-6);
+    m.covariance = Eigen::Matrix3d::Identity() * 1e-12;
+    m.t0_c = 25;
+    m.temp_min_c = -40;
+    m.temp_max_c = 85;
+    m.method = "wls";
+    return m;
+}
+
+model::Model Sensitivity(double s0 = 0.005, double s1 = 1e-5) {
+    model::Model m;
+    m.quantity = model::kSensitivityQuantity;
+    m.term_names = {"1", "dT"};
+    m.coeffs = Eigen::Vector2d(s0, s1);
+    m.covariance = Eigen::Vector2d(5e-6 * 5e-6, 1e-7 * 1e-7).asDiagonal();
+    m.t0_c = 25;
+    m.temp_min_c = -40;
+    m.temp_max_c = 85;
+    m.method = "wls";
+    return m;
+}
+
+model::ModelInputs At(double t) {
+    model::ModelInputs in;
+    in.temp_c = t;
+    return in;
+}
+
+// Five plateaus whose residuals are the given multiples of their floor sigma.
+UnitEvidence Unit(const std::vector<double>& residual_sigmas, double slow_dps) {
+    UnitEvidence u;
+    u.sensor_id = "S01";
+    u.has_calibration = true;
+    u.offset = Offset();
+    u.sensitivity = Sensitivity(0.005, 0.0);  // flat: slow noise in volts is 0.005 * slow_dps
+    u.plateau_slow_noise_dps = slow_dps;
+    const double sem = 3e-5;
+    const double sigma = std::hypot(sem, slow_dps * 0.005);
+    const double temps[] = {-40, -10, 25, 55, 85};
+    for (size_t i = 0; i < residual_sigmas.size(); ++i) {
+        const double fit = model::Evaluate(u.offset, At(temps[i]), model::RangePolicy::kClip).value;
+        u.plateaus.push_back({temps[i], fit + residual_sigmas[i] * sigma, sem});
+    }
+    u.n_plateaus = static_cast<int>(u.plateaus.size());
+    u.n_turns = 10;
+    return u;
+}
+
+TEST(Measures, OffsetChangeIsTheSpanOfTheCurveInDegPerS) {
+    const Measure m = OffsetChangeDps(Offset(), Sensitivity(0.005, 0.0));
+    EXPECT_NEAR(m.value, 0.0405 / 0.005, 1e-9);  // exact: the extremes are grid points
+}
+
+TEST(Measures, SensitivityUncertaintyIsTheWorstRelativeSigmaOverTheRange) {
+    // sigma(S) = sqrt(var0 + dT^2 var1) grows and S = s0 + s1 dT shrinks towards -40 degC (dT -65).
+    const double expected = 100.0 * std::sqrt(25e-12 + 65.0 * 65.0 * 1e-14) / (0.005 - 65e-5);
+    EXPECT_NEAR(MaxSensitivityRelUncertaintyPct(Sensitivity()).value, expected, 1e-9);
+    model::Model nominal = Sensitivity();
+    nominal.term_names = {"1"};
+    nominal.coeffs = Eigen::VectorXd::Constant(1, 0.006);
+    nominal.covariance = Eigen::MatrixXd::Constant(1, 1, NAN);
+    nominal.method = "nominal";
+    const Measure m = MaxSensitivityRelUncertaintyPct(nominal);
+    EXPECT_TRUE(std::isnan(m.value));
+    EXPECT_NE(m.note.find("no turn was fitted"), std::string::npos) << m.note;
+}
+
+TEST(Measures, ResidualOverFloorIsSqrtChi2PerDofWithTheSlowNoiseInTheFloor) {
+    // chi2 = 1 + 1 + 4 + 4 + 0 = 10 on 5 - 3 = 2 dof.
+    EXPECT_NEAR(ResidualOverFloor(Unit({1, -1, 2, -2, 0}, 0.0)).value, std::sqrt(5.0), 1e-6);
+    EXPECT_NEAR(ResidualOverFloor(Unit({1, -1, 2, -2, 0}, 0.015)).value, std::sqrt(5.0), 1e-6);
+    // Three plateaus for three terms: no degree of freedom, nothing to judge by.
+    const Measure none = ResidualOverFloor(Unit({0.5, 0.5, 0.5}, 0.0));
+    EXPECT_TRUE(std::isnan(none.value));
+    EXPECT_NE(none.note.find("no degree of freedom"), std::string::npos) << none.note;
+}
+
+TEST(Evaluate, EachLimitPassesOrFailsOnItsMeasure) {
+    Limits l;
+    l.max_residual_rms_over_floor = 2.0;  // measured sqrt(5) = 2.24: fail
+    l.max_offset_change_dps = 9.0;        // measured 8.1: pass
+    l.min_plateaus = 5;                   // 5: pass
+    l.min_turns = 12;                     // 10: fail
+    const UnitVerdict v = Evaluate(l, Unit({1, -1, 2, -2, 0}, 0.0));
+    ASSERT_EQ(v.checks.size(), 4u);
+    EXPECT_EQ(v.checks[0].key, "max_residual_rms_over_floor");
+    EXPECT_EQ(v.checks[0].outcome, Outcome::kFail);
+    EXPECT_EQ(v.checks[1].outcome, Outcome::kPass);
+    EXPECT_NEAR(v.checks[1].measured, 8.1, 1e-9);
+    EXPECT_EQ(v.checks[2].outcome, Outcome::kPass);
+    EXPECT_EQ(v.checks[3].outcome, Outcome::kFail);
+    EXPECT_EQ(v.outcome, Outcome::kFail);
+    const std::string s = Summary(v);
+    EXPECT_NE(s.find("S01: FAIL: max_residual_rms_over_floor 2.24 > 2 1"), std::string::npos) << s;
+    EXPECT_NE(s.find("min_turns 10 < 12 count"), std::string::npos) << s;
+    EXPECT_EQ(s.find("max_offset_change_dps"), std::string::npos) << "a passing limit is not listed: " << s;
+    l.max_residual_rms_over_floor = 2.5;
+    l.min_turns = 10;
+    EXPECT_EQ(Evaluate(l, Unit({1, -1, 2, -2, 0}, 0.0)).outcome, Outcome::kPass);
+    EXPECT_EQ(Summary(Evaluate(l, Unit({1, -1, 2, -2, 0}, 0.0))), "S01: pass");
+}
+
+TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisVerdictAndIsNeverASilentPass) {
+    Limits l;
+    l.no_unexplained_residual = true;
+    UnitEvidence u = Unit({0, 0, 0, 0, 0}, 0.0);
+    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kNotEvaluated);  // no analysis
+    EXPECT_NE(Evaluate(l, u).checks[0].note.find("gyrocal analyze"), std::string::npos);
+    u.analysis_verdict = "no missing effect";
+    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kPass);
+    u.analysis_verdict = "missing effect: temp_rate";
+    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kFail);
+    u.analysis_verdict = "no missing effect; ambiguous: supply, warmup";
+    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kFail);
+    u.analysis_verdict = "not analysed: too few still bins (3)";
+    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kNotEvaluated);
+    u.analysis_verdict = "something new";
+    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kNotEvaluated);
+}
+
+TEST(Evaluate, AUnitWithoutCalibrationFailsAndUnjudgeableLimitsAreNotEvaluated) {
+    Limits l;
+    l.max_residual_rms_over_floor = 3;
+    l.max_offset_change_dps = 10;
+    l.min_turns = 1;
+    UnitEvidence none;
+    none.sensor_id = "S09";
+    const UnitVerdict v = Evaluate(l, none);
+    EXPECT_EQ(v.outcome, Outcome::kFail);
+    for (const Check& c : v.checks) EXPECT_EQ(c.outcome, Outcome::kFail) << c.key;
+    EXPECT_NE(v.checks[0].note.find("no coefficient set"), std::string::npos);
+    // A calibrated unit on exactly as many plateaus as terms: the residual limit is not evaluated,
+    // so the unit is not a pass either.
+    Limits r;
+    r.max_residual_rms_over_floor = 3;
+    r.max_offset_change_dps = 10;
+    const UnitVerdict w = Evaluate(r, Unit({0, 0, 0}, 0.0));
+    EXPECT_EQ(w.checks[0].outcome, Outcome::kNotEvaluated);
+    EXPECT_EQ(w.checks[1].outcome, Outcome::kPass);
+    EXPECT_EQ(w.outcome, Outcome::kNotEvaluated);
+    EXPECT_NE(Summary(w).find("S01: not evaluated: max_residual_rms_over_floor not evaluated"), std::string::npos)
+        << Summary(w);
+}
+
+}  // namespace
+}  // namespace gyrocal::acceptance

@@ -1,0 +1,105 @@
+#include "lab.hpp"
+
+#include <array>
+#include <stdexcept>
+
+#include "bus/bus.hpp"
+
+namespace gyrocal::cli {
+namespace {
+
+constexpr std::array<std::string_view, 5> kProducers = {"gyrocal-sim-rig", "gyrocal-sequencer",
+                                                        "gyrocal-csv-source", "gyrocal-line-source",
+                                                        "lcm-logplayer"};
+constexpr std::array<std::string_view, 4> kProcessors = {"gyrocal-plateau", "gyrocal-rotation",
+                                                         "gyrocal-fitter", "gyrocal-compensator"};
+
+template <size_t N>
+bool In(const std::array<std::string_view, N>& set, std::string_view name) {
+    for (std::string_view s : set)
+        if (s == name) return true;
+    return false;
+}
+
+}  // namespace
+
+std::optional<Role> ParseRole(std::string_view text) {
+    if (text == "all") return Role::kAll;
+    if (text == "producers") return Role::kProducers;
+    if (text == "processors") return Role::kProcessors;
+    if (text == "recorder") return Role::kRecorder;
+    return std::nullopt;
+}
+
+const char* RoleName(Role role) {
+    switch (role) {
+        case Role::kAll:
+            return "all";
+        case Role::kProducers:
+            return "producers";
+        case Role::kProcessors:
+            return "processors";
+        case Role::kRecorder:
+            return "recorder";
+    }
+    return "?";
+}
+
+bool RoleRuns(Role role, std::string_view process) {
+    switch (role) {
+        case Role::kAll:
+            return In(kProducers, process) || In(kProcessors, process) ||
+                   process == "gyrocal-recorder";
+        case Role::kProducers:
+            return In(kProducers, process);
+        case Role::kProcessors:
+            return In(kProcessors, process);
+        case Role::kRecorder:
+            return process == "gyrocal-recorder";
+    }
+    return false;
+}
+
+OnCrash CrashPolicy(std::string_view process) {
+    if (process == "gyrocal-sequencer" || process == "gyrocal-recorder" || In(kProcessors, process))
+        return OnCrash::kRestart;
+    return OnCrash::kAbortRun;
+}
+
+Recovery RecoveryOf(std::string_view process) {
+    if (process == "gyrocal-fitter") return Recovery::kStoredPoints;
+    if (process == "gyrocal-compensator") return Recovery::kStoredCoeffs;
+    if (process == "gyrocal-sequencer") return Recovery::kResumeSequence;
+    return Recovery::kNone;
+}
+
+bool RestartBudget::Take(const std::string& process) {
+    int& n = used_[process];
+    if (n >= max_) return false;
+    ++n;
+    return true;
+}
+
+int RestartBudget::used(const std::string& process) const {
+    auto it = used_.find(process);
+    return it == used_.end() ? 0 : it->second;
+}
+
+std::string ChamberUrl(const std::string& url, int chamber) {
+    if (chamber < 1 || chamber > 100)
+        throw std::invalid_argument("--chamber " + std::to_string(chamber) + ": valid is 1..100");
+    if (chamber == 1) return url;
+    std::optional<UdpmAddress> a = ParseUdpm(url);
+    if (!a)
+        throw std::invalid_argument("--chamber " + std::to_string(chamber) +
+                                    " needs a udpm:// LCM URL with a port "
+                                    "to offset, not '" +
+                                    url + "'");
+    a->port += chamber - 1;
+    if (a->port > 65535)
+        throw std::invalid_argument("--chamber " + std::to_string(chamber) + ": port " +
+                                    std::to_string(a->port) + " of '" + url + "' is past 65535");
+    return FormatUdpm(*a);
+}
+
+}  // namespace gyrocal::cli

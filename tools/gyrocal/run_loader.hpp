@@ -1,0 +1,20 @@
+#pragma once
+// A stored run as the analysis reads it: for each sensor, every raw sample, the encoder readings,
+// the power records, the plateaus and sensitivity points (analysis::BuildSensorRun), so that
+// `gyrocal analyze` and `gyrocal validate` see one definition of a run's still data.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "analysis/run_data.hpp"
+#include "query.hpp"
+
+namespace gyrocal::cli {
+
+// sensors: the ones wanted (others are skipped while reading). Throws store::NotFound for an
+// unknown run.
+std::map<std::string, analysis::SensorRun> LoadSensorRuns(store::Db& db,
+                                                          const store::RunDetail& detail,
+                                                          const std::vector<std::string>& sensors);
+
+}  // namespace gyrocal::cli
