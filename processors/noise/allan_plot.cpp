@@ -46,11 +46,19 @@ plot::Figure MakeAllanPlot(const AllanPlotInput& in) {
     // yerrorbars in gnuplot take x, y, ylow, yhigh; the figure library's error bars take a
     // half-width, so the interval is drawn as a band under the points.
     f.series = {{f.name, Style::kBand, {1, 3, 4}, "68 % interval", "", 0},
-                {f.name, Style::kPoints, {1, 2}, "measured", "", 0},
-                {f.name, Style::kLines, {1, 5}, "fit sqrt(N^2/tau + B^2 + K^2 tau/3)", "", 0},
-                {f.name, Style::kLines, {1, 6}, "slope -1/2: N = " + Short(n) + " " + unit + "/sqrt(Hz)", "", 2},
-                {f.name, Style::kLines, {1, 7}, "slope 0: B = " + Short(b) + " " + unit, "", 3},
-                {f.name, Style::kLines, {1, 8}, "slope +1/2: K = " + Short(k) + " " + unit + "/sqrt(s)", "", 4}};
+                {f.name, Style::kPoints, {1, 2}, "measured", "", 0}};
+    if (n > 0 || b > 0 || k > 0)
+        f.series.push_back({f.name, Style::kLines, {1, 5}, "fit sqrt(N^2/tau + B^2 + K^2 tau/3)", "", 0});
+    // An asymptote only for a fitted term: a term the data could not reach (e.g. K on a run whose
+    // longest still stretch is short) has no line, and its key entry would claim one.
+    if (n > 0)
+        f.series.push_back({f.name, Style::kLines, {1, 6},
+                            "slope -1/2: N = " + Short(n) + " " + unit + "/sqrt(Hz)", "", 2});
+    if (b > 0)
+        f.series.push_back({f.name, Style::kLines, {1, 7}, "slope 0: B = " + Short(b) + " " + unit, "", 3});
+    if (k > 0)
+        f.series.push_back({f.name, Style::kLines, {1, 8},
+                            "slope +1/2: K = " + Short(k) + " " + unit + "/sqrt(s)", "", 4});
     return f;
 }
 

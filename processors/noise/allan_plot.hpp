@@ -3,7 +3,7 @@
 // log-log, the measured points with their 68 % intervals, the fitted
 // sigma_A(tau) = sqrt(N^2/tau + B^2 + K^2 tau/3), and its three asymptotes with their slopes
 // marked: N/sqrt(tau) (-1/2, angle random walk), B (0, bias instability), K sqrt(tau/3) (+1/2,
-// rate random walk). Figure name <id>_allan.
+// rate random walk); a term not fitted (0 or NaN) has no asymptote. Figure name <id>_allan.
 #include <optional>
 #include <string>
 #include <vector>

@@ -170,7 +170,7 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
         }
     }
     // AND gyrocal analyze --plot draws each unit's Allan deviation (gnuplot-nox, tools/run.sh)
-    if (ReadLog(lab.out).empty() || ::access("/usr/bin/gnuplot", X_OK) != 0)
+    if (::access("/usr/bin/gnuplot", X_OK) != 0)
         GTEST_SKIP() << "gnuplot is not installed: the Allan plot is not checked";
     ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store",
                      "--plot", lab.dir + "/plots"},
@@ -180,7 +180,8 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
     for (const std::string id : {"U1", "U2"}) {
         EXPECT_GT(std::filesystem::file_size(lab.dir + "/plots/" + id + "_allan.png"), 1000u);
         const std::string gp = ReadLog(lab.dir + "/plots/" + id + "_allan.gp");
-        EXPECT_NE(gp.find("logscale xy"), std::string::npos);
+        EXPECT_NE(gp.find("set logscale x\n"), std::string::npos);
+        EXPECT_NE(gp.find("set logscale y\n"), std::string::npos);
         EXPECT_NE(gp.find("slope -1/2"), std::string::npos);
         EXPECT_NE(gp.find("slope 0"), std::string::npos);
     }
