@@ -4,7 +4,7 @@
 // fitter, compensator and recorder over UDP multicast (TTL 0), and `gyrocal show` reads the
 // database. Each run must end with exit 0 and a complete final set per unit that spans all of
 // the unit's plateaus; the fault each file carries must be named in `gyrocal show`.
-// Ports 7891-7894 (one per test), this file's own.
+// Ports 7891-7895 (one per test), this file's own.
 //
 // Test scale: 40 Hz, faster thermal constants than the default so that a dwell of 540 s settles
 // (board 40 s, die 8 s, chamber period 100 s, ramp 5 degC/min); 2 units where the test is about
@@ -269,6 +269,29 @@ TEST(OthersimCalibration, AnEncoderSlipRejectsThatTurnWithItsReasonAndTheSetStay
     EXPECT_NE(lab.show.find("no: encoder slip"), std::string::npos) << lab.show;
     const auto& rot = lab.detail.at("coeff_sets").at(0).at("rotation_ids");
     EXPECT_EQ(std::find(rot.begin(), rot.end(), slipped), rot.end());
+}
+
+// The other side of "never leaves a lab without a calibration": when the data cannot carry a
+// temperature model, the end of the run says so instead of printing a set as if it were final.
+TEST(OthersimCalibration, DataThatCannotCarryATemperatureModelEndWithExit3NamingTheUnitAndWhatWasPublished) {
+    // GIVEN two setpoints 3 degC apart (one level at the fitter's 5 degC separation)
+    const Lab lab = RunLab("partial", {"--units", "1", "--seed", "3", "--setpoints-c", "25,28"}, 7895);
+    // THEN exit 3; the explanation names the unit, why, and the constant set that was published
+    EXPECT_EQ(lab.exit_code, 3) << ReadLog(lab.out);
+    const std::string out = ReadLog(lab.out);
+    EXPECT_NE(out.find("unit U1: PARTIAL calibration: offset: temperature model refused (too_few_temperatures"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find("; published set "), std::string::npos) << out;
+    // AND the table marks the set, the stored report is partial and final, `gyrocal show` says so
+    EXPECT_NE(out.find("** PARTIAL: "), std::string::npos) << out;
+    const auto& rep = FinalReport(lab, "U1");
+    EXPECT_EQ(rep.at("status"), "partial");
+    EXPECT_TRUE(rep.at("is_final").get<bool>());
+    const auto& sets = lab.detail.at("coeff_sets");
+    ASSERT_EQ(sets.size(), 1u);
+    EXPECT_EQ(sets[0].at("offset").at("term_names"), nlohmann::json::array({"1"})) << sets[0].dump();
+    EXPECT_NE(lab.show.find("PARTIAL"), std::string::npos) << lab.show;
 }
 
 }  // namespace
