@@ -44,18 +44,31 @@ CoreOutput FitterCore::OnRunEvent(const gyrocal::run_event_t& e) {
         run_sensors_.clear();
         for (const std::string& id : e.sensor_ids) run_sensors_.insert(id);
         sensors_.clear();
+        final_utime_.reset();
     } else if (e.event == "stop") {
         if (!run_id_.empty() && e.run_id != run_id_) {
             out.rejections.push_back({"wrong_run", "RUN_EVENT stop for run '" + e.run_id +
                                                        "' while run '" + run_id_ + "' is current"});
             return out;
         }
-        // First pass: every unit's evidence from its final points; second: the final sets.
-        CoreOutput settle;
-        for (auto& [id, s] : sensors_) RefitSensor(id, s, Refit{false, true, e.utime}, settle);
-        for (auto& [id, s] : sensors_) RefitSensor(id, s, Refit{true, true, e.utime}, out);
+        final_utime_ = e.utime;
+        RefitFinal(e.utime, out);
     }
     return out;
+}
+
+void FitterCore::RefitFinal(int64_t final_utime, CoreOutput& out) {
+    // First pass: every unit's evidence from its final points; second: the final sets.
+    CoreOutput settle;
+    for (auto& [id, s] : sensors_) RefitSensor(id, s, Refit{false, true, final_utime}, settle);
+    for (auto& [id, s] : sensors_) RefitSensor(id, s, Refit{true, true, final_utime}, out);
+}
+
+void FitterCore::RefitAfterPoint(const std::string& sensor_id, SensorState& s, CoreOutput& out) {
+    if (!final_utime_) return RefitSensor(sensor_id, s, Refit{true, false, 0}, out);
+    // After the stop every set is final: a late point remakes them, distinct from the last ones.
+    *final_utime_ += 1;
+    RefitFinal(*final_utime_, out);
 }
 
 bool FitterCore::Admit(const std::string& kind, const std::string& msg_sensor,
@@ -104,7 +117,7 @@ CoreOutput FitterCore::OnPlateau(const gyrocal::plateau_t& p, const std::string&
     SensorState& s = sensors_[p.sensor_id];
     if (s.plateaus.count(p.plateau_id)) ++duplicates_;  // a replay: the newer copy replaces it
     s.plateaus[p.plateau_id] = p;
-    RefitSensor(p.sensor_id, s, Refit{true, false, 0}, out);
+    RefitAfterPoint(p.sensor_id, s, out);
     return out;
 }
 
@@ -135,7 +148,7 @@ CoreOutput FitterCore::OnSensitivity(const gyrocal::sensitivity_point_t& r,
     SensorState& s = sensors_[r.sensor_id];
     if (s.rotations.count(r.rotation_id)) ++duplicates_;
     s.rotations[r.rotation_id] = r;
-    RefitSensor(r.sensor_id, s, Refit{true, false, 0}, out);
+    RefitAfterPoint(r.sensor_id, s, out);
     return out;
 }
 

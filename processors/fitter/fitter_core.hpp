@@ -16,6 +16,9 @@
 // set, complete or partial: nothing is withheld that could be published, and a FIT_<id> report
 // says which it is. The final set's coeff_set_id and utime are the stop event's (the stop is the
 // input that made it final), so the store keeps it apart from the sets published mid-run.
+// A point of the run that arrives after its stop (on several hosts the stop can overtake the last
+// rotation's result) remakes the final sets with it, 1 us later than the previous final ones, so
+// the newest set of a unit is always a final one.
 // Without any rotation the sensitivity is the nominal value (method "nominal", covariance NaN =
 // unknown: partial); rotations that cannot carry a temperature model give a lower order (partial).
 //
@@ -147,6 +150,10 @@ private:
     // The offset cannot (yet) be published: why, once per change; the final report says so.
     void NotYet(const std::string& sensor_id, SensorState& s, const fit::CalibrationFit& offset,
                 const Refit& how, CoreOutput& out);
+    // Both passes of the final fits (settle the evidence, then publish), made at `final_utime`.
+    void RefitFinal(int64_t final_utime, CoreOutput& out);
+    // A point admitted after the run's stop: refit as usual, or remake the final sets.
+    void RefitAfterPoint(const std::string& sensor_id, SensorState& s, CoreOutput& out);
     // Common guards; returns false (and adds a rejection) when the message must be skipped.
     bool Admit(const std::string& kind, const std::string& msg_sensor,
                const std::string& channel_sensor, const std::string& msg_run, CoreOutput& out);
@@ -155,6 +162,7 @@ private:
     std::string run_id_;
     std::set<std::string> run_sensors_;  // sensor_ids declared by the run start; empty = any
     std::map<std::string, SensorState> sensors_;
+    std::optional<int64_t> final_utime_;  // [us] of the run's newest final sets, once stopped
     int64_t published_ = 0;
     int64_t not_accepted_ = 0;
     int64_t duplicates_ = 0;

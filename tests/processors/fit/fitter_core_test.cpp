@@ -106,6 +106,40 @@ TEST(FitterCore, EmitsWhenAFitBecomesPossibleAndAgainOnStop) {
     EXPECT_TRUE(HasRejection(out, "fit_partial"));
 }
 
+// On several hosts the run's stop can overtake the last rotation's result: a point of the run
+// after its stop remakes the final set with it, 1 us after the previous final one, so that the
+// newest set of the unit is final and uses every point.
+TEST(FitterCore, APointAfterTheStopRemakesTheFinalSetWithIt) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    for (int k = 0; k < 3; ++k) {
+        core.OnPlateau(Plateau(-10 + 35 * k, 100 * (k + 1)), "S01");
+        core.OnSensitivity(Rotation(-10 + 35 * k, 100 * (k + 1) + 10, 1), "S01");
+    }
+    core.OnSensitivity(Rotation(-10, 120, -1), "S01");
+    core.OnSensitivity(Rotation(25, 220, -1), "S01");
+    run_event_t stop = Event("stop", "A");
+    stop.utime = 900'000'000;
+    CoreOutput out = core.OnRunEvent(stop);
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].coeff_set_id, stop.utime);
+    EXPECT_EQ(out.publish[0].num_rotations, 5);
+    // WHEN the last rotation's result arrives after the stop
+    out = core.OnSensitivity(Rotation(60, 320, -1), "S01");
+    // THEN a final set with it, its id the next microsecond, and a final report of that set
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].coeff_set_id, stop.utime + 1);
+    EXPECT_EQ(out.publish[0].num_rotations, 6);
+    ASSERT_EQ(out.reports.size(), 1u);
+    EXPECT_TRUE(out.reports[0].is_final);
+    EXPECT_EQ(out.reports[0].coeff_set_id, stop.utime + 1);
+    // AND a new run's points are fitted as mid-run points again
+    core.OnRunEvent(Event("start", "B"));
+    plateau_t p = Plateau(-10, 1000, "B");
+    out = core.OnPlateau(p, "S01");
+    EXPECT_TRUE(out.reports.empty());
+}
+
 TEST(FitterCore, RotationsBecomeTheSensitivityModel) {
     FitterCore core(CoreOptions::Defaults());
     core.OnRunEvent(Event("start", "A"));
