@@ -14,6 +14,8 @@ inline constexpr std::string_view kStabilityPrefix = "STABILITY_";  // plateau_s
 inline constexpr std::string_view kSensitivityPrefix = "SENSITIVITY_";
 inline constexpr std::string_view kCoeffsPrefix = "COEFFS_";
 inline constexpr std::string_view kRatePrefix = "RATE_";
+inline constexpr std::string_view kNoisePrefix = "NOISE_";  // noise_t (Allan deviation)
+inline constexpr std::string_view kFitPrefix = "FIT_";      // fit_report_t
 inline constexpr std::string_view kPowerPrefix = "POWER_";  // power_state_t
 
 inline constexpr std::string_view kEncoder = "ENCODER";
@@ -38,6 +40,8 @@ inline std::string Stability(std::string_view id) { return PerSensor(kStabilityP
 inline std::string Sensitivity(std::string_view id) { return PerSensor(kSensitivityPrefix, id); }
 inline std::string Coeffs(std::string_view id) { return PerSensor(kCoeffsPrefix, id); }
 inline std::string Rate(std::string_view id) { return PerSensor(kRatePrefix, id); }
+inline std::string Noise(std::string_view id) { return PerSensor(kNoisePrefix, id); }
+inline std::string Fit(std::string_view id) { return PerSensor(kFitPrefix, id); }
 inline std::string Power(std::string_view id) { return PerSensor(kPowerPrefix, id); }
 
 // Regex matching every sensor's channel of a prefix, e.g. "GYRO_[A-Za-z0-9_-]+". No prefix is a

@@ -30,8 +30,6 @@ const char* ToString(Refusal r) {
             return "none";
         case Refusal::kTooFewTemperatures:
             return "too_few_temperatures";
-        case Refusal::kTemperaturesTooClose:
-            return "temperatures_too_close";
         case Refusal::kRangeTooNarrow:
             return "range_too_narrow";
         case Refusal::kNonFiniteInput:

@@ -54,14 +54,18 @@
 // coefficient uncertainties; with c estimated on nu dof the normalised coefficient errors are
 // Student-t with nu dof (std sqrt(nu/(nu-2)), near 1 only for large nu). A fixed degree uses its
 // own chi2/dof (+ pooled) as c for the Birge ratio. The 3-point solution has no dof: unscaled.
-// Capacity: degree <= levels-1 (a polynomial of degree d needs d+1 distinct temperatures) and
-// terms <= points-1 (at least one degree of freedom to check the fit).
+// Capacity: degree <= separated levels - 1 (a polynomial of degree d needs d+1 temperatures at
+// least min_temp_separation_c apart, levels.hpp: SeparatedLevelCount) and terms <= points-1 (at
+// least one degree of freedom to check the fit). Points at close temperatures (a repeated
+// setpoint, a return to the start, two setpoints a few degC apart) are kept as data: they add
+// weight, and the scatter between them is evidence, but no capacity; they are never a refusal.
 // Temperature uncertainty is not in the weights: a plateau's temp_sem (~1e-3 degC) times the
 // offset slope (~6e-4 V/degC) is ~1e-6 V, an order below a typical gyro_sem_v (2e-5..4e-5 V).
 //
-// Refusals (FitResult::refusal, never magic ints): fewer than 3 distinct temperatures; two
-// temperatures closer than min_temp_separation_c; range narrower than min_range_c; non-finite
-// input; non-positive standard error; ill-conditioned design; degree/method not applicable.
+// Refusals (FitResult::refusal, never magic ints): fewer than 3 temperatures min_temp_separation_c
+// apart; range narrower than min_range_c; non-finite input; non-positive standard error;
+// ill-conditioned design; degree/method not applicable. What can still be published then (a
+// lower order, a mean) is robust.hpp's FitCalibration's business.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -85,7 +89,7 @@ const char* ToString(Method method);
 
 struct FitOptions {
     Method method = Method::kAuto;       // auto: 3point with exactly 3 points, else wls
-    double min_temp_separation_c = 5.0;  // [degC] distinct temperatures closer than this: refuse
+    double min_temp_separation_c = 5.0;  // [degC] temperatures closer than this add no capacity
     double min_range_c = 20.0;           // [degC] hottest - coldest below this: refuse
     double same_level_tolerance_c =
         1.0;                            // [degC] points this close are one temperature (levels.hpp)
@@ -105,8 +109,7 @@ struct FitOptions {
 
 enum class Refusal {
     kNone,
-    kTooFewTemperatures,
-    kTemperaturesTooClose,
+    kTooFewTemperatures,  // fewer than 3 temperatures min_temp_separation_c apart
     kRangeTooNarrow,
     kNonFiniteInput,
     kBadStandardError,
@@ -157,6 +160,9 @@ FitResult FitWls(const std::vector<FitPoint>& points, const std::vector<std::str
 // is the seed's T0 for 3point).
 FitResult FitPolynomial(const std::vector<FitPoint>& points, const std::string& quantity,
                         const FitOptions& options = FitOptions::Defaults());
+
+// The wls reference temperature: the midpoint of the range rounded to a multiple of 5 degC.
+double DefaultT0(double coldest_c, double hottest_c);
 
 // Weighted mean (a one-term "1" model): what a sensitivity can be when its points do not span
 // enough temperatures for a temperature model.

@@ -1,5 +1,7 @@
 #include "fit_util.hpp"
 
+#include "distributions.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -88,52 +90,35 @@ std::string FitNotes(const FitResult& r) {
     return s;
 }
 
-namespace {
-
-// Continued fraction of the regularised incomplete beta (modified Lentz), valid for
-// x < (a + 1) / (a + b + 2); the caller uses the symmetry otherwise.
-double BetaContinuedFraction(double a, double b, double x) {
-    constexpr double kTiny = 1e-300;
-    double c = 1.0, d = 1.0 - (a + b) * x / (a + 1.0);
-    d = 1.0 / (std::abs(d) < kTiny ? kTiny : d);
-    double h = d;
-    for (int m = 1; m <= 300; ++m) {
-        for (int half = 0; half < 2; ++half) {
-            const double num = half == 0
-                                   ? m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m))
-                                   : -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1));
-            d = 1.0 + num * d;
-            d = 1.0 / (std::abs(d) < kTiny ? kTiny : d);
-            c = 1.0 + num / c;
-            if (std::abs(c) < kTiny) c = kTiny;
-            h *= d * c;
-            if (half == 1 && std::abs(d * c - 1.0) < 1e-15) return h;
-        }
-    }
-    return h;
+Overdispersion EstimateOverdispersion(double reference_chi2, int reference_dof,
+                                      const FitOptions& o) {
+    const int own_dof = std::max(0, reference_dof);
+    Overdispersion od;
+    od.dof = own_dof + o.pooled_dof;
+    if (od.dof > 0) od.c = ((own_dof > 0 ? reference_chi2 : 0.0) + o.pooled_chi2) / od.dof;
+    return od;
 }
 
-double RegularisedBeta(double a, double b, double x) {
-    if (x <= 0.0) return 0.0;
-    if (x >= 1.0) return 1.0;
-    const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) +
-                                  a * std::log(x) + b * std::log1p(-x));
-    if (x < (a + 1.0) / (a + b + 2.0)) return front * BetaContinuedFraction(a, b, x) / a;
-    return 1.0 - front * BetaContinuedFraction(b, a, 1.0 - x) / b;
+void ApplyOverdispersion(FitResult& out, double reference_chi2, int reference_dof,
+                         const FitOptions& o) {
+    const Overdispersion od = EstimateOverdispersion(reference_chi2, reference_dof, o);
+    out.reference_chi2 = reference_dof > 0 ? reference_chi2 : 0.0;
+    out.reference_dof = std::max(0, reference_dof);
+    out.overdispersion = od.c;
+    out.overdispersion_dof = od.dof;
+    out.covariance_scale = std::isfinite(od.c) ? std::max(1.0, od.c) : 1.0;
+    out.model.covariance *= out.covariance_scale;
 }
 
-}  // namespace
+std::string OverdispersionNotes(const FitResult& r) {
+    if (!std::isfinite(r.overdispersion))
+        return "; overdispersion not estimated (no dof): covariance from the stated errors";
+    return "; overdispersion c " + Fmt(r.overdispersion, 3) + " on " +
+           std::to_string(r.overdispersion_dof) + " dof, covariance x" + Fmt(r.covariance_scale, 3);
+}
 
 double FOneUpperQuantile(double upper_tail, int nu) {
-    const double n = static_cast<double>(nu);
-    auto tail = [&](double x) { return RegularisedBeta(0.5 * n, 0.5, n / (n + x)); };
-    double lo = 1e-12, hi = 1e12;  // tail(lo) ~ 1, tail(hi) ~ 0; tail decreases with x
-    for (int k = 0; k < 200; ++k) {
-        const double mid = std::sqrt(lo * hi);
-        (tail(mid) > upper_tail ? lo : hi) = mid;
-        if (hi / lo < 1.0 + 1e-12) break;
-    }
-    return std::sqrt(lo * hi);
+    return FUpperQuantile(upper_tail, 1.0, static_cast<double>(nu));
 }
 
 }  // namespace gyrocal::fit::detail

@@ -23,8 +23,20 @@ void SetRange(model::Model& m, const std::vector<FitPoint>& pts);
 // chi2/dof and, when it is out of its band, the warning a person must see.
 std::string FitNotes(const FitResult& r);
 // Upper quantile of the F(1, nu) distribution: the x with P(F > x) = upper_tail; nu >= 1,
-// 0 < upper_tail < 1. F(1, nu) = t_nu^2, and P(t_nu^2 > x) = I_{nu/(nu+x)}(nu/2, 1/2) (regularised
-// incomplete beta, continued fraction), solved for x by bisection on log x.
+// 0 < upper_tail < 1 (distributions.hpp).
 double FOneUpperQuantile(double upper_tail, int nu);
+
+// The overdispersion c (fit.hpp) from a reference model's chi2 and dof plus what the caller
+// pooled; c is NaN without dof.
+struct Overdispersion {
+    double c = model::kUnknown;
+    int dof = 0;
+};
+Overdispersion EstimateOverdispersion(double reference_chi2, int reference_dof,
+                                      const FitOptions& o);
+// Fills the overdispersion fields of `out` and scales its covariance by max(1, c).
+void ApplyOverdispersion(FitResult& out, double reference_chi2, int reference_dof,
+                         const FitOptions& o);
+std::string OverdispersionNotes(const FitResult& r);
 
 }  // namespace gyrocal::fit::detail

@@ -26,4 +26,16 @@ std::vector<Level> TemperatureLevels(const std::vector<double>& temps_c, double 
     return levels;
 }
 
+int SeparatedLevelCount(const std::vector<Level>& levels, double min_separation_c) {
+    int count = 0;
+    double last = 0.0;
+    for (const Level& l : levels) {
+        if (count == 0 || l.temp_c - last >= min_separation_c) {
+            ++count;
+            last = l.temp_c;
+        }
+    }
+    return count;
+}
+
 }  // namespace gyrocal::fit

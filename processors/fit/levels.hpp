@@ -20,4 +20,11 @@ struct Level {
 std::vector<Level> TemperatureLevels(const std::vector<double>& temps_c,
                                      double same_level_tolerance_c);
 
+// How many of the (sorted) levels are at least min_separation_c apart: the size of the largest
+// such subset, found greedily from the coldest (each next pick is the first level at least
+// min_separation_c above the last pick; this is optimal for points on a line). A polynomial of
+// degree d needs d + 1 temperatures that far apart to be pinned down; levels closer than that
+// are still data (replicates or near-replicates), they add no capacity.
+int SeparatedLevelCount(const std::vector<Level>& levels, double min_separation_c);
+
 }  // namespace gyrocal::fit

@@ -44,21 +44,6 @@ std::vector<FitPoint> CombineLevels(const std::vector<FitPoint>& pts, std::vecto
     return out;
 }
 
-struct Overdispersion {
-    double c = model::kUnknown;  // NaN without dof
-    int dof = 0;
-};
-
-// c from the reference model's chi2 and dof plus what the caller pooled (see fit.hpp).
-Overdispersion EstimateOverdispersion(double reference_chi2, int reference_dof,
-                                      const FitOptions& o) {
-    const int own_dof = std::max(0, reference_dof);
-    Overdispersion od;
-    od.dof = own_dof + o.pooled_dof;
-    if (od.dof > 0) od.c = ((own_dof > 0 ? reference_chi2 : 0.0) + o.pooled_chi2) / od.dof;
-    return od;
-}
-
 // The QAIC tie band for one extra term (see fit.hpp): AIC's known-variance error rate
 // P(chi2_1 > 4) kept with c estimated on nu dof.
 double TieBand(int nu) {
@@ -67,100 +52,103 @@ double TieBand(int nu) {
     return FOneUpperQuantile(alpha, nu) - 2.0;
 }
 
-// Fills the overdispersion fields and scales the covariance by the Birge ratio max(1, c).
-void ApplyOverdispersion(FitResult& out, double reference_chi2, int reference_dof,
-                         const FitOptions& o) {
-    const Overdispersion od = EstimateOverdispersion(reference_chi2, reference_dof, o);
-    out.reference_chi2 = reference_dof > 0 ? reference_chi2 : 0.0;
-    out.reference_dof = std::max(0, reference_dof);
-    out.overdispersion = od.c;
-    out.overdispersion_dof = od.dof;
-    out.covariance_scale = std::isfinite(od.c) ? std::max(1.0, od.c) : 1.0;
-    out.model.covariance *= out.covariance_scale;
-}
-
-std::string OverdispersionNotes(const FitResult& r) {
-    if (!std::isfinite(r.overdispersion))
-        return "; overdispersion not estimated (no dof): covariance from the stated errors";
-    return "; overdispersion c " + Fmt(r.overdispersion, 3) + " on " +
-           std::to_string(r.overdispersion_dof) + " dof, covariance x" + Fmt(r.covariance_scale, 3);
-}
-
-}  // namespace
-
-FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& quantity,
-                        const FitOptions& o) {
-    if (const std::string problem = o.Problem(); !problem.empty())
-        return Refuse(Refusal::kNotApplicable, problem);
-    if (auto bad = CheckFinite(pts)) return *bad;
-    const std::vector<Level> levels = TemperatureLevels(Temps(pts), o.same_level_tolerance_c);
-    std::vector<double> level_temps;
-    for (const Level& l : levels) level_temps.push_back(l.temp_c);
+std::string Listed(const std::vector<double>& temps) {
     std::string listed;
-    for (double t : level_temps) listed += (listed.empty() ? "" : ", ") + Fmt(t);
-    if (levels.size() < 3)
-        return Refuse(Refusal::kTooFewTemperatures,
-                      "fewer than 3 distinct temperatures (have " + std::to_string(levels.size()) +
-                          (listed.empty() ? "" : ": " + listed + " degC") + ")");
-    for (size_t k = 1; k < levels.size(); ++k) {
-        const double gap = levels[k].temp_c - levels[k - 1].temp_c;
-        if (gap < o.min_temp_separation_c)
-            return Refuse(Refusal::kTemperaturesTooClose,
-                          "temperatures " + Fmt(levels[k - 1].temp_c) + " and " +
-                              Fmt(levels[k].temp_c) + " degC are " + Fmt(gap, 3) +
-                              " degC apart, closer than the minimum " +
-                              Fmt(o.min_temp_separation_c) + " degC");
+    for (double t : temps) listed += (listed.empty() ? "" : ", ") + Fmt(t);
+    return listed;
+}
+
+// The point set's geometry: levels (replicates merged), how many are far enough apart to carry
+// a degree, and the refusal when a temperature model cannot be fitted at all.
+struct Geometry {
+    std::vector<Level> levels;
+    std::vector<double> level_temps;
+    int separated = 0;
+    std::optional<FitResult> refusal;
+};
+
+Geometry CheckGeometry(const std::vector<FitPoint>& pts, const FitOptions& o) {
+    Geometry g;
+    g.levels = TemperatureLevels(Temps(pts), o.same_level_tolerance_c);
+    for (const Level& l : g.levels) g.level_temps.push_back(l.temp_c);
+    g.separated = SeparatedLevelCount(g.levels, o.min_temp_separation_c);
+    const std::string listed = Listed(g.level_temps);
+    if (g.separated < 3) {
+        g.refusal = Refuse(Refusal::kTooFewTemperatures,
+                           "fewer than 3 temperatures at least " + Fmt(o.min_temp_separation_c) +
+                               " degC apart (have " + std::to_string(g.separated) + " among " +
+                               std::to_string(g.levels.size()) + " levels" +
+                               (listed.empty() ? "" : ": " + listed + " degC") + ")");
+        return g;
     }
-    const double range = levels.back().temp_c - levels.front().temp_c;
+    const double range = g.levels.back().temp_c - g.levels.front().temp_c;
     if (range < o.min_range_c)
-        return Refuse(Refusal::kRangeTooNarrow,
-                      "temperature range " + Fmt(levels.front().temp_c) + ".." +
-                          Fmt(levels.back().temp_c) + " degC spans " + Fmt(range, 3) +
-                          " degC, narrower than the minimum " + Fmt(o.min_range_c) +
-                          " degC (a fit is only a guess outside its range)");
+        g.refusal = Refuse(Refusal::kRangeTooNarrow,
+                           "temperature range " + Fmt(g.levels.front().temp_c) + ".." +
+                               Fmt(g.levels.back().temp_c) + " degC spans " + Fmt(range, 3) +
+                               " degC, narrower than the minimum " + Fmt(o.min_range_c) +
+                               " degC (a fit is only a guess outside its range)");
+    return g;
+}
 
-    const bool three_point = o.method == Method::kThreePoint ||
-                             (o.method == Method::kAuto && pts.size() == 3 && o.fixed_degree == 0);
-    if (three_point) {
-        if (levels.size() != 3)
-            return Refuse(Refusal::kNotApplicable,
-                          "method 3point needs exactly 3 temperatures, have " +
-                              std::to_string(levels.size()) + " (" + listed + " degC)");
-        // More than one point per level (e.g. both rotation directions): the seed's point is the
-        // level's weighted mean.
-        FitResult out = SeedThreePoint(CombineLevels(pts, levels), quantity);
-        out.used_ids = Ids(pts);
-        out.level_temps_c = level_temps;
-        if (out.ok()) out.model.n_points = static_cast<int32_t>(pts.size());
-        return out;
-    }
+FitResult ThreePoint(const std::vector<FitPoint>& pts, const Geometry& g,
+                     const std::string& quantity) {
+    if (g.levels.size() != 3)
+        return Refuse(Refusal::kNotApplicable, "method 3point needs exactly 3 temperatures, have " +
+                                                   std::to_string(g.levels.size()) + " (" +
+                                                   Listed(g.level_temps) + " degC)");
+    // More than one point per level (e.g. both rotation directions): the seed's point is the
+    // level's weighted mean.
+    FitResult out = SeedThreePoint(CombineLevels(pts, g.levels), quantity);
+    out.used_ids = Ids(pts);
+    out.level_temps_c = g.level_temps;
+    if (out.ok()) out.model.n_points = static_cast<int32_t>(pts.size());
+    return out;
+}
 
-    const double t0 =
-        o.t0_c ? *o.t0_c
-               : 5.0 * std::round(0.5 * (levels.front().temp_c + levels.back().temp_c) / 5.0);
+FitResult FixedDegree(const std::vector<FitPoint>& pts, const Geometry& g, double t0,
+                      const std::string& quantity, const FitOptions& o) {
     const int n = static_cast<int>(pts.size());
-    const int capacity = std::min({static_cast<int>(levels.size()) - 1, n - 2, o.max_degree});
-    if (o.fixed_degree > 0) {
-        if (o.fixed_degree > std::min(static_cast<int>(levels.size()) - 1, n - 2))
-            return Refuse(Refusal::kNotApplicable,
-                          "degree " + std::to_string(o.fixed_degree) + " needs at least " +
-                              std::to_string(o.fixed_degree + 1) + " temperatures and " +
-                              std::to_string(o.fixed_degree + 2) + " points; have " +
-                              std::to_string(levels.size()) + " and " + std::to_string(n));
-        FitResult out = FitWls(pts, model::PolynomialTerms(o.fixed_degree), t0, quantity,
-                               o.max_condition_number);
-        out.level_temps_c = level_temps;
-        if (out.ok()) {
-            ApplyOverdispersion(out, out.chi2, out.dof, o);
-            out.detail = "degree " + std::to_string(o.fixed_degree) + " fixed by option" +
-                         FitNotes(out) + OverdispersionNotes(out);
-        }
-        return out;
+    if (o.fixed_degree > std::min(g.separated - 1, n - 2))
+        return Refuse(Refusal::kNotApplicable,
+                      "degree " + std::to_string(o.fixed_degree) + " needs at least " +
+                          std::to_string(o.fixed_degree + 1) + " temperatures " +
+                          Fmt(o.min_temp_separation_c) + " degC apart and " +
+                          std::to_string(o.fixed_degree + 2) + " points; have " +
+                          std::to_string(g.separated) + " and " + std::to_string(n));
+    FitResult out =
+        FitWls(pts, model::PolynomialTerms(o.fixed_degree), t0, quantity, o.max_condition_number);
+    out.level_temps_c = g.level_temps;
+    if (out.ok()) {
+        ApplyOverdispersion(out, out.chi2, out.dof, o);
+        out.detail = "degree " + std::to_string(o.fixed_degree) + " fixed by option" +
+                     FitNotes(out) + OverdispersionNotes(out);
     }
+    return out;
+}
+
+// QAIC values within the band of the best are a tie (see fit.hpp); ties go to the quadratic,
+// else to the lowest degree.
+size_t ChooseDegree(std::vector<DegreeCandidate>& candidates, double c_select, double band) {
+    for (DegreeCandidate& c : candidates) c.aic = c.chi2 / c_select + 2.0 * (c.degree + 1);
+    double best_aic = std::numeric_limits<double>::infinity();
+    for (const DegreeCandidate& c : candidates) best_aic = std::min(best_aic, c.aic);
+    size_t chosen = candidates.size();
+    for (size_t k = 0; k < candidates.size(); ++k)
+        if (candidates[k].aic - best_aic <= band && candidates[k].degree == 2) chosen = k;
+    if (chosen == candidates.size())
+        for (size_t k = 0; k < candidates.size() && chosen == candidates.size(); ++k)
+            if (candidates[k].aic - best_aic <= band) chosen = k;
+    return chosen;
+}
+
+FitResult SelectOrder(const std::vector<FitPoint>& pts, const Geometry& g, double t0,
+                      const std::string& quantity, const FitOptions& o) {
+    const int n = static_cast<int>(pts.size());
+    const int capacity = std::min({g.separated - 1, n - 2, o.max_degree});
     if (capacity < 1)
         return Refuse(Refusal::kNotApplicable,
                       "wls needs at least 3 points for a line with one degree of freedom");
-
     std::vector<FitResult> fits;
     std::vector<DegreeCandidate> candidates;
     for (int d = 1; d <= capacity; ++d) {
@@ -170,32 +158,20 @@ FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& qua
         fits.push_back(std::move(f));
     }
     if (fits.empty()) {
-        FitResult why =
-            FitWls(pts, model::PolynomialTerms(1), t0, quantity, o.max_condition_number);
-        why.level_temps_c = level_temps;
+        FitResult why = FitWls(pts, model::PolynomialTerms(1), t0, quantity, o.max_condition_number);
+        why.level_temps_c = g.level_temps;
         return why;
     }
     // The reference model is the largest candidate that could be fitted (see fit.hpp).
-    const FitResult& reference = fits.back();
-    const Overdispersion od = EstimateOverdispersion(reference.chi2, reference.dof, o);
-    const double c_select = std::isfinite(od.c) ? std::max(1.0, od.c) : 1.0;
+    const double reference_chi2 = fits.back().chi2;
+    const int reference_dof = fits.back().dof;
+    const Overdispersion od = EstimateOverdispersion(reference_chi2, reference_dof, o);
     const double band = TieBand(od.dof);
-    for (DegreeCandidate& c : candidates) c.aic = c.chi2 / c_select + 2.0 * (c.degree + 1);
-    double best_aic = std::numeric_limits<double>::infinity();
-    for (const DegreeCandidate& c : candidates) best_aic = std::min(best_aic, c.aic);
-    // QAIC values within the band of the best are a tie (see header); ties go to the quadratic,
-    // else to the lowest degree.
-    size_t chosen = candidates.size();
-    for (size_t k = 0; k < candidates.size(); ++k)
-        if (candidates[k].aic - best_aic <= band && candidates[k].degree == 2) chosen = k;
-    if (chosen == candidates.size())
-        for (size_t k = 0; k < candidates.size() && chosen == candidates.size(); ++k)
-            if (candidates[k].aic - best_aic <= band) chosen = k;
-    const double reference_chi2 = reference.chi2;
-    const int reference_dof = reference.dof;
+    const size_t chosen =
+        ChooseDegree(candidates, std::isfinite(od.c) ? std::max(1.0, od.c) : 1.0, band);
     FitResult out = std::move(fits[chosen]);
     out.candidates = candidates;
-    out.level_temps_c = level_temps;
+    out.level_temps_c = g.level_temps;
     ApplyOverdispersion(out, reference_chi2, reference_dof, o);
     std::ostringstream why;
     why << "degree " << candidates[chosen].degree << (od.dof > 0 ? " by QAIC (" : " by AIC (");
@@ -204,6 +180,27 @@ FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& qua
     why << "; tie band " << Fmt(band, 3) << "; capacity " << capacity << ")";
     out.detail = why.str() + FitNotes(out) + OverdispersionNotes(out);
     return out;
+}
+
+}  // namespace
+
+double DefaultT0(double coldest_c, double hottest_c) {
+    return 5.0 * std::round(0.5 * (coldest_c + hottest_c) / 5.0);
+}
+
+FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& quantity,
+                        const FitOptions& o) {
+    if (const std::string problem = o.Problem(); !problem.empty())
+        return Refuse(Refusal::kNotApplicable, problem);
+    if (auto bad = CheckFinite(pts)) return *bad;
+    const Geometry g = CheckGeometry(pts, o);
+    if (g.refusal) return *g.refusal;
+    const bool three_point = o.method == Method::kThreePoint ||
+                             (o.method == Method::kAuto && pts.size() == 3 && o.fixed_degree == 0);
+    if (three_point) return ThreePoint(pts, g, quantity);
+    const double t0 = o.t0_c ? *o.t0_c : DefaultT0(g.levels.front().temp_c, g.levels.back().temp_c);
+    if (o.fixed_degree > 0) return FixedDegree(pts, g, t0, quantity, o);
+    return SelectOrder(pts, g, t0, quantity, o);
 }
 
 }  // namespace gyrocal::fit

@@ -46,6 +46,16 @@ void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
                    "[s] classify samples without the encoder once their stream is this far ahead")
         ->capture_default_str();
     gyrocal::motion::AddMoveOptions(app, o.move, "at rest");
+    app.add_option("--noise-period-s", o.noise_period_s,
+                   "[s] of data time between NOISE_<id> (Allan deviation) messages")
+        ->capture_default_str();
+    app.add_option("--noise-quiet-slope-c-per-min", o.noise.quiet_slope_c_per_min,
+                   "[degC/min] still stretches count for the Allan deviation where the "
+                   "temperature moves less than this")
+        ->capture_default_str();
+    app.add_option("--noise-min-segment-s", o.noise.min_segment_s,
+                   "[s] shorter quiet stretches are not used for the Allan deviation")
+        ->capture_default_str();
 }
 
 }  // namespace
@@ -55,7 +65,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "gyrocal-plateau: stability (plateau) detector per sensor.\n"
         "Subscribes GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT; publishes PLATEAU_<id>,\n"
-        "STABILITY_<id>, STATUS.",
+        "STABILITY_<id>, NOISE_<id> (Allan deviation of the still stretches), STATUS.",
         "gyrocal-plateau"};
     app.footer(gyrocal::kNodeExitCodes);
     AddOptions(app, options);

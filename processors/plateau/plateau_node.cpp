@@ -7,6 +7,7 @@
 #include "bus/channels.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "motion_options.hpp"
+#include "noise/noise_message.hpp"
 #include "plateau_message.hpp"
 
 namespace gyrocal {
@@ -26,6 +27,9 @@ std::string PlateauOptions::Validate() const {
         return "--motion-guard-s must be in [0, 60] s";
     if (!(encoder_stale_s > 0 && encoder_stale_s <= 600))
         return "--encoder-stale-s must be in (0, 600] s";
+    if (std::string e = noise.Validate(); !e.empty()) return e;
+    if (!(noise_period_s >= 1 && noise_period_s <= 86400))
+        return "--noise-period-s must be in [1, 86400] s";
     return "";
 }
 
@@ -52,7 +56,7 @@ void PlateauNode::Run() {
 PlateauNode::Sensor& PlateauNode::SensorFor(const std::string& id) {
     auto it = sensors_.find(id);
     if (it != sensors_.end()) return *it->second;
-    auto sensor = std::make_unique<Sensor>(options_.detector);
+    auto sensor = std::make_unique<Sensor>(options_.detector, options_.noise);
     if (!run_id_.empty()) sensor->detector.StartRun(run_id_);
     sensor->detector.SetChamberSetpoint(chamber_setpoint_c_);
     Sensor& ref = *sensor;
@@ -108,9 +112,12 @@ void PlateauNode::OnRunEvent(const run_event_t& m) {
     }
     if (m.event == "restart") return;
     if (m.event == "start") {
+        if (m.run_id != run_id_)
+            for (auto& [id, sensor] : sensors_) sensor->noise.Reset();  // a new run's own noise
         run_id_ = m.run_id;
         for (auto& [id, sensor] : sensors_) sensor->detector.StartRun(run_id_);
     } else if (m.event == "stop" || m.event == "abort") {
+        for (auto& [id, sensor] : sensors_) PublishNoise(id, *sensor);  // the run's final estimate
         run_id_.clear();
         for (auto& [id, sensor] : sensors_) sensor->detector.EndRun();
     } else if (m.event == "setpoint") {
@@ -132,7 +139,11 @@ void PlateauNode::Drain(const std::string& id, Sensor& sensor) {
         plateau::Sample s = sensor.pending.front();
         sensor.pending.pop_front();
         s.moving = motion_.Moving(s.utime);
-        Publish(id, sensor.detector.Feed(s));
+        sensor.noise.Add({s.utime, s.seq, s.gyro_v, s.temp_c, s.moving});
+        const plateau::Step step = sensor.detector.Feed(s);
+        if (step.plateau || s.utime - sensor.last_noise_utime >= options_.noise_period_s * 1e6)
+            PublishNoise(id, sensor);
+        Publish(id, step);
     }
 }
 
@@ -144,6 +155,12 @@ void PlateauNode::DrainAll() {
                                                           : sensor->pending.front().utime);
     }
     if (!sensors_.empty()) motion_.Prune(oldest);
+}
+
+void PlateauNode::PublishNoise(const std::string& id, Sensor& sensor) {
+    if (sensor.noise.newest_utime() == 0) return;  // no sample yet
+    sensor.last_noise_utime = sensor.noise.newest_utime();
+    bus_.Publish(channels::Noise(id), ToNoiseMessage(id, run_id_, sensor.noise.Estimate()));
 }
 
 void PlateauNode::Publish(const std::string& id, const plateau::Step& step) {

@@ -4,8 +4,12 @@
 // Threads: one. Bus::Handle dispatches GYRO_*, ENCODER, CHAMBER_STATE and RUN_EVENT on the Run()
 // thread. A gyro sample waits in its sensor's queue until the encoder has spoken about its
 // moment +- the motion guard (or the encoder is stale), then it is classified still/moving and
-// fed to the sensor's detector; plateaus and state reports are published at once. Processors use
-// message time only: nothing here reads a clock except the STATUS heartbeat.
+// fed to the sensor's detector; plateaus and state reports are published at once. The same
+// classified samples feed the sensor's noise tracker (processors/noise: the Allan deviation of
+// its still, thermally quiet stretches): NOISE_<id> goes out every noise_period_s of data time,
+// just before each PLATEAU_<id> (so the fitter has the estimate up to that plateau), and at the
+// run's stop. Processors use message time only: nothing here reads a clock except the STATUS
+// heartbeat.
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -19,6 +23,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "motion_inputs.hpp"
+#include "noise/noise_tracker.hpp"
 #include "plateau_detector.hpp"
 #include "table_motion.hpp"
 
@@ -32,6 +37,8 @@ struct PlateauOptions {
     motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
     double motion_guard_s = 1.0;   // [s] a sample this close to table motion is "moving"
     double encoder_stale_s = 2.0;  // [s] decide without the encoder once a stream is this far ahead
+    noise::TrackerConfig noise = noise::TrackerConfig::Defaults();
+    double noise_period_s = 60.0;  // [s] of data time between NOISE_<id> messages
     static PlateauOptions Defaults() { return {}; }
     // "" when valid, else a one-line error naming the option and its valid range.
     std::string Validate() const;
@@ -46,8 +53,11 @@ public:
 
 private:
     struct Sensor {
-        explicit Sensor(const plateau::PlateauConfig& c) : detector(c) {}
+        Sensor(const plateau::PlateauConfig& c, const noise::TrackerConfig& n)
+            : detector(c), noise(n) {}
         plateau::PlateauDetector detector;
+        noise::NoiseTracker noise;
+        int64_t last_noise_utime = 0;
         std::deque<plateau::Sample> pending;
         motion::StreamTime time;
     };
@@ -60,6 +70,7 @@ private:
     void Drain(const std::string& id, Sensor& sensor);
     void DrainAll();
     void Publish(const std::string& id, const plateau::Step& step);
+    void PublishNoise(const std::string& id, Sensor& sensor);
 
     PlateauOptions options_;
     Bus bus_;

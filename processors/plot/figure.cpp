@@ -50,6 +50,7 @@ std::string Clause(const Series& s) {
         case Style::kBand: with = "filledcurves fs transparent solid 0.25 noborder"; break;
     }
     std::string clause = Literal(s.table + ".dat") + " using " + Using(s) + " with " + with;
+    if (s.dash_type > 0) clause += " dt " + std::to_string(s.dash_type);
     if (!s.color.empty()) clause += " lc rgb " + Literal(s.color);
     clause += s.title.empty() ? " notitle" : " title " + Literal(s.title);
     return clause;
@@ -115,8 +116,14 @@ std::string Script(const Figure& f, const std::vector<Terminal>& terminals) {
       << "set title " << Literal(f.title) << " noenhanced\n"
       << "set xlabel " << Literal(f.xlabel) << " noenhanced\n"
       << "set ylabel " << Literal(f.ylabel) << " noenhanced\n"
-      << "set grid\nset key outside top center horizontal noenhanced\n"
-      << "set offsets graph 0.02, graph 0.02, graph 0.05, graph 0.05\n";  // no point on the frame
+      << "set grid\nset key outside top center horizontal noenhanced\n";
+    // A margin so that no point sits on the frame; on a log axis gnuplot already widens the range
+    // to whole decades, and an offset on top of that adds a decade more on each side.
+    const std::string x_margin = f.log_x ? "0" : "graph 0.02";
+    const std::string y_margin = f.log_y ? "0" : "graph 0.05";
+    s << "set offsets " << x_margin << ", " << x_margin << ", " << y_margin << ", " << y_margin << "\n";
+    if (f.log_x) s << "set logscale x\n";
+    if (f.log_y) s << "set logscale y\nset format y \"%g\"\n";
     std::string plot = "plot ";
     for (size_t i = 0; i < f.series.size(); ++i) plot += (i ? ", " : "") + Clause(f.series[i]);
     const std::string size = std::to_string(f.width_px) + "," + std::to_string(f.height_px);

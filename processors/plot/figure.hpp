@@ -33,6 +33,7 @@ struct Series {
     std::vector<int> columns;  // 1-based column numbers in the table, as the style needs
     std::string title;         // key entry; "" = none
     std::string color;         // "" = gnuplot's next colour; else e.g. "#1f77b4"
+    int dash_type = 0;         // lines: 0 solid, 2.. gnuplot's dash types
 };
 
 struct Figure {
@@ -41,6 +42,7 @@ struct Figure {
     std::vector<Table> tables;
     std::vector<Series> series;  // drawn in order (draw bands first so points lie on top)
     int width_px = 1000, height_px = 600;
+    bool log_x = false, log_y = false;  // logarithmic axes (e.g. an Allan deviation)
 };
 
 enum class Terminal { kPng, kSvg };

@@ -26,6 +26,13 @@ void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
     app.add_option("--encoder-stale-s", e.encoder_stale_s,
                    "[s] finish a point without the encoder once samples are this far past it")
         ->capture_default_str();
+    app.add_option("--slip-alpha", e.slip_alpha,
+                   "false alarms per move of the encoder-slip check, (0, 0.1)")
+        ->capture_default_str();
+    app.add_option("--min-slip-deg", e.min_slip_deg,
+                   "[deg] the gyro's and the encoder's angles may part this much before a slip is "
+                   "called, 0..90")
+        ->capture_default_str();
     gyrocal::motion::AddMoveOptions(app, o.move, "the move is over");
 }
 

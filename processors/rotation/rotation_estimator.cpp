@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "slip_check.hpp"
 #include "window_stats.hpp"
 
 namespace gyrocal::rotation {
@@ -35,6 +36,8 @@ std::string RotationConfig::Validate() const {
     if (!InRange(min_angle_deg, 0, 3600)) return "min_angle_deg must be in [0, 3600] deg";
     if (!InRange(max_move_s, 0.1, 3600)) return "max_move_s must be in [0.1, 3600] s";
     if (!InRange(encoder_stale_s, 0.01, 600)) return "encoder_stale_s must be in [0.01, 600] s";
+    if (!(slip_alpha > 0 && slip_alpha < 0.1)) return "slip_alpha must be in (0, 0.1)";
+    if (!InRange(min_slip_deg, 0, 90)) return "min_slip_deg must be in [0, 90] deg";
     return "";
 }
 
@@ -54,6 +57,11 @@ void RotationEstimator::AddSample(const Sample& s) {
     Prune();
 }
 
+void RotationEstimator::AddEncoder(const motion::EncoderReading& reading) {
+    encoder_.push_back(reading);
+    Prune();
+}
+
 void RotationEstimator::Prune() {
     if (samples_.empty()) return;
     int64_t keep_from;
@@ -64,6 +72,7 @@ void RotationEstimator::Prune() {
         keep_from = samples_.back().utime - retention;
     }
     while (!samples_.empty() && samples_.front().utime < keep_from) samples_.pop_front();
+    while (encoder_.size() > 1 && encoder_[1].utime < keep_from) encoder_.pop_front();
 }
 
 std::vector<Point> RotationEstimator::Poll(const MotionView& motion) {
@@ -222,6 +231,24 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
         !std::isfinite(pt.sensitivity_stderr_v_per_dps) || !std::isfinite(pt.offset_v) ||
         !std::isfinite(pt.temp_c))
         return reject("a result is not finite (non-finite input?)");
+    if (!encoder_.empty()) {
+        SlipInputs si;
+        for (const Sample* s : mid) {
+            si.gyro_t_s.push_back(s->utime * 1e-6);
+            si.gyro_rate_v.push_back(s->gyro_v - offset_at(s->utime * 1e-6));
+        }
+        for (const motion::EncoderReading& r : encoder_) {
+            if (r.utime < a || r.utime > b) continue;
+            si.encoder_t_s.push_back(r.utime * 1e-6);
+            si.encoder_deg.push_back(static_cast<double>(r.counts - m.start_counts) * m.count_deg());
+        }
+        si.sensitivity_v_per_dps = sens;
+        si.noise_q_v2_s = q;
+        si.offset_stderr_v = pt.offset_stderr_v;
+        si.count_deg = m.count_deg();
+        const SlipResult slip = CheckSlip(si, config_.slip_alpha, config_.min_slip_deg);
+        if (slip.slip) return reject(slip.reason);
+    }
     pt.accepted = true;
     return pt;
 }

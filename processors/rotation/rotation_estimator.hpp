@@ -23,6 +23,8 @@
 //   noise gives tau_int = 1, q = sigma^2 dt.
 //   encoder: var_theta = 2 * q_deg^2 / 12 (two readings, each +-half a count)
 //   var_S = var_I / theta^2 + S^2 var_theta / theta^2.
+// Encoder slip (slip_check.hpp): the encoder's readings through the move must follow the gyro's
+// integrated angle; a point whose encoder did not is rejected with "encoder slip: ...".
 // A point is published rejected (accepted = false, reject_reason) when: the angle is below
 // min_angle_deg; a rest window holds less than min_rest_fraction of rest_s; any sequence gap
 // lies between the first rest sample and the last; the move lasted more than max_move_s; fewer
@@ -45,6 +47,8 @@ struct RotationConfig {
     double min_angle_deg = 10.0;     // [deg] smaller moves are rejected
     double max_move_s = 120.0;       // [s] longer moves are rejected (and bound the memory)
     double encoder_stale_s = 2.0;    // [s] finish without the encoder once samples are this late
+    double slip_alpha = 1e-4;        // [1] false slip alarms per move (slip_check.hpp)
+    double min_slip_deg = 0.2;       // [deg] smaller departures are never called a slip
     static RotationConfig Defaults() { return {}; }
     // "" when valid, else a sentence naming the field and its valid range.
     std::string Validate() const;
@@ -88,6 +92,8 @@ public:
     void AddMove(const motion::TableMove& move);
     // One sample, utime increasing (the caller guards order and finiteness).
     void AddSample(const Sample& s);
+    // Every reading of the encoder, in order (for the slip check; without any, it is skipped).
+    void AddEncoder(const motion::EncoderReading& reading);
     // Points whose rest window after the move is complete.
     std::vector<Point> Poll(const MotionView& motion);
 
@@ -102,6 +108,7 @@ private:
     RotationConfig config_;
     int64_t guard_us_, rest_us_;
     std::deque<Sample> samples_;
+    std::deque<motion::EncoderReading> encoder_;
     std::deque<Pending> pending_;
     std::optional<int64_t> last_b_utime_;
 };

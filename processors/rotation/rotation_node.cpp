@@ -58,6 +58,7 @@ void RotationNode::OnGyro(const std::string& id, const gyro_sample_t& m,
 }
 
 void RotationNode::OnEncoder(const motion::EncoderReading& reading) {
+    for (auto& [id, sensor] : sensors_) sensor->estimator.AddEncoder(reading);  // slip check
     if (auto move = detector_.Feed(reading)) {
         ++moves_;
         status_.SetExtra("moves", static_cast<double>(moves_));

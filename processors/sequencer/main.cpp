@@ -17,12 +17,12 @@ using namespace gyrocal::sequencer;
 
 int main(int argc, char** argv) {
     SequencerOptions o = SequencerOptions::Defaults();
-    std::string profile_name = "five";
+    std::string profile_name = kDefaultProfile;
     std::vector<double> setpoints_c;
     CLI::App app{"gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, rotations)",
         "gyrocal-sequencer"};
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
-    app.add_option("--profile", profile_name, "named profile: five (-40,-10,25,55,85 C) or seed3 (-10,30,60 C)")
+    app.add_option("--profile", profile_name, "named profile: " + ProfilesHelp())
         ->capture_default_str();
     app.add_option("--setpoints-c", setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
     app.add_option("--sensors", o.procedure.sensor_ids, "sensor ids to wait for (default: discover from GYRO_*)")

@@ -29,12 +29,23 @@ std::string Join(const std::map<std::string, std::string>& why) {
 
 std::optional<Profile> NamedProfile(const std::string& name) {
     // ADXRS610/613 are specified over -40..+105 °C; the chamber range here is -40..85.
+    if (name == "six") return Profile{"six", {25.0, -40.0, -10.0, 45.0, 65.0, 85.0}};
     if (name == "five") return Profile{"five", {-40.0, -10.0, 25.0, 55.0, 85.0}};
     if (name == "seed3") return Profile{"seed3", {-10.0, 30.0, 60.0}};
     return std::nullopt;
 }
 
-std::vector<std::string> ProfileNames() { return {"five", "seed3"}; }
+std::vector<std::string> ProfileNames() { return {"six", "five", "seed3"}; }
+
+std::string ProfilesHelp() {
+    std::string out;
+    for (const std::string& name : ProfileNames()) {
+        std::string list;
+        for (double t : NamedProfile(name)->setpoints_c) list += (list.empty() ? "" : ",") + Num(t);
+        out += (out.empty() ? "" : ", ") + name + " (" + list + " C)";
+    }
+    return out;
+}
 
 void ProcedureOptions::Validate() const {
     if (profile.setpoints_c.empty()) throw std::invalid_argument("profile: at least one setpoint is needed");

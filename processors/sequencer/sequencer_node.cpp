@@ -34,7 +34,7 @@ std::string GeneratedRunId() {
 
 SequencerOptions SequencerOptions::Defaults() {
     SequencerOptions o;
-    o.procedure.profile = *NamedProfile("five");
+    o.procedure.profile = *NamedProfile(kDefaultProfile);
     return o;
 }
 

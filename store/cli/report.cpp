@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "format_util.hpp"
+#include "report_fit.hpp"
 
 namespace gyrocal::store::report {
 
@@ -206,7 +207,7 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
     out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
     for (const auto& c : d.coeff_sets) {
         out << "  " << Printable(c.set.sensor_id) << "  set " << c.set.coeff_set_id << " ("
-            << Printable(c.set.source) << ")\n";
+            << Printable(c.set.source) << ")" << SetStatusLabel(d, c) << "\n";
         for (const auto* m : {&c.set.offset, &c.set.sensitivity}) {
             out << "    " << Printable(m->quantity) << ": " << Printable(Terms(*m))
                 << "  T0=" << Num(m->t0_c) << " C, valid " << Num(m->temp_min_c) << ".."
@@ -224,6 +225,8 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
                 << p->items.size() << " found), " << samples << " raw gyro samples stored\n";
         }
     }
+
+    out << FitSectionsText(d);
 
     out << "\nAnalyses (" << d.analyses.size() << ")\n";
     if (!d.analyses.empty()) {
@@ -369,6 +372,7 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
                                              : nlohmann::json(nullptr)}});
     }
     j["analyses"] = analyses;
+    AddFitJson(j, d);
     return j;
 }
 

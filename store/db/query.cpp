@@ -304,6 +304,8 @@ RunDetail ShowRun(Db& db, const std::string& run_id) {
         while (s.Step()) d.sensitivity_points.push_back(ReadSensitivity(s));
     }
     d.coeff_sets = RunFinalCoeffs(db, run_id);
+    d.fit_reports = RunFitReports(db, run_id);
+    d.noise = RunNoise(db, run_id);
     {
         Stmt s(db,
                "SELECT channel, seq_gaps, seq_backwards, decode_errors, queue_drops FROM losses "

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "analyses.hpp"
+#include "fit_query.hpp"
 #include "rows.hpp"
 #include "sqlite_db.hpp"
 
@@ -60,6 +61,8 @@ struct RunDetail {
     std::vector<RunEventRow> events;
     std::vector<StatusRow> processes;  // last STATUS of each process (name, host, pid) in the run
     std::vector<AnalysisRow> analyses;  // closed-loop analyses of the run, oldest first
+    std::vector<FitReportInfo> fit_reports;  // final report of each sensor and source (v5)
+    std::vector<NoiseInfo> noise;            // newest noise estimate of each sensor (v5)
 };
 
 // Newest first (by first reception); the no-run bucket '' last, listed only when not empty.

@@ -152,6 +152,48 @@ struct RawEventRow {
     std::vector<uint8_t> data;
 };
 
+// NOISE_<id>: a unit's Allan deviation so far (schema v5: noise_estimates + noise_adev).
+struct NoiseRow {
+    std::string run_id, sensor_id;
+    int64_t utime = 0;
+    double still_s = 0, longest_segment_s = 0, tau0_s = 0;
+    int32_t n_segments = 0;
+    double arw_v_rthz = 0, arw_stderr_v_rthz = 0, bias_instability_v = 0,
+           bias_instability_stderr_v = 0, rrw_v_rts = 0, rrw_stderr_v_rts = 0;
+    std::string fit_note;
+    std::vector<double> tau_s, adev_v, adev_lo_v, adev_hi_v, edf;
+    int64_t recv_utime = 0;
+};
+
+// FIT_<id>: the fitter's report on a coefficient set (schema v5: fit_reports + fit_exclusions +
+// repeatability).
+struct FitExclusionRow {
+    std::string kind;
+    int64_t item_id = 0;
+    double temp_c = 0, value = 0, residual = 0, residual_sigma = 0, statistic = 0, threshold = 0;
+    std::string reason;
+};
+struct RepeatabilityRow {
+    double temp_c = 0;
+    int64_t first_plateau_id = 0, second_plateau_id = 0;
+    double first_temp_c = 0, second_temp_c = 0;
+    int32_t first_approach = 0, second_approach = 0;
+    double offset_diff_v = 0, offset_diff_stderr_v = 0, offset_diff_dps = 0,
+           offset_diff_stderr_dps = 0, z = 0;
+    std::string verdict;
+};
+struct FitReportRow {
+    std::string run_id, sensor_id, source;
+    int64_t coeff_set_id = -1, utime = 0;
+    bool is_final = false;
+    std::string status, reason, offset_detail, sensitivity_detail;
+    double slow_noise_v = 0, slow_noise_dps = 0;
+    std::string slow_noise_source;
+    std::vector<FitExclusionRow> excluded;
+    std::vector<RepeatabilityRow> repeats;
+    int64_t recv_utime = 0;
+};
+
 // Loss counts to ADD to losses(run_id, channel); never dropped by the queue.
 struct LossDelta {
     int64_t seq_gaps = 0, seq_backwards = 0, decode_errors = 0, queue_drops = 0;
@@ -169,6 +211,7 @@ struct LossDelta {
 
 using Row = std::variant<GyroRow, EncoderRow, ChamberStateRow, ChamberCmdRow, TurntableCmdRow,
                          PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow,
-                         StatusRow, RunEventRow, RawEventRow, PowerStateRow>;
+                         StatusRow, RunEventRow, RawEventRow, PowerStateRow, NoiseRow,
+                         FitReportRow>;
 
 }  // namespace gyrocal::store

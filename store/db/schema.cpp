@@ -315,7 +315,90 @@ CREATE TABLE validations (
 CREATE INDEX validations_run ON validations(run_id, sensor_id);
 )sql";
 
-constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5};
+// v5 -> v6: the fitter's reports on its coefficient sets (complete or partial and why, points
+// excluded, the slow noise used and its source, repeatability at revisited temperatures) and the
+// units' noise estimates (Allan deviation of the run's still stretches), with views.
+constexpr std::string_view kV6 = R"sql(
+CREATE TABLE noise_estimates (
+  noise_row_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  utime INTEGER NOT NULL,             -- [us] newest sample included
+  still_s REAL,                       -- [s] still, thermally quiet data used
+  n_segments INTEGER, longest_segment_s REAL, tau0_s REAL,
+  arw_v_rthz REAL, arw_stderr_v_rthz REAL,                -- [V/sqrt(Hz)] angle random walk N
+  bias_instability_v REAL, bias_instability_stderr_v REAL, -- [V] flat Allan level B
+  rrw_v_rts REAL, rrw_stderr_v_rts REAL,                  -- [V/sqrt(s)] rate random walk K
+  fit_note TEXT, recv_utime INTEGER NOT NULL);
+CREATE INDEX noise_estimates_key ON noise_estimates(run_id, sensor_id, utime);
+CREATE TABLE noise_adev (
+  noise_row_id INTEGER NOT NULL, tau_s REAL NOT NULL,     -- [s]
+  adev_v REAL, adev_lo_v REAL, adev_hi_v REAL,            -- [V] and its 68 % interval
+  edf REAL);
+CREATE INDEX noise_adev_row ON noise_adev(noise_row_id);
+
+CREATE TABLE fit_reports (
+  fit_report_row_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  coeff_set_id INTEGER NOT NULL,      -- [us] the coefficient set described; -1 when none
+  source TEXT NOT NULL, utime INTEGER NOT NULL,
+  is_final INTEGER NOT NULL,          -- 1: made by the run's stop
+  status TEXT NOT NULL,               -- 'complete', 'partial', 'none'
+  reason TEXT NOT NULL DEFAULT '',    -- why partial or none
+  offset_detail TEXT, sensitivity_detail TEXT,
+  slow_noise_v REAL, slow_noise_dps REAL,  -- [V], [deg/s] added to each plateau's error
+  slow_noise_source TEXT,
+  recv_utime INTEGER NOT NULL);
+CREATE INDEX fit_reports_key ON fit_reports(run_id, sensor_id, coeff_set_id, source);
+CREATE TABLE fit_exclusions (
+  fit_report_row_id INTEGER NOT NULL,
+  kind TEXT NOT NULL,                 -- 'plateau' or 'rotation'
+  item_id INTEGER NOT NULL,           -- plateau_id or rotation_id
+  temp_c REAL, value REAL,            -- [degC], [V or V/(deg/s)]
+  residual REAL, residual_sigma REAL, -- [unit of value] against the other points' prediction
+  statistic REAL, threshold REAL,     -- [1] studentised deleted residual and its limit
+  reason TEXT);
+CREATE INDEX fit_exclusions_row ON fit_exclusions(fit_report_row_id);
+CREATE TABLE repeatability (
+  fit_report_row_id INTEGER NOT NULL, run_id TEXT NOT NULL, sensor_id TEXT NOT NULL,
+  temp_c REAL,                        -- [degC] mean of the two visits
+  first_plateau_id INTEGER, second_plateau_id INTEGER, first_temp_c REAL, second_temp_c REAL,
+  first_approach INTEGER, second_approach INTEGER,  -- +1 from colder, -1 from hotter, 0 start
+  offset_diff_v REAL, offset_diff_stderr_v REAL,    -- [V] second - first, model step removed
+  offset_diff_dps REAL, offset_diff_stderr_dps REAL,-- [deg/s]
+  z REAL, verdict TEXT);
+CREATE INDEX repeatability_row ON repeatability(fit_report_row_id);
+
+-- The final report of each run, sensor and source (the one the run's stop made, else the
+-- newest), with its exclusions listed.
+CREATE VIEW v_fit_final AS
+SELECT f.*, (SELECT group_concat(e.kind || ' ' || e.item_id, ', ') FROM fit_exclusions e
+             WHERE e.fit_report_row_id = f.fit_report_row_id) AS excluded
+FROM fit_reports f
+WHERE f.fit_report_row_id = (SELECT g.fit_report_row_id FROM fit_reports g
+    WHERE g.run_id = f.run_id AND g.sensor_id = f.sensor_id AND g.source = f.source
+    ORDER BY g.is_final DESC, g.fit_report_row_id DESC LIMIT 1);
+
+-- Repeatability as the final reports have it.
+CREATE VIEW v_repeatability AS
+SELECT r.* FROM repeatability r JOIN v_fit_final f ON f.fit_report_row_id = r.fit_report_row_id;
+
+-- The newest noise estimate of each run and sensor, also in deg/s through the sensitivity at T0
+-- (term '1') of the run's newest fitter set of that sensor.
+CREATE VIEW v_noise AS
+SELECT n.*, s.coeff AS sensitivity_v_per_dps,
+  n.arw_v_rthz / s.coeff AS arw_dps_rthz, n.arw_stderr_v_rthz / s.coeff AS arw_stderr_dps_rthz,
+  n.bias_instability_v / s.coeff AS bias_instability_dps,
+  n.bias_instability_stderr_v / s.coeff AS bias_instability_stderr_dps,
+  n.rrw_v_rts / s.coeff AS rrw_dps_rts, n.rrw_stderr_v_rts / s.coeff AS rrw_stderr_dps_rts
+FROM noise_estimates n
+LEFT JOIN coeff_terms s ON s.role = 'sensitivity' AND s.term_name = '1'
+  AND s.coeff_row_id = (SELECT max(c.coeff_row_id) FROM coeff_sets c
+      WHERE c.run_id = n.run_id AND c.sensor_id = n.sensor_id AND c.source = 'fitter')
+WHERE n.noise_row_id = (SELECT max(m.noise_row_id) FROM noise_estimates m
+    WHERE m.run_id = n.run_id AND m.sensor_id = n.sensor_id);
+)sql";
+
+constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5, kV6};
 
 bool IsGyrocalDb(Db& db) {
     Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE name = 'gyrocal_meta'");

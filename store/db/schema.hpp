@@ -19,7 +19,7 @@
 
 namespace gyrocal::store {
 
-inline constexpr int kSchemaVersion = 5;
+inline constexpr int kSchemaVersion = 6;
 
 // Brings `db` to `target_version` (default: current). Throws StoreError naming the file when the
 // file is not a gyrocal database, is newer than this software, or a step fails.

@@ -330,6 +330,12 @@ void StoreWriter::WriteOne(const Row& row) {
         s.Bind(15, st->recv_utime).Run();
     } else if (const auto* ev = std::get_if<RunEventRow>(&row)) {
         WriteRunEvent(*ev);
+    } else if (const auto* n = std::get_if<NoiseRow>(&row)) {
+        EnsureSensor(n->sensor_id, n->recv_utime);
+        WriteNoise(*n);
+    } else if (const auto* f = std::get_if<FitReportRow>(&row)) {
+        EnsureSensor(f->sensor_id, f->recv_utime);
+        WriteFitReport(*f);
     } else if (const auto* raw = std::get_if<RawEventRow>(&row)) {
         Stmt& s = st_->raw;
         s.Bind(1, raw->run_id).Bind(2, raw->channel).Bind(3, raw->recv_utime);

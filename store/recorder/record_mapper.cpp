@@ -9,7 +9,9 @@
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "gyrocal/noise_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/rate_t.hpp"
@@ -241,11 +243,62 @@ RunEventRow ToRow(const run_event_t& m) {
     return r;
 }
 
+NoiseRow ToRow(const noise_t& m) {
+    NoiseRow r;
+    r.run_id = m.run_id;
+    r.sensor_id = m.sensor_id;
+    r.utime = m.utime;
+    r.still_s = m.still_s;
+    r.n_segments = m.n_segments;
+    r.longest_segment_s = m.longest_segment_s;
+    r.tau0_s = m.tau0_s;
+    r.arw_v_rthz = m.arw_v_rthz;
+    r.arw_stderr_v_rthz = m.arw_stderr_v_rthz;
+    r.bias_instability_v = m.bias_instability_v;
+    r.bias_instability_stderr_v = m.bias_instability_stderr_v;
+    r.rrw_v_rts = m.rrw_v_rts;
+    r.rrw_stderr_v_rts = m.rrw_stderr_v_rts;
+    r.fit_note = m.fit_note;
+    r.tau_s = m.tau_s;
+    r.adev_v = m.adev_v;
+    r.adev_lo_v = m.adev_lo_v;
+    r.adev_hi_v = m.adev_hi_v;
+    r.edf = m.edf;
+    return r;
+}
+
+FitReportRow ToRow(const fit_report_t& m) {
+    FitReportRow r;
+    r.run_id = m.run_id;
+    r.sensor_id = m.sensor_id;
+    r.source = m.source;
+    r.coeff_set_id = m.coeff_set_id;
+    r.utime = m.utime;
+    r.is_final = m.is_final;
+    r.status = m.status;
+    r.reason = m.reason;
+    r.offset_detail = m.offset_detail;
+    r.sensitivity_detail = m.sensitivity_detail;
+    r.slow_noise_v = m.slow_noise_v;
+    r.slow_noise_dps = m.slow_noise_dps;
+    r.slow_noise_source = m.slow_noise_source;
+    for (const fit_exclusion_t& e : m.excluded)
+        r.excluded.push_back({e.kind, e.item_id, e.temp_c, e.value, e.residual, e.residual_sigma,
+                              e.statistic, e.threshold, e.reason});
+    for (const repeatability_t& e : m.repeats)
+        r.repeats.push_back({e.temp_c, e.first_plateau_id, e.second_plateau_id, e.first_temp_c,
+                             e.second_temp_c, e.first_approach, e.second_approach, e.offset_diff_v,
+                             e.offset_diff_stderr_v, e.offset_diff_dps, e.offset_diff_stderr_dps,
+                             e.z, e.verdict});
+    return r;
+}
+
 // Rows whose run is the one in force (the message carries none, or only the sender's view).
 template <class R>
 void StampRun(R& r, const std::string& run_id) {
     if constexpr (std::is_same_v<R, PlateauRow> || std::is_same_v<R, SensitivityRow> ||
-                  std::is_same_v<R, CoeffSetRow> || std::is_same_v<R, RunEventRow>) {
+                  std::is_same_v<R, CoeffSetRow> || std::is_same_v<R, RunEventRow> ||
+                  std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow>) {
         (void)r;
         (void)run_id;
     } else {
@@ -325,7 +378,9 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         auto row = ToRow(msg);
         StampRun(row, run_id_);
         row.recv_utime = recv_utime;
-        if constexpr (std::is_same_v<Msg, coeff_set_t>) out.essential = true;
+        if constexpr (std::is_same_v<Msg, coeff_set_t> || std::is_same_v<Msg, fit_report_t> ||
+                      std::is_same_v<Msg, noise_t>)
+            out.essential = true;
         out.row = std::move(row);
         return true;
     };
@@ -335,7 +390,8 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         try_type(chamber_state_t{}) || try_type(plateau_t{}) || try_type(sensitivity_point_t{}) ||
         try_type(coeff_set_t{}) || try_type(rate_t{}) || try_type(status_t{}) ||
         try_type(run_event_t{}) || try_type(chamber_cmd_t{}) || try_type(turntable_cmd_t{}) ||
-        try_type(plateau_state_t{}) || try_type(power_state_t{});
+        try_type(plateau_state_t{}) || try_type(power_state_t{}) || try_type(noise_t{}) ||
+        try_type(fit_report_t{});
     if (!known) raw("unknown_type");
     return out;
 }

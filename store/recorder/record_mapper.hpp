@@ -9,8 +9,8 @@
 //
 // Run in force: the latest run event decides. "start" (and any other event except stop/abort)
 // makes its run_id current; "stop"/"abort" is stored with its run, then the current run becomes
-// "" (the no-run bucket). Plateaus, sensitivity points and coefficient sets keep the run_id they
-// carry; everything else gets the run in force.
+// "" (the no-run bucket). Plateaus, sensitivity points, coefficient sets, fit reports and noise
+// estimates keep the run_id they carry; everything else gets the run in force.
 //
 // Loss: sample types with a seq (gyro, encoder, chamber state, rate) feed a SeqTracker per
 // channel; gaps and backward steps are returned as loss deltas of the run in force.
@@ -30,7 +30,7 @@ struct MapperOptions {
 
 struct Mapped {
     std::optional<store::Row> row;  // nothing for skipped messages (rates when off)
-    bool essential = false;         // run events and coefficient sets: never dropped
+    bool essential = false;         // run events, coefficient sets, fit reports, noise: never dropped
     std::string run_id;             // run the loss below belongs to
     store::LossDelta loss;          // seq gaps / decode errors this message revealed
 };

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/noise_t.hpp"
 #include "messages.hpp"
 #include "model/convert.hpp"
 #include "model/json.hpp"
@@ -40,7 +42,61 @@ void PutMsg(const std::string& name, const Msg& m) {
         EncodeMsg(m));
 }
 
+// The fitter's messages: an Allan estimate and a final report with one exclusion and one
+// repeatability line (their elements travel only inside the report).
+noise_t Noise(const std::string& id) {
+    noise_t n{};
+    n.utime = kT0Utime;
+    n.sensor_id = id;
+    n.run_id = "R1";
+    n.still_s = 600;
+    n.n_segments = 2;
+    n.longest_segment_s = 300;
+    n.tau0_s = 0.1;
+    n.arw_v_rthz = 2.4e-4;
+    n.bias_instability_v = 5e-5;
+    n.fit_note = "rate random walk not fitted";
+    n.tau_s = {0.1, 1.0, 10.0};
+    n.adev_v = {7.6e-4, 2.4e-4, 9e-5};
+    n.adev_lo_v = {7.5e-4, 2.3e-4, 8e-5};
+    n.adev_hi_v = {7.7e-4, 2.5e-4, 1e-4};
+    n.edf = {5000, 500, 40};
+    n.num_taus = 3;
+    return n;
+}
+
+fit_report_t FitReport(const std::string& id) {
+    fit_report_t r{};
+    r.utime = kT0Utime;
+    r.sensor_id = id;
+    r.run_id = "R1";
+    r.coeff_set_id = 99;
+    r.source = "fitter";
+    r.is_final = true;
+    r.status = "complete";
+    r.slow_noise_v = 7e-5;
+    r.slow_noise_dps = 0.012;
+    r.slow_noise_source = "Allan deviation of this run (NOISE_" + id + ")";
+    fit_exclusion_t x{};
+    x.kind = "plateau";
+    x.item_id = 20;
+    x.reason = "leave-one-out";
+    r.excluded = {x};
+    r.num_excluded = 1;
+    repeatability_t rep{};
+    rep.first_plateau_id = 10;
+    rep.second_plateau_id = 30;
+    rep.first_approach = 0;
+    rep.second_approach = -1;
+    rep.verdict = "repeatable within 3 sigma";
+    r.repeats = {rep};
+    r.num_repeats = 1;
+    return r;
+}
+
 void MessageSeeds() {
+    PutMsg("typical", Noise("S01"));
+    PutMsg("typical", FitReport("S01"));
     PutMsg("typical", Gyro("S01", 7));
     PutMsg("typical", Encoder(3));
     PutMsg("typical", Chamber(2));
@@ -73,6 +129,8 @@ void MapperSeed() {
     add(4, EncodeMsg(Coeffs("S01", "R1", 99, {10}, {30})));
     add(5, EncodeMsg(Status("gyrocal-plateau")));
     add(9, EncodeMsg(Power("S01")));
+    add(10, EncodeMsg(Noise("S01")));
+    add(11, EncodeMsg(FitReport("S01")));
     add(8, {1, 2, 3, 4, 5, 6, 7, 8, 9});
     add(3, EncodeMsg(RunEvent("R1", "stop", {})));
     Put("recorder_map", "run", out);

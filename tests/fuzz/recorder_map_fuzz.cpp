@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         channels::Gyro("S01"), std::string(channels::kEncoder),
         std::string(channels::kChamberState), std::string(channels::kRunEvent),
         channels::Coeffs("S01"), std::string(channels::kStatus), channels::Plateau("S01"),
-        channels::Rate("S01"), "SOMETHING_ELSE", channels::Power("S01")};
+        channels::Rate("S01"), "SOMETHING_ELSE", channels::Power("S01"), channels::Noise("S01"),
+        channels::Fit("S01")};
     record::RecordMapper mapper(record::MapperOptions::Defaults(), "R0");
     size_t at = 0;
     int64_t recv_utime = 1;

@@ -23,8 +23,10 @@
 #include "bus/shutdown.hpp"
 #include "bus/status.hpp"
 #include "coeff_table.hpp"
+#include "final_verdict.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
@@ -67,7 +69,7 @@ double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
 
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o) {
     if (o.plateau_slow_noise_dps >= 0.0) return o.plateau_slow_noise_dps;
-    return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : 0.0;
+    return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : -1.0;
 }
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -135,6 +137,10 @@ void Calibration::Subscribe() {
                                         [this](const sensitivity_point_t& s, const std::string&) {
                                             if (progress_) progress_->OnSensitivity(s);
                                         });
+    bus_.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
+                                 [this](const fit_report_t& r, const std::string&) {
+                                     if (r.is_final) final_reports_[r.sensor_id] = r;
+                                 });
     bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
                                 [this](const coeff_set_t& c, const std::string&) {
                                     coeffs_[c.sensor_id] = c;
@@ -174,7 +180,9 @@ bool Calibration::StartConsumers() {
         start("gyrocal-recorder", {"--db", o_.db}, o_.recorder_args);
         start("gyrocal-plateau", {}, o_.plateau_args);
         start("gyrocal-rotation", {}, o_.rotation_args);
-        std::vector<std::string> fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
+        std::vector<std::string> fitter;
+        if (EffectivePlateauSlowNoiseDps(o_) >= 0)
+            fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
         if (o_.source == "sim")
             fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
                                          std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
@@ -341,9 +349,14 @@ std::set<std::string> Calibration::Sensors() const {
 bool Calibration::HaveFinalCoeffs() const {
     const auto sensors = Sensors();
     if (sensors.empty()) return false;
+    // The fitter's final report follows each final set (and says "none" when there is no set).
     for (const auto& s : sensors)
-        if (!final_coeffs_.count(s)) return false;
+        if (!final_reports_.count(s)) return false;
     return true;
+}
+
+FinalVerdict Calibration::Verdict() const {
+    return FinalVerdict{Sensors(), coeffs_, final_coeffs_, final_reports_};
 }
 
 bool Calibration::WaitsForCoeffs() const {
@@ -354,7 +367,9 @@ bool Calibration::WaitsForCoeffs() const {
 int Calibration::Run() {
     std::cout << "gyrocal calibrate: role " << RoleName(role_) << ", logs in " << o_.log_dir << ", database "
               << o_.db << ", LCM " << url_ << "\n";
-    int setpoints = o_.setpoints_c.empty() ? (o_.profile == "seed3" ? 3 : 5) : static_cast<int>(o_.setpoints_c.size());
+    const auto named = sequencer::NamedProfile(o_.profile);
+    const int setpoints = static_cast<int>(
+        o_.setpoints_c.empty() ? (named ? named->setpoints_c.size() : 0) : o_.setpoints_c.size());
     const bool sequenced = o_.source == "sim" && o_.procedure == "sequencer";
     progress_ = std::make_unique<Progress>(sequenced ? setpoints : 0, sequenced ? 2 : 0);
     if (!StartConsumers()) return Finish(1);
@@ -421,6 +436,7 @@ int Calibration::Watch() {
     if (sequencer_ && !(sequencer_->proc->Poll()->exited && sequencer_->proc->Poll()->code == 0)) code = 3;
     if (run_outcome_.rfind("stop", 0) != 0) code = 3;
     if (WaitsForCoeffs() && !HaveFinalCoeffs()) code = 3;
+    if (WaitsForCoeffs() && !Verdict().AllComplete()) code = 3;
     return Finish(code);
 }
 
@@ -430,7 +446,7 @@ int Calibration::Finish(int code) {
               << (run_outcome_.empty() ? "not finished" : run_outcome_) << "\n";
     if (progress_) std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops): " << progress_->drops() << "\n";
     if (!coeffs_.empty()) {
-        std::cout << "\n" << FormatCoeffTable(coeffs_);
+        std::cout << "\n" << FormatCoeffTable(coeffs_, Verdict().Labels());
         std::ifstream truth(o_.truth_out);
         if (truth && o_.source == "sim") {
             try {
@@ -441,6 +457,7 @@ int Calibration::Finish(int code) {
         }
     }
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
+    if (stop_seen_ && WaitsForCoeffs()) std::cerr << Verdict().Explain();
     // The acceptance step reads the database: on the host that holds it.
     if (Hook() && !run_id_.empty() && Runs("gyrocal-recorder")) code = Hook()(o_, run_id_, code);
     return code;

@@ -47,7 +47,8 @@ struct CalibrateOptions {
     uint64_t seed = 1;
     uint64_t noise_seed = 0;      // 0 = seed (see gyrocal-sim-rig --noise-seed)
     // [deg/s] gyrocal-fitter --plateau-slow-noise-dps; < 0 = auto: for the simulated rig its gyro
-    // type's characterisation (PlateauSlowNoiseOfSimulatedGyroDps), for measured data 0 (unknown).
+    // type's characterisation (PlateauSlowNoiseOfSimulatedGyroDps), for measured data the run's
+    // own Allan deviation (the fitter's default, NOISE_<id>).
     double plateau_slow_noise_dps = -1.0;
     // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
     // messages per simulated second, and the whole graph on the 2-core development machine lost
@@ -55,7 +56,7 @@ struct CalibrateOptions {
     // 30000/s (speed 60: ~4200 of 290000 samples per channel lost at load ~9), so auto keeps
     // the rig at 15000 messages/s.
     double speed = 0.0;
-    std::string profile = "five";
+    std::string profile = "six";  // sequencer::kDefaultProfile
     std::vector<double> setpoints_c;
     std::vector<std::string> effects;  // undeclared effects switched on in the rig (NAME=VALUE)
     std::string log_dir;          // child logs; "" = a fresh folder under $TMPDIR
@@ -72,7 +73,8 @@ struct CalibrateOptions {
     static CalibrateOptions Defaults() { return {}; }
 };
 
-// The value gyrocal-fitter gets for --plateau-slow-noise-dps (the auto rule resolved).
+// The value gyrocal-fitter gets for --plateau-slow-noise-dps (the auto rule resolved); < 0: none
+// is passed and the fitter takes each unit's from the run's Allan deviation.
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);
 
 // The LCM URL the run uses: --lcm-url (or $GYROCAL_LCM_URL, or the default) moved to --chamber's

@@ -12,7 +12,9 @@
 
 #include "bus/bus.hpp"
 #include "calibrate.hpp"
+#include "final_verdict.hpp"
 #include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lab.hpp"
 #include "launch/child_process.hpp"
@@ -57,6 +59,7 @@ private:
     void ShowProgress(bool force);
     std::set<std::string> Sensors() const;
     bool HaveFinalCoeffs() const;
+    FinalVerdict Verdict() const;  // per unit: complete, partial or none, from the final reports
     int Finish(int code);
 
     // supervision.cpp: the children.
@@ -91,6 +94,7 @@ private:
     std::set<std::string> stability_sensors_;
     std::map<std::string, coeff_set_t> coeffs_;  // newest per sensor
     std::set<std::string> final_coeffs_;         // sensors with a set after the stop
+    std::map<std::string, fit_report_t> final_reports_;  // the fitter's verdict at the stop
     std::vector<PendingRecovery> recoveries_;
     bool stop_seen_ = false;
     bool run_ended_ = false;

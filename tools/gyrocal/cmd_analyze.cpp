@@ -19,6 +19,7 @@
 #include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
+#include "noise/allan_plot.hpp"
 #include "query.hpp"
 #include "run_loader.hpp"
 
@@ -30,6 +31,17 @@ namespace st = gyrocal::store;
 namespace {
 
 namespace fs = std::filesystem;
+
+// The unit's Allan deviation from the run's newest NOISE_<id> record, when one was recorded.
+void AddAllanPlot(const st::RunDetail& d, const std::string& id, std::vector<plot::Figure>& plots) {
+    for (const st::NoiseInfo& ni : d.noise) {
+        if (ni.noise.sensor_id != id || ni.noise.tau_s.empty()) continue;
+        const st::NoiseRow& n = ni.noise;
+        plots.push_back(noise::MakeAllanPlot({id, n.tau_s, n.adev_v, n.adev_lo_v, n.adev_hi_v,
+                                              n.arw_v_rthz, n.bias_instability_v, n.rrw_v_rts,
+                                              ni.sensitivity_v_per_dps}));
+    }
+}
 
 }  // namespace
 
@@ -104,6 +116,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
             results.push_back(an::Analyze(run, ao));
             if (!o.plot_dir.empty())
                 for (plot::Figure& f : an::MakePlots(run, results.back(), ao)) plots.push_back(std::move(f));
+            if (!o.plot_dir.empty()) AddAllanPlot(detail, id, plots);
             end_utimes.push_back(run.samples.empty() ? 0 : run.samples.back().utime);
         }
         if (results.empty()) {

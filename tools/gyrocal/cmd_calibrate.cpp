@@ -9,6 +9,7 @@
 #include "acceptance/limits.hpp"
 #include "calibrate.hpp"
 #include "plot/gnuplot.hpp"
+#include "procedure.hpp"
 #include "sim/config.hpp"
 
 namespace gyrocal::cli {
@@ -104,14 +105,14 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--plateau-slow-noise-dps", o->plateau_slow_noise_dps,
                     "[deg/s] slow noise in a plateau mean that its standard error cannot show (gyro "
                     "characterisation), for the fitter's uncertainties; default: the simulated gyro's "
-                    "for --source sim, 0 for measured data")
+                    "for --source sim, each unit's own Allan deviation from the run for measured data")
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_option("--speed", o->speed,
                     "simulated seconds per wall second; 0 = auto: the fastest the whole graph ran without "
                     "loss on a 2-core machine (15000 rig messages/s: speed 30 for 4 units, 75 for 1)")
         ->check(CLI::Range(0.0, 2000.0))->capture_default_str();
-    cmd->add_option("--profile", o->profile, "five (-40,-10,25,55,85 C) or seed3 (-10,30,60 C)")
-        ->check(CLI::IsMember({"five", "seed3"}))->capture_default_str();
+    cmd->add_option("--profile", o->profile, sequencer::ProfilesHelp())
+        ->check(CLI::IsMember(sequencer::ProfileNames()))->capture_default_str();
     cmd->add_option("--setpoints-c", o->setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
     cmd->add_option("--effect", o->effects, "switch on an undeclared effect in the rig, NAME=VALUE (repeatable)")
         ->check([](const std::string& v) {

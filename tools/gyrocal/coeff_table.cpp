@@ -52,12 +52,16 @@ double TruthAt(const nlohmann::json& curve, double die_c) {
 
 }  // namespace
 
-std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs) {
+std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs,
+                             const std::map<std::string, std::string>& labels) {
     std::ostringstream os;
     os << "coefficient sets (1-sigma from the fit's covariance)\n";
     for (const auto& [id, c] : coeffs) {
+        auto label = labels.find(id);
         os << id << ": set " << c.coeff_set_id << " from " << c.source << ", run " << c.run_id << ", "
-           << c.num_plateaus << " plateaus, " << c.num_rotations << " rotations\n";
+           << c.num_plateaus << " plateaus, " << c.num_rotations << " rotations"
+           << (label != labels.end() && !label->second.empty() ? "  ** " + label->second + " **" : "")
+           << "\n";
         ModelBlock(os, "offset     ", c.offset);
         ModelBlock(os, "sensitivity", c.sensitivity);
     }

@@ -10,8 +10,10 @@
 namespace gyrocal::cli {
 
 // One block per sensor: method, T0, valid range, residual RMS, point count, every term with its
-// coefficient and 1-sigma, for offset and sensitivity.
-std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs);
+// coefficient and 1-sigma, for offset and sensitivity. `labels` (per sensor, "" = none): what
+// makes a set not a complete final calibration, printed on its header line.
+std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs,
+                             const std::map<std::string, std::string>& labels = {});
 
 // Fitted versus true, per sensor, at die temperatures across the calibrated range. The truth
 // curves are functions of the die temperature; the fit is on the sensor's reported temperature,

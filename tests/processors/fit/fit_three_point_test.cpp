@@ -106,7 +106,8 @@ TEST(FitPolynomial, DegenerateSetsAreRefusedWithTheRightReason) {
         {{P(20, 1), P(20.3, 1.0), P(40, 1.1), P(40.2, 1.1)},
          Refusal::kTooFewTemperatures},  // 2 levels
         {{}, Refusal::kTooFewTemperatures},
-        {{P(25, 1), P(28, 1.1), P(60, 1.2)}, Refusal::kTemperaturesTooClose},  // 3 degC < 5
+        // 3 levels, but 25 and 28 are 3 degC < 5 apart: 2 temperatures carry a degree
+        {{P(25, 1), P(28, 1.1), P(60, 1.2)}, Refusal::kTooFewTemperatures},
         {{P(20, 1), P(27, 1.1), P(35, 1.2)}, Refusal::kRangeTooNarrow},        // 15 degC < 20
         {{P(15, 1), P(20, 1.1), P(25, 1.2)}, Refusal::kRangeTooNarrow},        // the seed's example
         {{P(-10, 1), P(NAN, 1.1), P(60, 1.2)}, Refusal::kNonFiniteInput},
@@ -127,8 +128,8 @@ TEST(FitPolynomial, RefusalThresholdsAreTheOptions) {
     FitOptions o;
     o.min_range_c = 15.0;
     EXPECT_TRUE(FitPolynomial(pts, "offset_v", o).ok());
-    o.min_temp_separation_c = 7.5;  // 20 -> 27 is 7 degC
-    EXPECT_EQ(FitPolynomial(pts, "offset_v", o).refusal, Refusal::kTemperaturesTooClose);
+    o.min_temp_separation_c = 7.5;  // 20 -> 27 is 7 degC: 27 adds no capacity
+    EXPECT_EQ(FitPolynomial(pts, "offset_v", o).refusal, Refusal::kTooFewTemperatures);
 }
 
 TEST(FitPolynomial, ForcedMethodThatCannotApplyIsRefused) {

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "model/convert.hpp"
+#include "noise/allan.hpp"
 
 namespace gyrocal::fitter {
 namespace {
@@ -86,10 +87,57 @@ TEST(FitterCore, EmitsWhenAFitBecomesPossibleAndAgainOnStop) {
     out = core.OnSensitivity(Rotation(60, 400, 1, false), "S01");
     EXPECT_TRUE(out.publish.empty());
     EXPECT_EQ(core.not_accepted_rotations(), 1);
-    // Stop: the same set once more.
-    out = core.OnRunEvent(Event("stop", "A"));
+    // Stop: the same models once more, as the FINAL set: its id is the stop event's (the input
+    // that made it final), and its report says it is partial (nominal sensitivity) and why.
+    run_event_t stop = Event("stop", "A");
+    stop.utime = 500 + 90'000'000;
+    out = core.OnRunEvent(stop);
     ASSERT_EQ(out.publish.size(), 1u);
-    EXPECT_EQ(out.publish[0].coeff_set_id, set.coeff_set_id);
+    EXPECT_EQ(out.publish[0].coeff_set_id, stop.utime);
+    EXPECT_EQ(model::FromMsg(out.publish[0]).offset.coeffs, set.offset.coeffs);
+    ASSERT_EQ(out.reports.size(), 1u);
+    const fit_report_t& r = out.reports[0];
+    EXPECT_TRUE(r.is_final);
+    EXPECT_EQ(r.coeff_set_id, stop.utime);
+    EXPECT_EQ(r.status, "partial");
+    EXPECT_NE(r.reason.find("no accepted rotation"), std::string::npos) << r.reason;
+    EXPECT_NE(r.offset_detail.find("cannot check"), std::string::npos) << r.offset_detail;
+    EXPECT_NE(r.slow_noise_source.find("none"), std::string::npos) << r.slow_noise_source;
+    EXPECT_TRUE(HasRejection(out, "fit_partial"));
+}
+
+// On several hosts the run's stop can overtake the last rotation's result: a point of the run
+// after its stop remakes the final set with it, 1 us after the previous final one, so that the
+// newest set of the unit is final and uses every point.
+TEST(FitterCore, APointAfterTheStopRemakesTheFinalSetWithIt) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    for (int k = 0; k < 3; ++k) {
+        core.OnPlateau(Plateau(-10 + 35 * k, 100 * (k + 1)), "S01");
+        core.OnSensitivity(Rotation(-10 + 35 * k, 100 * (k + 1) + 10, 1), "S01");
+    }
+    core.OnSensitivity(Rotation(-10, 120, -1), "S01");
+    core.OnSensitivity(Rotation(25, 220, -1), "S01");
+    run_event_t stop = Event("stop", "A");
+    stop.utime = 900'000'000;
+    CoreOutput out = core.OnRunEvent(stop);
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].coeff_set_id, stop.utime);
+    EXPECT_EQ(out.publish[0].num_rotations, 5);
+    // WHEN the last rotation's result arrives after the stop
+    out = core.OnSensitivity(Rotation(60, 320, -1), "S01");
+    // THEN a final set with it, its id the next microsecond, and a final report of that set
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].coeff_set_id, stop.utime + 1);
+    EXPECT_EQ(out.publish[0].num_rotations, 6);
+    ASSERT_EQ(out.reports.size(), 1u);
+    EXPECT_TRUE(out.reports[0].is_final);
+    EXPECT_EQ(out.reports[0].coeff_set_id, stop.utime + 1);
+    // AND a new run's points are fitted as mid-run points again
+    core.OnRunEvent(Event("start", "B"));
+    plateau_t p = Plateau(-10, 1000, "B");
+    out = core.OnPlateau(p, "S01");
+    EXPECT_TRUE(out.reports.empty());
 }
 
 TEST(FitterCore, RotationsBecomeTheSensitivityModel) {
@@ -102,7 +150,11 @@ TEST(FitterCore, RotationsBecomeTheSensitivityModel) {
     CoreOutput out = core.OnSensitivity(Rotation(-10, 120, -1), "S01");
     ASSERT_EQ(out.publish.size(), 1u);
     EXPECT_EQ(model::FromMsg(out.publish[0]).sensitivity.method, "mean");
-    EXPECT_NE(core.Summaries()["S01"].text.find("MEAN"), std::string::npos);
+    EXPECT_NE(core.Summaries()["S01"].text.find("sensitivity mean"), std::string::npos);
+    EXPECT_NE(core.Summaries()["S01"].text.find("PARTIAL"), std::string::npos);
+    ASSERT_EQ(out.reports.size(), 1u);
+    EXPECT_EQ(out.reports[0].status, "partial");
+    EXPECT_FALSE(out.reports[0].is_final);
     core.OnSensitivity(Rotation(30, 210, +1), "S01");
     core.OnSensitivity(Rotation(30, 220, -1), "S01");
     core.OnSensitivity(Rotation(60, 310, +1), "S01");
@@ -152,31 +204,56 @@ TEST(FitterCore, BadInputIsRefusedWithItsReason) {
     EXPECT_TRUE(core.Summaries().empty());  // nothing was kept
 }
 
-TEST(FitterCore, IllPosedSetsAreRefusedOnceAndAtStop) {
+// Temperatures closer than the separation are data, not a refusal: they add no degree, so the
+// set stays incomplete mid-run (nothing published), and the run's stop publishes what they allow
+// (a line through two separated temperatures), marked partial with the reason.
+TEST(FitterCore, CloseTemperaturesAreDataAndTheStopPublishesWhatTheyAllow) {
     FitterCore core(CoreOptions::Defaults());
     core.OnRunEvent(Event("start", "A"));
     core.OnPlateau(Plateau(20, 100), "S01");
     core.OnPlateau(Plateau(23, 200), "S01");
     CoreOutput out = core.OnPlateau(Plateau(60, 300), "S01");
     EXPECT_TRUE(out.publish.empty());
-    ASSERT_TRUE(HasRejection(out, "fit_refused"));
-    EXPECT_NE(out.rejections[0].detail.find("temperatures_too_close"), std::string::npos);
-    // a replay of the same plateau: same reason, not counted again
+    EXPECT_TRUE(out.rejections.empty());  // too few separated temperatures: normal mid-run
+    EXPECT_NE(core.Summaries()["S01"].text.find("too_few_temperatures"), std::string::npos);
+    // a replay of the same plateau is counted as such
     out = core.OnPlateau(Plateau(60, 300), "S01");
-    EXPECT_TRUE(out.rejections.empty());
     EXPECT_EQ(core.duplicates(), 1);
-    // at stop the refusal is reported again (the run ends without a calibration)
     out = core.OnRunEvent(Event("stop", "A"));
-    EXPECT_TRUE(out.publish.empty());
-    EXPECT_TRUE(HasRejection(out, "fit_refused"));
+    ASSERT_EQ(out.publish.size(), 1u);
+    const model::CoeffSet set = model::FromMsg(out.publish[0]);
+    EXPECT_EQ(set.offset.term_names, (std::vector<std::string>{"1", "dT"}));
+    EXPECT_EQ(set.plateau_ids, (std::vector<int64_t>{100, 200, 300}));
+    EXPECT_EQ(set.offset.temp_min_c, 20);
+    EXPECT_EQ(set.offset.temp_max_c, 60);
+    ASSERT_EQ(out.reports.size(), 1u);
+    EXPECT_EQ(out.reports[0].status, "partial");
+    EXPECT_NE(out.reports[0].reason.find("too_few_temperatures"), std::string::npos)
+        << out.reports[0].reason;
+    EXPECT_TRUE(HasRejection(out, "fit_partial"));
 }
 
-TEST(FitterCore, TooFewTemperaturesAtStopIsARefusal) {
+TEST(FitterCore, OnePlateauAtStopGivesAConstantOffsetAndNoPlateauGivesAReportOfNone) {
     FitterCore core(CoreOptions::Defaults());
-    core.OnRunEvent(Event("start", "A"));
+    core.OnRunEvent(Event("start", "A", {"S01", "S02"}));
     core.OnPlateau(Plateau(20, 100), "S01");
-    const CoreOutput out = core.OnRunEvent(Event("stop", "A"));
-    EXPECT_TRUE(out.publish.empty());
+    sensitivity_point_t r = Rotation(20, 110, 1);
+    r.sensor_id = "S02";
+    core.OnSensitivity(r, "S02");
+    const CoreOutput out = core.OnRunEvent(Event("stop", "A", {"S01", "S02"}));
+    ASSERT_EQ(out.publish.size(), 1u);
+    EXPECT_EQ(out.publish[0].sensor_id, "S01");
+    EXPECT_EQ(out.publish[0].offset.method, "mean");
+    ASSERT_EQ(out.reports.size(), 2u);
+    for (const fit_report_t& rep : out.reports) {
+        if (rep.sensor_id == "S01") {
+            EXPECT_EQ(rep.status, "partial");
+        } else {
+            EXPECT_EQ(rep.status, "none");
+            EXPECT_EQ(rep.coeff_set_id, -1);
+            EXPECT_NE(rep.reason.find("no plateau"), std::string::npos) << rep.reason;
+        }
+    }
     EXPECT_TRUE(HasRejection(out, "fit_refused"));
 }
 
@@ -235,10 +312,21 @@ TEST(FitterCore, OptionsAreValidated) {
     o.fit.max_degree = 4;
     EXPECT_NE(o.Problem().find("--max-degree"), std::string::npos);
     o = CoreOptions{};
-    o.plateau_slow_noise_dps = -0.01;
+    o.plateau_slow_noise_dps = -1;  // from the run's Allan deviation: valid
+    EXPECT_EQ(o.Problem(), "");
+    o.plateau_slow_noise_dps = 11;
     EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
     o.plateau_slow_noise_dps = NAN;
     EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
+    o = CoreOptions{};
+    o.outliers.family_alpha = 0.7;
+    EXPECT_NE(o.Problem().find("--outlier-alpha"), std::string::npos);
+    o = CoreOptions{};
+    o.pool_alpha = 0;
+    EXPECT_NE(o.Problem().find("--pool-alpha"), std::string::npos);
+    o = CoreOptions{};
+    o.repeat_tolerance_c = -1;
+    EXPECT_NE(o.Problem().find("--repeat-tolerance-c"), std::string::npos);
 }
 
 // A unit's five plateaus leave its cubic reference one dof; the fitter pools the other units'
@@ -287,6 +375,142 @@ TEST(FitterCore, OverdispersionIsPooledAcrossTheRunsUnits) {
         model::FromMsg(out.publish[0].sensor_id == "S01" ? out.publish[0] : out.publish[1]);
     EXPECT_TRUE(s01.offset.covariance.isApprox(a_pooled.model.covariance, 1e-12));
     EXPECT_DOUBLE_EQ(a_pooled.covariance_scale, pooled);
+}
+
+}  // namespace
+}  // namespace gyrocal::fitter
+
+namespace gyrocal::fitter {
+namespace {
+
+noise_t Noise(double bias_v, double bias_se_v, int64_t utime, const std::string& sensor = "S01") {
+    noise_t n{};
+    n.utime = utime;
+    n.sensor_id = sensor;
+    n.run_id = "A";
+    n.still_s = 1800;
+    n.n_segments = 6;
+    n.bias_instability_v = bias_v;
+    n.bias_instability_stderr_v = bias_se_v;
+    n.rrw_v_rts = 0.0;
+    n.arw_v_rthz = 3e-4;
+    return n;
+}
+
+plateau_t Windowed(double temp_c, int64_t start_utime, const std::string& sensor = "S01") {
+    plateau_t p = Plateau(temp_c, start_utime, "A", sensor);
+    p.start_utime = start_utime;
+    p.end_utime = start_utime + 60'000'000;
+    p.utime = p.end_utime;
+    return p;
+}
+
+// Without a hand-given value the slow noise is the unit's own Allan estimate: the newest NOISE
+// not later than its newest plateau, B and K through noise::SlowNoiseVariance for the plateaus'
+// window and span, widened by nu/(nu - 2) for the estimate's scatter; a later NOISE waits for
+// the next plateau.
+TEST(FitterCore, SlowNoiseComesFromTheUnitsAllanEstimate) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    const int64_t t0 = 1'000'000'000;
+    core.OnNoise(Noise(5e-5, 1e-5, t0 - 1), "S01");
+    core.OnPlateau(Windowed(-10, t0), "S01");
+    core.OnPlateau(Windowed(30, t0 + 3600'000'000), "S01");
+    core.OnNoise(Noise(9e-5, 1e-5, t0 + 7200'000'000 + 60'000'000 - 1), "S01");  // before the 3rd
+    core.OnNoise(Noise(5e-4, 1e-5, t0 + 7200'000'000 + 60'000'000 + 10), "S01");  // after it
+    const CoreOutput out = core.OnPlateau(Windowed(60, t0 + 7200'000'000), "S01");
+    ASSERT_EQ(out.reports.size(), 1u);
+    const fit_report_t& r = out.reports[0];
+    const double span_s = 7200 + 60, nu = 9e-5 * 9e-5 / (2 * 1e-5 * 1e-5);
+    const double want = std::sqrt(noise::SlowNoiseVariance(9e-5, 0.0, 60, span_s) * nu / (nu - 2));
+    EXPECT_NEAR(r.slow_noise_v, want, 1e-12);
+    EXPECT_NE(r.slow_noise_source.find("Allan deviation of this run (NOISE_S01"), std::string::npos)
+        << r.slow_noise_source;
+    EXPECT_NEAR(r.slow_noise_dps, want / 0.006, 1e-9);  // nominal sensitivity: no rotations
+    // the plateaus' errors in the set: the 3-point covariance at a plateau is its error squared
+    const model::CoeffSet set = model::FromMsg(out.publish.at(0));
+    model::ModelInputs in;
+    in.temp_c = 30;
+    EXPECT_NEAR(std::sqrt(model::Evaluate(set.offset, in, model::RangePolicy::kClip).variance),
+                std::hypot(2e-5, want), 1e-12);
+    // a hand-given value wins, and says so
+    CoreOptions given = CoreOptions::Defaults();
+    given.plateau_slow_noise_dps = 0.01;
+    FitterCore g(given);
+    g.OnRunEvent(Event("start", "A"));
+    g.OnNoise(Noise(9e-5, 1e-5, t0 - 1), "S01");
+    for (double t : {-10.0, 30.0}) g.OnPlateau(Windowed(t, t0 + static_cast<int64_t>(t * 1e8)), "S01");
+    const CoreOutput go = g.OnPlateau(Windowed(60, t0 + 7200'000'000), "S01");
+    ASSERT_EQ(go.reports.size(), 1u);
+    EXPECT_NEAR(go.reports[0].slow_noise_v, 0.01 * 0.006, 1e-15);
+    EXPECT_NE(go.reports[0].slow_noise_source.find("given"), std::string::npos);
+}
+
+// One unit's plateau 30 sigma off is left out (named in its report); a unit whose scatter is far
+// beyond the others' everywhere is fitted on its own evidence and left out of the others' pool;
+// the clean units' covariance is what they would have without the bad unit (no contamination).
+TEST(FitterCore, ABadUnitDoesNotContaminateTheOthers) {
+    const std::vector<double> temps = {25, -40, -10, 45, 65, 85};
+    std::mt19937_64 rng(21);
+    std::normal_distribution<double> n01;
+    std::map<std::string, std::vector<double>> z;  // the same noise for a unit in both runs
+    for (const std::string id : {"S01", "S02", "S03", "S04"})
+        for (size_t i = 0; i < temps.size(); ++i) z[id].push_back(n01(rng));
+    auto run = [&](bool with_bad) {
+        FitterCore core(CoreOptions::Defaults());
+        std::vector<std::string> ids = {"S01", "S02", "S03"};
+        if (with_bad) ids.push_back("S04");
+        core.OnRunEvent(Event("start", "A", ids));
+        for (size_t i = 0; i < temps.size(); ++i)
+            for (const std::string& id : ids) {
+                plateau_t p = Plateau(temps[i], static_cast<int64_t>(1000 * i + (id.back() - '0')), "A", id);
+                // S04: +-40 stated errors at every plateau, a scatter no curve absorbs
+                p.gyro_mean_v += id == "S04" ? 40 * 2e-5 * (i % 2 ? -1.0 : 1.0) : 2e-5 * z[id][i];
+                if (id == "S02" && i == 3) p.gyro_mean_v += 30 * 2e-5;         // S02: one outlier
+                core.OnPlateau(p, id);
+            }
+        return core.OnRunEvent(Event("stop", "A", ids));
+    };
+    const CoreOutput clean = run(false), dirty = run(true);
+    std::map<std::string, const fit_report_t*> rep;
+    for (const auto& r : dirty.reports) rep[r.sensor_id] = &r;
+    ASSERT_EQ(rep.size(), 4u);
+    ASSERT_EQ(rep["S02"]->num_excluded, 1) << rep["S02"]->offset_detail;
+    EXPECT_EQ(rep["S02"]->excluded[0].kind, "plateau");
+    EXPECT_EQ(rep["S02"]->excluded[0].item_id, 3002);
+    EXPECT_NE(rep["S04"]->offset_detail.find("disagrees"), std::string::npos) << rep["S04"]->offset_detail;
+    EXPECT_NE(rep["S01"]->offset_detail.find("unit S04 left out of the pool"), std::string::npos)
+        << rep["S01"]->offset_detail;
+    for (const std::string id : {"S01", "S03"}) {
+        const coeff_set_t* a = nullptr;
+        const coeff_set_t* b = nullptr;
+        for (const auto& c : clean.publish) if (c.sensor_id == id) a = &c;
+        for (const auto& c : dirty.publish) if (c.sensor_id == id) b = &c;
+        ASSERT_TRUE(a && b);
+        EXPECT_TRUE(model::FromMsg(*a).offset.covariance.isApprox(model::FromMsg(*b).offset.covariance, 1e-9))
+            << id;
+    }
+}
+
+TEST(FitterCore, AReturnToTheStartIsReportedAsRepeatability) {
+    FitterCore core(CoreOptions::Defaults());
+    core.OnRunEvent(Event("start", "A"));
+    int64_t id = 0;
+    for (double t : {25.0, -10.0, 10.0, 30.0, 50.0, 70.0}) core.OnPlateau(Plateau(t, id += 1000), "S01");
+    plateau_t back = Plateau(25.3, id += 1000);
+    back.gyro_mean_v += 1e-4;  // 5 stated errors of sqrt(2) x 2e-5: not repeatable
+    core.OnPlateau(back, "S01");
+    const CoreOutput out = core.OnRunEvent(Event("stop", "A"));
+    ASSERT_EQ(out.reports.size(), 1u);
+    const fit_report_t& r = out.reports[0];
+    ASSERT_EQ(r.num_repeats, 1);
+    EXPECT_EQ(r.repeats[0].first_plateau_id, 1000);
+    EXPECT_EQ(r.repeats[0].second_plateau_id, id);
+    // the fit bends toward both visits, so the model step between 25 and 25.3 takes out little:
+    // the difference is the 0.1 mV added, within 2 % (the truth's step is subtracted exactly)
+    EXPECT_NEAR(r.repeats[0].offset_diff_v, 1e-4, 2e-6);
+    EXPECT_NEAR(r.repeats[0].offset_diff_stderr_v, std::sqrt(2.0) * 2e-5, 1e-12);
+    EXPECT_NE(r.repeats[0].verdict.find("not repeatable"), std::string::npos) << r.repeats[0].verdict;
 }
 
 }  // namespace

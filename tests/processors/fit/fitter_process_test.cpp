@@ -1,6 +1,6 @@
 // gyrocal-fitter as a real OS process over UDP multicast (port 7750, TTL 0): plateaus, rotations
-// and RUN_EVENT in; COEFFS_<id> out with exactly the ids used and the right curves; bad input
-// counted in STATUS; bad options exit 2.
+// and RUN_EVENT in; COEFFS_<id> out with exactly the ids used and the right curves, FIT_<id>
+// reports (complete or partial) beside them; bad input counted in STATUS; bad options exit 2.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -13,6 +13,8 @@
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/noise_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
@@ -34,8 +36,12 @@ double SensTruth(double t) { return 0.006 * (1 + 1e-4 * (t - 25) - 2e-6 * (t - 2
 struct Listener {
     Bus bus{BusOptions{kUrl}};
     std::vector<coeff_set_t> coeffs;
+    std::vector<fit_report_t> reports;
     std::optional<status_t> status;
     Listener() {
+        bus.Subscribe<fit_report_t>(
+            channels::AllSensors(channels::kFitPrefix),
+            [this](const fit_report_t& m, const std::string&) { reports.push_back(m); });
         bus.Subscribe<coeff_set_t>(
             channels::AllSensors(channels::kCoeffsPrefix),
             [this](const coeff_set_t& m, const std::string&) { coeffs.push_back(m); });
@@ -149,6 +155,11 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     plateau_t nan_plateau = Plateau("S01", 45.0, t + 3);
     nan_plateau.gyro_mean_v = NAN;
     l.bus.Publish(channels::Plateau("S01"), nan_plateau);
+    noise_t bad_noise{};
+    bad_noise.sensor_id = "S03";
+    bad_noise.run_id = "run-7750";
+    bad_noise.bias_instability_v = -1e-4;  // a negative noise level
+    l.bus.Publish(channels::Noise("S03"), bad_noise);
     l.bus.Publish(std::string(channels::kRunEvent), Event("stop", t + 10));
 
     // After stop: the final set of each sensor (the last COEFFS_ per sensor).
@@ -167,7 +178,7 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     };
     ASSERT_TRUE(l.WaitFor([&] {
         return count("S01", 3, 6) >= 2 && count("S02", 3, 0) >= 2 && count("S03", 5, 0) >= 2 &&
-               l.status && l.status->rejected >= 3;
+               l.status && l.status->rejected >= 4 && l.reports.size() >= 6;
     })) << "coeffs received: "
         << l.coeffs.size();
     EXPECT_EQ(count("S01", 3, 6), 2);
@@ -178,10 +189,32 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     EXPECT_EQ(s1.source, "fitter");
     EXPECT_EQ(s1.plateau_ids, plateau_ids);
     EXPECT_EQ(s1.rotation_ids, rotation_ids);  // the unaccepted ones are not among them
-    // coeff_set_id = utime of the newest input used: the last accepted rotation's utime.
+    // coeff_set_id = utime of the newest input used: mid-run the last accepted rotation's, for
+    // the final set the stop event's.
     const int64_t newest = rotation_ids.back() + 5'000'000;
-    EXPECT_EQ(s1.coeff_set_id, newest);
-    EXPECT_EQ(s1.utime, newest);
+    int64_t first_id = 0;
+    for (const auto& c : l.coeffs)
+        if (c.sensor_id == "S01" && c.num_rotations == 6 && first_id == 0) first_id = c.coeff_set_id;
+    EXPECT_EQ(first_id, newest);
+    EXPECT_EQ(s1.coeff_set_id, t + 10);
+    EXPECT_EQ(s1.utime, t + 10);
+    // Each set has its report; the final ones say complete (S01: the seed's 3-point method for
+    // the offset, rotations at three temperatures) or partial (S02, S03: no rotation, nominal
+    // sensitivity) and name the slow noise's source and what the outlier test could do.
+    std::map<std::string, fit_report_t> final_reports;
+    for (const auto& r : l.reports)
+        if (r.is_final) final_reports[r.sensor_id] = r;
+    ASSERT_EQ(final_reports.size(), 3u);
+    EXPECT_EQ(final_reports["S01"].status, "complete") << final_reports["S01"].reason;
+    EXPECT_EQ(final_reports["S01"].coeff_set_id, s1.coeff_set_id);
+    EXPECT_EQ(final_reports["S02"].status, "partial");
+    EXPECT_NE(final_reports["S02"].reason.find("nominal"), std::string::npos);
+    EXPECT_EQ(final_reports["S03"].status, "partial");
+    EXPECT_NE(final_reports["S01"].offset_detail.find("cannot check"), std::string::npos);
+    EXPECT_NE(final_reports["S03"].offset_detail.find("outliers: checked 5 points"), std::string::npos)
+        << final_reports["S03"].offset_detail;
+    EXPECT_NE(final_reports["S03"].slow_noise_source.find("none: no NOISE_S03"), std::string::npos)
+        << final_reports["S03"].slow_noise_source;
     const model::CoeffSet set = model::FromMsg(s1);
     EXPECT_EQ(set.offset.method, "3point");
     EXPECT_DOUBLE_EQ(set.offset.t0_c, -10.0);  // the seed's T0: the first plateau's temperature
@@ -219,7 +252,7 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
         EXPECT_NEAR(e.value, OffsetTruthV(temp), 4 * std::sqrt(e.variance)) << temp;
     }
 
-    EXPECT_GE(l.status->rejected, 3);
+    EXPECT_GE(l.status->rejected, 4);
     fitter.Signal(SIGTERM);
     const auto st = fitter.Wait(5s);
     ASSERT_TRUE(st.has_value());
@@ -232,6 +265,9 @@ TEST(FitterProcess, BadOptionsExitTwo) {
          {std::vector<std::string>{GYROCAL_FITTER_EXE, "--method", "magic"},
           {GYROCAL_FITTER_EXE, "--max-degree", "7"},
           {GYROCAL_FITTER_EXE, "--nominal-sensitivity-v-per-dps", "-1"},
+          {GYROCAL_FITTER_EXE, "--outlier-alpha", "2"},
+          {GYROCAL_FITTER_EXE, "--pool-alpha", "0"},
+          {GYROCAL_FITTER_EXE, "--plateau-slow-noise-dps", "11"},
           {GYROCAL_FITTER_EXE, "--no-such-option"}}) {
         ChildProcess p(argv, "/dev/null", "/dev/null");
         const auto st = p.Wait(5s);

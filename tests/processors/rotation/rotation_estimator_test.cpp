@@ -29,8 +29,10 @@ std::vector<Point> Estimate(const std::vector<Event>& events, const RotationConf
         if (e.is_gyro) {
             if (drop(e.seq)) continue;
             est.AddSample({e.utime, e.seq, e.gyro_v, e.temp_c});
-        } else if (auto m = detector.Feed({e.utime, e.counts, spec.counts_per_rev})) {
-            est.AddMove(*m);
+        } else {
+            // every reading to the slip check too: these clean moves must never be called slips
+            est.AddEncoder({e.utime, e.counts, spec.counts_per_rev});
+            if (auto m = detector.Feed({e.utime, e.counts, spec.counts_per_rev})) est.AddMove(*m);
         }
         for (Point& p : est.Poll({detector.watermark_utime(), detector.current_start_utime()}))
             out.push_back(std::move(p));

@@ -1,6 +1,9 @@
 // RecordMapper without sockets: encoded messages in, rows out.
 #include "record_mapper.hpp"
 
+#include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/noise_t.hpp"
+
 #include <gtest/gtest.h>
 
 #include "messages.hpp"
@@ -152,6 +155,64 @@ TEST(RecordMapper, EveryKnownTypeMapsToItsRow) {
     EXPECT_EQ(cs.rotation_ids, (std::vector<int64_t>{3}));
     EXPECT_EQ(cs.offset.term_names.size(), 3u);
     EXPECT_EQ(cs.sensitivity.covariance.size(), 2u);
+}
+
+}  // namespace
+}  // namespace gyrocal::record
+
+namespace gyrocal::record {
+namespace {
+
+using namespace gyrocal::testing;
+
+template <class Msg>
+Mapped MapV5(RecordMapper& m, const std::string& channel, const Msg& msg) {
+    const auto bytes = EncodeMsg(msg);
+    return m.Map(channel, bytes.data(), static_cast<int>(bytes.size()), 5);
+}
+
+// NOISE_<id> and FIT_<id> keep the run they carry and are never dropped by the queue.
+TEST(RecordMapper, NoiseEstimatesAndFitReportsKeepTheirRunAndAreEssential) {
+    RecordMapper m(MapperOptions::Defaults(), "R9");
+    noise_t n{};
+    n.sensor_id = "U1";
+    n.run_id = "R1";
+    n.bias_instability_v = 5e-5;
+    n.tau_s = {0.1, 1.0};
+    n.adev_v = {1e-3, 3e-4};
+    n.adev_lo_v = n.adev_hi_v = n.edf = {1, 1};
+    n.num_taus = 2;
+    Mapped a = MapV5(m, "NOISE_U1", n);
+    ASSERT_TRUE(a.row);
+    const auto& nr = std::get<store::NoiseRow>(*a.row);
+    EXPECT_EQ(nr.run_id, "R1");
+    EXPECT_EQ(nr.adev_v, n.adev_v);
+    EXPECT_TRUE(a.essential);
+    fit_report_t f{};
+    f.sensor_id = "U1";
+    f.run_id = "R1";
+    f.coeff_set_id = 42;
+    f.is_final = true;
+    f.status = "partial";
+    fit_exclusion_t x{};
+    x.kind = "rotation";
+    x.item_id = 7;
+    f.excluded = {x};
+    f.num_excluded = 1;
+    Mapped b = MapV5(m, "FIT_U1", f);
+    ASSERT_TRUE(b.row);
+    const auto& fr = std::get<store::FitReportRow>(*b.row);
+    EXPECT_EQ(fr.run_id, "R1");
+    EXPECT_TRUE(fr.is_final);
+    ASSERT_EQ(fr.excluded.size(), 1u);
+    EXPECT_EQ(fr.excluded[0].item_id, 7);
+    EXPECT_TRUE(b.essential);
+    // a truncated report is a decode error, kept raw
+    auto bytes = EncodeMsg(f);
+    bytes.resize(bytes.size() - 5);
+    Mapped bad = m.Map("FIT_U1", bytes.data(), static_cast<int>(bytes.size()), 6);
+    EXPECT_EQ(bad.loss.decode_errors, 1);
+    EXPECT_TRUE(std::holds_alternative<store::RawEventRow>(*bad.row));
 }
 
 }  // namespace

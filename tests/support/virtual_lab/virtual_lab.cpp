@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <variant>
 
+#include "noise/noise_message.hpp"
 #include "plateau_message.hpp"
 #include "rotation_message.hpp"
 
@@ -16,9 +17,12 @@ namespace gyrocal::virtual_lab {
 LabConfig LabConfig::For(const std::string& profile, fit::Method method) {
     LabConfig c;
     const auto p = sequencer::NamedProfile(profile);
-    if (!p)
-        throw std::invalid_argument("virtual lab: profile '" + profile +
-                                    "' is unknown; valid: five, seed3");
+    if (!p) {
+        std::string valid;
+        for (const std::string& n : sequencer::ProfileNames()) valid += (valid.empty() ? "" : ", ") + n;
+        throw std::invalid_argument("virtual lab: profile '" + profile + "' is unknown; valid: " +
+                                    valid);
+    }
     c.procedure.profile = *p;
     c.fitter.fit.method = method;
     return c;
@@ -77,7 +81,8 @@ public:
                 std::min(oldest, s->pending.empty() ? s->newest_utime : s->pending.front().utime);
         }
         motion_.Prune(oldest);
-        // gyrocal-rotation's own move detector.
+        // gyrocal-rotation's own move detector (every reading also to the slip check).
+        for (auto& s : sensors_) s->estimator.AddEncoder(e);
         if (auto move = rotation_moves_.Feed(e)) {
             for (auto& s : sensors_) s->estimator.AddMove(*move);
         }
@@ -92,9 +97,10 @@ public:
 private:
     struct Sensor {
         Sensor(std::string sensor_id, const LabConfig& c)
-            : id(std::move(sensor_id)), detector(c.plateau), estimator(c.rotation) {}
+            : id(std::move(sensor_id)), detector(c.plateau), noise(c.noise), estimator(c.rotation) {}
         std::string id;
         plateau::PlateauDetector detector;
+        noise::NoiseTracker noise;
         std::deque<plateau::Sample> pending;
         int64_t newest_utime = 0;
         rotation::RotationEstimator estimator;
@@ -119,8 +125,12 @@ private:
             plateau::Sample ps = s.pending.front();
             s.pending.pop_front();
             ps.moving = motion_.Moving(ps.utime);
+            s.noise.Add({ps.utime, ps.seq, ps.gyro_v, ps.temp_c, ps.moving});
             const plateau::Step step = s.detector.Feed(ps);
-            if (step.plateau) DeliverPlateau(s.id, *step.plateau);
+            if (step.plateau) {
+                DeliverNoise(s);
+                DeliverPlateau(s.id, *step.plateau);
+            }
         }
     }
 
@@ -137,6 +147,11 @@ private:
         }
     }
 
+    void DeliverNoise(Sensor& s) {
+        out_.noise[s.id] = ToNoiseMessage(s.id, run_id_, s.noise.Estimate());
+        if (!procedure_.done()) Collect(fitter_.OnNoise(out_.noise[s.id], s.id));
+    }
+
     void DeliverPlateau(const std::string& id, const plateau::Plateau& p) {
         out_.plateaus.push_back(ToMessage(id, p));
         const gyrocal::plateau_t& m = out_.plateaus.back();
@@ -147,6 +162,7 @@ private:
 
     void Collect(const fitter::CoreOutput& o) {
         for (const auto& r : o.rejections) out_.fitter_rejections.push_back(r);
+        for (const auto& r : o.reports) out_.reports.push_back(r);
         for (const auto& set : o.publish) {
             out_.published.push_back(set);
             out_.final_sets[set.sensor_id] = model::FromMsg(set);
@@ -187,11 +203,13 @@ private:
         if (r.event == "start") {
             out_.start_utime = rig_.now_utime();
             run_id_ = c_.run_id;
+            for (auto& s : sensors_) s->noise.Reset();
             for (auto& s : sensors_) s->detector.StartRun(run_id_);
         } else if (r.event == "setpoint") {
             for (auto& s : sensors_) s->detector.OnSetpointEvent(r.setpoint_c);
         } else if (r.event == "stop" || r.event == "abort") {
             out_.last_point_utime = rig_.now_utime();
+            for (auto& s : sensors_) out_.noise[s->id] = ToNoiseMessage(s->id, run_id_, s->noise.Estimate());
             run_id_.clear();
             for (auto& s : sensors_) s->detector.EndRun();
         }

@@ -6,7 +6,9 @@
 //   Rig --gyro samples, encoder, chamber state--> per sensor: motion queue -> PlateauDetector
 //                                                 per sensor: RotationEstimator (shared encoder
 //                                                             MoveDetector)
-//   plateaus, sensitivity points --> FitterCore --> coefficient sets
+//   per sensor: the same classified samples -> NoiseTracker (Allan deviation) -> NOISE before
+//               each plateau -> FitterCore
+//   plateaus, sensitivity points --> FitterCore --> coefficient sets, fit reports
 //   plateaus, sensitivity points --> Procedure (which orders the next step)
 //   RUN_EVENT orders (start/setpoint/stop) --> detectors, fitter
 //
@@ -26,6 +28,9 @@
 
 #include "fitter/fitter_core.hpp"
 #include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/noise_t.hpp"
+#include "noise/noise_tracker.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "model/convert.hpp"
@@ -45,12 +50,14 @@ struct LabConfig {
     motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
     double motion_guard_s = 1.0;   // [s] as gyrocal-plateau's --motion-guard-s
     double encoder_stale_s = 2.0;  // [s] as gyrocal-plateau's --encoder-stale-s
+    noise::TrackerConfig noise = noise::TrackerConfig::Defaults();  // as gyrocal-plateau's
     rotation::RotationConfig rotation = rotation::RotationConfig::Defaults();
     fitter::CoreOptions fitter = fitter::CoreOptions::Defaults();
     std::string run_id = "virtual-lab";
     double max_sim_s = 24 * 3600.0;  // [s] simulated-time cap: the run is cut (outcome "cut")
 
-    // A lab running `profile` ("five" | "seed3") with the fitter forced to `method`.
+    // A lab running the named `profile` (sequencer::ProfileNames()) with the fitter forced to
+    // `method`.
     // Throws std::invalid_argument on an unknown profile.
     static LabConfig For(const std::string& profile, fit::Method method);
 };
@@ -62,6 +69,8 @@ struct RunResult {
     std::vector<gyrocal::plateau_t> plateaus;                      // every plateau, in order
     std::vector<gyrocal::sensitivity_point_t> sensitivity_points;  // every point, accepted or not
     std::vector<gyrocal::coeff_set_t> published;  // every set the fitter core emitted, in order
+    std::vector<gyrocal::fit_report_t> reports;   // every report, in order
+    std::map<std::string, gyrocal::noise_t> noise;  // the last NOISE of each sensor
     std::map<std::string, model::CoeffSet> final_sets;  // the newest set of each sensor
     std::vector<fitter::Rejection> fitter_rejections;
     std::vector<sim::UnitTruth> truths;  // the rig's units (evaluation only)

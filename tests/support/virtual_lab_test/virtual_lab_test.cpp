@@ -195,7 +195,7 @@ TEST(VirtualLab, HeldOutWithTheTruthLeavesExactlyTheFloorAndTheSeedClipsOutsideI
 }
 
 TEST(VirtualLab, RefusesBadConfigurationAndCutsARunThatCannotFinish) {
-    EXPECT_THROW(LabConfig::For("seven", fit::Method::kWls), std::invalid_argument);
+    EXPECT_THROW(LabConfig::For("eleven", fit::Method::kWls), std::invalid_argument);
     LabConfig c = SmallLab("seed3", fit::Method::kThreePoint, 1);
     c.rig.num_units = 0;
     EXPECT_THROW(virtual_lab::Run(c), sim::ConfigError);

@@ -1,0 +1,138 @@
+#include "fitter_node.hpp"
+
+#include "bus/channels.hpp"
+#include "bus/process_main.hpp"
+
+namespace gyrocal {
+
+namespace {
+constexpr const char* kProcess = "gyrocal-fitter";
+}  // namespace
+
+std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
+    app.add_option(
+        "--lcm-url", o.lcm_url,
+        "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(kDefaultLcmUrl) + ")");
+    app.add_option("--method", o.method, "auto (3point with exactly 3 points, else wls), 3point, wls")
+        ->capture_default_str();
+    app.add_option("--min-temp-separation-c", o.core.fit.min_temp_separation_c,
+                   "[degC] temperatures closer than this add no polynomial degree (they stay data)")
+        ->capture_default_str();
+    app.add_option("--same-level-tolerance-c", o.core.fit.same_level_tolerance_c,
+                   "[degC] points closer than this in temperature are replicates of one temperature")
+        ->capture_default_str();
+    app.add_option("--min-range-c", o.core.fit.min_range_c,
+                   "[degC] a narrower range gets a line only (partial)")
+        ->capture_default_str();
+    app.add_option("--max-degree", o.core.fit.max_degree,
+                   "highest polynomial degree order selection may choose (1..3)")
+        ->capture_default_str();
+    app.add_option("--fixed-degree", o.core.fit.fixed_degree,
+                   "use this polynomial degree (1..3) for wls; 0 = choose on evidence (QAIC: AIC "
+                   "with the overdispersion of the run's points, see processors/fit/fit.hpp)")
+        ->capture_default_str();
+    app.add_option("--nominal-sensitivity-v-per-dps", o.core.nominal_sensitivity_v_per_dps,
+                   "sensitivity published while a sensor has no accepted rotation [V/(deg/s)]")
+        ->capture_default_str();
+    app.add_option("--plateau-slow-noise-dps", o.core.plateau_slow_noise_dps,
+                   "[deg/s] slow noise in a plateau mean that its standard error cannot show, added "
+                   "in quadrature; 0..10 to give it, < 0 (default) = from the run's own Allan "
+                   "deviation (NOISE_<id>)")
+        ->capture_default_str();
+    app.add_option("--outlier-alpha", o.core.outliers.family_alpha,
+                   "chance per fit of excluding a good point (leave-one-out test), (0, 0.5)")
+        ->capture_default_str();
+    app.add_flag("!--no-outlier-test", o.core.outliers.enabled, "keep every point");
+    app.add_option("--pool-alpha", o.core.pool_alpha,
+                   "false-alarm rate of the test that keeps disagreeing units out of the pooled "
+                   "overdispersion, (0, 0.5)")
+        ->capture_default_str();
+    app.add_option("--repeat-tolerance-c", o.core.repeat_tolerance_c,
+                   "[degC] a plateau this close to an earlier one after others is a return "
+                   "(repeatability)")
+        ->capture_default_str();
+    app.footer(kNodeExitCodes);
+    return [&o]() -> std::string {
+        const auto method = fit::ParseMethod(o.method);
+        if (!method) return "--method '" + o.method + "' is not valid: use auto, 3point or wls";
+        o.core.fit.method = *method;
+        return o.core.Problem();
+    };
+}
+
+FitterNode::FitterNode(const FitterOptions& o)
+    : bus_(BusOptions{o.lcm_url}), status_(bus_, kProcess), core_(o.core) {
+    bus_.Subscribe<plateau_t>(channels::AllSensors(channels::kPlateauPrefix),
+                              [this](const plateau_t& m, const std::string& ch) {
+                                  Guarded([&] {
+                                      Apply(core_.OnPlateau(
+                                          m, channels::SensorOf(channels::kPlateauPrefix, ch).value()));
+                                  });
+                              });
+    bus_.Subscribe<sensitivity_point_t>(
+        channels::AllSensors(channels::kSensitivityPrefix),
+        [this](const sensitivity_point_t& m, const std::string& ch) {
+            Guarded([&] {
+                Apply(core_.OnSensitivity(
+                    m, channels::SensorOf(channels::kSensitivityPrefix, ch).value()));
+            });
+        });
+    bus_.Subscribe<noise_t>(channels::AllSensors(channels::kNoisePrefix),
+                            [this](const noise_t& m, const std::string& ch) {
+                                Guarded([&] {
+                                    Apply(core_.OnNoise(
+                                        m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
+                                });
+                            });
+    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
+                                [this](const run_event_t& m, const std::string&) {
+                                    Guarded([&] { Apply(core_.OnRunEvent(m)); });
+                                    if (m.event == "stop" || m.event == "start") status_.PublishNow();
+                                });
+    status_.set_state("waiting");
+}
+
+void FitterNode::Run() { RunLoop(bus_, status_); }
+
+// No exception escapes a handler: a failure is a counted refusal of that message.
+template <class F>
+void FitterNode::Guarded(F&& f) {
+    try {
+        f();
+    } catch (const std::exception& e) {
+        status_.Reject("internal_error", e.what());
+    }
+}
+
+void FitterNode::Apply(const fitter::CoreOutput& out) {
+    for (const fitter::Rejection& r : out.rejections) status_.Reject(r.key, r.detail);
+    // A set before its report, so that a listener that has the report has the set.
+    for (const coeff_set_t& set : out.publish) bus_.Publish(channels::Coeffs(set.sensor_id), set);
+    for (const fit_report_t& r : out.reports) bus_.Publish(channels::Fit(r.sensor_id), r);
+    UpdateStatus();
+}
+
+void FitterNode::UpdateStatus() {
+    std::string state;
+    bool any_fitted = false;
+    for (const auto& [id, s] : core_.Summaries()) {
+        state += (state.empty() ? "" : "; ") + id + ": " + s.text;
+        any_fitted = any_fitted || s.fitted;
+        status_.SetExtra(id + ".plateaus", static_cast<double>(s.n_plateaus));
+        status_.SetExtra(id + ".rotations", static_cast<double>(s.n_rotations));
+        status_.SetExtra(id + ".fitted", s.fitted ? 1.0 : 0.0);
+        status_.SetExtra(id + ".complete", s.complete ? 1.0 : 0.0);
+        status_.SetExtra(id + ".excluded", static_cast<double>(s.excluded));
+        status_.SetExtra(id + ".offset_chi2_per_dof", s.offset_chi2_per_dof);
+        // c by which the plateaus' stated errors understate their scatter (fit.hpp); NaN
+        // when there was no dof to estimate it.
+        status_.SetExtra(id + ".offset_overdispersion", s.offset_overdispersion);
+        status_.SetExtra(id + ".slow_noise_dps", s.slow_noise_dps);
+    }
+    status_.set_state((any_fitted ? "fitted: " : "waiting: ") + (state.empty() ? "no points" : state));
+    status_.SetExtra("coeff_sets_published", static_cast<double>(core_.published()));
+    status_.SetExtra("rotations_not_accepted", static_cast<double>(core_.not_accepted_rotations()));
+    status_.SetExtra("duplicates", static_cast<double>(core_.duplicates()));
+}
+
+}  // namespace gyrocal

@@ -1,0 +1,163 @@
+#include "noise_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace gyrocal::noise {
+
+namespace {
+
+bool In(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+
+// Prefix sums for windowed means and line fits over bins.
+struct Prefix {
+    std::vector<double> t, v, tt, tv;
+    explicit Prefix(size_t n) : t(n + 1, 0), v(n + 1, 0), tt(n + 1, 0), tv(n + 1, 0) {}
+    void Set(size_t i, double ti, double vi) {
+        t[i + 1] = t[i] + ti;
+        v[i + 1] = v[i] + vi;
+        tt[i + 1] = tt[i] + ti * ti;
+        tv[i + 1] = tv[i] + ti * vi;
+    }
+    double Slope(size_t a, size_t b) const {  // of v against t over [a, b)
+        const double n = static_cast<double>(b - a);
+        const double st = t[b] - t[a], sv = v[b] - v[a];
+        const double den = n * (tt[b] - tt[a]) - st * st;
+        return den > 0 ? (n * (tv[b] - tv[a]) - st * sv) / den : 0.0;
+    }
+    double Mean(size_t a, size_t b) const { return (v[b] - v[a]) / static_cast<double>(b - a); }
+};
+
+}  // namespace
+
+std::string TrackerConfig::Validate() const {
+    if (!In(bin_s, 0.001, 10)) return "--noise-bin-s must be in [0.001, 10] s";
+    if (!In(quiet_slope_c_per_min, 0.001, 10))
+        return "--noise-quiet-slope-c-per-min must be in [0.001, 10] degC/min";
+    if (!In(slope_window_s, 1, 3600)) return "--noise-slope-window-s must be in [1, 3600] s";
+    if (!In(min_segment_s, 4 * bin_s, 86400)) return "--noise-min-segment-s must be in [4 bins, 86400] s";
+    if (!In(min_fit_tau_s, bin_s, 100)) return "--noise-min-fit-tau-s must be in [--noise-bin-s, 100] s";
+    if (!In(max_tau_s, min_fit_tau_s, 1e6)) return "--noise-max-tau-s must be at least --noise-min-fit-tau-s (and <= 1e6 s)";
+    return "";
+}
+
+NoiseTracker::NoiseTracker(const TrackerConfig& config) : config_(config) {
+    if (std::string e = config.Validate(); !e.empty()) throw std::invalid_argument(e);
+}
+
+void NoiseTracker::Reset() {
+    closed_.clear();
+    bins_.clear();
+    in_stretch_ = false;
+    bin_n_ = 0;
+    bin_sum_ = bin_temp_ = bin_t_ = 0;
+}
+
+void NoiseTracker::Add(const NoiseSample& s) {
+    newest_utime_ = s.utime;
+    if (s.moving) {
+        CloseStretch();
+        return;
+    }
+    if (in_stretch_) {
+        const int64_t dt = s.utime - last_utime_;
+        const bool irregular = interval_us_ > 0 && std::abs(dt - interval_us_) * 2 > interval_us_;
+        if (s.seq != last_seq_ + 1 || irregular) CloseStretch();
+    }
+    if (in_stretch_ && interval_us_ == 0) {
+        // The first interval of the run fixes the bins: tau0 is the same for every stretch.
+        interval_us_ = s.utime - last_utime_;
+        per_bin_ = std::max(1, static_cast<int>(std::lround(config_.bin_s * 1e6 / interval_us_)));
+        tau0_s_ = per_bin_ * interval_us_ * 1e-6;
+        grid_ = TauGrid(static_cast<int64_t>(config_.max_tau_s / tau0_s_));
+    }
+    in_stretch_ = true;
+    last_utime_ = s.utime;
+    last_seq_ = s.seq;
+    bin_sum_ += s.value;
+    bin_temp_ += s.temp_c;
+    bin_t_ += s.utime * 1e-6;
+    ++bin_n_;
+    if (per_bin_ > 0 && bin_n_ >= per_bin_) {
+        bins_.push_back({bin_t_ / bin_n_, bin_sum_ / bin_n_, bin_temp_ / bin_n_});
+        bin_n_ = 0;
+        bin_sum_ = bin_temp_ = bin_t_ = 0;
+    }
+}
+
+void NoiseTracker::CloseStretch() {
+    if (!bins_.empty() && tau0_s_ > 0) Segment(bins_, closed_);
+    bins_.clear();
+    in_stretch_ = false;
+    bin_n_ = 0;
+    bin_sum_ = bin_temp_ = bin_t_ = 0;
+}
+
+void NoiseTracker::Segment(const std::vector<Bin>& bins, std::vector<SegmentSums>& out) const {
+    const size_t n = bins.size();
+    const auto min_bins = static_cast<size_t>(std::ceil(config_.min_segment_s / tau0_s_));
+    if (n < min_bins || n < 4) return;
+    Prefix temp(n);
+    for (size_t i = 0; i < n; ++i) temp.Set(i, bins[i].t_s - bins[0].t_s, bins[i].temp_c);
+    const auto half = static_cast<size_t>(std::max(1.0, 0.5 * config_.slope_window_s / tau0_s_));
+    const auto smooth = static_cast<size_t>(std::max(1.0, 5.0 / tau0_s_));
+    size_t a = 0;
+    while (a < n) {
+        auto quiet = [&](size_t i) {
+            const size_t lo = i > half ? i - half : 0, hi = std::min(n, i + half + 1);
+            return std::abs(temp.Slope(lo, hi)) * 60.0 <= config_.quiet_slope_c_per_min;
+        };
+        while (a < n && !quiet(a)) ++a;
+        size_t b = a;
+        while (b < n && quiet(b)) ++b;
+        if (b - a >= min_bins && b - a >= 4) {
+            // Regress the values on the smoothed temperature (a line), keep the residual.
+            std::vector<double> ts(b - a), y(b - a);
+            double mt = 0, my = 0;
+            for (size_t i = a; i < b; ++i) {
+                const size_t lo = std::max(a, i > smooth ? i - smooth : 0), hi = std::min(b, i + smooth + 1);
+                ts[i - a] = temp.Mean(lo, hi);
+                y[i - a] = bins[i].value;
+                mt += ts[i - a];
+                my += y[i - a];
+            }
+            mt /= static_cast<double>(b - a);
+            my /= static_cast<double>(b - a);
+            double sxy = 0, sxx = 0;
+            for (size_t k = 0; k < ts.size(); ++k) {
+                sxy += (ts[k] - mt) * (y[k] - my);
+                sxx += (ts[k] - mt) * (ts[k] - mt);
+            }
+            const double slope = sxx > 1e-12 ? sxy / sxx : 0.0;
+            for (size_t k = 0; k < y.size(); ++k) y[k] = y[k] - my - slope * (ts[k] - mt);
+            out.push_back(SumSegment(y, tau0_s_, grid_));
+        }
+        a = b;
+    }
+}
+
+NoiseEstimate NoiseTracker::Estimate() const {
+    NoiseEstimate e;
+    e.utime = newest_utime_;
+    e.tau0_s = tau0_s_;
+    if (tau0_s_ <= 0) {
+        e.terms.note = "no still samples yet";
+        return e;
+    }
+    std::vector<SegmentSums> all = closed_;
+    if (!bins_.empty()) Segment(bins_, all);
+    std::string screened;
+    const std::vector<SegmentSums> segments = ScreenSegments(all, tau0_s_, grid_, 0.01, screened);
+    for (const SegmentSums& s : segments) {
+        e.still_s += s.length_s;
+        e.longest_s = std::max(e.longest_s, s.length_s);
+    }
+    e.segments = static_cast<int>(segments.size());
+    e.adev = Combine(segments, tau0_s_, grid_);
+    e.terms = FitTerms(segments, tau0_s_, grid_, config_.min_fit_tau_s);
+    if (!screened.empty()) e.terms.note = screened + (e.terms.note.empty() ? "" : "; " + e.terms.note);
+    return e;
+}
+
+}  // namespace gyrocal::noise

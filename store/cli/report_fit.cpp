@@ -1,0 +1,153 @@
+#include "report_fit.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "format_util.hpp"
+#include "report.hpp"
+
+namespace gyrocal::store::report {
+
+using namespace detail;
+
+namespace {
+
+std::string PlusMinus(double v, double se, int precision) {
+    return Num(v, precision) + " +- " + Num(se, 2);
+}
+
+std::string Approach(int a) { return a > 0 ? "from colder" : a < 0 ? "from hotter" : "run start"; }
+
+void ReportBlock(std::ostringstream& out, const FitReportRow& r) {
+    out << "  " << Printable(r.sensor_id) << " (" << Printable(r.source) << ", set "
+        << (r.coeff_set_id < 0 ? std::string("none") : std::to_string(r.coeff_set_id))
+        << (r.is_final ? ", final" : ", not final: the run's stop made no report") << "): ";
+    out << (r.status == "complete" ? "COMPLETE" : r.status == "partial" ? "PARTIAL" : "NONE");
+    if (!r.reason.empty()) out << " - " << Printable(r.reason);
+    out << "\n    slow noise added to each plateau: " << Num(r.slow_noise_dps, 3) << " deg/s ("
+        << Num(r.slow_noise_v, 3) << " V), from " << Printable(r.slow_noise_source) << "\n";
+    for (const FitExclusionRow& e : r.excluded)
+        out << "    EXCLUDED " << Printable(e.kind) << " " << e.item_id << " at "
+            << Fixed(e.temp_c, 2) << " C: " << Printable(e.reason) << "\n";
+    out << "    offset: " << Printable(r.offset_detail) << "\n";
+    out << "    sensitivity: " << Printable(r.sensitivity_detail) << "\n";
+}
+
+std::string RepeatabilityText(const RunDetail& d) {
+    Table t({"SENSOR", "TEMP_C", "FIRST_PLATEAU", "SECOND_PLATEAU", "APPROACHES",
+             "OFFSET_DIFF_MV", "OFFSET_DIFF_DPS", "Z", "VERDICT"});
+    int n = 0;
+    for (const FitReportInfo& f : d.fit_reports)
+        for (const RepeatabilityRow& r : f.report.repeats) {
+            ++n;
+            t.Add({f.report.sensor_id, Fixed(r.temp_c, 2), std::to_string(r.first_plateau_id),
+                   std::to_string(r.second_plateau_id),
+                   Approach(r.first_approach) + ", " + Approach(r.second_approach),
+                   PlusMinus(1e3 * r.offset_diff_v, 1e3 * r.offset_diff_stderr_v, 3),
+                   PlusMinus(r.offset_diff_dps, r.offset_diff_stderr_dps, 3), Num(r.z, 3),
+                   r.verdict});
+        }
+    if (n == 0) return "  none: no temperature was visited twice\n";
+    return t.str() +
+           "  (second visit minus first, the fitted model's step between their temperatures "
+           "taken out; +- 1 sigma of both plateaus' errors)\n";
+}
+
+std::string NoiseText(const RunDetail& d) {
+    if (d.noise.empty()) return "  none recorded\n";
+    Table t({"SENSOR", "STILL_S", "SEGMENTS", "LONGEST_S", "ARW_DPS_RTHZ", "BIAS_INSTAB_DPS",
+             "RRW_DPS_RTS", "ARW_V_RTHZ", "BIAS_INSTAB_V", "RRW_V_RTS"});
+    std::string notes;
+    for (const NoiseInfo& ni : d.noise) {
+        const NoiseRow& n = ni.noise;
+        const double s = ni.sensitivity_v_per_dps.value_or(NAN);
+        t.Add({n.sensor_id, Num(n.still_s, 5), std::to_string(n.n_segments),
+               Num(n.longest_segment_s, 4), PlusMinus(n.arw_v_rthz / s, n.arw_stderr_v_rthz / s, 3),
+               PlusMinus(n.bias_instability_v / s, n.bias_instability_stderr_v / s, 3),
+               PlusMinus(n.rrw_v_rts / s, n.rrw_stderr_v_rts / s, 3), Num(n.arw_v_rthz, 3),
+               Num(n.bias_instability_v, 3), Num(n.rrw_v_rts, 3)});
+        if (!n.fit_note.empty()) notes += "  " + Printable(n.sensor_id) + ": " + Printable(n.fit_note) + "\n";
+    }
+    return t.str() + notes +
+           "  (overlapping Allan deviation of the still, thermally quiet stretches; sigma_A^2 = N^2/tau "
+           "+ B^2 + K^2 tau/3; deg/s through the sensitivity at T0 of the run's fitter set; "
+           "gyrocal analyze RUN --plot draws it)\n";
+}
+
+}  // namespace
+
+std::string SetStatusLabel(const RunDetail& d, const CoeffSetInfo& c) {
+    for (const FitReportInfo& f : d.fit_reports) {
+        const FitReportRow& r = f.report;
+        if (r.sensor_id != c.set.sensor_id || r.source != c.set.source ||
+            r.coeff_set_id != c.set.coeff_set_id)
+            continue;
+        if (r.status == "complete") return std::string("  COMPLETE") + (r.is_final ? ", final" : "");
+        return "  PARTIAL" + std::string(r.is_final ? ", final" : "") + ": " + Printable(r.reason);
+    }
+    return "";
+}
+
+std::string FitSectionsText(const RunDetail& d) {
+    std::ostringstream out;
+    out << "\nFit reports (final of each sensor and source: " << d.fit_reports.size() << ")\n";
+    if (d.fit_reports.empty()) out << "  none recorded\n";
+    for (const FitReportInfo& f : d.fit_reports) ReportBlock(out, f.report);
+    out << "\nRepeatability (temperatures the run visited again)\n" << RepeatabilityText(d);
+    out << "\nNoise (Allan deviation per unit)\n" << NoiseText(d);
+    return out.str();
+}
+
+void AddFitJson(nlohmann::json& j, const RunDetail& d) {
+    nlohmann::json reports = nlohmann::json::array();
+    for (const FitReportInfo& f : d.fit_reports) {
+        const FitReportRow& r = f.report;
+        nlohmann::json excluded = nlohmann::json::array(), repeats = nlohmann::json::array();
+        for (const FitExclusionRow& e : r.excluded)
+            excluded.push_back({{"kind", e.kind}, {"item_id", e.item_id}, {"temp_c", Finite(e.temp_c)},
+                                {"value", Finite(e.value)}, {"residual", Finite(e.residual)},
+                                {"residual_sigma", Finite(e.residual_sigma)},
+                                {"statistic", Finite(e.statistic)}, {"threshold", Finite(e.threshold)},
+                                {"reason", e.reason}});
+        for (const RepeatabilityRow& x : r.repeats)
+            repeats.push_back({{"temp_c", Finite(x.temp_c)}, {"first_plateau_id", x.first_plateau_id},
+                               {"second_plateau_id", x.second_plateau_id},
+                               {"first_approach", x.first_approach}, {"second_approach", x.second_approach},
+                               {"offset_diff_v", Finite(x.offset_diff_v)},
+                               {"offset_diff_stderr_v", Finite(x.offset_diff_stderr_v)},
+                               {"offset_diff_dps", Finite(x.offset_diff_dps)},
+                               {"offset_diff_stderr_dps", Finite(x.offset_diff_stderr_dps)},
+                               {"z", Finite(x.z)}, {"verdict", x.verdict}});
+        reports.push_back({{"sensor_id", r.sensor_id}, {"source", r.source},
+                           {"coeff_set_id", r.coeff_set_id}, {"is_final", r.is_final},
+                           {"status", r.status}, {"reason", r.reason},
+                           {"offset_detail", r.offset_detail},
+                           {"sensitivity_detail", r.sensitivity_detail},
+                           {"slow_noise_v", Finite(r.slow_noise_v)},
+                           {"slow_noise_dps", Finite(r.slow_noise_dps)},
+                           {"slow_noise_source", r.slow_noise_source}, {"excluded", excluded},
+                           {"repeatability", repeats}});
+    }
+    j["fit_reports"] = reports;
+    nlohmann::json noise = nlohmann::json::array();
+    for (const NoiseInfo& ni : d.noise) {
+        const NoiseRow& n = ni.noise;
+        nlohmann::json adev = nlohmann::json::array();
+        for (size_t i = 0; i < n.tau_s.size(); ++i)
+            adev.push_back({{"tau_s", n.tau_s[i]}, {"adev_v", Finite(n.adev_v[i])},
+                            {"adev_lo_v", Finite(n.adev_lo_v[i])}, {"adev_hi_v", Finite(n.adev_hi_v[i])},
+                            {"edf", Finite(n.edf[i])}});
+        noise.push_back({{"sensor_id", n.sensor_id}, {"utime", n.utime}, {"still_s", Finite(n.still_s)},
+                         {"n_segments", n.n_segments}, {"longest_segment_s", Finite(n.longest_segment_s)},
+                         {"arw_v_rthz", Finite(n.arw_v_rthz)}, {"arw_stderr_v_rthz", Finite(n.arw_stderr_v_rthz)},
+                         {"bias_instability_v", Finite(n.bias_instability_v)},
+                         {"bias_instability_stderr_v", Finite(n.bias_instability_stderr_v)},
+                         {"rrw_v_rts", Finite(n.rrw_v_rts)}, {"rrw_stderr_v_rts", Finite(n.rrw_stderr_v_rts)},
+                         {"sensitivity_v_per_dps", ni.sensitivity_v_per_dps ? Finite(*ni.sensitivity_v_per_dps)
+                                                                            : nlohmann::json(nullptr)},
+                         {"fit_note", n.fit_note}, {"adev", adev}});
+    }
+    j["noise"] = noise;
+}
+
+}  // namespace gyrocal::store::report

@@ -1,0 +1,108 @@
+#include "fit_query.hpp"
+
+namespace gyrocal::store {
+
+namespace {
+
+void ReadExclusionsAndRepeats(Db& db, FitReportInfo& info) {
+    Stmt x(db,
+           "SELECT kind, item_id, temp_c, value, residual, residual_sigma, statistic, threshold, "
+           "reason FROM fit_exclusions WHERE fit_report_row_id = ? ORDER BY rowid");
+    x.Bind(1, info.fit_report_row_id);
+    while (x.Step())
+        info.report.excluded.push_back({x.Text(0), x.Int(1), x.Real(2), x.Real(3), x.Real(4),
+                                        x.Real(5), x.Real(6), x.Real(7), x.Text(8)});
+    Stmt q(db,
+           "SELECT temp_c, first_plateau_id, second_plateau_id, first_temp_c, second_temp_c, "
+           "first_approach, second_approach, offset_diff_v, offset_diff_stderr_v, "
+           "offset_diff_dps, offset_diff_stderr_dps, z, verdict FROM repeatability "
+           "WHERE fit_report_row_id = ? ORDER BY rowid");
+    q.Bind(1, info.fit_report_row_id);
+    while (q.Step())
+        info.report.repeats.push_back({q.Real(0), q.Int(1), q.Int(2), q.Real(3), q.Real(4),
+                                       static_cast<int32_t>(q.Int(5)),
+                                       static_cast<int32_t>(q.Int(6)), q.Real(7), q.Real(8),
+                                       q.Real(9), q.Real(10), q.Real(11), q.Text(12)});
+}
+
+}  // namespace
+
+std::vector<FitReportInfo> RunFitReports(Db& db, const std::string& run_id) {
+    std::vector<FitReportInfo> out;
+    Stmt s(db,
+           "SELECT fit_report_row_id, run_id, sensor_id, coeff_set_id, source, utime, is_final, "
+           "status, reason, offset_detail, sensitivity_detail, slow_noise_v, slow_noise_dps, "
+           "slow_noise_source, recv_utime FROM v_fit_final WHERE run_id = ? "
+           "ORDER BY sensor_id, source");
+    s.Bind(1, run_id);
+    while (s.Step()) {
+        FitReportInfo info;
+        info.fit_report_row_id = s.Int(0);
+        FitReportRow& r = info.report;
+        r.run_id = s.Text(1);
+        r.sensor_id = s.Text(2);
+        r.coeff_set_id = s.Int(3);
+        r.source = s.Text(4);
+        r.utime = s.Int(5);
+        r.is_final = s.Int(6) != 0;
+        r.status = s.Text(7);
+        r.reason = s.Text(8);
+        r.offset_detail = s.Text(9);
+        r.sensitivity_detail = s.Text(10);
+        r.slow_noise_v = s.Real(11);
+        r.slow_noise_dps = s.Real(12);
+        r.slow_noise_source = s.Text(13);
+        r.recv_utime = s.Int(14);
+        out.push_back(std::move(info));
+    }
+    for (FitReportInfo& info : out) ReadExclusionsAndRepeats(db, info);
+    return out;
+}
+
+std::vector<NoiseInfo> RunNoise(Db& db, const std::string& run_id) {
+    std::vector<NoiseInfo> out;
+    Stmt s(db,
+           "SELECT noise_row_id, run_id, sensor_id, utime, still_s, n_segments, longest_segment_s, "
+           "tau0_s, arw_v_rthz, arw_stderr_v_rthz, bias_instability_v, bias_instability_stderr_v, "
+           "rrw_v_rts, rrw_stderr_v_rts, fit_note, recv_utime, sensitivity_v_per_dps "
+           "FROM v_noise WHERE run_id = ? ORDER BY sensor_id");
+    s.Bind(1, run_id);
+    while (s.Step()) {
+        NoiseInfo info;
+        info.noise_row_id = s.Int(0);
+        NoiseRow& n = info.noise;
+        n.run_id = s.Text(1);
+        n.sensor_id = s.Text(2);
+        n.utime = s.Int(3);
+        n.still_s = s.Real(4);
+        n.n_segments = static_cast<int32_t>(s.Int(5));
+        n.longest_segment_s = s.Real(6);
+        n.tau0_s = s.Real(7);
+        n.arw_v_rthz = s.Real(8);
+        n.arw_stderr_v_rthz = s.Real(9);
+        n.bias_instability_v = s.Real(10);
+        n.bias_instability_stderr_v = s.Real(11);
+        n.rrw_v_rts = s.Real(12);
+        n.rrw_stderr_v_rts = s.Real(13);
+        n.fit_note = s.Text(14);
+        n.recv_utime = s.Int(15);
+        info.sensitivity_v_per_dps = s.OptReal(16);
+        out.push_back(std::move(info));
+    }
+    for (NoiseInfo& info : out) {
+        Stmt p(db,
+               "SELECT tau_s, adev_v, adev_lo_v, adev_hi_v, edf FROM noise_adev "
+               "WHERE noise_row_id = ? ORDER BY tau_s");
+        p.Bind(1, info.noise_row_id);
+        while (p.Step()) {
+            info.noise.tau_s.push_back(p.Real(0));
+            info.noise.adev_v.push_back(p.Real(1));
+            info.noise.adev_lo_v.push_back(p.Real(2));
+            info.noise.adev_hi_v.push_back(p.Real(3));
+            info.noise.edf.push_back(p.Real(4));
+        }
+    }
+    return out;
+}
+
+}  // namespace gyrocal::store

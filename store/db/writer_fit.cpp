@@ -1,0 +1,63 @@
+// StoreWriter: the fitter's reports and the units' noise estimates (schema v5). Few rows per run,
+// so the statements are prepared per call (no effect on the sample path's rate).
+#include "writer.hpp"
+
+#include <limits>
+
+namespace gyrocal::store {
+
+void StoreWriter::WriteNoise(const NoiseRow& r) {
+    Stmt s(*db_,
+           "INSERT INTO noise_estimates(run_id, sensor_id, utime, still_s, n_segments, "
+           "longest_segment_s, tau0_s, arw_v_rthz, arw_stderr_v_rthz, bias_instability_v, "
+           "bias_instability_stderr_v, rrw_v_rts, rrw_stderr_v_rts, fit_note, recv_utime) "
+           "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    s.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.utime).Bind(4, r.still_s);
+    s.Bind(5, r.n_segments).Bind(6, r.longest_segment_s).Bind(7, r.tau0_s);
+    s.Bind(8, r.arw_v_rthz).Bind(9, r.arw_stderr_v_rthz).Bind(10, r.bias_instability_v);
+    s.Bind(11, r.bias_instability_stderr_v).Bind(12, r.rrw_v_rts).Bind(13, r.rrw_stderr_v_rts);
+    s.Bind(14, r.fit_note).Bind(15, r.recv_utime).Run();
+    const int64_t row = db_->LastInsertRowId();
+    Stmt p(*db_,
+           "INSERT INTO noise_adev(noise_row_id, tau_s, adev_v, adev_lo_v, adev_hi_v, edf) "
+           "VALUES (?,?,?,?,?,?)");
+    for (size_t i = 0; i < r.tau_s.size(); ++i) {
+        auto at = [&](const std::vector<double>& v) { return i < v.size() ? v[i] : std::numeric_limits<double>::quiet_NaN(); };
+        p.Bind(1, row).Bind(2, r.tau_s[i]).Bind(3, at(r.adev_v)).Bind(4, at(r.adev_lo_v));
+        p.Bind(5, at(r.adev_hi_v)).Bind(6, at(r.edf)).Run();
+    }
+}
+
+void StoreWriter::WriteFitReport(const FitReportRow& r) {
+    Stmt s(*db_,
+           "INSERT INTO fit_reports(run_id, sensor_id, coeff_set_id, source, utime, is_final, "
+           "status, reason, offset_detail, sensitivity_detail, slow_noise_v, slow_noise_dps, "
+           "slow_noise_source, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    s.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.coeff_set_id).Bind(4, r.source);
+    s.Bind(5, r.utime).Bind(6, r.is_final ? 1 : 0).Bind(7, r.status).Bind(8, r.reason);
+    s.Bind(9, r.offset_detail).Bind(10, r.sensitivity_detail).Bind(11, r.slow_noise_v);
+    s.Bind(12, r.slow_noise_dps).Bind(13, r.slow_noise_source).Bind(14, r.recv_utime).Run();
+    const int64_t row = db_->LastInsertRowId();
+    Stmt x(*db_,
+           "INSERT INTO fit_exclusions(fit_report_row_id, kind, item_id, temp_c, value, residual, "
+           "residual_sigma, statistic, threshold, reason) VALUES (?,?,?,?,?,?,?,?,?,?)");
+    for (const FitExclusionRow& e : r.excluded) {
+        x.Bind(1, row).Bind(2, e.kind).Bind(3, e.item_id).Bind(4, e.temp_c).Bind(5, e.value);
+        x.Bind(6, e.residual).Bind(7, e.residual_sigma).Bind(8, e.statistic);
+        x.Bind(9, e.threshold).Bind(10, e.reason).Run();
+    }
+    Stmt q(*db_,
+           "INSERT INTO repeatability(fit_report_row_id, run_id, sensor_id, temp_c, "
+           "first_plateau_id, second_plateau_id, first_temp_c, second_temp_c, first_approach, "
+           "second_approach, offset_diff_v, offset_diff_stderr_v, offset_diff_dps, "
+           "offset_diff_stderr_dps, z, verdict) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    for (const RepeatabilityRow& e : r.repeats) {
+        q.Bind(1, row).Bind(2, r.run_id).Bind(3, r.sensor_id).Bind(4, e.temp_c);
+        q.Bind(5, e.first_plateau_id).Bind(6, e.second_plateau_id).Bind(7, e.first_temp_c);
+        q.Bind(8, e.second_temp_c).Bind(9, e.first_approach).Bind(10, e.second_approach);
+        q.Bind(11, e.offset_diff_v).Bind(12, e.offset_diff_stderr_v).Bind(13, e.offset_diff_dps);
+        q.Bind(14, e.offset_diff_stderr_dps).Bind(15, e.z).Bind(16, e.verdict).Run();
+    }
+}
+
+}  // namespace gyrocal::store
