@@ -83,8 +83,8 @@ protected:
             spinning.push_back({g.utime, static_cast<int64_t>(g.seq) * 100, 20000});
         moving.encoder = spinning;
         testing::WriteSimRun(*db_, "R3", moving);
-        analysis_ = new json(json::parse(
-            Gyrocal({"analyze", "R1", "--db", *db_, "--json"}, *dir_).out));
+        analysis_ =
+            new json(json::parse(Gyrocal({"analyze", "R1", "--db", *db_, "--json"}, *dir_).out));
     }
     static void TearDownTestSuite() {
         std::filesystem::remove_all(*dir_);
@@ -120,15 +120,16 @@ TEST_F(ValidateCli, ModelOfOneRunOnAnotherRunOfTheUnitIsReportedAgainstItsFloorA
     // prediction_rms). Slow noise and coefficient error are each nearly one shape over the run,
     // so the 3-sigma allowance is 9x their variance.
     const double bin_s = a.at("bin_s");  // validate's default --bin-s is the analysis' bin
-    const double slow2 = sim::SlowNoiseBinVariance(second_->config.noise, bin_s,
-                                                   second_->duration_s);
+    const double slow2 =
+        sim::SlowNoiseBinVariance(second_->config.noise, bin_s, second_->duration_s);
     const double pred = a.at("expected_after").at("prediction_rms_dps");
     EXPECT_LT(rms, std::sqrt(floor * floor + 9.0 * (slow2 + pred * pred)))
         << "floor " << floor << " slow " << std::sqrt(slow2) << " prediction " << pred;
     EXPECT_EQ(s.at("power_on"), "1 power-on record (rig)");  // the run's own, not assumed
     // Kept with the validated run, naming the model's run, with the figures printed.
-    EXPECT_EQ(Count(*db_, "SELECT count(*) FROM validations WHERE run_id='R2' AND sensor_id='S01' "
-                          "AND model_run_id='R1'"),
+    EXPECT_EQ(Count(*db_,
+                    "SELECT count(*) FROM validations WHERE run_id='R2' AND sensor_id='S01' "
+                    "AND model_run_id='R1'"),
               1);
     EXPECT_EQ(Count(*db_, "SELECT count(*) FROM validations WHERE run_id='R2' AND rate_rms_dps = " +
                               s.at("rate_rms_dps").dump()),
@@ -149,15 +150,15 @@ TEST_F(ValidateCli, ModelOfOneRunOnAnotherRunOfTheUnitIsReportedAgainstItsFloorA
     ASSERT_TRUE(zeroed) << off.dump();
     const std::string file = *dir_ + "/no_branch.json";
     std::ofstream(file) << set.dump();
-    const Cli w = Gyrocal({"validate", "R2", "--db", *db_, "--coeffs", file, "--json",
-                           "--no-store"},
-                          *dir_);
+    const Cli w =
+        Gyrocal({"validate", "R2", "--db", *db_, "--coeffs", file, "--json", "--no-store"}, *dir_);
     ASSERT_EQ(w.code, 0) << w.err;
     const double worse = json::parse(w.out).at("sensors").at(0).at("rate_rms_dps");
     EXPECT_GT(worse, 2.0 * rms);
-    std::printf("[ validate ] R1's model on R2: %.4f deg/s (floor %.4f, slow %.4f, prediction "
-                "%.4f); without its branch term %.4f deg/s\n",
-                rms, floor, std::sqrt(slow2), pred, worse);
+    std::printf(
+        "[ validate ] R1's model on R2: %.4f deg/s (floor %.4f, slow %.4f, prediction "
+        "%.4f); without its branch term %.4f deg/s\n",
+        rms, floor, std::sqrt(slow2), pred, worse);
     EXPECT_EQ(Count(*db_, "SELECT count(*) FROM validations"), 1);  // --no-store kept nothing
 }
 

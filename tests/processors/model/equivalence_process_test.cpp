@@ -51,7 +51,7 @@ std::string WriteCsv(const std::string& path) {
     char line[256];
     for (int i = 0; i < kSamples; ++i) {
         const double t = 0.01 * i;
-        const double temp_c = t < 30 ? 20 + 0.4 * t
+        const double temp_c = t < 30   ? 20 + 0.4 * t
                               : t < 55 ? 32 - 0.32 * (t - 30)
                                        : 24 + (6.0 / 35.0) * (t - 55) + 0.02 * std::sin(3 * t);
         const double supply_v = 5.0 + 0.05 * std::sin(2 * M_PI * t / 40);
@@ -86,10 +86,12 @@ coeff_set_t ExtendedSet() {
     s.sensor_id = "S01";
     s.run_id = kRun;
     s.source = "analysis:1";
-    s.offset = Model(model::kOffsetQuantity,
-                     {"1", "dT", "dT^2", "dT^3", "dTdt(20)", "heating(1.5)", "supply", "warmup(30)"},
-                     {2.5, 4e-4, 3e-6, -2e-8, 0.01, 5e-4, 0.02, 3e-3});
-    s.sensitivity = Model(model::kSensitivityQuantity, {"1", "dT", "direction"}, {0.005, 1e-6, 2e-5});
+    s.offset =
+        Model(model::kOffsetQuantity,
+              {"1", "dT", "dT^2", "dT^3", "dTdt(20)", "heating(1.5)", "supply", "warmup(30)"},
+              {2.5, 4e-4, 3e-6, -2e-8, 0.01, 5e-4, 0.02, 3e-3});
+    s.sensitivity =
+        Model(model::kSensitivityQuantity, {"1", "dT", "direction"}, {0.005, 1e-6, 2e-5});
     return model::ToMsg(s);
 }
 
@@ -111,7 +113,8 @@ struct Row {
     double rate_dps = NAN, angle_deg = NAN;
 };
 
-// time_s text (6 decimals, as the CSVs print it) -> rate and angle; the firmware's trailer line is skipped.
+// time_s text (6 decimals, as the CSVs print it) -> rate and angle; the firmware's trailer line is
+// skipped.
 std::map<std::string, Row> ReadRates(const std::string& path, int rate_col, int angle_col) {
     std::map<std::string, Row> out;
     std::ifstream f(path);
@@ -189,12 +192,12 @@ struct Watcher {
     Bus bus{BusOptions{kUrl}};
     std::map<std::string, std::map<std::string, double>> extra;  // process -> counters
     Watcher() {
-        bus.Subscribe<status_t>(std::string(channels::kStatus), [this](const status_t& m,
-                                                                       const std::string&) {
-            for (size_t i = 0; i < m.extra_names.size(); ++i)
-                extra[m.process][m.extra_names[i]] = m.extra_values[i];
-            extra[m.process]["seen"] = 1;
-        });
+        bus.Subscribe<status_t>(std::string(channels::kStatus),
+                                [this](const status_t& m, const std::string&) {
+                                    for (size_t i = 0; i < m.extra_names.size(); ++i)
+                                        extra[m.process][m.extra_names[i]] = m.extra_values[i];
+                                    extra[m.process]["seen"] = 1;
+                                });
     }
     double Get(const std::string& p, const std::string& k) {
         return extra.count(p) && extra[p].count(k) ? extra[p][k] : NAN;
@@ -223,23 +226,26 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
                      dir + "/rec.log");
     ChildProcess comp({Bin("gyrocal-compensator"), "--lcm-url", kUrl}, dir + "/comp.log",
                       dir + "/comp.log");
-    ASSERT_TRUE(w.WaitFor([&] { return w.Get("gyrocal-recorder", "seen") == 1 &&
-                                       w.Get("gyrocal-compensator", "seen") == 1; },
-                          20s))
+    ASSERT_TRUE(w.WaitFor(
+        [&] {
+            return w.Get("gyrocal-recorder", "seen") == 1 &&
+                   w.Get("gyrocal-compensator", "seen") == 1;
+        },
+        20s))
         << ReadLog(dir + "/rec.log") << ReadLog(dir + "/comp.log");
     w.bus.Publish(std::string(channels::kRunEvent), RunEvent("start"));
-    ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM runs WHERE run_id='equivalence-run'", 1,
-                             20s));
+    ASSERT_TRUE(
+        WaitForCount(db, "SELECT count(*) FROM runs WHERE run_id='equivalence-run'", 1, 20s));
     w.bus.Publish(channels::Coeffs("S01"), ExtendedSet());
-    ASSERT_TRUE(w.WaitFor([&] { return w.Get("gyrocal-compensator", "coeff_sets_applied") == 1; },
-                          20s))
+    ASSERT_TRUE(
+        w.WaitFor([&] { return w.Get("gyrocal-compensator", "coeff_sets_applied") == 1; }, 20s))
         << ReadLog(dir + "/comp.log");
     ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM coeff_sets", 1, 20s));
 
     // WHEN the CSV source replays the run
     ASSERT_EQ(RunChild({Bin("gyrocal-csv-source"), input, "--max", "--max-rate-hz", "4000",
-                   "--lcm-url", kUrl},
-                  dir + "/source.log"),
+                        "--lcm-url", kUrl},
+                       dir + "/source.log"),
               0)
         << ReadLog(dir + "/source.log");
     const std::string rates_sql = "SELECT count(*) FROM rates WHERE coeff_set_id=4242";
@@ -248,12 +254,13 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
         << ReadLog(dir + "/comp.log");
     ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM gyro_samples", kSamples, 60s));
     w.bus.Publish(std::string(channels::kRunEvent), RunEvent("stop"));
-    ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM runs WHERE run_id='equivalence-run' AND "
-                             "stopped_utime IS NOT NULL", 1,
-                             20s));
+    ASSERT_TRUE(WaitForCount(db,
+                             "SELECT count(*) FROM runs WHERE run_id='equivalence-run' AND "
+                             "stopped_utime IS NOT NULL",
+                             1, 20s));
     // Every sample compensated live (none waiting for an input: warm-up had its power-on time).
-    ASSERT_TRUE(w.WaitFor([&] { return w.Get("gyrocal-compensator", "compensated") == kSamples; },
-                          20s));
+    ASSERT_TRUE(
+        w.WaitFor([&] { return w.Get("gyrocal-compensator", "compensated") == kSamples; }, 20s));
     EXPECT_EQ(w.Get("gyrocal-compensator", "uncompensated"), 0.0);
     EXPECT_EQ(w.Get("gyrocal-compensator", "power_on_assumed"), 0.0);
     EXPECT_EQ(comp.Stop().code, 0);
@@ -261,29 +268,29 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
 
     // THEN the exported samples, compensated offline ...
     const std::string samples = dir + "/samples.csv", offline = dir + "/offline.csv";
-    ASSERT_EQ(RunChild({GYROCAL_CLI, "export", kRun, "--db", db, "--format", "samples", "--out",
-                   samples},
-                  dir + "/export.log"),
-              0)
+    ASSERT_EQ(
+        RunChild({GYROCAL_CLI, "export", kRun, "--db", db, "--format", "samples", "--out", samples},
+                 dir + "/export.log"),
+        0)
         << ReadLog(dir + "/export.log");
-    ASSERT_EQ(RunChild({GYROCAL_CLI, "compensate", samples, "--db", db, "--run", kRun, "--out",
-                   offline},
-                  dir + "/compensate.log"),
-              0)
+    ASSERT_EQ(
+        RunChild({GYROCAL_CLI, "compensate", samples, "--db", db, "--run", kRun, "--out", offline},
+                 dir + "/compensate.log"),
+        0)
         << ReadLog(dir + "/compensate.log");
     EXPECT_EQ(ReadLog(dir + "/compensate.log").find("not computable"), std::string::npos)
         << ReadLog(dir + "/compensate.log");
     // ... and through the exported C header, compiled by the system C compiler
     const std::string header = dir + "/gyrocal_coeffs.h", program = dir + "/firmware";
-    ASSERT_EQ(RunChild({GYROCAL_CLI, "export", kRun, "--db", db, "--format", "c-header", "--out",
-                   header},
-                  dir + "/header.log"),
-              0)
+    ASSERT_EQ(
+        RunChild({GYROCAL_CLI, "export", kRun, "--db", db, "--format", "c-header", "--out", header},
+                 dir + "/header.log"),
+        0)
         << ReadLog(dir + "/header.log");
     ASSERT_EQ(RunChild({GYROCAL_SYSTEM_CC, "-std=c99", "-O2", "-Wall", "-Werror", "-I", dir,
-                   "-DGYROCAL_TEST_INIT=gyrocal_S01_init", GYROCAL_FIRMWARE_PROGRAM, "-o",
-                   program, "-lm"},
-                  dir + "/cc.log"),
+                        "-DGYROCAL_TEST_INIT=gyrocal_S01_init", GYROCAL_FIRMWARE_PROGRAM, "-o",
+                        program, "-lm"},
+                       dir + "/cc.log"),
               0)
         << ReadLog(dir + "/cc.log");
     const std::string firmware = dir + "/firmware.csv";
@@ -311,8 +318,7 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
         ASSERT_NE(f, fwr.end()) << t;
         ASSERT_TRUE(std::isfinite(l.rate_dps)) << t;
         const bool same = l.rate_dps == o->second.rate_dps && l.rate_dps == f->second.rate_dps &&
-                          l.angle_deg == o->second.angle_deg &&
-                          l.angle_deg == f->second.angle_deg;
+                          l.angle_deg == o->second.angle_deg && l.angle_deg == f->second.angle_deg;
         if (!same && differ++ < 5)
             ADD_FAILURE() << "t " << t << ": live " << l.rate_dps << " / " << l.angle_deg
                           << ", offline " << o->second.rate_dps << " / " << o->second.angle_deg

@@ -4,8 +4,9 @@
  *
  * Build: cc -std=c99 -I DIR -DGYROCAL_TEST_INIT=gyrocal_<sensor>_init firmware_program.c -lm
  * (DIR holds the header as gyrocal_coeffs.h). Usage: program SAMPLES.csv
- * Prints the header "time_s,rate_dps,angle_deg", then one such line per computed sample (17 significant digits: the double read
- * back exactly) and "not_computable,N" last. Exit 1 on a file it cannot read.
+ * Prints the header "time_s,rate_dps,angle_deg", then one such line per computed sample (17
+ * significant digits: the double read back exactly) and "not_computable,N" last. Exit 1 on a file
+ * it cannot read.
  *
  * The time of a sample and its power-on time follow the CSV format's definitions:
  * utime = 1e15 us + round(time_s * 1e6), power-on = utime - round(time_since_power_s * 1e6),

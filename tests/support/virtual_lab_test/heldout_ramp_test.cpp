@@ -69,8 +69,8 @@ double PredictionRms(const model::CoeffSet& set, const virtual_lab::SensorHeldOu
     for (double t : s.temp_c) {
         const model::ModelInputs in = model::SteadyStateInputs(set.offset, t);
         const double sd = std::sqrt(off.Evaluate(in, model::RangePolicy::kClip).variance);
-        const double sv = sens.Value(model::SteadyStateInputs(set.sensitivity, t),
-                                     model::RangePolicy::kClip);
+        const double sv =
+            sens.Value(model::SteadyStateInputs(set.sensitivity, t), model::RangePolicy::kClip);
         if (!std::isfinite(sd) || !std::isfinite(sv)) continue;
         ss += (sd / sv) * (sd / sv);
         ++n;
@@ -110,8 +110,8 @@ Outcome OneSeed(const char* effect, double value, uint64_t seed) {
     const virtual_lab::HeldOutResult h =
         virtual_lab::EvaluateHeldOut(ramp, p, {{{ext->sensor_id, *ext}}});
     const virtual_lab::SensorHeldOut& u = h.sensors.at(0);
-    EXPECT_EQ(u.not_compensated.at(0), 0) << effect << " seed " << seed
-                                          << ": every sample is computable";
+    EXPECT_EQ(u.not_compensated.at(0), 0)
+        << effect << " seed " << seed << ": every sample is computable";
     out.after = Rms(u.err_dps.at(0));
     out.truth = Rms(u.floor_meas_dps);
     out.prediction = PredictionRms(*ext, u);
@@ -125,11 +125,11 @@ void RunEffect(const char* effect, double value) {
         const uint64_t seed = 200 + k;
         const Outcome o = OneSeed(effect, value, seed);
         const double noise_bound = std::sqrt(o.truth * o.truth + 9 * o.prediction * o.prediction);
-        std::printf("[ held-out ] %-12s seed %llu: extended %.4f deg/s, true model %.4f deg/s "
-                    "(x%.2f), prediction %.4f, noise bound %.4f; added %s\n",
-                    effect, static_cast<unsigned long long>(seed), o.after, o.truth,
-                    o.after / o.truth, o.prediction, noise_bound,
-                    o.added.empty() ? "nothing" : o.added.c_str());
+        std::printf(
+            "[ held-out ] %-12s seed %llu: extended %.4f deg/s, true model %.4f deg/s "
+            "(x%.2f), prediction %.4f, noise bound %.4f; added %s\n",
+            effect, static_cast<unsigned long long>(seed), o.after, o.truth, o.after / o.truth,
+            o.prediction, noise_bound, o.added.empty() ? "nothing" : o.added.c_str());
         if (o.after <= 1.2 * o.truth)
             ++within;
         else
