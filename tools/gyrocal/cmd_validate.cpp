@@ -1,5 +1,6 @@
 #include "cmd_validate.hpp"
 
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -75,8 +76,20 @@ int RunValidate(const ValidateOptions& o, std::ostream& out, std::ostream& err) 
         bins.bin_s = o.bin_s;
         nlohmann::json all = nlohmann::json::array();
         std::unique_ptr<st::Db> rw = o.store ? st::OpenForUpdate(o.db) : nullptr;
+        int failed = 0;
         for (const std::string& id : sensors) {
             const an::ValidationResult r = an::Validate(runs.at(id), sets.at(id), origin, bins);
+            if (!std::isfinite(r.rate_rms_dps)) {
+                // No figures (no still data, or an input the run lacks): a failure, not a result;
+                // nothing is stored for it, the other sensors still are.
+                std::string why;
+                for (const std::string& n : r.notes) why += (why.empty() ? "" : "; ") + n;
+                err << me << "run '" << o.run_id << "' sensor " << id
+                    << ": nothing to validate on (" << (why.empty() ? "no figures" : why)
+                    << "); a run needs still data the model's inputs cover\n";
+                ++failed;
+                continue;
+            }
             if (rw) {
                 const int64_t vid = st::InsertValidation(*rw, Row(o, r));
                 err << me << id << ": stored as validation " << vid << "\n";
@@ -86,8 +99,9 @@ int RunValidate(const ValidateOptions& o, std::ostream& out, std::ostream& err) 
             else
                 out << an::FormatValidation(r);
         }
-        if (o.json) out << nlohmann::json{{"run_id", o.run_id}, {"sensors", all}}.dump(2) << "\n";
-        return out ? 0 : 1;
+        if (o.json && !all.empty())
+            out << nlohmann::json{{"run_id", o.run_id}, {"sensors", all}}.dump(2) << "\n";
+        return out && failed == 0 ? 0 : 1;
     } catch (const std::exception& e) {
         err << me << e.what() << "\n";
         return 1;
@@ -115,7 +129,8 @@ void AddValidateCommand(CLI::App& app, std::function<int()>& action) {
     sub->add_flag("!--no-store", o->store, "do not keep the result in the database");
     sub->footer(
         "Exit codes: 0 validated (whatever the figures), 1 failure (database, run, sensor or "
-        "model missing or unusable), 2 bad options.");
+        "model missing or unusable, or a sensor without still data to validate on), 2 bad "
+        "options.");
     sub->callback([o, row, r, &action] {
         if (r->count()) o->coeff_set_row = *row;
         o->command_line = "gyrocal validate " + o->run_id + " --db " + o->db +

@@ -20,11 +20,15 @@ std::string WriteRunDb(const std::string& name) {
     SimRunOptions o;
     o.seed = 601;
     sim::SetEffect(o.effects, "hysteresis", 1e-3);
-    const SimRun s = MakeSimRun(o, true);
+    WriteSimRun(path, "R1", MakeSimRun(o, true));
+    return path;
+}
+
+void WriteSimRun(const std::string& path, const std::string& run_id, const SimRun& s) {
     st::StoreWriter w(path, {"test", "host", 1});
     std::vector<st::Row> rows;
     st::RunEventRow start;
-    start.run_id = "R1";
+    start.run_id = run_id;
     start.event = "start";
     start.utime = s.raw.front().utime;
     start.sensor_ids = {"S01"};
@@ -33,7 +37,7 @@ std::string WriteRunDb(const std::string& name) {
     rows.push_back(start);
     for (const GyroSample& g : s.raw) {
         st::GyroRow r;
-        r.run_id = "R1";
+        r.run_id = run_id;
         r.sensor_id = "S01";
         r.utime = g.utime;
         r.seq = g.seq;
@@ -47,7 +51,7 @@ std::string WriteRunDb(const std::string& name) {
     int64_t seq = 0;
     for (const EncoderSample& e : s.encoder) {
         st::EncoderRow r;
-        r.run_id = "R1";
+        r.run_id = run_id;
         r.encoder_id = "E";
         r.utime = e.utime;
         r.seq = seq++;
@@ -59,7 +63,7 @@ std::string WriteRunDb(const std::string& name) {
     }
     for (const PowerRecord& p : s.power) {
         st::PowerStateRow r;
-        r.run_id = "R1";
+        r.run_id = run_id;
         r.sensor_id = "S01";
         r.utime = p.utime;
         r.power_on_utime = p.power_on_utime;
@@ -69,7 +73,7 @@ std::string WriteRunDb(const std::string& name) {
     }
     for (const PlateauInput& p : s.run.plateaus) {
         st::PlateauRow r;
-        r.run_id = "R1";
+        r.run_id = run_id;
         r.sensor_id = "S01";
         r.plateau_id = p.plateau_id;
         r.utime = p.end_utime;
@@ -85,7 +89,7 @@ std::string WriteRunDb(const std::string& name) {
     }
     for (const SensitivityInput& si : s.run.sensitivities) {
         st::SensitivityRow r;
-        r.run_id = "R1";
+        r.run_id = run_id;
         r.sensor_id = "S01";
         r.rotation_id = si.rotation_id;
         r.utime = si.utime;
@@ -98,7 +102,6 @@ std::string WriteRunDb(const std::string& name) {
         rows.push_back(r);
     }
     w.Write(rows, {});
-    return path;
 }
 
 void RemoveRunDb(const std::string& path) {

@@ -4,10 +4,15 @@
 // `gyrocal analyze` tests work on.
 #include <string>
 
+#include "sim_run.hpp"
+
 namespace gyrocal::analysis::testing {
 
 // Returns the path of a fresh database in the temp directory (name made unique by the pid).
 std::string WriteRunDb(const std::string& name);
+// Appends one simulated run (raw samples with keep_raw, encoder, power-on, plateaus, points) as
+// run `run_id` with the store's writer; creates the database when missing.
+void WriteSimRun(const std::string& path, const std::string& run_id, const SimRun& run);
 // Removes the database and its WAL side files (-wal, -shm), which read-only readers leave.
 void RemoveRunDb(const std::string& path);
 

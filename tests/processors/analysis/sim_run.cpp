@@ -73,6 +73,8 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     SimRun out;
     sim::RigConfig c = sim::RigConfig::Defaults();
     c.seed = o.seed;
+    c.noise_seed = o.noise_seed;
+    if (o.start_utime != 0) c.start_utime = o.start_utime;
     c.num_units = 1;
     c.effects = o.effects;
     c.thermal.ramp_c_per_min = o.ramp_c_per_min;

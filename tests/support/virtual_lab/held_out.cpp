@@ -66,6 +66,9 @@ public:
                     throw std::invalid_argument("held-out: candidate " + std::to_string(k) +
                                                 " set of " + u.sensor_id +
                                                 " rejected by the compensator: " + r.detail);
+                // The rig powers its units when it starts (it announces so on POWER_<id>), so a
+                // warm-up term counts from there, not from the record's first sample.
+                t.cands[k].comp->PowerOn(rc.start_utime);
             }
             tracks_.push_back(std::move(t));
         }

@@ -1,0 +1,152 @@
+// The model the analysis finds survives the trip to the compensators: on the project's simulated
+// rig with one undeclared effect switched on (temp_rate, hysteresis, warmup, supply,
+// sf_asymmetry, temp_cubic), several seeds, the rig's default temperature-sensor lag (15 s) and
+// the `five` profile's setpoints (-40, -10, 25, 55, 85 degC from a 25 degC start), the extended
+// coefficient set `gyrocal analyze` would store is applied by the live compensator's library to a
+// held-out RAMP run of the same units (same unit seed, another noise seed; the chamber ramps
+// -10 -> 70 -> 10 -> 50 degC at the calibration's ramp rate with the table at rest, so every
+// dynamic input - dT/dt, branch, time since power-on - moves as it would in use). Its error (rate
+// RMS over 10 s bins) is compared with what the rig's true model leaves on the same samples (the
+// truth, effects included, evaluated at the MEASURED temperature: the best any model of the
+// measured temperature can do; virtual_lab::EvaluateHeldOut's floor_meas).
+//
+// The bound, from the noise: both figures share the samples, so the white and slow noise of the
+// ramp run cancel from the comparison except through the extended model's own coefficient error,
+// which comes from the CALIBRATION run's noise. A fitted model's prediction error over the ramp
+// bins (its covariance propagated to each bin, RMS over bins: PredictionRms below) adds in
+// quadrature: after^2 = truth^2 + prediction^2 when the model is right. The coefficient error is
+// one shape over the whole record (one degree of freedom), so 3 sigma of it is 3x the RMS:
+//   after <= sqrt(truth^2 + 9 prediction^2).
+// The covariance is the analysis' autocorrelation-robust one, estimated from the fit's residuals,
+// so a model that misses a term gets a wider bound: the bound catches a broken model path (a
+// term evaluated with other inputs than it was fitted on: the 9x), not a missed term.
+// The acceptance figure, after <= 1.2 truth, is printed per seed with the analysis' report
+// where it is missed, but not asserted: it is not derived from the noise, and on this profile it
+// is missed for reasons outside the model path (see the README's "Held-out ramp" figures): with
+// the 15 s sensor lag the data carry a temp_rate effect beside the switched-on one, and the
+// `five` profile ramps down only once, so temp_rate and hysteresis are nearly collinear (the
+// analysis says "ambiguous" and adds neither); a warm-up decays (tau ~400 s) before most held-out
+// blocks, so the held-out confirmation gate cannot confirm it. Asserted: the noise bound, and
+// every sample computable (warm-up included).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "analysis/analyze.hpp"
+#include "analysis/report.hpp"
+#include "held_out.hpp"
+#include "model/model.hpp"
+#include "sim_run.hpp"
+
+namespace gyrocal::analysis {
+namespace {
+
+using testing::MakeSimRun;
+using testing::SimRun;
+using testing::SimRunOptions;
+
+double Rms(const std::vector<double>& v) {
+    double ss = 0;
+    int n = 0;
+    for (double x : v)
+        if (std::isfinite(x)) {
+            ss += x * x;
+            ++n;
+        }
+    return n ? std::sqrt(ss / n) : NAN;
+}
+
+// [deg/s] RMS over the record's bins of the offset model's prediction standard deviation
+// (sqrt(j' C j) at the bin's steady-state inputs) over the nominal sensitivity: the part of the
+// error that comes from the calibration's noise through the fitted coefficients.
+double PredictionRms(const model::CoeffSet& set, const virtual_lab::SensorHeldOut& s) {
+    const model::Evaluator off(set.offset), sens(set.sensitivity);
+    double ss = 0;
+    int n = 0;
+    for (double t : s.temp_c) {
+        const model::ModelInputs in = model::SteadyStateInputs(set.offset, t);
+        const double sd = std::sqrt(off.Evaluate(in, model::RangePolicy::kClip).variance);
+        const double sv =
+            sens.Value(model::SteadyStateInputs(set.sensitivity, t), model::RangePolicy::kClip);
+        if (!std::isfinite(sd) || !std::isfinite(sv)) continue;
+        ss += (sd / sv) * (sd / sv);
+        ++n;
+    }
+    return n ? std::sqrt(ss / n) : NAN;
+}
+
+struct Outcome {
+    double after = NAN, truth = NAN, prediction = NAN;
+    std::string added;
+    std::string report;  // the analysis' report, for a failure's message
+};
+
+Outcome OneSeed(const char* effect, double value, uint64_t seed) {
+    SimRunOptions o;
+    o.seed = seed;
+    sim::SetEffect(o.effects, effect, value);
+    o.setpoints_c = {-40.0, -10.0, 25.0, 55.0, 85.0};  // sequencer profile "five"
+    o.sensor_tau_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
+    const SimRun s = MakeSimRun(o);
+    const SensorResult r = Analyze(s.run);
+    Outcome out;
+    out.report = FormatReport(r);
+    for (const AddedEffect& a : r.added) out.added += (out.added.empty() ? "" : ",") + a.effect;
+    const auto ext = ExtendedCoeffSet(r, "calibration", "1", 1);
+    if (!ext) {
+        ADD_FAILURE() << effect << " seed " << seed << ": no extended set\n" << FormatReport(r);
+        return out;
+    }
+    sim::RigConfig ramp = s.config;
+    ramp.noise_seed = seed + 1000;  // same units, fresh noise
+    virtual_lab::HeldOutProfile p;
+    p.waypoints_c = {-10.0, 70.0, 10.0, 50.0};
+    p.ramp_c_per_min = o.ramp_c_per_min;
+    p.hold_s = 600.0;
+    p.bin_s = 10.0;
+    const virtual_lab::HeldOutResult h =
+        virtual_lab::EvaluateHeldOut(ramp, p, {{{ext->sensor_id, *ext}}});
+    const virtual_lab::SensorHeldOut& u = h.sensors.at(0);
+    EXPECT_EQ(u.not_compensated.at(0), 0)
+        << effect << " seed " << seed << ": every sample is computable";
+    out.after = Rms(u.err_dps.at(0));
+    out.truth = Rms(u.floor_meas_dps);
+    out.prediction = PredictionRms(*ext, u);
+    return out;
+}
+
+void RunEffect(const char* effect, double value) {
+    constexpr int kSeeds = 3;
+    int within = 0;
+    for (int k = 1; k <= kSeeds; ++k) {
+        const uint64_t seed = 200 + k;
+        const Outcome o = OneSeed(effect, value, seed);
+        const double noise_bound = std::sqrt(o.truth * o.truth + 9 * o.prediction * o.prediction);
+        std::printf(
+            "[ held-out ] %-12s seed %llu: extended %.4f deg/s, true model %.4f deg/s "
+            "(x%.2f), prediction %.4f, noise bound %.4f; added %s\n",
+            effect, static_cast<unsigned long long>(seed), o.after, o.truth, o.after / o.truth,
+            o.prediction, noise_bound, o.added.empty() ? "nothing" : o.added.c_str());
+        if (o.after <= 1.2 * o.truth)
+            ++within;
+        else
+            std::printf("[ held-out ] above 1.2x the true model; the analysis said:\n%s",
+                        o.report.c_str());
+        EXPECT_LE(o.after, noise_bound) << effect << " seed " << seed << "\n" << o.report;
+    }
+    std::printf("[ held-out ] %-12s within 1.2x of the true model on %d of %d seeds\n", effect,
+                within, kSeeds);
+}
+
+TEST(HeldOutRamp, TempRate) { RunEffect("temp_rate", 1e-4); }
+TEST(HeldOutRamp, Hysteresis) { RunEffect("hysteresis", 1e-3); }
+TEST(HeldOutRamp, Warmup) { RunEffect("warmup", 2e-3); }
+TEST(HeldOutRamp, Supply) { RunEffect("supply", 0.05); }
+TEST(HeldOutRamp, SfAsymmetry) { RunEffect("sf_asymmetry", 0.02); }
+TEST(HeldOutRamp, TempCubic) { RunEffect("temp_cubic", 2e-8); }
+
+}  // namespace
+}  // namespace gyrocal::analysis
