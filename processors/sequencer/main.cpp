@@ -44,6 +44,22 @@ int main(int argc, char** argv) {
     app.add_option("--retry-wait-s", o.procedure.retry_wait_s,
                    "[s] data time at rest before a move is ordered again, 0..600")
         ->capture_default_str();
+    std::vector<double> range_c;
+    app.add_option("--ramp-range-c", range_c,
+                   "ramp profile: MIN,MAX [degC]; waypoints MIN then MAX (the cooling, then the "
+                   "heating ramp), overrides the profile's")
+        ->delimiter(',')->expected(2);
+    app.add_option("--turn-interval-s", o.procedure.turn_interval_s,
+                   "ramp profile: [s] data time between +90/-90 pairs, 10..7200")->capture_default_str();
+    app.add_option("--dwell-s", o.procedure.dwell_s,
+                   "ramp profile: [s] held at each waypoint once the air is there, 0..7200")
+        ->capture_default_str();
+    app.add_option("--target-offset-dps", o.procedure.target_offset_dps,
+                   "ramp profile: [deg/s] stop early once every unit's offset is known this well "
+                   "(1 sigma, whole range); 0 = no target")->capture_default_str();
+    app.add_option("--target-sensitivity-pct", o.procedure.target_sensitivity_pct,
+                   "ramp profile: [%] stop early once every unit's sensitivity is known this well; "
+                   "0 = no target")->capture_default_str();
     app.add_option("--run-id", o.run_id, "run id (default: UTC time-host-pid)");
     app.add_option("--resume-setpoint-index", o.procedure.resume_setpoint_index,
                    "resume run --run-id at this 0-based setpoint (a restarted sequencer; needs "
@@ -56,12 +72,25 @@ int main(int argc, char** argv) {
     // Bad options are the frame's (exit 2, "gyrocal-sequencer: <reason>"); the run is not: its
     // exit code is the procedure's (0 completed, 3 aborted), so it is kept here.
     const auto validate = [&]() -> std::string {
-        if (!setpoints_c.empty()) {
-            o.procedure.profile = Profile{"custom", setpoints_c};
-        } else if (auto p = NamedProfile(profile_name)) {
-            o.procedure.profile = *p;
-        } else {
-            return "--profile: unknown profile '" + profile_name + "': valid are five, seed3";
+        const auto named = NamedProfile(profile_name);
+        if (!named) {
+            std::string valid;
+            for (const auto& n : ProfileNames()) valid += (valid.empty() ? "" : ", ") + n;
+            return "--profile: unknown profile '" + profile_name + "': valid are " + valid;
+        }
+        o.procedure.profile = *named;
+        if (!setpoints_c.empty())
+            o.procedure.profile = Profile{named->continuous ? named->name : "custom", setpoints_c,
+                                          named->continuous};
+        if (!named->continuous && (o.procedure.target_offset_dps > 0 || o.procedure.target_sensitivity_pct > 0))
+            return "--target-offset-dps/--target-sensitivity-pct: only with --profile ramp (a plateau run "
+                   "visits every setpoint)";
+        if (!range_c.empty()) {
+            if (!named->continuous) return "--ramp-range-c: only with --profile ramp";
+            if (!(range_c[0] < range_c[1]))
+                return "--ramp-range-c: MIN,MAX needs MIN < MAX (got " + std::to_string(range_c[0]) +
+                       "," + std::to_string(range_c[1]) + ")";
+            o.procedure.profile.setpoints_c = range_c;
         }
         if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors");
             !e.empty())
@@ -81,6 +110,10 @@ int main(int argc, char** argv) {
             if (what.rfind("resume setpoint index", 0) == 0) return "--resume-setpoint-index: " + what;
             if (what.rfind("move attempts", 0) == 0) return "--move-attempts: " + what;
             if (what.rfind("retry wait", 0) == 0) return "--retry-wait-s: " + what;
+            if (what.rfind("turn interval", 0) == 0) return "--turn-interval-s: " + what;
+            if (what.rfind("dwell", 0) == 0) return "--dwell-s: " + what;
+            if (what.rfind("target offset", 0) == 0) return "--target-offset-dps: " + what;
+            if (what.rfind("target sensitivity", 0) == 0) return "--target-sensitivity-pct: " + what;
             return what;
         }
         if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))

@@ -1,6 +1,7 @@
 #pragma once
 // The LCM shell around Procedure: feeds it data time, plateaus and sensitivity points, and
-// publishes what it orders (RUN_EVENT, CHAMBER_CMD, TURNTABLE_CMD).
+// publishes what it orders (RUN_EVENT, CHAMBER_CMD, TURNTABLE_CMD). A ramp run also hears the
+// chamber's air temperature and every unit's coefficient sets (COEFFS_<id>, for its early stop).
 #include <memory>
 #include <set>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/status.hpp"
+#include "model/convert.hpp"
 #include "procedure.hpp"
 
 namespace gyrocal::sequencer {
@@ -33,11 +35,12 @@ private:
     void OnAnyTime(int64_t utime);
     void Publish(const std::vector<Order>& orders);
     void MaybeStart(int64_t utime);
+    void OnCoeffs(const std::string& sensor_id, int64_t utime, const model::CoeffSet& set);
 
     SequencerOptions options_;
     Bus bus_;
     StatusReporter status_;
-    std::unique_ptr<Procedure> procedure_;
+    std::unique_ptr<Runner> procedure_;
     std::set<std::string> discovered_;
     int64_t first_utime_ = -1;
     int64_t now_utime_ = 0;
