@@ -11,10 +11,12 @@ int main(int argc, char** argv) {
         "gyrocal-fitter: fits offset and sensitivity models per sensor from PLATEAU_*, "
         "SENSITIVITY_* and NOISE_* of the current run (RUN_EVENT) and publishes COEFFS_<sensor_id> "
         "and FIT_<sensor_id> (complete or partial, excluded points, slow noise used, "
-        "repeatability).",
+        "repeatability). --mode ramp fits every still window of a ramp run instead.",
         "gyrocal-fitter"};
     const auto validate = gyrocal::AddFitterOptions(app, o);
     if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-fitter", validate))
         return *exit_code;
+    if (o.mode == "ramp")
+        return gyrocal::RunUntilStopped("gyrocal-fitter", [&] { gyrocal::RampFitterNode(o).Run(); });
     return gyrocal::RunUntilStopped("gyrocal-fitter", [&] { gyrocal::FitterNode(o).Run(); });
 }

@@ -51,8 +51,21 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
                    "[degC] a plateau this close to an earlier one after others is a return "
                    "(repeatability)")
         ->capture_default_str();
+    app.add_option("--mode", o.mode,
+                   "plateau (fit the plateaus) or ramp (fit every still window of a ramp run "
+                   "with the analysis' term selection: processors/fitter/ramp_fitter.hpp)")
+        ->capture_default_str();
+    app.add_option("--refit-interval-s", o.ramp.refit_interval_s,
+                   "--mode ramp: [s] data time between fits during the run, 10..86400")
+        ->capture_default_str();
+    app.add_option("--min-span-s", o.ramp.min_span_s,
+                   "--mode ramp: [s] of a unit's data before its first fit, 0..86400")
+        ->capture_default_str();
     app.footer(kNodeExitCodes);
     return [&o]() -> std::string {
+        if (o.mode != "plateau" && o.mode != "ramp")
+            return "--mode '" + o.mode + "' is not valid: use plateau or ramp";
+        if (std::string p = o.ramp.Problem(); !p.empty()) return "--mode ramp: " + p;
         const auto method = fit::ParseMethod(o.method);
         if (!method) return "--method '" + o.method + "' is not valid: use auto, 3point or wls";
         o.core.fit.method = *method;

@@ -11,6 +11,7 @@
 #include "bus/bus.hpp"
 #include "bus/status.hpp"
 #include "fitter_core.hpp"
+#include "ramp_fitter.hpp"
 
 namespace gyrocal {
 
@@ -18,6 +19,8 @@ struct FitterOptions {
     std::string lcm_url;  // "" = $GYROCAL_LCM_URL or the default
     fitter::CoreOptions core;
     std::string method = "auto";
+    std::string mode = "plateau";  // plateau (FitterCore) | ramp (RampFitter, ramp_fitter.hpp)
+    fitter::RampFitterOptions ramp;
     static FitterOptions Defaults() { return {}; }
 };
 
@@ -38,6 +41,26 @@ private:
     Bus bus_;
     StatusReporter status_;
     fitter::FitterCore core_;
+};
+
+// gyrocal-fitter --mode ramp: GYRO_*, ENCODER, SENSITIVITY_*, RUN_EVENT in; COEFFS_<id>, FIT_<id>
+// and STATUS out. One thread as above; a fit (RampFitter, on data time or at the stop) runs in
+// the handler that makes it due.
+class RampFitterNode {
+public:
+    explicit RampFitterNode(const FitterOptions& o);  // throws BusError when LCM cannot open
+    void Run();
+
+private:
+    template <class F>
+    void Guarded(F&& f);
+    void Publish(const std::vector<fitter::RampFitResult>& results);
+
+    Bus bus_;
+    StatusReporter status_;
+    fitter::RampFitter fitter_;
+    int64_t now_utime_ = 0;
+    int64_t sets_published_ = 0;
 };
 
 }  // namespace gyrocal

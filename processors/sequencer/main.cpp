@@ -1,7 +1,9 @@
 // gyrocal-sequencer: runs the calibration procedure (METHOD.md) over LCM: orders the chamber
 // through a temperature profile, waits for every sensor's plateau, orders +90/-90 deg turntable
 // moves and waits for the sensitivity points, and publishes the run's start/progress/stop.
-// One thread: RunLoop dispatches messages; all decisions are in Procedure (procedure.hpp).
+// --profile ramp ramps continuously instead (ramp_procedure.hpp). One thread: RunLoop dispatches
+// messages; all decisions are in the Runner (procedure.hpp, ramp_procedure.hpp); options in
+// sequencer_options.cpp.
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -17,76 +19,9 @@ using namespace gyrocal::sequencer;
 
 int main(int argc, char** argv) {
     SequencerOptions o = SequencerOptions::Defaults();
-    std::string profile_name = kDefaultProfile;
-    std::vector<double> setpoints_c;
     CLI::App app{"gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, rotations)",
         "gyrocal-sequencer"};
-    app.add_option("--lcm-url", o.lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
-    app.add_option("--profile", profile_name, "named profile: " + ProfilesHelp())
-        ->capture_default_str();
-    app.add_option("--setpoints-c", setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
-    app.add_option("--sensors", o.procedure.sensor_ids, "sensor ids to wait for (default: discover from GYRO_*)")
-        ->delimiter(',');
-    app.add_option("--discover-s", o.discover_s, "[s] data time to discover sensors")->capture_default_str();
-    app.add_option("--ramp-rate-c-per-min", o.procedure.ramp_rate_c_per_min, "[degC/min] chamber ramp, (0,30]")
-        ->capture_default_str();
-    app.add_option("--plateau-timeout-s", o.procedure.plateau_timeout_s,
-                   "[s] data time per setpoint before the run aborts as a chamber fault")->capture_default_str();
-    app.add_option("--moves-deg", o.procedure.moves_deg, "[deg] turntable moves at each setpoint")
-        ->delimiter(',')->capture_default_str();
-    app.add_option("--rotation-rate-dps", o.procedure.rotation_rate_dps, "[deg/s] cruise rate")->capture_default_str();
-    app.add_option("--rotation-accel-dps2", o.procedure.rotation_accel_dps2, "[deg/s^2]")->capture_default_str();
-    app.add_option("--rotation-timeout-s", o.procedure.rotation_timeout_s, "[s] data time per move")
-        ->capture_default_str();
-    app.add_option("--move-attempts", o.procedure.move_attempts,
-                   "orders of one move (a rejected or missing sensitivity point asks again), 1..5")
-        ->capture_default_str();
-    app.add_option("--retry-wait-s", o.procedure.retry_wait_s,
-                   "[s] data time at rest before a move is ordered again, 0..600")
-        ->capture_default_str();
-    app.add_option("--run-id", o.run_id, "run id (default: UTC time-host-pid)");
-    app.add_option("--resume-setpoint-index", o.procedure.resume_setpoint_index,
-                   "resume run --run-id at this 0-based setpoint (a restarted sequencer; needs "
-                   "--run-id and --sensors); -1 = start a new run")
-        ->capture_default_str();
-    app.add_option("--run-config-json", o.run_config_json, "configuration of the whole process graph, recorded");
-    app.add_option("--command-line", o.command_line, "command line to record (default: this one)");
-    app.footer("Exit codes: 0 run completed, 1 runtime failure, 2 bad options, 3 run aborted "
-               "(chamber fault, operator stop).");
-    // Bad options are the frame's (exit 2, "gyrocal-sequencer: <reason>"); the run is not: its
-    // exit code is the procedure's (0 completed, 3 aborted), so it is kept here.
-    const auto validate = [&]() -> std::string {
-        if (!setpoints_c.empty()) {
-            o.procedure.profile = Profile{"custom", setpoints_c};
-        } else if (auto p = NamedProfile(profile_name)) {
-            o.procedure.profile = *p;
-        } else {
-            return "--profile: unknown profile '" + profile_name + "': valid are five, seed3";
-        }
-        if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors");
-            !e.empty())
-            return e;
-        if (o.procedure.resume_setpoint_index >= 0 && (o.run_id.empty() || o.procedure.sensor_ids.empty()))
-            return "--resume-setpoint-index: resuming needs the run's --run-id and --sensors";
-        try {
-            if (o.procedure.sensor_ids.empty()) {
-                ProcedureOptions probe = o.procedure;
-                probe.sensor_ids = {"probe"};
-                probe.Validate();
-            } else {
-                o.procedure.Validate();
-            }
-        } catch (const std::invalid_argument& e) {
-            const std::string what = e.what();
-            if (what.rfind("resume setpoint index", 0) == 0) return "--resume-setpoint-index: " + what;
-            if (what.rfind("move attempts", 0) == 0) return "--move-attempts: " + what;
-            if (what.rfind("retry wait", 0) == 0) return "--retry-wait-s: " + what;
-            return what;
-        }
-        if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))
-            return "--run-config-json: is not valid JSON";
-        return "";
-    };
+    const auto validate = AddSequencerOptions(app, o);
     if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-sequencer", validate))
         return *exit_code;
     if (o.command_line.empty()) {

@@ -32,10 +32,11 @@ std::optional<Profile> NamedProfile(const std::string& name) {
     if (name == "six") return Profile{"six", {25.0, -40.0, -10.0, 45.0, 65.0, 85.0}};
     if (name == "five") return Profile{"five", {-40.0, -10.0, 25.0, 55.0, 85.0}};
     if (name == "seed3") return Profile{"seed3", {-10.0, 30.0, 60.0}};
+    if (name == "ramp") return Profile{"ramp", {-40.0, 85.0}, true};
     return std::nullopt;
 }
 
-std::vector<std::string> ProfileNames() { return {"six", "five", "seed3"}; }
+std::vector<std::string> ProfileNames() { return {"six", "five", "seed3", "ramp"}; }
 
 std::string ProfilesHelp() {
     std::string out;
@@ -72,6 +73,20 @@ void ProcedureOptions::Validate() const {
         throw std::invalid_argument("retry wait " + Num(retry_wait_s) + " s: valid is 0..600");
     if (move_attempts < 1 || move_attempts > 5)
         throw std::invalid_argument("move attempts " + std::to_string(move_attempts) + ": valid is 1..5");
+    if (!(turn_interval_s >= 10.0 && turn_interval_s <= 7200.0))
+        throw std::invalid_argument("turn interval " + Num(turn_interval_s) + " s: valid is 10..7200");
+    if (!(dwell_s >= 0.0 && dwell_s <= 7200.0))
+        throw std::invalid_argument("dwell " + Num(dwell_s) + " s: valid is 0..7200");
+    if (!(reach_band_c > 0.0 && reach_band_c <= 20.0))
+        throw std::invalid_argument("reach band " + Num(reach_band_c) + " degC: valid is (0, 20]");
+    if (!(target_offset_dps >= 0.0 && std::isfinite(target_offset_dps)))
+        throw std::invalid_argument("target offset " + Num(target_offset_dps) +
+                                    " deg/s: valid is >= 0 (0 = no target)");
+    if (!(target_sensitivity_pct >= 0.0 && target_sensitivity_pct <= 100.0))
+        throw std::invalid_argument("target sensitivity " + Num(target_sensitivity_pct) +
+                                    " %: valid is 0..100 (0 = no target)");
+    if (profile.continuous && resume_setpoint_index >= 0)
+        throw std::invalid_argument("resume setpoint index: a continuous (ramp) run cannot be resumed");
     if (resume_setpoint_index < -1 || resume_setpoint_index >= static_cast<int>(profile.setpoints_c.size()))
         throw std::invalid_argument("resume setpoint index " + std::to_string(resume_setpoint_index) +
                                     ": valid is 0.." + std::to_string(profile.setpoints_c.size() - 1) +
@@ -84,6 +99,7 @@ const char* PhaseName(Phase p) {
         case Phase::kWaitPlateau: return "waiting for plateaus";
         case Phase::kWaitRotation: return "rotating";
         case Phase::kWaitRetry: return "at rest before turning again";
+        case Phase::kRamping: return "ramping";
         case Phase::kDone: return "done";
     }
     return "?";

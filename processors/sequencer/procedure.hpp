@@ -24,7 +24,9 @@
 // goes on at that setpoint, which is taken again from its chamber order (its plateaus and moves:
 // what the dead sequencer was waiting for is not known, so nothing of that setpoint is assumed).
 #include <cstdint>
+#include <cmath>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -35,7 +37,8 @@ namespace gyrocal::sequencer {
 
 struct Profile {
     std::string name;
-    std::vector<double> setpoints_c;
+    std::vector<double> setpoints_c;  // continuous: the waypoints the ramp turns at, in order
+    bool continuous = false;          // ramp through the waypoints without waiting (ramp_procedure.hpp)
 };
 
 // Named profiles.
@@ -50,6 +53,8 @@ struct Profile {
 //   Seven (25, -40, -15, 10, 35, 60, 85) costs a sixth settled setpoint: 2.84 h.
 // "five": -40, -10, 25, 55, 85 °C, the previous default, unchanged.
 // "seed3": the seed note's -10/30/60 °C.
+// "ramp": continuous ramps from the start temperature to -40 °C (cooling) and on to 85 °C
+//   (heating), turning the table at intervals on the move (ramp_procedure.hpp).
 std::optional<Profile> NamedProfile(const std::string& name);
 std::vector<std::string> ProfileNames();
 inline constexpr const char* kDefaultProfile = "six";
@@ -68,6 +73,13 @@ struct ProcedureOptions {
     int move_attempts = 2;                // [count] orders of one move before it is given up, 1..5
     double retry_wait_s = 10.0;           // [s] data time at rest before a move is ordered again
     int resume_setpoint_index = -1;       // >= 0: resume a run there (no start event); -1 = new run
+    // Continuous profiles only (ramp_procedure.hpp):
+    double turn_interval_s = 300.0;       // [s] data time from one +90/-90 pair to the next
+    double dwell_s = 300.0;               // [s] held at a waypoint once the air is there
+    double reach_band_c = 1.0;            // [degC] air this close to a waypoint has reached it
+    double target_offset_dps = 0.0;       // [deg/s] early stop when every unit's offset is this
+                                          // well known over the range; 0 = not a criterion
+    double target_sensitivity_pct = 0.0;  // [%] same for the sensitivity; 0 = not a criterion
     // Throws std::invalid_argument naming the field and its valid range.
     void Validate() const;
 };
@@ -90,34 +102,74 @@ struct RunEventOrder {
 };
 using Order = std::variant<ChamberOrder, TurntableOrder, RunEventOrder>;
 
-enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kWaitRetry, kDone };
+enum class Phase { kIdle, kWaitPlateau, kWaitRotation, kWaitRetry, kRamping, kDone };
 const char* PhaseName(Phase p);
 
-class Procedure {
+// How well one unit's newest coefficient set is known over the procedure's range (1 sigma, the
+// worst temperature): what the early stop of a ramp run compares with its targets.
+struct CoeffUncertainty {
+    double offset_dps = NAN;       // [deg/s] offset uncertainty / sensitivity
+    double sensitivity_pct = NAN;  // [%] sensitivity uncertainty / sensitivity
+};
+
+// What the sequencer process and the virtual lab drive: the plateau Procedure below or the
+// continuous RampProcedure (ramp_procedure.hpp). MakeRunner picks by profile.continuous.
+class Runner {
+public:
+    virtual ~Runner() = default;
+    virtual std::vector<Order> OnTime(int64_t utime) = 0;
+    virtual std::vector<Order> OnPlateau(const std::string& sensor_id, int64_t utime,
+                                         double setpoint_c) = 0;
+    virtual std::vector<Order> OnSensitivity(const std::string& sensor_id, int64_t utime,
+                                             bool accepted = true,
+                                             const std::string& reject_reason = "") = 0;
+    // The chamber's air temperature (CHAMBER_STATE); the plateau procedure does not need it.
+    virtual std::vector<Order> OnChamber(int64_t utime, double /*air_c*/) { return OnTime(utime); }
+    // A unit's newest coefficient set, as its uncertainty; only a ramp run can stop on it.
+    virtual std::vector<Order> OnCoefficients(const std::string&, int64_t utime,
+                                              const CoeffUncertainty&) {
+        return OnTime(utime);
+    }
+    virtual std::vector<Order> Abort(const std::string& reason) = 0;
+    virtual void EndedElsewhere(const std::string& event, const std::string& reason) = 0;
+    virtual Phase phase() const = 0;
+    bool done() const { return phase() == Phase::kDone; }
+    virtual int setpoint_index() const = 0;
+    virtual const std::string& outcome() const = 0;  // "completed" or "abort"
+    virtual const std::string& outcome_reason() const = 0;
+    virtual const std::vector<std::string>& notes() const = 0;
+    virtual std::set<std::string> pending_sensors() const = 0;
+};
+
+// Validates (throws std::invalid_argument naming the field).
+std::unique_ptr<Runner> MakeRunner(ProcedureOptions options);
+
+class Procedure : public Runner {
 public:
     explicit Procedure(ProcedureOptions options);  // validates; throws std::invalid_argument
 
     // Data time advanced (any message). Starts the run on the first call; checks timeouts.
-    std::vector<Order> OnTime(int64_t utime);
+    std::vector<Order> OnTime(int64_t utime) override;
     // setpoint_c: the plateau's own setpoint (NaN when unknown); a plateau of another setpoint
     // (one that finished averaging just after the chamber was reordered) does not count.
-    std::vector<Order> OnPlateau(const std::string& sensor_id, int64_t utime, double setpoint_c);
+    std::vector<Order> OnPlateau(const std::string& sensor_id, int64_t utime,
+                                 double setpoint_c) override;
     // accepted false (reject_reason says why) asks for the move again (see move_attempts).
     std::vector<Order> OnSensitivity(const std::string& sensor_id, int64_t utime,
-                                     bool accepted = true, const std::string& reject_reason = "");
+                                     bool accepted = true,
+                                     const std::string& reject_reason = "") override;
     // Operator stop (Ctrl-C): ends the run as "abort" with the reason given.
-    std::vector<Order> Abort(const std::string& reason);
+    std::vector<Order> Abort(const std::string& reason) override;
     // The run was ended by someone else (a supervisor's abort of this run): done, nothing ordered.
-    void EndedElsewhere(const std::string& event, const std::string& reason);
+    void EndedElsewhere(const std::string& event, const std::string& reason) override;
 
-    Phase phase() const { return phase_; }
-    bool done() const { return phase_ == Phase::kDone; }
-    int setpoint_index() const { return setpoint_index_; }
+    Phase phase() const override { return phase_; }
+    int setpoint_index() const override { return setpoint_index_; }
     int move_index() const { return move_index_; }
-    const std::string& outcome() const { return outcome_; }  // "completed" or "abort"
-    const std::string& outcome_reason() const { return outcome_reason_; }
-    const std::vector<std::string>& notes() const { return notes_; }  // skipped moves etc.
-    std::set<std::string> pending_sensors() const { return pending_; }
+    const std::string& outcome() const override { return outcome_; }  // "completed" or "abort"
+    const std::string& outcome_reason() const override { return outcome_reason_; }
+    const std::vector<std::string>& notes() const override { return notes_; }  // skipped moves
+    std::set<std::string> pending_sensors() const override { return pending_; }
 
 private:
     std::vector<Order> EnterSetpoint(int index, int64_t utime);

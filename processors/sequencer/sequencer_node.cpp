@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -11,7 +12,9 @@
 #include "bus/channels.hpp"
 #include "bus/shutdown.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
+#include "coeff_uncertainty.hpp"
 #include "gyrocal/chamber_state_t.hpp"
+#include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -54,13 +57,21 @@ SequencerNode::SequencerNode(SequencerOptions options)
                            {"rotation_rate_dps", p.rotation_rate_dps},
                            {"rotation_accel_dps2", p.rotation_accel_dps2},
                            {"rotation_timeout_s", p.rotation_timeout_s}};
+    if (p.profile.continuous) {
+        config["sequencer"]["continuous"] = true;
+        config["sequencer"]["turn_interval_s"] = p.turn_interval_s;
+        config["sequencer"]["dwell_s"] = p.dwell_s;
+        config["sequencer"]["target_offset_dps"] = p.target_offset_dps;
+        config["sequencer"]["target_sensitivity_pct"] = p.target_sensitivity_pct;
+    }
     config_json_ = config.dump();
-    if (!p.sensor_ids.empty()) procedure_ = std::make_unique<Procedure>(p);
+    if (!p.sensor_ids.empty()) procedure_ = MakeRunner(p);
 
     bus_.Subscribe<chamber_state_t>(std::string(channels::kChamberState),
                                     [this](const chamber_state_t& s, const std::string&) {
                                         if (!s.fault.empty()) status_.Reject("chamber fault", s.fault);
                                         OnAnyTime(s.utime);
+                                        if (procedure_) Publish(procedure_->OnChamber(s.utime, s.air_c));
                                     });
     bus_.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
                                   [this](const gyro_sample_t& s, const std::string& channel) {
@@ -80,6 +91,17 @@ SequencerNode::SequencerNode(SequencerOptions options)
                                                 Publish(procedure_->OnSensitivity(s.sensor_id, s.utime, s.accepted,
                                                                                   s.reject_reason));
                                         });
+    if (p.profile.continuous) {
+        bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
+                                    [this](const coeff_set_t& m, const std::string&) {
+                                        if (!procedure_ || m.run_id != options_.run_id) return;
+                                        try {
+                                            OnCoeffs(m.sensor_id, m.utime, model::FromMsg(m));
+                                        } catch (const std::exception& e) {
+                                            status_.Reject("bad coefficient set", e.what());
+                                        }
+                                    });
+    }
     // A supervisor ends the run when a process it cannot restart died (gyrocal calibrate: the
     // rig); the sequencer then stops without ordering more. Its own events come back too (LCM
     // loops them back): by then the procedure is done and this changes nothing.
@@ -95,7 +117,14 @@ void SequencerNode::MaybeStart(int64_t utime) {
     if (static_cast<double>(utime - first_utime_) * 1e-6 < options_.discover_s || discovered_.empty()) return;
     ProcedureOptions p = options_.procedure;
     p.sensor_ids.assign(discovered_.begin(), discovered_.end());
-    procedure_ = std::make_unique<Procedure>(p);
+    procedure_ = MakeRunner(p);
+}
+
+void SequencerNode::OnCoeffs(const std::string& sensor_id, int64_t utime,
+                             const model::CoeffSet& set) {
+    const auto& wp = options_.procedure.profile.setpoints_c;
+    const auto [lo, hi] = std::minmax_element(wp.begin(), wp.end());
+    Publish(procedure_->OnCoefficients(sensor_id, utime, UncertaintyOver(set, *lo, *hi)));
 }
 
 void SequencerNode::OnAnyTime(int64_t utime) {

@@ -1,6 +1,9 @@
 #pragma once
 // The LCM shell around Procedure: feeds it data time, plateaus and sensitivity points, and
-// publishes what it orders (RUN_EVENT, CHAMBER_CMD, TURNTABLE_CMD).
+// publishes what it orders (RUN_EVENT, CHAMBER_CMD, TURNTABLE_CMD). A ramp run also hears the
+// chamber's air temperature and every unit's coefficient sets (COEFFS_<id>, for its early stop).
+#include <CLI/CLI.hpp>
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -8,6 +11,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/status.hpp"
+#include "model/convert.hpp"
 #include "procedure.hpp"
 
 namespace gyrocal::sequencer {
@@ -22,6 +26,10 @@ struct SequencerOptions {
     static SequencerOptions Defaults();
 };
 
+// Registers gyrocal-sequencer's options on `app`; the returned validator resolves the profile and
+// checks every option ("" or the problem, naming the option). `o` must outlive the validator.
+std::function<std::string()> AddSequencerOptions(CLI::App& app, SequencerOptions& o);
+
 class SequencerNode {
 public:
     explicit SequencerNode(SequencerOptions options);
@@ -33,11 +41,12 @@ private:
     void OnAnyTime(int64_t utime);
     void Publish(const std::vector<Order>& orders);
     void MaybeStart(int64_t utime);
+    void OnCoeffs(const std::string& sensor_id, int64_t utime, const model::CoeffSet& set);
 
     SequencerOptions options_;
     Bus bus_;
     StatusReporter status_;
-    std::unique_ptr<Procedure> procedure_;
+    std::unique_ptr<Runner> procedure_;
     std::set<std::string> discovered_;
     int64_t first_utime_ = -1;
     int64_t now_utime_ = 0;

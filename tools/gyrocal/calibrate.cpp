@@ -186,6 +186,7 @@ bool Calibration::StartConsumers() {
         if (o_.source == "sim")
             fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
                                          std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
+        if (IsRamp()) fitter.insert(fitter.end(), {"--mode", "ramp"});
         start("gyrocal-fitter", fitter, o_.fitter_args);
         start("gyrocal-compensator", {}, o_.compensator_args);
     } catch (const std::exception& e) {
@@ -238,11 +239,19 @@ void Calibration::StartSim() {
     rig.insert(rig.end(), o_.rig_args.begin(), o_.rig_args.end());
     source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), rig);
     if (!AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "")) throw std::runtime_error("the rig did not start");
-    std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line", o_.command_line};
-    if (!setpoints.empty()) {
-        seq.insert(seq.end(), {"--setpoints-c", Join(setpoints, ",")});
-    } else {
-        seq.insert(seq.end(), {"--profile", o_.profile});
+    std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line", o_.command_line,
+                                    "--profile", o_.profile};
+    if (!setpoints.empty()) seq.insert(seq.end(), {"--setpoints-c", Join(setpoints, ",")});
+    if (o_.ramp_rate_c_per_min > 0)
+        seq.insert(seq.end(), {"--ramp-rate-c-per-min", std::to_string(o_.ramp_rate_c_per_min)});
+    if (IsRamp()) {
+        if (!o_.ramp_range_c.empty())
+            seq.insert(seq.end(), {"--ramp-range-c", std::to_string(o_.ramp_range_c.at(0)) + "," +
+                                                         std::to_string(o_.ramp_range_c.at(1))});
+        seq.insert(seq.end(), {"--turn-interval-s", std::to_string(o_.turn_interval_s), "--dwell-s",
+                               std::to_string(o_.dwell_s), "--target-offset-dps",
+                               std::to_string(o_.target_offset_dps), "--target-sensitivity-pct",
+                               std::to_string(o_.target_sensitivity_pct)});
     }
     seq.insert(seq.end(), o_.sequencer_args.begin(), o_.sequencer_args.end());
     sequencer_ = &Start(SiblingExecutable("gyrocal-sequencer"), seq);
@@ -268,6 +277,11 @@ void Calibration::StartMeasured() {
     }
 }
 
+bool Calibration::IsRamp() const {
+    const auto p = sequencer::NamedProfile(o_.profile);
+    return p && p->continuous;
+}
+
 std::string Calibration::ConfigJson() const {
     nlohmann::json j;
     j["source"] = o_.source;
@@ -285,6 +299,14 @@ std::string Calibration::ConfigJson() const {
     j["speed"] = o_.speed;
     j["profile"] = o_.profile;
     j["setpoints_c"] = o_.setpoints_c;
+    if (IsRamp()) {
+        j["ramp_range_c"] = o_.ramp_range_c;
+        j["turn_interval_s"] = o_.turn_interval_s;
+        j["dwell_s"] = o_.dwell_s;
+        j["target_offset_dps"] = o_.target_offset_dps;
+        j["target_sensitivity_pct"] = o_.target_sensitivity_pct;
+    }
+    if (o_.ramp_rate_c_per_min > 0) j["ramp_rate_c_per_min"] = o_.ramp_rate_c_per_min;
     j["effects"] = o_.effects;
     j["max_restarts"] = o_.max_restarts;
     if (!input_sha256_.empty()) j["input_sha256"] = input_sha256_;

@@ -58,6 +58,14 @@ struct CalibrateOptions {
     double speed = 0.0;
     std::string profile = "six";  // sequencer::kDefaultProfile
     std::vector<double> setpoints_c;
+    // --profile ramp (sequencer/ramp_procedure.hpp): waypoints MIN,MAX ("" = the profile's),
+    // chamber rate, turn interval, dwell at each waypoint, early-stop targets (0 = none).
+    std::vector<double> ramp_range_c;
+    double ramp_rate_c_per_min = 0.0;  // 0 = the sequencer's default
+    double turn_interval_s = 300.0;
+    double dwell_s = 300.0;
+    double target_offset_dps = 0.0;
+    double target_sensitivity_pct = 0.0;
     std::vector<std::string> effects;  // undeclared effects switched on in the rig (NAME=VALUE)
     std::string log_dir;          // child logs; "" = a fresh folder under $TMPDIR
     double wall_timeout_s = 0;    // 0 = none

@@ -55,6 +55,7 @@ private:
     bool DetectEnd();  // true once the run has ended (this role's view)
     bool WaitsForCoeffs() const;
     std::string ConfigJson() const;
+    bool IsRamp() const;  // --profile names a continuous (ramp) profile
     void AnnounceRun(const std::string& event, const std::string& reason);
     void ShowProgress(bool force);
     std::set<std::string> Sensors() const;

@@ -114,6 +114,28 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     cmd->add_option("--profile", o->profile, sequencer::ProfilesHelp())
         ->check(CLI::IsMember(sequencer::ProfileNames()))->capture_default_str();
     cmd->add_option("--setpoints-c", o->setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');
+    cmd->add_option("--ramp-rate-c-per-min", o->ramp_rate_c_per_min,
+                    "[degC/min] chamber ramp rate ordered by the sequencer, (0, 30] (the simulated "
+                    "chamber's own limit caps it); default: the sequencer's")
+        ->check(CLI::Range(0.0, 30.0));
+    cmd->add_option("--ramp-range-c", o->ramp_range_c,
+                    "--profile ramp: MIN,MAX [degC]: cool to MIN, then heat to MAX (default -40,85)")
+        ->delimiter(',')->expected(2);
+    cmd->add_option("--turn-interval-s", o->turn_interval_s,
+                    "--profile ramp: [s] data time between +90/-90 turn pairs on the move, 10..7200")
+        ->check(CLI::Range(10.0, 7200.0))->capture_default_str();
+    cmd->add_option("--dwell-s", o->dwell_s,
+                    "--profile ramp: [s] held at each waypoint once the air is there (the units' dies "
+                    "lag the air), 0..7200")
+        ->check(CLI::Range(0.0, 7200.0))->capture_default_str();
+    cmd->add_option("--target-offset-dps", o->target_offset_dps,
+                    "--profile ramp: [deg/s] stop early once every unit's offset is known to this "
+                    "(1 sigma, worst temperature of the range); 0 = no target")
+        ->check(CLI::Range(0.0, 100.0))->capture_default_str();
+    cmd->add_option("--target-sensitivity-pct", o->target_sensitivity_pct,
+                    "--profile ramp: [%] stop early once every unit's sensitivity is known to this; "
+                    "0 = no target")
+        ->check(CLI::Range(0.0, 100.0))->capture_default_str();
     cmd->add_option("--effect", o->effects, "switch on an undeclared effect in the rig, NAME=VALUE (repeatable)")
         ->check([](const std::string& v) {
             // The rig's own parser, so that a bad effect is refused here, before any process starts.
@@ -156,6 +178,20 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
             throw CLI::ValidationError("--input", "is required with --source " + o->source);
         if (o->source == "sim" && !o->input.empty())
             throw CLI::ValidationError("--input", "is only for --source csv|log");
+        const auto profile = sequencer::NamedProfile(o->profile);
+        const bool ramp = profile && profile->continuous;
+        if (ramp && o->procedure == "rig")
+            throw CLI::ValidationError("--profile", "ramp needs --procedure sequencer (the rig's own "
+                                                    "procedure has plateaus only)");
+        if (ramp && o->source != "sim")
+            throw CLI::ValidationError("--profile", "ramp orders the chamber: only with --source sim "
+                                                    "(measured data brings its own procedure)");
+        if (!ramp && (!o->ramp_range_c.empty() || o->target_offset_dps > 0 ||
+                      o->target_sensitivity_pct > 0))
+            throw CLI::ValidationError("--ramp-range-c/--target-offset-dps/--target-sensitivity-pct",
+                                       "only with --profile ramp");
+        if (!o->ramp_range_c.empty() && !(o->ramp_range_c[0] < o->ramp_range_c[1]))
+            throw CLI::ValidationError("--ramp-range-c", "MIN,MAX needs MIN < MAX");
         if (o->procedure == "rig" && o->source != "sim")
             throw CLI::ValidationError("--procedure", "rig is the simulated rig's own procedure: only with --source sim");
         try {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "model/convert.hpp"
+#include "model/inputs.hpp"
 #include "model/model.hpp"
 
 namespace gyrocal::cli {
@@ -90,10 +91,12 @@ std::string FormatTruthComparison(const std::map<std::string, coeff_set_t>& coef
         const int steps = 4;
         for (int k = 0; k <= steps; ++k) {
             const double die_c = lo + (hi - lo) * k / steps;
-            model::ModelInputs in;
-            in.temp_c = die_c + sensor_offset_c;
-            const double off_fit = off.Value(in, model::RangePolicy::kClip);
-            const double sens_fit = sens.Value(in, model::RangePolicy::kClip);
+            // At rest in steady state: a set with dynamic terms (dT/dt, branch) compares too.
+            const double t_c = die_c + sensor_offset_c;
+            const double off_fit =
+                off.Value(model::SteadyStateInputs(off.model(), t_c), model::RangePolicy::kClip);
+            const double sens_fit =
+                sens.Value(model::SteadyStateInputs(sens.model(), t_c), model::RangePolicy::kClip);
             const double off_true = TruthAt(unit.at("offset_v"), die_c);
             const double sens_true = TruthAt(unit.at("sensitivity_v_per_dps"), die_c);
             const double err_dps = (off_fit - off_true) / sens_true;

@@ -268,6 +268,9 @@ TEST(FitterProcess, BadOptionsExitTwo) {
           {GYROCAL_FITTER_EXE, "--outlier-alpha", "2"},
           {GYROCAL_FITTER_EXE, "--pool-alpha", "0"},
           {GYROCAL_FITTER_EXE, "--plateau-slow-noise-dps", "11"},
+          {GYROCAL_FITTER_EXE, "--mode", "spiral"},
+          {GYROCAL_FITTER_EXE, "--mode", "ramp", "--refit-interval-s", "1"},
+          {GYROCAL_FITTER_EXE, "--mode", "ramp", "--min-span-s", "-1"},
           {GYROCAL_FITTER_EXE, "--no-such-option"}}) {
         ChildProcess p(argv, "/dev/null", "/dev/null");
         const auto st = p.Wait(5s);

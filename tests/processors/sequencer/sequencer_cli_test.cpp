@@ -32,9 +32,15 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
         {{"--run-config-json", "{\"a\":"}, "--run-config-json: is not valid JSON"},
         {{"--bogus"}, "--bogus"},
         {{"--resume-setpoint-index", "1"}, "--resume-setpoint-index: resuming needs the run's --run-id and --sensors"},
-        {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "5"},
-         "--resume-setpoint-index: resume setpoint index 5: valid is 0..4"},
+        {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "6"},
+         "--resume-setpoint-index: resume setpoint index 6: valid is 0..5"},
         {{"--move-attempts", "0"}, "--move-attempts: move attempts 0: valid is 1..5"},
+        {{"--profile", "ramp", "--turn-interval-s", "1"}, "--turn-interval-s: turn interval 1 s"},
+        {{"--profile", "ramp", "--dwell-s", "-5"}, "--dwell-s: dwell -5 s"},
+        {{"--profile", "ramp", "--ramp-range-c", "40,10"}, "--ramp-range-c: MIN,MAX needs MIN < MAX"},
+        {{"--profile", "five", "--ramp-range-c", "10,40"}, "--ramp-range-c: only with --profile ramp"},
+        {{"--profile", "five", "--target-offset-dps", "0.1"}, "only with --profile ramp"},
+        {{"--profile", "ramp", "--target-sensitivity-pct", "150"}, "--target-sensitivity-pct"},
     };
     for (const Case& c : cases) {
         std::vector<std::string> argv = {GYROCAL_SEQUENCER_EXE, "--lcm-url", "memq://"};

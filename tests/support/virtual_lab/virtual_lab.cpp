@@ -5,9 +5,11 @@
 #include <deque>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <variant>
 
+#include "coeff_uncertainty.hpp"
 #include "noise/noise_message.hpp"
 #include "plateau_message.hpp"
 #include "rotation_message.hpp"
@@ -37,23 +39,25 @@ public:
         : c_(c),
           rig_(rig),
           out_(out),
-          procedure_(ProcedureOptionsFor(c, rig)),
+          procedure_(sequencer::MakeRunner(ProcedureOptionsFor(c, rig))),
           motion_(c.move, c.motion_guard_s, c.encoder_stale_s),
           rotation_moves_(c.move),
           fitter_(c.fitter) {
+        if (c.procedure.profile.continuous) ramp_.emplace(c.ramp_fitter);
         for (const std::string& id : rig.sensor_ids()) {
             sensors_.push_back(std::make_unique<Sensor>(id, c));
             sensors_.back()->detector.SetChamberSetpoint(std::numeric_limits<double>::quiet_NaN());
         }
     }
 
-    bool done() const { return procedure_.done(); }
-    const sequencer::Procedure& procedure() const { return procedure_; }
+    bool done() const { return procedure_->done(); }
+    const sequencer::Runner& procedure() const { return *procedure_; }
 
     void OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) override {
         if (r.unit_index == 0) ++out_.samples_per_sensor;
         AdvanceTime(r.utime);
         Sensor& s = *sensors_[static_cast<size_t>(r.unit_index)];
+        if (ramp_) ramp_->AddGyro(s.id, {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
         // gyrocal-plateau: queue until the table's motion around the sample is known.
         plateau::Sample ps;
         ps.utime = r.utime;
@@ -72,6 +76,7 @@ public:
 
     void OnEncoder(const sim::EncoderReading& r) override {
         const motion::EncoderReading e{r.utime, r.counts, r.counts_per_rev};
+        if (ramp_) ramp_->AddEncoder({r.utime, r.counts, r.counts_per_rev});
         // gyrocal-plateau's table motion, then its queued samples.
         motion_.Feed(e);
         int64_t oldest = std::numeric_limits<int64_t>::max();
@@ -92,6 +97,7 @@ public:
     void OnChamber(const sim::ChamberReading& r) override {
         for (auto& s : sensors_) s->detector.SetChamberSetpoint(r.setpoint_c);
         AdvanceTime(r.utime);
+        if (!procedure_->done()) Execute(procedure_->OnChamber(r.utime, r.air_c));
     }
 
 private:
@@ -117,7 +123,8 @@ private:
         // The sequencer's guard: data time never runs backwards for the procedure.
         if (utime <= procedure_now_utime_) return;
         procedure_now_utime_ = utime;
-        Execute(procedure_.OnTime(utime));
+        Execute(procedure_->OnTime(utime));
+        if (ramp_ && !procedure_->done()) CollectRamp(ramp_->OnTime(utime));
     }
 
     void Drain(Sensor& s) {
@@ -140,24 +147,28 @@ private:
         for (const rotation::Point& p : s.estimator.Poll(view)) {
             out_.sensitivity_points.push_back(ToMessage(s.id, run_id_, p));
             const gyrocal::sensitivity_point_t& m = out_.sensitivity_points.back();
-            if (!procedure_.done()) {
+            if (!procedure_->done()) {
+                if (ramp_)
+                    ramp_->AddSensitivity(s.id, {m.rotation_id, m.utime, m.temp_c, m.direction,
+                                                 m.sensitivity_v_per_dps,
+                                                 m.sensitivity_stderr_v_per_dps, m.accepted});
                 Collect(fitter_.OnSensitivity(m, s.id));
-                Execute(procedure_.OnSensitivity(s.id, m.utime));
+                Execute(procedure_->OnSensitivity(s.id, m.utime));
             }
         }
     }
 
     void DeliverNoise(Sensor& s) {
         out_.noise[s.id] = ToNoiseMessage(s.id, run_id_, s.noise.Estimate());
-        if (!procedure_.done()) Collect(fitter_.OnNoise(out_.noise[s.id], s.id));
+        if (!procedure_->done()) Collect(fitter_.OnNoise(out_.noise[s.id], s.id));
     }
 
     void DeliverPlateau(const std::string& id, const plateau::Plateau& p) {
         out_.plateaus.push_back(ToMessage(id, p));
         const gyrocal::plateau_t& m = out_.plateaus.back();
-        if (procedure_.done()) return;  // after the run's stop: a process would refuse it too
-        Collect(fitter_.OnPlateau(m, id));
-        Execute(procedure_.OnPlateau(id, m.utime, m.setpoint_c));
+        if (procedure_->done()) return;  // after the run's stop: a process would refuse it too
+        if (!ramp_) Collect(fitter_.OnPlateau(m, id));
+        Execute(procedure_->OnPlateau(id, m.utime, m.setpoint_c));
     }
 
     void Collect(const fitter::CoreOutput& o) {
@@ -166,6 +177,23 @@ private:
         for (const auto& set : o.publish) {
             out_.published.push_back(set);
             out_.final_sets[set.sensor_id] = model::FromMsg(set);
+        }
+    }
+
+    // The ramp fitter's sets: published as the plateau fitter's are, and their uncertainty over
+    // the planned range to the procedure (the sequencer's early stop).
+    void CollectRamp(const std::vector<fitter::RampFitResult>& results) {
+        const auto& wp = c_.procedure.profile.setpoints_c;
+        const auto [lo, hi] = std::minmax_element(wp.begin(), wp.end());
+        for (const auto& r : results) {
+            out_.reports.push_back(r.report);
+            if (!r.set) continue;
+            out_.published.push_back(*r.set);
+            const model::CoeffSet set = model::FromMsg(*r.set);
+            out_.final_sets[set.sensor_id] = set;
+            if (!procedure_->done())
+                Execute(procedure_->OnCoefficients(set.sensor_id, set.utime,
+                                                   sequencer::UncertaintyOver(set, *lo, *hi)));
         }
     }
 
@@ -205,6 +233,7 @@ private:
             run_id_ = c_.run_id;
             for (auto& s : sensors_) s->noise.Reset();
             for (auto& s : sensors_) s->detector.StartRun(run_id_);
+            if (ramp_) ramp_->StartRun(run_id_);
         } else if (r.event == "setpoint") {
             for (auto& s : sensors_) s->detector.OnSetpointEvent(r.setpoint_c);
         } else if (r.event == "stop" || r.event == "abort") {
@@ -213,17 +242,21 @@ private:
             run_id_.clear();
             for (auto& s : sensors_) s->detector.EndRun();
         }
-        Collect(fitter_.OnRunEvent(msg));
+        if (ramp_ && (r.event == "stop" || r.event == "abort"))
+            CollectRamp(ramp_->Finish(rig_.now_utime()));
+        else if (!ramp_)
+            Collect(fitter_.OnRunEvent(msg));
         if (r.event == "stop" || r.event == "abort") rig_.StopAfterCurrentEvent();
     }
 
     const LabConfig& c_;
     sim::Rig& rig_;
     RunResult& out_;
-    sequencer::Procedure procedure_;
+    std::unique_ptr<sequencer::Runner> procedure_;
     motion::TableMotion motion_;           // gyrocal-plateau's
     motion::MoveDetector rotation_moves_;  // gyrocal-rotation's
     fitter::FitterCore fitter_;
+    std::optional<fitter::RampFitter> ramp_;  // continuous profiles: the ramp fitter instead
     std::vector<std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;
     int64_t procedure_now_utime_ = std::numeric_limits<int64_t>::min();

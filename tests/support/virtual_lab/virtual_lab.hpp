@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "fitter/fitter_core.hpp"
+#include "fitter/ramp_fitter.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
@@ -53,6 +54,8 @@ struct LabConfig {
     noise::TrackerConfig noise = noise::TrackerConfig::Defaults();  // as gyrocal-plateau's
     rotation::RotationConfig rotation = rotation::RotationConfig::Defaults();
     fitter::CoreOptions fitter = fitter::CoreOptions::Defaults();
+    // Continuous (ramp) profiles: the ramp fitter replaces the plateau fitter core.
+    fitter::RampFitterOptions ramp_fitter = fitter::RampFitterOptions::Defaults();
     std::string run_id = "virtual-lab";
     double max_sim_s = 24 * 3600.0;  // [s] simulated-time cap: the run is cut (outcome "cut")
 

@@ -1,0 +1,121 @@
+// The ramp fitter: a unit ramped through its range with known offset and sensitivity curves and
+// white noise; the fits it publishes during the run and at the stop, against that truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fitter/ramp_fitter.hpp"
+#include "model/convert.hpp"
+#include "model/inputs.hpp"
+
+namespace gyrocal::fitter {
+namespace {
+
+constexpr int64_t kS = 1'000'000;
+constexpr double kNoiseV = 1e-3;     // [V] white noise per sample
+constexpr double kSensSeV = 5e-6;    // [V/(deg/s)] standard error of a sensitivity point
+constexpr double kHz = 10.0;         // samples per second (fewer than a rig's, same statistics)
+
+double OffsetTrue(double t_c) { const double d = t_c - 25.0; return 2.5 + 5e-4 * d - 3e-6 * d * d; }
+double SensTrue(double t_c) { return 5e-3 + 2e-6 * (t_c - 25.0); }
+
+// Triangle 25 -> -15 -> 55 -> 25 degC at 1 degC/min (140 min), the table still (one encoder
+// reading per second, no move), a sensitivity point of each direction every 300 s.
+void Feed(RampFitter& f, std::vector<RampFitResult>& during, int64_t* end_utime) {
+    std::mt19937_64 rng(42);
+    std::normal_distribution<double> n(0.0, 1.0);
+    const double rate = 1.0 / 60.0;
+    const double legs[] = {40.0 / rate, 70.0 / rate, 30.0 / rate};
+    double t_c = 25.0, t_s = 0.0;
+    int64_t seq = 0, rot = 0;
+    for (int leg = 0; leg < 3; ++leg) {
+        const double dir = leg == 1 ? 1.0 : -1.0;
+        for (double s = 0; s < legs[leg]; s += 1.0 / kHz, t_s += 1.0 / kHz) {
+            t_c += dir * rate / kHz;
+            const int64_t u = static_cast<int64_t>(std::llround(t_s * 1e6));
+            f.AddGyro("U1", {u, seq++, t_c, OffsetTrue(t_c) + kNoiseV * n(rng), 5.0});
+            if (seq % static_cast<int64_t>(kHz) == 0) f.AddEncoder({u, 0, 10000});
+            if (seq % static_cast<int64_t>(300 * kHz) == 0) {
+                for (int d : {1, -1})
+                    f.AddSensitivity("U1", {++rot, u, t_c, d, SensTrue(t_c) + kSensSeV * n(rng), kSensSeV, true});
+            }
+            if (seq % static_cast<int64_t>(10 * kHz) == 0)
+                for (auto& r : f.OnTime(u)) during.push_back(std::move(r));
+            *end_utime = u;
+        }
+    }
+}
+
+TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
+    RampFitterOptions o;
+    o.refit_interval_s = 1800.0;
+    o.min_span_s = 3600.0;
+    RampFitter f(o);
+    f.StartRun("R1");
+    std::vector<RampFitResult> during;
+    int64_t end = 0;
+    Feed(f, during, &end);
+    // During the run: the first fit once 3600 s are in, then one per 1800 s of data (140 min:
+    // at 60, 90 and 120 min), none final.
+    ASSERT_EQ(during.size(), 3u);
+    EXPECT_NEAR(static_cast<double>(during[0].report.utime) / kS, 3600.0, 10.0);
+    for (const auto& r : during) EXPECT_FALSE(r.report.is_final);
+    const auto final_fits = f.Finish(end + kS);
+    ASSERT_EQ(final_fits.size(), 1u);
+    const RampFitResult& r = final_fits[0];
+    ASSERT_TRUE(r.set.has_value()) << r.report.reason;
+    EXPECT_TRUE(r.report.is_final);
+    EXPECT_EQ(r.report.status, "complete");
+    EXPECT_EQ(r.report.coeff_set_id, end + kS) << "a final set is the stop event's";
+    EXPECT_EQ(r.set->coeff_set_id, r.report.coeff_set_id);
+    EXPECT_EQ(r.set->source, "fitter");
+    EXPECT_EQ(r.set->num_rotations, 2 * 28);  // one pair per 300 s of 8400 s
+    const model::CoeffSet set = model::FromMsg(*r.set);
+    EXPECT_EQ(set.offset.method, "ramp");
+    // The truth at steady state over the range the fit saw (its bin means: just inside -15..55),
+    // within 4 sigma of the fit's own uncertainty: with white noise alone the analysis' robust
+    // covariance is the honest spread of the fit.
+    EXPECT_NEAR(set.offset.temp_min_c, -15.0, 0.2);
+    EXPECT_NEAR(set.offset.temp_max_c, 55.0, 0.2);
+    for (double t_c = set.offset.temp_min_c; t_c <= set.offset.temp_max_c; t_c += 5.0) {
+        const auto off = model::Evaluate(set.offset, model::SteadyStateInputs(set.offset, t_c),
+                                         model::RangePolicy::kClip);
+        EXPECT_NEAR(off.value, OffsetTrue(t_c), 4.0 * std::sqrt(off.variance)) << t_c << " C";
+        EXPECT_LT(std::sqrt(off.variance), 5.0 * kNoiseV / std::sqrt(kHz * 10.0)) << "fit, not noise";
+        const auto s = model::Evaluate(set.sensitivity, model::SteadyStateInputs(set.sensitivity, t_c),
+                                       model::RangePolicy::kClip);
+        EXPECT_NEAR(s.value, SensTrue(t_c), 4.0 * std::sqrt(s.variance)) << t_c << " C";
+    }
+    // The run's data are dropped at the stop.
+    EXPECT_EQ(f.samples("U1"), 0u);
+    EXPECT_TRUE(f.Finish(end + 2 * kS).empty());
+}
+
+TEST(RampFitter, NoRunNoFitAndAUnitWithTooLittleDataSaysWhy) {
+    RampFitter f(RampFitterOptions::Defaults());
+    f.AddGyro("U1", {0, 0, 25.0, 2.5, 5.0});
+    EXPECT_TRUE(f.OnTime(10000 * kS).empty()) << "outside a run";
+    f.StartRun("R1");
+    const auto out = f.Finish(kS);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_FALSE(out[0].set.has_value());
+    EXPECT_EQ(out[0].report.status, "none");
+    EXPECT_FALSE(out[0].report.reason.empty());
+}
+
+TEST(RampFitter, BadOptionsNameTheOption) {
+    RampFitterOptions o;
+    o.refit_interval_s = 1.0;
+    EXPECT_NE(o.Problem().find("refit interval"), std::string::npos);
+    EXPECT_THROW(RampFitter{o}, std::invalid_argument);
+    o = RampFitterOptions::Defaults();
+    o.min_span_s = -1.0;
+    EXPECT_NE(o.Problem().find("min span"), std::string::npos);
+    o = RampFitterOptions::Defaults();
+    o.analysis.bins.bin_s = 0.0;
+    EXPECT_NE(o.Problem().find("analysis: bin_s"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gyrocal::fitter
