@@ -4,10 +4,14 @@
 // `gyrocal analyze` tests work on.
 #include <string>
 
+#include "sim_run.hpp"
+
 namespace gyrocal::analysis::testing {
 
 // Returns the path of a fresh database in the temp directory (name made unique by the pid).
 std::string WriteRunDb(const std::string& name);
+// The same with any simulated run.
+std::string WriteRunDb(const std::string& name, const SimRunOptions& options);
 // Removes the database and its WAL side files (-wal, -shm), which read-only readers leave.
 void RemoveRunDb(const std::string& path);
 

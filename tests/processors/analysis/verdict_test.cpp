@@ -25,6 +25,7 @@
 #include "analysis/report.hpp"
 #include "csv/csv_file.hpp"
 #include "csv/row_messages.hpp"
+#include "cli.hpp"
 #include "generator.hpp"
 #include "sim_run.hpp"
 
@@ -215,6 +216,55 @@ TEST(Verdict, JsonCarriesTheOutcomeAndTheDiagnostics) {
     EXPECT_GT(j["residual"]["trend_z"].get<double>(), 0.0);
 }
 
+TEST(BadInput, VerdictOptionsAreRefusedWithTheirName) {
+    SimRunOptions so;
+    so.seed = 805;
+    const SensorRun run = MakeSimRun(so).run;
+    for (double v : {-1.0, 11.0, kNan}) {
+        AnalysisOptions o;
+        o.slow_noise_floor_ratio = v;
+        EXPECT_NE(o.Problem().find("slow_noise_floor_ratio"), std::string::npos) << v;
+        EXPECT_THROW(Analyze(run, o), std::invalid_argument);
+    }
+    for (double v : {0.0, 1.0, kNan}) {
+        AnalysisOptions o;
+        o.min_feature_drop = v;
+        EXPECT_NE(o.Problem().find("min_feature_drop"), std::string::npos) << v;
+        EXPECT_THROW(Analyze(run, o), std::invalid_argument);
+    }
+}
+
+TEST(BadInput, OthersimOutsideEffectOptionsAreRefusedWithTheirName) {
+    // Through the real command-line parser (what gyrocal-othersim runs), then Options::Problem.
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"--drift-v-per-h", "0.5"}, "--drift-v-per-h"},
+        {{"--periodic-v", "-0.2"}, "--periodic-v"},
+        {{"--periodic-s", "0"}, "--periodic-s"},
+        {{"--step-v", "1"}, "--step-v"},
+        {{"--step-at-s", "-5"}, "--step-at-s"},
+        {{"--warmup2-v", "0.2"}, "--warmup2-v"},
+        {{"--warmup2-tau-s", "0.5"}, "--warmup2-tau-s"}};
+    for (const auto& [args, name] : cases) {
+        othersim::Options o;
+        othersim::CliValues v;
+        CLI::App app;
+        othersim::AddOptions(app, o, v);
+        std::vector<std::string> argv = {"--out", "x.csv"};
+        argv.insert(argv.end(), args.begin(), args.end());
+        std::vector<std::string> rev(argv.rbegin(), argv.rend());
+        app.parse(rev);
+        const std::string problem = othersim::Finish(o, v);
+        EXPECT_NE(problem.find(name), std::string::npos) << name << ": " << problem;
+    }
+    // A word where a number belongs: the parser itself refuses it.
+    othersim::Options o;
+    othersim::CliValues v;
+    CLI::App app;
+    othersim::AddOptions(app, o, v);
+    std::vector<std::string> rev = {"abc", "--drift-v-per-h", "x.csv", "--out"};
+    EXPECT_THROW(app.parse(rev), CLI::ParseError);
+}
+
 // ---- othersim: an independent rig ------------------------------------------------------------
 
 // One unit's othersim run through the CSV reader into the analysis input. Its curve made
@@ -255,6 +305,8 @@ void RunOthersim(const char* name, const othersim::EffectOptions& e,
     for (uint64_t seed : {11u, 12u}) {
         const SensorResult r = Analyze(OthersimRun(seed, e));
         SCOPED_TRACE(std::string(name) + " seed " + std::to_string(seed) + "\n" + FormatReport(r));
+        std::printf("[ verdict ] othersim %s seed %d: %s\n", name, static_cast<int>(seed),
+                    r.headline.c_str());
         for (const AddedEffect& a : r.added)
             EXPECT_TRUE(a.effect == "temp_rate") << "named " << a.effect;
         EXPECT_TRUE(r.outcome == Outcome::kUnexplained || r.outcome == Outcome::kPartlyExplained)
