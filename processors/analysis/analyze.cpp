@@ -7,7 +7,9 @@
 
 #include "candidates.hpp"
 #include "heldout.hpp"
+#include "outcome.hpp"
 #include "regress.hpp"
+#include "residual.hpp"
 #include "score.hpp"
 #include "selection.hpp"
 #include "sensitivity.hpp"
@@ -103,9 +105,13 @@ HeldOut Confirm(const Context& train, const BinnedRun& binned, const Split& spli
     res.holdout_before_offset = FitModel(o.offset_terms, train.t0, binned, train.rows, fb);
     const VectorXd rb = Residuals(binned, *res.holdout_before_offset, split.held);
     res.error_before = ErrorsOn(binned, rb, split.held, split.held_block, sens);
+    const double inv_s = sens ? MeanInverseSensitivity(binned, *sens, split.held) : kNan;
     if (sel.terms.size() == o.offset_terms.size()) {
         res.error_after = res.error_before;
         res.holdout_after_offset = res.holdout_before_offset;
+        ExpectedAfter(fb, binned.Design(o.offset_terms, train.t0)(split.held, Eigen::all), inv_s,
+                      &res);
+        res.heldout_gain_v2 = res.heldout_slope = res.heldout_gain_z = kNan;
         return h;
     }
     const LsFit fa = FitLs(sel.x, train.y, train.segment, train.hac_lag);
@@ -120,9 +126,16 @@ HeldOut Confirm(const Context& train, const BinnedRun& binned, const Split& spli
     res.heldout_gain_v2 = g.mean_v2;
     res.heldout_slope = g.slope;
     res.heldout_gain_z = g.z;
-    const double inv_s = sens ? MeanInverseSensitivity(binned, *sens, split.held) : kNan;
     ExpectedAfter(fa, binned.Design(sel.terms, train.t0)(split.held, Eigen::all), inv_s, &res);
-    h.confirmed = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0;
+    // Beyond its noise (z) and never at the cost of the held-out drift.
+    const bool drift_ok = !std::isfinite(res.error_before.drift_dph) ||
+                          !std::isfinite(res.error_after.drift_dph) ||
+                          res.error_after.drift_dph <= res.error_before.drift_dph;
+    h.confirmed = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 && drift_ok;
+    if (std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 && !drift_ok)
+        res.notes.push_back("the chosen terms lowered the held-out RMS but raised the held-out "
+                            "drift (" + Fmt(res.error_before.drift_dph) + " -> " +
+                            Fmt(res.error_after.drift_dph) + " deg/h): not added");
     return h;
 }
 
@@ -153,25 +166,6 @@ void FinalModels(const BinnedRun& binned, const std::vector<std::string>& terms,
     }
 }
 
-std::string List(const std::vector<std::string>& v) {
-    std::string s;
-    for (const std::string& e : v) s += (s.empty() ? "" : ", ") + e;
-    return s;
-}
-
-void Verdict(const Selection& sel, bool analysed, SensorResult& res) {
-    std::vector<std::string> added;
-    for (const AddedEffect& a : res.added) added.push_back(a.effect);
-    if (!analysed && added.empty())
-        res.verdict = "not analysed: too few still bins (" + std::to_string(res.n_bins) + ")";
-    else if (!added.empty())
-        res.verdict = (added.size() > 1 ? "missing effects: " : "missing effect: ") + List(added);
-    else
-        res.verdict = "no missing effect";
-    if (!res.unconfirmed.empty())
-        res.verdict += "; not confirmed on the held-out data: " + List(res.unconfirmed);
-    if (!sel.ambiguous.empty()) res.verdict += "; ambiguous: " + List(sel.ambiguous);
-}
 
 void Floors(const BinnedRun& binned, const Split& split, SensorResult& res) {
     if (!std::isfinite(res.floor_offset_rms_v) || !res.declared_sensitivity) return;
@@ -185,6 +179,108 @@ void Floors(const BinnedRun& binned, const Split& split, SensorResult& res) {
     }
 }
 
+
+// Step 8's guard: a named term whose held-out residual a time-shaped generic feature (drift, slow
+// transient, step, periodic; its parameter chosen on the training bins) explains significantly
+// better than the term itself does (z > gate_min_z and min_feature_drop less squared residual)
+// only mimicked that feature: it is taken out of the selection.
+std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
+                                  const Split& split, Selection& sel, const AnalysisOptions& o,
+                                  SensorResult& res) {
+    std::vector<std::string> out;
+    const size_t nd = o.offset_terms.size();
+    const MatrixXd none(static_cast<Index>(binned.size()), 0);
+    const VectorXd r_named =
+        HeldResidual(binned, train, split, binned.Design(sel.terms, train.t0), none);
+    if (sel.terms.size() == nd || r_named.size() == 0) return out;
+    const std::vector<GenericFeature> features =
+        GenericFeatures(binned, train, binned.Design(o.offset_terms, train.t0), o);
+    for (size_t k = nd; k < sel.terms.size(); ++k) {
+        std::vector<std::string> without = sel.terms;
+        without.erase(without.begin() + static_cast<long>(k));
+        const MatrixXd base = binned.Design(without, train.t0);
+        for (const GenericFeature& f : features) {
+            if (!f.competes) continue;
+            const VectorXd r_g = HeldResidual(binned, train, split, base, f.columns);
+            if (r_g.size() != r_named.size()) continue;
+            const Gain g = HeldOutGain(r_named, r_g, split.held_block, train.hac_lag);
+            const double drop = 1.0 - r_g.squaredNorm() / r_named.squaredNorm();
+            if (!(std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 &&
+                  drop > o.min_feature_drop))
+                continue;
+            const std::string& effect = sel.added_effects[k - nd];
+            res.not_attributed.push_back(effect + " (" + f.name + ", " + f.detail +
+                                         ", explains its held-out residual better: z " +
+                                         Fmt(g.z) + ")");
+            out.push_back(effect);
+            break;
+        }
+    }
+    for (size_t j = 0; j < out.size(); ++j) {
+        const std::string& effect = out[j];
+        const auto it = std::find(sel.added_effects.begin(), sel.added_effects.end(), effect);
+        sel.terms.erase(sel.terms.begin() + static_cast<long>(nd) + (it - sel.added_effects.begin()));
+        sel.added_effects.erase(it);
+        for (CandidateResult& c : res.candidates)
+            if (c.effect == effect)
+                c.decision = Decision::kRejected,
+                c.note = "not attributed: " + res.not_attributed[j];
+    }
+    if (!out.empty()) sel.x = train.Design(sel.terms);
+    return out;
+}
+
+// Steps 4, 5 and 8's guard: the offset terms chosen, confirmed on the held-out bins and not
+// displaced by a generic feature.
+Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
+                     const AnalysisOptions& o, SensorResult& res) {
+    const Context train = MakeContext(binned, split.train, t0, o);
+    Selection sel = Choose(train, binned, o, res, DeclaredFloor(train, binned, o));
+    HeldOut h = Confirm(train, binned, split, sel, o, res);
+    if (h.confirmed && !Displace(train, binned, split, sel, o, res).empty())
+        h = Confirm(train, binned, split, sel, o, res);
+    for (size_t k = o.offset_terms.size(); k < sel.terms.size(); ++k) {
+        const std::string& effect = sel.added_effects[k - o.offset_terms.size()];
+        if (h.confirmed) {
+            AddedEffect a;
+            a.effect = effect;
+            a.term = sel.terms[k];
+            for (const Candidate& c : OffsetCandidates(binned, o))
+                if (c.effect == effect) a.unit = c.unit;
+            res.added.push_back(a);
+        } else {
+            res.unconfirmed.push_back(effect);
+        }
+    }
+    if (!h.confirmed) sel.terms = o.offset_terms;
+    for (CandidateResult& c : res.candidates)
+        if (c.decision == Decision::kAdded && !h.confirmed) {
+            c.decision = Decision::kRejected;
+            c.note = "chosen on the training bins, not confirmed on the held-out bins "
+                     "(prediction slope " + Fmt(res.heldout_slope) + ", " +
+                     Fmt(res.heldout_gain_z) + " standard errors, need " + Fmt(o.gate_min_z) +
+                     "; squared error change " + Fmt(-res.heldout_gain_v2) + " V^2)";
+        }
+    return sel;
+}
+
+// Steps 8 and 9 on the final model: features, diagnostics, outcome.
+void Residue(const BinnedRun& binned, const Split& split, double t0, bool analysed,
+             const Selection& sel, const AnalysisOptions& o, SensorResult& res) {
+    if (analysed && res.extended_offset) {
+        const Context train = MakeContext(binned, split.train, t0, o);
+        res.floor_prediction_rms_v =
+            res.floor_offset_rms_v *
+            std::sqrt(MeanLeverage(train.Design(sel.terms),
+                                   binned.Design(sel.terms, t0)(split.held, Eigen::all)));
+        const VectorXd r_all = Residuals(binned, *res.extended_offset, AllRows(binned.size()));
+        const MatrixXd base = binned.Design(sel.terms, t0);
+        res.features = JudgeFeatures(binned, train, split, base, r_all, res.floor_offset_rms_v,
+                                     GenericFeatures(binned, train, base, o), o);
+        res.residual = Diagnose(binned, r_all, res.floor_offset_rms_v, o);
+    }
+    Conclude(analysed, sel.ambiguous, o, res);
+}
 }  // namespace
 
 SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
@@ -228,32 +324,7 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
             res.candidates.push_back({e, "", Decision::kNotTested, kNan, kNan, 0,
                                       "too few still bins", kNan, false});
     } else {
-        const Context train = MakeContext(binned, split.train, t0, o);
-        sel = Choose(train, binned, o, res, DeclaredFloor(train, binned, o));
-        const HeldOut h = Confirm(train, binned, split, sel, o, res);
-        for (size_t k = o.offset_terms.size(); k < sel.terms.size(); ++k) {
-            const std::string& effect = sel.added_effects[k - o.offset_terms.size()];
-            if (h.confirmed) {
-                AddedEffect a;
-                a.effect = effect;
-                a.term = sel.terms[k];
-                for (const Candidate& c : OffsetCandidates(binned, o))
-                    if (c.effect == effect) a.unit = c.unit;
-                res.added.push_back(a);
-            } else {
-                res.unconfirmed.push_back(effect);
-            }
-        }
-        if (!h.confirmed) sel.terms = o.offset_terms;
-        for (CandidateResult& c : res.candidates)
-            if (c.decision == Decision::kAdded && !h.confirmed) {
-                c.decision = Decision::kRejected;
-                c.note = "chosen on the training bins, not confirmed on the held-out bins "
-                         "(prediction slope " + Fmt(res.heldout_slope) + ", " +
-                         Fmt(res.heldout_gain_z) + " standard errors, need " +
-                         Fmt(o.gate_min_z) + "; squared error change " +
-                         Fmt(-res.heldout_gain_v2) + " V^2)";
-            }
+        sel = OffsetStep(binned, split, t0, o, res);
     }
     FinalModels(binned, sel.terms, t0, o, res);
     Floors(binned, split, res);
@@ -261,7 +332,7 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
     if (so.candidate.decision == Decision::kNotTested && so.problem.empty())
         res.could_not_test.push_back("sf_asymmetry: " + so.candidate.note);
     if (so.added) res.added.push_back(*so.added);
-    Verdict(sel, analysed, res);
+    Residue(binned, split, t0, analysed, sel, o, res);
     return res;
 }
 

@@ -50,6 +50,30 @@
 // 6. The extended model (when confirmed) is refitted on all bins with the chosen terms.
 // 7. The floor: the Allan deviation at the bin length of the model's residual (bins.hpp): the
 //    white scatter of one bin, which a perfect model would also leave.
+// 8. Beyond the list (residual.hpp): generic features of every channel the bins carry (time since
+//    start, a slow transient, a step, a periodic term, temperature shape and rate at other time
+//    scales, supply and its rate), each judged on the held-out bins like the candidates. They are
+//    never added to the model; they say what the residual correlates with. A named term whose
+//    held-out residual a time-shaped feature (drift, slow transient, step, periodic) explains
+//    significantly better than the term does is refused ("not attributed"): it only mimicked it.
+// 9. The outcome, from what is left on the held-out bins compared with the floor bound
+//      bound^2 = floor^2 (1 + 9 k^2) + 9 prediction^2
+//    floor: the white bin scatter (step 7); prediction: what white noise at the floor puts into
+//    the held-out prediction of coefficients fitted on the training bins (floor x sqrt(mean
+//    leverage x'(X'X)^-1 x over the held-out bins)); k = slow_noise_floor_ratio: the correlated (slow)
+//    noise a perfect model also leaves in 10 s bin means, as a multiple of the floor (a MEMS gyro's
+//    flicker level is about its 10 s white scatter); it and the coefficients' prediction error are
+//    each nearly one shape over a held-out stretch, one degree of freedom, so 9x their variance is
+//    a 3-sigma allowance. Outcomes:
+//      adequate             nothing added, held-out residual within the bound and no generic
+//                           feature explains held-out data (its shape is noise's, not a trend's)
+//      explained            terms added and confirmed, residual after within the bound
+//      partly explained     terms added, residual after still above the bound or explained in part
+//                           by a generic feature on held-out data
+//      unexplained residual nothing added, residual above the bound or a generic feature explains
+//                           it on held-out data
+//      not testable         too few bins, or most candidates (more than half) could not be tested
+//    Above the bound the result says by how much, where in the run, and what it correlates with.
 // Whatever cannot be tested says why (could_not_test); nothing is ever invented to fill a gap.
 #include <optional>
 #include <string>
@@ -90,6 +114,9 @@ struct AnalysisOptions {
     double warmup_tau_max_s = 3000.0;
     double warmup_max_tau_fraction = 0.1;  // [1] and at most this fraction of the still span
     double same_level_tolerance_c = 1.0;   // [degC] sensitivity points this close: one temperature
+    double slow_noise_floor_ratio = 1.0;   // [1] k of step 9
+    double min_feature_drop = 0.4;  // [1] fraction of the held-out squared residual a generic
+                                    // feature must remove to explain it (residual.hpp)
     static AnalysisOptions Defaults() { return {}; }
     std::string Problem() const;  // "" when valid
 };
@@ -120,6 +147,40 @@ struct ErrorFigures {
     double offset_rms_v = kNan;
     double rate_rms_dps = kNan;
     double drift_dph = kNan;
+};
+
+enum class Outcome { kAdequate, kExplained, kPartlyExplained, kUnexplained, kNotTestable };
+const char* ToString(Outcome o);
+
+// A generic feature (step 8) judged on the held-out bins and correlated with the final residual.
+struct FeatureResult {
+    std::string feature;   // "time since start", "periodic", ...
+    std::string channel;   // the measured channel it is built from
+    std::string detail;    // its searched parameter, e.g. "period 600 s"
+    double corr = kNan;    // [1] correlation with the final model's residual on all bins
+    double heldout_z = kNan;      // held-out gain over the model, in standard errors
+    double heldout_gain_v2 = kNan;  // [V^2] mean drop of the squared held-out residual
+    double heldout_after_rms_v = kNan;  // [V] held-out residual with the feature
+    double effect_rms_v = kNan;     // [V] RMS of what it predicts on the held-out bins
+    double heldout_drop = kNan;     // [1] fraction of the held-out squared residual it removes
+    bool explains_heldout = false;  // z > gate_min_z, gain > 0, effect above the floor
+};
+
+struct WindowRms {
+    double lo = kNan, hi = kNan;  // [s from the start] or [degC]
+    double rms_v = kNan;          // [V] residual RMS of the bins in it
+    int n = 0;
+};
+
+// The final model's residual on all bins.
+struct ResidualDiagnostics {
+    double rms_v = kNan;
+    double lag1_autocorr = kNan;  // within contiguous stretches
+    double trend_v_per_h = kNan, trend_z = kNan;  // least-squares slope against time
+    double period_s = kNan, period_amplitude_v = kNan;  // periodogram peak
+    double period_power_ratio = kNan;  // peak power / median power over the periods searched
+    std::vector<WindowRms> by_time, by_temp;
+    WindowRms worst_time, worst_temp;
 };
 
 struct SensorResult {
@@ -153,6 +214,19 @@ struct SensorResult {
     std::string power_on_source;  // where time since power-on came from
     std::vector<std::string> could_not_test;
     std::vector<std::string> notes;
+    // Step 9: the outcome and the headline that says it (also in `verdict`, which keeps the
+    // prefixes older readers parse: "no missing effect", "missing effect", "not analysed").
+    Outcome outcome = Outcome::kNotTestable;
+    std::string headline;
+    double heldout_residual_rms_v = kNan;  // [V] the final model's held-out residual
+    double floor_bound_rms_v = kNan;       // [V] the bound it is compared with (step 9)
+    double floor_prediction_rms_v = kNan;  // [V] its prediction part
+    double excess_ratio = kNan;            // [1] residual / bound
+    std::vector<std::string> untested;     // candidates that could not be tested
+    std::vector<std::string> to_test;      // the measurement that would test each of them
+    std::vector<std::string> not_attributed;  // named terms a generic feature displaced
+    std::vector<FeatureResult> features;   // step 8, strongest first
+    ResidualDiagnostics residual;
     std::optional<model::Model> declared_offset, declared_sensitivity;  // fitted on all bins
     std::optional<model::Model> extended_offset, extended_sensitivity;  // fitted on all bins
     // The held-out split and the models the before/after figures used (fitted on the training

@@ -130,6 +130,17 @@ Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vecto
     return g;
 }
 
+double MeanLeverage(const MatrixXd& x_train, const MatrixXd& x_held) {
+    if (x_held.rows() == 0 || x_train.rows() <= x_train.cols()) return kNan;
+    const VectorXd s = x_train.colwise().norm().cwiseMax(1e-300).cwiseInverse();
+    const MatrixXd xs = x_train * s.asDiagonal();
+    const Eigen::LDLT<MatrixXd> ldlt(xs.transpose() * xs);
+    if (ldlt.info() != Eigen::Success) return kNan;
+    const MatrixXd h = x_held * s.asDiagonal();
+    const MatrixXd z = ldlt.solve(h.transpose());
+    return (h.transpose().cwiseProduct(z)).colwise().sum().mean();
+}
+
 void ExpectedAfter(const LsFit& fit, const MatrixXd& x_held, double inv_sens, SensorResult* r) {
     const Index n = x_held.rows(), p = fit.coeffs.size();
     const Index n_train = fit.residuals.size();

@@ -19,6 +19,17 @@ const char* ToString(Decision d) {
     return "?";
 }
 
+const char* ToString(Outcome o) {
+    switch (o) {
+        case Outcome::kAdequate: return "adequate";
+        case Outcome::kExplained: return "explained";
+        case Outcome::kPartlyExplained: return "partly explained";
+        case Outcome::kUnexplained: return "unexplained residual";
+        case Outcome::kNotTestable: return "not testable";
+    }
+    return "?";
+}
+
 std::string AnalysisOptions::Problem() const {
     if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";
     if (!(bins.min_fill > 0.0 && bins.min_fill <= 1.0)) return "min_fill must be in (0, 1]";
@@ -40,6 +51,10 @@ std::string AnalysisOptions::Problem() const {
     if (!(holdout_block_s >= 10.0 * bins.bin_s))
         return "holdout_block_s must be at least 10 bins long";
     if (!(gate_min_z >= 0.0)) return "gate_min_z must be >= 0";
+    if (!(slow_noise_floor_ratio >= 0.0 && slow_noise_floor_ratio <= 10.0))
+        return "slow_noise_floor_ratio must be in [0, 10]";
+    if (!(min_feature_drop > 0.0 && min_feature_drop < 1.0))
+        return "min_feature_drop must be in (0, 1)";
     if (!(rate_tau_min_s > 0.0 && rate_tau_max_s > rate_tau_min_s))
         return "dT/dt time constant range must satisfy 0 < min < max";
     if (!(branch_width_min_c > 0.0 && branch_width_max_c > branch_width_min_c))

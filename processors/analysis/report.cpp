@@ -26,6 +26,41 @@ std::string G(double v, int prec = 3) {
     return buf;
 }
 
+nlohmann::json Windows(const std::vector<WindowRms>& w) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const WindowRms& x : w)
+        a.push_back({{"lo", Num(x.lo)}, {"hi", Num(x.hi)}, {"rms_v", Num(x.rms_v)}, {"bins", x.n}});
+    return a;
+}
+
+nlohmann::json Beyond(const SensorResult& r) {
+    using nlohmann::json;
+    json f = json::array();
+    for (const FeatureResult& x : r.features)
+        f.push_back({{"feature", x.feature},
+                     {"channel", x.channel},
+                     {"detail", x.detail},
+                     {"corr", Num(x.corr)},
+                     {"heldout_z", Num(x.heldout_z)},
+                     {"heldout_gain_v2", Num(x.heldout_gain_v2)},
+                     {"heldout_after_rms_v", Num(x.heldout_after_rms_v)},
+                     {"effect_rms_v", Num(x.effect_rms_v)},
+                     {"heldout_drop", Num(x.heldout_drop)},
+                     {"explains_heldout", x.explains_heldout}});
+    const ResidualDiagnostics& d = r.residual;
+    return {{"features", f},
+            {"residual",
+             {{"rms_v", Num(d.rms_v)},
+              {"lag1_autocorr", Num(d.lag1_autocorr)},
+              {"trend_v_per_h", Num(d.trend_v_per_h)},
+              {"trend_z", Num(d.trend_z)},
+              {"period_s", Num(d.period_s)},
+              {"period_amplitude_v", Num(d.period_amplitude_v)},
+              {"period_power_ratio", Num(d.period_power_ratio)},
+              {"by_time_s", Windows(d.by_time)},
+              {"by_temp_c", Windows(d.by_temp)}}}};
+}
+
 }  // namespace
 
 nlohmann::json ToJson(const SensorResult& r) {
@@ -33,6 +68,17 @@ nlohmann::json ToJson(const SensorResult& r) {
     json j;
     j["sensor_id"] = r.sensor_id;
     j["verdict"] = r.verdict;
+    j["outcome"] = ToString(r.outcome);
+    j["headline"] = r.headline;
+    j["heldout_residual_rms_v"] = Num(r.heldout_residual_rms_v);
+    j["floor_bound_rms_v"] = Num(r.floor_bound_rms_v);
+    j["excess_ratio"] = Num(r.excess_ratio);
+    j["untested"] = r.untested;
+    j["to_test"] = r.to_test;
+    j["not_attributed"] = r.not_attributed;
+    const nlohmann::json b = Beyond(r);
+    j["features"] = b["features"];
+    j["residual"] = b["residual"];
     json cands = json::array();
     for (const CandidateResult& c : r.candidates)
         cands.push_back({{"effect", c.effect},
@@ -94,6 +140,48 @@ nlohmann::json ToJson(const std::vector<SensorResult>& results) {
     return {{"sensors", s}};
 }
 
+namespace {
+
+std::string FormatBeyond(const SensorResult& r) {
+    std::string out = "  outcome: " + std::string(ToString(r.outcome)) + " (held-out residual " +
+                      G(r.heldout_residual_rms_v) + " V, floor bound " + G(r.floor_bound_rms_v) +
+                      " V, ratio " + G(r.excess_ratio) + ")\n";
+    char line[320];
+    if (!r.features.empty()) {
+        std::snprintf(line, sizeof line, "  %-20s %-20s %7s %8s %11s  %s\n", "beyond the list",
+                      "channel", "corr", "heldout_z", "after_v", "explains held-out");
+        out += line;
+    }
+    for (const FeatureResult& f : r.features) {
+        std::snprintf(line, sizeof line, "  %-20s %-20s %7s %8s %11s  %s  (%s)\n",
+                      f.feature.c_str(), f.channel.c_str(), G(f.corr, 2).c_str(),
+                      G(f.heldout_z).c_str(), G(f.heldout_after_rms_v).c_str(),
+                      f.explains_heldout ? "yes" : "no", f.detail.c_str());
+        out += line;
+    }
+    const ResidualDiagnostics& d = r.residual;
+    if (std::isfinite(d.rms_v)) {
+        std::snprintf(line, sizeof line,
+                      "  residual: RMS %s V, lag-1 autocorrelation %s, trend %s V/h (%s sigma), "
+                      "periodogram peak %s s amplitude %s V (%s x median power)\n",
+                      G(d.rms_v).c_str(), G(d.lag1_autocorr, 2).c_str(),
+                      G(d.trend_v_per_h).c_str(), G(d.trend_z, 2).c_str(), G(d.period_s).c_str(),
+                      G(d.period_amplitude_v).c_str(), G(d.period_power_ratio, 2).c_str());
+        out += line;
+        std::snprintf(line, sizeof line,
+                      "  residual largest at %s..%s s (%s V RMS) and at %s..%s degC (%s V RMS)\n",
+                      G(d.worst_time.lo, 4).c_str(), G(d.worst_time.hi, 4).c_str(),
+                      G(d.worst_time.rms_v).c_str(), G(d.worst_temp.lo).c_str(),
+                      G(d.worst_temp.hi).c_str(), G(d.worst_temp.rms_v).c_str());
+        out += line;
+    }
+    for (const std::string& s : r.not_attributed) out += "  not attributed: " + s + "\n";
+    for (const std::string& s : r.to_test) out += "  to test " + s + "\n";
+    return out;
+}
+
+}  // namespace
+
 std::string FormatReport(const SensorResult& r) {
     std::string out = "sensor " + r.sensor_id + ": " + r.verdict + "\n";
     char line[256];
@@ -141,6 +229,7 @@ std::string FormatReport(const SensorResult& r) {
                   G(r.floor_offset_rms_v).c_str(), G(r.floor_rate_rms_dps).c_str(),
                   G(r.floor_drift_dph).c_str());
     out += line;
+    out += FormatBeyond(r);
     out += "  power-on: " + r.power_on_source + "\n";
     for (const std::string& s : r.could_not_test) out += "  could not test: " + s + "\n";
     for (const std::string& s : r.notes) out += "  note: " + s + "\n";

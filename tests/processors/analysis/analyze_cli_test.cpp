@@ -44,7 +44,9 @@ TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
     const nlohmann::json j = nlohmann::json::parse(out.str());
     ASSERT_EQ(j["sensors"].size(), 1u);
     EXPECT_EQ(j["sensors"][0]["sensor_id"], "S01");
-    EXPECT_EQ(j["sensors"][0]["verdict"], "missing effect: hysteresis") << out.str();
+    const std::string verdict = j["sensors"][0]["verdict"];
+    EXPECT_EQ(verdict.rfind("missing effect: hysteresis, explained", 0), 0u) << out.str();
+    EXPECT_EQ(j["sensors"][0]["outcome"], "explained");
     ASSERT_EQ(j["sensors"][0]["added"].size(), 1u);
     // Truth 0.5 mV; 4 stderr + 5 % (see discovery_test.cpp for the allowance).
     const double c = j["sensors"][0]["added"][0]["coefficient"],
@@ -54,7 +56,7 @@ TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
     auto db = st::OpenForQuery(*path_);
     const std::vector<st::AnalysisRow> kept = st::ListAnalyses(*db, "R1");
     ASSERT_EQ(kept.size(), 1u);
-    EXPECT_EQ(kept[0].verdict, "missing effect: hysteresis");
+    EXPECT_EQ(kept[0].verdict, verdict);
     ASSERT_TRUE(kept[0].coeff_row_id.has_value());
     const st::RunDetail d = st::ShowRun(*db, "R1");
     ASSERT_EQ(d.coeff_sets.size(), 1u);
@@ -63,6 +65,36 @@ TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
     EXPECT_NE(std::find_if(names.begin(), names.end(),
                            [](const std::string& t) { return t.rfind("heating(", 0) == 0; }),
               names.end());
+}
+
+TEST(AnalyzeCliOutside, AnUnexplainedResidualIsStoredWithoutAModel) {
+    // GIVEN a recorded run with an offset drift outside the candidate list (2 mV/h)
+    testing::SimRunOptions so;
+    so.seed = 611;
+    so.outside_v = [](double t) { return 2e-3 * t / 3600.0; };
+    const std::string path = testing::WriteRunDb("drift.db", so);
+    cli::AnalyzeOptions o;
+    o.run_id = "R1";
+    o.db = path;
+    std::ostringstream out, err;
+    ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
+    // THEN the verdict says so, names no candidate, and no extended model is stored
+    EXPECT_NE(out.str().find("sensor S01: missing effect (unexplained residual)"), std::string::npos)
+        << out.str();
+    EXPECT_NE(out.str().find("correlates with"), std::string::npos) << out.str();
+    EXPECT_NE(err.str().find("stored as analysis"), std::string::npos) << err.str();
+    EXPECT_EQ(err.str().find("extended model as coefficient set"), std::string::npos) << err.str();
+    {
+        auto db = st::OpenForQuery(path);
+        const std::vector<st::AnalysisRow> kept = st::ListAnalyses(*db, "R1");
+        ASSERT_EQ(kept.size(), 1u);
+        EXPECT_FALSE(kept[0].coeff_row_id.has_value());
+        EXPECT_EQ(kept[0].added_json, "[]");
+        const nlohmann::json j = nlohmann::json::parse(kept[0].result_json);
+        EXPECT_EQ(j["outcome"], "unexplained residual");
+        EXPECT_TRUE(st::ShowRun(*db, "R1").coeff_sets.empty());
+    }
+    testing::RemoveRunDb(path);
 }
 
 TEST_F(AnalyzeCli, NoStoreLeavesTheDatabaseAlone) {
@@ -74,7 +106,7 @@ TEST_F(AnalyzeCli, NoStoreLeavesTheDatabaseAlone) {
     auto db = st::OpenForQuery(*path_);
     const size_t before = st::ListAnalyses(*db, "R1").size();
     ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
-    EXPECT_NE(out.str().find("sensor S01: missing effect: hysteresis"), std::string::npos)
+    EXPECT_NE(out.str().find("sensor S01: missing effect: hysteresis, explained"), std::string::npos)
         << out.str();
     EXPECT_EQ(st::ListAnalyses(*db, "R1").size(), before);
 }

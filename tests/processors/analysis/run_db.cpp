@@ -13,13 +13,17 @@ namespace gyrocal::analysis::testing {
 namespace st = gyrocal::store;
 
 std::string WriteRunDb(const std::string& name) {
+    SimRunOptions o;
+    o.seed = 601;
+    sim::SetEffect(o.effects, "hysteresis", 1e-3);
+    return WriteRunDb(name, o);
+}
+
+std::string WriteRunDb(const std::string& name, const SimRunOptions& o) {
     const std::string path = (std::filesystem::temp_directory_path() /
                               ("gyrocal_analysis_cli_" + std::to_string(::getpid()) + "_" + name))
                                  .string();
     std::filesystem::remove(path);
-    SimRunOptions o;
-    o.seed = 601;
-    sim::SetEffect(o.effects, "hysteresis", 1e-3);
     WriteSimRun(path, "R1", MakeSimRun(o, true));
     return path;
 }

@@ -10,6 +10,8 @@ namespace gyrocal::analysis::testing {
 
 // Returns the path of a fresh database in the temp directory (name made unique by the pid).
 std::string WriteRunDb(const std::string& name);
+// The same with any simulated run.
+std::string WriteRunDb(const std::string& name, const SimRunOptions& options);
 // Appends one simulated run (raw samples with keep_raw, encoder, power-on, plateaus, points) as
 // run `run_id` with the store's writer; creates the database when missing.
 void WriteSimRun(const std::string& path, const std::string& run_id, const SimRun& run);

@@ -8,11 +8,14 @@ namespace {
 
 class Collector : public sim::RigSink {
 public:
-    Collector(sim::Rig& rig, sim::BuiltinProfile& profile, bool supply)
-        : rig_(rig), profile_(profile), supply_(supply) {}
+    Collector(sim::Rig& rig, sim::BuiltinProfile& profile, bool supply,
+              std::function<double(double)> outside, int64_t start_utime)
+        : rig_(rig), profile_(profile), supply_(supply), outside_(std::move(outside)),
+          start_utime_(start_utime) {}
     void OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) override {
         if (r.unit_index != 0) return;
-        gyro.push_back({r.utime, r.seq, r.temp_c, r.gyro_v, supply_ ? r.supply_v : kNan});
+        const double extra = outside_ ? outside_((r.utime - start_utime_) * 1e-6) : 0.0;
+        gyro.push_back({r.utime, r.seq, r.temp_c, r.gyro_v + extra, supply_ ? r.supply_v : kNan});
     }
     void OnEncoder(const sim::EncoderReading& r) override {
         encoder.push_back({r.utime, r.counts, r.counts_per_rev});
@@ -25,6 +28,8 @@ private:
     sim::Rig& rig_;
     sim::BuiltinProfile& profile_;
     bool supply_;
+    std::function<double(double)> outside_;
+    int64_t start_utime_;
 };
 
 struct Stats {
@@ -90,7 +95,7 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     pc.rest_s = o.rest_s;
     pc.move_deg = 90.0;
     sim::BuiltinProfile profile(pc);
-    Collector col(rig, profile, o.record_supply);
+    Collector col(rig, profile, o.record_supply, o.outside_v, c.start_utime);
     const int64_t step = 60'000'000;
     int64_t until = c.start_utime;
     while (!profile.done() && until < c.start_utime + int64_t{40'000} * 1'000'000) {

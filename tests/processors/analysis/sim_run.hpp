@@ -7,6 +7,7 @@
 // encoder angle, offset from 5 s rest windows before and after). The rig's truth is returned
 // beside it for the tests to check answers against; the analysis never sees it.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "analysis/run_data.hpp"
@@ -31,6 +32,9 @@ struct SimRunOptions {
     double air_tau_s = 10.0;
     double sensor_tau_s = 0.1;  // see the tests: a slow sensor is itself a temp_rate effect
     bool record_supply = true;
+    // An offset outside the rig's effect list [V] as a function of the time since the start [s],
+    // added to every recorded gyro_v (slow drift, periodic disturbance, step, ...). Empty: none.
+    std::function<double(double)> outside_v;
 };
 
 struct SimRun {

@@ -105,6 +105,18 @@ void AddOptions(CLI::App& app, Options& o, CliValues& v) {
         ->capture_default_str();
     app.add_option("--supply-v-per-v", o.effects.supply_v_per_v, "[V/V] offset per supply volt")
         ->capture_default_str();
+    app.add_option("--drift-v-per-h", o.effects.drift_v_per_h, "[V/h] offset drift (aging)")
+        ->capture_default_str();
+    app.add_option("--periodic-v", o.effects.periodic_v, "[V] periodic offset amplitude")
+        ->capture_default_str();
+    app.add_option("--periodic-s", o.effects.periodic_s, "[s] its period")->capture_default_str();
+    app.add_option("--step-v", o.effects.step_v, "[V] offset step")->capture_default_str();
+    app.add_option("--step-at-s", o.effects.step_at_s, "[s] when the step happens")
+        ->capture_default_str();
+    app.add_option("--warmup2-v", o.effects.warmup2_v, "[V] second, slow warm-up")
+        ->capture_default_str();
+    app.add_option("--warmup2-tau-s", o.effects.warmup2_tau_s, "[s] its time constant")
+        ->capture_default_str();
     app.add_flag("--no-supply", v.no_supply, "leave the supply_v column out");
     app.add_option("--disturb", v.disturb,
                    "DWELL[:SENSOR]:VOLTS[:START_S:DURATION_S] offset shift during that dwell "

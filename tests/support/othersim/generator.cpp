@@ -164,7 +164,8 @@ Generated Generate(const Options& o, std::ostream& csv) {
         UnitState s{g.units[u], {}, RateNoise(o.noise, o.sample_rate_hz, Stream(o.seed, 100 + u)),
                     std::mt19937_64(Stream(o.seed, 200 + u))};
         s.path = ThermalPath{o.profile.start_c, o.profile.start_c, o.profile.start_c};
-        s.lpf1 = s.lpf2 = s.truth.OffsetV(o.profile.start_c) + o.effects.warmup_v;
+        s.lpf1 = s.lpf2 = s.truth.OffsetV(o.profile.start_c) + o.effects.warmup_v +
+                          o.effects.OutsideV(0.0);
         units.push_back(std::move(s));
     }
     std::mt19937_64 aux(Stream(o.seed, 2));
@@ -198,6 +199,7 @@ Generated Generate(const Options& o, std::ostream& csv) {
                              o.effects.gradient_v_per_c *
                                  (s.path.board_c + s.truth.self_heating_c - die) +
                              o.effects.supply_v_per_v * (supply - o.supply.nominal_v) +
+                             o.effects.OutsideV(t) +
                              tl.DisturbanceAt(s.truth.sensor_id, t);
             s.lpf1 += alpha * (x - s.lpf1);
             s.lpf2 += alpha * (s.lpf1 - s.lpf2);

@@ -5,6 +5,13 @@
 #include <stdexcept>
 
 namespace gyrocal::othersim {
+
+double EffectOptions::OutsideV(double t_s) const {
+    return drift_v_per_h * t_s / 3600.0 +
+           periodic_v * std::sin(6.283185307179586 * t_s / periodic_s + periodic_phase_rad) +
+           (t_s >= step_at_s ? step_v : 0.0) + warmup2_v * std::exp(-t_s / warmup2_tau_s);
+}
+
 namespace {
 
 bool In(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
@@ -63,6 +70,15 @@ std::string PhysicsProblem(const Options& o) {
         !In(o.effects.gradient_v_per_c, -0.1, 0.1) || !In(o.effects.supply_v_per_v, -1, 1))
         return "effects: warm-up |V| <= 0.1 over 1..1e5 s, gradient |V/degC| <= 0.1, supply |V/V| "
                "<= 1";
+    const EffectOptions& e = o.effects;
+    if (!In(e.drift_v_per_h, -0.1, 0.1)) return Range("--drift-v-per-h", -0.1, 0.1, "V/h");
+    if (!In(e.periodic_v, -0.1, 0.1)) return Range("--periodic-v", -0.1, 0.1, "V");
+    if (!In(e.periodic_s, 1, 1e5)) return Range("--periodic-s", 1, 1e5, "s");
+    if (!In(e.periodic_phase_rad, -10, 10)) return Range("periodic_phase_rad", -10, 10, "rad");
+    if (!In(e.step_v, -0.1, 0.1)) return Range("--step-v", -0.1, 0.1, "V");
+    if (!In(e.step_at_s, 0, 1e6)) return Range("--step-at-s", 0, 1e6, "s");
+    if (!In(e.warmup2_v, -0.1, 0.1)) return Range("--warmup2-v", -0.1, 0.1, "V");
+    if (!In(e.warmup2_tau_s, 1, 1e5)) return Range("--warmup2-tau-s", 1, 1e5, "s");
     return "";
 }
 

@@ -102,6 +102,16 @@ struct EffectOptions {
     double warmup_tau_s = 300.0;      // [s]
     double gradient_v_per_c = 0.0;    // [V/degC] offset += k * (board - die + self heating)
     double supply_v_per_v = 0.0;      // [V/V] offset += k * (supply - nominal)
+    // Outside any candidate list (README "Effects outside the list"):
+    double drift_v_per_h = 0.0;       // [V/h] aging: offset += k * t (package stress relaxing)
+    double periodic_v = 0.0;          // [V] amplitude of an offset at periodic_s (the chamber
+    double periodic_s = 600.0;        //     compressor's duty cycle coupling through the mount)
+    double periodic_phase_rad = 0.0;  // [rad]
+    double step_v = 0.0;              // [V] offset step at step_at_s (a mount screw settling)
+    double step_at_s = 0.0;           // [s]
+    double warmup2_v = 0.0;           // [V] a second, slow warm-up exp(-t / warmup2_tau_s)
+    double warmup2_tau_s = 3000.0;    // [s] (the regulator board's thermal time constant)
+    double OutsideV(double t_s) const;  // [V] the sum of the four at time t_s
 };
 
 // An offset shift of one unit (sensor_id) or all (""), during one dwell: from start_after_s

@@ -81,7 +81,14 @@ nlohmann::json TruthJson(const Options& o, const Generated& g) {
     j["effects"] = {{"warmup_v", o.effects.warmup_v},
                     {"warmup_tau_s", o.effects.warmup_tau_s},
                     {"gradient_v_per_c", o.effects.gradient_v_per_c},
-                    {"supply_v_per_v", o.effects.supply_v_per_v}};
+                    {"supply_v_per_v", o.effects.supply_v_per_v},
+                    {"drift_v_per_h", o.effects.drift_v_per_h},
+                    {"periodic_v", o.effects.periodic_v},
+                    {"periodic_s", o.effects.periodic_s},
+                    {"step_v", o.effects.step_v},
+                    {"step_at_s", o.effects.step_at_s},
+                    {"warmup2_v", o.effects.warmup2_v},
+                    {"warmup2_tau_s", o.effects.warmup2_tau_s}};
     j["timeline"] = TimelineJson(g.timeline);
     j["faults"] = FaultsJson(g.timeline);
     return j;

@@ -1,0 +1,113 @@
+#include "outcome.hpp"
+
+#include <cmath>
+
+#include "candidates.hpp"
+
+namespace gyrocal::analysis::detail {
+
+std::string MeasurementToTest(const std::string& effect) {
+    if (effect == "temp_rate") return "temperature ramps (at least a few degC/min) recorded at rest";
+    if (effect == "hysteresis")
+        return "ramps up and down through the same temperatures, with dwells between them";
+    if (effect == "temp_cubic") return "dwells at 5 or more temperatures spread over the range";
+    if (effect == "supply") return "the supply voltage recorded with every sample";
+    if (effect == "warmup") return "recording from power-on (a power record) with a dwell right after it";
+    if (effect == "sf_asymmetry") return "turns in both directions at 3 or more temperatures";
+    return "more data in which it varies";
+}
+
+double FloorBound(double floor_v, double prediction_v, double k) {
+    if (!std::isfinite(floor_v)) return kNan;
+    const double p = std::isfinite(prediction_v) ? prediction_v : 0.0;
+    return std::sqrt(floor_v * floor_v * (1.0 + 9.0 * k * k) + 9.0 * p * p);
+}
+
+namespace {
+
+std::string List(const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& e : v) s += (s.empty() ? "" : ", ") + e;
+    return s;
+}
+
+std::string Mv(double v) { return Fmt(v * 1e3) + " mV"; }
+
+// "correlates with ..." : the generic features that explain held-out data, strongest first.
+std::string Correlates(const SensorResult& r) {
+    std::vector<std::string> c;
+    for (const FeatureResult& f : r.features) {
+        if (!f.explains_heldout || c.size() >= 2) continue;
+        c.push_back(f.feature + " [" + f.channel + "; " + f.detail + "; removes " +
+                    Fmt(100.0 * f.heldout_drop, 2) + " % of the held-out squared residual, z " +
+                    Fmt(f.heldout_z) + "]");
+    }
+    if (c.empty()) return "correlates with none of the generic features on held-out data";
+    return "correlates with " + List(c);
+}
+
+std::string Where(const SensorResult& r) {
+    const ResidualDiagnostics& d = r.residual;
+    std::string s;
+    if (std::isfinite(d.worst_time.rms_v))
+        s += "largest at " + Fmt(d.worst_time.lo, 4) + "-" + Fmt(d.worst_time.hi, 4) +
+             " s from the start (" + Mv(d.worst_time.rms_v) + " RMS)";
+    if (std::isfinite(d.worst_temp.rms_v))
+        s += std::string(s.empty() ? "" : ", ") + "at " + Fmt(d.worst_temp.lo, 3) + ".." +
+             Fmt(d.worst_temp.hi, 3) + " degC (" + Mv(d.worst_temp.rms_v) + " RMS)";
+    return s;
+}
+
+std::string Residual(const SensorResult& r) {
+    return "held-out residual " + Mv(r.heldout_residual_rms_v) + " = " + Fmt(r.excess_ratio, 2) +
+           "x the floor bound " + Mv(r.floor_bound_rms_v);
+}
+
+}  // namespace
+
+void Conclude(bool analysed, const std::vector<std::string>& ambiguous, const AnalysisOptions& o,
+              SensorResult& res) {
+    for (const CandidateResult& c : res.candidates)
+        if (c.decision == Decision::kNotTested) {
+            res.untested.push_back(c.effect);
+            res.to_test.push_back(c.effect + ": " + MeasurementToTest(c.effect));
+        }
+    res.heldout_residual_rms_v =
+        res.added.empty() ? res.error_before.offset_rms_v : res.error_after.offset_rms_v;
+    res.floor_bound_rms_v =
+        FloorBound(res.floor_offset_rms_v, res.floor_prediction_rms_v, o.slow_noise_floor_ratio);
+    res.excess_ratio = res.heldout_residual_rms_v / res.floor_bound_rms_v;
+    bool traced = false;
+    for (const FeatureResult& f : res.features) traced = traced || f.explains_heldout;
+    const bool above = (std::isfinite(res.excess_ratio) && res.excess_ratio > 1.0) || traced;
+    const bool known = std::isfinite(res.excess_ratio);
+    std::vector<std::string> added;
+    for (const AddedEffect& a : res.added) added.push_back(a.effect);
+    const std::string tail = above ? "; " + Where(res) + "; " + Correlates(res) : "";
+    std::string h;
+    if (!analysed || !known || 2 * res.untested.size() > 6) {
+        res.outcome = Outcome::kNotTestable;
+        h = (analysed ? "not testable: " : "not analysed: not testable: ") +
+            std::to_string(res.untested.size()) + " of 6 candidates could not be tested (" +
+            List(res.untested) + "); to test them: " + List(res.to_test);
+        if (!analysed) h += "; too few still bins (" + std::to_string(res.n_bins) + ")";
+        if (known) h += "; " + Residual(res) + tail;
+    } else if (added.empty()) {
+        res.outcome = above ? Outcome::kUnexplained : Outcome::kAdequate;
+        h = above ? "missing effect (unexplained residual): " + Residual(res) + tail
+                  : "no missing effect: adequate, " + Residual(res);
+    } else {
+        res.outcome = above ? Outcome::kPartlyExplained : Outcome::kExplained;
+        h = std::string(added.size() > 1 ? "missing effects: " : "missing effect: ") + List(added) +
+            (above ? ", partly explained: " : ", explained: ") + Residual(res) + tail;
+    }
+    if (res.outcome != Outcome::kNotTestable && !res.untested.empty())
+        h += "; not tested: " + List(res.untested);
+    if (!res.not_attributed.empty()) h += "; not attributed: " + List(res.not_attributed);
+    if (!res.unconfirmed.empty()) h += "; not confirmed on the held-out data: " + List(res.unconfirmed);
+    if (!ambiguous.empty()) h += "; ambiguous: " + List(ambiguous);
+    res.headline = h;
+    res.verdict = h;
+}
+
+}  // namespace gyrocal::analysis::detail

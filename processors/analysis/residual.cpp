@@ -1,0 +1,297 @@
+#include "residual.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "regress.hpp"
+
+namespace gyrocal::analysis::detail {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+VectorXd TimeS(const std::vector<Bin>& bins) {
+    VectorXd t(static_cast<Index>(bins.size()));
+    for (size_t i = 0; i < bins.size(); ++i)
+        t[static_cast<Index>(i)] = (bins[i].mid_utime - bins.front().mid_utime) * 1e-6;
+    return t;
+}
+
+// Least-squares slope of the temperature against time over the bins within +-half_s of each bin
+// (any stretch: moves between bins do not stop the temperature); NaN with fewer than 3 bins.
+VectorXd TempRate(const std::vector<Bin>& bins, const VectorXd& t, double half_s) {
+    const Index n = t.size();
+    VectorXd r = VectorXd::Constant(n, kNan);
+    Index lo = 0, hi = 0;
+    for (Index i = 0; i < n; ++i) {
+        while (t[lo] < t[i] - half_s) ++lo;
+        while (hi < n && t[hi] <= t[i] + half_s) ++hi;
+        if (hi - lo < 3) continue;
+        double st = 0, sT = 0, stt = 0, stT = 0;
+        for (Index j = lo; j < hi; ++j) {
+            const double tj = t[j] - t[i], Tj = bins[static_cast<size_t>(j)].temp_c;
+            st += tj, sT += Tj, stt += tj * tj, stT += tj * Tj;
+        }
+        const double m = static_cast<double>(hi - lo);
+        const double den = stt - st * st / m;
+        if (den > 0) r[i] = (stT - st * sT / m) / den;
+    }
+    return r;
+}
+
+// Residual sum of squares of [base, extra] on the training rows (inf when not fitted).
+double TrainRss(const Context& train, const MatrixXd& base_all, const MatrixXd& extra_all) {
+    MatrixXd x(static_cast<Index>(train.rows.size()), base_all.cols() + extra_all.cols());
+    x << base_all(train.rows, Eigen::all), extra_all(train.rows, Eigen::all);
+    if (!x.allFinite()) return INFINITY;
+    const LsFit f = FitLs(x, train.y, train.segment, 0);
+    return f.ok ? f.rss : INFINITY;
+}
+
+MatrixXd Sinusoid(const VectorXd& t, double period_s) {
+    MatrixXd c(t.size(), 2);
+    c.col(0) = (t.array() * (kTwoPi / period_s)).sin().matrix();
+    c.col(1) = (t.array() * (kTwoPi / period_s)).cos().matrix();
+    return c;
+}
+
+std::vector<double> LogSpace(double lo, double hi, int n) {
+    std::vector<double> v;
+    for (int k = 0; k < n; ++k) v.push_back(lo * std::pow(hi / lo, k / double(n - 1)));
+    return v;
+}
+
+// The parameter of a one-parameter family with the smallest training RSS.
+template <typename Make>
+GenericFeature Search(const Context& train, const MatrixXd& base_all,
+                      const std::vector<double>& grid, Make make, GenericFeature f,
+                      const char* unit) {
+    double best = INFINITY, best_p = kNan;
+    for (double p : grid) {
+        const double rss = TrainRss(train, base_all, make(p));
+        if (rss < best) best = rss, best_p = p;
+    }
+    if (!std::isfinite(best_p)) return f;
+    f.columns = make(best_p);
+    f.detail = f.detail + Fmt(best_p) + unit;
+    if (best_p == grid.front() || best_p == grid.back()) f.detail += " (at the edge of the search)";
+    return f;
+}
+
+void TimeFeatures(const BinnedRun& b, const Context& train, const MatrixXd& base, const VectorXd& t,
+                  const AnalysisOptions& o, std::vector<GenericFeature>& out) {
+    const std::vector<Bin>& bins = b.bins();
+    const Index n = t.size();
+    const double span = t[n - 1];
+    out.push_back({"time since start", "time", "linear drift", (t / 3600.0).eval(), true});
+    VectorXd t_on(n);
+    for (Index i = 0; i < n; ++i) t_on[i] = bins[static_cast<size_t>(i)].time_since_power_s;
+    if (t_on.allFinite()) {
+        const double lo = std::max(o.warmup_tau_min_s, o.warmup_max_tau_fraction * span);
+        out.push_back(Search(
+            train, base, LogSpace(lo, std::max(3.0 * span, 2.0 * lo), 12),
+            [&](double tau) { return MatrixXd((-t_on.array() / tau).exp().matrix()); },
+            {"slow transient", "time since power-on", "exp(-t_on/tau), tau ", {}, true}, " s"));
+    }
+    std::vector<double> at;
+    for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
+    if (at.size() >= 2)
+        out.push_back(Search(
+            train, base, at,
+            [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
+            {"step", "time", "offset step at ", {}, true}, " s from the start"));
+    // At least 4 cycles in the run: a longer "period" is a trend or a transient, which the other
+    // features name.
+    const double p_lo = 4.0 * b.bin_s(), p_hi = 0.25 * span;
+    if (p_hi > 2.0 * p_lo)
+        out.push_back(Search(train, base, LogSpace(p_lo, p_hi, 400),
+                             [&](double p) { return Sinusoid(t, p); },
+                             {"periodic", "time", "period ", {}, true}, " s"));
+}
+
+void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t,
+                     std::vector<GenericFeature>& out) {
+    const std::vector<Bin>& bins = b.bins();
+    const Index n = t.size();
+    VectorXd dt(n), supply(n);
+    for (Index i = 0; i < n; ++i) {
+        dt[i] = bins[static_cast<size_t>(i)].temp_c - train.t0;
+        supply[i] = bins[static_cast<size_t>(i)].supply_v;
+    }
+    out.push_back({"temperature^3", "temperature", "(T - T0)^3", dt.array().cube().matrix(), false});
+    out.push_back({"temperature^4", "temperature", "(T - T0)^4", dt.array().square().square().matrix(), false});
+    for (double w : {60.0, 300.0, 1200.0}) {
+        const VectorXd r = TempRate(bins, t, 0.5 * w);
+        if (r.allFinite())
+            out.push_back({"dT/dt over " + Fmt(w) + " s", "temperature", "degC/s", r, false});
+    }
+    const VectorXd r300 = TempRate(bins, t, 150.0);
+    if (r300.allFinite())
+        out.push_back({"|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false});
+    if (supply.allFinite()) {
+        out.push_back({"supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false});
+        VectorXd rate = VectorXd::Zero(n);
+        for (Index i = 1; i + 1 < n; ++i)
+            rate[i] = (supply[i + 1] - supply[i - 1]) / std::max(1e-9, t[i + 1] - t[i - 1]);
+        out.push_back({"supply rate", "supply", "V/s", rate, false});
+    }
+}
+
+}  // namespace
+
+std::vector<GenericFeature> GenericFeatures(const BinnedRun& b, const Context& train,
+                                           const MatrixXd& base_all, const AnalysisOptions& o) {
+    std::vector<GenericFeature> out;
+    if (b.size() < 3 || train.rows.empty()) return out;
+    const VectorXd t = TimeS(b.bins());
+    TimeFeatures(b, train, base_all, t, o, out);
+    ChannelFeatures(b, train, t, out);
+    out.erase(std::remove_if(out.begin(), out.end(),
+                             [](const GenericFeature& f) {
+                                 return f.columns.size() == 0 || !f.columns.allFinite();
+                             }),
+              out.end());
+    return out;
+}
+
+VectorXd HeldResidual(const BinnedRun& b, const Context& train, const Split& split,
+                      const MatrixXd& base_all, const MatrixXd& extra_all) {
+    const Index p = base_all.cols() + extra_all.cols();
+    MatrixXd all(base_all.rows(), p);
+    all << base_all, extra_all;
+    const MatrixXd x = all(train.rows, Eigen::all);
+    if (!x.allFinite()) return {};
+    const LsFit f = FitLs(x, train.y, train.segment, 0);
+    if (!f.ok) return {};
+    VectorXd r(static_cast<Index>(split.held.size()));
+    for (size_t k = 0; k < split.held.size(); ++k) {
+        const Index i = split.held[k];
+        r[static_cast<Index>(k)] = b.bins()[static_cast<size_t>(i)].gyro_v - all.row(i).dot(f.coeffs);
+    }
+    return r;
+}
+
+std::vector<FeatureResult> JudgeFeatures(const BinnedRun& b, const Context& train,
+                                         const Split& split, const MatrixXd& base_all,
+                                         const VectorXd& r_all, double floor_v,
+                                         const std::vector<GenericFeature>& features,
+                                         const AnalysisOptions& o) {
+    std::vector<FeatureResult> out;
+    const VectorXd before = HeldResidual(b, train, split, base_all, MatrixXd(base_all.rows(), 0));
+    for (const GenericFeature& f : features) {
+        FeatureResult r{f.name, f.channel, f.detail};
+        // Correlation with the residual: the feature's first column (or the sinusoid's best
+        // phase: the larger of the two).
+        for (Index j = 0; j < f.columns.cols(); ++j) {
+            const VectorXd c = f.columns.col(j).array() - f.columns.col(j).mean();
+            const VectorXd e = r_all.array() - r_all.mean();
+            const double den = c.norm() * e.norm();
+            const double cr = den > 0 ? c.dot(e) / den : kNan;
+            if (!std::isfinite(r.corr) || std::fabs(cr) > std::fabs(r.corr)) r.corr = cr;
+        }
+        const VectorXd after = HeldResidual(b, train, split, base_all, f.columns);
+        if (before.size() > 0 && after.size() == before.size()) {
+            const Gain g = HeldOutGain(before, after, split.held_block, train.hac_lag);
+            r.heldout_z = g.z;
+            r.heldout_gain_v2 = g.mean_v2;
+            r.heldout_after_rms_v = std::sqrt(after.squaredNorm() / static_cast<double>(after.size()));
+            r.effect_rms_v = std::sqrt((before - after).squaredNorm() / static_cast<double>(after.size()));
+            const double drop = 1.0 - after.squaredNorm() / before.squaredNorm();
+            r.heldout_drop = drop;
+            r.explains_heldout = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 &&
+                                 drop > o.min_feature_drop &&
+                                 (!std::isfinite(floor_v) || r.effect_rms_v > floor_v);
+        }
+        out.push_back(r);
+    }
+    // Strongest first: those that explain held-out data by how much they leave, then the rest by z.
+    std::stable_sort(out.begin(), out.end(), [](const FeatureResult& a, const FeatureResult& c) {
+        if (a.explains_heldout != c.explains_heldout) return a.explains_heldout;
+        if (a.explains_heldout) return a.heldout_after_rms_v < c.heldout_after_rms_v;
+        const double za = std::isfinite(a.heldout_z) ? a.heldout_z : -INFINITY;
+        const double zc = std::isfinite(c.heldout_z) ? c.heldout_z : -INFINITY;
+        return za > zc;
+    });
+    return out;
+}
+
+namespace {
+
+// Residual RMS in consecutive windows of `key` (n_windows equal spans), and the worst window.
+void Windows(const VectorXd& key, const VectorXd& r, int n_windows, std::vector<WindowRms>& out,
+             WindowRms& worst, int min_bins) {
+    const double lo = key.minCoeff(), hi = key.maxCoeff();
+    if (!(hi > lo)) return;
+    const double w = (hi - lo) / n_windows;
+    out.assign(static_cast<size_t>(n_windows), WindowRms{});
+    std::vector<double> ss(static_cast<size_t>(n_windows), 0.0);
+    for (int k = 0; k < n_windows; ++k) out[static_cast<size_t>(k)].lo = lo + k * w, out[static_cast<size_t>(k)].hi = lo + (k + 1) * w;
+    for (Index i = 0; i < key.size(); ++i) {
+        const auto k = static_cast<size_t>(std::min(n_windows - 1, static_cast<int>((key[i] - lo) / w)));
+        ss[k] += r[i] * r[i];
+        ++out[k].n;
+    }
+    for (size_t k = 0; k < out.size(); ++k) {
+        if (out[k].n > 0) out[k].rms_v = std::sqrt(ss[k] / out[k].n);
+        if (out[k].n >= min_bins && (!std::isfinite(worst.rms_v) || out[k].rms_v > worst.rms_v))
+            worst = out[k];
+    }
+}
+
+void Periodogram(const VectorXd& t, const VectorXd& r, double bin_s, ResidualDiagnostics& d) {
+    const double span = t[t.size() - 1];
+    if (!(span > 16.0 * bin_s)) return;
+    std::vector<double> power;
+    double best = -1.0;
+    for (double p : LogSpace(4.0 * bin_s, 0.5 * span, 400)) {
+        const MatrixXd s = Sinusoid(t, p);
+        const Eigen::Vector2d c = (s.transpose() * s).ldlt().solve(s.transpose() * r);
+        const double pw = (s * c).squaredNorm();
+        power.push_back(pw);
+        if (pw > best) best = pw, d.period_s = p, d.period_amplitude_v = c.norm();
+    }
+    std::vector<double> sorted = power;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    d.period_power_ratio = median > 0 ? best / median : kNan;
+}
+
+}  // namespace
+
+ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double, const AnalysisOptions&) {
+    ResidualDiagnostics d;
+    const std::vector<Bin>& bins = b.bins();
+    if (r.size() < 3 || static_cast<size_t>(r.size()) != bins.size() || !r.allFinite()) return d;
+    const Index n = r.size();
+    d.rms_v = std::sqrt(r.squaredNorm() / static_cast<double>(n));
+    double c0 = 0, c1 = 0;
+    for (Index i = 0; i < n; ++i) {
+        c0 += r[i] * r[i];
+        if (i > 0 && bins[static_cast<size_t>(i)].segment == bins[static_cast<size_t>(i - 1)].segment)
+            c1 += r[i] * r[i - 1];
+    }
+    d.lag1_autocorr = c0 > 0 ? c1 / c0 : kNan;
+    const VectorXd t = TimeS(bins);
+    MatrixXd x(n, 2);
+    x << VectorXd::Ones(n), t / 3600.0;
+    std::vector<int> seg;
+    for (const Bin& bin : bins) seg.push_back(bin.segment);
+    const LsFit f = FitLs(x, r, seg, static_cast<int>(std::lround(300.0 / b.bin_s())));
+    if (f.ok) {
+        d.trend_v_per_h = f.coeffs[1];
+        d.trend_z = f.coeffs[1] / std::sqrt(f.covariance(1, 1));
+    }
+    Periodogram(t, r, b.bin_s(), d);
+    VectorXd temp(n);
+    for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
+    Windows(t, r, 10, d.by_time, d.worst_time, 3);
+    Windows(temp, r, 8, d.by_temp, d.worst_temp, 3);
+    return d;
+}
+
+}  // namespace gyrocal::analysis::detail

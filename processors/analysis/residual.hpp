@@ -1,0 +1,67 @@
+#pragma once
+// Internal to gyrocal_analysis: what is left after the candidates (analyze.hpp, steps 8-9).
+//
+// Generic features, built from every channel the bins carry, none of them a candidate:
+//   time since start            linear drift / aging                     channel: time
+//   slow transient              exp(-t_on/tau), tau from the warm-up search's upper end to 3x
+//                               the still span (a warm-up slower than the candidate's grid)
+//                                                                         channel: time since power-on
+//   step                        0 before, 1 after a time searched over the run   channel: time
+//   periodic                    sin and cos of 2 pi t / P, P searched on a log grid from 4 bins
+//                               to a quarter of the span (4 cycles at least; longer is a trend)
+//                                                                                  channel: time
+//   temperature^3, ^4           shape in temperature beyond the declared model  channel: temperature
+//   dT/dt over 60/300/1200 s    the temperature's rate at other time scales     channel: temperature
+//   |dT/dt| over 300 s          rate magnitude (direction-free)                 channel: temperature
+//   supply, supply rate         when every bin has it                           channel: supply
+// Each feature's shape parameter is chosen on the training bins only (by residual sum of
+// squares); then it is judged like the candidates' held-out gate: the model plus the feature,
+// fitted on the training bins, predicts the held-out bins; it "explains held-out data" when the
+// held-out residual drops by more than gate_min_z of its standard errors (HeldOutGain), its size
+// exceeds the floor, AND it removes more than min_feature_drop of the held-out squared residual:
+// with a dozen features, searched parameters and slow noise, z alone passes on clean runs (z up
+// to 8.7 on 40 clean seeds of the rig), while the largest fraction any feature removed there was
+// 0.29 (analysis_verdict_tests prints it per seed). A feature is never added to the model: it is reported ("correlates
+// with"), because nothing downstream can evaluate it (the compensators know no run start).
+// Diagnostics of the final residual on all bins: lag-1 autocorrelation, trend against time,
+// the periodogram's peak, the residual by time window and by temperature band.
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "analyze.hpp"
+#include "bins.hpp"
+#include "candidates.hpp"
+#include "heldout.hpp"
+
+namespace gyrocal::analysis::detail {
+
+struct GenericFeature {
+    std::string name, channel, detail;  // detail: the chosen parameter ("tau 1500 s")
+    Eigen::MatrixXd columns;            // on all bins (1 or 2 columns)
+    bool competes = false;  // may displace a named candidate that mimics it (time-shaped)
+};
+
+// The generic features on all bins; shape parameters chosen on `train` (residual of `base`).
+std::vector<GenericFeature> GenericFeatures(const BinnedRun& binned, const Context& train,
+                                           const Eigen::MatrixXd& base_all,
+                                           const AnalysisOptions& o);
+
+// Held-out residual of the model with columns base_all (+ extra_all), fitted on the training
+// rows. Empty when it cannot be fitted.
+Eigen::VectorXd HeldResidual(const BinnedRun& binned, const Context& train, const Split& split,
+                             const Eigen::MatrixXd& base_all, const Eigen::MatrixXd& extra_all);
+
+// Every feature judged on the held-out bins against the model base_all and correlated with the
+// residual r_all of the final model (all bins); those that explain held-out data first (least left).
+std::vector<FeatureResult> JudgeFeatures(const BinnedRun& binned, const Context& train,
+                                         const Split& split, const Eigen::MatrixXd& base_all,
+                                         const Eigen::VectorXd& r_all, double floor_v,
+                                         const std::vector<GenericFeature>& features,
+                                         const AnalysisOptions& o);
+
+// Diagnostics of residual r (all bins).
+ResidualDiagnostics Diagnose(const BinnedRun& binned, const Eigen::VectorXd& r, double floor_v,
+                             const AnalysisOptions& o);
+
+}  // namespace gyrocal::analysis::detail
