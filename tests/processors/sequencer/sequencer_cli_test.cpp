@@ -32,8 +32,8 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
         {{"--run-config-json", "{\"a\":"}, "--run-config-json: is not valid JSON"},
         {{"--bogus"}, "--bogus"},
         {{"--resume-setpoint-index", "1"}, "--resume-setpoint-index: resuming needs the run's --run-id and --sensors"},
-        {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "5"},
-         "--resume-setpoint-index: resume setpoint index 5: valid is 0..4"},
+        {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "6"},
+         "--resume-setpoint-index: resume setpoint index 6: valid is 0..5"},  // default profile: six
         {{"--move-attempts", "0"}, "--move-attempts: move attempts 0: valid is 1..5"},
     };
     for (const Case& c : cases) {
