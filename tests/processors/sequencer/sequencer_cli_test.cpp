@@ -33,7 +33,7 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
         {{"--bogus"}, "--bogus"},
         {{"--resume-setpoint-index", "1"}, "--resume-setpoint-index: resuming needs the run's --run-id and --sensors"},
         {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "6"},
-         "--resume-setpoint-index: resume setpoint index 6: valid is 0..5"},
+         "--resume-setpoint-index: resume setpoint index 6: valid is 0..5"},  // default profile: six
         {{"--move-attempts", "0"}, "--move-attempts: move attempts 0: valid is 1..5"},
         {{"--profile", "ramp", "--turn-interval-s", "1"}, "--turn-interval-s: turn interval 1 s"},
         {{"--profile", "ramp", "--dwell-s", "-5"}, "--dwell-s: dwell -5 s"},
