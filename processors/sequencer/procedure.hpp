@@ -46,11 +46,8 @@ struct Profile {
 //   on evidence: its cubic reference keeps 2 dof (five points leave it 1), so a real cubic is
 //   found per unit. Chamber time stays that of "five": the first setpoint is the room temperature
 //   the units start at (no ramp, only the settling check), the ramp total is the same
-//   (25 -> -40 -> 85 °C), and there are five settled setpoints after it as in "five". Measured
-//   in the virtual lab (4 units, 3 seeds): 2.55 h against 2.50 h; units with a cubic of 3e-9 V/K^3
-//   (1.1 mV at 70 K from 25 °C) got a cubic in 11 of 12 fits against 7 of 12, with 1.5e-9 in 5 of
-//   12 against 0 of 12; clean quadratic units stayed quadratic in 11 of 12 (processors/fit QAIC).
-//   Seven (25, -40, -15, 10, 35, 60, 85) costs a sixth settled setpoint: 2.84 h.
+//   (25 -> -40 -> 85 °C), and there are five settled setpoints after it as in "five" (measured
+//   chamber time and order choices: README, "Why profile six").
 // "five": -40, -10, 25, 55, 85 °C, the previous default, unchanged.
 // "seed3": the seed note's -10/30/60 °C.
 // "ramp": continuous ramps from the start temperature to -40 °C (cooling) and on to 85 °C
