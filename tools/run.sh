@@ -21,10 +21,12 @@ packages=(build-essential cmake pkg-config git
           libeigen3-dev libsqlite3-dev sqlite3 libcli11-dev nlohmann-json3-dev
           libgtest-dev libgmock-dev libbenchmark-dev
           default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2
-          libssl-dev chromium clang libclang-rt-14-dev e2fsprogs)
+          libssl-dev chromium clang libclang-rt-14-dev e2fsprogs ccache)
 # libssl-dev: SHA-256 of CSV/log inputs. chromium: the report's browser test. clang,
 # libclang-rt-14-dev: libFuzzer for tools/run.sh fuzz. e2fsprogs: mkfs.ext4 and chattr for the
-# read-only database test (tests/store/recorder/storage_fault_test.cpp).
+# read-only database test (tests/store/recorder/storage_fault_test.cpp). ccache: a second build
+# of the same sources (CI's clean clone of a commit already built on this machine) compiles
+# nothing again; the cache is keyed relative to the clone (base dir, no cwd), so clones share it.
 
 install_missing() {
     local missing=()
@@ -64,8 +66,15 @@ check_multicast() {
     fi
 }
 
+# The compiler launcher for every build: ccache when installed, keyed relative to this clone.
+launcher=()
+if command -v ccache >/dev/null; then
+    export CCACHE_BASEDIR="$here" CCACHE_NOHASHDIR=true
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+
 build_all() {
-    cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+    cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
     cmake --build "$build" -j "$jobs"
 }
 
@@ -112,7 +121,7 @@ sanitize() {
     command -v clang++ >/dev/null || die "clang++ not found: apt-get install clang libclang-rt-14-dev"
     cmake -S "$here" -B "$dir" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
           -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DGYROCAL_SANITIZE="$flags" \
-          -DGYROCAL_BENCHMARKS=OFF >/dev/null
+          -DGYROCAL_BENCHMARKS=OFF "${launcher[@]}" >/dev/null
     local supp="$here/tools/sanitizers"
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
     export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"

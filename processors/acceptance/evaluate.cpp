@@ -48,6 +48,13 @@ void Compare(Check& c, const Measure& m, Outcome when_unmeasured) {
     c.outcome = ok ? Outcome::kPass : Outcome::kFail;
 }
 
+std::string Joined(const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& e : v) s += (s.empty() ? "" : "; ") + e;
+    return s;
+}
+
+// The analysis' outcome (analyze.hpp, step 9) decides; its headline only explains.
 Check Verdict(const UnitEvidence& u) {
     Check c = Start("no_unexplained_residual", 1);
     if (!u.analysis_verdict) {
@@ -55,16 +62,37 @@ Check Verdict(const UnitEvidence& u) {
         c.note = "the run has no analysis of this unit (gyrocal analyze RUN)";
         return c;
     }
-    const std::string& v = *u.analysis_verdict;
-    c.measured_text = v;
-    if (v.rfind("no missing effect", 0) == 0 && v.find("ambiguous") == std::string::npos) {
+    const std::string& headline = *u.analysis_verdict;
+    if (!u.analysis_outcome) {
+        c.measured_text = "no outcome stored";
+        c.note =
+            "the newest analysis was stored without an outcome (by a gyrocal older than "
+            "outcomes): run gyrocal analyze RUN again";
+        return c;
+    }
+    const std::string& o = *u.analysis_outcome;
+    c.measured_text = o + ": " + headline;
+    if (o == "adequate") {
         c.outcome = Outcome::kPass;
-    } else if (v.rfind("missing effect", 0) == 0 || v.find("ambiguous") != std::string::npos) {
+    } else if (o == "explained") {
+        // Explained by added terms: the unit is served only if a set carrying them was stored
+        // (the fitter's set, judged above, lacks them by construction).
+        c.outcome = u.analysis_stored_set ? Outcome::kPass : Outcome::kFail;
+        if (!u.analysis_stored_set)
+            c.note = "the analysis explains the residual with terms no stored set carries: run "
+                     "gyrocal analyze RUN again to store the extended set";
+    } else if (o == "partly explained" || o == "unexplained residual") {
         c.outcome = Outcome::kFail;
-        c.note = "the declared model leaves a residual the analysis attributes to: " + v;
+        c.note = "the analysis leaves a residual above the floor: " + headline;
+    } else if (o == "not testable") {
+        c.note = "the analysis could not test this unit" +
+                 (u.analysis_to_test.empty() ? std::string()
+                                             : "; to test it: " + Joined(u.analysis_to_test));
     } else {
-        c.note = v.rfind("not analysed", 0) == 0 ? "the analysis could not judge this unit"
-                                                  : "a verdict this version does not read";
+        c.measured_text = "outcome '" + o + "'";
+        c.note = "the stored analysis outcome '" + o +
+                 "' is not one this version reads (adequate, explained, partly explained, "
+                 "unexplained residual, not testable)";
     }
     return c;
 }

@@ -16,8 +16,11 @@
 //   sensitivity uncert.  max over the sensitivity model's range of 100 sqrt(var S(T)) / |S(T)|,
 //                        var = phi' C phi (model::Evaluator);
 //   plateaus, turns      ids the set lists;
-//   unexplained residual the newest analysis' verdict: "no missing effect" passes, "missing
-//                        effect..." or "ambiguous" fails, "not analysed..." or none: not evaluated.
+//   unexplained residual the newest analysis' outcome (analyses.outcome), never its headline's
+//                        wording: adequate / explained pass; partly explained / unexplained
+//                        residual fail (the headline is the note); not testable is not evaluated
+//                        (with what to measure); no analysis, an analysis stored before outcomes
+//                        existed, or an outcome this version does not know: not evaluated, named.
 #include <cmath>
 #include <optional>
 #include <string>
@@ -42,7 +45,10 @@ struct UnitEvidence {
     int n_plateaus = 0;                  // plateau ids the set lists
     int n_turns = 0;                     // rotation ids the set lists
     double plateau_slow_noise_dps = 0;   // [deg/s] as the run declared it (0 = none)
-    std::optional<std::string> analysis_verdict;  // newest analysis of the unit, if any
+    std::optional<std::string> analysis_verdict;  // newest analysis of the unit, if any: headline
+    std::optional<std::string> analysis_outcome;  // its outcome; nullopt: none stored (older)
+    std::vector<std::string> analysis_to_test;    // not testable: what measurement would test it
+    bool analysis_stored_set = false;  // the analysis stored its extended model as a set
 };
 
 enum class Outcome { kPass, kFail, kNotEvaluated };

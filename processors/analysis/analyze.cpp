@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "candidates.hpp"
@@ -34,6 +35,9 @@ void Notes(const SensorRun& run, const BinnedRun& binned, SensorResult& res) {
     if (run.n_seq_gaps > 0)
         res.notes.push_back(std::to_string(run.n_seq_gaps) +
                             " samples missing by sequence number (bins with gaps dropped)");
+    if (run.n_bad_air > 0)
+        res.notes.push_back(std::to_string(run.n_bad_air) +
+                            " chamber air readings non-finite or repeated in time (excluded)");
     if (run.n_bad_samples > 0)
         res.notes.push_back(std::to_string(run.n_bad_samples) +
                             " samples non-finite or out of order (excluded)");
@@ -195,7 +199,12 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
     if (sel.terms.size() == nd || r_named.size() == 0) return out;
     const std::vector<GenericFeature> features =
         GenericFeatures(binned, train, binned.Design(o.offset_terms, train.t0), o);
+    const std::vector<Candidate> cands = OffsetCandidates(binned, o);
     for (size_t k = nd; k < sel.terms.size(); ++k) {
+        bool edge = false;
+        for (const Candidate& c : cands)
+            edge = edge || (c.effect == "warmup" && c.grid.size() >= 2 &&
+                            sel.added_effects[k - nd] == c.effect && sel.terms[k] == c.grid.back());
         std::vector<std::string> without = sel.terms;
         without.erase(without.begin() + static_cast<long>(k));
         const MatrixXd base = binned.Design(without, train.t0);
@@ -205,9 +214,13 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
             if (r_g.size() != r_named.size()) continue;
             const Gain g = HeldOutGain(r_named, r_g, split.held_block, train.hac_lag);
             const double drop = 1.0 - r_g.squaredNorm() / r_named.squaredNorm();
-            if (!(std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 &&
-                  drop > o.min_feature_drop))
-                continue;
+            const bool better = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 &&
+                                drop > o.min_feature_drop;
+            // A warm-up whose tau sits at the upper end of its grid is not a shape the data
+            // resolved (the best tau may lie beyond it): a time-shaped feature that predicts its
+            // held-out residual at least as well takes it.
+            const bool tie_at_edge = edge && std::isfinite(drop) && drop >= 0.0;
+            if (!better && !tie_at_edge) continue;
             const std::string& effect = sel.added_effects[k - nd];
             res.not_attributed.push_back(effect + " (" + f.name + ", " + f.detail +
                                          ", explains its held-out residual better: z " +
@@ -228,6 +241,28 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
     }
     if (!out.empty()) sel.x = train.Design(sel.terms);
     return out;
+}
+
+// What became of each collinear pair added whole, in its "a vs b" entry of the verdict's
+// ambiguities: both kept (the pair predicts unseen data; which of the two carries the effect the
+// data cannot say), one of them not attributed (a generic feature explained its part better), or
+// neither (the held-out check refused the chosen terms).
+void JointPairFates(Selection& sel, bool confirmed, const SensorResult& res) {
+    auto added = [&](const std::string& e) {
+        for (const AddedEffect& a : res.added)
+            if (a.effect == e) return true;
+        return false;
+    };
+    for (const Selection::JointPair& p : sel.joint_pairs) {
+        std::string& entry = sel.ambiguous[p.ambiguous_index];
+        if (!confirmed)
+            entry += " (chosen together, not confirmed on the held-out data)";
+        else if (added(p.a) && added(p.b))
+            entry += " (both kept: together they predict data they did not see)";
+        else if (added(p.a) != added(p.b))
+            entry += " (" + (added(p.a) ? p.a : p.b) + " kept; " + (added(p.a) ? p.b : p.a) +
+                     " not attributed)";
+    }
 }
 
 // Steps 4, 5 and 8's guard: the offset terms chosen, confirmed on the held-out bins and not
@@ -253,6 +288,7 @@ Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
         }
     }
     if (!h.confirmed) sel.terms = o.offset_terms;
+    JointPairFates(sel, h.confirmed, res);
     for (CandidateResult& c : res.candidates)
         if (c.decision == Decision::kAdded && !h.confirmed) {
             c.decision = Decision::kRejected;
@@ -262,6 +298,68 @@ Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
                      "; squared error change " + Fmt(-res.heldout_gain_v2) + " V^2)";
         }
     return sel;
+}
+
+// The number a searched term names: "warmup(312)" -> 312; NaN when it names none.
+double ParamOf(const std::string& term) {
+    const size_t open = term.find('(');
+    if (open == std::string::npos) return kNan;
+    char* end = nullptr;
+    const double v = std::strtod(term.c_str() + open + 1, &end);
+    return end && *end == ')' ? v : kNan;
+}
+
+// Shape parameters at an end of their searched range (item 2 of step 4's search; the generic
+// features' own in residual.cpp): on every candidate, and listed in `edges` for those chosen on
+// the training bins and the features that explain held-out data.
+void Edges(const BinnedRun& binned, const AnalysisOptions& o, SensorResult& res) {
+    const std::vector<Candidate> cands = OffsetCandidates(binned, o);
+    for (CandidateResult& c : res.candidates) {
+        if (!c.grid_edge || c.term.empty()) continue;
+        for (const Candidate& k : cands) {
+            if (k.effect != c.effect || k.grid.size() < 2) continue;
+            const bool upper = c.term == k.grid.back();
+            const double lo = ParamOf(k.grid.front()), hi = ParamOf(k.grid.back());
+            const char* param = c.effect == "temp_rate"    ? "dT/dt time constant"
+                                : c.effect == "hysteresis" ? "branch width"
+                                                           : "tau";
+            const char* unit = c.effect == "hysteresis" ? " degC" : " s";
+            c.edge = EdgeText(param, upper, lo, hi, unit);
+        }
+        const bool chosen = c.decision == Decision::kAdded || c.decision == Decision::kAmbiguous ||
+                            c.note.rfind("not attributed", 0) == 0 ||
+                            std::find(res.unconfirmed.begin(), res.unconfirmed.end(), c.effect) !=
+                                res.unconfirmed.end();
+        if (chosen && !c.edge.empty()) res.edges.push_back(c.effect + ": " + c.edge);
+    }
+    for (const FeatureResult& f : res.features)
+        if (f.explains_heldout && !f.edge.empty())
+            res.edges.push_back(f.feature + " [" + f.channel + "]: " + f.edge);
+}
+
+// A null that depends on the table angle (a generic feature of the encoder's angle explains
+// held-out data) biases every turn: the rotation integral takes in the null's change between the
+// turn's start and end angles, with a sign that follows the turn's direction, which is the
+// signature of sf_asymmetry. The direction term is then not attributed (and not applied): turns
+// in both directions from the same angle would separate the two.
+void AngleConfound(SensorResult& res) {
+    const FeatureResult* angle = nullptr;
+    for (const FeatureResult& f : res.features)
+        if (f.explains_heldout && f.channel.rfind("encoder: table angle", 0) == 0) angle = &f;
+    const auto it = std::find_if(res.added.begin(), res.added.end(),
+                                 [](const AddedEffect& a) { return a.effect == "sf_asymmetry"; });
+    if (angle == nullptr || it == res.added.end()) return;
+    res.added.erase(it);
+    res.extended_sensitivity = res.declared_sensitivity;  // as when the term is not added
+    res.sens_rel_rms_after = res.sens_rel_rms_before;
+    res.sens_chi2_dof_after = res.sens_chi2_dof_before;
+    const std::string why = "sf_asymmetry (the null depends on the table angle: " + angle->feature +
+                            " explains held-out data, and a turn integrates that null's change "
+                            "between its start and end angles with the sign of its direction; "
+                            "turns in both directions from the same angle would separate them)";
+    res.not_attributed.push_back(why);
+    for (CandidateResult& c : res.candidates)
+        if (c.effect == "sf_asymmetry") c.decision = Decision::kRejected, c.note = "not attributed: " + why;
 }
 
 // Steps 8 and 9 on the final model: features, diagnostics, outcome.
@@ -275,10 +373,13 @@ void Residue(const BinnedRun& binned, const Split& split, double t0, bool analys
                                    binned.Design(sel.terms, t0)(split.held, Eigen::all)));
         const VectorXd r_all = Residuals(binned, *res.extended_offset, AllRows(binned.size()));
         const MatrixXd base = binned.Design(sel.terms, t0);
-        res.features = JudgeFeatures(binned, train, split, base, r_all, res.floor_offset_rms_v,
-                                     GenericFeatures(binned, train, base, o), o);
+        res.features =
+            JudgeFeatures(binned, train, split, base, r_all, res.floor_offset_rms_v,
+                          GenericFeatures(binned, train, base, o, &res.absent_channels), o);
         res.residual = Diagnose(binned, r_all, res.floor_offset_rms_v, o);
+        AngleConfound(res);
     }
+    Edges(binned, o, res);
     Conclude(analysed, sel.ambiguous, o, res);
 }
 }  // namespace

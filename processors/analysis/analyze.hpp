@@ -35,7 +35,15 @@
 //    missing effect does not pass for noise; at the end every added term is re-tested with all
 //    the others in (backward elimination). A candidate whose regressor is collinear with the
 //    best one's (|projected correlation| > max_collinearity) is reported "ambiguous" with the
-//    measurement that would separate them, and neither is added.
+//    measurement that would separate them. Such a pair (one twin only) is then judged as a
+//    pair: both columns in at once, (a) the joint Wald z^2 of their two coefficients, (b) the
+//    pair's blocked-CV gain, (c) what the pair adds above the floor, and each member's own z^2
+//    (with the other in) above min_pair_member_z2, so that the split between them is not
+//    arbitrary (near-perfect collinearity would put an arbitrary split into any run where the two
+//    regressors differ). A pair that passes is added
+//    whole (the verdict keeps "ambiguous: a vs b (both kept ...)": the data say the pair predicts
+//    unseen data, not which of the two carries the effect; the backward re-test keeps it as a
+//    pair); otherwise neither is added.
 //    sf_asymmetry is judged on the sensitivity points (known standard errors, inflated by
 //    chi2/dof when above 1; leave-one-temperature-out cross-validation, its held-out test).
 // 5. Held-out confirmation: the declared and the chosen terms, both fitted on the training bins,
@@ -52,7 +60,8 @@
 //    white scatter of one bin, which a perfect model would also leave.
 // 8. Beyond the list (residual.hpp): generic features of every channel the bins carry (time since
 //    start, a slow transient, a step, a periodic term, temperature shape and rate at other time
-//    scales, supply and its rate), each judged on the held-out bins like the candidates. They are
+//    scales, supply and its rate, chamber air and air minus sensor, table angle and the last
+//    turn), each judged on the held-out bins like the candidates. They are
 //    never added to the model; they say what the residual correlates with. A named term whose
 //    held-out residual a time-shaped feature (drift, slow transient, step, periodic) explains
 //    significantly better than the term does is refused ("not attributed"): it only mimicked it.
@@ -96,6 +105,9 @@ struct AnalysisOptions {
     double cv_guard_s = 60.0;       // [s] bins this close to a held-out block are not trained on
     double hac_lag_s = 300.0;       // [s] Newey-West window (the slow noise's correlation time)
     double max_collinearity = 0.9;  // |projected correlation| above: ambiguous
+    // A collinear pair kept whole (step 4) needs each member's z^2, with the other in the model,
+    // above this (2 sigma): otherwise the split of the effect between them is arbitrary.
+    double min_pair_member_z2 = 4.0;
     // (c) practical size: the effect's RMS on this data must exceed this multiple of the noise
     // floor (bins.hpp); a smaller one cannot measurably improve a compensation, and slow noise
     // (bias instability with ~1000 s correlation) can mimic a slow regressor (supply drift,
@@ -135,6 +147,7 @@ struct CandidateResult {
     double effect_rms_v = kNan;  // [V] size of the effect on this data (coefficient * RMS of its
                                  // regressor after projecting out the model)
     bool grid_edge = false;      // its shape parameter ended at an end of the searched range
+    std::string edge = {};       // then: "tau at the upper edge of the searched 30-300 s: ..."
 };
 
 struct AddedEffect {
@@ -164,6 +177,12 @@ struct FeatureResult {
     double effect_rms_v = kNan;     // [V] RMS of what it predicts on the held-out bins
     double heldout_drop = kNan;     // [1] fraction of the held-out squared residual it removes
     bool explains_heldout = false;  // z > gate_min_z, gain > 0, effect above the floor
+    std::string edge = {};          // its parameter ended at an end of its range (as candidates)
+};
+
+// A point of a diagnostic curve of the residual.
+struct CurvePoint {
+    double x = kNan, y = kNan;
 };
 
 struct WindowRms {
@@ -181,6 +200,8 @@ struct ResidualDiagnostics {
     double period_power_ratio = kNan;  // peak power / median power over the periods searched
     std::vector<WindowRms> by_time, by_temp;
     WindowRms worst_time, worst_temp;
+    std::vector<CurvePoint> periodogram;  // period [s] -> fitted sinusoid amplitude [V]
+    std::vector<CurvePoint> autocorr;     // lag [s] -> autocorrelation [1] within stretches
 };
 
 struct SensorResult {
@@ -226,6 +247,13 @@ struct SensorResult {
     std::vector<std::string> to_test;      // the measurement that would test each of them
     std::vector<std::string> not_attributed;  // named terms a generic feature displaced
     std::vector<FeatureResult> features;   // step 8, strongest first
+    // Channels (or features of them) that were not recorded or did not vary, and what recording
+    // would add them; a feature is never made up for them.
+    std::vector<std::string> absent_channels;
+    // Shape parameters chosen at an end of their searched range, for the candidates chosen on
+    // the training bins and the features that explain held-out data ("warmup: tau at the upper
+    // edge of the searched 30-300 s: the true value may be larger").
+    std::vector<std::string> edges;
     ResidualDiagnostics residual;
     std::optional<model::Model> declared_offset, declared_sensitivity;  // fitted on all bins
     std::optional<model::Model> extended_offset, extended_sensitivity;  // fitted on all bins

@@ -39,6 +39,42 @@ private:
     size_t next_ = 0;
 };
 
+// Chamber air at time t [us] (see Bin::air_c); `next` is the first reading after the previous
+// query (queries in time order).
+double AirAt(const std::vector<AirSample>& air, double t, double tolerance_us, size_t& next) {
+    while (next < air.size() && static_cast<double>(air[next].utime) <= t) ++next;
+    const AirSample* before = next > 0 ? &air[next - 1] : nullptr;
+    const AirSample* after = next < air.size() ? &air[next] : nullptr;
+    if (before && after) {
+        const double w = (t - static_cast<double>(before->utime)) /
+                         static_cast<double>(after->utime - before->utime);
+        return before->air_c + w * (after->air_c - before->air_c);
+    }
+    const AirSample* near = before ? before : after;
+    if (near && std::fabs(static_cast<double>(near->utime) - t) <= tolerance_us) return near->air_c;
+    return kNan;
+}
+
+// The table's state at rest in every bin: the last move that ended before it.
+void TableState(const SensorRun& run, std::vector<Bin>& bins) {
+    if (!run.has_encoder || run.counts_per_rev <= 0) return;
+    size_t m = 0;
+    for (Bin& b : bins) {
+        while (m < run.moves.size() && run.moves[m].end_utime < b.start_utime) ++m;
+        const motion::TableMove* last = m > 0 ? &run.moves[m - 1] : nullptr;
+        const int64_t cpr =
+            last && last->counts_per_rev > 0 ? last->counts_per_rev : run.counts_per_rev;
+        const int64_t counts = last ? last->end_counts : run.initial_counts;
+        b.table_deg = static_cast<double>(((counts % cpr) + cpr) % cpr) * 360.0 / cpr;
+        b.last_turn_dir = 0.0;
+        if (!last) continue;
+        const double angle = last->counts_per_rev > 0 ? last->angle_deg() : 0.0;
+        b.last_turn_dir = angle > 0 ? 1.0 : angle < 0 ? -1.0 : 0.0;
+        const double dur_s = (last->end_utime - last->start_utime) * 1e-6;
+        if (dur_s > 0) b.last_turn_rate_dps = std::fabs(angle) / dur_s;
+    }
+}
+
 }  // namespace
 
 BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin_s_(o.bin_s) {
@@ -97,6 +133,10 @@ BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin
         if (bin_of_sample_[k] >= 0) since[static_cast<size_t>(bin_of_sample_[k])] += in.time_since_power_s;
     }
     for (size_t i = 0; i < bins_.size(); ++i) bins_[i].time_since_power_s = since[i] / bins_[i].n;
+    size_t next_air = 0;
+    for (Bin& b : bins_)
+        b.air_c = AirAt(run.air, b.mid_utime, static_cast<double>(bin_us), next_air);
+    TableState(run, bins_);
     for (size_t p = 0; p < run.plateaus.size(); ++p)
         for (Bin& b : bins_)
             if (b.start_utime >= run.plateaus[p].start_utime &&

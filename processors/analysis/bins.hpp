@@ -41,6 +41,14 @@ struct Bin {
     double time_since_power_s = kNan;  // [s] mean
     int segment = 0;                   // index of the run of consecutive bins
     int plateau = -1;                  // index into SensorRun::plateaus when inside its window
+    // Other channels (NaN when not recorded): the chamber air at the bin's mean time (linear
+    // between the readings around it, or the nearest one within a bin length); the table at rest:
+    // its angle modulo a revolution, the direction (+1 / -1, 0 before any turn) and mean rate of
+    // the last turn before the bin (NaN before any turn).
+    double air_c = kNan;               // [degC]
+    double table_deg = kNan;           // [deg] in [0, 360)
+    double last_turn_dir = kNan;       // [1]
+    double last_turn_rate_dps = kNan;  // [deg/s] |turn angle| / turn duration
 };
 
 struct BinOptions {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "fit/least_squares.hpp"
 #include "model/inputs.hpp"
 
 namespace gyrocal::analysis::detail {
@@ -131,14 +132,7 @@ Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vecto
 }
 
 double MeanLeverage(const MatrixXd& x_train, const MatrixXd& x_held) {
-    if (x_held.rows() == 0 || x_train.rows() <= x_train.cols()) return kNan;
-    const VectorXd s = x_train.colwise().norm().cwiseMax(1e-300).cwiseInverse();
-    const MatrixXd xs = x_train * s.asDiagonal();
-    const Eigen::LDLT<MatrixXd> ldlt(xs.transpose() * xs);
-    if (ldlt.info() != Eigen::Success) return kNan;
-    const MatrixXd h = x_held * s.asDiagonal();
-    const MatrixXd z = ldlt.solve(h.transpose());
-    return (h.transpose().cwiseProduct(z)).colwise().sum().mean();
+    return fit::MeanLeverage(x_train, x_held);
 }
 
 void ExpectedAfter(const LsFit& fit, const MatrixXd& x_held, double inv_sens, SensorResult* r) {
@@ -148,7 +142,7 @@ void ExpectedAfter(const LsFit& fit, const MatrixXd& x_held, double inv_sens, Se
     // Mean prediction variance x' C x over the held-out bins: how far the coefficients fitted on
     // the training bins may put the model off on them, by their own (robust) covariance.
     const double pred_var = (x_held * fit.covariance).cwiseProduct(x_held).rowwise().sum().mean();
-    const double resid_var = fit.rss / static_cast<double>(n_train - p);
+    const double resid_var = fit::ResidualVariance(fit.rss, n_train, p);
     if (!(pred_var >= 0.0) || !std::isfinite(resid_var)) return;
     r->prediction_rms_v = std::sqrt(pred_var);
     r->expected_after_offset_rms_v = std::sqrt(resid_var + pred_var);

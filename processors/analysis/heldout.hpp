@@ -53,8 +53,8 @@ struct Gain {
 Gain HeldOutGain(const Eigen::VectorXd& before, const Eigen::VectorXd& after,
                  const std::vector<int>& block, int hac_lag);
 
-// Mean over the held-out rows of x'(X'X)^-1 x, X the training design (LDLT of the scaled X'X);
-// NaN when X'X is singular.
+// Mean over the held-out rows of x'(X'X)^-1 x, X the training design (fit::MeanLeverage, the
+// one solver's QR); NaN when X cannot be solved.
 double MeanLeverage(const Eigen::MatrixXd& x_train, const Eigen::MatrixXd& x_held);
 
 // fit: the extended model on the training bins; x_held: its columns on the held-out bins.

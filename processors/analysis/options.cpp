@@ -1,4 +1,5 @@
 // AnalysisOptions validation and the decision names (analyze.hpp).
+#include <cmath>
 #include <string>
 
 #include "analyze.hpp"
@@ -46,6 +47,8 @@ std::string AnalysisOptions::Problem() const {
     if (!(cv_guard_s >= 0.0) || !(hac_lag_s >= 0.0)) return "cv_guard_s and hac_lag_s must be >= 0";
     if (!(max_collinearity > 0.0 && max_collinearity < 1.0))
         return "max_collinearity must be in (0, 1)";
+    if (!(min_pair_member_z2 >= 0.0 && std::isfinite(min_pair_member_z2)))
+        return "min_pair_member_z2 must be finite and >= 0";
     if (!(holdout_fraction >= 0.05 && holdout_fraction <= 0.5))
         return "holdout_fraction must be in [0.05, 0.5] (one block in 2 to one in 20)";
     if (!(holdout_block_s >= 10.0 * bins.bin_s))

@@ -38,7 +38,8 @@ std::string Correlates(const SensorResult& r) {
     std::vector<std::string> c;
     for (const FeatureResult& f : r.features) {
         if (!f.explains_heldout || c.size() >= 2) continue;
-        c.push_back(f.feature + " [" + f.channel + "; " + f.detail + "; removes " +
+        c.push_back(f.feature + " [" + f.channel + "; " + f.detail +
+                    (f.edge.empty() ? std::string() : " (" + f.edge + ")") + "; removes " +
                     Fmt(100.0 * f.heldout_drop, 2) + " % of the held-out squared residual, z " +
                     Fmt(f.heldout_z) + "]");
     }

@@ -85,6 +85,67 @@ std::optional<plot::Figure> EffectFigure(const BinnedRun& binned, const SensorRe
     return f;
 }
 
+// The periodogram of the final residual (analyze.hpp step 8 diagnostics), its peak marked and
+// labelled with its period and amplitude.
+std::optional<plot::Figure> PeriodogramFigure(const SensorResult& r) {
+    const ResidualDiagnostics& d = r.residual;
+    if (d.periodogram.empty() || !std::isfinite(d.period_s)) return std::nullopt;
+    const std::string name = r.sensor_id + "_periodogram";
+    plot::Table t{
+        name,
+        "sensor " + r.sensor_id + ": sinusoid fitted to the still residual at each period",
+        {"period_s", "amplitude_mv"},
+        {}};
+    for (const CurvePoint& p : d.periodogram) t.rows.push_back({p.x, p.y * 1e3});
+    char period[40];  // a period of 100 s or more in whole seconds, not "1.57e+03"
+    std::snprintf(period, sizeof period, d.period_s >= 100.0 ? "%.0f" : "%.3g", d.period_s);
+    const std::string label = "peak: period " + std::string(period) + " s, amplitude " +
+                              Short(d.period_amplitude_v * 1e3) + " mV (" +
+                              Short(d.period_power_ratio) + " x the median power)";
+    plot::Table peak{name + "_peak",
+                     label,
+                     {"period_s", "amplitude_mv"},
+                     {{d.period_s, d.period_amplitude_v * 1e3}}};
+    plot::Table mark{name + "_peak_mark",
+                     "a vertical line at the peak's period",
+                     {"period_s", "amplitude_mv"},
+                     {{d.period_s, 0.0}, {d.period_s, d.period_amplitude_v * 1e3}}};
+    plot::Figure f;
+    f.name = name;
+    f.title = r.sensor_id + ": periodogram of the still residual - " + label;
+    f.xlabel = "period [s]";
+    f.ylabel = "amplitude [mV]";
+    f.log_x = true;
+    f.tables = {t, peak, mark};
+    f.series = {{name, plot::Style::kLines, {1, 2}, "residual (final model)", ""},
+                {mark.name, plot::Style::kLines, {1, 2}, "", "#d62728", 2},
+                {peak.name, plot::Style::kPoints, {1, 2}, label, "#d62728"}};
+    return f;
+}
+
+// The residual's autocorrelation against lag, with the band white noise stays in (95 %).
+std::optional<plot::Figure> AutocorrFigure(const SensorResult& r) {
+    const ResidualDiagnostics& d = r.residual;
+    if (d.autocorr.size() < 2 || r.n_bins <= 0) return std::nullopt;
+    const std::string name = r.sensor_id + "_autocorr";
+    const double band = 1.96 / std::sqrt(static_cast<double>(r.n_bins));
+    plot::Table t{name,
+                  "sensor " + r.sensor_id + ": autocorrelation of the still residual",
+                  {"lag_s", "autocorr", "white_lo", "white_hi"},
+                  {}};
+    for (const CurvePoint& p : d.autocorr) t.rows.push_back({p.x, p.y, -band, band});
+    plot::Figure f;
+    f.name = name;
+    f.title = r.sensor_id + ": autocorrelation of the still residual (lag-1 " +
+              Short(d.lag1_autocorr) + ")";
+    f.xlabel = "lag [s]";
+    f.ylabel = "autocorrelation [1]";
+    f.tables = {t};
+    f.series = {{name, plot::Style::kBand, {1, 3, 4}, "white noise (95 %)", ""},
+                {name, plot::Style::kLines, {1, 2}, "residual (final model)", ""}};
+    return f;
+}
+
 }  // namespace
 
 std::vector<plot::Figure> MakePlots(const SensorRun& run, const SensorResult& r, const AnalysisOptions& o) {
@@ -107,6 +168,8 @@ std::vector<plot::Figure> MakePlots(const SensorRun& run, const SensorResult& r,
                     {residual.name, plot::Style::kPoints, {xcol, 4}, after_label, ""}};
         figures.push_back(std::move(f));
     }
+    if (auto f = PeriodogramFigure(r)) figures.push_back(std::move(*f));
+    if (auto f = AutocorrFigure(r)) figures.push_back(std::move(*f));
     const std::optional<model::Evaluator> after = EvaluatorOf(r.extended_offset);
     if (!after) return figures;
     for (const AddedEffect& a : r.added)

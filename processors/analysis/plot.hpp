@@ -10,10 +10,17 @@
 //                          against the term's regressor (e.g. dT/dt [degC/s]), with the fitted
 //                          effect c * regressor drawn over it. The partial residual is exactly
 //                          what the term is fitted to, so a good fit lies along the line.
+//   <id>_periodogram       amplitude [mV] of the sinusoid fitted to the final residual at each
+//                          period [s] (log axis), the peak marked and labelled "peak: period P s,
+//                          amplitude A mV"
+//   <id>_autocorr          the final residual's autocorrelation against lag [s] within contiguous
+//                          stretches, with the +-1.96/sqrt(bins) band white noise stays in
 // "before" = the declared model fitted on all bins; "after" = the extended model fitted on all
 // bins (the same when nothing was added).
 // Data tables: <id>_residual (time_h temp_c resid_before_mv resid_after_mv, shared by the two
-// residual figures) and <id>_effect_<effect> (regressor partial_resid_mv fitted_effect_mv).
+// residual figures), <id>_effect_<effect> (regressor partial_resid_mv fitted_effect_mv),
+// <id>_periodogram (+ _peak: period_s amplitude_mv), <id>_autocorr (lag_s autocorr white_lo
+// white_hi).
 #include <vector>
 
 #include "analyze.hpp"

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fit/least_squares.hpp"
+
 namespace gyrocal::analysis {
 
 using Eigen::Index;
@@ -13,27 +15,13 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-// Least-squares solve with unit-norm column scaling; returns false when rank-deficient.
+// The one solver (fit/least_squares.hpp): unit-norm column scaling, pivoting QR, (X'X)^-1 from
+// the triangular factor; false when rank-deficient.
 bool Solve(const MatrixXd& x, const VectorXd& y, VectorXd* coeffs, MatrixXd* xtx_inv) {
-    const Index p = x.cols();
-    if (x.rows() < p || p == 0) return false;
-    const VectorXd s = x.colwise().norm();
-    for (Index j = 0; j < p; ++j)
-        if (!(s[j] > 0.0) || !std::isfinite(s[j])) return false;
-    const MatrixXd xs = x * s.cwiseInverse().asDiagonal();
-    const Eigen::ColPivHouseholderQR<MatrixXd> qr(xs);
-    if (qr.rank() < p) return false;
-    const MatrixXd r = qr.matrixR().topLeftCorner(p, p).triangularView<Eigen::Upper>();
-    const double diag_ratio =
-        r.diagonal().cwiseAbs().minCoeff() / r.diagonal().cwiseAbs().maxCoeff();
-    if (!(diag_ratio > 1e-10)) return false;
-    *coeffs = qr.solve(y).cwiseQuotient(s);
-    if (xtx_inv) {
-        const MatrixXd rinv = r.triangularView<Eigen::Upper>().solve(MatrixXd::Identity(p, p));
-        const MatrixXd cu =
-            qr.colsPermutation() * (rinv * rinv.transpose()) * qr.colsPermutation().transpose();
-        *xtx_inv = s.cwiseInverse().asDiagonal() * cu * s.cwiseInverse().asDiagonal();
-    }
+    const fit::LeastSquares ls = fit::SolveLeastSquares(x, y);
+    if (!ls.ok) return false;
+    *coeffs = ls.coeffs;
+    if (xtx_inv) *xtx_inv = ls.xtwx_inv;
     return true;
 }
 
@@ -53,7 +41,9 @@ LsFit FitLs(const MatrixXd& x, const VectorXd& y, const std::vector<int>& segmen
     f.rss = f.residuals.squaredNorm();
     const VectorXd& e = noise ? *noise : f.residuals;
     const double dof = static_cast<double>(n - (noise ? std::max<Index>(p, noise_params) : p));
-    const MatrixXd classical = b * (dof > 0 ? e.squaredNorm() / dof : kNan);
+    // The pooled noise variance s^2 of the classical covariance s^2 (X'X)^-1 (the one solver's).
+    const MatrixXd classical =
+        b * fit::ResidualVariance(e.squaredNorm(), n, noise ? std::max<Index>(p, noise_params) : p);
     // Meat of the sandwich.
     MatrixXd u = x.array().colwise() * e.array();
     MatrixXd s = u.transpose() * u;
@@ -122,14 +112,10 @@ double BlockedCvMse(const MatrixXd& x, const VectorXd& y, int blocks, int guard)
 }
 
 double ProjectedCorrelation(const MatrixXd& base, const VectorXd& a, const VectorXd& b) {
-    VectorXd ra = a, rb = b;
-    if (base.cols() > 0) {
-        const VectorXd s = base.colwise().norm().cwiseMax(1e-300);
-        const MatrixXd bs = base * s.cwiseInverse().asDiagonal();
-        const Eigen::ColPivHouseholderQR<MatrixXd> qr(bs);
-        ra = a - bs * qr.solve(a);
-        rb = b - bs * qr.solve(b);
-    }
+    MatrixXd ab(a.size(), 2);
+    ab << a, b;
+    const MatrixXd r = fit::ProjectOut(base, ab);
+    const VectorXd ra = r.col(0), rb = r.col(1);
     const double na = ra.norm(), nb = rb.norm();
     if (!(na > 1e-9 * a.norm()) || !(nb > 1e-9 * b.norm())) return kNan;
     return ra.dot(rb) / (na * nb);

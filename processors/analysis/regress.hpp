@@ -1,9 +1,10 @@
 #pragma once
 // Least squares on bins with honest uncertainty when residuals are autocorrelated.
 //
-// Fit: ordinary least squares (bins have equal length, hence about equal noise), columns scaled
-// to unit norm, column-pivoting Householder QR; (X'X)^-1 from the triangular factor, never an
-// explicit inverse of X'X.
+// Fit: ordinary least squares (bins have equal length, hence about equal noise) through the
+// project's one solver (fit/least_squares.hpp: columns scaled to unit norm, column-pivoting
+// Householder QR, (X'X)^-1 from the triangular factor, never an explicit inverse of X'X); this
+// file adds what is particular to bins: the autocorrelation-robust covariance and blocked CV.
 // Covariance: Newey-West (HAC): B S B with B = (X'X)^-1 and
 //   S = sum_t u_t u_t' + sum_{l=1..L} (1 - l/(L+1)) sum_t (u_t u_{t-l}' + u_{t-l} u_t'),
 //   u_t = x_t e_t, pairs only inside one segment (contiguous bins),

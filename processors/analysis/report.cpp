@@ -46,7 +46,9 @@ nlohmann::json Beyond(const SensorResult& r) {
                      {"heldout_after_rms_v", Num(x.heldout_after_rms_v)},
                      {"effect_rms_v", Num(x.effect_rms_v)},
                      {"heldout_drop", Num(x.heldout_drop)},
-                     {"explains_heldout", x.explains_heldout}});
+                     {"explains_heldout", x.explains_heldout},
+                     {"at_edge_of_search", !x.edge.empty()},
+                     {"edge", x.edge}});
     const ResidualDiagnostics& d = r.residual;
     return {{"features", f},
             {"residual",
@@ -76,6 +78,8 @@ nlohmann::json ToJson(const SensorResult& r) {
     j["untested"] = r.untested;
     j["to_test"] = r.to_test;
     j["not_attributed"] = r.not_attributed;
+    j["absent_channels"] = r.absent_channels;
+    j["edges"] = r.edges;
     const nlohmann::json b = Beyond(r);
     j["features"] = b["features"];
     j["residual"] = b["residual"];
@@ -90,6 +94,7 @@ nlohmann::json ToJson(const SensorResult& r) {
                          {"decision", ToString(c.decision)},
                          {"step", c.step},
                          {"at_edge_of_search", c.grid_edge},
+                         {"edge", c.edge},
                          {"note", c.note}});
     j["candidates"] = cands;
     json added = json::array();
@@ -176,6 +181,8 @@ std::string FormatBeyond(const SensorResult& r) {
         out += line;
     }
     for (const std::string& s : r.not_attributed) out += "  not attributed: " + s + "\n";
+    for (const std::string& s : r.edges) out += "  at the edge of its search: " + s + "\n";
+    for (const std::string& s : r.absent_channels) out += "  channel absent: " + s + "\n";
     for (const std::string& s : r.to_test) out += "  to test " + s + "\n";
     return out;
 }

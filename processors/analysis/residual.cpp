@@ -22,9 +22,9 @@ VectorXd TimeS(const std::vector<Bin>& bins) {
     return t;
 }
 
-// Least-squares slope of the temperature against time over the bins within +-half_s of each bin
+// Least-squares slope of a channel (v) against time over the bins within +-half_s of each bin
 // (any stretch: moves between bins do not stop the temperature); NaN with fewer than 3 bins.
-VectorXd TempRate(const std::vector<Bin>& bins, const VectorXd& t, double half_s) {
+VectorXd Rate(const VectorXd& v, const VectorXd& t, double half_s) {
     const Index n = t.size();
     VectorXd r = VectorXd::Constant(n, kNan);
     Index lo = 0, hi = 0;
@@ -34,7 +34,7 @@ VectorXd TempRate(const std::vector<Bin>& bins, const VectorXd& t, double half_s
         if (hi - lo < 3) continue;
         double st = 0, sT = 0, stt = 0, stT = 0;
         for (Index j = lo; j < hi; ++j) {
-            const double tj = t[j] - t[i], Tj = bins[static_cast<size_t>(j)].temp_c;
+            const double tj = t[j] - t[i], Tj = v[j];
             st += tj, sT += Tj, stt += tj * tj, stT += tj * Tj;
         }
         const double m = static_cast<double>(hi - lo);
@@ -42,6 +42,23 @@ VectorXd TempRate(const std::vector<Bin>& bins, const VectorXd& t, double half_s
         if (den > 0) r[i] = (stT - st * sT / m) / den;
     }
     return r;
+}
+
+// Columns of `x` (0, 1 or 2) that are not in the span of `base` and of the columns kept before
+// them: a table seen at two angles makes sin and cos one column with the intercept, a turn rate
+// that never changes is the intercept itself.
+MatrixXd Independent(const MatrixXd& base, const MatrixXd& x) {
+    MatrixXd span = base;
+    std::vector<Index> keep;
+    for (Index j = 0; j < x.cols(); ++j) {
+        const VectorXd c = x.col(j);
+        const VectorXd r = c - span * span.colPivHouseholderQr().solve(c);
+        if (!(r.norm() > 1e-6 * std::max(c.norm(), 1e-300))) continue;
+        keep.push_back(j);
+        span.conservativeResize(Eigen::NoChange, span.cols() + 1);
+        span.col(span.cols() - 1) = c;
+    }
+    return x(Eigen::all, keep);
 }
 
 // Residual sum of squares of [base, extra] on the training rows (inf when not fitted).
@@ -66,11 +83,12 @@ std::vector<double> LogSpace(double lo, double hi, int n) {
     return v;
 }
 
-// The parameter of a one-parameter family with the smallest training RSS.
+// The parameter of a one-parameter family with the smallest training RSS; `param` names it for
+// the edge flag ("tau", "period").
 template <typename Make>
 GenericFeature Search(const Context& train, const MatrixXd& base_all,
                       const std::vector<double>& grid, Make make, GenericFeature f,
-                      const char* unit) {
+                      const char* unit, const char* param) {
     double best = INFINITY, best_p = kNan;
     for (double p : grid) {
         const double rss = TrainRss(train, base_all, make(p));
@@ -79,7 +97,8 @@ GenericFeature Search(const Context& train, const MatrixXd& base_all,
     if (!std::isfinite(best_p)) return f;
     f.columns = make(best_p);
     f.detail = f.detail + Fmt(best_p) + unit;
-    if (best_p == grid.front() || best_p == grid.back()) f.detail += " (at the edge of the search)";
+    if (best_p == grid.front() || best_p == grid.back())
+        f.edge = EdgeText(param, best_p == grid.back(), grid.front(), grid.back(), unit);
     return f;
 }
 
@@ -96,7 +115,8 @@ void TimeFeatures(const BinnedRun& b, const Context& train, const MatrixXd& base
         out.push_back(Search(
             train, base, LogSpace(lo, std::max(3.0 * span, 2.0 * lo), 12),
             [&](double tau) { return MatrixXd((-t_on.array() / tau).exp().matrix()); },
-            {"slow transient", "time since power-on", "exp(-t_on/tau), tau ", {}, true}, " s"));
+            {"slow transient", "time since power-on", "exp(-t_on/tau), tau ", {}, true}, " s",
+            "tau"));
     }
     std::vector<double> at;
     for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
@@ -104,18 +124,18 @@ void TimeFeatures(const BinnedRun& b, const Context& train, const MatrixXd& base
         out.push_back(Search(
             train, base, at,
             [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
-            {"step", "time", "offset step at ", {}, true}, " s from the start"));
+            {"step", "time", "offset step at ", {}, true}, " s from the start", "step time"));
     // At least 4 cycles in the run: a longer "period" is a trend or a transient, which the other
     // features name.
     const double p_lo = 4.0 * b.bin_s(), p_hi = 0.25 * span;
     if (p_hi > 2.0 * p_lo)
-        out.push_back(Search(train, base, LogSpace(p_lo, p_hi, 400),
-                             [&](double p) { return Sinusoid(t, p); },
-                             {"periodic", "time", "period ", {}, true}, " s"));
+        out.push_back(Search(
+            train, base, LogSpace(p_lo, p_hi, 400), [&](double p) { return Sinusoid(t, p); },
+            {"periodic", "time", "period ", {}, true}, " s", "period"));
 }
 
 void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t,
-                     std::vector<GenericFeature>& out) {
+                     std::vector<GenericFeature>& out, std::vector<std::string>& absent) {
     const std::vector<Bin>& bins = b.bins();
     const Index n = t.size();
     VectorXd dt(n), supply(n);
@@ -125,12 +145,14 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
     }
     out.push_back({"temperature^3", "temperature", "(T - T0)^3", dt.array().cube().matrix(), false});
     out.push_back({"temperature^4", "temperature", "(T - T0)^4", dt.array().square().square().matrix(), false});
+    VectorXd temp(n);
+    for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
     for (double w : {60.0, 300.0, 1200.0}) {
-        const VectorXd r = TempRate(bins, t, 0.5 * w);
+        const VectorXd r = Rate(temp, t, 0.5 * w);
         if (r.allFinite())
             out.push_back({"dT/dt over " + Fmt(w) + " s", "temperature", "degC/s", r, false});
     }
-    const VectorXd r300 = TempRate(bins, t, 150.0);
+    const VectorXd r300 = Rate(temp, t, 150.0);
     if (r300.allFinite())
         out.push_back({"|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false});
     if (supply.allFinite()) {
@@ -139,24 +161,128 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
         for (Index i = 1; i + 1 < n; ++i)
             rate[i] = (supply[i + 1] - supply[i - 1]) / std::max(1e-9, t[i + 1] - t[i - 1]);
         out.push_back({"supply rate", "supply", "V/s", rate, false});
+    } else {
+        absent.push_back(
+            "supply: not recorded with every still sample (supply_v with each gyro "
+            "sample adds the supply and its rate)");
     }
+}
+
+// Chamber air: its level, its rate, the air-minus-sensor difference (a thermal gradient across
+// the package, which the sensor's own temperature and rate do not see) and that difference times
+// (T - T0) (a gradient effect whose size changes with temperature).
+void AirFeatures(const BinnedRun& b, double t0, const VectorXd& t, std::vector<GenericFeature>& out,
+                 std::vector<std::string>& absent) {
+    const std::vector<Bin>& bins = b.bins();
+    const Index n = t.size();
+    VectorXd air(n), dt(n);
+    Index have = 0;
+    for (Index i = 0; i < n; ++i) {
+        air[i] = bins[static_cast<size_t>(i)].air_c;
+        dt[i] = bins[static_cast<size_t>(i)].temp_c - t0;
+        have += std::isfinite(air[i]) ? 1 : 0;
+    }
+    const std::string adds =
+        " (CHAMBER_STATE air_c on the bus, or a chamber_c column in a CSV "
+        "file, adds the air temperature, its rate and air minus sensor)";
+    if (have < n) {
+        absent.push_back("chamber air: " +
+                         (have == 0 ? std::string("not recorded")
+                                    : "recorded for only " + std::to_string(have) + " of " +
+                                          std::to_string(n) + " still bins") +
+                         adds);
+        return;
+    }
+    // Air minus sensor first: with a dT term in the model the air level explains exactly what
+    // the difference does, and a tie goes to the earlier (the physical reading: a gradient).
+    const VectorXd diff = air - (dt.array() + t0).matrix();
+    out.push_back(
+        {"air - sensor", "chamber air - sensor temperature", "air_c - temp_c", diff, false});
+    out.push_back({"(air - sensor) x dT", "chamber air - sensor temperature",
+                   "(air_c - temp_c)(T - T0)", diff.cwiseProduct(dt), false});
+    out.push_back(
+        {"air temperature", "chamber air", "air_c - T0", (air.array() - t0).matrix(), false});
+    const VectorXd rate = Rate(air, t, 150.0);
+    if (rate.allFinite())
+        out.push_back({"air rate over 300 s", "chamber air", "degC/s", rate, false});
+}
+
+// The table at rest: sin and cos of its angle (a g-sensitivity through a tilted axis repeats once
+// per revolution), the same times (T - T0), the last turn's direction and its rate.
+void TableFeatures(const BinnedRun& b, double t0, std::vector<GenericFeature>& out,
+                   std::vector<std::string>& absent) {
+    const std::vector<Bin>& bins = b.bins();
+    const auto n = static_cast<Index>(bins.size());
+    if (!b.run().has_encoder) {
+        absent.push_back(
+            "encoder: no readings (ENCODER on the bus, or an encoder_deg column in a "
+            "CSV file, adds the table angle, the last turn's direction and its rate)");
+        return;
+    }
+    MatrixXd angle(n, 2), angle_t(n, 2);
+    VectorXd dir(n), rate(n);
+    for (Index i = 0; i < n; ++i) {
+        const Bin& x = bins[static_cast<size_t>(i)];
+        const double a = x.table_deg * kTwoPi / 360.0;
+        angle(i, 0) = std::sin(a), angle(i, 1) = std::cos(a);
+        angle_t.row(i) = angle.row(i) * (x.temp_c - t0);
+        dir[i] = x.last_turn_dir;
+        rate[i] = x.last_turn_rate_dps;
+    }
+    out.push_back({"table angle", "encoder: table angle", "sin, cos of the angle", angle, false});
+    out.push_back({"table angle x dT", "encoder: table angle", "sin, cos of the angle x (T - T0)",
+                   angle_t, false});
+    out.push_back({"last turn direction", "encoder: last turn direction",
+                   "+1 / -1, 0 before any turn", dir, false});
+    double lo = INFINITY, hi = -INFINITY;
+    for (Index i = 0; i < n; ++i)
+        if (std::isfinite(rate[i])) lo = std::min(lo, rate[i]), hi = std::max(hi, rate[i]);
+    if (!(hi > lo * 1.01))
+        absent.push_back("encoder: last turn rate: " +
+                         (std::isfinite(lo) ? "every turn at the same rate (" + Fmt(lo) + " deg/s)"
+                                            : std::string("no turn before the still data")) +
+                         ": turns at several rates would test it");
+    else if (rate.allFinite())
+        out.push_back({"last turn rate", "encoder: last turn rate", "deg/s", rate, false});
+    else
+        absent.push_back(
+            "encoder: last turn rate: undefined for the still data before the first "
+            "turn: still data only after turns would test it");
 }
 
 }  // namespace
 
+std::string EdgeText(const std::string& param, bool upper, double lo, double hi,
+                     const std::string& unit) {
+    return param + " at the " + (upper ? "upper" : "lower") + " edge of the searched " + Fmt(lo) +
+           "-" + Fmt(hi) + unit + ": the true value may be " + (upper ? "larger" : "smaller");
+}
+
 std::vector<GenericFeature> GenericFeatures(const BinnedRun& b, const Context& train,
-                                           const MatrixXd& base_all, const AnalysisOptions& o) {
+                                            const MatrixXd& base_all, const AnalysisOptions& o,
+                                            std::vector<std::string>* absent) {
     std::vector<GenericFeature> out;
+    std::vector<std::string> missing;
     if (b.size() < 3 || train.rows.empty()) return out;
     const VectorXd t = TimeS(b.bins());
     TimeFeatures(b, train, base_all, t, o, out);
-    ChannelFeatures(b, train, t, out);
-    out.erase(std::remove_if(out.begin(), out.end(),
-                             [](const GenericFeature& f) {
-                                 return f.columns.size() == 0 || !f.columns.allFinite();
-                             }),
-              out.end());
-    return out;
+    ChannelFeatures(b, train, t, out, missing);
+    AirFeatures(b, train.t0, t, out, missing);
+    TableFeatures(b, train.t0, out, missing);
+    std::vector<GenericFeature> kept;
+    for (GenericFeature& f : out) {
+        if (f.columns.size() == 0 || !f.columns.allFinite()) continue;
+        f.columns = Independent(base_all, f.columns);
+        if (f.columns.cols() > 0) {
+            kept.push_back(std::move(f));
+        } else if (f.channel.rfind("encoder", 0) == 0 || f.channel.rfind("chamber", 0) == 0) {
+            missing.push_back(f.channel + ": " + f.name +
+                              " does not vary apart from the model's "
+                              "terms in this run's still data (nothing to test it with)");
+        }
+    }
+    if (absent) *absent = std::move(missing);
+    return kept;
 }
 
 VectorXd HeldResidual(const BinnedRun& b, const Context& train, const Split& split,
@@ -185,6 +311,7 @@ std::vector<FeatureResult> JudgeFeatures(const BinnedRun& b, const Context& trai
     const VectorXd before = HeldResidual(b, train, split, base_all, MatrixXd(base_all.rows(), 0));
     for (const GenericFeature& f : features) {
         FeatureResult r{f.name, f.channel, f.detail};
+        r.edge = f.edge;
         // Correlation with the residual: the feature's first column (or the sinusoid's best
         // phase: the larger of the two).
         for (Index j = 0; j < f.columns.cols(); ++j) {
@@ -212,7 +339,11 @@ std::vector<FeatureResult> JudgeFeatures(const BinnedRun& b, const Context& trai
     // Strongest first: those that explain held-out data by how much they leave, then the rest by z.
     std::stable_sort(out.begin(), out.end(), [](const FeatureResult& a, const FeatureResult& c) {
         if (a.explains_heldout != c.explains_heldout) return a.explains_heldout;
-        if (a.explains_heldout) return a.heldout_after_rms_v < c.heldout_after_rms_v;
+        // Compared at 1 pV: features that explain exactly the same (the air level and air minus
+        // sensor beside a dT term) keep their order of construction instead of rounding's.
+        if (a.explains_heldout)
+            return std::round(a.heldout_after_rms_v * 1e12) <
+                   std::round(c.heldout_after_rms_v * 1e12);
         const double za = std::isfinite(a.heldout_z) ? a.heldout_z : -INFINITY;
         const double zc = std::isfinite(c.heldout_z) ? c.heldout_z : -INFINITY;
         return za > zc;
@@ -253,12 +384,37 @@ void Periodogram(const VectorXd& t, const VectorXd& r, double bin_s, ResidualDia
         const Eigen::Vector2d c = (s.transpose() * s).ldlt().solve(s.transpose() * r);
         const double pw = (s * c).squaredNorm();
         power.push_back(pw);
+        d.periodogram.push_back({p, c.norm()});
         if (pw > best) best = pw, d.period_s = p, d.period_amplitude_v = c.norm();
     }
     std::vector<double> sorted = power;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
     const double median = sorted[sorted.size() / 2];
     d.period_power_ratio = median > 0 ? best / median : kNan;
+}
+
+// Autocorrelation of the residual at lags of 0..max_lag bins, over pairs of bins in one
+// contiguous stretch (a move or a gap breaks the pairs), up to the first lag with too few pairs.
+std::vector<CurvePoint> Autocorrelation(const std::vector<Bin>& bins, const VectorXd& r,
+                                        double bin_s, Index max_lag) {
+    std::vector<CurvePoint> out;
+    const double c0 = r.squaredNorm() / static_cast<double>(r.size());
+    if (!(c0 > 0)) return out;
+    for (Index k = 0; k <= max_lag && k < r.size(); ++k) {
+        double c = 0;
+        Index pairs = 0;
+        for (Index i = k; i < r.size(); ++i) {
+            if (bins[static_cast<size_t>(i)].segment != bins[static_cast<size_t>(i - k)].segment)
+                continue;
+            c += r[i] * r[i - k];
+            ++pairs;
+        }
+        // Fewer pairs than this: an estimate of noise rather than of the correlation; longer
+        // lags only have fewer.
+        if (pairs < std::max<Index>(20, r.size() / 10)) break;
+        out.push_back({static_cast<double>(k) * bin_s, c / pairs / c0});
+    }
+    return out;
 }
 
 }  // namespace
@@ -287,6 +443,7 @@ ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double, cons
         d.trend_z = f.coeffs[1] / std::sqrt(f.covariance(1, 1));
     }
     Periodogram(t, r, b.bin_s(), d);
+    d.autocorr = Autocorrelation(bins, r, b.bin_s(), std::min<Index>(n / 4, 120));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
     Windows(t, r, 10, d.by_time, d.worst_time, 3);

@@ -14,15 +14,23 @@
 //   dT/dt over 60/300/1200 s    the temperature's rate at other time scales     channel: temperature
 //   |dT/dt| over 300 s          rate magnitude (direction-free)                 channel: temperature
 //   supply, supply rate         when every bin has it                           channel: supply
+//   air - sensor, x (T - T0)    a thermal gradient the sensor's temperature does not see
+//                                          channel: chamber air - sensor temperature
+//   air temperature, its rate   chamber air, when every bin has it     channel: chamber air
+//   table angle (sin, cos), x (T - T0)   a g-sensitivity through a tilted axis  channel: encoder
+//   last turn direction, last turn rate  what the table did before the bin     channel: encoder
+// A channel not recorded (or without variation) gives no feature; the result names it and what
+// recording would add it.
 // Each feature's shape parameter is chosen on the training bins only (by residual sum of
 // squares); then it is judged like the candidates' held-out gate: the model plus the feature,
 // fitted on the training bins, predicts the held-out bins; it "explains held-out data" when the
 // held-out residual drops by more than gate_min_z of its standard errors (HeldOutGain), its size
 // exceeds the floor, AND it removes more than min_feature_drop of the held-out squared residual:
 // with a dozen features, searched parameters and slow noise, z alone passes on clean runs (z up
-// to 8.7 on 40 clean seeds of the rig), while the largest fraction any feature removed there was
-// 0.29 (analysis_verdict_tests prints it per seed). A feature is never added to the model: it is reported ("correlates
-// with"), because nothing downstream can evaluate it (the compensators know no run start).
+// to 8.7 on 40 clean seeds of the rig), while the largest fraction any feature removed there stays
+// below min_feature_drop (analysis_verdict_tests and gyrocal_bench_clean_runs print it; README).
+// A feature is never added to the model: it is reported ("correlates with"), because nothing
+// downstream can evaluate it (the compensators know no run start).
 // Diagnostics of the final residual on all bins: lag-1 autocorrelation, trend against time,
 // the periodogram's peak, the residual by time window and by temperature band.
 #include <Eigen/Dense>
@@ -40,12 +48,22 @@ struct GenericFeature {
     std::string name, channel, detail;  // detail: the chosen parameter ("tau 1500 s")
     Eigen::MatrixXd columns;            // on all bins (1 or 2 columns)
     bool competes = false;  // may displace a named candidate that mimics it (time-shaped)
+    std::string edge = {};  // the searched parameter ended at an end of its range: what it means
 };
 
+// "tau at the upper edge of the searched 30-300 s: the true value may be larger"; unit with its
+// leading space (" s").
+std::string EdgeText(const std::string& param, bool upper, double lo, double hi,
+                     const std::string& unit);
+
 // The generic features on all bins; shape parameters chosen on `train` (residual of `base`).
+// Columns in the span of base_all (and of the feature's earlier columns) are dropped, a feature
+// left with none is not returned. absent (when given): the channels not recorded, or recorded but
+// without variation, and what recording would add them.
 std::vector<GenericFeature> GenericFeatures(const BinnedRun& binned, const Context& train,
-                                           const Eigen::MatrixXd& base_all,
-                                           const AnalysisOptions& o);
+                                            const Eigen::MatrixXd& base_all,
+                                            const AnalysisOptions& o,
+                                            std::vector<std::string>* absent = nullptr);
 
 // Held-out residual of the model with columns base_all (+ extra_all), fitted on the training
 // rows. Empty when it cannot be fitted.

@@ -63,6 +63,11 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
     run.n_raw_samples = static_cast<int64_t>(raw.size());
     run.has_encoder = !encoder.empty();
     run.moves = MovesFromEncoder(encoder, o);
+    const auto first = std::min_element(
+        encoder.begin(), encoder.end(),
+        [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
+    if (first != encoder.end() && first->counts_per_rev > 0)
+        run.initial_counts = first->counts, run.counts_per_rev = first->counts_per_rev;
     PowerOn(run, power);
     std::stable_sort(raw.begin(), raw.end(),
                      [](const GyroSample& a, const GyroSample& b) { return a.utime < b.utime; });
@@ -87,6 +92,19 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
         if (moving) ++run.n_moving_samples;
     }
     return run;
+}
+
+void AddChamberAir(SensorRun& run, std::vector<AirSample> air) {
+    std::stable_sort(air.begin(), air.end(),
+                     [](const AirSample& a, const AirSample& b) { return a.utime < b.utime; });
+    run.air.clear();
+    for (const AirSample& a : air) {
+        if (!std::isfinite(a.air_c) || (!run.air.empty() && a.utime <= run.air.back().utime)) {
+            ++run.n_bad_air;
+            continue;
+        }
+        run.air.push_back(a);
+    }
 }
 
 }  // namespace gyrocal::analysis

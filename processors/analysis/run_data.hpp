@@ -10,6 +10,10 @@
 // Power-on: the power records of the unit (POWER_<id> on the bus, a CSV time_since_power_s
 // column); each distinct power_on_utime is a power cycle. None: the first sample is taken as the
 // power-on time and the result says it was assumed.
+// Other measured channels the analysis reads when they were recorded (never invented when not):
+// the chamber's air temperature (CHAMBER_STATE air_c, a CSV chamber_c column) through
+// AddChamberAir, and the table's position from the encoder (its rest position before the first
+// move and every move's end: the angle at rest, the last turn's direction and rate).
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -39,6 +43,12 @@ struct PowerRecord {
     int64_t utime = 0;           // [us] when it was sent
     int64_t power_on_utime = 0;  // [us] when the unit was powered
     std::string source;          // "rig", "csv time_since_power_s", ...
+};
+
+// A chamber air reading (chamber_state_t).
+struct AirSample {
+    int64_t utime = 0;    // [us]
+    double air_c = kNan;  // [degC] chamber air
 };
 
 // A plateau as the plateau detector published it (plateau_t).
@@ -80,6 +90,10 @@ struct SensorRun {
     int64_t n_bad_samples = 0;       // excluded: non-finite temp_c / gyro_v, out of order
     int64_t n_seq_gaps = 0;          // missing sequence numbers
     bool has_encoder = false;
+    int64_t initial_counts = 0;  // [count] first encoder reading (the rest position before moves)
+    int32_t counts_per_rev = 0;  // [count/rev] of that reading; 0 without encoder
+    std::vector<AirSample> air;  // chamber air, time-ordered, finite; empty: not recorded
+    int64_t n_bad_air = 0;       // air readings excluded (non-finite, repeated time)
     int64_t n_still() const { return static_cast<int64_t>(samples.size()) - n_moving_samples; }
 };
 
@@ -101,5 +115,9 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
                          std::vector<SensitivityInput> sensitivities,
                          const std::vector<PowerRecord>& power = {},
                          const BuildOptions& options = BuildOptions::Defaults());
+
+// Adds the chamber air readings of the run (any order; sorted here; non-finite readings and
+// repeated times are dropped and counted in n_bad_air).
+void AddChamberAir(SensorRun& run, std::vector<AirSample> air);
 
 }  // namespace gyrocal::analysis

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fit/least_squares.hpp"
 #include "regress.hpp"
 
 namespace gyrocal::analysis::detail {
@@ -43,9 +44,7 @@ StepScore Score(const Context& c, const MatrixXd& x, double base_cv, const Candi
     s.var = f.covariance(p, p);
     s.rss = f.rss;
     {
-        const VectorXd sc = x.colwise().norm().cwiseMax(1e-300);
-        const MatrixXd xs = x * sc.cwiseInverse().asDiagonal();
-        const VectorXd proj = s.column - xs * xs.colPivHouseholderQr().solve(s.column);
+        const VectorXd proj = fit::ProjectOut(x, s.column);
         s.effect_rms_v =
             std::fabs(s.coef) * proj.norm() / std::sqrt(static_cast<double>(proj.size()));
     }

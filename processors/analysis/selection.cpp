@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "fit/least_squares.hpp"
 #include "regress.hpp"
 
 namespace gyrocal::analysis::detail {
@@ -31,6 +32,59 @@ Encompassing Encompass(const Context& c, const MatrixXd& x, const VectorXd& best
             f.coeffs[i + 1] * f.coeffs[i + 1] / f.covariance(i + 1, i + 1)};
 }
 
+// A collinear pair judged together: both columns added at once, (a) the joint Wald statistic
+// c' V^-1 c of their two coefficients (robust covariance, the same noise as the forward steps),
+// (b) the blocked-CV gain of the pair, (c) the size of what the pair adds after projecting out the
+// model. The data may not say WHICH of the two carries an effect and still say that the pair
+// predicts data it did not see.
+struct JointScore {
+    double z2 = 0.0, cv_gain = 0.0, effect_rms_v = 0.0;
+    double z2_a = 0.0, z2_b = 0.0;  // each coefficient alone, with the other in the model
+    bool ok = false;
+};
+JointScore Joint(const Context& c, const MatrixXd& x, double base_cv, const VectorXd& a,
+                 const VectorXd& b, const VectorXd* noise, int noise_params) {
+    JointScore j;
+    MatrixXd xe(x.rows(), x.cols() + 2);
+    xe << x, a, b;
+    const LsFit f = FitLs(xe, c.y, c.segment, c.hac_lag, noise, noise_params);
+    if (!f.ok) return j;
+    const Index i = x.cols();
+    const Eigen::Vector2d cf = f.coeffs.segment<2>(i);
+    const Eigen::Matrix2d v = f.covariance.block<2, 2>(i, i);
+    const Eigen::LDLT<Eigen::Matrix2d> ldlt(v);
+    if (ldlt.info() != Eigen::Success) return j;
+    j.z2 = cf.dot(ldlt.solve(cf));
+    j.z2_a = cf[0] * cf[0] / v(0, 0);
+    j.z2_b = cf[1] * cf[1] / v(1, 1);
+    const double cv = BlockedCvMse(xe, c.y, c.cv_blocks, c.cv_guard);
+    if (!std::isfinite(cv) || !(base_cv > 0.0)) return j;
+    j.cv_gain = (base_cv - cv) / base_cv;
+    const VectorXd pred = fit::ProjectOut(x, xe.rightCols(2)) * cf;
+    j.effect_rms_v = pred.norm() / std::sqrt(static_cast<double>(pred.size()));
+    j.ok = std::isfinite(j.z2);
+    return j;
+}
+
+// (a)-(c) for the pair, and each member determined on its own with the other in
+// (min_pair_member_z2): a pair whose split between the two is arbitrary (near-perfect
+// collinearity) predicts this run but puts an arbitrary split into any run where the two
+// regressors differ.
+bool PairPasses(const JointScore& j, const Floor& floor, const AnalysisOptions& o) {
+    const bool big_enough = !std::isfinite(floor.offset_rms_v) ||
+                            j.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
+    const bool split_known = j.z2_a > o.min_pair_member_z2 && j.z2_b > o.min_pair_member_z2;
+    return j.ok && j.z2 > o.min_z2 && j.cv_gain > o.min_cv_gain && big_enough && split_known;
+}
+
+std::string JointNote(const std::string& other, double r, const JointScore& j,
+                      const std::string& separation) {
+    return "added jointly with " + other + " (projected correlation " + Fmt(r, 3) +
+           "; together z2 " + Fmt(j.z2) + ", cv_gain " + Fmt(j.cv_gain, 2) +
+           "): this data cannot say which of the two carries the effect; to separate: " +
+           separation;
+}
+
 }  // namespace
 
 Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const Floor& floor,
@@ -41,6 +95,7 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
     std::vector<std::string>& ambiguous = sel.ambiguous;
     terms = o.offset_terms;
     std::map<std::string, CandidateResult> last;  // latest statistics of each pool candidate
+    std::vector<std::string> joint;  // effects added as a collinear pair (re-tested as a pair)
     MatrixXd x = c.Design(terms);
     for (int step = 1; !pool.empty(); ++step) {
         const double base_cv = BlockedCvMse(x, c.y, c.cv_blocks, c.cv_guard);
@@ -117,6 +172,35 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
                 twins.push_back(k);
             }
         }
+        if (twins.size() == 1) {
+            // One collinear pair: kept together when the pair passes (a)-(c) jointly.
+            const size_t k = twins[0];
+            const JointScore j = Joint(c, x, base_cv, scores[b].column, scores[k].column, noise,
+                                       static_cast<int>(xfull.cols()));
+            if (PairPasses(j, floor, o)) {
+                const double r = ProjectedCorrelation(x, scores[b].column, scores[k].column);
+                for (size_t i : {b, k}) {
+                    CandidateResult& cr = last[pool[i].effect];
+                    cr.decision = Decision::kAdded;
+                    cr.note += (cr.note.empty() ? "" : "; ") +
+                               JointNote(pool[i == b ? k : b].effect, r, j,
+                                         Separation(pool[b].effect, pool[k].effect));
+                }
+                sel.joint_pairs.push_back({pool[b].effect, pool[k].effect, ambiguous.size()});
+                ambiguous.push_back(pool[b].effect + " vs " + pool[k].effect);
+                for (size_t i : {b, k}) {
+                    terms.push_back(scores[i].term);
+                    added_effects.push_back(pool[i].effect);
+                    joint.push_back(pool[i].effect);
+                }
+                MatrixXd xn(x.rows(), x.cols() + 2);
+                xn << x, scores[b].column, scores[k].column;
+                x = xn;
+                pool.erase(pool.begin() + static_cast<long>(std::max(b, k)));
+                pool.erase(pool.begin() + static_cast<long>(std::min(b, k)));
+                continue;
+            }
+        }
         if (!twins.empty()) {
             std::vector<size_t> drop = twins;
             drop.push_back(b);
@@ -152,6 +236,10 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
         size_t weakest = 0;
         double weakest_z2 = INFINITY;
         for (size_t k = o.offset_terms.size(); k < terms.size(); ++k) {
+            // A pair added jointly is collinear by construction: each alone has a wide variance
+            // with the other in; it passed as a pair and stays as one.
+            const std::string& e = added_effects[k - o.offset_terms.size()];
+            if (std::find(joint.begin(), joint.end(), e) != joint.end()) continue;
             const auto i = static_cast<Index>(k);
             const double z2 = f.coeffs[i] * f.coeffs[i] / f.covariance(i, i);
             if (z2 < weakest_z2) weakest_z2 = z2, weakest = k;

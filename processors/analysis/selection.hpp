@@ -17,6 +17,13 @@ struct Selection {
     std::vector<std::string> terms;           // declared terms + the added ones
     std::vector<std::string> added_effects;   // effect of each added term, in order
     std::vector<std::string> ambiguous;       // "a vs b"
+    // Collinear pairs added whole (a, b, index of their "a vs b" in `ambiguous`): the caller says
+    // in that entry what became of them (both kept, one not attributed, not confirmed).
+    struct JointPair {
+        std::string a, b;
+        size_t ambiguous_index = 0;
+    };
+    std::vector<JointPair> joint_pairs;
     std::vector<CandidateResult> candidates;  // latest statistics of each tested candidate
     Eigen::MatrixXd x;                        // design of `terms` on the bins
 };

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "compensator/compensate.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -32,6 +32,7 @@ public:
     void Run();                              // until SIGINT/SIGTERM
     void HandleFor(int timeout_ms);          // one dispatch round (tests)
     const StatusReporter& status() const { return status_; }
+    Bus& bus() { return bus_; }              // tests publish into it over memq://
 
 private:
     void OnCoeffs(const coeff_set_t& m, const std::string& channel);

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "fit_util.hpp"
+#include "least_squares.hpp"
 
 namespace gyrocal::fit {
 
@@ -39,47 +40,36 @@ FitResult FitWls(const std::vector<FitPoint>& pts, const std::vector<std::string
         y[i] = pt.y;
         sigma[i] = pt.sigma_y;
     }
-    // Whiten rows, scale columns to unit norm: the condition number then measures the geometry of
-    // the temperatures, not the units of the terms.
-    const VectorXd ws = sigma.cwiseInverse();
-    const MatrixXd Aw = ws.asDiagonal() * A;
-    const VectorXd yw = ws.cwiseProduct(y);
-    const VectorXd s = Aw.colwise().norm();
-    for (Index j = 0; j < p; ++j)
-        if (!(s[j] > 0.0))
-            return Refuse(Refusal::kIllConditioned,
-                          "term '" + names[static_cast<size_t>(j)] + "' is zero at every point");
-    const MatrixXd As = Aw * s.cwiseInverse().asDiagonal();
-    const double cond = ConditionNumber(As);
+    // The one solver (least_squares.hpp): rows whitened by 1/sigma, columns scaled to unit norm,
+    // so the condition number measures the geometry of the temperatures, not the units of the
+    // terms.
+    LeastSquaresOptions lo;
+    lo.min_diag_ratio = 0.0;  // the condition number below decides what is ill-posed
+    lo.want_condition_number = true;
+    const LeastSquares ls = SolveLeastSquares(A, y, &sigma, lo);
+    if (ls.bad_column >= 0)
+        return Refuse(Refusal::kIllConditioned,
+                      "term '" + names[static_cast<size_t>(ls.bad_column)] +
+                          "' is zero at every point");
+    const double cond = ls.condition_number;
     if (!(cond <= max_cond))
         return Refuse(Refusal::kIllConditioned, "design matrix condition number " + Fmt(cond) +
                                                     " exceeds " + Fmt(max_cond) +
                                                     ": the points cannot separate the terms");
-    const Eigen::ColPivHouseholderQR<MatrixXd> qr(As);
-    if (qr.rank() < p)
-        return Refuse(Refusal::kIllConditioned, "design matrix rank " + std::to_string(qr.rank()) +
-                                                    " < " + std::to_string(p) + " terms");
-    const VectorXd u = qr.solve(yw);
-    // Covariance of u is (As'As)^-1 = P R^-1 R^-T P' (As P = Q R); R^-1 from a triangular solve.
-    const MatrixXd R = qr.matrixR().topLeftCorner(p, p).triangularView<Eigen::Upper>();
-    const MatrixXd Rinv = R.triangularView<Eigen::Upper>().solve(MatrixXd::Identity(p, p));
-    const MatrixXd cov_u =
-        qr.colsPermutation() * (Rinv * Rinv.transpose()) * qr.colsPermutation().transpose();
-    const VectorXd sinv = s.cwiseInverse();
+    if (!ls.ok) return Refuse(Refusal::kIllConditioned, ls.why);
 
     FitResult out;
     model::Model& m = out.model;
     m.quantity = quantity;
     m.term_names = names;
-    m.coeffs = u.cwiseProduct(sinv);
-    m.covariance = sinv.asDiagonal() * cov_u * sinv.asDiagonal();
-    m.covariance = 0.5 * (m.covariance + m.covariance.transpose());  // exact symmetry for consumers
+    m.coeffs = ls.coeffs;
+    m.covariance = ls.xtwx_inv;  // (A'WA)^-1, exactly symmetric
     m.t0_c = t0_c;
     SetRange(m, pts);
     m.n_points = static_cast<int32_t>(n);
     m.condition_number = cond;
     m.method = "wls";
-    FillFitStats(out, y - A * m.coeffs, sigma, static_cast<int>(p));
+    FillFitStats(out, ls.residuals, sigma, static_cast<int>(p));
     out.used_ids = Ids(pts);
     return out;
 }

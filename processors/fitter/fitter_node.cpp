@@ -1,7 +1,7 @@
 #include "fitter_node.hpp"
 
 #include "bus/channels.hpp"
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 
 namespace gyrocal {
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "fitter_core.hpp"
 #include "ramp_fitter.hpp"
 
@@ -31,6 +31,8 @@ class FitterNode {
 public:
     explicit FitterNode(const FitterOptions& o);  // throws BusError when LCM cannot open
     void Run();
+    Bus& bus() { return bus_; }  // tests publish into it over memq://
+    const StatusReporter& status() const { return status_; }
 
 private:
     template <class F>

@@ -2,7 +2,7 @@
 // and plateau_detector.hpp for the criterion and its defaults.
 #include <CLI/CLI.hpp>
 
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 #include "motion_options.hpp"
 #include "plateau_node.hpp"
 

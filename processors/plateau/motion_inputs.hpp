@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"

@@ -102,6 +102,57 @@ bool PlateauDetector::CriterionHolds(const stats::LineFit& fit, double factor) c
            fit.resid_std <= config_.scatter_max_c * factor;
 }
 
+void PlateauDetector::Settle(const Sample& s, const stats::LineFit& fit) {
+    if (s.moving) return;  // motion neither breaks nor builds stability
+    if (!move_ref_c_ && CriterionHolds(fit, 1.0)) {
+        if (!stable_since_) stable_since_ = s.utime;
+        if (static_cast<double>(s.utime - *stable_since_) >= config_.min_stable_s * 1e6) {
+            Enter(State::kAveraging);
+            acc_ = Acc{};
+        }
+    } else {
+        stable_since_.reset();
+    }
+}
+
+void PlateauDetector::Average(const Sample& s, const Sample& prev, bool had_prev,
+                              const stats::LineFit& fit, Step& step) {
+    if (!s.moving && !CriterionHolds(fit, config_.leave_factor)) {
+        Enter(State::kSettling);
+        stable_since_.reset();
+        acc_ = Acc{};
+        return;
+    }
+    step.refused = RefuseHole(s);
+    Acc& a = acc_;
+    if (a.seen_seq && s.seq > a.prev_seq + 1)
+        a.gaps += static_cast<int32_t>(s.seq - a.prev_seq - 1);
+    a.prev_seq = s.seq;
+    a.seen_seq = true;
+    if (s.moving) {
+        if (a.any) ++a.excluded;
+        return;
+    }
+    if (!a.any) {
+        a.any = true;
+        a.start_utime = s.utime;
+        a.first_seq = s.seq;
+    } else if (had_prev && !prev.moving) {
+        a.still_us += s.utime - prev.utime;
+    }
+    a.end_utime = s.utime;
+    a.last_seq = s.seq;
+    a.t_s.push_back((s.utime - a.start_utime) * 1e-6);
+    a.temp_c.push_back(s.temp_c);
+    a.gyro_v.push_back(s.gyro_v);
+    a.temp_v.push_back(s.temp_v);
+    a.supply_v.push_back(s.supply_v);
+    if (static_cast<double>(a.still_us) >= config_.average_s * 1e6) {
+        step.plateau = Finish();
+        Enter(State::kDone);
+    }
+}
+
 Step PlateauDetector::Feed(const Sample& s) {
     Step step;
     const Sample prev = last_;
@@ -130,54 +181,11 @@ Step PlateauDetector::Feed(const Sample& s) {
         case State::kWaiting:
             break;
         case State::kSettling:
-            if (s.moving) break;  // motion neither breaks nor builds stability
-            if (!move_ref_c_ && CriterionHolds(fit, 1.0)) {
-                if (!stable_since_) stable_since_ = s.utime;
-                if (static_cast<double>(s.utime - *stable_since_) >= config_.min_stable_s * 1e6) {
-                    Enter(State::kAveraging);
-                    acc_ = Acc{};
-                }
-            } else {
-                stable_since_.reset();
-            }
+            Settle(s, fit);
             break;
-        case State::kAveraging: {
-            if (!s.moving && !CriterionHolds(fit, config_.leave_factor)) {
-                Enter(State::kSettling);
-                stable_since_.reset();
-                acc_ = Acc{};
-                break;
-            }
-            step.refused = RefuseHole(s);
-            Acc& a = acc_;
-            if (a.seen_seq && s.seq > a.prev_seq + 1)
-                a.gaps += static_cast<int32_t>(s.seq - a.prev_seq - 1);
-            a.prev_seq = s.seq;
-            a.seen_seq = true;
-            if (s.moving) {
-                if (a.any) ++a.excluded;
-                break;
-            }
-            if (!a.any) {
-                a.any = true;
-                a.start_utime = s.utime;
-                a.first_seq = s.seq;
-            } else if (had_prev && !prev.moving) {
-                a.still_us += s.utime - prev.utime;
-            }
-            a.end_utime = s.utime;
-            a.last_seq = s.seq;
-            a.t_s.push_back((s.utime - a.start_utime) * 1e-6);
-            a.temp_c.push_back(s.temp_c);
-            a.gyro_v.push_back(s.gyro_v);
-            a.temp_v.push_back(s.temp_v);
-            a.supply_v.push_back(s.supply_v);
-            if (static_cast<double>(a.still_us) >= config_.average_s * 1e6) {
-                step.plateau = Finish();
-                Enter(State::kDone);
-            }
+        case State::kAveraging:
+            Average(s, prev, had_prev, fit, step);
             break;
-        }
         case State::kDone:
             if (!s.moving && fit.ok &&
                 std::fabs(fit.value_at_last - last_plateau_temp_c_) > config_.rearm_band_c) {
@@ -227,7 +235,7 @@ Plateau PlateauDetector::Finish() {
     p.gyro_v = stats::DescribeSeries(a.gyro_v, config_.sem_batches);
     const stats::LineFit line = stats::FitLine(a.t_s, a.temp_c);
     p.temp_slope_c_per_min = line.ok ? line.slope_per_s * 60.0 : kNaN;
-    p.temp_v_mean = stats::DescribeSeries(a.temp_v, 4).mean;
+    p.temp_mean_v = stats::DescribeSeries(a.temp_v, 4).mean;
     double sum = 0;
     int n = 0;
     for (double v : a.supply_v) {

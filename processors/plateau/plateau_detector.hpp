@@ -93,7 +93,7 @@ struct Plateau {
     int32_t n_samples = 0, n_excluded_motion = 0, seq_gaps = 0;
     stats::MeanStats temp_c, gyro_v;
     double temp_slope_c_per_min = 0;
-    double temp_v_mean = 0;
+    double temp_mean_v = 0;
     double supply_mean_v = std::numeric_limits<double>::quiet_NaN();
 };
 
@@ -138,6 +138,11 @@ private:
     void Rearm(double setpoint_change_c);
     void Enter(State s);
     bool CriterionHolds(const stats::LineFit& fit, double factor) const;
+    // Feed's state steps: settling until the criterion has held long enough, then averaging
+    // the still samples until average_s of them (the plateau, in `step`).
+    void Settle(const Sample& s, const stats::LineFit& fit);
+    void Average(const Sample& s, const Sample& prev, bool had_prev, const stats::LineFit& fit,
+                 Step& step);
     Plateau Finish();
     StateReport Report(int64_t utime, const stats::LineFit& fit) const;
     // The averaging window's refusal when `s` follows a sequence gap; the window restarts at s.

@@ -23,7 +23,7 @@ plateau_t ToMessage(const std::string& sensor_id, const plateau::Plateau& p) {
     m.gyro_mean_v = p.gyro_v.mean;
     m.gyro_std_v = p.gyro_v.std;
     m.gyro_sem_v = p.gyro_v.sem;
-    m.temp_v_mean = p.temp_v_mean;
+    m.temp_mean_v = p.temp_mean_v;
     m.supply_mean_v = p.supply_mean_v;
     return m;
 }

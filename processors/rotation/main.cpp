@@ -2,7 +2,7 @@
 // threads and rotation_estimator.hpp for the windows and the uncertainty.
 #include <CLI/CLI.hpp>
 
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 #include "motion_options.hpp"
 #include "rotation_node.hpp"
 

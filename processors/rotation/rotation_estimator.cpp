@@ -106,6 +106,117 @@ std::vector<Point> RotationEstimator::Poll(const MotionView& motion) {
     return out;
 }
 
+namespace {
+
+// The retained samples split into the rest window before the move [pre_start, a), the move
+// [a, b] and the rest window after it (b, post_end].
+struct Windows {
+    std::vector<const Sample*> pre, mid, post;
+};
+
+Windows SplitWindows(const std::deque<Sample>& samples, int64_t pre_start, int64_t a, int64_t b,
+                     int64_t post_end) {
+    Windows w;
+    for (const Sample& s : samples) {
+        if (s.utime >= pre_start && s.utime < a)
+            w.pre.push_back(&s);
+        else if (s.utime >= a && s.utime <= b)
+            w.mid.push_back(&s);
+        else if (s.utime > b && s.utime <= post_end)
+            w.post.push_back(&s);
+    }
+    return w;
+}
+
+// Samples missing (sequence gaps) anywhere from the first rest sample to the last.
+int64_t MissingSamples(const std::deque<Sample>& samples, int64_t pre_start, int64_t post_end) {
+    int64_t missing = 0;
+    const Sample* prev = nullptr;
+    for (const Sample& s : samples) {
+        if (s.utime < pre_start || s.utime > post_end) continue;
+        if (prev && s.seq > prev->seq + 1) missing += s.seq - prev->seq - 1;
+        prev = &s;
+    }
+    return missing;
+}
+
+std::vector<double> Values(const std::vector<const Sample*>& w) {
+    std::vector<double> v;
+    v.reserve(w.size());
+    for (const Sample* s : w) v.push_back(s->gyro_v);
+    return v;
+}
+
+// Mean, mean time and span of a rest window (its standard error is set from the pooled noise).
+WindowMean Describe(const std::vector<const Sample*>& w) {
+    WindowMean r;
+    r.n = static_cast<int>(w.size());
+    if (r.n == 0) return r;
+    double ts = 0, sum = 0;
+    for (const Sample* s : w) {
+        ts += (s->utime - w.front()->utime) * 1e-6;
+        sum += s->gyro_v;
+    }
+    r.mean = sum / r.n;
+    r.t_mean_s = w.front()->utime * 1e-6 + ts / r.n;
+    r.span_s = (w.back()->utime - w.front()->utime) * 1e-6;
+    return r;
+}
+
+// "" when both rest windows and the move have enough samples, else why not.
+std::string WindowsProblem(const WindowMean& w1, const WindowMean& w2, size_t n_move, double need_s) {
+    if (w1.n < 4 || w1.span_s < need_s)
+        return Fmt("rest window before the move covers %.3f s, less than %.3f s", w1.span_s, need_s);
+    if (w2.n < 4 || w2.span_s < need_s)
+        return Fmt("rest window after the move covers %.3f s, less than %.3f s", w2.span_s, need_s);
+    if (n_move < 2) return "fewer than 2 samples inside the move";
+    return "";
+}
+
+// The offset during the move: the line through the two rest means.
+struct OffsetLine {
+    WindowMean w1, w2;
+    double At(double t_s) const {
+        return w1.mean + (w2.mean - w1.mean) * (t_s - w1.t_mean_s) / (w2.t_mean_s - w1.t_mean_s);
+    }
+};
+
+// [V s] the integral of (v - offset) over the move, trapezoid rule.
+double IntegralAboveOffset(const std::vector<const Sample*>& mid, const OffsetLine& offset) {
+    double integral = 0;
+    for (size_t i = 1; i < mid.size(); ++i) {
+        const double ta = mid[i - 1]->utime * 1e-6, tb = mid[i]->utime * 1e-6;
+        integral += 0.5 * (tb - ta) *
+                    ((mid[i - 1]->gyro_v - offset.At(ta)) + (mid[i]->gyro_v - offset.At(tb)));
+    }
+    return integral;
+}
+
+// The encoder against the integrated gyro during the move (slip_check.hpp): "" when they agree.
+std::string SlipProblem(const std::deque<motion::EncoderReading>& encoder, const motion::TableMove& m,
+                        int64_t a, int64_t b, const std::vector<const Sample*>& mid,
+                        const OffsetLine& offset, const Point& pt, double q_v2_s,
+                        const RotationConfig& config) {
+    SlipInputs si;
+    for (const Sample* s : mid) {
+        si.gyro_t_s.push_back(s->utime * 1e-6);
+        si.gyro_rate_v.push_back(s->gyro_v - offset.At(s->utime * 1e-6));
+    }
+    for (const motion::EncoderReading& r : encoder) {
+        if (r.utime < a || r.utime > b) continue;
+        si.encoder_t_s.push_back(r.utime * 1e-6);
+        si.encoder_deg.push_back(static_cast<double>(r.counts - m.start_counts) * m.count_deg());
+    }
+    si.sensitivity_v_per_dps = pt.sensitivity_v_per_dps;
+    si.noise_q_v2_s = q_v2_s;
+    si.offset_stderr_v = pt.offset_stderr_v;
+    si.count_deg = m.count_deg();
+    const SlipResult slip = CheckSlip(si, config.slip_alpha, config.min_slip_deg);
+    return slip.slip ? slip.reason : "";
+}
+
+}  // namespace
+
 Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     const motion::TableMove& m = p.move;
     const int64_t a = m.start_utime - guard_us_;
@@ -118,23 +229,14 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     pt.encoder_angle_deg = m.angle_deg();
     pt.direction = pt.encoder_angle_deg >= 0 ? 1 : -1;
 
-    // Split the retained samples into the three windows.
-    std::vector<const Sample*> pre, mid, post;
-    for (const Sample& s : samples_) {
-        if (s.utime >= pre_start && s.utime < a)
-            pre.push_back(&s);
-        else if (s.utime >= a && s.utime <= b)
-            mid.push_back(&s);
-        else if (s.utime > b && s.utime <= post_end)
-            post.push_back(&s);
-    }
-    if (!mid.empty()) {
-        pt.first_seq = mid.front()->seq;
-        pt.last_seq = mid.back()->seq;
-        pt.n_samples = static_cast<int32_t>(mid.size());
+    const Windows w = SplitWindows(samples_, pre_start, a, b, post_end);
+    if (!w.mid.empty()) {
+        pt.first_seq = w.mid.front()->seq;
+        pt.last_seq = w.mid.back()->seq;
+        pt.n_samples = static_cast<int32_t>(w.mid.size());
         double t = 0;
-        for (const Sample* s : mid) t += s->temp_c;
-        pt.temp_c = t / mid.size();
+        for (const Sample* s : w.mid) t += s->temp_c;
+        pt.temp_c = t / w.mid.size();
     }
     auto reject = [&pt](std::string why) {
         pt.accepted = false;
@@ -148,53 +250,18 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     if (static_cast<double>(m.end_utime - m.start_utime) > config_.max_move_s * 1e6)
         return reject(Fmt("move lasted %.1f s, more than the maximum %.1f s",
                           (m.end_utime - m.start_utime) * 1e-6, config_.max_move_s));
-
-    // Sequence gaps anywhere from the first rest sample to the last.
-    {
-        int64_t missing = 0;
-        const Sample* prev = nullptr;
-        for (const Sample& s : samples_) {
-            if (s.utime < pre_start || s.utime > post_end) continue;
-            if (prev && s.seq > prev->seq + 1) missing += s.seq - prev->seq - 1;
-            prev = &s;
-        }
-        if (missing > 0)
-            return reject(std::to_string(missing) +
-                          " samples missing (sequence gaps) inside the move or its rest windows");
-    }
+    if (const int64_t missing = MissingSamples(samples_, pre_start, post_end); missing > 0)
+        return reject(std::to_string(missing) +
+                      " samples missing (sequence gaps) inside the move or its rest windows");
 
     // Rest means, and the noise level pooled over both rest windows (same sensor, seconds
     // apart): variance about each window's line and the integrated autocorrelation time.
-    auto values = [](const std::vector<const Sample*>& w) {
-        std::vector<double> v;
-        v.reserve(w.size());
-        for (const Sample* s : w) v.push_back(s->gyro_v);
-        return v;
-    };
-    auto describe = [](const std::vector<const Sample*>& w) {
-        WindowMean r;
-        r.n = static_cast<int>(w.size());
-        if (r.n == 0) return r;
-        double ts = 0, sum = 0;
-        for (const Sample* s : w) {
-            ts += (s->utime - w.front()->utime) * 1e-6;
-            sum += s->gyro_v;
-        }
-        r.mean = sum / r.n;
-        r.t_mean_s = w.front()->utime * 1e-6 + ts / r.n;
-        r.span_s = (w.back()->utime - w.front()->utime) * 1e-6;
-        return r;
-    };
-    WindowMean w1 = describe(pre), w2 = describe(post);
+    OffsetLine offset{Describe(w.pre), Describe(w.post)};
+    WindowMean& w1 = offset.w1;
+    WindowMean& w2 = offset.w2;
     const double need_s = config_.min_rest_fraction * config_.rest_s;
-    if (w1.n < 4 || w1.span_s < need_s)
-        return reject(
-            Fmt("rest window before the move covers %.3f s, less than %.3f s", w1.span_s, need_s));
-    if (w2.n < 4 || w2.span_s < need_s)
-        return reject(
-            Fmt("rest window after the move covers %.3f s, less than %.3f s", w2.span_s, need_s));
-    if (mid.size() < 2) return reject("fewer than 2 samples inside the move");
-    const stats::NoiseLevel noise = stats::PooledNoiseLevel({values(pre), values(post)});
+    if (std::string why = WindowsProblem(w1, w2, w.mid.size(), need_s); !why.empty()) return reject(why);
+    const stats::NoiseLevel noise = stats::PooledNoiseLevel({Values(w.pre), Values(w.post)});
     const double var_eff = noise.var * noise.tau_int;  // [V^2] per sample, correlation included
     w1.se = std::sqrt(var_eff / w1.n);
     w2.se = std::sqrt(var_eff / w2.n);
@@ -202,20 +269,12 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
 
     // Offset line through the two rest means; integrate (v - offset) with the trapezoid rule.
     const double t1 = w1.t_mean_s, t2 = w2.t_mean_s;
-    auto offset_at = [&](double t_s) {
-        return w1.mean + (w2.mean - w1.mean) * (t_s - t1) / (t2 - t1);
-    };
-    double integral = 0;
-    for (size_t i = 1; i < mid.size(); ++i) {
-        const double ta = mid[i - 1]->utime * 1e-6, tb = mid[i]->utime * 1e-6;
-        integral += 0.5 * (tb - ta) *
-                    ((mid[i - 1]->gyro_v - offset_at(ta)) + (mid[i]->gyro_v - offset_at(tb)));
-    }
-    const double t_first = mid.front()->utime * 1e-6, t_last = mid.back()->utime * 1e-6;
+    const double integral = IntegralAboveOffset(w.mid, offset);
+    const double t_first = w.mid.front()->utime * 1e-6, t_last = w.mid.back()->utime * 1e-6;
     const double t_int = t_last - t_first;
     const double tc = 0.5 * (t_first + t_last);
     const double wb = (tc - t1) / (t2 - t1), wa = 1.0 - wb;
-    pt.offset_v = offset_at(tc);
+    pt.offset_v = offset.At(tc);
     pt.offset_stderr_v = std::sqrt(wa * wa * w1.se * w1.se + wb * wb * w2.se * w2.se);
     pt.integral_v_s = integral;
 
@@ -232,22 +291,8 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
         !std::isfinite(pt.temp_c))
         return reject("a result is not finite (non-finite input?)");
     if (!encoder_.empty()) {
-        SlipInputs si;
-        for (const Sample* s : mid) {
-            si.gyro_t_s.push_back(s->utime * 1e-6);
-            si.gyro_rate_v.push_back(s->gyro_v - offset_at(s->utime * 1e-6));
-        }
-        for (const motion::EncoderReading& r : encoder_) {
-            if (r.utime < a || r.utime > b) continue;
-            si.encoder_t_s.push_back(r.utime * 1e-6);
-            si.encoder_deg.push_back(static_cast<double>(r.counts - m.start_counts) * m.count_deg());
-        }
-        si.sensitivity_v_per_dps = sens;
-        si.noise_q_v2_s = q;
-        si.offset_stderr_v = pt.offset_stderr_v;
-        si.count_deg = m.count_deg();
-        const SlipResult slip = CheckSlip(si, config_.slip_alpha, config_.min_slip_deg);
-        if (slip.slip) return reject(slip.reason);
+        if (std::string why = SlipProblem(encoder_, m, a, b, w.mid, offset, pt, q, config_); !why.empty())
+            return reject(why);
     }
     pt.accepted = true;
     return pt;

@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "bus/channels.hpp"
-#include "bus/process_main.hpp"
-#include "bus/shutdown.hpp"
+#include "runtime/process_main.hpp"
+#include "runtime/shutdown.hpp"
 #include "sequencer_node.hpp"
 #include <nlohmann/json.hpp>
 

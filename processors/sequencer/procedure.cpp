@@ -42,7 +42,10 @@ std::string ProfilesHelp() {
     std::string out;
     for (const std::string& name : ProfileNames()) {
         std::string list;
-        for (double t : NamedProfile(name)->setpoints_c) list += (list.empty() ? "" : ",") + Num(t);
+        // Held by name: a range-for over a member of the temporary optional would read freed
+        // memory (the temporary dies before the loop body runs).
+        const std::optional<Profile> profile = NamedProfile(name);
+        for (double t : profile->setpoints_c) list += (list.empty() ? "" : ",") + Num(t);
         out += (out.empty() ? "" : ", ") + name + " (" + list + " C)";
     }
     return out;

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
+#include "runtime/shutdown.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "coeff_uncertainty.hpp"
 #include "gyrocal/chamber_state_t.hpp"

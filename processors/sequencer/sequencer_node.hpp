@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "model/convert.hpp"
 #include "procedure.hpp"
 

@@ -11,16 +11,44 @@ namespace gyrocal::csv {
 RowParser::RowParser(Header header, std::string file, TempTransfer transfer)
     : header_(std::move(header)), file_(std::move(file)), transfer_(transfer) {}
 
-CsvRow RowParser::Parse(const std::string& line, long line_no) {
-    const std::vector<std::string> f = SplitFields(line);
-    const int n = static_cast<int>(f.size());
-    if (n > header_.num_fields) {
-        throw CsvError(file_, line_no, "#" + std::to_string(header_.num_fields + 1),
+namespace {
+
+// Throws unless the line has exactly one field per header column. A short line is refused as a
+// whole, naming the first known column it lacks (or the first missing field when only unknown
+// columns are missing).
+void CheckFieldCount(const Header& header, const std::string& file, long line_no, int n) {
+    if (n > header.num_fields) {
+        throw CsvError(file, line_no, "#" + std::to_string(header.num_fields + 1),
                        "line has " + std::to_string(n) + " fields, the header has " +
-                           std::to_string(header_.num_fields) +
+                           std::to_string(header.num_fields) +
                            "; every line needs exactly one field per header column");
     }
-    // Only called after the length checks below: every header column has its field.
+    if (n < header.num_fields) {
+        int first_missing_known = header.num_fields;
+        Column which = Column::kTimeS;
+        for (int c = 0; c < kNumColumns; ++c) {
+            const auto i = header.index[c];
+            if (i && *i >= n && *i < first_missing_known) {
+                first_missing_known = *i;
+                which = static_cast<Column>(c);
+            }
+        }
+        const std::string col = first_missing_known < header.num_fields
+                                    ? std::string(ColumnName(which))
+                                    : "#" + std::to_string(n + 1);
+        throw CsvError(file, line_no, col,
+                       "missing: the line is cut short (" + std::to_string(n) + " of " +
+                           std::to_string(header.num_fields) +
+                           " fields); every line needs one field per header column");
+    }
+}
+
+}  // namespace
+
+CsvRow RowParser::Parse(const std::string& line, long line_no) {
+    const std::vector<std::string> f = SplitFields(line);
+    CheckFieldCount(header_, file_, line_no, static_cast<int>(f.size()));
+    // Every header column has its field (checked above).
     auto field = [&](Column c) -> std::optional<std::string> {
         const std::optional<int> i = header_.Index(c);
         if (!i) return std::nullopt;
@@ -46,27 +74,6 @@ CsvRow RowParser::Parse(const std::string& line, long line_no) {
         }
         return std::nullopt;
     };
-
-    // A short line is refused as a whole, naming the first known column it lacks (or the
-    // first missing field when only unknown columns are missing).
-    if (n < header_.num_fields) {
-        int first_missing_known = header_.num_fields;
-        Column which = Column::kTimeS;
-        for (int c = 0; c < kNumColumns; ++c) {
-            const auto i = header_.index[c];
-            if (i && *i >= n && *i < first_missing_known) {
-                first_missing_known = *i;
-                which = static_cast<Column>(c);
-            }
-        }
-        const std::string col = first_missing_known < header_.num_fields
-                                    ? std::string(ColumnName(which))
-                                    : "#" + std::to_string(n + 1);
-        throw CsvError(file_, line_no, col,
-                       "missing: the line is cut short (" + std::to_string(n) + " of " +
-                           std::to_string(header_.num_fields) +
-                           " fields); every line needs one field per header column");
-    }
 
     CsvRow row;
     row.line = line_no;

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
+#include "runtime/shutdown.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"

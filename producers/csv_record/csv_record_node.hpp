@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "csv/csv_writer.hpp"
 #include "csv/row_messages.hpp"
 

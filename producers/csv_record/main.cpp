@@ -4,9 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "bus/process_main.hpp"
-#include "bus/shutdown.hpp"
-#include "csv/producer_cli.hpp"
+#include "runtime/process_main.hpp"
+#include "runtime/shutdown.hpp"
+#include "producer_cli/producer_cli.hpp"
 #include "csv_record_node.hpp"
 
 namespace {

@@ -1,12 +1,16 @@
 #include "csv_source_node.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
+#include "runtime/shutdown.hpp"
 
 namespace gyrocal {
 namespace {
@@ -17,6 +21,66 @@ std::string FormatNumber(double v) {
     return os.str();
 }
 }  // namespace
+
+namespace {
+
+// Reads the whole file; nullopt (with the exit code in `exit_code`) when it cannot be used.
+std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_code) {
+    std::ifstream in(o.file);
+    if (!in) {
+        std::cerr << "gyrocal-csv-source: --file '" << o.file
+                  << "' cannot be opened: " << std::strerror(errno)
+                  << "; give a readable CSV file\n";
+        *exit_code = 2;
+        return std::nullopt;
+    }
+    std::string err;
+    const csv::TempTransfer transfer = *o.conversion.Transfer(&err);
+    try {
+        return csv::ReadCsv(in, o.file, transfer, o.on_error);
+    } catch (const csv::CsvError& e) {
+        std::cerr << "gyrocal-csv-source: error: " << e.what()
+                  << "\ngyrocal-csv-source: nothing published (--on-error stop; use --on-error "
+                     "skip to drop bad rows)\n";
+        *exit_code = 1;
+        return std::nullopt;
+    }
+}
+
+// Unknown columns once, and the first skipped rows (--on-error skip) with a count of the rest.
+void ReportReadProblems(const CsvSourceOptions& o, const csv::CsvFile& file) {
+    if (!file.unknown.empty()) {
+        std::string names;
+        for (const auto& n : file.unknown) names += (names.empty() ? "" : ", ") + n;
+        std::cerr << "gyrocal-csv-source: warning: " << o.file << ": ignoring unknown column(s) "
+                  << names << "\n";
+    }
+    constexpr size_t kShown = 10;
+    for (size_t i = 0; i < file.errors.size() && i < kShown; ++i) {
+        std::cerr << "gyrocal-csv-source: skipped: " << file.errors[i] << "\n";
+    }
+    if (file.errors.size() > kShown) {
+        std::cerr << "gyrocal-csv-source: ... and " << file.errors.size() - kShown
+                  << " more bad rows skipped\n";
+    }
+}
+
+}  // namespace
+
+int ReplayCsvFile(const CsvSourceOptions& o) {
+    int exit_code = 0;
+    std::optional<csv::CsvFile> file = ReadWholeFile(o, &exit_code);
+    if (!file) return exit_code;
+    ReportReadProblems(o, *file);
+    InstallStopHandlers();
+    try {
+        CsvSourceNode node(o, std::move(*file));
+        return node.Run();
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal-csv-source: error: " << e.what() << "\n";
+        return 1;
+    }
+}
 
 std::string CsvSourceOptions::Validate() const {
     if (!max && !(speed > 0.0 && speed <= 1e6)) {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/csv_file.hpp"
 #include "csv/row_messages.hpp"
@@ -37,11 +37,19 @@ struct CsvSourceOptions {
     std::string Validate() const;  // "" or one line naming the option and the valid range
 };
 
+// The whole gyrocal-csv-source after option parsing: reads and checks the whole file (bad rows
+// per o.on_error, reported on stderr as FILE:LINE), then publishes it with a CsvSourceNode.
+// Returns the exit code: 2 when the file cannot be opened, 1 for a malformed file under
+// OnError::kStop (nothing published) or a publish failure, 0 when done or stopped.
+int ReplayCsvFile(const CsvSourceOptions& o);
+
 class CsvSourceNode {
 public:
     CsvSourceNode(const CsvSourceOptions& options, csv::CsvFile file);
     // Returns the exit code: 0 done or stopped, 1 when publishing failed.
     int Run();
+    // The node's bus: tests subscribe to it over memq://.
+    Bus& bus() { return bus_; }
 
 private:
     using Clock = std::chrono::steady_clock;

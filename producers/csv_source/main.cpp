@@ -1,14 +1,9 @@
 // gyrocal-csv-source: publishes a measured-data CSV file as GYRO_<id>, ENCODER and
 // CHAMBER_STATE messages, the same messages a rig sends. See README.md.
 #include <CLI/CLI.hpp>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-#include <iostream>
 
-#include "bus/process_main.hpp"
-#include "bus/shutdown.hpp"
-#include "csv/producer_cli.hpp"
+#include "runtime/process_main.hpp"
+#include "producer_cli/producer_cli.hpp"
 #include "csv_source_node.hpp"
 
 namespace {
@@ -72,44 +67,5 @@ int main(int argc, char** argv) {
     };
     if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-csv-source", validate))
         return *exit_code;
-    std::ifstream in(o.file);
-    if (!in) {
-        std::cerr << "gyrocal-csv-source: --file '" << o.file
-                  << "' cannot be opened: " << std::strerror(errno)
-                  << "; give a readable CSV file\n";
-        return 2;
-    }
-    std::string err;
-    const csv::TempTransfer transfer = *o.conversion.Transfer(&err);
-    csv::CsvFile file;
-    try {
-        file = csv::ReadCsv(in, o.file, transfer, o.on_error);
-    } catch (const csv::CsvError& e) {
-        std::cerr << "gyrocal-csv-source: error: " << e.what()
-                  << "\ngyrocal-csv-source: nothing published (--on-error stop; use --on-error "
-                     "skip to drop bad rows)\n";
-        return 1;
-    }
-    if (!file.unknown.empty()) {
-        std::string names;
-        for (const auto& n : file.unknown) names += (names.empty() ? "" : ", ") + n;
-        std::cerr << "gyrocal-csv-source: warning: " << o.file << ": ignoring unknown column(s) "
-                  << names << "\n";
-    }
-    constexpr size_t kShown = 10;
-    for (size_t i = 0; i < file.errors.size() && i < kShown; ++i) {
-        std::cerr << "gyrocal-csv-source: skipped: " << file.errors[i] << "\n";
-    }
-    if (file.errors.size() > kShown) {
-        std::cerr << "gyrocal-csv-source: ... and " << file.errors.size() - kShown
-                  << " more bad rows skipped\n";
-    }
-    InstallStopHandlers();
-    try {
-        CsvSourceNode node(o, std::move(file));
-        return node.Run();
-    } catch (const std::exception& e) {
-        std::cerr << "gyrocal-csv-source: error: " << e.what() << "\n";
-        return 1;
-    }
+    return ReplayCsvFile(o);
 }

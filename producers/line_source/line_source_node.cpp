@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
+#include "runtime/shutdown.hpp"
 
 namespace gyrocal {
 namespace {

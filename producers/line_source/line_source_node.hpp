@@ -12,7 +12,7 @@
 #include <string>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/row_messages.hpp"
 #include "line_input.hpp"

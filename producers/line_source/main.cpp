@@ -7,9 +7,9 @@
 #include <cstring>
 #include <iostream>
 
-#include "bus/process_main.hpp"
-#include "bus/shutdown.hpp"
-#include "csv/producer_cli.hpp"
+#include "runtime/process_main.hpp"
+#include "runtime/shutdown.hpp"
+#include "producer_cli/producer_cli.hpp"
 #include "line_source_node.hpp"
 
 namespace {

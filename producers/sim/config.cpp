@@ -53,40 +53,89 @@ GyroPreset PresetByName(const std::string& name) {
 
 bool EffectsConfig::AnyOn() const {
     return temp_rate_v_per_c_per_min != 0.0 || hysteresis_v != 0.0 || temp_cubic_v_per_c3 != 0.0 ||
-           supply_v_per_v != 0.0 || sf_asymmetry != 0.0 || warmup_v != 0.0;
+           supply_v_per_v != 0.0 || sf_asymmetry != 0.0 || warmup_v != 0.0 ||
+           aging_v_per_h != 0.0 || compressor_v != 0.0 || gsens_v_per_g != 0.0 ||
+           hysteresis_smooth_v != 0.0 || warmup2_v != 0.0;
 }
 
+namespace {
+
+// One name of --effect: the field it sets and its valid range. Bounds of magnitudes: far beyond
+// anything physical, only to catch typos (a value in mV instead of V). Shapes: > lo (a zero
+// width, period or time constant has no meaning) and <= hi.
+struct EffectField {
+    const char* name;
+    double EffectsConfig::*field;
+    const char* unit;
+    double lo, hi;
+    bool shape;
+};
+
+const std::vector<EffectField>& EffectFields() {
+    using E = EffectsConfig;
+    static const std::vector<EffectField> fields = {
+        {"temp_rate", &E::temp_rate_v_per_c_per_min, "V/(degC/min)", -0.1, 0.1, false},
+        {"hysteresis", &E::hysteresis_v, "V", -0.5, 0.5, false},
+        {"temp_cubic", &E::temp_cubic_v_per_c3, "V/K^3", -1e-5, 1e-5, false},
+        {"supply", &E::supply_v_per_v, "V/V", -1.0, 1.0, false},
+        {"sf_asymmetry", &E::sf_asymmetry, "1", -0.5, 0.5, false},
+        {"warmup", &E::warmup_v, "V", -0.5, 0.5, false},
+        {"aging", &E::aging_v_per_h, "V/h", -0.1, 0.1, false},
+        {"compressor", &E::compressor_v, "V", -0.5, 0.5, false},
+        {"gsens", &E::gsens_v_per_g, "V/g", -1.0, 1.0, false},
+        {"hysteresis_smooth", &E::hysteresis_smooth_v, "V", -0.5, 0.5, false},
+        {"warmup2", &E::warmup2_v, "V", -0.5, 0.5, false},
+        {"hysteresis_width_c", &E::hysteresis_width_c, "degC", 0.0, 50.0, true},
+        {"warmup_tau_s", &E::warmup_tau_s, "s", 0.0, 1e5, true},
+        {"compressor_period_s", &E::compressor_period_s, "s", 1.0, 1e5, true},
+        {"tilt_deg", &E::tilt_deg, "deg", 0.0, 90.0, true},
+        {"hysteresis_travel_c", &E::hysteresis_travel_c, "degC", 0.0, 50.0, true},
+        {"warmup2_tau_s", &E::warmup2_tau_s, "s", 0.0, 1e5, true},
+    };
+    return fields;
+}
+
+std::vector<std::string> FieldNames(bool shape) {
+    std::vector<std::string> n;
+    for (const EffectField& f : EffectFields())
+        if (f.shape == shape) n.emplace_back(f.name);
+    return n;
+}
+
+}  // namespace
+
 const std::vector<std::string>& EffectNames() {
-    static const std::vector<std::string> names = {"temp_rate", "hysteresis",   "temp_cubic",
-                                                   "supply",    "sf_asymmetry", "warmup"};
+    static const std::vector<std::string> names = FieldNames(false);
+    return names;
+}
+
+const std::vector<std::string>& EffectShapeNames() {
+    static const std::vector<std::string> names = FieldNames(true);
+    return names;
+}
+
+const std::vector<std::string>& OutsideEffectNames() {
+    static const std::vector<std::string> names = {"aging", "compressor", "gsens"};
     return names;
 }
 
 void SetEffect(EffectsConfig& e, const std::string& name, double value) {
-    // Bounds: far beyond anything physical, only to catch typos (a value in mV instead of V).
-    if (name == "temp_rate") {
-        Range("--effect temp_rate [V/(degC/min)]", value, -0.1, 0.1);
-        e.temp_rate_v_per_c_per_min = value;
-    } else if (name == "hysteresis") {
-        Range("--effect hysteresis [V]", value, -0.5, 0.5);
-        e.hysteresis_v = value;
-    } else if (name == "temp_cubic") {
-        Range("--effect temp_cubic [V/K^3]", value, -1e-5, 1e-5);
-        e.temp_cubic_v_per_c3 = value;
-    } else if (name == "supply") {
-        Range("--effect supply [V/V]", value, -1.0, 1.0);
-        e.supply_v_per_v = value;
-    } else if (name == "sf_asymmetry") {
-        Range("--effect sf_asymmetry [1]", value, -0.5, 0.5);
-        e.sf_asymmetry = value;
-    } else if (name == "warmup") {
-        Range("--effect warmup [V]", value, -0.5, 0.5);
-        e.warmup_v = value;
-    } else {
-        std::string valid;
-        for (const auto& n : EffectNames()) valid += (valid.empty() ? "" : ", ") + n;
-        throw ConfigError("--effect '" + name + "' is unknown; valid names: " + valid);
+    for (const EffectField& f : EffectFields()) {
+        if (name != f.name) continue;
+        const std::string option = "--effect " + name + " [" + f.unit + "]";
+        if (f.shape) {
+            RangeOpenLow(option.c_str(), value, f.lo, f.hi);
+        } else {
+            Range(option.c_str(), value, f.lo, f.hi);
+        }
+        e.*f.field = value;
+        return;
     }
+    std::string valid, shapes;
+    for (const auto& n : EffectNames()) valid += (valid.empty() ? "" : ", ") + n;
+    for (const auto& n : EffectShapeNames()) shapes += (shapes.empty() ? "" : ", ") + n;
+    throw ConfigError("--effect '" + name + "' is unknown; valid names: " + valid +
+                      "; shapes: " + shapes);
 }
 
 void ParseEffect(EffectsConfig& effects, const std::string& text) {
@@ -196,6 +245,10 @@ void RigConfig::Validate() const {
 
     RangeOpenLow("--hysteresis-width-c", effects.hysteresis_width_c, 0.0, 50.0);
     RangeOpenLow("--warmup-tau-s", effects.warmup_tau_s, 0.0, 1e5);
+    RangeOpenLow("--effect compressor_period_s", effects.compressor_period_s, 1.0, 1e5);
+    RangeOpenLow("--effect tilt_deg", effects.tilt_deg, 0.0, 90.0);
+    RangeOpenLow("--effect hysteresis_travel_c", effects.hysteresis_travel_c, 0.0, 50.0);
+    RangeOpenLow("--effect warmup2_tau_s", effects.warmup2_tau_s, 0.0, 1e5);
 }
 
 }  // namespace gyrocal::sim

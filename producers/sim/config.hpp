@@ -101,8 +101,10 @@ struct SupplyConfig {
 };
 
 // Effects the seed's model lacks. Each is off at 0 (the default) and then costs nothing and draws
-// no random numbers, so output stays bit-identical. Magnitudes, when on:
+// no random numbers, so output stays bit-identical. producers/sim/README.md gives each one's
+// formula and why it is plausible. Magnitudes, when on:
 struct EffectsConfig {
+    // The analysis' six candidates, term for term:
     double temp_rate_v_per_c_per_min = 0.0;  // offset += k * dT_die/dt            [V/(degC/min)]
     double hysteresis_v = 0.0;               // heating and cooling branches this far apart [V]
     double temp_cubic_v_per_c3 = 0.0;        // offset += k * (T_die - 25)^3       [V/K^3]
@@ -111,13 +113,31 @@ struct EffectsConfig {
     double warmup_v = 0.0;                   // offset += k * exp(-t_on / warmup_tau_s) [V]
     double hysteresis_width_c = 2.0;         // [degC] reversal needed to change branch
     double warmup_tau_s = 300.0;             // [s] warm-up transient time constant
+    // Outside the candidate list:
+    double aging_v_per_h = 0.0;          // offset += k * t_on [h] (package stress relaxation)
+    double compressor_v = 0.0;           // offset += k * sin(2 pi t_on / compressor_period_s) [V]
+    double compressor_period_s = 600.0;  // [s] the chamber compressor's on/off cycle
+    double gsens_v_per_g = 0.0;          // offset += k * sin(tilt) * cos(table angle)  [V/g]
+    double tilt_deg = 2.0;               // [deg] tilt of the table's axis from the vertical
+    // Candidate-shaped, with another shape than the analysis' term:
+    double hysteresis_smooth_v = 0.0;  // branches k apart, reached exponentially over a travel [V]
+    double hysteresis_travel_c = 3.0;  // [degC] travel that brings the branch 63 % of the way
+    double warmup2_v = 0.0;            // a second warm-up: offset += k * exp(-t_on / tau2)  [V]
+    double warmup2_tau_s = 1500.0;     // [s] its time constant
 
     bool AnyOn() const;
 };
 
-// Effect names accepted by SetEffect / --effect NAME=VALUE.
+// Effect names (their magnitudes) accepted by SetEffect / --effect NAME=VALUE.
 const std::vector<std::string>& EffectNames();
-// Sets one effect's magnitude by name; throws ConfigError naming --effect and the valid names.
+// Shape parameters also accepted there (hysteresis_width_c, warmup_tau_s, compressor_period_s,
+// tilt_deg, hysteresis_travel_c, warmup2_tau_s), so that a shape travels with its effect through
+// `gyrocal calibrate --effect`.
+const std::vector<std::string>& EffectShapeNames();
+// The effects the analysis has no candidate for (aging, compressor, gsens).
+const std::vector<std::string>& OutsideEffectNames();
+// Sets one effect's magnitude or shape by name; throws ConfigError naming --effect and the valid
+// names (unknown name) or the valid range (bad value).
 void SetEffect(EffectsConfig& effects, const std::string& name, double value);
 // Parses "NAME=VALUE" and sets it; throws ConfigError on bad form, name or value.
 void ParseEffect(EffectsConfig& effects, const std::string& name_equals_value);

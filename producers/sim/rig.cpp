@@ -14,6 +14,7 @@ struct Rig::UnitState {
     double die_rate_c_per_s = 0.0;
     double sensor_c = 0.0;
     double hysteresis_mem_c = 0.0;  // play-operator memory
+    double smooth_branch = 0.0;     // hysteresis_smooth's branch in (-1, 1), 0 at power-on
     double package_alpha = 0.0;     // cached for last_dt_s_
     double lpf_v = 0.0;
     bool lpf_primed = false;
@@ -26,6 +27,43 @@ namespace {
 int32_t Code(double v, double lsb_v, int32_t max_code) {
     const double c = std::floor(v / lsb_v + 0.5);
     return static_cast<int32_t>(std::clamp(c, 0.0, static_cast<double>(max_code)));
+}
+
+// The smooth branch after a die travel of d_c (signed) from branch b: it relaxes toward the
+// direction of travel exponentially in the travel, db/d|T| = (sign(dT) - b) / travel_c, so a
+// reversal turns it over gradually instead of the play operator's straight ramp across a width.
+double SmoothBranch(double b, double d_c, double travel_c) {
+    if (d_c == 0.0) return b;
+    const double target = d_c > 0.0 ? 1.0 : -1.0;
+    return target + (b - target) * std::exp(-std::fabs(d_c) / travel_c);
+}
+
+// The sum of the offset effects [V] at one sample. Each is skipped when off so that "off" is
+// bit-identical; the candidates' order of summation is the one the rig always had.
+double EffectOffsetV(const RigConfig& c, const GyroTruth& t, double t_on_s) {
+    const EffectsConfig& fx = c.effects;
+    double v = 0.0;
+    if (fx.temp_rate_v_per_c_per_min != 0.0)
+        v += fx.temp_rate_v_per_c_per_min * t.die_rate_c_per_min;
+    if (fx.hysteresis_v != 0.0) v += 0.5 * fx.hysteresis_v * t.hysteresis_branch;
+    if (fx.temp_cubic_v_per_c3 != 0.0) {
+        const double dt = t.die_c - kTruthT0C;
+        v += fx.temp_cubic_v_per_c3 * dt * dt * dt;
+    }
+    if (fx.supply_v_per_v != 0.0) v += fx.supply_v_per_v * (t.supply_true_v - c.supply.nominal_v);
+    if (fx.warmup_v != 0.0) v += fx.warmup_v * std::exp(-t_on_s / fx.warmup_tau_s);
+    if (fx.aging_v_per_h != 0.0) v += fx.aging_v_per_h * t_on_s / 3600.0;
+    if (fx.compressor_v != 0.0) {
+        v += fx.compressor_v * std::sin(2.0 * M_PI * t_on_s / fx.compressor_period_s);
+    }
+    if (fx.gsens_v_per_g != 0.0) {
+        v += fx.gsens_v_per_g * std::sin(fx.tilt_deg * M_PI / 180.0) *
+             std::cos(t.table_angle_deg * M_PI / 180.0);
+    }
+    if (fx.hysteresis_smooth_v != 0.0)
+        v += 0.5 * fx.hysteresis_smooth_v * t.hysteresis_smooth_branch;
+    if (fx.warmup2_v != 0.0) v += fx.warmup2_v * std::exp(-t_on_s / fx.warmup2_tau_s);
+    return v;
 }
 
 }  // namespace
@@ -134,12 +172,17 @@ void Rig::AdvancePhysics(int64_t utime) {
     const double half_width = 0.5 * config_.effects.hysteresis_width_c;
     for (size_t i = 0; i < state_.size(); ++i) {
         UnitState& s = *state_[i];
+        const double die_before_c = s.die_c;
         s.die_c += (air_c - s.die_c) * s.package_alpha;
         s.die_rate_c_per_s = (air_c - s.die_c) / units_[i].package_tau_s;
         s.sensor_c += (s.die_c - s.sensor_c) * sensor_alpha_;
         // Play operator: the memory follows the die only once it is half a width away.
         if (s.die_c > s.hysteresis_mem_c + half_width) s.hysteresis_mem_c = s.die_c - half_width;
         if (s.die_c < s.hysteresis_mem_c - half_width) s.hysteresis_mem_c = s.die_c + half_width;
+        if (config_.effects.hysteresis_smooth_v != 0.0) {
+            s.smooth_branch = SmoothBranch(s.smooth_branch, s.die_c - die_before_c,
+                                           config_.effects.hysteresis_travel_c);
+        }
     }
     supply_drift_v_ = supply_phi_ * supply_drift_v_ + supply_drive_ * supply_rng_.Normal();
     const double t_s = (utime - config_.start_utime) * 1e-6;
@@ -200,6 +243,8 @@ void Rig::EmitGyros(int64_t utime, RigSink& sink) {
         truth.rate_true_dps = table_rate_dps;
         truth.supply_true_v = supply_true_v_;
         truth.hysteresis_branch = (s.die_c - s.hysteresis_mem_c) / half_width;
+        truth.hysteresis_smooth_branch = s.smooth_branch;
+        truth.table_angle_deg = table_angle_deg;
         // Always the same draws per sample, whatever is switched on.
         truth.rate_noise_dps = s.noise.Next(s.rng);
         const double temp_noise_v = c.noise.temp_noise_v * s.rng.Normal();
@@ -207,18 +252,7 @@ void Rig::EmitGyros(int64_t utime, RigSink& sink) {
         truth.offset_v = u.OffsetV(s.die_c);
         truth.sensitivity_v_per_dps = u.SensitivityVPerDps(s.die_c);
         // Undeclared effects: each skipped entirely when 0 so that "off" is bit-identical.
-        double effect_v = 0.0;
-        if (fx.temp_rate_v_per_c_per_min != 0.0) {
-            effect_v += fx.temp_rate_v_per_c_per_min * truth.die_rate_c_per_min;
-        }
-        if (fx.hysteresis_v != 0.0) effect_v += 0.5 * fx.hysteresis_v * truth.hysteresis_branch;
-        if (fx.temp_cubic_v_per_c3 != 0.0) {
-            const double dt = s.die_c - kTruthT0C;
-            effect_v += fx.temp_cubic_v_per_c3 * dt * dt * dt;
-        }
-        if (fx.supply_v_per_v != 0.0)
-            effect_v += fx.supply_v_per_v * (supply_true_v_ - c.supply.nominal_v);
-        if (fx.warmup_v != 0.0) effect_v += fx.warmup_v * std::exp(-t_on_s / fx.warmup_tau_s);
+        const double effect_v = EffectOffsetV(c, truth, t_on_s);
         if (fx.sf_asymmetry != 0.0 && table_rate_dps != 0.0) {
             truth.effect_sens_factor =
                 table_rate_dps > 0.0 ? 1.0 + 0.5 * fx.sf_asymmetry : 1.0 - 0.5 * fx.sf_asymmetry;

@@ -13,6 +13,7 @@
 // A gyro sample of unit u at time t:
 //   rate   = clamp(table_rate + noise_u, +-range)             [deg/s]
 //   v      = offset_u(T_die) + effects + S_u(T_die) * asym * rate, clamped to the output rails
+//            (effects: EffectsConfig; each one's formula in producers/sim/README.md)
 //   gyro_v = ADC(LPF(v)),  temp_v = ADC(V25 + k_T (sensor_state + sensor_offset_u - 25) + noise)
 //   temp_c = 25 + (temp_v - V25) / k_T  (the preset's transfer function)
 // Commands take effect at now_utime() (the last processed event). A sink may issue commands from
@@ -59,6 +60,10 @@ struct GyroTruth {  // never published: for tests and evaluations
     double effect_sens_factor = 1.0;     // scale-factor asymmetry factor
     double supply_true_v = 0.0;
     double hysteresis_branch = 0.0;  // [-1, 1]: -1 cooling branch, +1 heating branch
+    // [-1, 1]: the smooth branch (hysteresis_smooth), 0 at power-on; only tracked when that
+    // effect is on (0 otherwise).
+    double hysteresis_smooth_branch = 0.0;
+    double table_angle_deg = 0.0;  // [deg] the table's true angle since power-on
 };
 
 struct EncoderReading {

@@ -73,6 +73,28 @@ nlohmann::json EffectsJson(const EffectsConfig& e) {
                             "sensitivity *= 1 + value/2 for positive rate, 1 - value/2 negative");
     j["warmup"] = one(e.warmup_v, "V", "offset_v += value * exp(-t_since_power_on / tau_s)");
     j["warmup"]["tau_s"] = e.warmup_tau_s;
+    j["aging"] = one(e.aging_v_per_h, "V/h", "offset_v += value * t_since_power_on [h]");
+    j["compressor"] =
+        one(e.compressor_v, "V", "offset_v += value * sin(2 pi t_since_power_on / period_s)");
+    j["compressor"]["period_s"] = e.compressor_period_s;
+    j["gsens"] = one(e.gsens_v_per_g, "V/g",
+                     "offset_v += value * sin(tilt_deg) * cos(table_angle_deg) [g: gravity's "
+                     "component in the sensor's plane through the tilted table axis]");
+    j["gsens"]["tilt_deg"] = e.tilt_deg;
+    j["hysteresis_smooth"] =
+        one(e.hysteresis_smooth_v, "V",
+            "offset_v += value/2 * b; b in (-1,1), 0 at power-on, db/d|dT_die| = (sign(dT_die) - "
+            "b) / travel_c: the branch turns over exponentially in the temperature travel");
+    j["hysteresis_smooth"]["travel_c"] = e.hysteresis_travel_c;
+    j["warmup2"] = one(e.warmup2_v, "V", "offset_v += value * exp(-t_since_power_on / tau_s)");
+    j["warmup2"]["tau_s"] = e.warmup2_tau_s;
+    // Which of them the analysis has a candidate term for, and for which with the same shape.
+    for (const char* n :
+         {"temp_rate", "hysteresis", "temp_cubic", "supply", "sf_asymmetry", "warmup"})
+        j[n]["analysis"] = "candidate";
+    for (const std::string& n : OutsideEffectNames()) j[n]["analysis"] = "outside the list";
+    j["hysteresis_smooth"]["analysis"] = "candidate-shaped (hysteresis), another shape";
+    j["warmup2"]["analysis"] = "candidate-shaped (warmup), a second time constant";
     return j;
 }
 

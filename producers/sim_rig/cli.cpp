@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 #include "sim/builtin_profile.hpp"
 
 namespace gyrocal {
@@ -44,6 +44,16 @@ Effects (off by default; each --effect NAME=VALUE, repeatable):
   supply=V_per_V             offset += VALUE * (supply - nominal)
   sf_asymmetry=FRACTION      sensitivity * (1 +- VALUE/2) for positive/negative rate
   warmup=V                   offset += VALUE * exp(-t_on / --warmup-tau-s)
+Effects outside the analysis' candidate list (producers/sim/README.md says why each):
+  aging=V_per_h              offset += VALUE * t_on [h]
+  compressor=V               offset += VALUE * sin(2 pi t_on / compressor_period_s)
+  gsens=V_per_g              offset += VALUE * sin(tilt_deg) * cos(table angle)
+Candidate-shaped, another shape than the analysis' term:
+  hysteresis_smooth=V        branches VALUE apart, turned over exponentially in the travel
+  warmup2=V                  a second warm-up: offset += VALUE * exp(-t_on / warmup2_tau_s)
+Shapes, also as --effect NAME=VALUE (so `gyrocal calibrate --effect` carries them):
+  hysteresis_width_c=2 warmup_tau_s=300 compressor_period_s=600 tilt_deg=2
+  hysteresis_travel_c=3 warmup2_tau_s=1500
 )";
 
 std::optional<int> ParseInto(CLI::App& app, int argc, char** argv, SimRigOptions& o) {

@@ -4,7 +4,7 @@
 #include <iostream>
 #include <string>
 
-#include "bus/shutdown.hpp"
+#include "runtime/shutdown.hpp"
 #include "cli.hpp"
 #include "rig_node.hpp"
 #include "truth_file.hpp"

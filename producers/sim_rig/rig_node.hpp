@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "bus/status.hpp"
+#include "runtime/status.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "sim/builtin_profile.hpp"

@@ -149,9 +149,9 @@ static const ProvenanceSummary* FindProv(const std::vector<ProvenanceSummary>& p
     return nullptr;
 }
 
-std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+// The run's identity, provenance and what was recorded.
+static void RunHeaderText(std::ostream& out, const RunDetail& d) {
     const RunInfo& r = d.run;
-    std::ostringstream out;
     out << "Run " << Printable(RunLabel(r.run_id)) << "\n";
     out << "  outcome:          " << Printable(r.outcome)
         << (r.reason.empty() ? "" : " (" + Printable(r.reason) + ")") << "\n";
@@ -167,7 +167,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
     out << "  recorded:         " << r.gyro_samples << " gyro samples, " << r.encoder_samples
         << " encoder samples, " << r.chamber_states << " chamber states, " << r.raw_events
         << " raw events, " << d.events.size() << " run events\n";
+}
 
+// The run configuration as recorded (pretty JSON when it parses).
+static void ConfigText(std::ostream& out, const RunInfo& r) {
     out << "\nConfiguration\n";
     const auto cfg = nlohmann::json::parse(r.config_json, nullptr, false);
     if (r.config_json.empty()) {
@@ -178,7 +181,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
         std::istringstream lines(cfg.dump(2));
         for (std::string line; std::getline(lines, line);) out << "  " << Printable(line) << "\n";
     }
+}
 
+// Every plateau of the run.
+static void PlateausText(std::ostream& out, const RunDetail& d) {
     out << "\nPlateaus (" << d.plateaus.size() << ")\n";
     if (!d.plateaus.empty()) {
         Table t({"SENSOR", "PLATEAU_ID", "SETPOINT_C", "TEMP_MEAN_C", "TEMP_SLOPE_C_PER_MIN",
@@ -190,7 +196,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
         }
         out << t.str();
     }
+}
 
+// Every sensitivity point (rotation), accepted or not.
+static void SensitivityPointsText(std::ostream& out, const RunDetail& d) {
     out << "\nSensitivity points (" << d.sensitivity_points.size() << ")\n";
     if (!d.sensitivity_points.empty()) {
         Table t({"SENSOR", "ROTATION_ID", "DIR", "TEMP_C", "ENCODER_ANGLE_DEG",
@@ -203,7 +212,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
         }
         out << t.str();
     }
+}
 
+// The final set of each sensor and source, with what it came from.
+static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
     out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
     for (const auto& c : d.coeff_sets) {
         out << "  " << Printable(c.set.sensor_id) << "  set " << c.set.coeff_set_id << " ("
@@ -225,9 +237,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
                 << p->items.size() << " found), " << samples << " raw gyro samples stored\n";
         }
     }
+}
 
-    out << FitSectionsText(d);
-
+// The stored analyses, before -> after.
+static void AnalysesText(std::ostream& out, const RunDetail& d) {
     out << "\nAnalyses (" << d.analyses.size() << ")\n";
     if (!d.analyses.empty()) {
         Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "VERDICT", "ADDED", "OFFSET_RMS_V",
@@ -244,7 +257,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
         out << "  (before -> after: the run's declared model -> the extended model; an extended "
                "set is stored with source analysis:<ANALYSIS_ID>)\n";
     }
+}
 
+// Loss by channel as the recorder counted it.
+static void LossesText(std::ostream& out, const RunDetail& d) {
     out << "\nLosses\n";
     if (d.losses.empty()) {
         out << "  none recorded\n";
@@ -257,7 +273,10 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
         }
         out << t.str();
     }
+}
 
+// The last STATUS of each process.
+static void ProcessesText(std::ostream& out, const RunDetail& d) {
     out << "\nProcesses (last STATUS of each in this run: their own view of loss and refusals)\n";
     if (d.processes.empty()) {
         out << "  none recorded\n";
@@ -272,13 +291,25 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
         }
         out << t.str();
     }
+}
+
+std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+    const RunInfo& r = d.run;
+    std::ostringstream out;
+    RunHeaderText(out, d);
+    ConfigText(out, r);
+    PlateausText(out, d);
+    SensitivityPointsText(out, d);
+    CoeffSetsText(out, d, provenance);
+    out << FitSectionsText(d);
+    AnalysesText(out, d);
+    LossesText(out, d);
+    ProcessesText(out, d);
     return out.str();
 }
 
-nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
-    nlohmann::json j = RunJson(d.run);
-    const auto cfg = nlohmann::json::parse(d.run.config_json, nullptr, false);
-    j["config"] = cfg.is_discarded() ? nlohmann::json(d.run.config_json) : cfg;
+// Every plateau with its window, counts and statistics.
+static nlohmann::json PlateausJson(const RunDetail& d) {
     nlohmann::json plateaus = nlohmann::json::array();
     for (const auto& p : d.plateaus) {
         plateaus.push_back({{"sensor_id", p.sensor_id}, {"plateau_id", p.plateau_id},
@@ -294,7 +325,11 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
                             {"gyro_sem_v", Finite(p.gyro_sem_v)},
                             {"supply_mean_v", Finite(p.supply_mean_v)}});
     }
-    j["plateaus"] = plateaus;
+    return plateaus;
+}
+
+// Every sensitivity point, accepted or not.
+static nlohmann::json SensitivityPointsJson(const RunDetail& d) {
     nlohmann::json points = nlohmann::json::array();
     for (const auto& s : d.sensitivity_points) {
         points.push_back({{"sensor_id", s.sensor_id}, {"rotation_id", s.rotation_id},
@@ -306,7 +341,11 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
                           {"sensitivity_stderr_v_per_dps", Finite(s.sensitivity_stderr_v_per_dps)},
                           {"accepted", s.accepted}, {"reject_reason", s.reject_reason}});
     }
-    j["sensitivity_points"] = points;
+    return points;
+}
+
+// The final sets with the provenance of each (what it was fitted from).
+static nlohmann::json CoeffSetsJson(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
     nlohmann::json sets = nlohmann::json::array();
     for (const auto& c : d.coeff_sets) {
         nlohmann::json cj = CoeffSetJson(c);
@@ -323,21 +362,33 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
         }
         sets.push_back(cj);
     }
-    j["coeff_sets"] = sets;
+    return sets;
+}
+
+// Loss by channel as the recorder counted it.
+static nlohmann::json LossesJson(const RunDetail& d) {
     nlohmann::json losses = nlohmann::json::array();
     for (const auto& l : d.losses) {
         losses.push_back({{"channel", l.channel}, {"seq_gaps", l.seq_gaps},
                           {"seq_backwards", l.seq_backwards}, {"decode_errors", l.decode_errors},
                           {"queue_drops", l.queue_drops}});
     }
-    j["loss_by_channel"] = losses;
+    return losses;
+}
+
+// The run events.
+static nlohmann::json EventsJson(const RunDetail& d) {
     nlohmann::json events = nlohmann::json::array();
     for (const auto& e : d.events) {
         events.push_back({{"utime", e.utime}, {"event", e.event}, {"reason", e.reason},
                           {"setpoint_index", e.setpoint_index},
                           {"setpoint_c", Finite(e.setpoint_c)}});
     }
-    j["events"] = events;
+    return events;
+}
+
+// The last STATUS of each process.
+static nlohmann::json ProcessesJson(const RunDetail& d) {
     nlohmann::json procs = nlohmann::json::array();
     for (const auto& p : d.processes) {
         procs.push_back({{"process", p.process}, {"host", p.host}, {"pid", p.pid},
@@ -347,7 +398,11 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
                          {"rejected", p.rejected}, {"last_reject", p.last_reject},
                          {"utime", p.utime}});
     }
-    j["processes"] = procs;
+    return procs;
+}
+
+// The stored analyses with their before/after errors.
+static nlohmann::json AnalysesJson(const RunDetail& d) {
     nlohmann::json analyses = nlohmann::json::array();
     for (const auto& a : d.analyses) {
         analyses.push_back(
@@ -371,7 +426,20 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
              {"coeff_source", a.coeff_row_id ? nlohmann::json(AnalysisSource(a.analysis_id))
                                              : nlohmann::json(nullptr)}});
     }
-    j["analyses"] = analyses;
+    return analyses;
+}
+
+nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+    nlohmann::json j = RunJson(d.run);
+    const auto cfg = nlohmann::json::parse(d.run.config_json, nullptr, false);
+    j["config"] = cfg.is_discarded() ? nlohmann::json(d.run.config_json) : cfg;
+    j["plateaus"] = PlateausJson(d);
+    j["sensitivity_points"] = SensitivityPointsJson(d);
+    j["coeff_sets"] = CoeffSetsJson(d, provenance);
+    j["loss_by_channel"] = LossesJson(d);
+    j["events"] = EventsJson(d);
+    j["processes"] = ProcessesJson(d);
+    j["analyses"] = AnalysesJson(d);
     AddFitJson(j, d);
     return j;
 }

@@ -53,8 +53,8 @@ int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
            "INSERT INTO analyses(run_id, sensor_id, created_wall_utime, software_version, "
            "command_line, verdict, candidates_json, added_json, offset_rms_v_before, "
            "offset_rms_v_after, rate_rms_dps_before, rate_rms_dps_after, drift_dph_before, "
-           "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id) "
-           "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+           "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id, outcome) "
+           "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     s.Bind(1, r.run_id).Bind(2, r.sensor_id);
     s.Bind(3, r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow());
     s.Bind(4, r.software_version).Bind(5, r.command_line).Bind(6, r.verdict);
@@ -62,7 +62,13 @@ int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
     s.Bind(9, r.offset_rms_v_before).Bind(10, r.offset_rms_v_after);
     s.Bind(11, r.rate_rms_dps_before).Bind(12, r.rate_rms_dps_after);
     s.Bind(13, r.drift_dph_before).Bind(14, r.drift_dph_after).Bind(15, r.floor_rate_rms_dps);
-    s.Bind(16, r.result_json).Bind(17, r.coeff_row_id).Run();
+    s.Bind(16, r.result_json).Bind(17, r.coeff_row_id);
+    if (r.outcome) {
+        s.Bind(18, *r.outcome);
+    } else {
+        s.BindNull(18);
+    }
+    s.Run();
     return db.LastInsertRowId();
 }
 
@@ -165,7 +171,7 @@ std::vector<AnalysisRow> ListAnalyses(Db& db, const std::string& run_id,
            "SELECT analysis_id, run_id, sensor_id, created_wall_utime, software_version, "
            "command_line, verdict, candidates_json, added_json, offset_rms_v_before, "
            "offset_rms_v_after, rate_rms_dps_before, rate_rms_dps_after, drift_dph_before, "
-           "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id FROM analyses "
+           "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id, outcome FROM analyses "
            "WHERE run_id = ?1 AND (?2 IS NULL OR sensor_id = ?2) ORDER BY analysis_id");
     s.Bind(1, run_id);
     if (sensor_id) {
@@ -194,6 +200,7 @@ std::vector<AnalysisRow> ListAnalyses(Db& db, const std::string& run_id,
         a.floor_rate_rms_dps = s.Real(15);
         a.result_json = s.Text(16);
         a.coeff_row_id = s.OptInt(17);
+        if (!s.IsNull(18)) a.outcome = s.Text(18);
         out.push_back(std::move(a));
     }
     return out;

@@ -63,7 +63,7 @@ RunInfo ReadRun(const Stmt& s) {
 constexpr const char* kPlateauColumns =
     "run_id, sensor_id, plateau_id, utime, setpoint_c, start_utime, end_utime, first_seq, "
     "last_seq, n_samples, n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
-    "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_v_mean, supply_mean_v, "
+    "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_mean_v, supply_mean_v, "
     "recv_utime";
 
 PlateauRow ReadPlateau(const Stmt& s) {
@@ -87,7 +87,7 @@ PlateauRow ReadPlateau(const Stmt& s) {
     p.gyro_mean_v = s.Real(16);
     p.gyro_std_v = s.Real(17);
     p.gyro_sem_v = s.Real(18);
-    p.temp_v_mean = s.Real(19);
+    p.temp_mean_v = s.Real(19);
     p.supply_mean_v = s.Real(20);
     p.recv_utime = s.Int(21);
     return p;
@@ -286,6 +286,63 @@ RunInfo GetRun(Db& db, const std::string& run_id) {
     return ReadRun(s);
 }
 
+// The run's events in the order they were recorded.
+static std::vector<RunEventRow> RunEvents(Db& db, const std::string& run_id) {
+    std::vector<RunEventRow> events;
+    Stmt s(db,
+           "SELECT run_id, utime, event, reason, setpoint_index, setpoint_c, sensor_ids_json, "
+           "software_version, config_json, command_line, host, recv_utime FROM run_events "
+           "WHERE run_id = ? ORDER BY rowid");
+    s.Bind(1, run_id);
+    while (s.Step()) {
+        RunEventRow e;
+        e.run_id = s.Text(0);
+        e.utime = s.Int(1);
+        e.event = s.Text(2);
+        e.reason = s.Text(3);
+        e.setpoint_index = static_cast<int32_t>(s.Int(4));
+        e.setpoint_c = s.Real(5);
+        e.sensor_ids = ParseIds(s.Text(6));
+        e.software_version = s.Text(7);
+        e.config_json = s.Text(8);
+        e.command_line = s.Text(9);
+        e.host = s.Text(10);
+        e.recv_utime = s.Int(11);
+        events.push_back(std::move(e));
+    }
+    return events;
+}
+
+// The last STATUS of each process (process, host, pid) in the run.
+static std::vector<StatusRow> LastStatuses(Db& db, const std::string& run_id) {
+    std::vector<StatusRow> processes;
+    Stmt s(db,
+           "SELECT process, host, pid, state, received, published, decode_errors, seq_gaps, "
+           "queue_drops, rejected, last_reject, utime, recv_utime FROM status WHERE rowid IN "
+           "(SELECT max(rowid) FROM status WHERE run_id = ?1 GROUP BY process, host, pid) "
+           "ORDER BY process, host, pid");
+    s.Bind(1, run_id);
+    while (s.Step()) {
+        StatusRow st;
+        st.run_id = run_id;
+        st.process = s.Text(0);
+        st.host = s.Text(1);
+        st.pid = static_cast<int32_t>(s.Int(2));
+        st.state = s.Text(3);
+        st.received = s.Int(4);
+        st.published = s.Int(5);
+        st.decode_errors = s.Int(6);
+        st.seq_gaps = s.Int(7);
+        st.queue_drops = s.Int(8);
+        st.rejected = s.Int(9);
+        st.last_reject = s.Text(10);
+        st.utime = s.Int(11);
+        st.recv_utime = s.Int(12);
+        processes.push_back(std::move(st));
+    }
+    return processes;
+}
+
 RunDetail ShowRun(Db& db, const std::string& run_id) {
     RunDetail d;
     d.run = GetRun(db, run_id);
@@ -315,55 +372,8 @@ RunDetail ShowRun(Db& db, const std::string& run_id) {
             d.losses.push_back({s.Text(0), s.Int(1), s.Int(2), s.Int(3), s.Int(4)});
         }
     }
-    {
-        Stmt s(db,
-               "SELECT run_id, utime, event, reason, setpoint_index, setpoint_c, sensor_ids_json, "
-               "software_version, config_json, command_line, host, recv_utime FROM run_events "
-               "WHERE run_id = ? ORDER BY rowid");
-        s.Bind(1, run_id);
-        while (s.Step()) {
-            RunEventRow e;
-            e.run_id = s.Text(0);
-            e.utime = s.Int(1);
-            e.event = s.Text(2);
-            e.reason = s.Text(3);
-            e.setpoint_index = static_cast<int32_t>(s.Int(4));
-            e.setpoint_c = s.Real(5);
-            e.sensor_ids = ParseIds(s.Text(6));
-            e.software_version = s.Text(7);
-            e.config_json = s.Text(8);
-            e.command_line = s.Text(9);
-            e.host = s.Text(10);
-            e.recv_utime = s.Int(11);
-            d.events.push_back(std::move(e));
-        }
-    }
-    {
-        Stmt s(db,
-               "SELECT process, host, pid, state, received, published, decode_errors, seq_gaps, "
-               "queue_drops, rejected, last_reject, utime, recv_utime FROM status WHERE rowid IN "
-               "(SELECT max(rowid) FROM status WHERE run_id = ?1 GROUP BY process, host, pid) "
-               "ORDER BY process, host, pid");
-        s.Bind(1, run_id);
-        while (s.Step()) {
-            StatusRow st;
-            st.run_id = run_id;
-            st.process = s.Text(0);
-            st.host = s.Text(1);
-            st.pid = static_cast<int32_t>(s.Int(2));
-            st.state = s.Text(3);
-            st.received = s.Int(4);
-            st.published = s.Int(5);
-            st.decode_errors = s.Int(6);
-            st.seq_gaps = s.Int(7);
-            st.queue_drops = s.Int(8);
-            st.rejected = s.Int(9);
-            st.last_reject = s.Text(10);
-            st.utime = s.Int(11);
-            st.recv_utime = s.Int(12);
-            d.processes.push_back(std::move(st));
-        }
-    }
+    d.events = RunEvents(db, run_id);
+    d.processes = LastStatuses(db, run_id);
     d.analyses = ListAnalyses(db, run_id);
     return d;
 }

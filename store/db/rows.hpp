@@ -74,7 +74,7 @@ struct PlateauRow {
     int64_t start_utime = 0, end_utime = 0, first_seq = 0, last_seq = 0;
     int32_t n_samples = 0, n_excluded_motion = 0, seq_gaps = 0;
     double temp_mean_c = 0, temp_std_c = 0, temp_sem_c = 0, temp_slope_c_per_min = 0;
-    double gyro_mean_v = 0, gyro_std_v = 0, gyro_sem_v = 0, temp_v_mean = 0, supply_mean_v = 0;
+    double gyro_mean_v = 0, gyro_std_v = 0, gyro_sem_v = 0, temp_mean_v = 0, supply_mean_v = 0;
     int64_t recv_utime = 0;
 };
 

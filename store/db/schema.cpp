@@ -398,7 +398,35 @@ WHERE n.noise_row_id = (SELECT max(m.noise_row_id) FROM noise_estimates m
     WHERE m.run_id = n.run_id AND m.sensor_id = n.sensor_id);
 )sql";
 
-constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5, kV6};
+// v6 -> v7: a name fixed so that every column carries its unit last, like its neighbours
+// gyro_mean_v and supply_mean_v (plateau_t's field was renamed with it). SQLite rewrites the views
+// that name the column.
+constexpr std::string_view kV7 = R"sql(
+ALTER TABLE plateaus RENAME COLUMN temp_v_mean TO temp_mean_v;
+)sql";
+
+// v7 -> v8: the analysis' outcome as a column (adequate, explained, partly explained,
+// unexplained residual, not testable), so acceptance reads the outcome and not the headline's
+// wording; backfilled from result_json's "outcome" where an older analysis stored one (NULL
+// otherwise: those analyses predate outcomes). v_analyses shows it.
+constexpr std::string_view kV8 = R"sql(
+ALTER TABLE analyses ADD COLUMN outcome TEXT;  -- NULL: stored before outcomes existed
+UPDATE analyses SET outcome = json_extract(result_json, '$.outcome')
+  WHERE json_valid(result_json) AND json_type(result_json, '$.outcome') = 'text';
+
+DROP VIEW v_analyses;
+CREATE VIEW v_analyses AS
+SELECT a.analysis_id, a.run_id, a.sensor_id, a.created_wall_utime,
+  datetime(a.created_wall_utime / 1000000, 'unixepoch') AS created_utc, a.outcome, a.verdict,
+  (SELECT group_concat(json_extract(e.value, '$.effect'), ',') FROM json_each(
+     CASE WHEN json_valid(a.added_json) THEN a.added_json ELSE '[]' END) e) AS added_effects,
+  a.offset_rms_v_before, a.offset_rms_v_after, a.rate_rms_dps_before, a.rate_rms_dps_after,
+  a.drift_dph_before, a.drift_dph_after, a.floor_rate_rms_dps, a.coeff_row_id,
+  c.coeff_set_id, c.source, a.software_version, a.command_line
+FROM analyses a LEFT JOIN coeff_sets c ON c.coeff_row_id = a.coeff_row_id;
+)sql";
+
+constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5, kV6, kV7, kV8};
 
 bool IsGyrocalDb(Db& db) {
     Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE name = 'gyrocal_meta'");

@@ -13,13 +13,14 @@
 //       finds a run's or a sensor's samples instead
 //   v4: analyses (+ v_analyses), coeff_sets_key (one row per run/sensor/coeff_set_id/source);
 //       no per-row index on rates (it would halve the insert rate of the recorder's mix)
+//   v7: analyses.outcome (backfilled from result_json), v_analyses shows it
 #include <string>
 
 #include "sqlite_db.hpp"
 
 namespace gyrocal::store {
 
-inline constexpr int kSchemaVersion = 6;
+inline constexpr int kSchemaVersion = 8;
 
 // Brings `db` to `target_version` (default: current). Throws StoreError naming the file when the
 // file is not a gyrocal database, is newer than this software, or a step fails.

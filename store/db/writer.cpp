@@ -62,7 +62,7 @@ struct StoreWriter::Statements {
           plateau(db, "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, setpoint_c, "
                       "start_utime, end_utime, first_seq, last_seq, n_samples, "
                       "n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
-                      "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_v_mean, "
+                      "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_mean_v, "
                       "supply_mean_v, recv_utime) "
                       "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,?19,"
                       "?20,?21,?22 "
@@ -250,84 +250,129 @@ void StoreWriter::WriteBatch(const std::vector<Row>& rows, const LossMap& losses
     reopen_ = false;
 }
 
+namespace {
+
+// One INSERT per row type, bound in the column order of the statements prepared above.
+void Insert(Stmt& s, const EncoderRow& e) {
+    s.Bind(1, e.run_id).Bind(2, e.encoder_id).Bind(3, e.utime).Bind(4, e.seq);
+    s.Bind(5, e.counts).Bind(6, e.counts_per_rev).Bind(7, e.angle_deg);
+    s.Bind(8, e.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const ChamberStateRow& c) {
+    s.Bind(1, c.run_id).Bind(2, c.utime).Bind(3, c.seq).Bind(4, c.cmd_id);
+    s.Bind(5, c.setpoint_c).Bind(6, c.air_c).Bind(7, c.at_setpoint ? 1 : 0);
+    s.Bind(8, c.fault).Bind(9, c.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const PowerStateRow& pw) {
+    s.Bind(1, pw.run_id).Bind(2, pw.sensor_id).Bind(3, pw.utime).Bind(4, pw.seq);
+    s.Bind(5, pw.power_on_utime).Bind(6, pw.source).Bind(7, pw.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const ChamberCmdRow& cc) {
+    s.Bind(1, cc.run_id).Bind(2, cc.msg_run_id).Bind(3, cc.utime).Bind(4, cc.cmd_id);
+    s.Bind(5, cc.setpoint_c).Bind(6, cc.ramp_rate_c_per_min).Bind(7, cc.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const TurntableCmdRow& t) {
+    s.Bind(1, t.run_id).Bind(2, t.msg_run_id).Bind(3, t.utime).Bind(4, t.cmd_id);
+    s.Bind(5, t.move_deg).Bind(6, t.rate_dps).Bind(7, t.accel_dps2);
+    s.Bind(8, t.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const PlateauStateRow& ps) {
+    s.Bind(1, ps.run_id).Bind(2, ps.sensor_id).Bind(3, ps.utime).Bind(4, ps.state);
+    s.Bind(5, ps.temp_c).Bind(6, ps.temp_slope_c_per_min).Bind(7, ps.temp_std_c);
+    s.Bind(8, ps.stable_for_s).Bind(9, ps.averaging_progress);
+    s.Bind(10, ps.last_plateau_id).Bind(11, ps.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const RateRow& r) {
+    s.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.utime).Bind(4, r.seq);
+    s.Bind(5, r.rate_dps).Bind(6, r.angle_deg).Bind(7, r.temp_c).Bind(8, r.coeff_set_id);
+    s.Bind(9, r.range_flag).Bind(10, r.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const StatusRow& st) {
+    s.Bind(1, st.run_id).Bind(2, st.utime).Bind(3, st.process).Bind(4, st.host);
+    s.Bind(5, st.pid).Bind(6, st.state).Bind(7, st.received).Bind(8, st.published);
+    s.Bind(9, st.decode_errors).Bind(10, st.seq_gaps).Bind(11, st.queue_drops);
+    s.Bind(12, st.rejected).Bind(13, st.last_reject).Bind(14, st.extra_json);
+    s.Bind(15, st.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const RawEventRow& raw) {
+    s.Bind(1, raw.run_id).Bind(2, raw.channel).Bind(3, raw.recv_utime);
+    s.Bind(4, raw.fingerprint_hex).Bind(5, raw.reason);
+    s.BindBlob(6, raw.data.data(), static_cast<int>(raw.data.size())).Run();
+}
+
+
+void Insert(Stmt& s, const GyroRow& g) {
+    s.Bind(1, g.run_id).Bind(2, g.sensor_id).Bind(3, g.utime).Bind(4, g.seq);
+    s.Bind(5, g.gyro_v).Bind(6, g.temp_v).Bind(7, g.temp_c).Bind(8, g.supply_v);
+    s.Bind(9, g.has_adc ? 1 : 0);
+    if (g.has_adc) {
+        s.Bind(10, g.gyro_counts).Bind(11, g.temp_counts);
+    }
+    if (g.supply_counts >= 0) s.Bind(12, g.supply_counts);  // -1 = not measured -> NULL
+    s.Bind(13, g.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const PlateauRow& p) {
+    s.Bind(1, p.run_id).Bind(2, p.sensor_id).Bind(3, p.plateau_id).Bind(4, p.utime);
+    s.Bind(5, p.setpoint_c).Bind(6, p.start_utime).Bind(7, p.end_utime);
+    s.Bind(8, p.first_seq).Bind(9, p.last_seq).Bind(10, p.n_samples);
+    s.Bind(11, p.n_excluded_motion).Bind(12, p.seq_gaps).Bind(13, p.temp_mean_c);
+    s.Bind(14, p.temp_std_c).Bind(15, p.temp_sem_c).Bind(16, p.temp_slope_c_per_min);
+    s.Bind(17, p.gyro_mean_v).Bind(18, p.gyro_std_v).Bind(19, p.gyro_sem_v);
+    s.Bind(20, p.temp_mean_v).Bind(21, p.supply_mean_v).Bind(22, p.recv_utime).Run();
+}
+
+void Insert(Stmt& s, const SensitivityRow& sp) {
+    s.Bind(1, sp.run_id).Bind(2, sp.sensor_id).Bind(3, sp.rotation_id).Bind(4, sp.utime);
+    s.Bind(5, sp.start_utime).Bind(6, sp.end_utime).Bind(7, sp.first_seq);
+    s.Bind(8, sp.last_seq).Bind(9, sp.n_samples).Bind(10, sp.direction);
+    s.Bind(11, sp.temp_c).Bind(12, sp.encoder_angle_deg).Bind(13, sp.offset_v);
+    s.Bind(14, sp.offset_stderr_v).Bind(15, sp.integral_v_s);
+    s.Bind(16, sp.sensitivity_v_per_dps).Bind(17, sp.sensitivity_stderr_v_per_dps);
+    s.Bind(18, sp.accepted ? 1 : 0).Bind(19, sp.reject_reason).Bind(20, sp.recv_utime);
+    s.Run();
+}
+
+}  // namespace
+
 void StoreWriter::WriteOne(const Row& row) {
     std::visit([this](const auto& r) { EnsureRun(r.run_id, r.recv_utime); }, row);
     if (const auto* g = std::get_if<GyroRow>(&row)) {
         EnsureSensor(g->sensor_id, g->recv_utime);
-        Stmt& s = st_->gyro;
-        s.Bind(1, g->run_id).Bind(2, g->sensor_id).Bind(3, g->utime).Bind(4, g->seq);
-        s.Bind(5, g->gyro_v).Bind(6, g->temp_v).Bind(7, g->temp_c).Bind(8, g->supply_v);
-        s.Bind(9, g->has_adc ? 1 : 0);
-        if (g->has_adc) {
-            s.Bind(10, g->gyro_counts).Bind(11, g->temp_counts);
-        }
-        if (g->supply_counts >= 0) s.Bind(12, g->supply_counts);  // -1 = not measured -> NULL
-        s.Bind(13, g->recv_utime).Run();
+        Insert(st_->gyro, *g);
         NoteBlock(*g, db_->LastInsertRowId());
     } else if (const auto* e = std::get_if<EncoderRow>(&row)) {
-        Stmt& s = st_->encoder;
-        s.Bind(1, e->run_id).Bind(2, e->encoder_id).Bind(3, e->utime).Bind(4, e->seq);
-        s.Bind(5, e->counts).Bind(6, e->counts_per_rev).Bind(7, e->angle_deg);
-        s.Bind(8, e->recv_utime).Run();
+        Insert(st_->encoder, *e);
     } else if (const auto* c = std::get_if<ChamberStateRow>(&row)) {
-        Stmt& s = st_->chamber;
-        s.Bind(1, c->run_id).Bind(2, c->utime).Bind(3, c->seq).Bind(4, c->cmd_id);
-        s.Bind(5, c->setpoint_c).Bind(6, c->air_c).Bind(7, c->at_setpoint ? 1 : 0);
-        s.Bind(8, c->fault).Bind(9, c->recv_utime).Run();
+        Insert(st_->chamber, *c);
     } else if (const auto* pw = std::get_if<PowerStateRow>(&row)) {
-        Stmt& s = st_->power;
-        s.Bind(1, pw->run_id).Bind(2, pw->sensor_id).Bind(3, pw->utime).Bind(4, pw->seq);
-        s.Bind(5, pw->power_on_utime).Bind(6, pw->source).Bind(7, pw->recv_utime).Run();
+        Insert(st_->power, *pw);
     } else if (const auto* cc = std::get_if<ChamberCmdRow>(&row)) {
-        Stmt& s = st_->chamber_cmd;
-        s.Bind(1, cc->run_id).Bind(2, cc->msg_run_id).Bind(3, cc->utime).Bind(4, cc->cmd_id);
-        s.Bind(5, cc->setpoint_c).Bind(6, cc->ramp_rate_c_per_min).Bind(7, cc->recv_utime).Run();
+        Insert(st_->chamber_cmd, *cc);
     } else if (const auto* t = std::get_if<TurntableCmdRow>(&row)) {
-        Stmt& s = st_->turntable_cmd;
-        s.Bind(1, t->run_id).Bind(2, t->msg_run_id).Bind(3, t->utime).Bind(4, t->cmd_id);
-        s.Bind(5, t->move_deg).Bind(6, t->rate_dps).Bind(7, t->accel_dps2);
-        s.Bind(8, t->recv_utime).Run();
+        Insert(st_->turntable_cmd, *t);
     } else if (const auto* ps = std::get_if<PlateauStateRow>(&row)) {
-        Stmt& s = st_->plateau_state;
-        s.Bind(1, ps->run_id).Bind(2, ps->sensor_id).Bind(3, ps->utime).Bind(4, ps->state);
-        s.Bind(5, ps->temp_c).Bind(6, ps->temp_slope_c_per_min).Bind(7, ps->temp_std_c);
-        s.Bind(8, ps->stable_for_s).Bind(9, ps->averaging_progress);
-        s.Bind(10, ps->last_plateau_id).Bind(11, ps->recv_utime).Run();
+        Insert(st_->plateau_state, *ps);
     } else if (const auto* p = std::get_if<PlateauRow>(&row)) {
         EnsureSensor(p->sensor_id, p->recv_utime);
-        Stmt& s = st_->plateau;
-        s.Bind(1, p->run_id).Bind(2, p->sensor_id).Bind(3, p->plateau_id).Bind(4, p->utime);
-        s.Bind(5, p->setpoint_c).Bind(6, p->start_utime).Bind(7, p->end_utime);
-        s.Bind(8, p->first_seq).Bind(9, p->last_seq).Bind(10, p->n_samples);
-        s.Bind(11, p->n_excluded_motion).Bind(12, p->seq_gaps).Bind(13, p->temp_mean_c);
-        s.Bind(14, p->temp_std_c).Bind(15, p->temp_sem_c).Bind(16, p->temp_slope_c_per_min);
-        s.Bind(17, p->gyro_mean_v).Bind(18, p->gyro_std_v).Bind(19, p->gyro_sem_v);
-        s.Bind(20, p->temp_v_mean).Bind(21, p->supply_mean_v).Bind(22, p->recv_utime).Run();
+        Insert(st_->plateau, *p);
     } else if (const auto* sp = std::get_if<SensitivityRow>(&row)) {
         EnsureSensor(sp->sensor_id, sp->recv_utime);
-        Stmt& s = st_->sensitivity;
-        s.Bind(1, sp->run_id).Bind(2, sp->sensor_id).Bind(3, sp->rotation_id).Bind(4, sp->utime);
-        s.Bind(5, sp->start_utime).Bind(6, sp->end_utime).Bind(7, sp->first_seq);
-        s.Bind(8, sp->last_seq).Bind(9, sp->n_samples).Bind(10, sp->direction);
-        s.Bind(11, sp->temp_c).Bind(12, sp->encoder_angle_deg).Bind(13, sp->offset_v);
-        s.Bind(14, sp->offset_stderr_v).Bind(15, sp->integral_v_s);
-        s.Bind(16, sp->sensitivity_v_per_dps).Bind(17, sp->sensitivity_stderr_v_per_dps);
-        s.Bind(18, sp->accepted ? 1 : 0).Bind(19, sp->reject_reason).Bind(20, sp->recv_utime);
-        s.Run();
+        Insert(st_->sensitivity, *sp);
     } else if (const auto* cs = std::get_if<CoeffSetRow>(&row)) {
         WriteCoeffSet(*cs);
     } else if (const auto* r = std::get_if<RateRow>(&row)) {
-        Stmt& s = st_->rate;
-        s.Bind(1, r->run_id).Bind(2, r->sensor_id).Bind(3, r->utime).Bind(4, r->seq);
-        s.Bind(5, r->rate_dps).Bind(6, r->angle_deg).Bind(7, r->temp_c).Bind(8, r->coeff_set_id);
-        s.Bind(9, r->range_flag).Bind(10, r->recv_utime).Run();
+        Insert(st_->rate, *r);
     } else if (const auto* st = std::get_if<StatusRow>(&row)) {
-        Stmt& s = st_->status;
-        s.Bind(1, st->run_id).Bind(2, st->utime).Bind(3, st->process).Bind(4, st->host);
-        s.Bind(5, st->pid).Bind(6, st->state).Bind(7, st->received).Bind(8, st->published);
-        s.Bind(9, st->decode_errors).Bind(10, st->seq_gaps).Bind(11, st->queue_drops);
-        s.Bind(12, st->rejected).Bind(13, st->last_reject).Bind(14, st->extra_json);
-        s.Bind(15, st->recv_utime).Run();
+        Insert(st_->status, *st);
     } else if (const auto* ev = std::get_if<RunEventRow>(&row)) {
         WriteRunEvent(*ev);
     } else if (const auto* n = std::get_if<NoiseRow>(&row)) {
@@ -337,10 +382,7 @@ void StoreWriter::WriteOne(const Row& row) {
         EnsureSensor(f->sensor_id, f->recv_utime);
         WriteFitReport(*f);
     } else if (const auto* raw = std::get_if<RawEventRow>(&row)) {
-        Stmt& s = st_->raw;
-        s.Bind(1, raw->run_id).Bind(2, raw->channel).Bind(3, raw->recv_utime);
-        s.Bind(4, raw->fingerprint_hex).Bind(5, raw->reason);
-        s.BindBlob(6, raw->data.data(), static_cast<int>(raw->data.size())).Run();
+        Insert(st_->raw, *raw);
     }
 }
 

@@ -130,7 +130,7 @@ PlateauRow ToRow(const plateau_t& m) {
     r.gyro_mean_v = m.gyro_mean_v;
     r.gyro_std_v = m.gyro_std_v;
     r.gyro_sem_v = m.gyro_sem_v;
-    r.temp_v_mean = m.temp_v_mean;
+    r.temp_mean_v = m.temp_mean_v;
     r.supply_mean_v = m.supply_mean_v;
     return r;
 }

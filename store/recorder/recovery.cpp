@@ -32,7 +32,7 @@ plateau_t ToMessage(const PlateauRow& r) {
     m.gyro_mean_v = r.gyro_mean_v;
     m.gyro_std_v = r.gyro_std_v;
     m.gyro_sem_v = r.gyro_sem_v;
-    m.temp_v_mean = r.temp_v_mean;
+    m.temp_mean_v = r.temp_mean_v;
     m.supply_mean_v = r.supply_mean_v;
     return m;
 }

@@ -177,8 +177,11 @@ Section Analysis(const UnitContext& c) {
         const auto& v = j["expected_after"][key];
         return v.is_number() ? v.get<double>() : NAN;
     };
-    s.html = "<p>Analysis " + std::to_string(a.analysis_id) + " (" + Esc(store::UtcText(a.created_wall_utime)) +
-             " UTC, " + Esc(a.software_version) + "): verdict <strong data-verdict>" + Esc(a.verdict) + "</strong></p>\n";
+    s.html = "<p>Analysis " + std::to_string(a.analysis_id) + " (" +
+             Esc(store::UtcText(a.created_wall_utime)) + " UTC, " + Esc(a.software_version) +
+             "): outcome <strong data-outcome>" +
+             Esc(a.outcome.value_or("not stored (an analysis older than outcomes)")) +
+             "</strong>, verdict <strong data-verdict>" + Esc(a.verdict) + "</strong></p>\n";
     html::Table t({"figure", "before (declared model)", "after (extended model)", "floor", "expected after (fit)"},
                   "analysis");
     t.Row({html::Text("offset RMS [mV]"), html::Number(a.offset_rms_v_before * 1e3, "%.4g"),

@@ -58,6 +58,23 @@ double PlateauSlowNoiseDps(const store::RunInfo& run) {
     return std::isfinite(v) && v > 0 ? v : 0.0;
 }
 
+namespace {
+
+// What measurement would test the candidates an analysis could not test ("to_test" of its JSON
+// result); empty when the result does not say (or is not JSON).
+std::vector<std::string> ToTest(const std::string& result_json) {
+    std::vector<std::string> out;
+    const nlohmann::json j = nlohmann::json::parse(result_json, nullptr, false);
+    if (!j.is_object()) return out;
+    const auto it = j.find("to_test");
+    if (it == j.end() || !it->is_array()) return out;
+    for (const nlohmann::json& t : *it)
+        if (t.is_string()) out.push_back(t.get<std::string>());
+    return out;
+}
+
+}  // namespace
+
 acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
     acceptance::UnitEvidence e;
     e.sensor_id = u.sensor_id;
@@ -77,7 +94,13 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
             if (found) e.plateaus.push_back({found->temp_mean_c, found->gyro_mean_v, found->gyro_sem_v});
         }
     }
-    if (!u.analyses.empty()) e.analysis_verdict = u.analyses.back().verdict;
+    if (!u.analyses.empty()) {
+        const store::AnalysisRow& a = u.analyses.back();
+        e.analysis_verdict = a.verdict;
+        e.analysis_outcome = a.outcome;
+        e.analysis_to_test = ToTest(a.result_json);
+        e.analysis_stored_set = a.coeff_row_id.has_value();
+    }
     return e;
 }
 

@@ -8,8 +8,8 @@
 #include <iostream>
 
 #include "bus/bus.hpp"
-#include "bus/shutdown.hpp"
-#include "bus/status.hpp"
+#include "runtime/shutdown.hpp"
+#include "runtime/status.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 
 int main(int argc, char** argv) {

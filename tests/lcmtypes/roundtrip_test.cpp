@@ -193,7 +193,7 @@ TEST(RoundTrip, Plateau) {
     m.gyro_mean_v = 2.51;
     m.gyro_std_v = 0.002;
     m.gyro_sem_v = 0.0001;
-    m.temp_v_mean = 2.545;
+    m.temp_mean_v = 2.545;
     m.supply_mean_v = 5.0;
     plateau_t r = RoundTrip(m);
     EXPECT_EQ(r.plateau_id, 40);

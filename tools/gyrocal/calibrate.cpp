@@ -20,8 +20,8 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
-#include "bus/status.hpp"
+#include "runtime/shutdown.hpp"
+#include "runtime/status.hpp"
 #include "coeff_table.hpp"
 #include "final_verdict.hpp"
 #include "gyrocal/chamber_state_t.hpp"
@@ -37,8 +37,6 @@
 #include "progress.hpp"
 #include "csv/file_digest.hpp"
 #include "procedure.hpp"
-#include "sim/config.hpp"
-#include "sim/noise.hpp"
 
 namespace gyrocal::cli {
 
@@ -62,14 +60,23 @@ RecoveryReader& Reader() {
 void SetRecoveryReader(RecoveryReader reader) { Reader() = std::move(reader); }
 const RecoveryReader& InstalledRecoveryReader() { return Reader(); }
 
-double PlateauSlowNoiseOfSimulatedGyroDps(double average_s) {
-    // Over about an hour of run (the rate random walk's share grows with it; ~1 % here).
-    return std::sqrt(sim::SlowNoiseBinVariance(sim::NoiseConfig{}, average_s, 3600.0));
+std::vector<std::string> SourceNames() {
+    std::vector<std::string> names;
+    for (const SourceName& s : kSourceNames) names.emplace_back(s.name);
+    return names;
+}
+
+Source ParseSource(const std::string& name) {
+    for (const SourceName& s : kSourceNames)
+        if (name == s.name) return s.source;
+    std::string valid;
+    for (const SourceName& s : kSourceNames) valid += (valid.empty() ? "" : ", ") + std::string(s.name);
+    throw std::invalid_argument("--source '" + name + "' is not valid: use " + valid);
 }
 
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o) {
     if (o.plateau_slow_noise_dps >= 0.0) return o.plateau_slow_noise_dps;
-    return o.source == "sim" ? PlateauSlowNoiseOfSimulatedGyroDps() : -1.0;
+    return ParseSource(o.source) == Source::kSim ? o.simulated.plateau_slow_noise_dps : -1.0;
 }
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -104,7 +111,7 @@ std::string Join(const std::vector<std::string>& v, const char* sep) {
 }  // namespace
 
 Calibration::Calibration(CalibrateOptions o)
-    : o_(std::move(o)), role_(*ParseRole(o_.role)), bus_(BusOptions{o_.lcm_url}), budget_(o_.max_restarts) {
+    : o_(std::move(o)), source_kind_(ParseSource(o_.source)), role_(*ParseRole(o_.role)), bus_(BusOptions{o_.lcm_url}), budget_(o_.max_restarts) {
     url_ = bus_.url();
     if (o_.log_dir.empty()) {
         const char* tmp = std::getenv("TMPDIR");
@@ -113,7 +120,7 @@ Calibration::Calibration(CalibrateOptions o)
     std::filesystem::create_directories(o_.log_dir);
     if (o_.truth_out.empty()) o_.truth_out = o_.log_dir + "/truth.json";
     // Which measured data the run was made from, recorded with it (gyrocal report shows it).
-    if (o_.source == "csv" || o_.source == "log") input_sha256_ = csv::Sha256HexOfFile(o_.input);
+    if (ReadsInputFile(source_kind_)) input_sha256_ = csv::Sha256HexOfFile(o_.input);
     Subscribe();
 }
 
@@ -183,9 +190,9 @@ bool Calibration::StartConsumers() {
         std::vector<std::string> fitter;
         if (EffectivePlateauSlowNoiseDps(o_) >= 0)
             fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
-        if (o_.source == "sim")
+        if (source_kind_ == Source::kSim && o_.simulated.nominal_sensitivity_v_per_dps > 0)
             fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
-                                         std::to_string(sim::PresetByName(o_.preset).sensitivity_v_per_dps)});
+                                         std::to_string(o_.simulated.nominal_sensitivity_v_per_dps)});
         if (IsRamp()) fitter.insert(fitter.end(), {"--mode", "ramp"});
         start("gyrocal-fitter", fitter, o_.fitter_args);
         start("gyrocal-compensator", {}, o_.compensator_args);
@@ -204,7 +211,7 @@ bool Calibration::StartProducers() {
     if (!AwaitHeartbeats(kConsumers, std::chrono::seconds(static_cast<int64_t>(std::ceil(o_.await_peers_s))), hint))
         return false;
     try {
-        if (o_.source == "sim") {
+        if (source_kind_ == Source::kSim) {
             StartSim();
         } else {
             StartMeasured();
@@ -213,7 +220,7 @@ bool Calibration::StartProducers() {
         std::cerr << "gyrocal calibrate: " << e.what() << "\n";
         return false;
     }
-    return o_.source != "sim" || AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "");
+    return source_kind_ != Source::kSim || AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "");
 }
 
 void Calibration::StartSim() {
@@ -259,21 +266,29 @@ void Calibration::StartSim() {
 
 void Calibration::StartMeasured() {
     AnnounceRun("start", "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
-    if (o_.source == "csv") {
-        // A file is replayed as fast as the pipeline keeps up (the source's own lossless cap)
-        // unless the caller chose a pace.
-        std::vector<std::string> pace;
-        if (o_.source_args.empty()) pace = {"--max"};
-        pace.insert(pace.begin(), o_.input);
-        pace.insert(pace.end(), o_.source_args.begin(), o_.source_args.end());
-        source_ = &Start(SiblingExecutable("gyrocal-csv-source"), pace);
-    } else if (o_.source == "lines") {
-        source_ = &Start(SiblingExecutable("gyrocal-line-source"), o_.source_args);
-    } else {  // log: lcm-logplayer takes the URL its own way
-        std::vector<std::string> a = {"--lcm-url=" + url_};
-        a.insert(a.end(), o_.source_args.begin(), o_.source_args.end());
-        a.push_back(o_.input);
-        source_ = &Start("lcm-logplayer", a);
+    switch (source_kind_) {
+        case Source::kCsv: {
+            // A file is replayed as fast as the pipeline keeps up (the source's own lossless cap)
+            // unless the caller chose a pace.
+            std::vector<std::string> pace;
+            if (o_.source_args.empty()) pace = {"--max"};
+            pace.insert(pace.begin(), o_.input);
+            pace.insert(pace.end(), o_.source_args.begin(), o_.source_args.end());
+            source_ = &Start(SiblingExecutable("gyrocal-csv-source"), pace);
+            break;
+        }
+        case Source::kLines:
+            source_ = &Start(SiblingExecutable("gyrocal-line-source"), o_.source_args);
+            break;
+        case Source::kLog: {  // lcm-logplayer takes the URL its own way
+            std::vector<std::string> a = {"--lcm-url=" + url_};
+            a.insert(a.end(), o_.source_args.begin(), o_.source_args.end());
+            a.push_back(o_.input);
+            source_ = &Start("lcm-logplayer", a);
+            break;
+        }
+        case Source::kSim:
+            throw std::logic_error("StartMeasured: the simulated rig is not measured data");
     }
 }
 
@@ -392,7 +407,7 @@ int Calibration::Run() {
     const auto named = sequencer::NamedProfile(o_.profile);
     const int setpoints = static_cast<int>(
         o_.setpoints_c.empty() ? (named ? named->setpoints_c.size() : 0) : o_.setpoints_c.size());
-    const bool sequenced = o_.source == "sim" && o_.procedure == "sequencer";
+    const bool sequenced = source_kind_ == Source::kSim && o_.procedure == "sequencer";
     progress_ = std::make_unique<Progress>(sequenced ? setpoints : 0, sequenced ? 2 : 0);
     if (!StartConsumers()) return Finish(1);
     if (Runs("gyrocal-sim-rig") && !StartProducers()) return Finish(1);
@@ -470,7 +485,7 @@ int Calibration::Finish(int code) {
     if (!coeffs_.empty()) {
         std::cout << "\n" << FormatCoeffTable(coeffs_, Verdict().Labels());
         std::ifstream truth(o_.truth_out);
-        if (truth && o_.source == "sim") {
+        if (truth && source_kind_ == Source::kSim) {
             try {
                 std::cout << "\n" << FormatTruthComparison(coeffs_, nlohmann::json::parse(truth));
             } catch (const std::exception& e) {

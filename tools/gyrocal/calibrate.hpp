@@ -27,10 +27,27 @@ namespace gyrocal::cli {
 
 inline constexpr double kAutoRigMessagesPerS = 15000.0;
 
-// The slow noise (bias instability, rate random walk) in a plateau mean of `average_s` of the
-// simulated gyro type at the rig's default noise settings: what an Allan-deviation
-// characterisation of that gyro type tells the fitter (not a unit's truth).
-double PlateauSlowNoiseOfSimulatedGyroDps(double average_s = 60.0);
+// What the simulated gyro type tells the fitter for --source sim (the command fills it from the
+// rig's side, producers/sim_rig/gyro_facts.hpp, so that running a calibration needs no simulator).
+struct SimulatedGyros {
+    double plateau_slow_noise_dps = -1.0;        // [deg/s] < 0: not known (not a simulated source)
+    double nominal_sensitivity_v_per_dps = 0.0;  // [V/(deg/s)] 0: not known
+};
+
+// Where the samples come from (--source): one table of names, parsed once, so that the run
+// switches on the kind instead of comparing strings.
+enum class Source { kSim, kCsv, kLines, kLog };
+struct SourceName {
+    const char* name;
+    Source source;
+};
+inline constexpr SourceName kSourceNames[] = {
+    {"sim", Source::kSim}, {"csv", Source::kCsv}, {"lines", Source::kLines}, {"log", Source::kLog}};
+std::vector<std::string> SourceNames();
+// Throws std::invalid_argument naming the valid sources when `name` is none of them.
+Source ParseSource(const std::string& name);
+// csv and log read a file (--input); sim and lines do not.
+inline bool ReadsInputFile(Source s) { return s == Source::kCsv || s == Source::kLog; }
 
 struct CalibrateOptions {
     std::string source = "sim";   // sim | csv | lines | log
@@ -47,9 +64,10 @@ struct CalibrateOptions {
     uint64_t seed = 1;
     uint64_t noise_seed = 0;      // 0 = seed (see gyrocal-sim-rig --noise-seed)
     // [deg/s] gyrocal-fitter --plateau-slow-noise-dps; < 0 = auto: for the simulated rig its gyro
-    // type's characterisation (PlateauSlowNoiseOfSimulatedGyroDps), for measured data the run's
+    // type's characterisation (`simulated`), for measured data the run's
     // own Allan deviation (the fitter's default, NOISE_<id>).
     double plateau_slow_noise_dps = -1.0;
+    SimulatedGyros simulated;     // --source sim: the fitter's options for the simulated type
     // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
     // messages per simulated second, and the whole graph on the 2-core development machine lost
     // nothing at 15000 rig messages/s (4 units at speed 30: 0 lost at load ~6) but 1-2 % at

@@ -82,6 +82,7 @@ private:
     bool RunIsOn() const { return !run_id_.empty() && !run_ended_; }
 
     CalibrateOptions o_;
+    Source source_kind_;
     Role role_;
     Bus bus_;
     std::string url_;

@@ -133,6 +133,7 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
                 row.software_version = gyrocal::kSoftwareVersion;
                 row.command_line = o.command_line;
                 row.verdict = r.verdict;
+                row.outcome = an::ToString(r.outcome);
                 const nlohmann::json j = an::ToJson(r);
                 row.candidates_json = j["candidates"].dump();
                 row.added_json = j["added"].dump();

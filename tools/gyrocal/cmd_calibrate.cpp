@@ -10,6 +10,7 @@
 #include "calibrate.hpp"
 #include "plot/gnuplot.hpp"
 #include "procedure.hpp"
+#include "gyro_facts.hpp"
 #include "sim/config.hpp"
 
 namespace gyrocal::cli {
@@ -58,14 +59,10 @@ void CheckAfterRunOptions(CalibrateOptions& o) {
     if (plot::FindOnPath("gnuplot").empty()) throw CLI::ValidationError("--report", plot::kGnuplotMissing);
 }
 
-}  // namespace
-
-void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
-    auto o = std::make_shared<CalibrateOptions>(CalibrateOptions::Defaults());
-    CLI::App* cmd = app.add_subcommand(
-        "calibrate", "run a whole calibration: rig or measured data, detectors, fitter, compensator, recorder");
+// Where the run happens: source, database, bus, role of this host, procedure, supervision.
+void AddPlaceOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option("--source", o->source, "sim (simulated rig), csv FILE, lines (stdin), log FILE (lcm-logger file)")
-        ->check(CLI::IsMember({"sim", "csv", "lines", "log"}))
+        ->check(CLI::IsMember(SourceNames()))
         ->capture_default_str();
     cmd->add_option("--input", o->input, "input file for --source csv|log")->check(CLI::ExistingFile);
     cmd->add_option("--db", o->db, "SQLite database that records the run")->capture_default_str();
@@ -94,6 +91,10 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
                     "before publishing, 1..3600")
         ->check(CLI::Range(1.0, 3600.0))
         ->capture_default_str();
+}
+
+// The simulated units and the chamber procedure.
+void AddRigOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option("--sensors", o->sensors, "simulated units in the chamber")
         ->check(CLI::Range(1, 64))->capture_default_str();
     cmd->add_option("--preset", o->preset, "module preset of the simulated units: 610 or 613")
@@ -147,6 +148,10 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
                 return std::string(e.what());
             }
         });
+}
+
+// Logs, time limits, the children's extra arguments, what happens after the run.
+void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option("--log-dir", o->log_dir, "folder for the child processes' logs (default: a new one in $TMPDIR)");
     cmd->add_option("--wall-timeout-s", o->wall_timeout_s, "abort after this many wall seconds (0 = none)")
         ->check(CLI::NonNegativeNumber);
@@ -173,34 +178,56 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
         "start or died; its log is named), 2 bad options, 3 run aborted or incomplete (chamber fault,\n"
         "Ctrl-C, wall-clock limit, missing coefficients), 4 run completed but a unit did not pass its\n"
         "--limits (each such unit and limit named).");
-    cmd->callback([o, cmd, &action] {
-        if ((o->source == "csv" || o->source == "log") && o->input.empty())
-            throw CLI::ValidationError("--input", "is required with --source " + o->source);
-        if (o->source == "sim" && !o->input.empty())
-            throw CLI::ValidationError("--input", "is only for --source csv|log");
-        const auto profile = sequencer::NamedProfile(o->profile);
-        const bool ramp = profile && profile->continuous;
-        if (ramp && o->procedure == "rig")
-            throw CLI::ValidationError("--profile", "ramp needs --procedure sequencer (the rig's own "
-                                                    "procedure has plateaus only)");
-        if (ramp && o->source != "sim")
-            throw CLI::ValidationError("--profile", "ramp orders the chamber: only with --source sim "
-                                                    "(measured data brings its own procedure)");
-        if (!ramp && (!o->ramp_range_c.empty() || o->target_offset_dps > 0 ||
-                      o->target_sensitivity_pct > 0))
-            throw CLI::ValidationError("--ramp-range-c/--target-offset-dps/--target-sensitivity-pct",
-                                       "only with --profile ramp");
-        if (!o->ramp_range_c.empty() && !(o->ramp_range_c[0] < o->ramp_range_c[1]))
-            throw CLI::ValidationError("--ramp-range-c", "MIN,MAX needs MIN < MAX");
-        if (o->procedure == "rig" && o->source != "sim")
-            throw CLI::ValidationError("--procedure", "rig is the simulated rig's own procedure: only with --source sim");
-        try {
-            EffectiveLcmUrl(*o);
-        } catch (const std::invalid_argument& e) {
-            throw CLI::ValidationError("--chamber", e.what());
-        }
-        if (o->role == "all" || o->role == "recorder") CheckWritableDb(o->db);
-        CheckAfterRunOptions(*o);
+}
+
+// The checks across options, after parsing (CLI::ValidationError names the option); completes
+// `o` with what the simulated rig tells the fitter.
+void CheckCalibrateOptions(CalibrateOptions& o) {
+    const Source source = ParseSource(o.source);
+    if (ReadsInputFile(source) && o.input.empty())
+        throw CLI::ValidationError("--input", "is required with --source " + o.source);
+    if (source == Source::kSim && !o.input.empty())
+        throw CLI::ValidationError("--input", "is only for --source csv|log");
+    const auto profile = sequencer::NamedProfile(o.profile);
+    const bool ramp = profile && profile->continuous;
+    if (ramp && o.procedure == "rig")
+        throw CLI::ValidationError("--profile", "ramp needs --procedure sequencer (the rig's own "
+                                                "procedure has plateaus only)");
+    if (ramp && source != Source::kSim)
+        throw CLI::ValidationError("--profile", "ramp orders the chamber: only with --source sim "
+                                                "(measured data brings its own procedure)");
+    if (!ramp && (!o.ramp_range_c.empty() || o.target_offset_dps > 0 ||
+                  o.target_sensitivity_pct > 0))
+        throw CLI::ValidationError("--ramp-range-c/--target-offset-dps/--target-sensitivity-pct",
+                                   "only with --profile ramp");
+    if (!o.ramp_range_c.empty() && !(o.ramp_range_c[0] < o.ramp_range_c[1]))
+        throw CLI::ValidationError("--ramp-range-c", "MIN,MAX needs MIN < MAX");
+    if (o.procedure == "rig" && source != Source::kSim)
+        throw CLI::ValidationError("--procedure", "rig is the simulated rig's own procedure: only with --source sim");
+    try {
+        EffectiveLcmUrl(o);
+    } catch (const std::invalid_argument& e) {
+        throw CLI::ValidationError("--chamber", e.what());
+    }
+    if (o.role == "all" || o.role == "recorder") CheckWritableDb(o.db);
+    CheckAfterRunOptions(o);
+    if (source == Source::kSim) {
+        const sim::SimulatedGyroFacts facts = sim::FactsOfSimulatedGyros(o.preset);
+        o.simulated = SimulatedGyros{facts.plateau_slow_noise_dps, facts.nominal_sensitivity_v_per_dps};
+    }
+}
+
+}  // namespace
+
+void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
+    auto o = std::make_shared<CalibrateOptions>(CalibrateOptions::Defaults());
+    CLI::App* cmd = app.add_subcommand(
+        "calibrate", "run a whole calibration: rig or measured data, detectors, fitter, compensator, recorder");
+    AddPlaceOptions(cmd, o.get());
+    AddRigOptions(cmd, o.get());
+    AddProcessOptions(cmd, o.get());
+    cmd->callback([o, &action] {
+        CheckCalibrateOptions(*o);
         action = [o] { return RunCalibration(*o); };
     });
 }

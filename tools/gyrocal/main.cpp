@@ -6,27 +6,17 @@
 #include <iostream>
 #include <sstream>
 
-#include "cmd_calibrate.hpp"
-#include "cmd_spy.hpp"
-#include "gyrocal/version.hpp"
-#ifdef GYROCAL_HAVE_STORE_CLI
-#include "cmd_store.hpp"
-#endif
-#ifdef GYROCAL_HAVE_ANALYZE_CLI
-#include "cmd_analyze.hpp"
-#include "cmd_validate.hpp"
-#endif
-#ifdef GYROCAL_HAVE_COMPENSATE_CLI
-#include "cmd_compensate.hpp"
-#endif
-#ifdef GYROCAL_HAVE_REPORT_CLI
-#include "cmd_report.hpp"
-#endif
-#ifdef GYROCAL_HAVE_RECORD
 #include "calibrate.hpp"
+#include "cmd_analyze.hpp"
+#include "cmd_calibrate.hpp"
+#include "cmd_compensate.hpp"
+#include "cmd_report.hpp"
+#include "cmd_spy.hpp"
+#include "cmd_store.hpp"
+#include "cmd_validate.hpp"
+#include "gyrocal/version.hpp"
 #include "query.hpp"
 #include "recovery.hpp"
-#endif
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal: temperature calibration of analog MEMS gyros over LCM"};
@@ -36,27 +26,18 @@ int main(int argc, char** argv) {
     std::function<int()> action;
     gyrocal::cli::AddCalibrateCommand(app, action);
     gyrocal::cli::AddSpyCommand(app, action);
-#ifdef GYROCAL_HAVE_STORE_CLI
     AddStoreCommands(app, action);
-#endif
-#ifdef GYROCAL_HAVE_ANALYZE_CLI
     gyrocal::cli::AddAnalyzeCommand(app, action);
     gyrocal::cli::AddValidateCommand(app, action);
-#endif
-#ifdef GYROCAL_HAVE_COMPENSATE_CLI
     gyrocal::cli::AddCompensateCommand(app, action);
-#endif
-#ifdef GYROCAL_HAVE_REPORT_CLI
     gyrocal::cli::AddReportCommand(app, action);
     gyrocal::cli::SetAfterRunHook(gyrocal::cli::AfterCalibration);
-#endif
-#ifdef GYROCAL_HAVE_RECORD
+    // A restarted fitter's or compensator's state, read back from the database.
     gyrocal::cli::SetRecoveryReader([](const std::string& db_path, const std::string& run_id) {
         auto db = gyrocal::store::OpenForQuery(db_path);
         gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
         return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations), std::move(r.newest_coeffs)};
     });
-#endif
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

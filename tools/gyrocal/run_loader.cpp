@@ -17,6 +17,7 @@ std::map<std::string, an::SensorRun> LoadSensorRuns(st::Db& db, const st::RunDet
     std::map<std::string, std::vector<an::GyroSample>> gyro;
     std::map<std::string, std::vector<an::PowerRecord>> power;
     std::vector<an::EncoderSample> encoder;
+    std::vector<an::AirSample> air;  // one chamber per run: every unit sat in the same air
     st::ReplayReader reader(db, detail.run.run_id);
     while (auto row = reader.Next()) {
         std::visit(
@@ -27,6 +28,8 @@ std::map<std::string, an::SensorRun> LoadSensorRuns(st::Db& db, const st::RunDet
                         gyro[r.sensor_id].push_back({r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
                 } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
                     encoder.push_back({r.utime, r.counts, r.counts_per_rev});
+                } else if constexpr (std::is_same_v<T, st::ChamberStateRow>) {
+                    air.push_back({r.utime, r.air_c});
                 } else if constexpr (std::is_same_v<T, st::PowerStateRow>) {
                     power[r.sensor_id].push_back({r.utime, r.power_on_utime, r.source});
                 }
@@ -48,6 +51,7 @@ std::map<std::string, an::SensorRun> LoadSensorRuns(st::Db& db, const st::RunDet
                                 s.accepted});
         runs[id] = an::BuildSensorRun(id, std::move(gyro[id]), encoder, std::move(plateaus),
                                       std::move(sens), power[id]);
+        an::AddChamberAir(runs[id], air);
     }
     return runs;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // A stored run as the analysis reads it: for each sensor, every raw sample, the encoder readings,
-// the power records, the plateaus and sensitivity points (analysis::BuildSensorRun), so that
+// the chamber's air temperature (chamber_states.air_c; NULL readings skipped and counted), the
+// power records, the plateaus and sensitivity points (analysis::BuildSensorRun), so that
 // `gyrocal analyze` and `gyrocal validate` see one definition of a run's still data.
 #include <map>
 #include <string>

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/channels.hpp"
-#include "bus/shutdown.hpp"
-#include "bus/status.hpp"
+#include "runtime/shutdown.hpp"
+#include "runtime/status.hpp"
 #include "calibration.hpp"
 #include "gyrocal/version.hpp"
 
@@ -82,7 +82,7 @@ std::optional<int> Calibration::Supervise() {
         if (!how) continue;
         if (&c == sequencer_ && how->exited && (how->code == 0 || how->code == 3))
             continue;  // it ended the run
-        if (&c == source_ && (o_.source != "sim" || o_.procedure == "rig"))
+        if (&c == source_ && (source_kind_ != Source::kSim || o_.procedure == "rig"))
             continue;  // its end is the data's
         if (ended_at_ || run_ended_) {
             if (&c == sequencer_ || &c == source_) continue;  // stopped after the end of the run

@@ -1,7 +1,7 @@
 // Benchmark (not a test): wall and CPU time of Analyze() (bins, selection, held-out gate, generic
 // features beyond the list, residual diagnostics, verdict) on one long simulated run of about
-// 1.5 M samples, plus BuildSensorRun (still/moving, power-on) for the same run. Prints the machine
-// and its load beside the figures (tests/bench/support/machine.hpp).
+// 1.5 M samples, plus BuildSensorRun (still/moving, power-on) and the chamber air for the same
+// run. Prints the machine and its load beside the figures (tests/bench/support/machine.hpp).
 // Usage: gyrocal_bench_analyze_time [repeats 1..20] (default 3; the figure is the median).
 #include <algorithm>
 #include <chrono>
@@ -38,9 +38,10 @@ int main(int argc, char** argv) {
     analysis::SensorResult r;
     for (int k = 0; k < repeats; ++k) {
         auto t0 = std::chrono::steady_clock::now();
-        const analysis::SensorRun run =
+        analysis::SensorRun run =
             analysis::BuildSensorRun(sim.run.sensor_id, sim.raw, sim.encoder, sim.run.plateaus,
                                      sim.run.sensitivities, sim.power);
+        analysis::AddChamberAir(run, sim.air);
         auto t1 = std::chrono::steady_clock::now();
         const double c0 = CpuS();
         r = analysis::Analyze(run);

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 #include "latency_run.hpp"
 #include "machine.hpp"
 

@@ -117,22 +117,84 @@ TEST(Evaluate, EachLimitPassesOrFailsOnItsMeasure) {
     EXPECT_EQ(Summary(Evaluate(l, Unit({1, -1, 2, -2, 0}, 0.0))), "S01: pass");
 }
 
-TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisVerdictAndIsNeverASilentPass) {
+// The limit reads the analysis' stored outcome; the headline is only the explanation, so any
+// wording of it (even one that starts like an older "no missing effect") decides nothing.
+TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisOutcomeAndIsNeverASilentPass) {
     Limits l;
     l.no_unexplained_residual = true;
     UnitEvidence u = Unit({0, 0, 0, 0, 0}, 0.0);
     EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kNotEvaluated);  // no analysis
     EXPECT_NE(Evaluate(l, u).checks[0].note.find("gyrocal analyze"), std::string::npos);
+    struct Case {
+        const char* outcome;
+        const char* headline;
+        Outcome expected;
+    };
+    const Case cases[] = {
+        {"adequate", "no missing effect: adequate, held-out residual 0.1 mV", Outcome::kPass},
+        {"explained", "missing effect: temp_rate, explained: held-out residual 0.1 mV",
+         Outcome::kPass},
+        {"partly explained", "missing effect: supply, partly explained: 3x the bound",
+         Outcome::kFail},
+        {"unexplained residual", "missing effect (unexplained residual): 4x the bound",
+         Outcome::kFail},
+        // Decided by the outcome, not the words: an unexplained outcome whose headline reads like
+        // a pass still fails.
+        {"unexplained residual", "no missing effect", Outcome::kFail},
+        {"not testable", "not testable: 4 of 6 candidates could not be tested",
+         Outcome::kNotEvaluated},
+    };
+    u.analysis_stored_set = true;  // an analysis that added terms stored its extended set
+    for (const Case& c : cases) {
+        u.analysis_verdict = c.headline;
+        u.analysis_outcome = c.outcome;
+        const UnitVerdict v = Evaluate(l, u);
+        ASSERT_EQ(v.checks.size(), 1u);
+        EXPECT_EQ(v.checks[0].outcome, c.expected) << c.outcome;
+        EXPECT_NE(v.checks[0].measured_text.find(c.outcome), std::string::npos)
+            << v.checks[0].measured_text;
+        if (c.expected == Outcome::kFail)
+            EXPECT_NE(v.checks[0].note.find(c.headline), std::string::npos) << v.checks[0].note;
+    }
+    // Explained by terms that no stored set carries: the unit is not served by what was stored.
+    u.analysis_outcome = "explained";
+    u.analysis_stored_set = false;
+    const Check ex = Evaluate(l, u).checks[0];
+    EXPECT_EQ(ex.outcome, Outcome::kFail);
+    EXPECT_NE(ex.note.find("no stored set carries"), std::string::npos) << ex.note;
+    // Not testable says what to measure.
+    u.analysis_outcome = "not testable";
+    u.analysis_to_test = {"temp_cubic: dwells at 5 or more temperatures spread over the range"};
+    const Check nt = Evaluate(l, u).checks[0];
+    EXPECT_NE(nt.note.find("to test it: temp_cubic: dwells at 5 or more temperatures"),
+              std::string::npos)
+        << nt.note;
+    EXPECT_NE(Summary(Evaluate(l, u)).find("not evaluated (the analysis could not test this unit"),
+              std::string::npos);
+}
+
+// Bad input from an old or foreign database: an analysis stored without an outcome (before
+// outcomes existed) or with one this version does not know is "not evaluated", and the note names
+// it; never a pass read from the headline.
+TEST(Evaluate, AMissingOrUnknownStoredOutcomeIsNotEvaluatedAndNamed) {
+    Limits l;
+    l.no_unexplained_residual = true;
+    UnitEvidence u = Unit({0, 0, 0, 0, 0}, 0.0);
     u.analysis_verdict = "no missing effect";
-    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kPass);
-    u.analysis_verdict = "missing effect: temp_rate";
-    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kFail);
-    u.analysis_verdict = "no missing effect; ambiguous: supply, warmup";
-    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kFail);
-    u.analysis_verdict = "not analysed: too few still bins (3)";
-    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kNotEvaluated);
-    u.analysis_verdict = "something new";
-    EXPECT_EQ(Evaluate(l, u).outcome, Outcome::kNotEvaluated);
+    const Check old = Evaluate(l, u).checks[0];
+    EXPECT_EQ(old.outcome, Outcome::kNotEvaluated);
+    EXPECT_NE(old.note.find("without an outcome"), std::string::npos) << old.note;
+    EXPECT_NE(old.note.find("gyrocal analyze RUN again"), std::string::npos) << old.note;
+    u.analysis_outcome = "mostly fine";
+    const Check unknown = Evaluate(l, u).checks[0];
+    EXPECT_EQ(unknown.outcome, Outcome::kNotEvaluated);
+    EXPECT_NE(unknown.note.find("'mostly fine' is not one this version reads"), std::string::npos)
+        << unknown.note;
+    EXPECT_NE(Summary(Evaluate(l, u))
+                  .find("S01: not evaluated: no_unexplained_residual not evaluated "
+                        "(the stored analysis outcome 'mostly fine'"),
+              std::string::npos)
+        << Summary(Evaluate(l, u));
 }
 
 TEST(Evaluate, AUnitWithoutCalibrationFailsAndUnjudgeableLimitsAreNotEvaluated) {

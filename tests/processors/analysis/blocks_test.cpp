@@ -213,6 +213,16 @@ TEST(Analyze, CollinearCandidatesAreAmbiguousWithTheSeparatingMeasurement) {
         EXPECT_TRUE(a.effect != "temp_rate" && a.effect != "supply");
 }
 
+TEST(Analyze, PairMemberThresholdIsRefusedWithItsName) {
+    const SensorRun run = CollinearRun();
+    for (double v : {-1.0, kNan, static_cast<double>(INFINITY)}) {
+        AnalysisOptions o;
+        o.min_pair_member_z2 = v;
+        EXPECT_NE(o.Problem().find("min_pair_member_z2"), std::string::npos) << v;
+        EXPECT_THROW(Analyze(run, o), std::invalid_argument);
+    }
+}
+
 TEST(Analyze, SameRunWithoutTheSupplyFindsTempRate) {
     // Control: the same data, supply not recorded: temp_rate is found with its coefficient
     // (0.005 V/(degC/s); tolerance 4 reported standard errors + 5 % for the tracked dT/dt lagging

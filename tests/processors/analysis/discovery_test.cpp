@@ -166,6 +166,40 @@ TEST(Discovery, TwoEffectsAtOnceAreBothFound) {
     }
 }
 
+// The `five` profile ramps down once, and with the rig's 15 s thermometer lag every run carries
+// a temp_rate effect: hysteresis and temp_rate are nearly collinear there (projected correlation
+// ~0.9). A collinear pair that passes as a pair is added whole, and the verdict must still say
+// that the data cannot tell the two apart (never name one of them as the cause), with the
+// measurement that would separate them. Seeds 201-203 (those of the held-out ramp test, where
+// seed 203 takes this path): asserted on every seed that takes it, and that one seed at least does.
+TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
+    int joint_runs = 0;
+    for (int seed = 201; seed <= 203; ++seed) {
+        SimRunOptions o;
+        o.seed = static_cast<uint64_t>(seed);
+        sim::SetEffect(o.effects, "hysteresis", 1e-3);
+        o.setpoints_c = {-40.0, -10.0, 25.0, 55.0, 85.0};  // sequencer profile "five"
+        o.sensor_tau_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
+        const SensorResult r = Analyze(MakeSimRun(o).run);
+        SCOPED_TRACE("seed " + std::to_string(seed) + "\n" + FormatReport(r));
+        std::vector<std::string> joint;
+        for (const CandidateResult& c : r.candidates)
+            if (c.note.find("added jointly with") != std::string::npos) {
+                joint.push_back(c.effect);
+                EXPECT_NE(c.note.find("to separate: "), std::string::npos) << c.note;
+            }
+        if (joint.empty()) continue;
+        ++joint_runs;
+        ASSERT_EQ(joint.size(), 2u);
+        for (const std::string& e : joint) EXPECT_TRUE(Added(r, e)) << e;
+        EXPECT_NE(r.verdict.find("ambiguous: "), std::string::npos) << r.verdict;
+        EXPECT_NE(r.verdict.find("both kept"), std::string::npos) << r.verdict;
+        EXPECT_LT(r.residual_all_extended_rms_v, r.residual_all_rms_v);
+    }
+    std::printf("[ analysis ] collinear pair kept whole on %d of 3 seeds\n", joint_runs);
+    EXPECT_GE(joint_runs, 1);
+}
+
 TEST(Discovery, CleanRunsSayNoMissingEffect) {
     // 40 seeds; measured on 40 other seeds during development: 0 false positives. Asserted bound:
     // at most 2/40 (5 %) - a rate above that would make "missing effect" mean little.

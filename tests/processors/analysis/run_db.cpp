@@ -65,6 +65,18 @@ void WriteSimRun(const std::string& path, const std::string& run_id, const SimRu
         r.recv_utime = e.utime;
         rows.push_back(r);
     }
+    seq = 0;
+    for (const AirSample& a : s.air) {
+        st::ChamberStateRow r;
+        r.run_id = run_id;
+        r.utime = a.utime;
+        r.seq = seq++;
+        r.cmd_id = -1;
+        r.setpoint_c = kNan;
+        r.air_c = a.air_c;
+        r.recv_utime = a.utime;
+        rows.push_back(r);
+    }
     for (const PowerRecord& p : s.power) {
         st::PowerStateRow r;
         r.run_id = run_id;

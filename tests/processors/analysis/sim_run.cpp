@@ -8,28 +8,39 @@ namespace {
 
 class Collector : public sim::RigSink {
 public:
-    Collector(sim::Rig& rig, sim::BuiltinProfile& profile, bool supply,
-              std::function<double(double)> outside, int64_t start_utime)
-        : rig_(rig), profile_(profile), supply_(supply), outside_(std::move(outside)),
-          start_utime_(start_utime) {}
+    Collector(sim::Rig& rig, sim::BuiltinProfile& profile, const SimRunOptions& o,
+              int64_t start_utime)
+        : rig_(rig), profile_(profile), o_(o), start_utime_(start_utime) {}
     void OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) override {
         if (r.unit_index != 0) return;
-        const double extra = outside_ ? outside_((r.utime - start_utime_) * 1e-6) : 0.0;
-        gyro.push_back({r.utime, r.seq, r.temp_c, r.gyro_v + extra, supply_ ? r.supply_v : kNan});
+        const double t_s = (r.utime - start_utime_) * 1e-6;
+        double extra = o_.outside_v ? o_.outside_v(t_s) : 0.0;
+        if (o_.outside_channels_v)
+            extra += o_.outside_channels_v({t_s, r.temp_c, air_c_, table_deg_});
+        gyro.push_back(
+            {r.utime, r.seq, r.temp_c, r.gyro_v + extra, o_.record_supply ? r.supply_v : kNan});
     }
     void OnEncoder(const sim::EncoderReading& r) override {
         encoder.push_back({r.utime, r.counts, r.counts_per_rev});
+        if (r.counts_per_rev > 0)
+            table_deg_ = static_cast<double>(r.counts) * 360.0 / r.counts_per_rev;
     }
-    void OnChamber(const sim::ChamberReading& r) override { profile_.OnChamber(r, rig_); }
+    void OnChamber(const sim::ChamberReading& r) override {
+        profile_.OnChamber(r, rig_);
+        const double t_s = (r.utime - start_utime_) * 1e-6;
+        air_c_ = r.air_c + (o_.air_offset_c ? o_.air_offset_c(t_s) : 0.0);
+        if (o_.record_air) air.push_back({r.utime, air_c_});
+    }
     std::vector<GyroSample> gyro;
     std::vector<EncoderSample> encoder;
+    std::vector<AirSample> air;
 
 private:
     sim::Rig& rig_;
     sim::BuiltinProfile& profile_;
-    bool supply_;
-    std::function<double(double)> outside_;
+    const SimRunOptions& o_;
     int64_t start_utime_;
+    double air_c_ = kNan, table_deg_ = 0.0;
 };
 
 struct Stats {
@@ -95,7 +106,7 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     pc.rest_s = o.rest_s;
     pc.move_deg = 90.0;
     sim::BuiltinProfile profile(pc);
-    Collector col(rig, profile, o.record_supply, o.outside_v, c.start_utime);
+    Collector col(rig, profile, o, c.start_utime);
     const int64_t step = 60'000'000;
     int64_t until = c.start_utime;
     while (!profile.done() && until < c.start_utime + int64_t{40'000} * 1'000'000) {
@@ -167,6 +178,8 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     out.power = {{c.start_utime, c.start_utime, "rig"}};
     out.run = BuildSensorRun(out.truth.sensor_id, std::move(col.gyro), col.encoder,
                              std::move(plateaus), std::move(sens), out.power);
+    out.air = col.air;
+    AddChamberAir(out.run, std::move(col.air));
     return out;
 }
 

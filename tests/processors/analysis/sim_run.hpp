@@ -16,6 +16,14 @@
 
 namespace gyrocal::analysis::testing {
 
+// What an outside effect may depend on at each gyro sample.
+struct OutsideInputs {
+    double t_s = 0.0;        // [s] since the start
+    double temp_c = 0.0;     // [degC] the unit's measured temperature
+    double air_c = kNan;     // [degC] the chamber air as recorded (air_offset_c included)
+    double table_deg = 0.0;  // [deg] the table's angle (latest encoder reading)
+};
+
 struct SimRunOptions {
     uint64_t seed = 1;
     uint64_t noise_seed = 0;   // 0 = seed's noise; another value: the same units, fresh noise
@@ -35,6 +43,12 @@ struct SimRunOptions {
     // An offset outside the rig's effect list [V] as a function of the time since the start [s],
     // added to every recorded gyro_v (slow drift, periodic disturbance, step, ...). Empty: none.
     std::function<double(double)> outside_v;
+    // The same from every channel [V] (added to outside_v's).
+    std::function<double(const OutsideInputs&)> outside_channels_v;
+    // Added to the recorded chamber air [degC] as a function of the time since the start [s]: air
+    // movement the unit's temperature sensor does not see (it lags far behind). Empty: none.
+    std::function<double(double)> air_offset_c;
+    bool record_air = true;  // the chamber air in the run (SensorRun::air, the database)
 };
 
 struct SimRun {
@@ -45,6 +59,7 @@ struct SimRun {
     std::vector<GyroSample> raw;  // every sample as recorded (for writing a database)
     std::vector<EncoderSample> encoder;
     std::vector<PowerRecord> power;  // the unit's power-on (the rig's start)
+    std::vector<AirSample> air;      // the chamber air as recorded (empty without record_air)
 };
 
 // keep_raw: also return the raw samples and encoder readings (memory: ~40 bytes per sample).

@@ -20,6 +20,7 @@
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
+#include "coeff_set_fixture.hpp"
 #include "model/convert.hpp"
 
 namespace gyrocal {
@@ -27,34 +28,9 @@ namespace {
 
 using namespace std::chrono_literals;
 constexpr const char* kUrl = "udpm://239.255.76.67:7751?ttl=0&recv_buf_size=4194304";
-constexpr int64_t kStartUtime = 1'000'000'000'000'000;
+constexpr int64_t kStartUtime = testing::kCompensatorStartUtime;
 
-model::Model Quadratic(const char* quantity, double c0, double c1, double c2) {
-    model::Model m;
-    m.quantity = quantity;
-    m.term_names = {"1", "dT", "dT^2"};
-    m.coeffs = Eigen::Vector3d(c0, c1, c2);
-    m.covariance = Eigen::Matrix3d::Identity() * 1e-14;
-    m.t0_c = 25.0;
-    m.temp_min_c = -10.0;
-    m.temp_max_c = 60.0;
-    m.n_points = 5;
-    m.method = "wls";
-    return m;
-}
-
-coeff_set_t Set(int64_t id) {
-    model::CoeffSet s;
-    s.utime = id;
-    s.coeff_set_id = id;
-    s.sensor_id = "S01";
-    s.run_id = "run-7751";
-    s.source = "fitter";
-    s.offset = Quadratic(model::kOffsetQuantity, 2.5, 4e-4, 3e-6);
-    s.sensitivity = Quadratic(model::kSensitivityQuantity, 0.006, 6e-7, -1.2e-8);
-    s.plateau_ids = {1, 2, 3, 4, 5};
-    return model::ToMsg(s);
-}
+coeff_set_t Set(int64_t id) { return testing::KnownSet(id, "run-7751"); }
 
 struct Listener {
     Bus bus{BusOptions{kUrl}};
@@ -85,22 +61,7 @@ struct Listener {
 };
 
 gyro_sample_t Sample(int64_t seq, double temp_c, double rate_dps) {
-    const coeff_set_t set = Set(1);
-    const model::CoeffSet cs = model::FromMsg(set);
-    model::ModelInputs in;
-    in.temp_c = temp_c;
-    const model::Evaluator off(cs.offset), sens(cs.sensitivity);
-    gyro_sample_t s{};
-    s.utime = kStartUtime + seq * 10'000;  // 100 Hz
-    s.sensor_id = "S01";
-    s.seq = seq;
-    s.temp_c = temp_c;
-    s.temp_v = 2.5 + 0.009 * (temp_c - 25);
-    s.gyro_v = off.Value(in, model::RangePolicy::kExtrapolate) +
-               sens.Value(in, model::RangePolicy::kExtrapolate) * rate_dps;
-    s.supply_v = NAN;
-    s.supply_counts = -1;
-    return s;
+    return testing::KnownSample(seq, temp_c, rate_dps);
 }
 
 // One run of the process; `policy_args` empty = the default range policy (extrapolate).

@@ -247,7 +247,7 @@ TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
     EXPECT_NEAR(p.temp_c.sem / (spec.temp_noise_c / std::sqrt(n)), 1.0, rel);
     // Slope of a flat trace: 0 within 4 SE over the 60 s window.
     EXPECT_NEAR(p.temp_slope_c_per_min, 0.0, 4 * SlopeSePerMin(spec.temp_noise_c, cfg.average_s));
-    EXPECT_NEAR(p.temp_v_mean, 2.5 + 0.009 * 15, 4 * 0.009 * spec.temp_noise_c / std::sqrt(n));
+    EXPECT_NEAR(p.temp_mean_v, 2.5 + 0.009 * 15, 4 * 0.009 * spec.temp_noise_c / std::sqrt(n));
     EXPECT_DOUBLE_EQ(p.supply_mean_v, 5.0);
 }
 

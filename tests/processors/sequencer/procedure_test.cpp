@@ -10,6 +10,15 @@ namespace {
 
 constexpr int64_t kS = 1'000'000;  // us per s
 
+// The help text lists each profile with its own setpoints (it once read freed memory and printed
+// garbage for the first two of each).
+TEST(Profiles, HelpListsEachProfilesSetpoints) {
+    const std::string help = ProfilesHelp();
+    EXPECT_NE(help.find("six (25,-40,-10,45,65,85 C)"), std::string::npos) << help;
+    EXPECT_NE(help.find("five (-40,-10,25,55,85 C)"), std::string::npos) << help;
+    EXPECT_NE(help.find("seed3 (-10,30,60 C)"), std::string::npos) << help;
+}
+
 ProcedureOptions TwoSensorsSeed3() {
     ProcedureOptions o;
     o.profile = *NamedProfile("seed3");

@@ -113,7 +113,7 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
     StoreWriter w(path, {"test", "h", 1});
     Db& db = w.db();
     EXPECT_EQ(db.UserVersion(), kSchemaVersion);
-    EXPECT_EQ(kSchemaVersion, 6);
+    EXPECT_EQ(kSchemaVersion, 8);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);  // history is never rewritten
     EXPECT_EQ(Count(db, "SELECT count(*) FROM rates"), 1);
     EXPECT_EQ(Count(db,
@@ -141,8 +141,72 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
               1);
 }
 
+// GIVEN a v6 database with a plateau (its temperature-line mean under the old name temp_v_mean),
+// WHEN the writer opens it, THEN the value is read back under the fixed name temp_mean_v.
+TEST(MigrateRename, PlateauTempLineMeanKeepsItsValueUnderTheFixedName) {
+    const std::string path = FreshPath("rename_v6.db");
+    {
+        Db db(path, Db::Mode::kReadWriteCreate);
+        ConfigureConnection(db);
+        Migrate(db, 6);
+        db.Exec(
+            "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, temp_v_mean, recv_utime) "
+            "VALUES ('OLD', 'S01', 1, 5, 2.545, 6)");
+    }
+    StoreWriter w(path, {"test", "h", 1});
+    Stmt s(w.db(), "SELECT temp_mean_v FROM plateaus WHERE run_id = 'OLD'");
+    ASSERT_TRUE(s.Step());
+    EXPECT_EQ(s.Real(0), 2.545);  // a rename copies nothing: the stored double itself
+    EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM pragma_table_info('plateaus') "
+                            "WHERE name = 'temp_v_mean'"),
+              0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Schema, MigrateFrom, ::testing::Range(1, kSchemaVersion),
                          [](const auto& info) { return "V" + std::to_string(info.param); });
+
+// GIVEN a v6 database with analyses whose result_json carries an outcome, none, a non-text
+// outcome or is not JSON at all, WHEN it is migrated to v8, THEN analyses.outcome holds the
+// outcome where one was stored and NULL elsewhere (never a guess), v_analyses shows it, and a
+// new analysis stores its outcome and reads it back.
+TEST(Analyses, V8BackfillsTheOutcomeFromResultJsonWherePresent) {
+    const std::string path = FreshPath("outcome_v8.db");
+    {
+        Db db(path, Db::Mode::kReadWriteCreate);
+        ConfigureConnection(db);
+        Migrate(db, 6);
+        db.Exec(
+            "INSERT INTO runs(run_id, started_utime, outcome, first_recv_utime) "
+            "VALUES ('R6', 1, 'done', 10)");
+        const char* results[] = {R"({"outcome":"explained","verdict":"missing effect: supply"})",
+                                 R"({"verdict":"no missing effect"})", R"({"outcome":3})",
+                                 "not json", R"({"outcome":"something newer"})"};
+        for (const char* r : results) {
+            Stmt s(db,
+                   "INSERT INTO analyses(run_id, sensor_id, created_wall_utime, result_json) "
+                   "VALUES ('R6', 'S01', 1, ?)");
+            s.Bind(1, r).Run();
+        }
+    }
+    Db db(path, Db::Mode::kReadWrite);
+    Migrate(db);
+    EXPECT_EQ(db.UserVersion(), kSchemaVersion);
+    const std::vector<AnalysisRow> rows = ListAnalyses(db, "R6");
+    ASSERT_EQ(rows.size(), 5u);
+    EXPECT_EQ(rows[0].outcome, std::optional<std::string>("explained"));
+    EXPECT_FALSE(rows[1].outcome.has_value());
+    EXPECT_FALSE(rows[2].outcome.has_value());
+    EXPECT_FALSE(rows[3].outcome.has_value());
+    // An outcome this version does not know is kept as written: the reader judges it (acceptance
+    // says "not evaluated" and names it), the migration does not rewrite history.
+    EXPECT_EQ(rows[4].outcome, std::optional<std::string>("something newer"));
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM v_analyses WHERE outcome = 'explained'"), 1);
+    AnalysisRow a = Analysis("R6");
+    a.outcome = "partly explained";
+    StoreAnalysis(db, a);
+    EXPECT_EQ(ListAnalyses(db, "R6").back().outcome,
+              std::optional<std::string>("partly explained"));
+}
 
 TEST(Analyses, StoredWithTheirRunAndExtendedSetInOneGo) {
     const std::string path = FreshPath("analyses.db");

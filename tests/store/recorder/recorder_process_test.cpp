@@ -258,8 +258,8 @@ TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
         EXPECT_NE(text.find("not a valid channel regex"), std::string::npos) << text;
     }
     // A valid one is accepted: the recorder comes up (its heartbeat) and stops normally.
-    Bus bus(BusOptions{UrlForPort(7768)});
-    ChildProcess ok = StartRecorder(TempPath("good_regex.db"), UrlForPort(7768),
+    Bus bus(BusOptions{UrlForPort(7769)});
+    ChildProcess ok = StartRecorder(TempPath("good_regex.db"), UrlForPort(7769),
                                     {"--channels", "GYRO_.*|RUN_EVENT"});
     ASSERT_TRUE(WaitForRecorder(bus, ok.pid(), 10s));
     EXPECT_EQ(ok.Stop().code, 0);

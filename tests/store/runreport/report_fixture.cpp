@@ -148,6 +148,7 @@ void WriteReportDb(const std::string& path) {
     a.software_version = "v9.9-analysis";
     a.command_line = "gyrocal analyze R7";
     a.verdict = "missing effect: supply";
+    a.outcome = "partly explained";
     a.candidates_json = R"([{"effect":"supply","term":"supply","statistic":61.5,"cv_gain":0.2,"decision":"added"}])";
     a.added_json = R"([{"effect":"supply","term":"supply","coefficient":0.004,"stderr":0.0002,"unit":"V/V"}])";
     a.offset_rms_v_before = 2e-4;

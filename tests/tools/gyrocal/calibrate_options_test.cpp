@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "calibrate.hpp"
+#include "gyro_facts.hpp"
 #include "launch/child_process.hpp"
+#include "sim/config.hpp"
 #include "sim/noise.hpp"
 
 namespace gyrocal::cli {
@@ -21,9 +23,13 @@ namespace {
 
 TEST(CalibrateOptions, PlateauSlowNoiseIsTheSimulatedGyrosOnlyForTheRig) {
     CalibrateOptions o;
+    // What `gyrocal calibrate --source sim` fills in from the rig's side (cmd_calibrate.cpp).
+    const sim::SimulatedGyroFacts facts = sim::FactsOfSimulatedGyros("610");
+    o.simulated = SimulatedGyros{facts.plateau_slow_noise_dps, facts.nominal_sensitivity_v_per_dps};
     // The rig's defaults (bias instability 0.008 deg/s, rate random walk 5e-5 deg/s/sqrt(s)) in a
     // 60 s mean: 0.0152 deg/s (sim::SlowNoiseBinVariance, checked there against 60 simulated hours).
     EXPECT_NEAR(EffectivePlateauSlowNoiseDps(o), 0.0152, 0.0005);
+    EXPECT_EQ(o.simulated.nominal_sensitivity_v_per_dps, sim::PresetByName("610").sensitivity_v_per_dps);
     EXPECT_DOUBLE_EQ(EffectivePlateauSlowNoiseDps(o),
                      std::sqrt(sim::SlowNoiseBinVariance(sim::NoiseConfig{}, 60.0, 3600.0)));
     o.source = "csv";  // measured data: none passed, the fitter uses the run's Allan deviation

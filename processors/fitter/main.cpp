@@ -2,7 +2,7 @@
 // fitter_core.hpp for the decisions).
 #include <CLI/CLI.hpp>
 
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 #include "fitter/fitter_node.hpp"
 
 int main(int argc, char** argv) {

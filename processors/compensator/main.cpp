@@ -3,7 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/channels.hpp"
-#include "bus/process_main.hpp"
+#include "runtime/process_main.hpp"
 #include "compensator/compensator_node.hpp"
 
 int main(int argc, char** argv) {

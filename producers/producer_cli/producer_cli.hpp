@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "conversion_options.hpp"
+#include "csv/conversion_options.hpp"
 
 namespace gyrocal::csv {
 

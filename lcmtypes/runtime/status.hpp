@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-#include "bus.hpp"
+#include "bus/bus.hpp"
 
 namespace gyrocal {
 

@@ -12,6 +12,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
@@ -29,9 +30,8 @@ using namespace std::chrono_literals;
 constexpr const char* kUrl = "udpm://239.255.76.67:7750?ttl=0&recv_buf_size=4194304";
 constexpr int64_t kT0Utime = 1'000'000'000'000'000;
 
-// Truth: offset and sensitivity quadratics (ADXRS610-like magnitudes).
-double OffsetTruthV(double t) { return 2.5 + 4e-4 * (t - 25) + 3e-6 * (t - 25) * (t - 25); }
-double SensTruth(double t) { return 0.006 * (1 + 1e-4 * (t - 25) - 2e-6 * (t - 25) * (t - 25)); }
+using testing::OffsetTruthV;
+using testing::SensTruth;
 
 struct Listener {
     Bus bus{BusOptions{kUrl}};
@@ -63,51 +63,14 @@ struct Listener {
 };
 
 run_event_t Event(const std::string& what, int64_t utime) {
-    run_event_t e{};
-    e.utime = utime;
-    e.run_id = "run-7750";
-    e.event = what;
-    e.setpoint_index = -1;
-    e.setpoint_c = NAN;
-    e.sensor_ids = {"S01", "S02", "S03"};
-    e.num_sensors = 3;
-    return e;
+    return testing::FitterRunEvent("run-7750", what, utime, {"S01", "S02", "S03"});
 }
-
 plateau_t Plateau(const std::string& id, double temp_c, int64_t start_utime) {
-    plateau_t p{};
-    p.utime = start_utime + 60'000'000;
-    p.sensor_id = id;
-    p.run_id = "run-7750";
-    p.plateau_id = start_utime;
-    p.start_utime = start_utime;
-    p.end_utime = p.utime;
-    p.n_samples = 6000;
-    p.temp_mean_c = temp_c;
-    p.gyro_mean_v = OffsetTruthV(temp_c);
-    p.gyro_sem_v = 2e-5;
-    p.supply_mean_v = NAN;
-    p.setpoint_c = temp_c;
-    return p;
+    return testing::TruthPlateau("run-7750", id, temp_c, start_utime);
 }
-
 sensitivity_point_t Rotation(const std::string& id, double temp_c, int64_t start_utime, int dir,
                              bool accepted) {
-    sensitivity_point_t r{};
-    r.utime = start_utime + 5'000'000;
-    r.sensor_id = id;
-    r.run_id = "run-7750";
-    r.rotation_id = start_utime;
-    r.start_utime = start_utime;
-    r.end_utime = r.utime;
-    r.direction = static_cast<int8_t>(dir);
-    r.temp_c = temp_c;
-    r.encoder_angle_deg = 90.0 * dir;
-    r.sensitivity_v_per_dps = SensTruth(temp_c);
-    r.sensitivity_stderr_v_per_dps = 1e-6;
-    r.accepted = accepted;
-    r.reject_reason = accepted ? "" : "seq gap inside the move";
-    return r;
+    return testing::TruthRotation("run-7750", id, temp_c, start_utime, dir, accepted);
 }
 
 TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "gyrocal/status_t.hpp"
-#include "channels.hpp"
+#include "bus/channels.hpp"
 #include "shutdown.hpp"
 
 namespace gyrocal {

@@ -1,0 +1,39 @@
+// gyrocal-replay: publishes a stored run back onto LCM with its original reception timing; the
+// node (and how it paces and stops) is replay_node.hpp.
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <string>
+
+#include "runtime/process_main.hpp"
+#include "runtime/shutdown.hpp"
+#include "replay_node.hpp"
+
+int main(int argc, char** argv) {
+    using gyrocal::record::kReplayProcess;
+    auto o = gyrocal::record::ReplayOptions::Defaults();
+    CLI::App app{
+        "gyrocal-replay: publishes a stored run (GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT) back\n"
+        "onto LCM with its original reception timing.\n"
+        "Exit codes: 0 done (or stopped by SIGINT/SIGTERM), 1 unknown run, database or LCM\n"
+        "failure, 2 bad options.",
+        kReplayProcess};
+    app.add_option("run", o.run_id, "run id to replay")->required();
+    app.add_option("--db", o.db_path, "SQLite database file")->capture_default_str();
+    app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
+    app.add_option("--as-run", o.as_run,
+                   "publish the run events under this run id instead (keeps a replay recorded "
+                   "into the same database apart from the original)");
+    auto* speed = app.add_option("--speed", o.speed, "recorded seconds per wall second")
+                      ->check(CLI::Range(1e-3, 1e6))
+                      ->capture_default_str();
+    app.add_flag("--max", o.max, "publish as fast as possible (no timing)")->excludes(speed);
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess)) return *exit_code;
+    try {
+        gyrocal::record::ReplayNode node(o);
+        gyrocal::InstallStopHandlers();
+        return node.Run();
+    } catch (const std::exception& e) {
+        std::cerr << kReplayProcess << ": error: " << e.what() << "\n";
+        return 1;
+    }
+}

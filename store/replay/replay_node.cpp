@@ -1,0 +1,62 @@
+#include "replay_node.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <thread>
+#include <variant>
+
+#include "runtime/shutdown.hpp"
+#include "query.hpp"
+#include "replay_source.hpp"
+
+namespace gyrocal::record {
+
+namespace {
+
+int64_t RecvUtimeOf(const store::Row& row) {
+    return std::visit([](const auto& r) { return r.recv_utime; }, row);
+}
+
+}  // namespace
+
+ReplayNode::ReplayNode(const ReplayOptions& o)
+    : options_(o),
+      db_(store::OpenForQuery(o.db_path)),
+      reader_(*db_, o.run_id),
+      bus_(BusOptions{o.lcm_url}) {}
+
+void ReplayNode::WaitUntilDue(int64_t recv_utime) {
+    if (recv0_ < 0) recv0_ = recv_utime;
+    if (options_.max) return;
+    const auto due = wall0_ + std::chrono::microseconds(static_cast<int64_t>(
+                                  static_cast<double>(recv_utime - recv0_) / options_.speed));
+    // Sleep in short steps so SIGINT is honoured during long gaps.
+    while (!StopRequested() && std::chrono::steady_clock::now() < due) {
+        std::this_thread::sleep_until(
+            std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(100)));
+    }
+}
+
+int ReplayNode::Run() {
+    wall0_ = std::chrono::steady_clock::now();
+    while (!StopRequested()) {
+        std::optional<store::Row> row = reader_.Next();
+        if (!row) break;
+        WaitUntilDue(RecvUtimeOf(*row));
+        if (auto* ev = std::get_if<store::RunEventRow>(&*row); ev && !options_.as_run.empty()) {
+            ev->run_id = options_.as_run;
+        }
+        const auto msg = EncodeForReplay(*row);
+        if (!msg) continue;
+        if (bus_.PublishRaw(msg->channel, msg->bytes.data(), static_cast<int>(msg->bytes.size()))) {
+            ++published_;
+        }
+    }
+    std::cerr << kReplayProcess << ": published " << published_ << " messages of run '"
+              << options_.run_id << "' (" << bus_.counters().publish_errors
+              << " publish errors)\n";
+    return bus_.counters().publish_errors == 0 ? 0 : 1;
+}
+
+}  // namespace gyrocal::record

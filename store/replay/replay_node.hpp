@@ -1,0 +1,52 @@
+#pragma once
+// gyrocal-replay's node: publishes a stored run back onto LCM (gyro, encoder and chamber samples
+// and the run events) with its original timing, `speed` times faster, or as fast as possible
+// (`max`), so that processors can run again on historic data.
+// Threads: one. Run() reads the next row (merged across tables by reception time), waits until
+// its time (in short steps, so SIGINT/SIGTERM is honoured during long gaps), publishes it.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "bus/bus.hpp"
+#include "replay_reader.hpp"
+#include "sqlite_db.hpp"
+
+namespace gyrocal::record {
+
+inline constexpr const char* kReplayProcess = "gyrocal-replay";
+
+struct ReplayOptions {
+    std::string db_path = "gyrocal.db";
+    std::string run_id;
+    std::string lcm_url;  // "" = $GYROCAL_LCM_URL or the default
+    std::string as_run;   // "" = the stored run id
+    double speed = 1.0;   // [1] recorded seconds per wall second
+    bool max = false;     // no waiting at all
+    static ReplayOptions Defaults() { return {}; }
+};
+
+class ReplayNode {
+public:
+    // Throws when the database cannot be opened or the run is unknown, BusError when LCM cannot.
+    explicit ReplayNode(const ReplayOptions& o);
+    // Publishes the run (or until SIGINT/SIGTERM). Returns the exit code: 0 when every message
+    // went out, 1 after a publish error.
+    int Run();
+    int64_t published() const { return published_; }
+    // The node's bus: tests subscribe to it over memq://.
+    Bus& bus() { return bus_; }
+
+private:
+    void WaitUntilDue(int64_t recv_utime);
+
+    ReplayOptions options_;
+    std::unique_ptr<store::Db> db_;
+    store::ReplayReader reader_;
+    Bus bus_;
+    std::chrono::steady_clock::time_point wall0_{};
+    int64_t recv0_ = -1;
+    int64_t published_ = 0;
+};
+
+}  // namespace gyrocal::record

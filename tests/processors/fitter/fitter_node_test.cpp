@@ -1,0 +1,116 @@
+// gyrocal-fitter's node (--mode plateau) in one process over memq:// (LCM's in-process provider):
+// plateaus, rotations and RUN_EVENT published into the node's own bus give COEFFS_<id> with
+// exactly the ids used and the truth's curves, and a FIT_<id> report; bad input is refused and
+// counted. The real process over UDP multicast is fitter_process_test.cpp.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "fitter/fitter_node.hpp"
+#include "fitter_fixture.hpp"
+#include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/plateau_t.hpp"
+#include "gyrocal/run_event_t.hpp"
+#include "gyrocal/sensitivity_point_t.hpp"
+#include "model/convert.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr int64_t kT0Utime = 1'000'000'000'000'000;
+constexpr const char* kRun = "run-memq";
+
+using testing::OffsetTruthV;
+using testing::SensTruth;
+
+run_event_t Event(const std::string& what, int64_t utime) {
+    return testing::FitterRunEvent(kRun, what, utime, {"S01"});
+}
+plateau_t Plateau(const std::string& id, double temp_c, int64_t start_utime) {
+    return testing::TruthPlateau(kRun, id, temp_c, start_utime);
+}
+sensitivity_point_t Rotation(double temp_c, int64_t start_utime, int dir, bool accepted) {
+    return testing::TruthRotation(kRun, "S01", temp_c, start_utime, dir, accepted);
+}
+
+TEST(FitterNode, FinalSetIsTheTruthWithExactIdsAndBadInputIsRefused) {
+    auto o = FitterOptions::Defaults();
+    o.lcm_url = "memq://";
+    FitterNode node(o);
+    Bus& bus = node.bus();
+    std::vector<coeff_set_t> coeffs;
+    std::vector<fit_report_t> reports;
+    bus.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
+                               [&](const coeff_set_t& m, const std::string&) { coeffs.push_back(m); });
+    bus.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
+                                [&](const fit_report_t& m, const std::string&) { reports.push_back(m); });
+
+    // GIVEN a run of S01 with plateaus at three temperatures, two accepted rotations at each and
+    // one not accepted
+    bus.Publish(std::string(channels::kRunEvent), Event("start", kT0Utime));
+    std::vector<int64_t> plateau_ids, rotation_ids;
+    int64_t t = kT0Utime + 1'000'000;
+    for (double temp : {-10.0, 30.0, 60.0}) {
+        const plateau_t p = Plateau("S01", temp, t);
+        plateau_ids.push_back(p.plateau_id);
+        bus.Publish(channels::Plateau("S01"), p);
+        t += 100'000'000;
+        for (int dir : {+1, -1}) {
+            const sensitivity_point_t r = Rotation(temp + 0.05 * dir, t, dir, true);
+            rotation_ids.push_back(r.rotation_id);
+            bus.Publish(channels::Sensitivity("S01"), r);
+            t += 10'000'000;
+        }
+        bus.Publish(channels::Sensitivity("S01"), Rotation(temp, t, +1, false));
+        t += 10'000'000;
+    }
+    // and bad input: a plateau whose sensor_id is not its channel's, one of a sensor the run does
+    // not have, one with a NaN mean
+    bus.Publish(channels::Plateau("S01"), Plateau("S02", 45.0, t + 1));
+    bus.Publish(channels::Plateau("S09"), Plateau("S09", 45.0, t + 2));
+    plateau_t nan_plateau = Plateau("S01", 45.0, t + 3);
+    nan_plateau.gyro_mean_v = NAN;
+    bus.Publish(channels::Plateau("S01"), nan_plateau);
+    // WHEN the run stops
+    bus.Publish(std::string(channels::kRunEvent), Event("stop", t + 10));
+    for (int i = 0; i < 10000 && bus.Handle(0ms); ++i) {
+    }
+
+    // THEN the final set used exactly the plateaus and the accepted rotations
+    ASSERT_FALSE(coeffs.empty());
+    const coeff_set_t& last = coeffs.back();
+    EXPECT_EQ(last.sensor_id, "S01");
+    EXPECT_EQ(last.run_id, kRun);
+    EXPECT_EQ(last.plateau_ids, plateau_ids);
+    EXPECT_EQ(last.rotation_ids, rotation_ids);
+    EXPECT_EQ(last.coeff_set_id, t + 10);  // the stop event's utime: the newest input
+    // Noise-free quadratic truth: both fits reproduce it to rounding (1e-12 V is ~1e4 ulp of
+    // 2.5 V, far above rounding in a 3x3 solve, far below any fitting error that matters).
+    const model::CoeffSet set = model::FromMsg(last);
+    model::Evaluator off(set.offset), sens(set.sensitivity);
+    for (double temp = -10; temp <= 60; temp += 7) {
+        model::ModelInputs in;
+        in.temp_c = temp;
+        EXPECT_NEAR(off.Value(in, model::RangePolicy::kExtrapolate), OffsetTruthV(temp), 1e-12) << temp;
+        EXPECT_NEAR(sens.Value(in, model::RangePolicy::kExtrapolate), SensTruth(temp), 1e-12) << temp;
+    }
+    // a final report beside it, complete, naming the same set
+    const fit_report_t* final_report = nullptr;
+    for (const auto& r : reports)
+        if (r.is_final && r.sensor_id == "S01") final_report = &r;
+    ASSERT_NE(final_report, nullptr);
+    EXPECT_EQ(final_report->status, "complete") << final_report->reason;
+    EXPECT_EQ(final_report->coeff_set_id, last.coeff_set_id);
+    // and the three bad plateaus refused and counted
+    EXPECT_EQ(node.status().rejected(), 3);
+}
+
+}  // namespace
+}  // namespace gyrocal
