@@ -17,6 +17,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
+#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {
@@ -32,8 +33,7 @@ std::optional<status_t> AwaitProbeStatus(Bus& bus, const std::function<bool(cons
     bus.Subscribe<status_t>(std::string(channels::kStatus), [&](const status_t& s, const std::string&) {
         if (s.process == "gyrocal-bus-probe" && pred(s)) found = s;
     });
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (!found && std::chrono::steady_clock::now() < deadline) bus.Handle(50ms);
+    testing::HandleUntil(bus, [&] { return found.has_value(); }, limit);
     return found;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// Builders of every message type with deterministic contents, for the recorder tests.
+// Builders of every message type with deterministic contents (the recorder, replay and store
+// tests, the fuzz seeds), and the encoding of one message into bytes.
 #include <cmath>
 #include <string>
 #include <vector>
