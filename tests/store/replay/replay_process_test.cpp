@@ -63,13 +63,12 @@ void WriteSourceRun(const std::string& path) {
 }
 
 TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
-    const std::string src = TempPath("replay_src.db");
-    const std::string dst = TempPath("replay_dst.db");
+    const std::string src = FreshDbPath("replay_src.db");
+    const std::string dst = FreshDbPath("replay_dst.db");
     WriteSourceRun(src);
     const std::string url = UrlForPort(7764);
-    Bus bus(BusOptions{url});
-    ChildProcess rec = StartRecorder(dst, url);
-    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
+    RecorderOnBus r(dst, url);
+    ASSERT_TRUE(r.Listening());
 
     // Speed 4: the 2 s run should take 0.5 s. Allowance: process start and database open
     // (< 100 ms) plus scheduling on a loaded machine (300 ms); never shorter than the span/4.
@@ -84,7 +83,7 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
 
     EXPECT_EQ(WaitForCount(dst, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR'",
                            2 * kSamples, 10s), 2 * kSamples);
-    EXPECT_EQ(rec.Stop().code, 0);
+    EXPECT_EQ(r.rec.Stop().code, 0);
     EXPECT_EQ(Count(dst, "SELECT count(*) FROM encoder_samples WHERE run_id = 'RR'"), kSamples);
     EXPECT_EQ(Count(dst, "SELECT count(*) FROM chamber_states WHERE run_id = 'RR'"), 1);
     EXPECT_EQ(Count(dst, "SELECT count(*) FROM runs WHERE run_id = 'RR' AND outcome = 'stop' "
@@ -110,12 +109,11 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
 }
 
 TEST(Replay, AsRunKeepsAReplayIntoTheSameDatabaseApart) {
-    const std::string db = TempPath("replay_same.db");
+    const std::string db = FreshDbPath("replay_same.db");
     WriteSourceRun(db);
     const std::string url = UrlForPort(7766);
-    Bus bus(BusOptions{url});
-    ChildProcess rec = StartRecorder(db, url);
-    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
+    RecorderOnBus r(db, url);
+    ASSERT_TRUE(r.Listening());
     ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", db,
                          "--speed", "20", "--as-run", "RR-replay", "--lcm-url", url},
                         "", db + ".replay.err");
@@ -123,14 +121,14 @@ TEST(Replay, AsRunKeepsAReplayIntoTheSameDatabaseApart) {
     ASSERT_TRUE(st && st->exited && st->code == 0);
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR-replay'",
                            2 * kSamples, 10s), 2 * kSamples);
-    EXPECT_EQ(rec.Stop().code, 0);
+    EXPECT_EQ(r.rec.Stop().code, 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR'"), 2 * kSamples);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'RR-replay' AND outcome = 'stop'"),
               1);
 }
 
 TEST(Replay, UnknownRunAndBadOptions) {
-    const std::string src = TempPath("replay_bad.db");
+    const std::string src = FreshDbPath("replay_bad.db");
     WriteSourceRun(src);
     const std::string bin = std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay";
     ChildProcess unknown({bin, "NOPE", "--db", src, "--lcm-url", UrlForPort(7765)}, "",
