@@ -1,4 +1,4 @@
-#include "source_test_support.hpp"
+#include "producer_process_support.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,6 +16,7 @@
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/status_t.hpp"
+#include "bus_wait.hpp"
 
 namespace gyrocal::test {
 
@@ -87,6 +88,21 @@ void WriteText(const std::string& path, const std::string& text) {
     out << text;
 }
 
+ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url, const std::string& out,
+                            const std::string& err, const std::vector<std::string>& extra) {
+    std::vector<std::string> argv = {Bin("gyrocal-csv-record"), "--out", dir.Path(out),
+                                     "--lcm-url", url, "--idle-exit-s", "3"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return ChildProcess(argv, "", dir.Path(err));
+}
+
+ChildProcess StartCsvSource(const Scratch& dir, const std::string& url, const std::string& csv,
+                            const std::vector<std::string>& extra) {
+    std::vector<std::string> argv = {Bin("gyrocal-csv-source"), dir.Path(csv), "--lcm-url", url};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return ChildProcess(argv, "", dir.Path("source.err"));
+}
+
 bool WaitForStatus(const std::string& url, const std::vector<const ChildProcess*>& children,
                    std::chrono::milliseconds timeout) {
     Bus bus(BusOptions{url});
@@ -94,11 +110,7 @@ bool WaitForStatus(const std::string& url, const std::vector<const ChildProcess*
     for (const ChildProcess* c : children) waiting.insert(static_cast<int32_t>(c->pid()));
     bus.Subscribe<status_t>(std::string(channels::kStatus),
                             [&](const status_t& s, const std::string&) { waiting.erase(s.pid); });
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (!waiting.empty() && std::chrono::steady_clock::now() < end) {
-        bus.Handle(std::chrono::milliseconds(50));
-    }
-    return waiting.empty();
+    return testing::HandleUntil(bus, [&] { return waiting.empty(); }, timeout);
 }
 
 ExitStatus WaitExit(ChildProcess& child, std::chrono::milliseconds timeout) {

@@ -1,6 +1,7 @@
 // gyrocal-line-source with real processes: a file piped to stdin comes back the same through
 // gyrocal-csv-record, bad lines are skipped and counted with their line numbers; a FIFO read
-// with --time wall stamps samples with the wall clock at reception.
+// with --time wall stamps samples with the wall clock at reception; a stream without a valid
+// header fails.
 #include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -10,7 +11,7 @@
 #include <thread>
 
 #include "csv/csv_writer.hpp"
-#include "source_test_support.hpp"
+#include "producer_process_support.hpp"
 
 namespace gyrocal::test {
 namespace {
@@ -32,9 +33,7 @@ TEST(LineSource, PipedStreamGivesBackTheSameSamplesAndSkipsBadLines) {
         if (i == 59) text += "garbage\n";                       // line 63
     }
     WriteText(dir.Path("stream.txt"), text);
-    ChildProcess rec({Bin("gyrocal-csv-record"), "--out", dir.Path("out.csv"), "--lcm-url", url,
-                      "--idle-exit-s", "3"},
-                     "", dir.Path("rec.err"));
+    ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
     // WHEN it is piped into the line source (stdin is a pipe, not a file)
     ChildProcess src({"/bin/sh", "-c",
@@ -57,9 +56,7 @@ TEST(LineSource, WallTimeFromAFifo) {
     const std::string url = UdpmUrl(7733);
     const std::string fifo = dir.Path("daq.fifo");
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-    ChildProcess rec({Bin("gyrocal-csv-record"), "--out", dir.Path("out.csv"), "--lcm-url", url,
-                      "--idle-exit-s", "3", "--time-origin-utime", "0"},
-                     "", dir.Path("rec.err"));
+    ChildProcess rec = StartCsvRecord(dir, url, "out.csv", "rec.err", {"--time-origin-utime", "0"});
     ASSERT_TRUE(WaitForStatus(url, rec));
     ChildProcess src(
         {Bin("gyrocal-line-source"), "--device", fifo, "--time", "wall", "--lcm-url", url}, "",
@@ -99,6 +96,18 @@ TEST(LineSource, WallTimeFromAFifo) {
         EXPECT_LT(utime, sent_us[i] + 500'000);
         EXPECT_NEAR(got.rows[i].gyro_v, 2.5 + i * 1e-3, 1e-6);  // std::to_string keeps 6 decimals
     }
+}
+
+TEST(SourcesBadInput, LineSourceWithoutAValidHeaderFails) {
+    Scratch dir("no_header");
+    WriteText(dir.Path("s.txt"), "0,S01,2.5,2.5\n");
+    ChildProcess p({"/bin/sh", "-c",
+                    "exec '" + Bin("gyrocal-line-source") + "' --lcm-url memq:// < '" +
+                        dir.Path("s.txt") + "'"},
+                   "", dir.Path("err"));
+    EXPECT_EQ(WaitExit(p, 10s).code, 1);
+    EXPECT_THAT(Slurp(dir.Path("err")),
+                HasSubstr("stdin:1: column time_s: missing from the header; required columns are"));
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #pragma once
-// Shared pieces of the multi-process source tests: a scratch folder, the test's udpm URL,
-// a synthetic measured-data CSV with known values, starting the executables, waiting for a
-// process's first STATUS (it has subscribed by then), and comparing two CSV files sample by
-// sample.
+// Shared pieces of the measured-data producers' process tests (tests/producers/csv_source,
+// csv_record, line_source, producer_cli): a scratch folder, the test's udpm URL, a synthetic
+// measured-data CSV with known values, starting the executables, waiting for a process's first
+// STATUS (it has subscribed by then), and comparing two CSV files sample by sample.
 #include <chrono>
 #include <filesystem>
 #include <string>
@@ -53,6 +53,16 @@ bool WaitForStatus(const std::string& url, const std::vector<const ChildProcess*
 inline bool WaitForStatus(const std::string& url, const ChildProcess& child) {
     return WaitForStatus(url, std::vector<const ChildProcess*>{&child});
 }
+
+// gyrocal-csv-record writing `out` (a file of `dir`) from `url`, its stderr in `err` (of `dir`),
+// leaving after 3 s without samples; `extra` options follow.
+ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url,
+                            const std::string& out = "out.csv", const std::string& err = "rec.err",
+                            const std::vector<std::string>& extra = {});
+// gyrocal-csv-source publishing `csv` (a file of `dir`) on `url`, its stderr in source.err of
+// `dir`; `extra` options follow.
+ChildProcess StartCsvSource(const Scratch& dir, const std::string& url, const std::string& csv,
+                            const std::vector<std::string>& extra = {});
 
 // Waits for exit; a child still running after `timeout` is stopped and reported as failed.
 ExitStatus WaitExit(ChildProcess& child, std::chrono::milliseconds timeout);

@@ -23,6 +23,8 @@
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "launch/child_process.hpp"
+#include "message_builders.hpp"
+#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {
@@ -36,15 +38,19 @@ struct Seen {
     std::vector<status_t> status;
 };
 
-// Handles messages until pred() holds or `timeout` passes (bounded wait, no fixed sleeps).
-template <class Pred>
-bool PumpUntil(Bus& bus, Pred pred, std::chrono::milliseconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < end) {
-        if (pred()) return true;
+using testing::HandleUntil;
+
+// Handles `bus` while `rig` runs (at most 30 s), then until the bus is quiet; the rig's exit
+// status, none if it was still running.
+std::optional<ExitStatus> PumpUntilExit(Bus& bus, ChildProcess& rig) {
+    std::optional<ExitStatus> st;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) {
         bus.Handle(std::chrono::milliseconds(20));
     }
-    return pred();
+    while (bus.Handle(std::chrono::milliseconds(100))) {
+    }
+    return st;
 }
 
 TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
@@ -73,7 +79,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
                      dir + "/sim_rig_process.out", dir + "/sim_rig_process.err");
 
     // GIVEN the rig is up (its first CHAMBER_STATE arrived)
-    ASSERT_TRUE(PumpUntil(
+    ASSERT_TRUE(HandleUntil(
         bus, [&] { return !seen.chamber.empty(); }, std::chrono::seconds(10)))
         << "no CHAMBER_STATE from gyrocal-sim-rig";
     EXPECT_EQ(seen.chamber.front().cmd_id, -1);
@@ -83,7 +89,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
     bad.cmd_id = 6;
     bad.setpoint_c = 200.0;  // outside -45..90: refused
     bus.Publish(std::string(channels::kChamberCmd), bad);
-    ASSERT_TRUE(PumpUntil(
+    ASSERT_TRUE(HandleUntil(
         bus, [&] { return !seen.chamber.back().fault.empty(); }, std::chrono::seconds(5)));
     chamber_cmd_t cmd{};
     cmd.cmd_id = 7;
@@ -96,13 +102,13 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
     bus.Publish(std::string(channels::kTurntableCmd), move);
 
     // THEN the chamber follows: cmd echoed, air within tolerance of 35 degC (10 K at 60 K/min)
-    ASSERT_TRUE(PumpUntil(
+    ASSERT_TRUE(HandleUntil(
         bus, [&] { return seen.chamber.back().cmd_id == 7 && seen.chamber.back().at_setpoint; },
         std::chrono::seconds(10)));
     EXPECT_TRUE(seen.chamber.back().fault.empty()) << "an accepted order clears the fault";
     EXPECT_DOUBLE_EQ(seen.chamber.back().setpoint_c, 35.0);
     // and the table has finished its move (30 deg/s default: 3.5 s sim) and rests
-    ASSERT_TRUE(PumpUntil(
+    ASSERT_TRUE(HandleUntil(
         bus,
         [&] {
             return seen.encoder.size() > 100 &&
@@ -110,7 +116,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
                    seen.encoder.back().counts == seen.encoder[seen.encoder.size() - 50].counts;
         },
         std::chrono::seconds(10)));
-    ASSERT_TRUE(PumpUntil(
+    ASSERT_TRUE(HandleUntil(
         bus, [&] { return seen.status.size() >= 2; }, std::chrono::seconds(5)));
     const ExitStatus st = rig.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
@@ -177,13 +183,7 @@ TEST(SimRigProcess, BuiltinProfileRunsWithoutASequencerAndExits) {
                       "--air-tau-s", "2", "--speed", "100", "--units", "1"},
                      dir + "/sim_rig_builtin.out", dir + "/sim_rig_builtin.err");
     // WHEN it runs (about 110 simulated s at 100x)
-    std::optional<ExitStatus> st;
-    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) {
-        bus.Handle(std::chrono::milliseconds(20));
-    }
-    while (bus.Handle(std::chrono::milliseconds(100))) {
-    }
+    const std::optional<ExitStatus> st = PumpUntilExit(bus, rig);
     // THEN it finished by itself with exit 0, having visited both setpoints and rotated twice
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -215,21 +215,14 @@ TEST(SimRigProcess, SameSeedSameSamplesAcrossRuns) {
         std::string bytes;
         bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
                                      [&](const gyro_sample_t& m, const std::string&) {
-                                         std::vector<uint8_t> buf(m.getEncodedSize());
-                                         m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+                                         const auto buf = testing::EncodeMsg(m);
                                          bytes.append(buf.begin(), buf.end());
                                      });
         ChildProcess rig({GYROCAL_SIM_RIG_EXE, "--lcm-url", url, "--mode", "builtin", "--profile",
                           "30", "--dwell-s", "5", "--rest-s", "2", "--ramp-c-per-min", "60",
                           "--speed", "200", "--units", "2", "--seed", seed},
                          dir + "/sim_rig_seed.out", dir + "/sim_rig_seed.err");
-        std::optional<ExitStatus> st;
-        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-        while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) {
-            bus.Handle(std::chrono::milliseconds(20));
-        }
-        while (bus.Handle(std::chrono::milliseconds(100))) {
-        }
+        const std::optional<ExitStatus> st = PumpUntilExit(bus, rig);
         EXPECT_TRUE(st.has_value() && st->exited && st->code == 0);
         EXPECT_EQ(bus.counters().seq_gaps, 0) << "lost packets would make this comparison moot";
         return bytes;

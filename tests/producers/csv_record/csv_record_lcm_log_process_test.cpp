@@ -14,7 +14,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "source_test_support.hpp"
+#include "producer_process_support.hpp"
 
 namespace gyrocal::test {
 namespace {
@@ -65,9 +65,7 @@ TEST(LcmLog, LoggedRunReplaysToTheSameSamples) {
         ASSERT_GT(std::filesystem::file_size(log), 0u) << Slurp(dir.Path("logger.err"));
     }
     // WHEN a CSV run is published and logged
-    ChildProcess source(
-        {Bin("gyrocal-csv-source"), dir.Path("in.csv"), "--lcm-url", url, "--speed", "1"}, "",
-        dir.Path("source.err"));
+    ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--speed", "1"});
     EXPECT_EQ(WaitExit(source, 20s).code, 0) << Slurp(dir.Path("source.err"));
     logger.Signal(SIGINT);
     const ExitStatus l = WaitExit(logger, 10s);
@@ -76,9 +74,7 @@ TEST(LcmLog, LoggedRunReplaysToTheSameSamples) {
     EXPECT_EQ(CountEvents(log, std::string(channels::kGyroPrefix)), 300);
 
     // AND the log is replayed through lcm-logplayer into the CSV recorder
-    ChildProcess rec({Bin("gyrocal-csv-record"), "--out", dir.Path("out.csv"), "--lcm-url", url,
-                      "--idle-exit-s", "3"},
-                     "", dir.Path("rec.err"));
+    ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
     ChildProcess player({GYROCAL_LCM_LOGPLAYER, "-l", url, "-s", "2", log}, dir.Path("player.out"),
                         dir.Path("player.err"));

@@ -158,15 +158,7 @@ uint64_t Digest(const EffectsConfig& effects) {
     c.effects = effects;
     Rig rig(c);
     Sink sink;
-    const int64_t s = c.start_utime;
-    rig.ChamberCommand(1, 50.0, 0.0);
-    rig.RunUntil(s + 300'000'000, sink);
-    rig.TurntableCommand(1, 90.0, 0.0, 0.0);
-    rig.RunUntil(s + 320'000'000, sink);
-    rig.TurntableCommand(2, -90.0, 0.0, 0.0);
-    rig.RunUntil(s + 340'000'000, sink);
-    rig.ChamberCommand(2, 0.0, 0.0);
-    rig.RunUntil(s + 900'000'000, sink);
+    testing::Run(rig, sink, c.start_utime, {50.0, 300, 20, 0.0, 900});
     return sink.h;
 }
 

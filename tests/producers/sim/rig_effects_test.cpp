@@ -31,15 +31,7 @@ testing::Recorded Scenario(const EffectsConfig& effects) {
     c.effects = effects;
     Rig rig(c);
     testing::RecordingSink sink;
-    const int64_t s = c.start_utime;
-    rig.ChamberCommand(1, 45.0, 0.0);
-    rig.RunUntil(s + 200'000'000, sink);
-    rig.TurntableCommand(1, 90.0, 0.0, 0.0);
-    rig.RunUntil(s + 210'000'000, sink);
-    rig.TurntableCommand(2, -90.0, 0.0, 0.0);
-    rig.RunUntil(s + 220'000'000, sink);
-    rig.ChamberCommand(2, 20.0, 0.0);
-    rig.RunUntil(s + 500'000'000, sink);
+    testing::Run(rig, sink, c.start_utime, {45.0, 200, 10, 20.0, 500});
     return sink.data;
 }
 
