@@ -29,6 +29,7 @@
 #include "model/model.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -45,17 +46,10 @@ struct Lab {
     nlohmann::json truth, detail;
 };
 
-std::string Fresh(const std::string& name) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_othersim_" + name + "_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
-
 // gyrocal-othersim with `args`, then calibrate on `port`, then show (text and JSON).
 Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
     Lab lab;
-    lab.dir = Fresh(name);
+    lab.dir = FreshDir("gyrocal_othersim_" + name);
     lab.csv = lab.dir + "/lab.csv";
     lab.truth_path = lab.dir + "/lab.truth.json";
     lab.db = lab.dir + "/lab.db";
@@ -67,8 +61,7 @@ Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
     EXPECT_TRUE(g_end && g_end->code == 0) << ReadLog(lab.dir + "/gen.log");
     std::ifstream truth(lab.truth_path);
     lab.truth = nlohmann::json::parse(truth);
-    const std::string url =
-        "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304";
+    const std::string url = UdpmUrl(port);
     lab.out = lab.dir + "/calibrate.out";
     ChildProcess cal({GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", lab.csv,
                       "--db", lab.db, "--lcm-url", url, "--log-dir", lab.dir + "/logs", "--quiet",

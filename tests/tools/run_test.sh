@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Bad input to the set-up path: a missing dependency stops the configure with the Debian package
 # to install; tools/run.sh refuses an unknown command and reports a failed apt-get, non-zero.
-# Usage: setup_test.sh SOURCE_DIR SCRATCH_DIR
+# Usage: run_test.sh SOURCE_DIR SCRATCH_DIR
 set -u
 src="$1"; scratch="$2"
 rm -rf "$scratch"; mkdir -p "$scratch"

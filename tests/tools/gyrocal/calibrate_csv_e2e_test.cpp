@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "launch/child_process.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -40,24 +41,10 @@ std::string Fields(const std::string& line, int n) {
     return line.substr(0, end);
 }
 
-int64_t SqlInt(const std::string& db, const std::string& sql) {
-    sqlite3* h = nullptr;
-    sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
-    sqlite3_stmt* st = nullptr;
-    int64_t v = -1;
-    if (sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
-        v = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    sqlite3_close(h);
-    return v;
-}
-
 TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_csv_e2e_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    const std::string url_a = "udpm://239.255.76.67:7783?ttl=0&recv_buf_size=4194304";
-    const std::string url_b = "udpm://239.255.76.67:7784?ttl=0&recv_buf_size=4194304";
+    const std::string dir = FreshDir("gyrocal_csv_e2e");
+    const std::string url_a = UdpmUrl(7783);
+    const std::string url_b = UdpmUrl(7784);
     const std::string csv_a = dir + "/lab.csv", csv_b = dir + "/replayed.csv";
 
     // GIVEN a simulated five-setpoint run (one unit, fast thermal constants, negligible sensor
@@ -99,10 +86,10 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
 
     // THEN the run is recorded like any other: every row, its plateaus and rotations, a fit
     const int64_t rows = static_cast<int64_t>(rows_a.size()) - 1;
-    EXPECT_EQ(SqlInt(db, "SELECT count(*) FROM gyro_samples g JOIN runs r USING(run_id) WHERE r.outcome='stop'"), rows);
-    EXPECT_EQ(SqlInt(db, "SELECT count(*) FROM plateaus"), 5);
-    EXPECT_EQ(SqlInt(db, "SELECT count(*) FROM sensitivity_points WHERE accepted=1"), 2 * 5);
-    EXPECT_GE(SqlInt(db, "SELECT count(*) FROM coeff_sets"), 1);
+    EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM gyro_samples g JOIN runs r USING(run_id) WHERE r.outcome='stop'"), rows);
+    EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM plateaus"), 5);
+    EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM sensitivity_points WHERE accepted=1"), 2 * 5);
+    EXPECT_GE(Sql(db).Int("SELECT count(*) FROM coeff_sets"), 1);
     EXPECT_NE(ReadLog(out).find("stop: end of data"), std::string::npos) << ReadLog(out);
     // ... and the replayed samples are the recorded ones: time, sensor, gyro_v, temp_v, temp_c,
     // supply_v, encoder_deg identical as text (chamber_c is re-published at most once a second
@@ -113,7 +100,7 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
 
     // AND the analysis of the CSV-sourced run names the supply effect with the rig's coefficient
     // (4 reported standard errors + 5 % for the measured-supply regressor; derivation in
-    // closed_loop_e2e_test.cpp) and cuts the held-out error.
+    // calibrate_closed_loop_e2e_test.cpp) and cuts the held-out error.
     sqlite3* h = nullptr;
     sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
     sqlite3_stmt* st = nullptr;
@@ -141,7 +128,7 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     EXPECT_EQ(sensor.at("added").at(0).at("effect"), "supply");
     EXPECT_NEAR(sensor.at("added").at(0).at("coefficient").get<double>(), 0.05,
                 4.0 * sensor.at("added").at(0).at("stderr").get<double>() + 0.05 * 0.05);
-    // Same fitter before and after (closed_loop_e2e_test.cpp says why half).
+    // Same fitter before and after (calibrate_closed_loop_e2e_test.cpp says why half).
     EXPECT_LT(sensor.at("error_after").at("rate_rms_dps").get<double>(),
               0.5 * sensor.at("error_before").at("rate_rms_dps").get<double>());
 }

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "launch/child_process.hpp"
-#include "sql.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -29,11 +29,9 @@ std::string LineStartingWith(const std::string& text, const std::string& prefix)
 
 // Calibrates one unit with the rig's null ageing at 4 mV/h over `setpoints` (comma-separated
 // degC) on the bus at `port` and analyses the run; returns the text `gyrocal analyze` printed.
-// `dir` gets the files.
+// `dir` (empty) gets the files.
 std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& setpoints, int port,
                                      std::string& run) {
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
     // Fast thermal constants: ~1 simulated hour. Aging 4 mV/h is ~4 mV over the run, ~1.2 mV RMS
     // about its mean: ~3x the floor bound of the outcome (~0.35 mV for 10 s bins of this rig's
@@ -42,7 +40,7 @@ std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& 
     // is rightly found as well).
     ChildProcess cal({GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints, "--sensors", "1", "--seed", "12", "--speed",
                       "30", "--db", db, "--lcm-url",
-                      "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304",
+                      UdpmUrl(port),
                       "--log-dir", dir + "/logs", "--quiet", "--effect", "aging=0.004", "--rig-arg=--package-tau-s=40",
                       "--rig-arg=--ramp-c-per-min=10", "--rig-arg=--sensor-tau-s=0.1",
                       "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "500"},
@@ -73,7 +71,7 @@ std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& 
 // Down, up, down, up, down (as the analysis tests' runs): time and temperature are not one
 // another's function, so a drift in time cannot hide in the temperature terms.
 TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_outside_" + std::to_string(getpid());
+    const std::string dir = FreshDir("gyrocal_outside");
     const std::string db = dir + "/run.db";
     std::string run;
     const std::string printed = CalibrateAndAnalyzeAging(dir, "-10,50,10,70,30", 8000, run);
@@ -105,7 +103,7 @@ TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
 // feature predicting its held-out residual at least as well, this named warmup(320) (-2.53 mV,
 // "explained"); now the warm-up is "not attributed" to the linear drift.
 TEST(OutsideEffectEndToEnd, AgingOnAMonotonicProfileNamesNoCandidate) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_outside_five_" + std::to_string(getpid());
+    const std::string dir = FreshDir("gyrocal_outside_five");
     std::string run;
     const std::string printed = CalibrateAndAnalyzeAging(dir, "-40,-10,25,55,85", 8001, run);
     const std::string verdict = LineStartingWith(printed, "sensor S01: ");
@@ -113,8 +111,7 @@ TEST(OutsideEffectEndToEnd, AgingOnAMonotonicProfileNamesNoCandidate) {
 }
 
 TEST(OutsideEffectEndToEnd, BadEffectIsRefusedBeforeAnyProcessStarts) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_outside_bad_" + std::to_string(getpid());
-    std::filesystem::create_directories(dir);
+    const std::string dir = FreshDir("gyrocal_outside_bad");
     for (const auto& [effect, named] : std::vector<std::pair<std::string, std::string>>{
              {"aging=1", "aging"}, {"tilt_deg=120", "tilt_deg"}, {"compressor_period_s=0", "compressor_period_s"},
              {"agin=0.001", "aging"}}) {

@@ -19,20 +19,13 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "launch/child_process.hpp"
-#include "sql.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-
-std::string FreshDir(const std::string& name) {
-    const std::string dir = ::testing::TempDir() + name + "_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
 
 // The pid of `parent`'s child running `name` (as the kernel shortens it to 15 characters).
 pid_t ChildPid(pid_t parent, const std::string& name) {
@@ -74,7 +67,7 @@ std::vector<std::string> CalibrateArgs(const std::string& dir, int port,
             "--wall-timeout-s",
             "400",
             "--lcm-url",
-            "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304",
+            UdpmUrl(port),
             "--rig-arg=--package-tau-s=20",
             "--rig-arg=--ramp-c-per-min=20",
             "--rig-arg=--air-tau-s=10",
@@ -193,12 +186,7 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
     EXPECT_EQ(
         sql.Int("SELECT count(*) FROM recorder_sessions WHERE resumed_run_id = '" + run + "'"), 1);
     int64_t gaps = 0;
-    for (
-        const auto& r : sql.Rows(
-            "SELECT g.sensor_id, count(*), max(seq) - min(seq) + 1, (SELECT seq_gaps FROM losses l "
-            "WHERE l.run_id = g.run_id AND l.channel = 'GYRO_' || g.sensor_id) FROM gyro_samples g "
-            "WHERE run_id = '" +
-            run + "' GROUP BY g.sensor_id")) {
+    for (const auto& r : sql.Rows(GyroStreamsSql(run))) {
         ASSERT_FALSE(r[3].empty()) << r[0] << ": the recorder's downtime left no gap?";
         EXPECT_EQ(std::stoll(r[1]) + std::stoll(r[3]), std::stoll(r[2])) << r[0];
         EXPECT_GT(std::stoll(r[3]), 0) << r[0];

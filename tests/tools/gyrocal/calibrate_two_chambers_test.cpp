@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "launch/child_process.hpp"
-#include "sql.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -16,10 +16,7 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(TwoChambers, SimultaneousCalibrationsAreTwoRunsThatShareNothing) {
-    const std::string dir =
-        ::testing::TempDir() + "gyrocal_two_chambers_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
+    const std::string dir = FreshDir("gyrocal_two_chambers");
     const std::string db = dir + "/lab.db";
     auto chamber = [&](int n, const std::string& ids, const std::string& seed) {
         const std::string tag = "c" + std::to_string(n);
@@ -31,7 +28,7 @@ TEST(TwoChambers, SimultaneousCalibrationsAreTwoRunsThatShareNothing) {
                                      "--db",
                                      db,
                                      "--lcm-url",
-                                     "udpm://239.255.76.67:7810?ttl=0&recv_buf_size=4194304",
+                                     UdpmUrl(7810),
                                      "--log-dir",
                                      dir + "/" + tag,
                                      "--setpoints-c",

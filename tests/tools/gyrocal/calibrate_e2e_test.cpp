@@ -18,7 +18,8 @@
 #include "launch/child_process.hpp"
 #include "sim/noise.hpp"
 #include "model/model.hpp"
-#include "sql.hpp"
+#include "e2e_support.hpp"
+#include "stored_model.hpp"
 
 namespace gyrocal {
 namespace {
@@ -26,7 +27,7 @@ namespace {
 using namespace std::chrono_literals;
 using nlohmann::json;
 
-const std::string kUrl = "udpm://239.255.76.67:7781?ttl=0&recv_buf_size=4194304";
+const std::string kUrl = UdpmUrl(7781);
 
 double TruthAt(const json& curve, double die_c) {
     const auto c = curve.at("coeffs").get<std::vector<double>>();
@@ -34,34 +35,8 @@ double TruthAt(const json& curve, double die_c) {
     return c.at(0) + c.at(1) * d + c.at(2) * d * d;
 }
 
-// The model of a coefficient set as stored: terms, coefficients, covariance (role offset|sensitivity).
-model::Model StoredModel(Sql& sql, const std::string& row, const std::string& role) {
-    model::Model m;
-    const auto meta = sql.Rows("SELECT quantity, t0_c, temp_min_c, temp_max_c, method FROM coeff_models WHERE coeff_row_id=" +
-                               row + " AND role='" + role + "'");
-    m.quantity = meta.at(0).at(0);
-    m.t0_c = std::stod(meta.at(0).at(1));
-    m.temp_min_c = std::stod(meta.at(0).at(2));
-    m.temp_max_c = std::stod(meta.at(0).at(3));
-    m.method = meta.at(0).at(4);
-    const auto terms = sql.Rows("SELECT term_name, coeff FROM coeff_terms WHERE coeff_row_id=" + row + " AND role='" +
-                                role + "' ORDER BY term_index");
-    m.coeffs.resize(static_cast<Eigen::Index>(terms.size()));
-    for (size_t i = 0; i < terms.size(); ++i) {
-        m.term_names.push_back(terms[i][0]);
-        m.coeffs[static_cast<Eigen::Index>(i)] = std::stod(terms[i][1]);
-    }
-    m.covariance = Eigen::MatrixXd::Zero(m.coeffs.size(), m.coeffs.size());
-    for (const auto& c : sql.Rows("SELECT row_index, col_index, value FROM coeff_covariance WHERE coeff_row_id=" + row +
-                                  " AND role='" + role + "'"))
-        m.covariance(std::stoi(c[0]), std::stoi(c[1])) = c[2].empty() ? NAN : std::stod(c[2]);
-    return m;
-}
-
 TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_e2e_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
+    const std::string dir = FreshDir("gyrocal_e2e");
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
     // Fast thermal constants keep the simulated run short (~25 simulated minutes); the speed
     // keeps every process far below the rate at which the loaded 2-core machine loses packets.
@@ -194,11 +169,9 @@ bool AnyProcessMentions(const std::string& needle) {
 // Ctrl-C in the middle of a run: the run is recorded as aborted by the operator, calibrate exits
 // 3, and no process of the graph is left behind.
 TEST(CalibrateEndToEnd, InterruptAbortsTheRunCleanly) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_e2e_int_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
+    const std::string dir = FreshDir("gyrocal_e2e_int");
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
-    const std::string url = "udpm://239.255.76.67:7782?ttl=0&recv_buf_size=4194304";
+    const std::string url = UdpmUrl(7782);
     ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--speed", "20", "--db", db, "--lcm-url", url,
                       "--log-dir", dir + "/logs", "--quiet"},
                      out, out);

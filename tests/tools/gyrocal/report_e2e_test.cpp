@@ -17,6 +17,7 @@
 #include "launch/child_process.hpp"
 #include "sim/config.hpp"
 #include "sim/unit_model.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -25,34 +26,11 @@ using namespace std::chrono_literals;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-const std::string kUrl = "udpm://239.255.76.67:7870?ttl=0&recv_buf_size=4194304";
-const std::string kUnusedUrl = "udpm://239.255.76.67:7872?ttl=0&recv_buf_size=4194304";
+const std::string kUrl = UdpmUrl(7870);
+const std::string kUnusedUrl = UdpmUrl(7872);
 
 std::vector<std::vector<std::string>> Rows(const std::string& db, const std::string& sql) {
-    sqlite3* h = nullptr;
-    if (sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) throw std::runtime_error(db);
-    sqlite3_stmt* st = nullptr;
-    if (sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr) != SQLITE_OK)
-        throw std::runtime_error(std::string(sqlite3_errmsg(h)) + ": " + sql);
-    std::vector<std::vector<std::string>> out;
-    while (sqlite3_step(st) == SQLITE_ROW) {
-        std::vector<std::string> row;
-        for (int i = 0; i < sqlite3_column_count(st); ++i) {
-            const unsigned char* t = sqlite3_column_text(st, i);
-            row.push_back(t ? reinterpret_cast<const char*>(t) : "");
-        }
-        out.push_back(row);
-    }
-    sqlite3_finalize(st);
-    sqlite3_close(h);
-    return out;
-}
-
-fs::path FreshDir(const std::string& name) {
-    const fs::path dir = fs::path(::testing::TempDir()) / (name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return Sql(db).Rows(sql);
 }
 
 // Runs the gyrocal CLI to completion (bounded); returns the exit code, output in `out`.

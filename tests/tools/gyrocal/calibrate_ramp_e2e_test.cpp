@@ -14,19 +14,13 @@
 #include "launch/child_process.hpp"
 #include "model/inputs.hpp"
 #include "model/model.hpp"
-#include "sql.hpp"
+#include "e2e_support.hpp"
+#include "stored_model.hpp"
 
 namespace gyrocal {
 namespace {
 
 using nlohmann::json;
-
-std::string Read(const std::string& path) {
-    std::ifstream f(path);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
 
 double Poly(const json& curve, double die_c) {
     const auto c = curve.at("coeffs").get<std::vector<double>>();
@@ -34,28 +28,6 @@ double Poly(const json& curve, double die_c) {
     double v = 0, p = 1;
     for (double k : c) v += k * p, p *= d;
     return v;
-}
-
-// The model of a coefficient set as stored (coeff_models, coeff_terms, coeff_covariance).
-model::Model StoredModel(Sql& sql, const std::string& row, const std::string& role) {
-    model::Model m;
-    const std::string where = " WHERE coeff_row_id=" + row + " AND role='" + role + "'";
-    const auto meta = sql.Rows("SELECT quantity, t0_c, temp_min_c, temp_max_c, method FROM coeff_models" + where);
-    m.quantity = meta.at(0).at(0);
-    m.t0_c = std::stod(meta.at(0).at(1));
-    m.temp_min_c = std::stod(meta.at(0).at(2));
-    m.temp_max_c = std::stod(meta.at(0).at(3));
-    m.method = meta.at(0).at(4);
-    const auto terms = sql.Rows("SELECT term_name, coeff FROM coeff_terms" + where + " ORDER BY term_index");
-    m.coeffs.resize(static_cast<Eigen::Index>(terms.size()));
-    for (size_t i = 0; i < terms.size(); ++i) {
-        m.term_names.push_back(terms[i][0]);
-        m.coeffs[static_cast<Eigen::Index>(i)] = std::stod(terms[i][1]);
-    }
-    m.covariance = Eigen::MatrixXd::Zero(m.coeffs.size(), m.coeffs.size());
-    for (const auto& c : sql.Rows("SELECT row_index, col_index, value FROM coeff_covariance" + where))
-        m.covariance(std::stoi(c[0]), std::stoi(c[1])) = c[2].empty() ? NAN : std::stod(c[2]);
-    return m;
 }
 
 struct Ran {
@@ -66,9 +38,7 @@ struct Ran {
 // 2 units; the package lag shortened (40 s) so that the dwell at each waypoint can be short.
 Ran RunRamp(const std::string& name, const std::string& url, std::vector<std::string> extra) {
     Ran r;
-    r.dir = ::testing::TempDir() + "gyrocal_ramp_" + name + "_" + std::to_string(getpid());
-    std::filesystem::remove_all(r.dir);
-    std::filesystem::create_directories(r.dir);
+    r.dir = FreshDir("gyrocal_ramp_" + name);
     const std::string out = r.dir + "/calibrate.out";
     std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--profile", "ramp", "--sensors", "2",
                                      "--seed", "7", "--speed", "40", "--db", r.dir + "/run.db",
@@ -77,20 +47,20 @@ Ran RunRamp(const std::string& name, const std::string& url, std::vector<std::st
     argv.insert(argv.end(), extra.begin(), extra.end());
     ChildProcess cal(argv, out, out);
     r.ended = cal.Wait(std::chrono::seconds(540));
-    r.printed = Read(out);
+    r.printed = ReadLog(out);
     return r;
 }
 
 TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
     // Cool 25 -> 10, heat 10 -> 40, cool 40 -> 10 at 3 degC/min: every temperature of 10..40
     // is passed heating and cooling, turns every 120 s.
-    const Ran r = RunRamp("truth", "udpm://239.255.76.67:7960?ttl=0&recv_buf_size=4194304",
+    const Ran r = RunRamp("truth", UdpmUrl(7960),
                           {"--setpoints-c", "10,40,10", "--turn-interval-s", "120", "--dwell-s", "60"});
     ASSERT_TRUE(r.ended.has_value()) << "calibrate did not finish:\n" << r.printed;
     ASSERT_TRUE(r.ended->exited && r.ended->code == 0) << r.ended->Describe() << "\n" << r.printed;
     EXPECT_NE(r.printed.find("stop: completed"), std::string::npos) << r.printed;
 
-    const json truth = json::parse(Read(r.dir + "/logs/truth.json"));
+    const json truth = json::parse(ReadLog(r.dir + "/logs/truth.json"));
     Sql sql(r.dir + "/run.db");
     const std::string run =
         sql.Rows("SELECT run_id FROM runs WHERE run_id <> '' ORDER BY started_utime DESC").at(0).at(0);
@@ -149,7 +119,7 @@ TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
 TEST(RampEndToEnd, StopsEarlyAtTheTargetAndSaysWhatItSaved) {
     // Targets a loose calibration reaches during the second leg; sets every 120 s of data once
     // 600 s are in, so the sequencer hears them on the way.
-    const Ran r = RunRamp("early", "udpm://239.255.76.67:7961?ttl=0&recv_buf_size=4194304",
+    const Ran r = RunRamp("early", UdpmUrl(7961),
                           {"--setpoints-c", "10,40,10", "--turn-interval-s", "120", "--dwell-s", "60",
                            "--target-offset-dps", "0.5", "--target-sensitivity-pct", "5",
                            "--fitter-arg=--refit-interval-s=120", "--fitter-arg=--min-span-s=600"});
@@ -176,8 +146,7 @@ TEST(RampEndToEnd, BadRampOptionsAreRefusedBeforeAnythingStarts) {
         {{"--profile", "ramp", "--turn-interval-s", "5"}, "--turn-interval-s"},
         {{"--profile", "ramp", "--target-sensitivity-pct", "-1"}, "--target-sensitivity-pct"},
     };
-    const std::string dir = ::testing::TempDir() + "gyrocal_ramp_bad_" + std::to_string(getpid());
-    std::filesystem::create_directories(dir);
+    const std::string dir = FreshDir("gyrocal_ramp_bad");
     for (const Case& c : cases) {
         std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", dir + "/x.db", "--lcm-url",
                                          "udpm://239.255.76.67:7961?ttl=0"};
@@ -187,7 +156,7 @@ TEST(RampEndToEnd, BadRampOptionsAreRefusedBeforeAnythingStarts) {
         const auto ended = p.Wait(std::chrono::seconds(60));
         ASSERT_TRUE(ended.has_value());
         EXPECT_TRUE(ended->exited && ended->code == 2) << ended->Describe() << " for " << c.args.back();
-        EXPECT_NE(Read(out).find(c.says), std::string::npos) << Read(out);
+        EXPECT_NE(ReadLog(out).find(c.says), std::string::npos) << ReadLog(out);
     }
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.db")) << "nothing is created for bad options";
 }

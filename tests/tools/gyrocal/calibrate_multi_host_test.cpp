@@ -21,7 +21,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "launch/child_process.hpp"
 #include "netns_lab.hpp"
-#include "sql.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -30,16 +30,8 @@ using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 using testing::NetnsLab;
 
-std::string FreshDir(const std::string& name) {
-    const std::string dir = ::testing::TempDir() + name + "_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
-}
-
-std::string LabUrl(int port) {
-    return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=1&recv_buf_size=4194304";
-}
+// A lab's bus: TTL 1 crosses the namespaces' bridge.
+std::string LabUrl(int port) { return UdpmUrl(port, 1); }
 
 // Short simulated profile: fast thermal constants, three setpoints 15 degC apart, two units.
 std::vector<std::string> Common(const std::string& procedure, const std::string& seed,
@@ -124,7 +116,7 @@ TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
             GYROCAL_CLI, "calibrate",
             "--db",      dir + "/single.db",
             "--log-dir", dir + "/single",
-            "--lcm-url", "udpm://239.255.76.67:7805?ttl=0&recv_buf_size=4194304"};
+            "--lcm-url", UdpmUrl(7805)};
         argv.insert(argv.end(), common.begin(), common.end());
         ChildProcess single(argv, dir + "/single.out", dir + "/single.out");
         const auto st = single.Wait(450s);
@@ -156,33 +148,26 @@ TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
     EXPECT_EQ(
         sql.Int("SELECT count(*) FROM one.gyro_samples") - samples,
         sql.Int("SELECT coalesce(sum(seq_gaps), 0) FROM main.losses WHERE channel LIKE 'GYRO_%'"));
-    const std::string gyro =
-        "sensor_id, seq, utime, gyro_v, temp_v, temp_c, supply_v, gyro_counts, temp_counts";
-    EXPECT_EQ(Differing(sql, "SELECT " + gyro + " FROM main.gyro_samples",
-                        "SELECT " + gyro + " FROM one.gyro_samples"),
-              0);
-    const std::string enc = "encoder_id, seq, utime, counts, angle_deg";
-    EXPECT_EQ(Differing(sql, "SELECT " + enc + " FROM main.encoder_samples",
-                        "SELECT " + enc + " FROM one.encoder_samples"),
-              0);
-    const std::string ch = "seq, utime, setpoint_c, air_c, at_setpoint";
-    EXPECT_EQ(Differing(sql, "SELECT " + ch + " FROM main.chamber_states",
-                        "SELECT " + ch + " FROM one.chamber_states"),
-              0);
-    const std::string pl =
-        "sensor_id, plateau_id, start_utime, end_utime, first_seq, last_seq, n_samples, seq_gaps, "
-        "temp_mean_c, gyro_mean_v, gyro_sem_v, temp_sem_c";
     EXPECT_EQ(sql.Int("SELECT count(*) FROM main.plateaus"), 6);
-    EXPECT_EQ(Differing(sql, "SELECT " + pl + " FROM main.plateaus",
-                        "SELECT " + pl + " FROM one.plateaus"),
-              0);
-    const std::string sp =
-        "sensor_id, rotation_id, n_samples, accepted, encoder_angle_deg, sensitivity_v_per_dps, "
-        "sensitivity_stderr_v_per_dps";
     EXPECT_EQ(sql.Int("SELECT count(*) FROM main.sensitivity_points WHERE accepted = 1"), 12);
-    EXPECT_EQ(Differing(sql, "SELECT " + sp + " FROM main.sensitivity_points",
-                        "SELECT " + sp + " FROM one.sensitivity_points"),
-              0);
+    // Every column the procedure's data time decides, table by table.
+    const std::vector<std::pair<std::string, std::string>> compared = {
+        {"gyro_samples",
+         "sensor_id, seq, utime, gyro_v, temp_v, temp_c, supply_v, gyro_counts, temp_counts"},
+        {"encoder_samples", "encoder_id, seq, utime, counts, angle_deg"},
+        {"chamber_states", "seq, utime, setpoint_c, air_c, at_setpoint"},
+        {"plateaus",
+         "sensor_id, plateau_id, start_utime, end_utime, first_seq, last_seq, n_samples, seq_gaps, "
+         "temp_mean_c, gyro_mean_v, gyro_sem_v, temp_sem_c"},
+        {"sensitivity_points",
+         "sensor_id, rotation_id, n_samples, accepted, encoder_angle_deg, sensitivity_v_per_dps, "
+         "sensitivity_stderr_v_per_dps"}};
+    for (const auto& [table, columns] : compared) {
+        EXPECT_EQ(Differing(sql, "SELECT " + columns + " FROM main." + table,
+                            "SELECT " + columns + " FROM one." + table),
+                  0)
+            << table;
+    }
     // The final set's id is the stop event's time, which the launcher stamps from its own clock
     // like the run id: compared are the sets' terms, not their ids.
     auto final_terms = [](const std::string& db) {
@@ -286,12 +271,7 @@ TEST(MultiHost, CableOutDuringAPlateauAndATurnIsCountedRefusedAndTakenAgain) {
     // Every gyro sample that reached the recorder is stored, and every one that did not is
     // counted as a gap of its channel: stored + gaps = the stream's whole seq range.
     int64_t lost_total = 0;
-    for (
-        const auto& r : sql.Rows(
-            "SELECT g.sensor_id, count(*), max(seq) - min(seq) + 1, (SELECT seq_gaps FROM losses l "
-            "WHERE l.run_id = g.run_id AND l.channel = 'GYRO_' || g.sensor_id) FROM gyro_samples g "
-            "WHERE run_id = '" +
-            run + "' GROUP BY g.sensor_id")) {
+    for (const auto& r : sql.Rows(GyroStreamsSql(run))) {
         SCOPED_TRACE(r[0]);
         ASSERT_FALSE(r[3].empty()) << "no losses row for the channel";
         EXPECT_EQ(std::stoll(r[1]) + std::stoll(r[3]), std::stoll(r[2]));

@@ -14,6 +14,7 @@
 
 #include "launch/child_process.hpp"
 #include "sim/noise.hpp"
+#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -21,30 +22,15 @@ namespace {
 using namespace std::chrono_literals;
 using nlohmann::json;
 
-std::string SqlText(const std::string& db, const std::string& sql) {
-    sqlite3* h = nullptr;
-    sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
-    sqlite3_stmt* st = nullptr;
-    std::string v;
-    if (sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW &&
-        sqlite3_column_text(st, 0))
-        v = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
-    sqlite3_finalize(st);
-    sqlite3_close(h);
-    return v;
-}
-
 TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
-    const std::string dir = ::testing::TempDir() + "gyrocal_loop_" + std::to_string(getpid());
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
+    const std::string dir = FreshDir("gyrocal_loop");
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
     // The five-point profile gives the held-out stretch plateaus before it; fast thermal constants
     // keep it to ~1 simulated hour. The temperature sensor lag is made negligible (0.1 s) so the
     // only effect the declared model lacks is the one switched on: with the default 15 s lag the
     // analysis rightly also finds temp_rate (the lag makes the offset follow dT/dt).
     ChildProcess cal({GYROCAL_CLI, "calibrate", "--profile", "five", "--sensors", "1", "--seed", "11", "--speed", "30",
-                      "--db", db, "--lcm-url", "udpm://239.255.76.67:7789?ttl=0&recv_buf_size=4194304", "--log-dir",
+                      "--db", db, "--lcm-url", UdpmUrl(7789), "--log-dir",
                       dir + "/logs", "--quiet", "--effect", "supply=0.05", "--rig-arg=--package-tau-s=40",
                       "--rig-arg=--ramp-c-per-min=10", "--rig-arg=--sensor-tau-s=0.1",
                       "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "500"},
@@ -52,7 +38,7 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     auto ended = cal.Wait(540s);
     ASSERT_TRUE(ended.has_value()) << ReadLog(out);
     ASSERT_EQ(ended->code, 0) << ReadLog(out);
-    const std::string run = SqlText(db, "SELECT run_id FROM runs WHERE run_id <> ''");
+    const std::string run = Sql(db).Text("SELECT run_id FROM runs WHERE run_id <> ''");
     ASSERT_FALSE(run.empty());
 
     const std::string report = dir + "/analysis.json";
@@ -107,9 +93,9 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     EXPECT_LT(s.at("error_after").at("drift_dph").get<double>(), s.at("error_before").at("drift_dph").get<double>());
 
     // Kept with the run: the analysis row and the extended coefficient set, linked by provenance.
-    EXPECT_EQ(SqlText(db, "SELECT count(*) FROM analyses WHERE run_id='" + run + "'"), "1");
-    EXPECT_EQ(SqlText(db, "SELECT c.source FROM analyses a JOIN coeff_sets c USING(coeff_row_id)"), "analysis:1");
-    EXPECT_EQ(SqlText(db, "SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM coeff_terms t JOIN analyses a "
+    EXPECT_EQ(Sql(db).Text("SELECT count(*) FROM analyses WHERE run_id='" + run + "'"), "1");
+    EXPECT_EQ(Sql(db).Text("SELECT c.source FROM analyses a JOIN coeff_sets c USING(coeff_row_id)"), "analysis:1");
+    EXPECT_EQ(Sql(db).Text("SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM coeff_terms t JOIN analyses a "
                           "USING(coeff_row_id) WHERE t.role='offset' ORDER BY term_index)"),
               "1,dT,dT^2,supply");
 }
