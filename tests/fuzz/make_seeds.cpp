@@ -11,7 +11,7 @@
 
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
-#include "messages.hpp"
+#include "message_builders.hpp"
 #include "model/convert.hpp"
 #include "model/json.hpp"
 #include "schema.hpp"

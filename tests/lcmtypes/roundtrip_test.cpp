@@ -17,6 +17,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
+#include "message_builders.hpp"
 
 namespace gyrocal {
 namespace {
@@ -30,27 +31,13 @@ Msg RoundTrip(const Msg& in) {
     return out;
 }
 
-template <class Msg>
-std::vector<uint8_t> Encode(const Msg& m) {
-    std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
-    m.encode(buf.data(), 0, static_cast<int>(buf.size()));
-    return buf;
-}
-
+// The shared builder's quadratic, with a full covariance and figures of its own.
 model_t MakeModel(const std::string& quantity, double scale) {
-    model_t m;
-    m.quantity = quantity;
-    m.term_names = {"1", "dT", "dT^2"};
-    m.num_terms = 3;
-    m.coeffs = {2.5 * scale, 1e-3 * scale, -2e-6 * scale};
+    model_t m = testing::Model(quantity, {2.5 * scale, 1e-3 * scale, -2e-6 * scale});
     m.covariance = {{1e-10, 1e-12, 0}, {1e-12, 1e-12, -1e-15}, {0, -1e-15, 1e-16}};
-    m.t0_c = 25.0;
-    m.temp_min_c = -10.0;
-    m.temp_max_c = 60.0;
     m.residual_rms = 3.3e-5;
     m.n_points = 5;
     m.condition_number = 12.5;
-    m.method = "wls";
     return m;
 }
 
@@ -325,7 +312,7 @@ TEST(RoundTrip, Status) {
 TEST(Fingerprint, PayloadOfOneTypeDoesNotDecodeAsAnother) {
     gyro_sample_t g;
     g.sensor_id = "S01";
-    std::vector<uint8_t> buf = Encode(g);
+    std::vector<uint8_t> buf = testing::EncodeMsg(g);
     encoder_sample_t e;
     EXPECT_LT(e.decode(buf.data(), 0, static_cast<int>(buf.size())), 0);
     rate_t r;

@@ -87,17 +87,3 @@ TEST(Limits, LoadsAFile) {
 
 }  // namespace
 }  // namespace gyrocal::acceptance
-
-namespace gyrocal::acceptance {
-namespace {
-
-// The example files shipped with the project (tools/run.sh calibrate uses limits.json) validate.
-TEST(Limits, TheShippedExamplesValidate) {
-    const Limits example = LoadLimitsFile(GYROCAL_SOURCE_DIR "/tools/acceptance/limits.json");
-    EXPECT_EQ(*example.min_plateaus, 5);
-    EXPECT_FALSE(example.no_unexplained_residual);
-    EXPECT_TRUE(LoadLimitsFile(GYROCAL_SOURCE_DIR "/tools/acceptance/strict.json").no_unexplained_residual);
-}
-
-}  // namespace
-}  // namespace gyrocal::acceptance

@@ -22,6 +22,7 @@
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 #include "model/convert.hpp"
+#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {
@@ -53,12 +54,7 @@ struct Listener {
     // Bounded wait for a condition, dispatching messages meanwhile.
     template <class F>
     bool WaitFor(F&& cond, std::chrono::milliseconds timeout = 10s) {
-        const auto deadline = std::chrono::steady_clock::now() + timeout;
-        while (!cond()) {
-            if (std::chrono::steady_clock::now() > deadline) return false;
-            bus.Handle(50ms);
-        }
-        return true;
+        return testing::HandleUntil(bus, std::forward<F>(cond), timeout);
     }
 };
 

@@ -43,6 +43,12 @@ std::vector<Point> Estimate(const std::vector<Event>& events, const RotationConf
     return Estimate(events, cfg, [](int64_t) { return false; });
 }
 
+// Expects `p` refused for a reason that says `why`.
+void ExpectRefused(const Point& p, const std::string& why) {
+    EXPECT_FALSE(p.accepted);
+    EXPECT_NE(p.reject_reason.find(why), std::string::npos) << p.reject_reason;
+}
+
 TEST(RotationEstimator, RecoversSensitivityInBothDirections) {
     // GIVEN +90, -90, +90, -90 deg moves with a slow offset drift
     RigSpec spec;
@@ -141,8 +147,7 @@ TEST(RotationEstimator, RejectsNonFiniteInput) {
     }
     const std::vector<Point> pts = Estimate(ev, RotationConfig::Defaults());
     ASSERT_EQ(pts.size(), 1u);
-    EXPECT_FALSE(pts[0].accepted);
-    EXPECT_NE(pts[0].reject_reason.find("not finite"), std::string::npos) << pts[0].reject_reason;
+    ExpectRefused(pts[0], "not finite");
 }
 
 TEST(RotationEstimator, RejectsAMoveWithASequenceGapInside) {
@@ -154,12 +159,8 @@ TEST(RotationEstimator, RejectsAMoveWithASequenceGapInside) {
         return (seq >= 650 && seq < 653) || seq == 1260;
     });
     ASSERT_EQ(pts.size(), 2u);
-    EXPECT_FALSE(pts[0].accepted);
-    EXPECT_NE(pts[0].reject_reason.find("3 samples missing (sequence gaps)"), std::string::npos)
-        << pts[0].reject_reason;
-    EXPECT_FALSE(pts[1].accepted);
-    EXPECT_NE(pts[1].reject_reason.find("1 samples missing"), std::string::npos)
-        << pts[1].reject_reason;
+    ExpectRefused(pts[0], "3 samples missing (sequence gaps)");
+    ExpectRefused(pts[1], "1 samples missing");
 }
 
 TEST(RotationEstimator, RejectsATinyMove) {
@@ -167,9 +168,7 @@ TEST(RotationEstimator, RejectsATinyMove) {
     const std::vector<Point> pts =
         Estimate(testing::Generate(spec, {{5, 2.0}}, 12), RotationConfig::Defaults());
     ASSERT_EQ(pts.size(), 1u);
-    EXPECT_FALSE(pts[0].accepted);
-    EXPECT_NE(pts[0].reject_reason.find("below the minimum angle"), std::string::npos)
-        << pts[0].reject_reason;
+    ExpectRefused(pts[0], "below the minimum angle");
     EXPECT_NEAR(pts[0].encoder_angle_deg, 2.0, 360.0 / spec.counts_per_rev + 1e-12);
 }
 
@@ -182,12 +181,8 @@ TEST(RotationEstimator, RejectsMovesWithoutEnoughRestBetweenThem) {
         Estimate(testing::Generate(spec, {{5, 90}, {end1 + 1.0, -90}}, end1 + 10),
                  RotationConfig::Defaults());
     ASSERT_EQ(pts.size(), 2u);
-    EXPECT_FALSE(pts[0].accepted);
-    EXPECT_NE(pts[0].reject_reason.find("rest window after"), std::string::npos)
-        << pts[0].reject_reason;
-    EXPECT_FALSE(pts[1].accepted);
-    EXPECT_NE(pts[1].reject_reason.find("rest window before"), std::string::npos)
-        << pts[1].reject_reason;
+    ExpectRefused(pts[0], "rest window after");
+    ExpectRefused(pts[1], "rest window before");
 }
 
 TEST(RotationEstimator, WaitsForTheRestWindowAfterTheMove) {

@@ -21,6 +21,7 @@
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 #include "synthetic_rotation.hpp"
+#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {
@@ -28,12 +29,7 @@ namespace {
 constexpr const char* kUrl = "udpm://239.255.76.67:7741?ttl=0&recv_buf_size=4194304";
 
 bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseconds limit) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        bus.Handle(std::chrono::milliseconds(20));
-    }
-    return true;
+    return gyrocal::testing::HandleUntil(bus, done, limit, std::chrono::milliseconds(20));
 }
 
 TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {

@@ -43,6 +43,30 @@ inline RigConfig QuietConfig() {
     return c;
 }
 
+// A heat-up, a +90 and a -90 deg turn at the hot setpoint, and a cool-down, in seconds from
+// `start_utime`: the chamber is set to `hot_c` at once, the turns start at `hot_s` and are given
+// `turn_s` each, then the chamber is set to `cool_c` and the rig runs on to `end_s`.
+struct HeatTurnCool {
+    double hot_c;
+    int64_t hot_s;
+    int64_t turn_s;
+    double cool_c;
+    int64_t end_s;
+};
+
+inline void Run(Rig& rig, RigSink& sink, int64_t start_utime, const HeatTurnCool& p) {
+    constexpr int64_t kUsPerS = 1'000'000;
+    const int64_t turns_utime = start_utime + p.hot_s * kUsPerS;
+    rig.ChamberCommand(1, p.hot_c, 0.0);
+    rig.RunUntil(turns_utime, sink);
+    rig.TurntableCommand(1, 90.0, 0.0, 0.0);
+    rig.RunUntil(turns_utime + p.turn_s * kUsPerS, sink);
+    rig.TurntableCommand(2, -90.0, 0.0, 0.0);
+    rig.RunUntil(turns_utime + 2 * p.turn_s * kUsPerS, sink);
+    rig.ChamberCommand(2, p.cool_c, 0.0);
+    rig.RunUntil(start_utime + p.end_s * kUsPerS, sink);
+}
+
 // Overlapping Allan deviation of samples y (spacing dt_s) at cluster size m (tau = m dt).
 inline double AllanDeviation(const std::vector<double>& y, double dt_s, size_t m) {
     const size_t n = y.size();

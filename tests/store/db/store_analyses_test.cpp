@@ -10,22 +10,14 @@
 #include "query.hpp"
 #include "schema.hpp"
 #include "writer.hpp"
+#include "scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {
 
-std::string FreshPath(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_db_tests";
-    std::filesystem::create_directories(dir);
-    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
-    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
-    return p;
-}
-
-int64_t Count(Db& db, const std::string& sql) {
-    Stmt s(db, sql);
-    return s.Step() ? s.Int(0) : -1;
-}
+using testing::Count;
+using testing::FreshDbPath;
+using testing::OldDatabase;
 
 RunEventRow Start(const std::string& run) {
     RunEventRow e;
@@ -88,11 +80,9 @@ class MigrateFrom : public ::testing::TestWithParam<int> {};
 
 TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
     const int from = GetParam();
-    const std::string path = FreshPath("from_v" + std::to_string(from) + ".db");
+    const std::string path = FreshDbPath("from_v" + std::to_string(from) + ".db");
     {
-        Db db(path, Db::Mode::kReadWriteCreate);
-        ConfigureConnection(db);
-        Migrate(db, from);
+        OldDatabase db(path, from);
         ASSERT_EQ(db.UserVersion(), from);
         EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'analyses'"),
                   from >= 4 ? 1 : 0);
@@ -144,11 +134,9 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
 // GIVEN a v6 database with a plateau (its temperature-line mean under the old name temp_v_mean),
 // WHEN the writer opens it, THEN the value is read back under the fixed name temp_mean_v.
 TEST(MigrateRename, PlateauTempLineMeanKeepsItsValueUnderTheFixedName) {
-    const std::string path = FreshPath("rename_v6.db");
+    const std::string path = FreshDbPath("rename_v6.db");
     {
-        Db db(path, Db::Mode::kReadWriteCreate);
-        ConfigureConnection(db);
-        Migrate(db, 6);
+        OldDatabase db(path, 6);
         db.Exec(
             "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, temp_v_mean, recv_utime) "
             "VALUES ('OLD', 'S01', 1, 5, 2.545, 6)");
@@ -170,11 +158,9 @@ INSTANTIATE_TEST_SUITE_P(Schema, MigrateFrom, ::testing::Range(1, kSchemaVersion
 // outcome where one was stored and NULL elsewhere (never a guess), v_analyses shows it, and a
 // new analysis stores its outcome and reads it back.
 TEST(Analyses, V8BackfillsTheOutcomeFromResultJsonWherePresent) {
-    const std::string path = FreshPath("outcome_v8.db");
+    const std::string path = FreshDbPath("outcome_v8.db");
     {
-        Db db(path, Db::Mode::kReadWriteCreate);
-        ConfigureConnection(db);
-        Migrate(db, 6);
+        OldDatabase db(path, 6);
         db.Exec(
             "INSERT INTO runs(run_id, started_utime, outcome, first_recv_utime) "
             "VALUES ('R6', 1, 'done', 10)");
@@ -209,7 +195,7 @@ TEST(Analyses, V8BackfillsTheOutcomeFromResultJsonWherePresent) {
 }
 
 TEST(Analyses, StoredWithTheirRunAndExtendedSetInOneGo) {
-    const std::string path = FreshPath("analyses.db");
+    const std::string path = FreshDbPath("analyses.db");
     StoreWriter w(path, {"test", "h", 1});
     w.Write({Start("R1"), Set("R1", 77, "fitter", 200)}, {});
     Db& db = w.db();
@@ -270,7 +256,7 @@ TEST(Analyses, StoredWithTheirRunAndExtendedSetInOneGo) {
 }
 
 TEST(Analyses, RefusalsWriteNothing) {
-    const std::string path = FreshPath("analyses_bad.db");
+    const std::string path = FreshDbPath("analyses_bad.db");
     StoreWriter w(path, {"test", "h", 1});
     w.Write({Start("R1")}, {});
     Db& db = w.db();
@@ -289,11 +275,11 @@ TEST(Analyses, RefusalsWriteNothing) {
     EXPECT_EQ(Count(db, "SELECT count(*) FROM analyses"), 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'NOPE'"), 0);
-    EXPECT_THROW(OpenForUpdate(FreshPath("missing.db")), StoreError);
+    EXPECT_THROW(OpenForUpdate(FreshDbPath("missing.db")), StoreError);
 }
 
 TEST(CoeffSets, KeptOncePerKeyWhoeverWritesFirst) {
-    const std::string path = FreshPath("coeff_once.db");
+    const std::string path = FreshDbPath("coeff_once.db");
     StoreWriter w(path, {"test", "h", 1});
     w.Write({Start("R1")}, {});
     // GIVEN a set stored directly through a second connection (as gyrocal analyze does)

@@ -12,24 +12,16 @@
 #include "replay_reader.hpp"
 #include "schema.hpp"
 #include "writer.hpp"
+#include "scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {
 
 using namespace std::chrono_literals;
 
-std::string FreshPath(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_db_tests";
-    std::filesystem::create_directories(dir);
-    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
-    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
-    return p;
-}
-
-int64_t Count(Db& db, const std::string& sql) {
-    Stmt s(db, sql);
-    return s.Step() ? s.Int(0) : -1;
-}
+using testing::Count;
+using testing::FreshDbPath;
+using testing::OldDatabase;
 
 GyroRow Sample(const std::string& run, int64_t seq) {
     GyroRow g;
@@ -46,12 +38,10 @@ GyroRow Sample(const std::string& run, int64_t seq) {
 }
 
 TEST(Schema, MigratesAVersionOneDatabaseWithItsData) {
-    const std::string path = FreshPath("v1.db");
+    const std::string path = FreshDbPath("v1.db");
     {
         // GIVEN a database at schema version 1 with a run, samples and a coefficient set
-        Db db(path, Db::Mode::kReadWriteCreate);
-        ConfigureConnection(db);
-        Migrate(db, 1);
+        OldDatabase db(path, 1);
         ASSERT_EQ(db.UserVersion(), 1);
         EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'recorder_sessions'"), 0);
         db.Exec("INSERT INTO runs(run_id, started_utime, stopped_utime, outcome, first_recv_utime) "
@@ -85,7 +75,7 @@ TEST(Schema, MigratesAVersionOneDatabaseWithItsData) {
 }
 
 TEST(Schema, QueryToolsMigrateAnOlderFileToo) {
-    const std::string path = FreshPath("v1q.db");
+    const std::string path = FreshDbPath("v1q.db");
     {
         Db db(path, Db::Mode::kReadWriteCreate);
         Migrate(db, 1);
@@ -96,7 +86,7 @@ TEST(Schema, QueryToolsMigrateAnOlderFileToo) {
 }
 
 TEST(Schema, RefusesNewerAndForeignFiles) {
-    const std::string newer = FreshPath("newer.db");
+    const std::string newer = FreshDbPath("newer.db");
     {
         Db db(newer, Db::Mode::kReadWriteCreate);
         Migrate(db);
@@ -110,18 +100,18 @@ TEST(Schema, RefusesNewerAndForeignFiles) {
     }
     EXPECT_THROW(OpenForQuery(newer), StoreError);
 
-    const std::string foreign = FreshPath("foreign.db");
+    const std::string foreign = FreshDbPath("foreign.db");
     {
         Db db(foreign, Db::Mode::kReadWriteCreate);
         db.Exec("CREATE TABLE stuff(x)");
     }
     EXPECT_THROW(StoreWriter(foreign, {}), StoreError);
     EXPECT_THROW(OpenForQuery(foreign), StoreError);
-    EXPECT_THROW(OpenForQuery(FreshPath("missing.db")), StoreError);
+    EXPECT_THROW(OpenForQuery(FreshDbPath("missing.db")), StoreError);
 }
 
 TEST(Writer, RoundTripsRowsRunsAndLosses) {
-    const std::string path = FreshPath("roundtrip.db");
+    const std::string path = FreshDbPath("roundtrip.db");
     StoreWriter w(path, {"rec-1", "host", 1});
     RunEventRow start;
     start.run_id = "R1";
@@ -179,7 +169,7 @@ TEST(Writer, RoundTripsRowsRunsAndLosses) {
 }
 
 TEST(AsyncWriter, CommitsWithinTheBatchInterval) {
-    const std::string path = FreshPath("interval.db");
+    const std::string path = FreshDbPath("interval.db");
     StoreWriter w(path, {});
     constexpr auto kInterval = 50ms;
     AsyncWriter aw(w, {100000, 1000, kInterval});
@@ -198,7 +188,7 @@ TEST(AsyncWriter, CommitsWithinTheBatchInterval) {
 }
 
 TEST(AsyncWriter, FullQueueDropsCountedPerRunButEssentialRowsKept) {
-    const std::string path = FreshPath("drops.db");
+    const std::string path = FreshDbPath("drops.db");
     StoreWriter w(path, {});
     // Hold the write lock from another connection so the writer thread cannot commit.
     Db blocker(path, Db::Mode::kReadWrite);
@@ -225,7 +215,7 @@ TEST(AsyncWriter, FullQueueDropsCountedPerRunButEssentialRowsKept) {
 }
 
 TEST(AsyncWriter, AWriteFailureIsReportedNotThrown) {
-    const std::string path = FreshPath("fail.db");
+    const std::string path = FreshDbPath("fail.db");
     StoreWriter w(path, {});
     w.db().Exec("DROP TABLE gyro_samples");  // every later insert fails
     AsyncWriter aw(w, {1000, 1, 10ms});

@@ -9,22 +9,14 @@
 #include "query.hpp"
 #include "schema.hpp"
 #include "writer.hpp"
+#include "scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {
 
-std::string FreshPath(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_fit_tests";
-    std::filesystem::create_directories(dir);
-    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
-    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
-    return p;
-}
-
-int64_t Count(Db& db, const std::string& sql) {
-    Stmt s(db, sql);
-    return s.Step() ? s.Int(0) : -1;
-}
+using testing::Count;
+using testing::FreshDbPath;
+using testing::OldDatabase;
 
 FitReportRow Report(int64_t set_id, bool final, const std::string& status) {
     FitReportRow r;
@@ -86,7 +78,7 @@ CoeffSetRow Set(int64_t id, double sensitivity) {
 }
 
 TEST(FitReports, FinalReportExclusionsRepeatabilityAndNoiseReadBack) {
-    const std::string path = FreshPath("fit.db");
+    const std::string path = FreshDbPath("fit.db");
     StoreWriter w(path, {"test", "h", 1});
     // a mid-run report, then the final one; two noise estimates; the run's final set
     w.Write({Report(100, false, "partial"), Report(200, true, "complete"), Noise(10, 4e-5),
@@ -124,11 +116,9 @@ TEST(FitReports, FinalReportExclusionsRepeatabilityAndNoiseReadBack) {
 }
 
 TEST(FitReports, AVersionFourFileGainsTheTablesAndKeepsItsRows) {
-    const std::string path = FreshPath("v4.db");
+    const std::string path = FreshDbPath("v4.db");
     {
-        Db db(path, Db::Mode::kReadWriteCreate);
-        ConfigureConnection(db);
-        Migrate(db, 4);
+        OldDatabase db(path, 4);
         db.Exec("INSERT INTO runs(run_id, outcome, first_recv_utime) VALUES ('OLD', 'stop', 1)");
     }
     StoreWriter w(path, {"test", "h", 1});

@@ -11,22 +11,13 @@
 #include "model_rows.hpp"
 #include "query.hpp"
 #include "writer.hpp"
+#include "scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {
 
-std::string FreshPath(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_db_tests";
-    std::filesystem::create_directories(dir);
-    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
-    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
-    return p;
-}
-
-int64_t Count(Db& db, const std::string& sql) {
-    Stmt s(db, sql);
-    return s.Step() ? s.Int(0) : -1;
-}
+using testing::Count;
+using testing::FreshDbPath;
 
 // Every registry term, with distinct coefficients so a swapped or dropped term shows.
 model::Model Extended(const std::string& quantity) {
@@ -110,7 +101,7 @@ TEST(ModelRows, SteadyStateValueIsTheSharedEvaluatorAtSteadyInputs) {
 }
 
 TEST(ModelRows, StoreAnalysisWithAModelCoeffSetAndWithAMessage) {
-    const std::string path = FreshPath("model_rows.db");
+    const std::string path = FreshDbPath("model_rows.db");
     StoreWriter w(path, {"test", "h", 1});
     RunEventRow start;
     start.run_id = "R1";

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "bus/channels.hpp"
-#include "messages.hpp"
+#include "message_builders.hpp"
 #include "recorder_harness.hpp"
 
 namespace gyrocal::testing {
@@ -26,7 +26,7 @@ constexpr auto kBatchInterval = 200ms;
 constexpr auto kAllowance = 250ms;
 
 TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
-    const std::string db = TempPath("crash.db");
+    const std::string db = FreshDbPath("crash.db");
     const std::string url = UrlForPort(7763);
     const unsigned seed = std::random_device{}();
     SCOPED_TRACE("seed " + std::to_string(seed));

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "messages.hpp"
+#include "message_builders.hpp"
 
 namespace gyrocal::record {
 namespace {

@@ -1,8 +1,7 @@
 #pragma once
-// Shared pieces of the multi-process recorder tests: start a real gyrocal-recorder on a test's
-// own multicast port, wait until it listens, and count rows in its database.
+// Shared pieces of the multi-process recorder and replay tests: start a real gyrocal-recorder on a
+// test's own multicast port, wait until it listens, and count rows in its database.
 #include <chrono>
-#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -10,20 +9,13 @@
 #include "bus/bus.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
-#include "sqlite_db.hpp"
+#include "scratch_db.hpp"
+#include "bus_wait.hpp"
 
 namespace gyrocal::testing {
 
 inline std::string UrlForPort(int port) {
     return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304";
-}
-
-inline std::string TempPath(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_tests";
-    std::filesystem::create_directories(dir);
-    const auto p = dir / (name + "_" + std::to_string(::getpid()));
-    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p.string() + ext);
-    return p.string();
 }
 
 inline ChildProcess StartRecorder(const std::string& db, const std::string& url,
@@ -40,16 +32,19 @@ inline bool WaitForRecorder(Bus& bus, int pid, std::chrono::milliseconds timeout
     bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
         if (s.process == "gyrocal-recorder" && s.pid == pid) seen = true;
     });
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (!seen && std::chrono::steady_clock::now() < end) bus.Handle(std::chrono::milliseconds(50));
-    return seen;
+    return HandleUntil(bus, [&] { return seen; }, timeout);
 }
 
-inline int64_t Count(const std::string& db_path, const std::string& sql) {
-    store::Db db(db_path, store::Db::Mode::kReadOnly);
-    store::Stmt s(db, sql);
-    return s.Step() ? s.Int(0) : -1;
-}
+// A real gyrocal-recorder writing `db`, and a bus on its `url` to publish to it and to hear it.
+struct RecorderOnBus {
+    RecorderOnBus(const std::string& db, const std::string& url,
+                  std::vector<std::string> extra = {})
+        : bus(BusOptions{url}), rec(StartRecorder(db, url, std::move(extra))) {}
+    // True once its STATUS is heard (within 10 s): it has subscribed by then.
+    bool Listening() { return WaitForRecorder(bus, rec.pid(), std::chrono::seconds(10)); }
+    Bus bus;
+    ChildProcess rec;
+};
 
 // Polls `sql` until it returns `expected` or `timeout` passes; returns the last value.
 inline int64_t WaitForCount(const std::string& db_path, const std::string& sql, int64_t expected,

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bus/channels.hpp"
-#include "messages.hpp"
+#include "message_builders.hpp"
 #include "recorder_harness.hpp"
 #include "recorder_node.hpp"
 
@@ -26,7 +26,7 @@ record::RecorderOptions MemqOptions(const std::string& db) {
 
 TEST(RecorderNode, RecordsTheRunAndCountsWhatWasLost) {
     // GIVEN a recorder node on memq:// writing a fresh database
-    const std::string db = TempPath("recorder_node_rows");
+    const std::string db = FreshDbPath("recorder_node_rows");
     {
         record::RecorderNode node(MemqOptions(db), record::OpenRecorderDatabase(db));
         Bus& bus = node.bus();
@@ -67,7 +67,7 @@ TEST(RecorderNode, RecordsTheRunAndCountsWhatWasLost) {
 
 TEST(RecorderNode, ChannelRegexIsRecordedOnly) {
     // GIVEN a node that records GYRO_S01 only
-    const std::string db = TempPath("recorder_node_channels");
+    const std::string db = FreshDbPath("recorder_node_channels");
     {
         auto o = MemqOptions(db);
         o.channels = "GYRO_S01|RUN_EVENT";
@@ -93,7 +93,7 @@ TEST(RecorderNode, BadChannelRegexIsExplained) {
 }
 
 TEST(RecorderNode, DatabaseThatIsNotGyrocalIsRefused) {
-    const std::string path = TempPath("recorder_node_notdb");
+    const std::string path = FreshDbPath("recorder_node_notdb");
     {
         std::FILE* f = std::fopen(path.c_str(), "w");
         ASSERT_NE(f, nullptr);

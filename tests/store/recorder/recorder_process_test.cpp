@@ -9,7 +9,7 @@
 
 #include "analyses.hpp"
 #include "bus/channels.hpp"
-#include "messages.hpp"
+#include "message_builders.hpp"
 #include "model_rows.hpp"
 #include "recorder_harness.hpp"
 
@@ -42,16 +42,14 @@ private:
 };
 
 TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
-    const std::string db = TempPath("full_stream.db");
-    const std::string url = UrlForPort(7760);
-    Bus bus(BusOptions{url});
-    ChildProcess rec = StartRecorder(db, url);
-    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s)) << "recorder did not come up";
+    const std::string db = FreshDbPath("full_stream.db");
+    RecorderOnBus r(db, UrlForPort(7760));
+    ASSERT_TRUE(r.Listening()) << "recorder did not come up";
 
     // GIVEN a run of 3 sensors: samples before the start (no run), in the run, after the stop.
     const std::vector<std::string> ids = {"S01", "S02", "S03"};
     const int64_t kBefore = 50, kIn = 1500, kAfter = 40;
-    Publisher pub(bus);
+    Publisher pub(r.bus);
     int64_t seq = 0;
     for (; seq < kBefore; ++seq) {
         for (const auto& id : ids) pub.Send(channels::Gyro(id), Gyro(id, seq));
@@ -92,7 +90,7 @@ TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
     // WHEN the recorder has committed it all and is stopped normally
     const int64_t gyro_total = (kBefore + kIn + kAfter) * 3;
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples", gyro_total, 10s), gyro_total);
-    const ExitStatus st = rec.Stop();
+    const ExitStatus st = r.rec.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
 
     // THEN each channel's count equals what was published, in the right run
@@ -146,27 +144,27 @@ TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
 }
 
 TEST(RecorderProcess, RestartedRecorderContinuesTheOpenRunAndNoRatesSkipsRates) {
-    const std::string db = TempPath("restart.db");
+    const std::string db = FreshDbPath("restart.db");
     const std::string url = UrlForPort(7761);
     {
-        Bus bus(BusOptions{url});
-        ChildProcess rec = StartRecorder(db, url);
-        ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
-        ASSERT_TRUE(bus.Publish(std::string(channels::kRunEvent), RunEvent("R9", "start", {"A"})));
-        for (int64_t s = 0; s < 10; ++s) ASSERT_TRUE(bus.Publish(channels::Gyro("A"), Gyro("A", s)));
+        RecorderOnBus first(db, url);
+        ASSERT_TRUE(first.Listening());
+        ASSERT_TRUE(
+            first.bus.Publish(std::string(channels::kRunEvent), RunEvent("R9", "start", {"A"})));
+        for (int64_t s = 0; s < 10; ++s)
+            ASSERT_TRUE(first.bus.Publish(channels::Gyro("A"), Gyro("A", s)));
         EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples", 10, 10s), 10);
-        EXPECT_EQ(rec.Stop().code, 0);
+        EXPECT_EQ(first.rec.Stop().code, 0);
     }
     // GIVEN the run was not stopped WHEN a new recorder starts THEN its samples join R9.
-    Bus bus(BusOptions{url});
-    ChildProcess rec = StartRecorder(db, url, {"--no-rates"});
-    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
+    RecorderOnBus r(db, url, {"--no-rates"});
+    ASSERT_TRUE(r.Listening());
     for (int64_t s = 10; s < 20; ++s) {
-        ASSERT_TRUE(bus.Publish(channels::Gyro("A"), Gyro("A", s)));
-        ASSERT_TRUE(bus.Publish(channels::Rate("A"), Rate("A", s)));
+        ASSERT_TRUE(r.bus.Publish(channels::Gyro("A"), Gyro("A", s)));
+        ASSERT_TRUE(r.bus.Publish(channels::Rate("A"), Rate("A", s)));
     }
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R9'", 20, 10s), 20);
-    EXPECT_EQ(rec.Stop().code, 0);
+    EXPECT_EQ(r.rec.Stop().code, 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM rates"), 0);
     EXPECT_EQ(Count(db, "SELECT resumed_run_id = 'R9' FROM recorder_sessions ORDER BY "
                         "session_id DESC LIMIT 1"), 1);
@@ -175,7 +173,7 @@ TEST(RecorderProcess, RestartedRecorderContinuesTheOpenRunAndNoRatesSkipsRates) 
 TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
     ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
                       "/nonexistent-dir/x.db", "--lcm-url", UrlForPort(7762)},
-                     "", TempPath("unwritable.err"));
+                     "", FreshDbPath("unwritable.err"));
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_TRUE(st->exited);
@@ -183,7 +181,7 @@ TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
 }
 
 TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
-    const std::string db = TempPath("foreign.db");
+    const std::string db = FreshDbPath("foreign.db");
     {
         store::Db d(db, store::Db::Mode::kReadWriteCreate);
         d.Exec("CREATE TABLE t(x)");
@@ -200,12 +198,10 @@ TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
 // fitter's re-publish of an unchanged set (same coeff_set_id) is kept once too; another source
 // with the same id is another set.
 TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
-    const std::string db = TempPath("coeff_once.db");
-    const std::string url = UrlForPort(7767);
-    Bus bus(BusOptions{url});
-    ChildProcess rec = StartRecorder(db, url);
-    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
-    ASSERT_TRUE(bus.Publish(std::string(channels::kRunEvent), RunEvent("R5", "start", {"S01"})));
+    const std::string db = FreshDbPath("coeff_once.db");
+    RecorderOnBus r(db, UrlForPort(7767));
+    ASSERT_TRUE(r.Listening());
+    ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("R5", "start", {"S01"})));
     ASSERT_EQ(WaitForCount(db, "SELECT count(*) FROM runs WHERE run_id = 'R5'", 1, 10s), 1);
 
     // GIVEN an analysis stored, with its extended set, while the recorder writes the same file
@@ -224,13 +220,13 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
     extended.source = stored.source;
     const coeff_set_t fitter = Coeffs("S01", "R5", 77, {}, {});
     for (int k = 0; k < 2; ++k) {
-        ASSERT_TRUE(bus.Publish(channels::Coeffs("S01"), extended));
-        ASSERT_TRUE(bus.Publish(channels::Coeffs("S01"), fitter));
+        ASSERT_TRUE(r.bus.Publish(channels::Coeffs("S01"), extended));
+        ASSERT_TRUE(r.bus.Publish(channels::Coeffs("S01"), fitter));
     }
-    ASSERT_TRUE(bus.Publish(std::string(channels::kRunEvent), RunEvent("R5", "stop", {"S01"})));
+    ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("R5", "stop", {"S01"})));
     // (one writer, in order: once the stop is stored, the sets before it are too)
     ASSERT_EQ(WaitForCount(db, "SELECT count(*) FROM run_events WHERE run_id = 'R5'", 2, 10s), 2);
-    EXPECT_EQ(rec.Stop().code, 0);
+    EXPECT_EQ(r.rec.Stop().code, 0);
 
     // THEN one row per source, and the analysis points at the row it stored
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);
@@ -242,10 +238,10 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
 }
 
 TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
-    const std::string err = TempPath("bad_regex.err");
+    const std::string err = FreshDbPath("bad_regex.err");
     for (const std::string bad : {"GYRO_(", "*", "[a-"}) {
         ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
-                          TempPath("bad_regex.db"), "--channels", bad, "--lcm-url",
+                          FreshDbPath("bad_regex.db"), "--channels", bad, "--lcm-url",
                           UrlForPort(7762)}, "", err);
         const auto st = rec.Wait(10s);
         ASSERT_TRUE(st);
@@ -258,11 +254,10 @@ TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
         EXPECT_NE(text.find("not a valid channel regex"), std::string::npos) << text;
     }
     // A valid one is accepted: the recorder comes up (its heartbeat) and stops normally.
-    Bus bus(BusOptions{UrlForPort(7769)});
-    ChildProcess ok = StartRecorder(TempPath("good_regex.db"), UrlForPort(7769),
-                                    {"--channels", "GYRO_.*|RUN_EVENT"});
-    ASSERT_TRUE(WaitForRecorder(bus, ok.pid(), 10s));
-    EXPECT_EQ(ok.Stop().code, 0);
+    RecorderOnBus ok(FreshDbPath("good_regex.db"), UrlForPort(7769),
+                     {"--channels", "GYRO_.*|RUN_EVENT"});
+    ASSERT_TRUE(ok.Listening());
+    EXPECT_EQ(ok.rec.Stop().code, 0);
 }
 
 }  // namespace

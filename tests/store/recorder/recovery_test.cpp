@@ -12,19 +12,14 @@
 #include "open_run.hpp"
 #include "query.hpp"
 #include "writer.hpp"
+#include "scratch_db.hpp"
 
 namespace gyrocal::record {
 namespace {
 
 using namespace gyrocal::store;
 
-std::string FreshPath(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_recovery_tests";
-    std::filesystem::create_directories(dir);
-    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
-    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
-    return p;
-}
+using testing::FreshDbPath;
 
 RunEventRow Event(const std::string& run, const std::string& event, const std::string& config,
                   int64_t recv) {
@@ -68,7 +63,7 @@ SensitivityRow Point(const std::string& run, const std::string& sensor, int64_t 
 }
 
 TEST(OpenRunOnBus, ARecorderContinuesOnlyARunOfItsOwnBus) {
-    const std::string path = FreshPath("open_run.db");
+    const std::string path = FreshDbPath("open_run.db");
     {
         StoreWriter w(path, {"rec", "h", 1});
         // GIVEN chamber 1's run (port 7667), then chamber 2's (port 7668), both open, and a
@@ -87,7 +82,7 @@ TEST(OpenRunOnBus, ARecorderContinuesOnlyARunOfItsOwnBus) {
 }
 
 TEST(OpenRunOnBus, ARunThatNamesNoBusIsAnyBus) {
-    const std::string path = FreshPath("open_run_nobus.db");
+    const std::string path = FreshDbPath("open_run_nobus.db");
     {
         StoreWriter w(path, {"rec", "h", 1});
         w.Write({Event("HAND", "start", R"({"sequencer":{}})", 10)}, {});
@@ -98,7 +93,7 @@ TEST(OpenRunOnBus, ARunThatNamesNoBusIsAnyBus) {
 }
 
 TEST(Recovery, StoredPointsComeBackOnceAsTheMessagesTheyWere) {
-    const std::string path = FreshPath("recovery.db");
+    const std::string path = FreshDbPath("recovery.db");
     {
         StoreWriter w(path, {"rec", "h", 1});
         w.Write({Event("R", "start", "{}", 1), Plateau("R", "A1", 200, 2.51),

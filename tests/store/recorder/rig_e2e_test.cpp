@@ -11,23 +11,22 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(RecorderWithRig, StoresEveryMessageTheRigPublished) {
-    const std::string db = TempPath("rig_e2e.db");
+    const std::string db = FreshDbPath("rig_e2e.db");
     const std::string url = UrlForPort(7768);
-    Bus bus(BusOptions{url});
-    ChildProcess rec = StartRecorder(db, url);
-    ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s));
+    RecorderOnBus r(db, url);
+    ASSERT_TRUE(r.Listening());
     int64_t rig_published = -1;
     ChildProcess rig({std::string(GYROCAL_BIN_DIR) + "/gyrocal-sim-rig", "--lcm-url", url,
                       "--mode", "builtin", "--speed", "50", "--duration-s", "40", "--units", "4"},
                      "", db + ".rig.err");
-    bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
+    r.bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
         if (s.pid == rig.pid()) rig_published = s.published;  // the last heartbeat counts itself
     });
     std::optional<ExitStatus> st;
     const auto end = std::chrono::steady_clock::now() + 30s;
-    while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) bus.Handle(20ms);
+    while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) r.bus.Handle(20ms);
     ASSERT_TRUE(st && st->exited && st->code == 0) << (st ? st->Describe() : "rig still running");
-    for (int i = 0; i < 10; ++i) bus.Handle(20ms);  // its final heartbeat
+    for (int i = 0; i < 10; ++i) r.bus.Handle(20ms);  // its final heartbeat
     ASSERT_GT(rig_published, 0);
     const std::string stored_sql =
         "SELECT (SELECT count(*) FROM gyro_samples) + (SELECT count(*) FROM encoder_samples) + "
@@ -35,7 +34,7 @@ TEST(RecorderWithRig, StoresEveryMessageTheRigPublished) {
         "(SELECT count(*) FROM status WHERE pid = " +
         std::to_string(rig.pid()) + " AND process = 'gyrocal-sim-rig')";
     EXPECT_EQ(WaitForCount(db, stored_sql, rig_published, 10s), rig_published);
-    EXPECT_EQ(rec.Stop().code, 0);
+    EXPECT_EQ(r.rec.Stop().code, 0);
     // Every unit's power-on time (the rig's start) is announced every 10 s: t = 0, 10, .. 40 s.
     EXPECT_EQ(Count(db, "SELECT count(*) FROM power_states WHERE power_on_utime = "
                         "(SELECT min(utime) FROM gyro_samples)"), 4 * 5);

@@ -20,7 +20,7 @@
 #include <thread>
 
 #include "bus/channels.hpp"
-#include "messages.hpp"
+#include "message_builders.hpp"
 #include "recorder_harness.hpp"
 #include "writer.hpp"
 
@@ -91,7 +91,7 @@ protected:
     void Start(const std::string& db, int port, std::vector<std::string> extra = {}) {
         db_ = db;
         // The log is kept off the faulty file system (a full disk would swallow it).
-        log_ = TempPath("fault_" + std::to_string(port) + ".err");
+        log_ = FreshDbPath("fault_" + std::to_string(port) + ".err");
         bus_ = std::make_unique<Bus>(BusOptions{UrlForPort(port)});
         std::vector<std::string> argv = {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder",
                                          "--db", db, "--lcm-url", UrlForPort(port),
@@ -159,7 +159,7 @@ protected:
 };
 
 TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
-    Start(TempPath("fault_locked.db"), 7850);
+    Start(FreshDbPath("fault_locked.db"), 7850);
     Publish(200);
     ExpectAllStored();
     {
@@ -179,7 +179,7 @@ TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
 }
 
 TEST_F(Fault, AtTheMemoryBoundWhatIsDroppedIsCountedInLosses) {
-    Start(TempPath("fault_bound.db"), 7851, {"--queue-rows", "1000"});
+    Start(FreshDbPath("fault_bound.db"), 7851, {"--queue-rows", "1000"});
     Publish(100);
     ExpectAllStored();
     store::Db blocker(db_, store::Db::Mode::kReadWrite);
@@ -269,7 +269,7 @@ TEST(FaultAtStart, ADatabaseOnAReadOnlyFileSystemIsAClearErrorAndExitTwo) {
     const std::string db = m.dir() + "/gyrocal.db";
     { store::StoreWriter w(db, {}); }  // a valid gyrocal database, then the mount goes read-only
     ASSERT_EQ(ScratchMount::Run("mount -o remount,ro " + m.dir()), "");
-    const std::string err_path = TempPath("fault_rostart.err");  // not on the read-only mount
+    const std::string err_path = FreshDbPath("fault_rostart.err");  // not on the read-only mount
     ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
                       "--lcm-url", UrlForPort(7854)},
                      "", err_path);

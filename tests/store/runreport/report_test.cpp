@@ -231,24 +231,20 @@ TEST_F(ReportPage, IsSelfContainedAndCarriesTheRunsNumbers) {
                                 "</td><td class=\"num\">" + Fmt("%.6g", testing::kOffset[i]) + "</td>";
         EXPECT_NE(page.find(row), std::string::npos) << row;
     }
-    // Traceability: the CSV file's hash, both hosts, the versions.
-    EXPECT_NE(page.find(std::string(64, 'a')), std::string::npos);
-    EXPECT_NE(page.find("CSV file"), std::string::npos);
-    EXPECT_NE(page.find("<code>daq-pc</code>"), std::string::npos);
-    EXPECT_NE(page.find("<code>analysis-pc</code>"), std::string::npos);
-    EXPECT_NE(page.find("v9.9-recorder"), std::string::npos);
-    // Losses per channel and refusals, with text from the database escaped.
-    EXPECT_NE(page.find("data-channel=\"GYRO_S01\"><td class=\"mono\">GYRO_S01</td><td class=\"num\">4</td>"),
-              std::string::npos);
-    EXPECT_EQ(page.find(testing::kRefusal), std::string::npos);
-    EXPECT_NE(page.find("&lt;b&gt;angle&lt;/b&gt; 87.1 deg"), std::string::npos);
-    EXPECT_NE(page.find("analysis could not test: warmup: the run is shorter than 10 tau"), std::string::npos);
-    // Acceptance: both units fail; the analysis' verdict and figures are shown.
-    EXPECT_NE(page.find("data-sensor=\"S01\" data-outcome=\"FAIL\""), std::string::npos);
-    EXPECT_NE(page.find("data-sensor=\"S02\" data-outcome=\"FAIL\""), std::string::npos);
-    EXPECT_NE(page.find("verdict <strong data-verdict>missing effect: supply</strong>"), std::string::npos);
-    EXPECT_NE(page.find("outcome <strong data-outcome>partly explained</strong>"),
-              std::string::npos);
+    const std::vector<std::string> shown = {
+        // Traceability: the CSV file's hash, both hosts, the versions.
+        std::string(64, 'a'), "CSV file", "<code>daq-pc</code>", "<code>analysis-pc</code>",
+        "v9.9-recorder",
+        // Losses per channel and refusals, with text from the database escaped.
+        "data-channel=\"GYRO_S01\"><td class=\"mono\">GYRO_S01</td><td class=\"num\">4</td>",
+        "&lt;b&gt;angle&lt;/b&gt; 87.1 deg",
+        "analysis could not test: warmup: the run is shorter than 10 tau",
+        // Acceptance: both units fail; the analysis' verdict and figures are shown.
+        "data-sensor=\"S01\" data-outcome=\"FAIL\"", "data-sensor=\"S02\" data-outcome=\"FAIL\"",
+        "verdict <strong data-verdict>missing effect: supply</strong>",
+        "outcome <strong data-outcome>partly explained</strong>"};
+    for (const std::string& piece : shown) EXPECT_NE(page.find(piece), std::string::npos) << piece;
+    EXPECT_EQ(page.find(testing::kRefusal), std::string::npos) << "unescaped database text";
     // What this run does not have is one line, never an empty box: for both units Allan deviation,
     // repeatability and validation; for S02 also the analysis and the residuals.
     for (const char* part : {"allan", "repeatability", "validation"}) {

@@ -32,14 +32,20 @@ protected:
         testing::RemoveRunDb(*path_);
         delete path_;
     }
+    // Run R1 of the suite's database; stored unless `store` is false.
+    static cli::AnalyzeOptions Options(bool store = true) {
+        cli::AnalyzeOptions o;
+        o.run_id = "R1";
+        o.db = *path_;
+        o.store = store;
+        return o;
+    }
     static std::string* path_;
 };
 std::string* AnalyzeCli::path_ = nullptr;
 
 TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
-    cli::AnalyzeOptions o;
-    o.run_id = "R1";
-    o.db = *path_;
+    cli::AnalyzeOptions o = Options();
     o.json = true;
     std::ostringstream out, err;
     ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
@@ -115,10 +121,7 @@ TEST(AnalyzeCliOutside, AnUnexplainedResidualIsStoredWithoutAModel) {
 }
 
 TEST_F(AnalyzeCli, NoStoreLeavesTheDatabaseAlone) {
-    cli::AnalyzeOptions o;
-    o.run_id = "R1";
-    o.db = *path_;
-    o.store = false;
+    cli::AnalyzeOptions o = Options(/*store=*/false);
     std::ostringstream out, err;
     auto db = st::OpenForQuery(*path_);
     const size_t before = st::ListAnalyses(*db, "R1").size();
@@ -129,9 +132,8 @@ TEST_F(AnalyzeCli, NoStoreLeavesTheDatabaseAlone) {
 }
 
 TEST_F(AnalyzeCli, UnknownRunSensorOrDatabaseFailsWithTheReason) {
-    cli::AnalyzeOptions o;
+    cli::AnalyzeOptions o = Options();
     o.run_id = "nope";
-    o.db = *path_;
     std::ostringstream out, err;
     EXPECT_EQ(cli::RunAnalyze(o, out, err), 1);
     EXPECT_NE(err.str().find("nope"), std::string::npos) << err.str();
@@ -162,10 +164,7 @@ TEST_F(AnalyzeCli, PlotWritesPngAndSvgOfResidualsAndTheFoundEffect) {
                       ("gyrocal_analysis_plot_" + std::to_string(::getpid()));
     std::filesystem::remove_all(base);
     std::filesystem::create_directories(base);
-    cli::AnalyzeOptions o;
-    o.run_id = "R1";
-    o.db = *path_;
-    o.store = false;
+    cli::AnalyzeOptions o = Options(/*store=*/false);
     o.plot_dir = (base / "pics").string();  // DIR itself is created
     std::ostringstream out, err;
     ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
@@ -268,10 +267,7 @@ TEST(AnalyzePlot, PeriodogramOfAPeriodicResidualLabelsItsPeriod) {
 }
 
 TEST_F(AnalyzeCli, PlotIntoAMissingParentOrWithoutGnuplotFailsClearly) {
-    cli::AnalyzeOptions o;
-    o.run_id = "R1";
-    o.db = *path_;
-    o.store = false;
+    cli::AnalyzeOptions o = Options(/*store=*/false);
     o.plot_dir = "/nonexistent_gyrocal_parent/pics";
     std::ostringstream out, err;
     EXPECT_EQ(cli::RunAnalyze(o, out, err), 2);

@@ -255,16 +255,17 @@ TEST_F(CompensateCli, BadInputFailsNamingFileLineOrField) {
         err.str("");
         return cli::RunCompensate(o, out, err);
     };
-    // A sensor in the CSV without a set.
-    {
-        std::ofstream(dir_ / "other.csv") << "time_s,sensor_id,gyro_v,temp_v\n0,S01,2.5,2.5\n"
-                                             "0,S02,2.5,2.5\n";
+    // The file `name` holding a header and `rows` compensated.
+    auto run_csv = [&](const std::string& name, const std::string& rows) {
+        std::ofstream(dir_ / name) << "time_s,sensor_id,gyro_v,temp_v\n" << rows;
         cli::CompensateOptions o = Options();
-        o.csv_path = (dir_ / "other.csv").string();
-        EXPECT_EQ(run(o), 1);
-        EXPECT_NE(err.str().find("other.csv:3"), std::string::npos) << err.str();
-        EXPECT_NE(err.str().find("'S02'"), std::string::npos) << err.str();
-    }
+        o.csv_path = (dir_ / name).string();
+        return run(o);
+    };
+    // A sensor in the CSV without a set.
+    EXPECT_EQ(run_csv("other.csv", "0,S01,2.5,2.5\n0,S02,2.5,2.5\n"), 1);
+    EXPECT_NE(err.str().find("other.csv:3"), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("'S02'"), std::string::npos) << err.str();
     // Malformed JSON, and a set without its offset model.
     {
         std::ofstream(dir_ / "bad.json") << "{\"coeff_sets\": [ {\"sensor_id\": ";
@@ -281,17 +282,11 @@ TEST_F(CompensateCli, BadInputFailsNamingFileLineOrField) {
         EXPECT_NE(err.str().find("offset"), std::string::npos) << err.str();
     }
     // A CSV error: the producers' reader names file, line and column.
-    {
-        std::ofstream(dir_ / "broken.csv") << "time_s,sensor_id,gyro_v,temp_v\n0,S01,2.5,2.5\n"
-                                              "0.01,S01,abc,2.5\n";
-        cli::CompensateOptions o = Options();
-        o.csv_path = (dir_ / "broken.csv").string();
-        EXPECT_EQ(run(o), 1);
-        EXPECT_NE(err.str().find("broken.csv"), std::string::npos) << err.str();
-        EXPECT_NE(err.str().find("3"), std::string::npos) << err.str();
-        EXPECT_NE(err.str().find("gyro_v"), std::string::npos) << err.str();
-        EXPECT_TRUE(out.str().empty());
-    }
+    EXPECT_EQ(run_csv("broken.csv", "0,S01,2.5,2.5\n0.01,S01,abc,2.5\n"), 1);
+    EXPECT_NE(err.str().find("broken.csv"), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("3"), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("gyro_v"), std::string::npos) << err.str();
+    EXPECT_TRUE(out.str().empty());
     // Options: two sources, none, a bad policy, an unknown stored row.
     {
         cli::CompensateOptions o = Options();

@@ -1,0 +1,146 @@
+// gyrocal-replay publishes a stored run with its timing; a second recorder stores exactly the
+// same samples again.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "recorder_harness.hpp"
+#include "writer.hpp"
+
+namespace gyrocal::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr int64_t kSpanUs = 2000000;  // recorded span: 2 s
+constexpr int64_t kSamples = 400;     // per sensor, evenly over the span
+
+void WriteSourceRun(const std::string& path) {
+    store::StoreWriter w(path, {"t", "h", 1});
+    std::vector<store::Row> rows;
+    store::RunEventRow start;
+    start.run_id = "RR";
+    start.event = "start";
+    start.utime = 1;
+    start.sensor_ids = {"A", "B"};
+    start.setpoint_c = std::nan("");
+    start.config_json = R"({"k":1})";
+    start.recv_utime = 0;
+    rows.push_back(start);
+    for (int64_t i = 0; i < kSamples; ++i) {
+        for (const char* id : {"A", "B"}) {
+            store::GyroRow g;
+            g.run_id = "RR";
+            g.sensor_id = id;
+            g.seq = i;
+            g.utime = 1000000000000000 + i * 5000;
+            g.gyro_v = 2.5 + 1e-6 * static_cast<double>(i);
+            g.temp_c = 25;
+            g.supply_v = std::nan("");
+            g.supply_counts = -1;
+            g.recv_utime = 1 + i * kSpanUs / kSamples;
+            rows.push_back(g);
+        }
+        store::EncoderRow e;
+        e.run_id = "RR";
+        e.encoder_id = "TABLE";
+        e.seq = i;
+        e.utime = 1000000000000000 + i * 5000;
+        e.counts = i;
+        e.recv_utime = 1 + i * kSpanUs / kSamples;
+        rows.push_back(e);
+    }
+    store::ChamberStateRow c;
+    c.run_id = "RR";
+    c.utime = 5;
+    c.recv_utime = kSpanUs / 2;
+    rows.push_back(c);
+    store::RunEventRow stop = start;
+    stop.event = "stop";
+    stop.recv_utime = kSpanUs;
+    rows.push_back(stop);
+    w.Write(rows, {});
+}
+
+TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
+    const std::string src = FreshDbPath("replay_src.db");
+    const std::string dst = FreshDbPath("replay_dst.db");
+    WriteSourceRun(src);
+    const std::string url = UrlForPort(7764);
+    RecorderOnBus r(dst, url);
+    ASSERT_TRUE(r.Listening());
+
+    // Speed 4: the 2 s run should take 0.5 s. Allowance: process start and database open
+    // (< 100 ms) plus scheduling on a loaded machine (300 ms); never shorter than the span/4.
+    const auto t0 = std::chrono::steady_clock::now();
+    ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", src,
+                         "--speed", "4", "--lcm-url", url}, "", dst + ".replay.err");
+    const auto st = replay.Wait(20s);
+    const auto took = std::chrono::steady_clock::now() - t0;
+    ASSERT_TRUE(st && st->exited && st->code == 0);
+    EXPECT_GE(took, std::chrono::microseconds(kSpanUs / 4));
+    EXPECT_LE(took, std::chrono::microseconds(kSpanUs / 4) + 400ms);
+
+    EXPECT_EQ(WaitForCount(dst, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR'",
+                           2 * kSamples, 10s), 2 * kSamples);
+    EXPECT_EQ(r.rec.Stop().code, 0);
+    EXPECT_EQ(Count(dst, "SELECT count(*) FROM encoder_samples WHERE run_id = 'RR'"), kSamples);
+    EXPECT_EQ(Count(dst, "SELECT count(*) FROM chamber_states WHERE run_id = 'RR'"), 1);
+    EXPECT_EQ(Count(dst, "SELECT count(*) FROM runs WHERE run_id = 'RR' AND outcome = 'stop' "
+                         "AND config_json = '{\"k\":1}'"), 1);
+    // Same values: seq, utime, gyro_v of every sample; NaN supply is NaN (NULL) again.
+    store::Db a(src, store::Db::Mode::kReadOnly);
+    store::Db b(dst, store::Db::Mode::kReadOnly);
+    const char* q = "SELECT sensor_id, seq, utime, gyro_v, supply_v IS NULL FROM gyro_samples "
+                    "ORDER BY sensor_id, seq";
+    store::Stmt sa(a, q), sb(b, q);
+    int64_t compared = 0;
+    while (sa.Step()) {
+        ASSERT_TRUE(sb.Step());
+        EXPECT_EQ(sa.Text(0), sb.Text(0));
+        EXPECT_EQ(sa.Int(1), sb.Int(1));
+        EXPECT_EQ(sa.Int(2), sb.Int(2));
+        EXPECT_EQ(sa.Real(3), sb.Real(3));
+        EXPECT_EQ(sb.Int(4), 1);
+        ++compared;
+    }
+    EXPECT_EQ(compared, 2 * kSamples);
+    EXPECT_EQ(Count(dst, "SELECT coalesce(sum(seq_gaps), 0) FROM losses"), 0);
+}
+
+TEST(Replay, AsRunKeepsAReplayIntoTheSameDatabaseApart) {
+    const std::string db = FreshDbPath("replay_same.db");
+    WriteSourceRun(db);
+    const std::string url = UrlForPort(7766);
+    RecorderOnBus r(db, url);
+    ASSERT_TRUE(r.Listening());
+    ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", db,
+                         "--speed", "20", "--as-run", "RR-replay", "--lcm-url", url},
+                        "", db + ".replay.err");
+    const auto st = replay.Wait(20s);
+    ASSERT_TRUE(st && st->exited && st->code == 0);
+    EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR-replay'",
+                           2 * kSamples, 10s), 2 * kSamples);
+    EXPECT_EQ(r.rec.Stop().code, 0);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR'"), 2 * kSamples);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'RR-replay' AND outcome = 'stop'"),
+              1);
+}
+
+TEST(Replay, UnknownRunAndBadOptions) {
+    const std::string src = FreshDbPath("replay_bad.db");
+    WriteSourceRun(src);
+    const std::string bin = std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay";
+    ChildProcess unknown({bin, "NOPE", "--db", src, "--lcm-url", UrlForPort(7765)}, "",
+                         src + ".err1");
+    auto st = unknown.Wait(10s);
+    ASSERT_TRUE(st);
+    EXPECT_EQ(st->code, 1);
+    ChildProcess bad({bin, "RR", "--db", src, "--speed", "-3"}, "", src + ".err2");
+    st = bad.Wait(10s);
+    ASSERT_TRUE(st);
+    EXPECT_EQ(st->code, 2);
+}
+
+}  // namespace
+}  // namespace gyrocal::testing

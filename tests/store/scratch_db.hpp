@@ -1,0 +1,44 @@
+#pragma once
+// Scratch SQLite files for the store's and the recorder's tests, and single numbers read from them.
+#include <unistd.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "schema.hpp"
+#include "sqlite_db.hpp"
+
+namespace gyrocal::testing {
+
+// A path for a test database in the temp folder, unique to this process (CTest runs each test in
+// a process of its own), with no file, -wal or -shm left from an earlier run.
+inline std::string FreshDbPath(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / "gyrocal_store_tests";
+    std::filesystem::create_directories(dir);
+    const std::string p = (dir / (name + "_" + std::to_string(::getpid()))).string();
+    for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
+    return p;
+}
+
+// The first column of the first row of `sql`, -1 when there is no row.
+inline int64_t Count(store::Db& db, const std::string& sql) {
+    store::Stmt s(db, sql);
+    return s.Step() ? s.Int(0) : -1;
+}
+
+// The same on a read-only connection of its own to the file at `db_path`.
+inline int64_t Count(const std::string& db_path, const std::string& sql) {
+    store::Db db(db_path, store::Db::Mode::kReadOnly);
+    return Count(db, sql);
+}
+
+// A new database at schema `version`, as an older gyrocal left it, for a test to fill.
+struct OldDatabase : store::Db {
+    OldDatabase(const std::string& path, int version) : store::Db(path, Mode::kReadWriteCreate) {
+        store::ConfigureConnection(*this);
+        store::Migrate(*this, version);
+    }
+};
+
+}  // namespace gyrocal::testing

@@ -1,0 +1,291 @@
+// Measured data from a rig of another design (tests/support/othersim: its own chamber, thermal
+// lags, noise, ADC and non-polynomial truth), through real processes: gyrocal-othersim writes the
+// CSV, `gyrocal calibrate --source csv` runs the source, plateau detector, rotation estimator,
+// fitter, compensator and recorder over UDP multicast (TTL 0), and `gyrocal show` reads the
+// database. Each run must end with exit 0 and a complete final set per unit that spans all of
+// the unit's plateaus; the fault each file carries must be named in `gyrocal show`.
+// Ports 7891-7895 (one per test), this file's own.
+//
+// Test scale: 40 Hz, faster thermal constants than the default so that a dwell of 540 s settles
+// (board 40 s, die 8 s, chamber period 100 s, ramp 5 degC/min); 2 units where the test is about
+// units not contaminating each other, 1 otherwise.
+// Truth check (return to start): at each of a unit's plateau temperatures the fitted offset is
+// within 5 of its own standard deviations (phi' C phi) of the truth (othersim's curve at the die
+// temperature behind the reported one). The fit's covariance carries the plateaus' errors with the
+// Allan-derived slow noise and the overdispersion, which includes how far the non-polynomial
+// truth is from the chosen polynomial; 5 sigma over 14 comparisons keeps a false alarm ~1e-5.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "generator.hpp"
+#include "launch/child_process.hpp"
+#include "model/model.hpp"
+#include "model_rows.hpp"
+#include "query.hpp"
+#include "e2e_support.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+
+const std::vector<std::string> kScale = {
+    "--sample-rate-hz", "40",  "--lpf-hz", "15", "--board-tau-s", "40", "--die-tau-s", "8",
+    "--chamber-period-s", "100", "--ramp-c-per-min", "5", "--dwell-s", "540"};
+
+struct Lab {
+    std::string dir, csv, truth_path, db, run_id, show, out;
+    int exit_code = -1;
+    nlohmann::json truth, detail;
+};
+
+// gyrocal-othersim with `args`, then calibrate on `port`, then show (text and JSON).
+Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
+    Lab lab;
+    lab.dir = FreshDir("gyrocal_othersim_" + name);
+    lab.csv = lab.dir + "/lab.csv";
+    lab.truth_path = lab.dir + "/lab.truth.json";
+    lab.db = lab.dir + "/lab.db";
+    std::vector<std::string> gen = {GYROCAL_BIN "/gyrocal-othersim", "--out", lab.csv};
+    gen.insert(gen.end(), kScale.begin(), kScale.end());
+    gen.insert(gen.end(), args.begin(), args.end());
+    ChildProcess g(gen, lab.dir + "/gen.log", lab.dir + "/gen.log");
+    const auto g_end = g.Wait(120s);
+    EXPECT_TRUE(g_end && g_end->code == 0) << ReadLog(lab.dir + "/gen.log");
+    std::ifstream truth(lab.truth_path);
+    lab.truth = nlohmann::json::parse(truth);
+    const std::string url = UdpmUrl(port);
+    lab.out = lab.dir + "/calibrate.out";
+    ChildProcess cal({GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", lab.csv,
+                      "--db", lab.db, "--lcm-url", url, "--log-dir", lab.dir + "/logs", "--quiet",
+                      "--source-arg=--max", "--source-arg=--max-rate-hz=20000", "--wall-timeout-s",
+                      "1200"},
+                     lab.out, lab.out);
+    const auto cal_end = cal.Wait(1300s);
+    EXPECT_TRUE(cal_end.has_value()) << ReadLog(lab.out);
+    lab.exit_code = cal_end ? cal_end->code : -1;
+    auto db = store::OpenForQuery(lab.db);
+    for (const store::RunInfo& r : store::ListRuns(*db, {}))
+        if (!r.run_id.empty()) lab.run_id = r.run_id;
+    for (const bool json : {false, true}) {
+        std::vector<std::string> show = {GYROCAL_BIN "/gyrocal", "show", lab.run_id, "--db", lab.db};
+        if (json) show.push_back("--json");
+        const std::string file = lab.dir + (json ? "/show.json" : "/show.txt");
+        ChildProcess s(show, file, lab.dir + "/show.err");
+        const auto s_end = s.Wait(120s);
+        EXPECT_TRUE(s_end && s_end->code == 0) << ReadLog(lab.dir + "/show.err");
+        if (json)
+            lab.detail = nlohmann::json::parse(ReadLog(file));
+        else
+            lab.show = ReadLog(file);
+    }
+    return lab;
+}
+
+const nlohmann::json& FinalReport(const Lab& lab, const std::string& id) {
+    for (const auto& r : lab.detail.at("fit_reports"))
+        if (r.at("sensor_id") == id) return r;
+    throw std::runtime_error("no fit report for " + id);
+}
+
+// Every unit: exit 0 already checked; a complete final report; its set's valid range is exactly
+// the span of its plateaus' temperatures (minus any excluded at an end: none here).
+void ExpectCompleteAcrossTheRange(const Lab& lab, const std::vector<std::string>& units) {
+    for (const std::string& id : units) {
+        const auto& rep = FinalReport(lab, id);
+        EXPECT_EQ(rep.at("status"), "complete") << id << ": " << rep.at("reason");
+        EXPECT_TRUE(rep.at("is_final").get<bool>());
+        double lo = 1e9, hi = -1e9;
+        for (const auto& p : lab.detail.at("plateaus"))
+            if (p.at("sensor_id") == id) {
+                lo = std::min(lo, p.at("temp_mean_c").get<double>());
+                hi = std::max(hi, p.at("temp_mean_c").get<double>());
+            }
+        bool found = false;
+        for (const auto& c : lab.detail.at("coeff_sets")) {
+            if (c.at("sensor_id") != id || c.at("source") != "fitter") continue;
+            found = true;
+            EXPECT_EQ(c.at("coeff_set_id"), rep.at("coeff_set_id"));
+            EXPECT_DOUBLE_EQ(c.at("offset").at("temp_min_c").get<double>(), lo) << id;
+            EXPECT_DOUBLE_EQ(c.at("offset").at("temp_max_c").get<double>(), hi) << id;
+        }
+        EXPECT_TRUE(found) << id;
+    }
+}
+
+TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRange) {
+    // GIVEN the lab profile 25, -10, 10, 30, 50, 70, 25 degC on two units, its 30 degC
+    // step at 29 so that, as in the runs (22.9/23.1 against 27.8 degC), the room
+    // temperature visited twice sits less than 5 degC from its neighbour whatever the units'
+    // temperature-line offsets
+    const Lab lab = RunLab("rts", {"--units", "2", "--seed", "5", "--setpoints-c", "25,-10,10,29,50,70,25"},
+                           7891);
+    for (const std::string id : {"U1", "U2"}) {
+        std::vector<double> temps;
+        for (const auto& p : lab.detail.at("plateaus"))
+            if (p.at("sensor_id") == id) temps.push_back(p.at("temp_mean_c"));
+        std::sort(temps.begin(), temps.end());
+        bool close = false;  // two distinct levels (> 1 degC apart) closer than 5 degC
+        for (size_t i = 1; i < temps.size(); ++i) close |= temps[i] - temps[i - 1] > 1 && temps[i] - temps[i - 1] < 5;
+        EXPECT_TRUE(close) << id << ": the data do not reproduce the issue's close levels";
+    }
+    // THEN the run ends with exit 0 and complete sets spanning every plateau
+    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
+    // AND the return to 25 degC is reported as repeatability, the Allan figures are shown
+    for (const std::string id : {"U1", "U2"}) {
+        const auto& rep = FinalReport(lab, id);
+        ASSERT_EQ(rep.at("repeatability").size(), 1u) << id;
+        EXPECT_NE(rep.at("slow_noise_source").get<std::string>().find("Allan deviation of this run"),
+                  std::string::npos);
+    }
+    EXPECT_NE(lab.show.find("Repeatability (temperatures the run visited again)"), std::string::npos);
+    EXPECT_NE(lab.show.find("U1      2"), std::string::npos) << lab.show;  // a row at ~2x degC
+    ASSERT_EQ(lab.detail.at("noise").size(), 2u);
+    for (const auto& n : lab.detail.at("noise")) {
+        EXPECT_GT(n.at("bias_instability_v").get<double>(), 0.0);
+        // othersim's white noise 0.04 deg/s/rtHz through ~6 mV/(deg/s): 2.4e-4 V/rtHz within 20 %
+        EXPECT_NEAR(n.at("arw_v_rthz").get<double>(), 2.4e-4, 0.2 * 2.4e-4);
+    }
+    // AND the fitted offsets match othersim's truth within 5 of their stated sigma (see header)
+    auto db = store::OpenForQuery(lab.db);
+    for (const store::CoeffSetInfo& c : store::RunFinalCoeffs(*db, lab.run_id)) {
+        const model::CoeffSet set = store::ToCoeffSet(c.set);
+        othersim::UnitTruth u;
+        for (const auto& t : lab.truth.at("units")) {
+            if (t.at("sensor_id") != set.sensor_id) continue;
+            const auto& o = t.at("offset_v");
+            u.null_v = o.at("null_v"), u.a1 = o.at("a1"), u.a2 = o.at("a2"), u.a3 = o.at("a3");
+            u.bend_v = o.at("bend_v"), u.bend_c = o.at("bend_c");
+            u.temp_v_at_25c = t.at("temp_line").at("v_at_25c");
+            u.temp_v_per_c = t.at("temp_line").at("v_per_c");
+        }
+        for (const auto& p : lab.detail.at("plateaus")) {
+            if (p.at("sensor_id") != set.sensor_id) continue;
+            model::ModelInputs in;
+            in.temp_c = p.at("temp_mean_c");
+            const model::Evaluation e = model::Evaluate(set.offset, in, model::RangePolicy::kClip);
+            EXPECT_NEAR(e.value, u.OffsetV(u.DieFromMeasuredC(in.temp_c)), 5 * std::sqrt(e.variance))
+                << set.sensor_id << " at " << in.temp_c;
+        }
+    }
+    // AND gyrocal analyze --plot draws each unit's Allan deviation (gnuplot-nox, tools/run.sh)
+    if (::access("/usr/bin/gnuplot", X_OK) != 0)
+        GTEST_SKIP() << "gnuplot is not installed: the Allan plot is not checked";
+    ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store",
+                     "--plot", lab.dir + "/plots"},
+                    lab.dir + "/analyze.out", lab.dir + "/analyze.out");
+    const auto an_end = an.Wait(600s);
+    ASSERT_TRUE(an_end && an_end->code == 0) << ReadLog(lab.dir + "/analyze.out");
+    for (const std::string id : {"U1", "U2"}) {
+        EXPECT_GT(std::filesystem::file_size(lab.dir + "/plots/" + id + "_allan.png"), 1000u);
+        const std::string gp = ReadLog(lab.dir + "/plots/" + id + "_allan.gp");
+        EXPECT_NE(gp.find("set logscale x\n"), std::string::npos);
+        EXPECT_NE(gp.find("set logscale y\n"), std::string::npos);
+        EXPECT_NE(gp.find("slope -1/2"), std::string::npos);
+        EXPECT_NE(gp.find("slope 0"), std::string::npos);
+    }
+}
+
+TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReported) {
+    // GIVEN every setpoint visited twice, from both sides
+    const Lab lab = RunLab("repeat", {"--units", "1", "--seed", "9", "--setpoints-c", "-10,30,70,30,-10,70"},
+                        7892);
+    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    // THEN the set is complete over the range and uses all six plateaus
+    ExpectCompleteAcrossTheRange(lab, {"U1"});
+    const auto& sets = lab.detail.at("coeff_sets");
+    ASSERT_EQ(sets.size(), 1u);
+    EXPECT_EQ(sets[0].at("plateau_ids").size(), 6u);
+    // AND each return is compared with the previous visit
+    const auto& reps = FinalReport(lab, "U1").at("repeatability");
+    ASSERT_EQ(reps.size(), 3u);
+    std::set<int> levels;
+    for (const auto& r : reps) levels.insert(static_cast<int>(std::lround(r.at("temp_c").get<double>() / 10)));
+    EXPECT_EQ(levels.size(), 3u);
+    EXPECT_NE(lab.show.find("from colder"), std::string::npos) << lab.show;
+    EXPECT_NE(lab.show.find("from hotter"), std::string::npos);
+}
+
+TEST(OthersimCalibration, AnOutlierPlateauIsExcludedNamedAndLeavesTheOtherUnitAlone) {
+    // GIVEN U2's offset shifted by 3 mV (~40 of its plateau errors) through its 30 degC dwell
+    const Lab lab = RunLab("outlier", {"--units", "2", "--seed", "8", "--disturb", "3:U2:0.003:0:480"}, 7893);
+    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
+    // THEN U2's report excludes exactly the plateau averaged inside the disturbance
+    const auto& fault = lab.truth.at("faults").at(0);
+    const double t0_us = 1e15;  // the CSV importer's --start-utime default
+    std::vector<int64_t> inside;
+    for (const auto& p : lab.detail.at("plateaus")) {
+        const double start_s = (p.at("start_utime").get<double>() - t0_us) * 1e-6;
+        const double end_s = (p.at("end_utime").get<double>() - t0_us) * 1e-6;
+        if (p.at("sensor_id") == "U2" && start_s >= fault.at("start_s").get<double>() &&
+            end_s <= fault.at("end_s").get<double>())
+            inside.push_back(p.at("plateau_id"));
+    }
+    ASSERT_EQ(inside.size(), 1u);
+    const auto& u2 = FinalReport(lab, "U2").at("excluded");
+    ASSERT_EQ(u2.size(), 1u);
+    EXPECT_EQ(u2[0].at("kind"), "plateau");
+    EXPECT_EQ(u2[0].at("item_id").get<int64_t>(), inside[0]);
+    EXPECT_NE(lab.show.find("EXCLUDED plateau " + std::to_string(inside[0])), std::string::npos)
+        << lab.show;
+    // AND U1 keeps every plateau
+    EXPECT_TRUE(FinalReport(lab, "U1").at("excluded").empty());
+}
+
+TEST(OthersimCalibration, AnEncoderSlipRejectsThatTurnWithItsReasonAndTheSetStaysComplete) {
+    // GIVEN the encoder losing 2 deg in the sixth turn (dwell 2's -90)
+    const Lab lab = RunLab("slip", {"--units", "1", "--seed", "4", "--slip", "5:2"}, 7894);
+    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ExpectCompleteAcrossTheRange(lab, {"U1"});
+    // THEN that rotation is rejected as an encoder slip, and only that one
+    int slips = 0, accepted = 0;
+    int64_t slipped = 0;
+    for (const auto& s : lab.detail.at("sensitivity_points")) {
+        if (s.at("accepted").get<bool>()) {
+            ++accepted;
+        } else if (s.at("reject_reason").get<std::string>().find("encoder slip") == 0) {
+            ++slips;
+            slipped = s.at("rotation_id");
+        }
+    }
+    EXPECT_EQ(slips, 1);
+    EXPECT_EQ(accepted, 13);
+    EXPECT_NE(lab.show.find("no: encoder slip"), std::string::npos) << lab.show;
+    const auto& rot = lab.detail.at("coeff_sets").at(0).at("rotation_ids");
+    EXPECT_EQ(std::find(rot.begin(), rot.end(), slipped), rot.end());
+}
+
+// The other side of "never leaves a lab without a calibration": when the data cannot carry a
+// temperature model, the end of the run says so instead of printing a set as if it were final.
+TEST(OthersimCalibration, DataThatCannotCarryATemperatureModelEndWithExit3NamingTheUnitAndWhatWasPublished) {
+    // GIVEN two setpoints 3 degC apart (one level at the fitter's 5 degC separation)
+    const Lab lab = RunLab("partial", {"--units", "1", "--seed", "3", "--setpoints-c", "25,28"}, 7895);
+    // THEN exit 3; the explanation names the unit, why, and the constant set that was published
+    EXPECT_EQ(lab.exit_code, 3) << ReadLog(lab.out);
+    const std::string out = ReadLog(lab.out);
+    EXPECT_NE(out.find("unit U1: PARTIAL calibration: offset: temperature model refused (too_few_temperatures"),
+              std::string::npos)
+        << out;
+    EXPECT_NE(out.find("; published set "), std::string::npos) << out;
+    // AND the table marks the set, the stored report is partial and final, `gyrocal show` says so
+    EXPECT_NE(out.find("** PARTIAL: "), std::string::npos) << out;
+    const auto& rep = FinalReport(lab, "U1");
+    EXPECT_EQ(rep.at("status"), "partial");
+    EXPECT_TRUE(rep.at("is_final").get<bool>());
+    const auto& sets = lab.detail.at("coeff_sets");
+    ASSERT_EQ(sets.size(), 1u);
+    EXPECT_EQ(sets[0].at("offset").at("term_names"), nlohmann::json::array({"1"})) << sets[0].dump();
+    EXPECT_NE(lab.show.find("PARTIAL"), std::string::npos) << lab.show;
+}
+
+}  // namespace
+}  // namespace gyrocal

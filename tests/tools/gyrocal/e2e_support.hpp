@@ -1,0 +1,83 @@
+#pragma once
+// What the end-to-end tests of `gyrocal` share: a scratch folder per test, the UDP multicast URL
+// of a test's own port, and minimal read-only SQL for the checks (the store's own library is
+// tested in tests/store): rows as text, one text, integer or real.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace gyrocal {
+
+// An empty folder `name`_<pid> under GoogleTest's temp folder (what an earlier run left removed).
+inline std::string FreshDir(const std::string& name) {
+    const std::string dir = ::testing::TempDir() + name + "_" + std::to_string(getpid());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+// The multicast bus on `port`: TTL 0 keeps it on this host (1: the namespaces' bridge), with the
+// 4 MB receive buffer every gyrocal process asks for.
+inline std::string UdpmUrl(int port, int ttl = 0) {
+    return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=" + std::to_string(ttl) +
+           "&recv_buf_size=4194304";
+}
+
+// Per sensor of `run`: sensor_id, its gyro samples stored, the span of their seq (max - min + 1),
+// and the gaps the recorder counted on its GYRO_ channel (NULL when it has no losses row).
+inline std::string GyroStreamsSql(const std::string& run) {
+    return "SELECT g.sensor_id, count(*), max(seq) - min(seq) + 1, (SELECT seq_gaps FROM losses l "
+           "WHERE l.run_id = g.run_id AND l.channel = 'GYRO_' || g.sensor_id) FROM gyro_samples g "
+           "WHERE run_id = '" +
+           run + "' GROUP BY g.sensor_id";
+}
+
+class Sql {
+public:
+    explicit Sql(const std::string& path) {
+        if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
+            throw std::runtime_error("cannot open " + path);
+        sqlite3_busy_timeout(db_, 5000);
+    }
+    ~Sql() { sqlite3_close(db_); }
+    Sql(const Sql&) = delete;
+    Sql& operator=(const Sql&) = delete;
+    std::vector<std::vector<std::string>> Rows(const std::string& sql) {
+        sqlite3_stmt* st = nullptr;
+        if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &st, nullptr) != SQLITE_OK)
+            throw std::runtime_error(std::string("bad SQL: ") + sqlite3_errmsg(db_) + ": " + sql);
+        std::vector<std::vector<std::string>> out;
+        while (sqlite3_step(st) == SQLITE_ROW) {
+            std::vector<std::string> row;
+            for (int i = 0; i < sqlite3_column_count(st); ++i) {
+                const unsigned char* t = sqlite3_column_text(st, i);
+                row.push_back(t ? reinterpret_cast<const char*>(t) : "");
+            }
+            out.push_back(row);
+        }
+        sqlite3_finalize(st);
+        return out;
+    }
+    // The first column of the first row: as text ("" when there is no row), an integer, a real.
+    std::string Text(const std::string& sql) {
+        const auto rows = Rows(sql);
+        return rows.empty() || rows[0].empty() ? "" : rows[0][0];
+    }
+    int64_t Int(const std::string& sql) { return std::stoll(Rows(sql).at(0).at(0)); }
+    double Real(const std::string& sql) { return std::stod(Rows(sql).at(0).at(0)); }
+    // ATTACH another file read-only under `name`, to compare two databases in one query.
+    void Attach(const std::string& path, const std::string& name) {
+        Rows("ATTACH '" + path + "' AS " + name);
+    }
+
+private:
+    sqlite3* db_ = nullptr;
+};
+
+}  // namespace gyrocal
