@@ -1,6 +1,8 @@
 #include "schema.hpp"
 
 #include <array>
+#include <chrono>
+#include <thread>
 #include <string_view>
 
 namespace gyrocal::store {
@@ -443,7 +445,22 @@ bool IsEmpty(Db& db) {
 }  // namespace
 
 void ConfigureConnection(Db& db) {
-    db.Exec("PRAGMA journal_mode = WAL");
+    // A new file's switch to WAL needs an exclusive lock, and SQLite returns "locked" at once
+    // (without its busy handler) while another process makes the same switch: two recorders
+    // creating one database together. Waited out here, for as long as the busy timeout waits.
+    constexpr auto kWalWait = std::chrono::seconds(5);
+    const auto give_up = std::chrono::steady_clock::now() + kWalWait;
+    for (;;) {
+        try {
+            db.Exec("PRAGMA journal_mode = WAL");
+            break;
+        } catch (const StoreError& e) {
+            const int primary = e.sqlite_code() & 0xff;
+            const bool locked = primary == SQLITE_BUSY || primary == SQLITE_LOCKED;
+            if (!locked || std::chrono::steady_clock::now() >= give_up) throw;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    }
     db.Exec("PRAGMA synchronous = NORMAL");
     db.Exec("PRAGMA foreign_keys = OFF");
 }
