@@ -9,7 +9,7 @@ std::optional<TempTransfer> ConversionOptions::Transfer(std::string* error) cons
         return std::nullopt;
     }
     if (temp_v_at_25c) t->v_at_25c = *temp_v_at_25c;
-    if (temp_v_per_k) t->v_per_k = *temp_v_per_k;
+    if (temp_v_per_c) t->v_per_c = *temp_v_per_c;
     *error = ValidateTransfer(*t);
     if (!error->empty()) return std::nullopt;
     return t;

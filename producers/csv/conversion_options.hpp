@@ -14,7 +14,7 @@ namespace gyrocal::csv {
 struct ConversionOptions {
     std::string preset = "610";
     std::optional<double> temp_v_at_25c;  // [V] overrides the preset
-    std::optional<double> temp_v_per_k;   // [V/K] overrides the preset
+    std::optional<double> temp_v_per_c;   // [V/degC] overrides the preset
     int64_t encoder_counts_per_rev = kDefaultEncoderCountsPerRev;
     int64_t start_utime = kDefaultStartUtime;  // [us] utime of time_s = 0
     static ConversionOptions Defaults() { return {}; }

@@ -17,8 +17,8 @@ std::string ValidateTransfer(const TempTransfer& t) {
     std::ostringstream os;
     if (!std::isfinite(t.v_at_25c) || t.v_at_25c < -10.0 || t.v_at_25c > 10.0) {
         os << "--temp-v-at-25c " << t.v_at_25c << " is out of range; valid: -10 to 10 V";
-    } else if (!std::isfinite(t.v_per_k) || t.v_per_k <= 0.0 || t.v_per_k > 1.0) {
-        os << "--temp-v-per-k " << t.v_per_k << " is out of range; valid: > 0 and <= 1 V/K";
+    } else if (!std::isfinite(t.v_per_c) || t.v_per_c <= 0.0 || t.v_per_c > 1.0) {
+        os << "--temp-v-per-c " << t.v_per_c << " is out of range; valid: > 0 and <= 1 V/degC";
     }
     return os.str();
 }

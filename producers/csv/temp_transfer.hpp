@@ -1,7 +1,7 @@
 #pragma once
 // The gyro module's temperature output, volts -> degC: a straight line through v_at_25c with
-// slope v_per_k (ADXRS610/613 datasheets: 2.5 V at 25 degC, 9 mV/K; the myGyro61xEB boards pass
-// it through unchanged). temp_c = 25 + (temp_v - v_at_25c) / v_per_k.
+// slope v_per_c (ADXRS610/613 datasheets: 2.5 V at 25 degC, 9 mV/K, which is 9 mV/degC; the
+// myGyro61xEB boards pass it through unchanged). temp_c = 25 + (temp_v - v_at_25c) / v_per_c.
 #include <optional>
 #include <string>
 
@@ -9,8 +9,8 @@ namespace gyrocal::csv {
 
 struct TempTransfer {
     double v_at_25c = 2.5;   // [V] output at 25 degC
-    double v_per_k = 0.009;  // [V/K] slope
-    double TempC(double temp_v) const { return 25.0 + (temp_v - v_at_25c) / v_per_k; }
+    double v_per_c = 0.009;  // [V/degC] slope
+    double TempC(double temp_v) const { return 25.0 + (temp_v - v_at_25c) / v_per_c; }
 };
 
 // Presets by module: "610" (myGyro610EB / ADXRS610) and "613" (myGyro613EB / ADXRS613).

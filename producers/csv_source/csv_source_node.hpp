@@ -18,10 +18,9 @@
 
 namespace gyrocal {
 
-// Measured on the development machine (2 cores, load ~4 from parallel builds): gyrocal-csv-record
-// (bus layer, unbounded queues) lost nothing at 10k-80k msg/s over 200k samples; 20k leaves
-// room for a pipeline of several processes. lcm-logger 1.3.1 (30-message subscription queue)
-// already lost 0.2% at 5k msg/s there: see README.md.
+// --max's default rate: well below what our receivers (bus layer, unbounded queues) kept up with,
+// so that a pipeline of several processes has room; lcm-logger 1.3.1 (30-message subscription
+// queue) loses sooner. The measured losses per rate: producers/csv_source/README.md.
 inline constexpr double kDefaultMaxRateHz = 20000.0;
 
 struct CsvSourceOptions {

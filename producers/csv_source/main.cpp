@@ -30,10 +30,10 @@ chamber_c -> chamber_state_t on CHAMBER_STATE at most once per second of data ti
 NaN: a file has no setpoint). Encoder/chamber are published before the gyro sample of a row.
 
 Pacing: --speed X replays X data seconds per wall second. --max publishes as fast as receivers
-on this host keep up without loss: 2 ms batches at --max-rate-hz messages/s. Default 20000:
-gyrocal-csv-record lost nothing at 10000-80000 msg/s (200k samples, 2-core machine under load).
-Raise it only after checking the receivers' STATUS seq_gaps. lcm-logger 1.3.1 drops beyond a
-30-message queue: when it records, use --max-rate-hz 2000 (measured loss-free) or --speed.
+on this host keep up without loss: 2 ms batches at --max-rate-hz messages/s (default 20000,
+below the rates our receivers kept up with: producers/csv_source/README.md has the measured
+table). Raise it only after checking the receivers' STATUS seq_gaps. lcm-logger 1.3.1 drops
+beyond a 30-message queue: when it records, use --max-rate-hz 2000 or --speed.
 
 Exit codes: 0 file done (after --drain-s) or stopped by SIGINT/SIGTERM; 1 malformed file
 (stop policy) or publish failure; 2 bad options (unknown option, out-of-range value, missing

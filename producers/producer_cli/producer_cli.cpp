@@ -1,5 +1,7 @@
 #include "producer_cli.hpp"
 
+#include "runtime/renamed_option.hpp"
+
 namespace gyrocal::csv {
 
 void AddLcmUrlOption(CLI::App& app, std::string& lcm_url) {
@@ -14,8 +16,10 @@ void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
                    "gyro module preset for the temperature transfer: 610|613 (default 610)");
     app.add_option("--temp-v-at-25c", conversion.temp_v_at_25c,
                    "temperature output at 25 degC [V] (preset: 2.5), -10..10");
-    app.add_option("--temp-v-per-k", conversion.temp_v_per_k,
-                   "temperature output slope [V/K] (preset: 0.009), > 0 and <= 1");
+    CLI::Option* slope = app.add_option("--temp-v-per-c", conversion.temp_v_per_c,
+                                        "temperature output slope [V/degC] (preset: 0.009), > 0 "
+                                        "and <= 1");
+    AddOldOptionName<double>(app, slope, "--temp-v-per-k", conversion.temp_v_per_c);
     app.add_option("--encoder-counts-per-rev", conversion.encoder_counts_per_rev,
                    "encoder counts per revolution incl. quadrature (default 20000), >= 1");
 }

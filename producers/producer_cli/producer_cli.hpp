@@ -14,7 +14,8 @@ namespace gyrocal::csv {
 void AddLcmUrlOption(CLI::App& app, std::string& lcm_url);
 
 // --start-utime (`start_utime_help`: what time_s = 0 means differs per source), --preset,
-// --temp-v-at-25c, --temp-v-per-k, --encoder-counts-per-rev.
+// --temp-v-at-25c, --temp-v-per-c (also as its old name --temp-v-per-k, hidden),
+// --encoder-counts-per-rev.
 void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
                           const std::string& start_utime_help);
 

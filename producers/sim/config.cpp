@@ -167,13 +167,16 @@ std::vector<std::string> RigConfig::UnitIds() const {
     return ids;
 }
 
-void RigConfig::Validate() const {
-    if (sensor_ids.empty()) Range("--units", num_units, 1, 256);
-    if (sensor_ids.size() > 256) {
-        throw ConfigError("--sensor-ids: " + std::to_string(sensor_ids.size()) +
+namespace {
+
+// Distinct, channel-safe ids, 1..256 of them.
+void CheckUnitIds(const RigConfig& c) {
+    if (c.sensor_ids.empty()) Range("--units", c.num_units, 1, 256);
+    if (c.sensor_ids.size() > 256) {
+        throw ConfigError("--sensor-ids: " + std::to_string(c.sensor_ids.size()) +
                           " ids; valid: 1 .. 256");
     }
-    const std::vector<std::string> ids = UnitIds();
+    const std::vector<std::string> ids = c.UnitIds();
     for (size_t i = 0; i < ids.size(); ++i) {
         const std::string& id = ids[i];
         for (size_t j = 0; j < i; ++j) {
@@ -187,17 +190,17 @@ void RigConfig::Validate() const {
                               "' is not a valid sensor id; valid: 1..32 of A-Z a-z 0-9 _ -");
         }
     }
-    RangeOpenLow("--rate-hz", sample_rate_hz, 0.0, 10000.0);
-    Range("--start-utime", static_cast<double>(start_utime), 0.0, 4.0e18);
-    RangeOpenLow("--chamber-state-hz", chamber_state_hz, 0.0, 1000.0);
-    PresetByName(preset.name);  // refuses unknown names
+}
 
-    Range("--noise-density", noise.noise_density_dps_rthz, 0.0, 10.0);
+void CheckNoise(const NoiseConfig& noise) {
+    Range("--noise-density-dps-rthz", noise.noise_density_dps_rthz, 0.0, 10.0);
     Range("--bias-instability-dps", noise.bias_instability_dps, 0.0, 10.0);
     Range("--rrw-dps-rts", noise.rate_random_walk_dps_rts, 0.0, 1.0);
     Range("--lpf-hz", noise.lpf_hz, 0.0, 100000.0);
     Range("--temp-noise-v", noise.temp_noise_v, 0.0, 0.1);
+}
 
+void CheckThermal(const ThermalConfig& thermal) {
     Range("--start-temp-c", thermal.start_temp_c, thermal.min_setpoint_c, thermal.max_setpoint_c);
     RangeOpenLow("--ramp-c-per-min", thermal.ramp_c_per_min, 0.0, 1000.0);
     RangeOpenLow("--air-tau-s", thermal.air_tau_s, 0.0, 1e5);
@@ -208,12 +211,16 @@ void RigConfig::Validate() const {
     RangeOpenLow("--setpoint-tolerance-c", thermal.setpoint_tolerance_c, 0.0, 20.0);
     Range("--min-setpoint-c", thermal.min_setpoint_c, -100.0, thermal.max_setpoint_c);
     Range("--max-setpoint-c", thermal.max_setpoint_c, thermal.min_setpoint_c, 200.0);
+}
 
+void CheckSpread(const SpreadConfig& spread) {
     Range("--spread-null-std-v", spread.null_std_v, 0.0, 0.5);
     Range("--temp-sensor-offset-std-c", spread.temp_sensor_offset_std_c, 0.0, 20.0);
-    Range("--package-tau-spread", spread.package_tau_spread_frac, 0.0, 0.3);
+    Range("--package-tau-spread-frac", spread.package_tau_spread_frac, 0.0, 0.3);
     Range("--sens-std-frac", spread.sens_std_frac, 0.0, 0.3);
+}
 
+void CheckTableAndEncoder(const TableConfig& table, const EncoderConfig& encoder) {
     RangeOpenLow("--table-max-rate-dps", table.max_rate_dps, 0.0, 2000.0);
     RangeOpenLow("--table-max-accel-dps2", table.max_accel_dps2, 0.0, 1e5);
     RangeOpenLow("--table-rate-dps", table.default_rate_dps, 0.0, table.max_rate_dps);
@@ -226,7 +233,9 @@ void RigConfig::Validate() const {
                           " is not valid; valid: 1, 2 or 4");
     }
     RangeOpenLow("--encoder-hz", encoder.rate_hz, 0.0, 10000.0);
+}
 
+void CheckAdcAndSupply(const AdcConfig& adc, const SupplyConfig& supply) {
     Range("--adc-bits", adc.bits, 0, 24);
     if (adc.bits != 0 && adc.bits < 8) {
         throw ConfigError("--adc-bits = " + std::to_string(adc.bits) +
@@ -242,13 +251,31 @@ void RigConfig::Validate() const {
     Range("--supply-drift-std-v", supply.drift_std_v, 0.0, 1.0);
     RangeOpenLow("--supply-drift-tau-s", supply.drift_tau_s, 0.0, 1e6);
     Range("--supply-noise-v", supply.noise_v, 0.0, 1.0);
+}
 
+void CheckEffectShapes(const EffectsConfig& effects) {
     RangeOpenLow("--hysteresis-width-c", effects.hysteresis_width_c, 0.0, 50.0);
     RangeOpenLow("--warmup-tau-s", effects.warmup_tau_s, 0.0, 1e5);
     RangeOpenLow("--effect compressor_period_s", effects.compressor_period_s, 1.0, 1e5);
     RangeOpenLow("--effect tilt_deg", effects.tilt_deg, 0.0, 90.0);
     RangeOpenLow("--effect hysteresis_travel_c", effects.hysteresis_travel_c, 0.0, 50.0);
     RangeOpenLow("--effect warmup2_tau_s", effects.warmup2_tau_s, 0.0, 1e5);
+}
+
+}  // namespace
+
+void RigConfig::Validate() const {
+    CheckUnitIds(*this);
+    RangeOpenLow("--rate-hz", sample_rate_hz, 0.0, 10000.0);
+    Range("--start-utime", static_cast<double>(start_utime), 0.0, 4.0e18);
+    RangeOpenLow("--chamber-state-hz", chamber_state_hz, 0.0, 1000.0);
+    PresetByName(preset.name);  // refuses unknown names
+    CheckNoise(noise);
+    CheckThermal(thermal);
+    CheckSpread(spread);
+    CheckTableAndEncoder(table, encoder);
+    CheckAdcAndSupply(adc, supply);
+    CheckEffectShapes(effects);
 }
 
 }  // namespace gyrocal::sim

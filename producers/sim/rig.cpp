@@ -215,88 +215,107 @@ void Rig::EmitEncoder(int64_t utime, RigSink& sink) {
     sink.OnEncoder(r);
 }
 
-void Rig::EmitGyros(int64_t utime, RigSink& sink) {
+Rig::SupplyScan Rig::ScanSupply() {
     const RigConfig& c = config_;
-    const EffectsConfig& fx = c.effects;
-    const double t_on_s = (utime - c.start_utime) * 1e-6;
-    double table_angle_deg = 0.0, table_rate_dps = 0.0;
-    table_.At(t_on_s, table_angle_deg, table_rate_dps);
     // One supply for all units, measured once per scan.
     const double supply_meas_v = supply_true_v_ + c.supply.noise_v * supply_rng_.Normal();
-    const bool adc = c.adc.bits > 0;
-    int32_t supply_counts = 0;
-    double supply_v = supply_meas_v;
-    if (adc) {
-        supply_counts = Code(supply_meas_v * c.adc.supply_divider, lsb_v_, max_code_);
-        supply_v = supply_counts * lsb_v_ / c.adc.supply_divider;
+    SupplyScan scan;
+    scan.v = supply_meas_v;
+    if (c.adc.bits > 0) {
+        scan.counts = Code(supply_meas_v * c.adc.supply_divider, lsb_v_, max_code_);
+        scan.v = scan.counts * lsb_v_ / c.adc.supply_divider;
     }
-    const double half_width = 0.5 * fx.hysteresis_width_c;
+    return scan;
+}
 
+GyroTruth Rig::TruthOf(size_t i, double t_on_s, double table_angle_deg, double table_rate_dps,
+                       double& temp_noise_v) {
+    const RigConfig& c = config_;
+    const EffectsConfig& fx = c.effects;
+    UnitState& s = *state_[i];
+    const UnitTruth& u = units_[i];
+    GyroTruth truth;
+    truth.air_c = chamber_.air_c();
+    truth.die_c = s.die_c;
+    truth.die_rate_c_per_min = s.die_rate_c_per_s * 60.0;
+    truth.sensor_state_c = s.sensor_c;
+    truth.rate_true_dps = table_rate_dps;
+    truth.supply_true_v = supply_true_v_;
+    truth.hysteresis_branch = (s.die_c - s.hysteresis_mem_c) / (0.5 * fx.hysteresis_width_c);
+    truth.hysteresis_smooth_branch = s.smooth_branch;
+    truth.table_angle_deg = table_angle_deg;
+    // Always the same draws per sample, whatever is switched on.
+    truth.rate_noise_dps = s.noise.Next(s.rng);
+    temp_noise_v = c.noise.temp_noise_v * s.rng.Normal();
+
+    truth.offset_v = u.OffsetV(s.die_c);
+    truth.sensitivity_v_per_dps = u.SensitivityVPerDps(s.die_c);
+    // Undeclared effects: each skipped entirely when 0 so that "off" is bit-identical.
+    truth.effect_offset_v = EffectOffsetV(c, truth, t_on_s);
+    if (fx.sf_asymmetry != 0.0 && table_rate_dps != 0.0) {
+        truth.effect_sens_factor =
+            table_rate_dps > 0.0 ? 1.0 + 0.5 * fx.sf_asymmetry : 1.0 - 0.5 * fx.sf_asymmetry;
+    }
+    return truth;
+}
+
+double Rig::FilteredOutputV(size_t i, const GyroTruth& truth) {
+    const GyroPreset& p = config_.preset;
+    UnitState& s = *state_[i];
+    const double rate_dps =
+        std::clamp(truth.rate_true_dps + truth.rate_noise_dps, -p.range_dps, p.range_dps);
+    double sens = truth.sensitivity_v_per_dps;
+    if (truth.effect_sens_factor != 1.0) sens *= truth.effect_sens_factor;
+    double offset = truth.offset_v;
+    if (truth.effect_offset_v != 0.0) offset += truth.effect_offset_v;
+    const double v = std::clamp(offset + sens * rate_dps, p.rail_low_v, p.rail_high_v);
+    if (!s.lpf_primed) {  // powered up settled: no filter transient at t = 0
+        s.lpf_v = v;
+        s.lpf_primed = true;
+    } else {
+        s.lpf_v += (v - s.lpf_v) * lpf_alpha_;
+    }
+    return s.lpf_v;
+}
+
+GyroReading Rig::ReadUnit(int64_t utime, size_t i, double gyro_analog_v, double temp_noise_v,
+                          const SupplyScan& supply) {
+    const GyroPreset& p = config_.preset;
+    const double sensor_read_c = state_[i]->sensor_c + units_[i].temp_sensor_offset_c;
+    const double temp_analog_v =
+        p.temp_v_at_25c + p.temp_v_per_c * (sensor_read_c - 25.0) + temp_noise_v;
+
+    GyroReading r;
+    r.utime = utime;
+    r.unit_index = static_cast<int>(i);
+    r.sensor_id = &ids_[i];
+    r.seq = state_[i]->seq++;
+    r.has_adc = config_.adc.bits > 0;
+    r.supply_v = supply.v;
+    if (r.has_adc) {
+        r.gyro_counts = Code(gyro_analog_v, lsb_v_, max_code_);
+        r.temp_counts = Code(temp_analog_v, lsb_v_, max_code_);
+        r.supply_counts = supply.counts;
+        r.gyro_v = r.gyro_counts * lsb_v_;
+        r.temp_v = r.temp_counts * lsb_v_;
+    } else {
+        r.gyro_v = gyro_analog_v;
+        r.temp_v = temp_analog_v;
+    }
+    r.temp_c = 25.0 + (r.temp_v - p.temp_v_at_25c) / p.temp_v_per_c;
+    return r;
+}
+
+void Rig::EmitGyros(int64_t utime, RigSink& sink) {
+    const double t_on_s = (utime - config_.start_utime) * 1e-6;
+    double table_angle_deg = 0.0, table_rate_dps = 0.0;
+    table_.At(t_on_s, table_angle_deg, table_rate_dps);
+    const SupplyScan supply = ScanSupply();
     for (size_t i = 0; i < state_.size(); ++i) {
-        UnitState& s = *state_[i];
-        const UnitTruth& u = units_[i];
-        GyroTruth truth;
-        truth.air_c = chamber_.air_c();
-        truth.die_c = s.die_c;
-        truth.die_rate_c_per_min = s.die_rate_c_per_s * 60.0;
-        truth.sensor_state_c = s.sensor_c;
-        truth.rate_true_dps = table_rate_dps;
-        truth.supply_true_v = supply_true_v_;
-        truth.hysteresis_branch = (s.die_c - s.hysteresis_mem_c) / half_width;
-        truth.hysteresis_smooth_branch = s.smooth_branch;
-        truth.table_angle_deg = table_angle_deg;
-        // Always the same draws per sample, whatever is switched on.
-        truth.rate_noise_dps = s.noise.Next(s.rng);
-        const double temp_noise_v = c.noise.temp_noise_v * s.rng.Normal();
-
-        truth.offset_v = u.OffsetV(s.die_c);
-        truth.sensitivity_v_per_dps = u.SensitivityVPerDps(s.die_c);
-        // Undeclared effects: each skipped entirely when 0 so that "off" is bit-identical.
-        const double effect_v = EffectOffsetV(c, truth, t_on_s);
-        if (fx.sf_asymmetry != 0.0 && table_rate_dps != 0.0) {
-            truth.effect_sens_factor =
-                table_rate_dps > 0.0 ? 1.0 + 0.5 * fx.sf_asymmetry : 1.0 - 0.5 * fx.sf_asymmetry;
-        }
-        truth.effect_offset_v = effect_v;
-
-        const double rate_dps = std::clamp(table_rate_dps + truth.rate_noise_dps,
-                                           -c.preset.range_dps, c.preset.range_dps);
-        double sens = truth.sensitivity_v_per_dps;
-        if (truth.effect_sens_factor != 1.0) sens *= truth.effect_sens_factor;
-        double offset = truth.offset_v;
-        if (effect_v != 0.0) offset += effect_v;
-        const double v =
-            std::clamp(offset + sens * rate_dps, c.preset.rail_low_v, c.preset.rail_high_v);
-        if (!s.lpf_primed) {  // powered up settled: no filter transient at t = 0
-            s.lpf_v = v;
-            s.lpf_primed = true;
-        } else {
-            s.lpf_v += (v - s.lpf_v) * lpf_alpha_;
-        }
-
-        const double sensor_read_c = s.sensor_c + u.temp_sensor_offset_c;
-        const double temp_analog_v =
-            c.preset.temp_v_at_25c + c.preset.temp_v_per_c * (sensor_read_c - 25.0) + temp_noise_v;
-
-        GyroReading r;
-        r.utime = utime;
-        r.unit_index = static_cast<int>(i);
-        r.sensor_id = &ids_[i];
-        r.seq = s.seq++;
-        r.has_adc = adc;
-        r.supply_v = supply_v;
-        if (adc) {
-            r.gyro_counts = Code(s.lpf_v, lsb_v_, max_code_);
-            r.temp_counts = Code(temp_analog_v, lsb_v_, max_code_);
-            r.supply_counts = supply_counts;
-            r.gyro_v = r.gyro_counts * lsb_v_;
-            r.temp_v = r.temp_counts * lsb_v_;
-        } else {
-            r.gyro_v = s.lpf_v;
-            r.temp_v = temp_analog_v;
-        }
-        r.temp_c = 25.0 + (r.temp_v - c.preset.temp_v_at_25c) / c.preset.temp_v_per_c;
-        sink.OnGyro(r, truth);
+        double temp_noise_v = 0.0;
+        const GyroTruth truth = TruthOf(i, t_on_s, table_angle_deg, table_rate_dps, temp_noise_v);
+        const double gyro_analog_v = FilteredOutputV(i, truth);
+        sink.OnGyro(ReadUnit(utime, i, gyro_analog_v, temp_noise_v, supply), truth);
     }
 }
 

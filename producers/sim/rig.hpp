@@ -132,6 +132,23 @@ public:
 private:
     struct UnitState;
     void AdvancePhysics(int64_t utime);
+    // The supply as every unit's scan reads it: [V] (through the ADC when there is one) and
+    // its ADC code (0 without an ADC).
+    struct SupplyScan {
+        double v = 0.0;
+        int32_t counts = 0;
+    };
+    SupplyScan ScanSupply();
+    // Unit i's truth at t_on_s [s] since power-on; draws the unit's noise, the same draws
+    // whatever is switched on: the rate noise into the truth, the temperature line's into
+    // `temp_noise_v` [V].
+    GyroTruth TruthOf(size_t i, double t_on_s, double table_angle_deg, double table_rate_dps,
+                      double& temp_noise_v);
+    // Unit i's module output [V] for `truth`, clamped to the rails, through its low-pass filter.
+    double FilteredOutputV(size_t i, const GyroTruth& truth);
+    // What the DAQ reads of unit i (next seq), through the ADC when there is one.
+    GyroReading ReadUnit(int64_t utime, size_t i, double gyro_analog_v, double temp_noise_v,
+                         const SupplyScan& supply);
     void EmitGyros(int64_t utime, RigSink& sink);
     void EmitEncoder(int64_t utime, RigSink& sink);
     void EmitChamber(int64_t utime, RigSink& sink);

@@ -7,33 +7,25 @@
 #include <vector>
 
 #include "runtime/process_main.hpp"
+#include "runtime/renamed_option.hpp"
 #include "sim/builtin_profile.hpp"
 
 namespace gyrocal {
 
 namespace {
 
-// The measured limit, stated in --help (see tests/bench/producers_sim and the report).
+// What --help says below the options. The measured speed limits live in README.md (Benchmarks).
 const char* kFooter = R"(
 Exit codes: 0 normal stop (SIGINT/SIGTERM, --duration-s reached, built-in profile done),
             1 runtime failure (LCM cannot be opened or fails), 2 bad options/configuration.
 
 Time: utime is the simulated clock (us), starting at --start-utime; the wall clock only paces
 publication: --speed simulated seconds per wall second, published in batches every --tick-ms.
-Speed limit, measured with tests/bench/producers_sim/gyrocal_bench_sim_rig_bus (the real rig
-and one subscriber on the same host, 2-core AMD EPYC shared with other builds): 4 units at
-100 Hz plus the encoder at 100 Hz are 500 messages per simulated second. Uncapped, the rig sent
-~70k messages/s (--speed ~140) with 0 lost at load ~4, but at load ~11 it lost 1-3 % of samples
-from 32k messages/s up. With the default cap of 30000 messages/s (--speed 60 for 4 units) 0 were
-lost at load ~11. UDP multicast has no flow control: with more subscribers or a busier host,
-lower --max-msgs-per-s; past the cap the simulation just runs slower (STATUS extra lag_s),
-never skipping a sample. The simulation alone generates ~11M samples/s (4 units).
-The WHOLE pipeline (rig, plateau, rotation, fitter, compensator publishing RATE_ for every
-sample, recorder, sequencer: 7 processes each receiving every packet of the group), measured
-with `gyrocal calibrate` on the same machine: 4 units at --speed 30 (15000 rig messages/s) lost
-0 samples at load ~6; at --speed 60 (30000/s) every process lost 1-2 % at load ~9. So the
-fastest lossless speed of the whole pipeline here is ~15000 rig messages/s: --speed 30 for 4
-units, 75 for 1; `gyrocal calibrate` picks that by default.
+Speed limit: 4 units at 100 Hz plus the encoder at 100 Hz are 500 messages per simulated second.
+UDP multicast has no flow control, so publication is capped at --max-msgs-per-s: with more
+subscribers or a busier host, lower it; past the cap the simulation just runs slower (STATUS
+extra lag_s), never skipping a sample. The rates the rig and the whole pipeline kept without
+loss are measured in README.md (Benchmarks); `gyrocal calibrate` picks its --speed from them.
 
 Truth: per-unit curves (functions of the DIE temperature, about 25 degC), effects and seed go only
 to --truth-out, never on the bus.
@@ -56,198 +48,211 @@ Shapes, also as --effect NAME=VALUE (so `gyrocal calibrate --effect` carries the
   hysteresis_travel_c=3 warmup2_tau_s=1500
 )";
 
-std::optional<int> ParseInto(CLI::App& app, int argc, char** argv, SimRigOptions& o) {
-    using sim::ConfigError;
-    auto& r = o.rig;
-    std::string preset = r.preset.name;
+// The options parsed as text, or NaN for "the preset's", resolved into SimRigOptions once
+// CLI11 is done (ResolveOptions).
+struct RawOptions {
+    std::string preset;
     double temp_v_at_25c = NAN, temp_v_per_c = NAN;  // NaN = the preset's
     std::string profile_text = "-10,30,60";
     std::string sensor_ids_text;
     std::vector<std::string> effects;
-    long long start_utime = r.start_utime;
-    unsigned long long seed = r.seed;
-    unsigned long long noise_seed = r.noise_seed;
+    long long start_utime = 0;
+    unsigned long long seed = 0;
+    unsigned long long noise_seed = 0;
+};
 
+// An option whose default --help shows.
+template <class T>
+CLI::Option* AddShown(CLI::App& app, const std::string& name, T& value, const std::string& help) {
+    return app.add_option(name, value, help)->capture_default_str();
+}
+
+// An option renamed to carry its unit, whose old name keeps working (hidden).
+template <class T>
+void AddRenamed(CLI::App& app, const std::string& name, const std::string& old_name, T& value,
+                const std::string& help) {
+    AddOldOptionName<T>(app, AddShown(app, name, value, help), old_name, value);
+}
+
+// How the process runs: bus, pacing, truth file and seeds.
+void AddRunOptions(CLI::App& app, SimRigOptions& o, RawOptions& raw) {
     app.add_option("--lcm-url", o.lcm_url,
                    "LCM provider URL (default $GYROCAL_LCM_URL or LCM's udpm default)");
-    app.add_option("--mode", o.mode,
-                   "commanded (obey CHAMBER_CMD/TURNTABLE_CMD) or builtin (run --profile)")
-        ->capture_default_str();
-    app.add_option("--speed", o.speed, "simulated seconds per wall second, > 0 and <= 100000")
-        ->capture_default_str();
-    app.add_option("--duration-s", o.duration_s, "simulated seconds to run, 0 = until stopped")
-        ->capture_default_str();
-    app.add_option("--tick-ms", o.tick_ms, "wall milliseconds between publication batches, 1..100")
-        ->capture_default_str();
-    app.add_option("--max-msgs-per-s", o.max_msgs_per_s,
-                   "publication cap in messages per wall second (0 = none); past it the simulation "
-                   "slows down rather than flood subscribers")
-        ->capture_default_str();
+    AddShown(app, "--mode", o.mode,
+             "commanded (obey CHAMBER_CMD/TURNTABLE_CMD) or builtin (run --profile)");
+    AddShown(app, "--speed", o.speed, "simulated seconds per wall second, > 0 and <= 100000");
+    AddShown(app, "--duration-s", o.duration_s, "simulated seconds to run, 0 = until stopped");
+    AddShown(app, "--tick-ms", o.tick_ms, "wall milliseconds between publication batches, 1..100");
+    AddShown(app, "--max-msgs-per-s", o.max_msgs_per_s,
+             "publication cap in messages per wall second (0 = none); past it the simulation "
+             "slows down rather than flood subscribers");
     app.add_option("--truth-out", o.truth_out, "write the truth sidecar JSON to this file");
-    app.add_option("--seed", seed, "random seed: same seed, same output")->capture_default_str();
-    app.add_option("--noise-seed", noise_seed,
-                   "seed of the noise alone (0 = --seed): the same units, another realisation")
-        ->capture_default_str();
-    app.add_option("--units", r.num_units, "number of units S01..S<n>, 1..256")
-        ->capture_default_str();
-    app.add_option("--sensor-ids", sensor_ids_text, "comma-separated unit ids (overrides --units)");
-    app.add_option("--preset", preset,
-                   "gyro module: 610 (ADXRS610, +-300 deg/s, 6 mV/(deg/s)) or 613 (ADXRS613, +-150 "
-                   "deg/s, 12.5 mV/(deg/s))")
-        ->capture_default_str();
-    app.add_option("--temp-v-at-25c", temp_v_at_25c,
-                   "temperature line at 25 degC [V] (default: the preset's, 2.5)");
-    app.add_option("--temp-v-per-c", temp_v_per_c,
-                   "temperature line slope [V/K] (default: the preset's, 0.009)");
-    app.add_option("--rate-hz", r.sample_rate_hz, "gyro sample rate [Hz]")->capture_default_str();
-    app.add_option("--start-utime", start_utime, "simulated clock at power-on [us]")
-        ->capture_default_str();
-    app.add_option("--effect", effects, "undeclared effect NAME=VALUE (see below), repeatable");
-    // Noise
-    app.add_option("--noise-density", r.noise.noise_density_dps_rthz,
-                   "white rate noise [deg/s/sqrt(Hz)] (Allan dev = value/sqrt(tau))")
-        ->capture_default_str();
-    app.add_option("--bias-instability-dps", r.noise.bias_instability_dps,
-                   "flat Allan-deviation level [deg/s]")
-        ->capture_default_str();
-    app.add_option("--rrw-dps-rts", r.noise.rate_random_walk_dps_rts,
-                   "rate random walk [deg/s/sqrt(s)]")
-        ->capture_default_str();
-    app.add_option("--lpf-hz", r.noise.lpf_hz, "module output low-pass corner [Hz], 0 = none")
-        ->capture_default_str();
-    app.add_option("--temp-noise-v", r.noise.temp_noise_v, "temperature line noise [V]")
-        ->capture_default_str();
-    // Thermal
-    app.add_option("--start-temp-c", r.thermal.start_temp_c, "chamber and units at power-on [degC]")
-        ->capture_default_str();
-    app.add_option("--ramp-c-per-min", r.thermal.ramp_c_per_min,
-                   "chamber ramp-rate limit [degC/min]")
-        ->capture_default_str();
-    app.add_option("--air-tau-s", r.thermal.air_tau_s, "air settling lag [s]")
-        ->capture_default_str();
-    app.add_option("--air-noise-c", r.thermal.air_noise_c, "air control fluctuation [degC]")
-        ->capture_default_str();
-    app.add_option("--package-tau-s", r.thermal.package_tau_s, "die lag behind the air [s]")
-        ->capture_default_str();
-    app.add_option("--package-tau-spread", r.spread.package_tau_spread_frac,
-                   "per-unit relative spread of the package lag")
-        ->capture_default_str();
-    app.add_option("--sensor-tau-s", r.thermal.sensor_tau_s,
-                   "temperature sensor lag behind the die [s]")
-        ->capture_default_str();
-    app.add_option("--temp-sensor-offset-std-c", r.spread.temp_sensor_offset_std_c,
-                   "per-unit temperature sensor offset spread [degC]")
-        ->capture_default_str();
-    app.add_option("--setpoint-tolerance-c", r.thermal.setpoint_tolerance_c,
-                   "at_setpoint band [degC]")
-        ->capture_default_str();
-    app.add_option("--min-setpoint-c", r.thermal.min_setpoint_c, "lowest accepted setpoint [degC]")
-        ->capture_default_str();
-    app.add_option("--max-setpoint-c", r.thermal.max_setpoint_c, "highest accepted setpoint [degC]")
-        ->capture_default_str();
-    // Table and encoder
-    app.add_option("--table-rate-dps", r.table.default_rate_dps, "default cruise rate [deg/s]")
-        ->capture_default_str();
-    app.add_option("--table-accel-dps2", r.table.default_accel_dps2,
-                   "default acceleration [deg/s^2]")
-        ->capture_default_str();
-    app.add_option("--table-max-rate-dps", r.table.max_rate_dps,
-                   "faster orders are refused [deg/s]")
-        ->capture_default_str();
-    app.add_option("--encoder-lines", r.encoder.lines_per_rev, "encoder lines per revolution")
-        ->capture_default_str();
-    app.add_option("--encoder-quadrature", r.encoder.quadrature, "counts per line: 1, 2 or 4")
-        ->capture_default_str();
-    app.add_option("--encoder-hz", r.encoder.rate_hz, "encoder publication rate [Hz]")
-        ->capture_default_str();
-    // ADC and supply
-    app.add_option("--adc-bits", r.adc.bits, "ADC resolution, 0 = no ADC (analog volts)")
-        ->capture_default_str();
-    app.add_option("--adc-vref-v", r.adc.vref_v, "ADC full scale [V]")->capture_default_str();
-    app.add_option("--supply-ripple-v", r.supply.ripple_v, "supply ripple amplitude [V]")
-        ->capture_default_str();
-    app.add_option("--supply-drift-std-v", r.supply.drift_std_v, "supply slow drift [V]")
-        ->capture_default_str();
-    // Effects' shapes
-    app.add_option("--hysteresis-width-c", r.effects.hysteresis_width_c,
-                   "reversal that switches branch [degC]")
-        ->capture_default_str();
-    app.add_option("--warmup-tau-s", r.effects.warmup_tau_s, "warm-up transient time constant [s]")
-        ->capture_default_str();
-    // Built-in profile
-    app.add_option("--profile", profile_text, "builtin mode: setpoints [degC], comma-separated")
-        ->capture_default_str();
-    app.add_option("--dwell-s", o.profile.dwell_s,
-                   "builtin mode: time at setpoint before rotating [s]")
-        ->capture_default_str();
-    app.add_option("--rest-s", o.profile.rest_s, "builtin mode: rest after each move [s]")
-        ->capture_default_str();
-    app.add_option("--move-deg", o.profile.move_deg, "builtin mode: rotation (+ then -) [deg]")
-        ->capture_default_str();
-    app.footer(kFooter);
+    AddShown(app, "--seed", raw.seed, "random seed: same seed, same output");
+    AddShown(app, "--noise-seed", raw.noise_seed,
+             "seed of the noise alone (0 = --seed): the same units, another realisation");
+}
 
-    // The values CLI11 cannot check alone: their ConfigError is the one-line reason (exit 2).
-    const auto validate = [&]() -> std::string {
-        try {
-            r.seed = seed;
-            r.noise_seed = noise_seed;
-            r.start_utime = start_utime;
-            r.preset = sim::PresetByName(preset);
-            // The transfer function both simulates the sensor line and converts it to temp_c.
-            if (!std::isnan(temp_v_at_25c)) {
-                if (!std::isfinite(temp_v_at_25c) || temp_v_at_25c <= 0.0 ||
-                    temp_v_at_25c >= 50.0) {
-                    throw sim::ConfigError(
-                        "--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
-                }
-                r.preset.temp_v_at_25c = temp_v_at_25c;
-            }
-            if (!std::isnan(temp_v_per_c)) {
-                if (!std::isfinite(temp_v_per_c) || temp_v_per_c <= 0.0 || temp_v_per_c > 1.0) {
-                    throw sim::ConfigError(
-                        "--temp-v-per-c is out of range; valid: > 0 and <= 1 V/K");
-                }
-                r.preset.temp_v_per_c = temp_v_per_c;
-            }
-            if (!sensor_ids_text.empty()) {
-                std::stringstream ss(sensor_ids_text);
-                std::string id;
-                while (std::getline(ss, id, ',')) r.sensor_ids.push_back(id);
-            }
-            for (const auto& e : effects) sim::ParseEffect(r.effects, e);
-            if (o.mode != "commanded" && o.mode != "builtin") {
-                throw ConfigError("--mode '" + o.mode + "' is unknown; valid: commanded, builtin");
-            }
-            if (!std::isfinite(o.speed) || o.speed <= 0.0 || o.speed > 100000.0) {
-                std::ostringstream v;
-                v << o.speed;
-                throw ConfigError(
-                    "--speed " + v.str() +
-                    " is out of range; valid: > 0 and <= 100000 (simulated s per wall s)");
-            }
-            if (!std::isfinite(o.duration_s) || o.duration_s < 0.0) {
-                throw ConfigError("--duration-s must be >= 0 (0 = until stopped)");
-            }
-            if (!std::isfinite(o.max_msgs_per_s) || o.max_msgs_per_s < 0.0) {
-                throw ConfigError("--max-msgs-per-s must be >= 0 (0 = no cap)");
-            }
-            if (!std::isfinite(o.tick_ms) || o.tick_ms < 1.0 || o.tick_ms > 100.0) {
-                throw ConfigError("--tick-ms is out of range; valid: 1 .. 100");
-            }
-            if (!(o.profile.dwell_s >= 0.0) || !(o.profile.rest_s >= 0.0) ||
-                !std::isfinite(o.profile.move_deg) ||
-                std::abs(o.profile.move_deg) > r.table.max_move_deg) {
-                throw ConfigError(
-                    "--dwell-s, --rest-s must be >= 0 and |--move-deg| <= the table's limit");
-            }
-            o.profile.setpoints_c = sim::ParseProfile(profile_text, r.thermal);
-            r.Validate();
-        } catch (const ConfigError& e) {
-            return e.what();
+// Which units, of which module, sampled how.
+void AddUnitOptions(CLI::App& app, sim::RigConfig& r, RawOptions& raw) {
+    AddShown(app, "--units", r.num_units, "number of units S01..S<n>, 1..256");
+    app.add_option("--sensor-ids", raw.sensor_ids_text,
+                   "comma-separated unit ids (overrides --units)");
+    AddShown(app, "--preset", raw.preset,
+             "gyro module: 610 (ADXRS610, +-300 deg/s, 6 mV/(deg/s)) or 613 (ADXRS613, +-150 "
+             "deg/s, 12.5 mV/(deg/s))");
+    app.add_option("--temp-v-at-25c", raw.temp_v_at_25c,
+                   "temperature line at 25 degC [V] (default: the preset's, 2.5)");
+    app.add_option("--temp-v-per-c", raw.temp_v_per_c,
+                   "temperature line slope [V/degC] (default: the preset's, 0.009)");
+    AddShown(app, "--rate-hz", r.sample_rate_hz, "gyro sample rate [Hz]");
+    AddShown(app, "--start-utime", raw.start_utime, "simulated clock at power-on [us]");
+    app.add_option("--effect", raw.effects, "undeclared effect NAME=VALUE (see below), repeatable");
+}
+
+void AddNoiseOptions(CLI::App& app, sim::NoiseConfig& n) {
+    AddRenamed(app, "--noise-density-dps-rthz", "--noise-density", n.noise_density_dps_rthz,
+               "white rate noise [deg/s/sqrt(Hz)] (Allan dev = value/sqrt(tau))");
+    AddShown(app, "--bias-instability-dps", n.bias_instability_dps,
+             "flat Allan-deviation level [deg/s]");
+    AddShown(app, "--rrw-dps-rts", n.rate_random_walk_dps_rts, "rate random walk [deg/s/sqrt(s)]");
+    AddShown(app, "--lpf-hz", n.lpf_hz, "module output low-pass corner [Hz], 0 = none");
+    AddShown(app, "--temp-noise-v", n.temp_noise_v, "temperature line noise [V]");
+}
+
+void AddThermalOptions(CLI::App& app, sim::RigConfig& r) {
+    AddShown(app, "--start-temp-c", r.thermal.start_temp_c, "chamber and units at power-on [degC]");
+    AddShown(app, "--ramp-c-per-min", r.thermal.ramp_c_per_min,
+             "chamber ramp-rate limit [degC/min]");
+    AddShown(app, "--air-tau-s", r.thermal.air_tau_s, "air settling lag [s]");
+    AddShown(app, "--air-noise-c", r.thermal.air_noise_c, "air control fluctuation [degC]");
+    AddShown(app, "--package-tau-s", r.thermal.package_tau_s, "die lag behind the air [s]");
+    AddRenamed(app, "--package-tau-spread-frac", "--package-tau-spread",
+               r.spread.package_tau_spread_frac, "per-unit relative spread of the package lag");
+    AddShown(app, "--sensor-tau-s", r.thermal.sensor_tau_s,
+             "temperature sensor lag behind the die [s]");
+    AddShown(app, "--temp-sensor-offset-std-c", r.spread.temp_sensor_offset_std_c,
+             "per-unit temperature sensor offset spread [degC]");
+    AddShown(app, "--setpoint-tolerance-c", r.thermal.setpoint_tolerance_c,
+             "at_setpoint band [degC]");
+    AddShown(app, "--min-setpoint-c", r.thermal.min_setpoint_c, "lowest accepted setpoint [degC]");
+    AddShown(app, "--max-setpoint-c", r.thermal.max_setpoint_c, "highest accepted setpoint [degC]");
+}
+
+// The turntable, its encoder, the ADC and the supply.
+void AddHardwareOptions(CLI::App& app, sim::RigConfig& r) {
+    AddShown(app, "--table-rate-dps", r.table.default_rate_dps, "default cruise rate [deg/s]");
+    AddShown(app, "--table-accel-dps2", r.table.default_accel_dps2,
+             "default acceleration [deg/s^2]");
+    AddShown(app, "--table-max-rate-dps", r.table.max_rate_dps,
+             "faster orders are refused [deg/s]");
+    AddShown(app, "--encoder-lines", r.encoder.lines_per_rev, "encoder lines per revolution");
+    AddShown(app, "--encoder-quadrature", r.encoder.quadrature, "counts per line: 1, 2 or 4");
+    AddShown(app, "--encoder-hz", r.encoder.rate_hz, "encoder publication rate [Hz]");
+    AddShown(app, "--adc-bits", r.adc.bits, "ADC resolution, 0 = no ADC (analog volts)");
+    AddShown(app, "--adc-vref-v", r.adc.vref_v, "ADC full scale [V]");
+    AddShown(app, "--supply-ripple-v", r.supply.ripple_v, "supply ripple amplitude [V]");
+    AddShown(app, "--supply-drift-std-v", r.supply.drift_std_v, "supply slow drift [V]");
+}
+
+// The effects' shapes and the built-in profile.
+void AddShapeAndProfileOptions(CLI::App& app, SimRigOptions& o, RawOptions& raw) {
+    AddShown(app, "--hysteresis-width-c", o.rig.effects.hysteresis_width_c,
+             "reversal that switches branch [degC]");
+    AddShown(app, "--warmup-tau-s", o.rig.effects.warmup_tau_s,
+             "warm-up transient time constant [s]");
+    AddShown(app, "--profile", raw.profile_text, "builtin mode: setpoints [degC], comma-separated");
+    AddShown(app, "--dwell-s", o.profile.dwell_s,
+             "builtin mode: time at setpoint before rotating [s]");
+    AddShown(app, "--rest-s", o.profile.rest_s, "builtin mode: rest after each move [s]");
+    AddShown(app, "--move-deg", o.profile.move_deg, "builtin mode: rotation (+ then -) [deg]");
+}
+
+// The preset, then the explicit temperature transfer over it: the transfer function both
+// simulates the sensor line and converts it to temp_c.
+void ResolvePreset(const RawOptions& raw, sim::GyroPreset& preset) {
+    preset = sim::PresetByName(raw.preset);
+    if (!std::isnan(raw.temp_v_at_25c)) {
+        if (!std::isfinite(raw.temp_v_at_25c) || raw.temp_v_at_25c <= 0.0 ||
+            raw.temp_v_at_25c >= 50.0) {
+            throw sim::ConfigError("--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
         }
-        return "";
-    };
-    return ParseCommandLine(app, argc, argv, "gyrocal-sim-rig", validate);
+        preset.temp_v_at_25c = raw.temp_v_at_25c;
+    }
+    if (!std::isnan(raw.temp_v_per_c)) {
+        if (!std::isfinite(raw.temp_v_per_c) || raw.temp_v_per_c <= 0.0 || raw.temp_v_per_c > 1.0) {
+            throw sim::ConfigError("--temp-v-per-c is out of range; valid: > 0 and <= 1 V/degC");
+        }
+        preset.temp_v_per_c = raw.temp_v_per_c;
+    }
+}
+
+// The process's own options (mode, pacing, built-in profile): ConfigError names the first bad one.
+void CheckRunOptions(const SimRigOptions& o) {
+    using sim::ConfigError;
+    if (o.mode != "commanded" && o.mode != "builtin") {
+        throw ConfigError("--mode '" + o.mode + "' is unknown; valid: commanded, builtin");
+    }
+    if (!std::isfinite(o.speed) || o.speed <= 0.0 || o.speed > 100000.0) {
+        std::ostringstream v;
+        v << o.speed;
+        throw ConfigError("--speed " + v.str() +
+                          " is out of range; valid: > 0 and <= 100000 (simulated s per wall s)");
+    }
+    if (!std::isfinite(o.duration_s) || o.duration_s < 0.0) {
+        throw ConfigError("--duration-s must be >= 0 (0 = until stopped)");
+    }
+    if (!std::isfinite(o.max_msgs_per_s) || o.max_msgs_per_s < 0.0) {
+        throw ConfigError("--max-msgs-per-s must be >= 0 (0 = no cap)");
+    }
+    if (!std::isfinite(o.tick_ms) || o.tick_ms < 1.0 || o.tick_ms > 100.0) {
+        throw ConfigError("--tick-ms is out of range; valid: 1 .. 100");
+    }
+    if (!(o.profile.dwell_s >= 0.0) || !(o.profile.rest_s >= 0.0) ||
+        !std::isfinite(o.profile.move_deg) ||
+        std::abs(o.profile.move_deg) > o.rig.table.max_move_deg) {
+        throw ConfigError("--dwell-s, --rest-s must be >= 0 and |--move-deg| <= the table's limit");
+    }
+}
+
+// The values CLI11 cannot check alone, into `o`: "" when valid, else the ConfigError's one-line
+// reason (exit 2).
+std::string ResolveOptions(const RawOptions& raw, SimRigOptions& o) {
+    sim::RigConfig& r = o.rig;
+    try {
+        r.seed = raw.seed;
+        r.noise_seed = raw.noise_seed;
+        r.start_utime = raw.start_utime;
+        ResolvePreset(raw, r.preset);
+        if (!raw.sensor_ids_text.empty()) {
+            std::stringstream ss(raw.sensor_ids_text);
+            std::string id;
+            while (std::getline(ss, id, ',')) r.sensor_ids.push_back(id);
+        }
+        for (const auto& e : raw.effects) sim::ParseEffect(r.effects, e);
+        CheckRunOptions(o);
+        o.profile.setpoints_c = sim::ParseProfile(raw.profile_text, r.thermal);
+        r.Validate();
+    } catch (const sim::ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::optional<int> ParseInto(CLI::App& app, int argc, char** argv, SimRigOptions& o) {
+    RawOptions raw;
+    raw.preset = o.rig.preset.name;
+    raw.start_utime = o.rig.start_utime;
+    raw.seed = o.rig.seed;
+    raw.noise_seed = o.rig.noise_seed;
+    AddRunOptions(app, o, raw);
+    AddUnitOptions(app, o.rig, raw);
+    AddNoiseOptions(app, o.rig.noise);
+    AddThermalOptions(app, o.rig);
+    AddHardwareOptions(app, o.rig);
+    AddShapeAndProfileOptions(app, o, raw);
+    app.footer(kFooter);
+    return ParseCommandLine(app, argc, argv, "gyrocal-sim-rig",
+                            [&] { return ResolveOptions(raw, o); });
 }
 
 }  // namespace

@@ -1,19 +1,13 @@
 #include "analyses.hpp"
 
-#include <chrono>
 #include <filesystem>
 
 #include "query.hpp"
 #include "schema.hpp"
+#include "utc_text.hpp"
 
 namespace gyrocal::store {
 namespace {
-
-int64_t WallUtimeNow() {
-    return std::chrono::duration_cast<std::chrono::microseconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
 
 void InsertModel(Db& db, int64_t coeff_row_id, const char* role, const ModelRow& m) {
     Stmt s(db,
@@ -45,29 +39,18 @@ void InsertModel(Db& db, int64_t coeff_row_id, const char* role, const ModelRow&
 
 int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
     if (r.sensor_id.empty()) throw StoreError("analysis: sensor_id is empty");
-    if (!RunExists(db, r.run_id)) {
-        throw NotFound("no run '" + r.run_id + "' in database '" + db.path() +
-                       "' (an analysis is stored with a recorded run)");
-    }
+    RequireRun(db, r.run_id, " (an analysis is stored with a recorded run)");
     Stmt s(db,
            "INSERT INTO analyses(run_id, sensor_id, created_wall_utime, software_version, "
            "command_line, verdict, candidates_json, added_json, offset_rms_v_before, "
            "offset_rms_v_after, rate_rms_dps_before, rate_rms_dps_after, drift_dph_before, "
            "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id, outcome) "
            "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-    s.Bind(1, r.run_id).Bind(2, r.sensor_id);
-    s.Bind(3, r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow());
-    s.Bind(4, r.software_version).Bind(5, r.command_line).Bind(6, r.verdict);
-    s.Bind(7, r.candidates_json).Bind(8, r.added_json);
-    s.Bind(9, r.offset_rms_v_before).Bind(10, r.offset_rms_v_after);
-    s.Bind(11, r.rate_rms_dps_before).Bind(12, r.rate_rms_dps_after);
-    s.Bind(13, r.drift_dph_before).Bind(14, r.drift_dph_after).Bind(15, r.floor_rate_rms_dps);
-    s.Bind(16, r.result_json).Bind(17, r.coeff_row_id);
-    if (r.outcome) {
-        s.Bind(18, *r.outcome);
-    } else {
-        s.BindNull(18);
-    }
+    s.BindAll(r.run_id, r.sensor_id,
+              r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow(), r.software_version,
+              r.command_line, r.verdict, r.candidates_json, r.added_json, r.offset_rms_v_before,
+              r.offset_rms_v_after, r.rate_rms_dps_before, r.rate_rms_dps_after, r.drift_dph_before,
+              r.drift_dph_after, r.floor_rate_rms_dps, r.result_json, r.coeff_row_id, r.outcome);
     s.Run();
     return db.LastInsertRowId();
 }
@@ -164,9 +147,7 @@ StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const CoeffSetRow* 
 
 std::vector<AnalysisRow> ListAnalyses(Db& db, const std::string& run_id,
                                       const std::optional<std::string>& sensor_id) {
-    if (!RunExists(db, run_id)) {
-        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
-    }
+    RequireRun(db, run_id);
     Stmt s(db,
            "SELECT analysis_id, run_id, sensor_id, created_wall_utime, software_version, "
            "command_line, verdict, candidates_json, added_json, offset_rms_v_before, "
@@ -182,24 +163,11 @@ std::vector<AnalysisRow> ListAnalyses(Db& db, const std::string& run_id,
     std::vector<AnalysisRow> out;
     while (s.Step()) {
         AnalysisRow a;
-        a.analysis_id = s.Int(0);
-        a.run_id = s.Text(1);
-        a.sensor_id = s.Text(2);
-        a.created_wall_utime = s.Int(3);
-        a.software_version = s.Text(4);
-        a.command_line = s.Text(5);
-        a.verdict = s.Text(6);
-        a.candidates_json = s.Text(7);
-        a.added_json = s.Text(8);
-        a.offset_rms_v_before = s.Real(9);
-        a.offset_rms_v_after = s.Real(10);
-        a.rate_rms_dps_before = s.Real(11);
-        a.rate_rms_dps_after = s.Real(12);
-        a.drift_dph_before = s.Real(13);
-        a.drift_dph_after = s.Real(14);
-        a.floor_rate_rms_dps = s.Real(15);
-        a.result_json = s.Text(16);
-        a.coeff_row_id = s.OptInt(17);
+        s.Read(0, a.analysis_id, a.run_id, a.sensor_id, a.created_wall_utime, a.software_version,
+               a.command_line, a.verdict, a.candidates_json, a.added_json, a.offset_rms_v_before,
+               a.offset_rms_v_after, a.rate_rms_dps_before, a.rate_rms_dps_after,
+               a.drift_dph_before, a.drift_dph_after, a.floor_rate_rms_dps, a.result_json,
+               a.coeff_row_id);
         if (!s.IsNull(18)) a.outcome = s.Text(18);
         out.push_back(std::move(a));
     }

@@ -37,22 +37,10 @@ std::vector<FitReportInfo> RunFitReports(Db& db, const std::string& run_id) {
     s.Bind(1, run_id);
     while (s.Step()) {
         FitReportInfo info;
-        info.fit_report_row_id = s.Int(0);
         FitReportRow& r = info.report;
-        r.run_id = s.Text(1);
-        r.sensor_id = s.Text(2);
-        r.coeff_set_id = s.Int(3);
-        r.source = s.Text(4);
-        r.utime = s.Int(5);
-        r.is_final = s.Int(6) != 0;
-        r.status = s.Text(7);
-        r.reason = s.Text(8);
-        r.offset_detail = s.Text(9);
-        r.sensitivity_detail = s.Text(10);
-        r.slow_noise_v = s.Real(11);
-        r.slow_noise_dps = s.Real(12);
-        r.slow_noise_source = s.Text(13);
-        r.recv_utime = s.Int(14);
+        s.Read(0, info.fit_report_row_id, r.run_id, r.sensor_id, r.coeff_set_id, r.source, r.utime,
+               r.is_final, r.status, r.reason, r.offset_detail, r.sensitivity_detail,
+               r.slow_noise_v, r.slow_noise_dps, r.slow_noise_source, r.recv_utime);
         out.push_back(std::move(info));
     }
     for (FitReportInfo& info : out) ReadExclusionsAndRepeats(db, info);
@@ -69,24 +57,11 @@ std::vector<NoiseInfo> RunNoise(Db& db, const std::string& run_id) {
     s.Bind(1, run_id);
     while (s.Step()) {
         NoiseInfo info;
-        info.noise_row_id = s.Int(0);
         NoiseRow& n = info.noise;
-        n.run_id = s.Text(1);
-        n.sensor_id = s.Text(2);
-        n.utime = s.Int(3);
-        n.still_s = s.Real(4);
-        n.n_segments = static_cast<int32_t>(s.Int(5));
-        n.longest_segment_s = s.Real(6);
-        n.tau0_s = s.Real(7);
-        n.arw_v_rthz = s.Real(8);
-        n.arw_stderr_v_rthz = s.Real(9);
-        n.bias_instability_v = s.Real(10);
-        n.bias_instability_stderr_v = s.Real(11);
-        n.rrw_v_rts = s.Real(12);
-        n.rrw_stderr_v_rts = s.Real(13);
-        n.fit_note = s.Text(14);
-        n.recv_utime = s.Int(15);
-        info.sensitivity_v_per_dps = s.OptReal(16);
+        s.Read(0, info.noise_row_id, n.run_id, n.sensor_id, n.utime, n.still_s, n.n_segments,
+               n.longest_segment_s, n.tau0_s, n.arw_v_rthz, n.arw_stderr_v_rthz,
+               n.bias_instability_v, n.bias_instability_stderr_v, n.rrw_v_rts, n.rrw_stderr_v_rts,
+               n.fit_note, n.recv_utime, info.sensitivity_v_per_dps);
         out.push_back(std::move(info));
     }
     for (NoiseInfo& info : out) {

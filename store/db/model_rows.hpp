@@ -26,7 +26,7 @@ CoeffSetRow ToCoeffSetRow(const model::CoeffSet& set, int64_t recv_utime = 0);
 CoeffSetRow ToCoeffSetRow(const gyrocal::coeff_set_t& msg, int64_t recv_utime = 0);
 model::CoeffSet ToCoeffSet(const CoeffSetRow& row);
 
-// What `gyrocal analyze` calls to keep its result (issue 6, step 5): the analysis row and, when
+// What `gyrocal analyze` calls to keep its result: the analysis row and, when
 // given, its extended model as a coefficient set with source "analysis:<analysis_id>" (the
 // returned `source`; set it on the coeff_set_t before publishing it for a live compensator, the
 // recorder then keeps it once). Both models are checked with model::Problem first; a model that

@@ -29,34 +29,18 @@ FROM runs r )sql";
 
 RunInfo ReadRun(const Stmt& s) {
     RunInfo r;
-    r.run_id = s.Text(0);
-    r.outcome = s.Text(1);
-    r.reason = s.Text(2);
-    r.software_version = s.Text(3);
-    r.config_json = s.Text(4);
-    r.command_line = s.Text(5);
-    r.host = s.Text(6);
-    r.recorder_version = s.Text(7);
-    r.recorder_host = s.Text(8);
-    r.started_utime = s.OptInt(9);
-    r.stopped_utime = s.OptInt(10);
-    r.first_recv_utime = s.OptInt(11);
+    s.Read(0, r.run_id, r.outcome, r.reason, r.software_version, r.config_json, r.command_line,
+           r.host, r.recorder_version, r.recorder_host, r.started_utime, r.stopped_utime,
+           r.first_recv_utime);
     const std::string ids = s.Text(12);
     if (!ids.empty()) {
         for (const auto& v : nlohmann::json::parse(ids)) {
             if (v.is_string()) r.sensor_ids.push_back(v.get<std::string>());
         }
     }
-    r.gyro_samples = s.Int(13);
-    r.encoder_samples = s.Int(14);
-    r.chamber_states = s.Int(15);
-    r.plateaus = s.Int(16);
-    r.sensitivity_points = s.Int(17);
-    r.coeff_sets = s.Int(18);
-    r.raw_events = s.Int(19);
-    r.seq_gaps = s.Int(20);
-    r.decode_errors = s.Int(21);
-    r.queue_drops = s.Int(22);
+    s.Read(13, r.gyro_samples, r.encoder_samples, r.chamber_states, r.plateaus,
+           r.sensitivity_points, r.coeff_sets, r.raw_events, r.seq_gaps, r.decode_errors,
+           r.queue_drops);
     return r;
 }
 
@@ -68,28 +52,10 @@ constexpr const char* kPlateauColumns =
 
 PlateauRow ReadPlateau(const Stmt& s) {
     PlateauRow p;
-    p.run_id = s.Text(0);
-    p.sensor_id = s.Text(1);
-    p.plateau_id = s.Int(2);
-    p.utime = s.Int(3);
-    p.setpoint_c = s.Real(4);
-    p.start_utime = s.Int(5);
-    p.end_utime = s.Int(6);
-    p.first_seq = s.Int(7);
-    p.last_seq = s.Int(8);
-    p.n_samples = static_cast<int32_t>(s.Int(9));
-    p.n_excluded_motion = static_cast<int32_t>(s.Int(10));
-    p.seq_gaps = static_cast<int32_t>(s.Int(11));
-    p.temp_mean_c = s.Real(12);
-    p.temp_std_c = s.Real(13);
-    p.temp_sem_c = s.Real(14);
-    p.temp_slope_c_per_min = s.Real(15);
-    p.gyro_mean_v = s.Real(16);
-    p.gyro_std_v = s.Real(17);
-    p.gyro_sem_v = s.Real(18);
-    p.temp_mean_v = s.Real(19);
-    p.supply_mean_v = s.Real(20);
-    p.recv_utime = s.Int(21);
+    s.Read(0, p.run_id, p.sensor_id, p.plateau_id, p.utime, p.setpoint_c, p.start_utime,
+           p.end_utime, p.first_seq, p.last_seq, p.n_samples, p.n_excluded_motion, p.seq_gaps,
+           p.temp_mean_c, p.temp_std_c, p.temp_sem_c, p.temp_slope_c_per_min, p.gyro_mean_v,
+           p.gyro_std_v, p.gyro_sem_v, p.temp_mean_v, p.supply_mean_v, p.recv_utime);
     return p;
 }
 
@@ -100,26 +66,10 @@ constexpr const char* kSensitivityColumns =
 
 SensitivityRow ReadSensitivity(const Stmt& s) {
     SensitivityRow p;
-    p.run_id = s.Text(0);
-    p.sensor_id = s.Text(1);
-    p.rotation_id = s.Int(2);
-    p.utime = s.Int(3);
-    p.start_utime = s.Int(4);
-    p.end_utime = s.Int(5);
-    p.first_seq = s.Int(6);
-    p.last_seq = s.Int(7);
-    p.n_samples = static_cast<int32_t>(s.Int(8));
-    p.direction = static_cast<int32_t>(s.Int(9));
-    p.temp_c = s.Real(10);
-    p.encoder_angle_deg = s.Real(11);
-    p.offset_v = s.Real(12);
-    p.offset_stderr_v = s.Real(13);
-    p.integral_v_s = s.Real(14);
-    p.sensitivity_v_per_dps = s.Real(15);
-    p.sensitivity_stderr_v_per_dps = s.Real(16);
-    p.accepted = s.Int(17) != 0;
-    p.reject_reason = s.Text(18);
-    p.recv_utime = s.Int(19);
+    s.Read(0, p.run_id, p.sensor_id, p.rotation_id, p.utime, p.start_utime, p.end_utime,
+           p.first_seq, p.last_seq, p.n_samples, p.direction, p.temp_c, p.encoder_angle_deg,
+           p.offset_v, p.offset_stderr_v, p.integral_v_s, p.sensitivity_v_per_dps,
+           p.sensitivity_stderr_v_per_dps, p.accepted, p.reject_reason, p.recv_utime);
     return p;
 }
 
@@ -130,14 +80,8 @@ ModelRow ReadModel(Db& db, int64_t coeff_row_id, const char* role) {
            "condition_number, method FROM coeff_models WHERE coeff_row_id = ? AND role = ?");
     s.Bind(1, coeff_row_id).Bind(2, role);
     if (s.Step()) {
-        m.quantity = s.Text(0);
-        m.t0_c = s.Real(1);
-        m.temp_min_c = s.Real(2);
-        m.temp_max_c = s.Real(3);
-        m.residual_rms = s.Real(4);
-        m.n_points = static_cast<int32_t>(s.Int(5));
-        m.condition_number = s.Real(6);
-        m.method = s.Text(7);
+        s.Read(0, m.quantity, m.t0_c, m.temp_min_c, m.temp_max_c, m.residual_rms, m.n_points,
+               m.condition_number, m.method);
     }
     Stmt t(db,
            "SELECT term_name, coeff FROM coeff_terms WHERE coeff_row_id = ? AND role = ? "
@@ -164,14 +108,9 @@ ModelRow ReadModel(Db& db, int64_t coeff_row_id, const char* role) {
 CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
     // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime
     CoeffSetInfo info;
-    info.coeff_row_id = s.Int(0);
     CoeffSetRow& c = info.set;
-    c.run_id = s.Text(1);
-    c.sensor_id = s.Text(2);
-    c.coeff_set_id = s.Int(3);
-    c.source = s.Text(4);
-    c.utime = s.Int(5);
-    c.recv_utime = s.Int(6);
+    s.Read(0, info.coeff_row_id, c.run_id, c.sensor_id, c.coeff_set_id, c.source, c.utime,
+           c.recv_utime);
     c.offset = ReadModel(db, info.coeff_row_id, "offset");
     c.sensitivity = ReadModel(db, info.coeff_row_id, "sensitivity");
     Stmt p(db, "SELECT plateau_id FROM coeff_set_plateaus WHERE coeff_row_id = ? ORDER BY rowid");
@@ -192,6 +131,16 @@ constexpr const char* kFinalOnly =
     " AND c.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets d WHERE d.run_id = c.run_id "
     "AND d.sensor_id = c.sensor_id AND d.source = c.source) ";
 
+// The coefficient sets (with their models and links) that kCoeffColumns + `where`, its one
+// parameter bound to `key`, selects, in its order.
+std::vector<CoeffSetInfo> QueryCoeffSets(Db& db, const std::string& where, const std::string& key) {
+    Stmt s(db, std::string(kCoeffColumns) + where);
+    s.Bind(1, key);
+    std::vector<CoeffSetInfo> out;
+    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
+    return out;
+}
+
 }  // namespace
 
 std::vector<std::string> ParseIds(const std::string& json_text) {
@@ -205,6 +154,13 @@ std::vector<std::string> ParseIds(const std::string& json_text) {
     return ids;
 }
 
+RunEventRow ReadRunEvent(const Stmt& s, int first) {
+    RunEventRow e;
+    s.Read(first, e.run_id, e.utime, e.event, e.reason, e.setpoint_index, e.setpoint_c);
+    e.sensor_ids = ParseIds(s.Text(first + 6));
+    s.Read(first + 7, e.software_version, e.config_json, e.command_line, e.host);
+    return e;
+}
 
 std::unique_ptr<Db> OpenForQuery(const std::string& path) {
     std::error_code ec;
@@ -271,6 +227,12 @@ bool RunExists(Db& db, const std::string& run_id) {
     return s.Step();
 }
 
+void RequireRun(Db& db, const std::string& run_id, const std::string& why) {
+    if (!RunExists(db, run_id)) {
+        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'" + why);
+    }
+}
+
 bool SensorExists(Db& db, const std::string& sensor_id) {
     Stmt s(db,
            "SELECT 1 FROM sensors WHERE sensor_id = ?1 UNION ALL "
@@ -289,24 +251,11 @@ RunInfo GetRun(Db& db, const std::string& run_id) {
 // The run's events in the order they were recorded.
 static std::vector<RunEventRow> RunEvents(Db& db, const std::string& run_id) {
     std::vector<RunEventRow> events;
-    Stmt s(db,
-           "SELECT run_id, utime, event, reason, setpoint_index, setpoint_c, sensor_ids_json, "
-           "software_version, config_json, command_line, host, recv_utime FROM run_events "
-           "WHERE run_id = ? ORDER BY rowid");
+    Stmt s(db, std::string("SELECT ") + kRunEventColumns +
+                   ", recv_utime FROM run_events WHERE run_id = ? ORDER BY rowid");
     s.Bind(1, run_id);
     while (s.Step()) {
-        RunEventRow e;
-        e.run_id = s.Text(0);
-        e.utime = s.Int(1);
-        e.event = s.Text(2);
-        e.reason = s.Text(3);
-        e.setpoint_index = static_cast<int32_t>(s.Int(4));
-        e.setpoint_c = s.Real(5);
-        e.sensor_ids = ParseIds(s.Text(6));
-        e.software_version = s.Text(7);
-        e.config_json = s.Text(8);
-        e.command_line = s.Text(9);
-        e.host = s.Text(10);
+        RunEventRow e = ReadRunEvent(s, 0);
         e.recv_utime = s.Int(11);
         events.push_back(std::move(e));
     }
@@ -325,19 +274,9 @@ static std::vector<StatusRow> LastStatuses(Db& db, const std::string& run_id) {
     while (s.Step()) {
         StatusRow st;
         st.run_id = run_id;
-        st.process = s.Text(0);
-        st.host = s.Text(1);
-        st.pid = static_cast<int32_t>(s.Int(2));
-        st.state = s.Text(3);
-        st.received = s.Int(4);
-        st.published = s.Int(5);
-        st.decode_errors = s.Int(6);
-        st.seq_gaps = s.Int(7);
-        st.queue_drops = s.Int(8);
-        st.rejected = s.Int(9);
-        st.last_reject = s.Text(10);
-        st.utime = s.Int(11);
-        st.recv_utime = s.Int(12);
+        s.Read(0, st.process, st.host, st.pid, st.state, st.received, st.published,
+               st.decode_errors, st.seq_gaps, st.queue_drops, st.rejected, st.last_reject, st.utime,
+               st.recv_utime);
         processes.push_back(std::move(st));
     }
     return processes;
@@ -382,39 +321,28 @@ std::vector<CoeffSetInfo> SensorHistory(Db& db, const std::string& sensor_id, bo
     if (!SensorExists(db, sensor_id)) {
         throw NotFound("no sensor '" + sensor_id + "' in database '" + db.path() + "'");
     }
-    Stmt s(db, std::string(kCoeffColumns) + "WHERE c.sensor_id = ? " +
-                   (final_only ? kFinalOnly : "") + "ORDER BY c.recv_utime, c.coeff_row_id");
-    s.Bind(1, sensor_id);
-    std::vector<CoeffSetInfo> out;
-    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
-    return out;
+    return QueryCoeffSets(db,
+                          std::string("WHERE c.sensor_id = ? ") + (final_only ? kFinalOnly : "") +
+                              "ORDER BY c.recv_utime, c.coeff_row_id",
+                          sensor_id);
 }
 
 std::vector<CoeffSetInfo> RunFinalCoeffs(Db& db, const std::string& run_id) {
-    if (!RunExists(db, run_id)) {
-        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
-    }
-    Stmt s(db, std::string(kCoeffColumns) + "WHERE c.run_id = ? " + kFinalOnly +
-                   "ORDER BY c.sensor_id, c.source");
-    s.Bind(1, run_id);
-    std::vector<CoeffSetInfo> out;
-    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
-    return out;
+    RequireRun(db, run_id);
+    return QueryCoeffSets(
+        db, std::string("WHERE c.run_id = ? ") + kFinalOnly + "ORDER BY c.sensor_id, c.source",
+        run_id);
 }
 
 std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id) {
-    if (!RunExists(db, run_id)) {
-        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
-    }
+    RequireRun(db, run_id);
     // Newest = latest recv_utime, ties broken by insertion order (as SensorHistory orders).
-    Stmt s(db, std::string(kCoeffColumns) +
-                   "WHERE c.run_id = ?1 AND c.coeff_row_id = (SELECT d.coeff_row_id FROM "
-                   "coeff_sets d WHERE d.run_id = c.run_id AND d.sensor_id = c.sensor_id ORDER BY "
-                   "d.recv_utime DESC, d.coeff_row_id DESC LIMIT 1) ORDER BY c.sensor_id");
-    s.Bind(1, run_id);
-    std::vector<CoeffSetInfo> out;
-    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
-    return out;
+    return QueryCoeffSets(db,
+                          "WHERE c.run_id = ?1 AND c.coeff_row_id = (SELECT d.coeff_row_id FROM "
+                          "coeff_sets d WHERE d.run_id = c.run_id AND d.sensor_id = c.sensor_id "
+                          "ORDER BY d.recv_utime DESC, d.coeff_row_id DESC LIMIT 1) "
+                          "ORDER BY c.sensor_id",
+                          run_id);
 }
 
 std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {
@@ -430,13 +358,8 @@ std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {
     std::vector<ProvenanceItem> out;
     while (s.Step()) {
         ProvenanceItem p;
-        p.kind = s.Text(0);
-        p.item_id = s.Int(1);
-        p.item_found = s.Int(2) != 0;
-        p.start_utime = s.OptInt(3);
-        p.end_utime = s.OptInt(4);
-        p.n_samples = s.OptInt(5);
-        p.stored_samples = s.Int(6);
+        s.Read(0, p.kind, p.item_id, p.item_found, p.start_utime, p.end_utime, p.n_samples,
+               p.stored_samples);
         out.push_back(p);
     }
     return out;

@@ -72,6 +72,8 @@ RunInfo GetRun(Db& db, const std::string& run_id);
 RunDetail ShowRun(Db& db, const std::string& run_id);
 
 bool RunExists(Db& db, const std::string& run_id);
+// Throws NotFound "no run 'ID' in database 'PATH'" followed by `why` unless the run exists.
+void RequireRun(Db& db, const std::string& run_id, const std::string& why = "");
 bool SensorExists(Db& db, const std::string& sensor_id);
 
 // Every coefficient set of a sensor, oldest first. `final_only`: only the newest set of each
@@ -96,5 +98,13 @@ std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id);
 
 // A JSON array of strings (run_events.sensor_ids_json) as a vector; [] when malformed.
 std::vector<std::string> ParseIds(const std::string& json_text);
+
+// The columns of run_events that make a RunEventRow, in ReadRunEvent's order (recv_utime apart:
+// the replay reads it first, the run detail last).
+inline constexpr const char* kRunEventColumns =
+    "run_id, utime, event, reason, setpoint_index, setpoint_c, sensor_ids_json, "
+    "software_version, config_json, command_line, host";
+// Reads kRunEventColumns from column `first` on (recv_utime is left 0).
+RunEventRow ReadRunEvent(const Stmt& s, int first);
 
 }  // namespace gyrocal::store

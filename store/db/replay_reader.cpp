@@ -24,71 +24,32 @@ struct ReplayReader::Cursor {
         switch (kind) {
             case 0: {
                 GyroRow g;
-                g.recv_utime = s.Int(0);
-                g.run_id = s.Text(1);
-                g.sensor_id = s.Text(2);
-                g.utime = s.Int(3);
-                g.seq = s.Int(4);
-                g.gyro_v = s.Real(5);
-                g.temp_v = s.Real(6);
-                g.temp_c = s.Real(7);
-                g.supply_v = s.Real(8);
-                g.has_adc = s.Int(9) != 0;
-                g.gyro_counts = static_cast<int32_t>(s.Int(10));
-                g.temp_counts = static_cast<int32_t>(s.Int(11));
+                s.Read(0, g.recv_utime, g.run_id, g.sensor_id, g.utime, g.seq, g.gyro_v, g.temp_v,
+                       g.temp_c, g.supply_v, g.has_adc, g.gyro_counts, g.temp_counts);
                 g.supply_counts = s.IsNull(12) ? -1 : static_cast<int32_t>(s.Int(12));
                 return g;
             }
             case 1: {
                 EncoderRow e;
-                e.recv_utime = s.Int(0);
-                e.run_id = s.Text(1);
-                e.encoder_id = s.Text(2);
-                e.utime = s.Int(3);
-                e.seq = s.Int(4);
-                e.counts = s.Int(5);
-                e.counts_per_rev = static_cast<int32_t>(s.Int(6));
-                e.angle_deg = s.Real(7);
+                s.Read(0, e.recv_utime, e.run_id, e.encoder_id, e.utime, e.seq, e.counts,
+                       e.counts_per_rev, e.angle_deg);
                 return e;
             }
             case 2: {
                 ChamberStateRow c;
-                c.recv_utime = s.Int(0);
-                c.run_id = s.Text(1);
-                c.utime = s.Int(2);
-                c.seq = s.Int(3);
-                c.cmd_id = s.Int(4);
-                c.setpoint_c = s.Real(5);
-                c.air_c = s.Real(6);
-                c.at_setpoint = s.Int(7) != 0;
-                c.fault = s.Text(8);
+                s.Read(0, c.recv_utime, c.run_id, c.utime, c.seq, c.cmd_id, c.setpoint_c, c.air_c,
+                       c.at_setpoint, c.fault);
                 return c;
             }
             case 4: {
                 PowerStateRow p;
-                p.recv_utime = s.Int(0);
-                p.run_id = s.Text(1);
-                p.sensor_id = s.Text(2);
-                p.utime = s.Int(3);
-                p.seq = s.Int(4);
-                p.power_on_utime = s.Int(5);
-                p.source = s.Text(6);
+                s.Read(0, p.recv_utime, p.run_id, p.sensor_id, p.utime, p.seq, p.power_on_utime,
+                       p.source);
                 return p;
             }
             default: {
-                RunEventRow e;
+                RunEventRow e = ReadRunEvent(s, 1);
                 e.recv_utime = s.Int(0);
-                e.run_id = s.Text(1);
-                e.utime = s.Int(2);
-                e.event = s.Text(3);
-                e.reason = s.Text(4);
-                e.setpoint_index = static_cast<int32_t>(s.Int(5));
-                e.setpoint_c = s.Real(6);
-                e.sensor_ids = ParseIds(s.Text(7));
-                e.software_version = s.Text(8);
-                e.config_json = s.Text(9);
-                e.command_line = s.Text(10);
-                e.host = s.Text(11);
                 return e;
             }
         }
@@ -96,9 +57,7 @@ struct ReplayReader::Cursor {
 };
 
 ReplayReader::ReplayReader(Db& db, const std::string& run_id) {
-    if (!RunExists(db, run_id)) {
-        throw NotFound("no run '" + run_id + "' in database '" + db.path() + "'");
-    }
+    RequireRun(db, run_id);
     cursors_.push_back(std::make_unique<Cursor>(
         db,
         "SELECT recv_utime, run_id, sensor_id, utime, seq, gyro_v, temp_v, temp_c, supply_v, "
@@ -116,12 +75,11 @@ ReplayReader::ReplayReader(Db& db, const std::string& run_id) {
         "SELECT recv_utime, run_id, utime, seq, cmd_id, setpoint_c, air_c, at_setpoint, fault "
         "FROM chamber_states WHERE run_id = ? ORDER BY rowid",
         run_id, 2));
-    cursors_.push_back(std::make_unique<Cursor>(
-        db,
-        "SELECT recv_utime, run_id, utime, event, reason, setpoint_index, setpoint_c, "
-        "sensor_ids_json, software_version, config_json, command_line, host FROM run_events "
-        "WHERE run_id = ? ORDER BY rowid",
-        run_id, 3));
+    cursors_.push_back(
+        std::make_unique<Cursor>(db,
+                                 std::string("SELECT recv_utime, ") + kRunEventColumns +
+                                     " FROM run_events WHERE run_id = ? ORDER BY rowid",
+                                 run_id, 3));
     cursors_.push_back(std::make_unique<Cursor>(
         db,
         "SELECT recv_utime, run_id, sensor_id, utime, seq, power_on_utime, source "

@@ -90,6 +90,15 @@ public:
     Stmt& BindNull(int i);
     Stmt& Bind(int i, std::optional<double> v) { return v ? Bind(i, *v) : BindNull(i); }
     Stmt& Bind(int i, std::optional<int64_t> v) { return v ? Bind(i, *v) : BindNull(i); }
+    Stmt& Bind(int i, const std::optional<std::string>& v) { return v ? Bind(i, *v) : BindNull(i); }
+
+    // Binds `values` to parameters 1, 2, ... in order, each as Bind does.
+    template <class... Values>
+    Stmt& BindAll(const Values&... values) {
+        int i = 1;
+        (Bind(i++, values), ...);
+        return *this;
+    }
 
     bool Step();
     void Run() { Step(); Reset(); }  // for INSERT/UPDATE
@@ -104,8 +113,24 @@ public:
     std::optional<int64_t> OptInt(int col) const;
     int ColumnCount() const;
     std::string ColumnName(int col) const;
+    // Reads columns first, first + 1, ... into `fields` in order, each by its type: std::string
+    // (Text), int64_t (Int), int32_t (Int, narrowed), double (Real), bool (Int != 0),
+    // std::optional<int64_t> and std::optional<double> (NULL as nullopt).
+    template <class... Fields>
+    void Read(int first, Fields&... fields) const {
+        int col = first;
+        (ReadInto(col++, fields), ...);
+    }
 
 private:
+    void ReadInto(int col, std::string& v) const { v = Text(col); }
+    void ReadInto(int col, int64_t& v) const { v = Int(col); }
+    void ReadInto(int col, int32_t& v) const { v = static_cast<int32_t>(Int(col)); }
+    void ReadInto(int col, double& v) const { v = Real(col); }
+    void ReadInto(int col, bool& v) const { v = Int(col) != 0; }
+    void ReadInto(int col, std::optional<int64_t>& v) const { v = OptInt(col); }
+    void ReadInto(int col, std::optional<double>& v) const { v = OptReal(col); }
+
     Db* db_;
     sqlite3_stmt* stmt_ = nullptr;
     std::string sql_;

@@ -1,8 +1,15 @@
 #include "utc_text.hpp"
 
+#include <chrono>
 #include <ctime>
 
 namespace gyrocal::store {
+
+int64_t WallUtimeNow() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
 
 std::string UtcText(std::optional<int64_t> utime) {
     if (!utime) return "-";

@@ -254,52 +254,53 @@ namespace {
 
 // One INSERT per row type, bound in the column order of the statements prepared above.
 void Insert(Stmt& s, const EncoderRow& e) {
-    s.Bind(1, e.run_id).Bind(2, e.encoder_id).Bind(3, e.utime).Bind(4, e.seq);
-    s.Bind(5, e.counts).Bind(6, e.counts_per_rev).Bind(7, e.angle_deg);
-    s.Bind(8, e.recv_utime).Run();
+    s.BindAll(e.run_id, e.encoder_id, e.utime, e.seq, e.counts, e.counts_per_rev, e.angle_deg,
+              e.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const ChamberStateRow& c) {
-    s.Bind(1, c.run_id).Bind(2, c.utime).Bind(3, c.seq).Bind(4, c.cmd_id);
-    s.Bind(5, c.setpoint_c).Bind(6, c.air_c).Bind(7, c.at_setpoint ? 1 : 0);
-    s.Bind(8, c.fault).Bind(9, c.recv_utime).Run();
+    s.BindAll(c.run_id, c.utime, c.seq, c.cmd_id, c.setpoint_c, c.air_c, c.at_setpoint ? 1 : 0,
+              c.fault, c.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const PowerStateRow& pw) {
-    s.Bind(1, pw.run_id).Bind(2, pw.sensor_id).Bind(3, pw.utime).Bind(4, pw.seq);
-    s.Bind(5, pw.power_on_utime).Bind(6, pw.source).Bind(7, pw.recv_utime).Run();
+    s.BindAll(pw.run_id, pw.sensor_id, pw.utime, pw.seq, pw.power_on_utime, pw.source,
+              pw.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const ChamberCmdRow& cc) {
-    s.Bind(1, cc.run_id).Bind(2, cc.msg_run_id).Bind(3, cc.utime).Bind(4, cc.cmd_id);
-    s.Bind(5, cc.setpoint_c).Bind(6, cc.ramp_rate_c_per_min).Bind(7, cc.recv_utime).Run();
+    s.BindAll(cc.run_id, cc.msg_run_id, cc.utime, cc.cmd_id, cc.setpoint_c, cc.ramp_rate_c_per_min,
+              cc.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const TurntableCmdRow& t) {
-    s.Bind(1, t.run_id).Bind(2, t.msg_run_id).Bind(3, t.utime).Bind(4, t.cmd_id);
-    s.Bind(5, t.move_deg).Bind(6, t.rate_dps).Bind(7, t.accel_dps2);
-    s.Bind(8, t.recv_utime).Run();
+    s.BindAll(t.run_id, t.msg_run_id, t.utime, t.cmd_id, t.move_deg, t.rate_dps, t.accel_dps2,
+              t.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const PlateauStateRow& ps) {
-    s.Bind(1, ps.run_id).Bind(2, ps.sensor_id).Bind(3, ps.utime).Bind(4, ps.state);
-    s.Bind(5, ps.temp_c).Bind(6, ps.temp_slope_c_per_min).Bind(7, ps.temp_std_c);
-    s.Bind(8, ps.stable_for_s).Bind(9, ps.averaging_progress);
-    s.Bind(10, ps.last_plateau_id).Bind(11, ps.recv_utime).Run();
+    s.BindAll(ps.run_id, ps.sensor_id, ps.utime, ps.state, ps.temp_c, ps.temp_slope_c_per_min,
+              ps.temp_std_c, ps.stable_for_s, ps.averaging_progress, ps.last_plateau_id,
+              ps.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const RateRow& r) {
-    s.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.utime).Bind(4, r.seq);
-    s.Bind(5, r.rate_dps).Bind(6, r.angle_deg).Bind(7, r.temp_c).Bind(8, r.coeff_set_id);
-    s.Bind(9, r.range_flag).Bind(10, r.recv_utime).Run();
+    s.BindAll(r.run_id, r.sensor_id, r.utime, r.seq, r.rate_dps, r.angle_deg, r.temp_c,
+              r.coeff_set_id, r.range_flag, r.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const StatusRow& st) {
-    s.Bind(1, st.run_id).Bind(2, st.utime).Bind(3, st.process).Bind(4, st.host);
-    s.Bind(5, st.pid).Bind(6, st.state).Bind(7, st.received).Bind(8, st.published);
-    s.Bind(9, st.decode_errors).Bind(10, st.seq_gaps).Bind(11, st.queue_drops);
-    s.Bind(12, st.rejected).Bind(13, st.last_reject).Bind(14, st.extra_json);
-    s.Bind(15, st.recv_utime).Run();
+    s.BindAll(st.run_id, st.utime, st.process, st.host, st.pid, st.state, st.received, st.published,
+              st.decode_errors, st.seq_gaps, st.queue_drops, st.rejected, st.last_reject,
+              st.extra_json, st.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const RawEventRow& raw) {
@@ -321,23 +322,19 @@ void Insert(Stmt& s, const GyroRow& g) {
 }
 
 void Insert(Stmt& s, const PlateauRow& p) {
-    s.Bind(1, p.run_id).Bind(2, p.sensor_id).Bind(3, p.plateau_id).Bind(4, p.utime);
-    s.Bind(5, p.setpoint_c).Bind(6, p.start_utime).Bind(7, p.end_utime);
-    s.Bind(8, p.first_seq).Bind(9, p.last_seq).Bind(10, p.n_samples);
-    s.Bind(11, p.n_excluded_motion).Bind(12, p.seq_gaps).Bind(13, p.temp_mean_c);
-    s.Bind(14, p.temp_std_c).Bind(15, p.temp_sem_c).Bind(16, p.temp_slope_c_per_min);
-    s.Bind(17, p.gyro_mean_v).Bind(18, p.gyro_std_v).Bind(19, p.gyro_sem_v);
-    s.Bind(20, p.temp_mean_v).Bind(21, p.supply_mean_v).Bind(22, p.recv_utime).Run();
+    s.BindAll(p.run_id, p.sensor_id, p.plateau_id, p.utime, p.setpoint_c, p.start_utime,
+              p.end_utime, p.first_seq, p.last_seq, p.n_samples, p.n_excluded_motion, p.seq_gaps,
+              p.temp_mean_c, p.temp_std_c, p.temp_sem_c, p.temp_slope_c_per_min, p.gyro_mean_v,
+              p.gyro_std_v, p.gyro_sem_v, p.temp_mean_v, p.supply_mean_v, p.recv_utime);
+    s.Run();
 }
 
 void Insert(Stmt& s, const SensitivityRow& sp) {
-    s.Bind(1, sp.run_id).Bind(2, sp.sensor_id).Bind(3, sp.rotation_id).Bind(4, sp.utime);
-    s.Bind(5, sp.start_utime).Bind(6, sp.end_utime).Bind(7, sp.first_seq);
-    s.Bind(8, sp.last_seq).Bind(9, sp.n_samples).Bind(10, sp.direction);
-    s.Bind(11, sp.temp_c).Bind(12, sp.encoder_angle_deg).Bind(13, sp.offset_v);
-    s.Bind(14, sp.offset_stderr_v).Bind(15, sp.integral_v_s);
-    s.Bind(16, sp.sensitivity_v_per_dps).Bind(17, sp.sensitivity_stderr_v_per_dps);
-    s.Bind(18, sp.accepted ? 1 : 0).Bind(19, sp.reject_reason).Bind(20, sp.recv_utime);
+    s.BindAll(sp.run_id, sp.sensor_id, sp.rotation_id, sp.utime, sp.start_utime, sp.end_utime,
+              sp.first_seq, sp.last_seq, sp.n_samples, sp.direction, sp.temp_c,
+              sp.encoder_angle_deg, sp.offset_v, sp.offset_stderr_v, sp.integral_v_s,
+              sp.sensitivity_v_per_dps, sp.sensitivity_stderr_v_per_dps, sp.accepted ? 1 : 0,
+              sp.reject_reason, sp.recv_utime);
     s.Run();
 }
 

@@ -69,10 +69,8 @@ struct CalibrateOptions {
     double plateau_slow_noise_dps = -1.0;
     SimulatedGyros simulated;     // --source sim: the fitter's options for the simulated type
     // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
-    // messages per simulated second, and the whole graph on the 2-core development machine lost
-    // nothing at 15000 rig messages/s (4 units at speed 30: 0 lost at load ~6) but 1-2 % at
-    // 30000/s (speed 60: ~4200 of 290000 samples per channel lost at load ~9), so auto keeps
-    // the rig at 15000 messages/s.
+    // messages per simulated second, and auto keeps it at 15000 messages/s, the fastest the
+    // whole graph kept without loss (measured: README.md, Benchmarks).
     double speed = 0.0;
     std::string profile = "six";  // sequencer::kDefaultProfile
     std::vector<double> setpoints_c;

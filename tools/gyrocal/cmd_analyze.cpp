@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <variant>
 
@@ -14,12 +15,12 @@
 #include "analysis/plot.hpp"
 #include "analysis/report.hpp"
 #include "analysis/run_data.hpp"
-#include "plot/gnuplot.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
 #include "noise/allan_plot.hpp"
+#include "plot/gnuplot.hpp"
 #include "query.hpp"
 #include "run_loader.hpp"
 
@@ -43,164 +44,225 @@ void AddAllanPlot(const st::RunDetail& d, const std::string& id, std::vector<plo
     }
 }
 
+// Checks --plot DIR before the (long) analysis so that a wrong DIR costs nothing, and finds
+// gnuplot into `gnuplot`. Returns the exit code when the command must end now.
+std::optional<int> CheckPlotDir(const AnalyzeOptions& o, std::string& gnuplot, std::ostream& err) {
+    fs::path dir = fs::absolute(o.plot_dir).lexically_normal();
+    if (!dir.has_filename()) dir = dir.parent_path();  // "pics/" -> "pics"
+    const fs::path parent = dir.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(parent, ec)) {
+        err << "gyrocal analyze: --plot " << o.plot_dir << ": parent directory '" << parent.string()
+            << "' does not exist (DIR itself is created, its parent must exist)\n";
+        return 2;
+    }
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+        err << "gyrocal analyze: --plot " << o.plot_dir << ": exists and is not a directory\n";
+        return 2;
+    }
+    gnuplot = plot::FindOnPath("gnuplot");
+    if (gnuplot.empty()) {
+        err << "gyrocal analyze: --plot " << plot::kGnuplotMissing << "\n";
+        return 1;
+    }
+    return std::nullopt;
+}
+
+// What the options need before the analysis: valid analysis options, the --plot directory and
+// gnuplot, and for --publish the store and the bus (opened now: a bad --lcm-url fails at once,
+// not after minutes). Returns the exit code when the command must end now.
+std::optional<int> PrepareAnalyze(const AnalyzeOptions& o, an::AnalysisOptions& ao,
+                                  std::string& gnuplot, std::unique_ptr<Bus>& bus,
+                                  std::ostream& err) {
+    ao = an::AnalysisOptions::Defaults();
+    ao.bins.bin_s = o.bin_s;
+    ao.holdout_fraction = o.holdout_fraction;
+    ao.holdout_block_s = o.holdout_block_s;
+    if (const std::string p = ao.Problem(); !p.empty()) {
+        err << "gyrocal analyze: " << p << "\n";
+        return 2;
+    }
+    if (!o.plot_dir.empty()) {
+        if (const auto code = CheckPlotDir(o, gnuplot, err)) return code;
+    }
+    if (o.publish && !o.store) {
+        err << "gyrocal analyze: --publish needs the result stored (drop --no-store): the "
+               "published set's source names the stored analysis\n";
+        return 2;
+    }
+    if (o.publish) {
+        try {
+            bus = std::make_unique<Bus>(BusOptions{o.lcm_url});
+        } catch (const std::exception& e) {
+            err << "gyrocal analyze: --lcm-url: " << e.what() << "\n";
+            return 1;
+        }
+    }
+    return std::nullopt;
+}
+
+// The sensors to analyse: --sensor's when it is in the run, else every sensor of the run.
+// Returns the exit code when --sensor is not in the run.
+std::optional<int> ChooseSensors(const AnalyzeOptions& o, const st::RunDetail& detail,
+                                 std::vector<std::string>& sensors, std::ostream& err) {
+    sensors = detail.run.sensor_ids;
+    if (o.sensor_id.empty()) return std::nullopt;
+    if (std::find(sensors.begin(), sensors.end(), o.sensor_id) == sensors.end()) {
+        std::string known;
+        for (const auto& s : sensors) known += (known.empty() ? "" : ", ") + s;
+        err << "gyrocal analyze: --sensor '" << o.sensor_id << "' is not in run '" << o.run_id
+            << "' (sensors: " << (known.empty() ? "none" : known) << ")\n";
+        return 1;
+    }
+    sensors = {o.sensor_id};
+    return std::nullopt;
+}
+
+// Each sensor's result, the utime of its run's last sample and, with --plot, its figures.
+struct Analysed {
+    std::vector<an::SensorResult> results;
+    std::vector<int64_t> end_utimes;
+    std::vector<plot::Figure> plots;
+};
+
+Analysed AnalyseSensors(const AnalyzeOptions& o, const an::AnalysisOptions& ao, st::Db& db,
+                        const st::RunDetail& detail, const std::vector<std::string>& sensors) {
+    const std::map<std::string, an::SensorRun> runs = LoadSensorRuns(db, detail, sensors);
+    Analysed a;
+    for (const std::string& id : sensors) {
+        const an::SensorRun& run = runs.at(id);
+        a.results.push_back(an::Analyze(run, ao));
+        if (!o.plot_dir.empty())
+            for (plot::Figure& f : an::MakePlots(run, a.results.back(), ao))
+                a.plots.push_back(std::move(f));
+        if (!o.plot_dir.empty()) AddAllanPlot(detail, id, a.plots);
+        a.end_utimes.push_back(run.samples.empty() ? 0 : run.samples.back().utime);
+    }
+    return a;
+}
+
+st::AnalysisRow ToAnalysisRow(const AnalyzeOptions& o, const an::SensorResult& r) {
+    st::AnalysisRow row;
+    row.run_id = o.run_id;
+    row.sensor_id = r.sensor_id;
+    row.software_version = gyrocal::kSoftwareVersion;
+    row.command_line = o.command_line;
+    row.verdict = r.verdict;
+    row.outcome = an::ToString(r.outcome);
+    const nlohmann::json j = an::ToJson(r);
+    row.candidates_json = j["candidates"].dump();
+    row.added_json = j["added"].dump();
+    row.offset_rms_v_before = r.error_before.offset_rms_v;
+    row.offset_rms_v_after = r.error_after.offset_rms_v;
+    row.rate_rms_dps_before = r.error_before.rate_rms_dps;
+    row.rate_rms_dps_after = r.error_after.rate_rms_dps;
+    row.drift_dph_before = r.error_before.drift_dph;
+    row.drift_dph_after = r.error_after.drift_dph;
+    row.floor_rate_rms_dps = r.floor_rate_rms_dps;
+    row.result_json = j.dump();
+    return row;
+}
+
+// Publishes the stored extended model `set` on COEFFS_<id> under its stored source. Returns
+// false when publishing failed (said on `err`).
+bool PublishStored(Bus& bus, const an::SensorResult& r, const std::optional<model::CoeffSet>& set,
+                   const st::StoredAnalysis& stored, std::ostream& err) {
+    if (!set || !stored.coeff_row_id) {
+        err << "gyrocal analyze: " << r.sensor_id
+            << ": nothing published (no effect added: the declared model stands)\n";
+        return true;
+    }
+    model::CoeffSet published = *set;
+    published.source = stored.source;
+    // ToMsg fills the length fields, so the message is whole or not sent at all.
+    const gyrocal::coeff_set_t msg = model::ToMsg(published);
+    if (!bus.Publish(channels::Coeffs(r.sensor_id), msg)) {
+        err << "gyrocal analyze: " << r.sensor_id << ": publishing on "
+            << channels::Coeffs(r.sensor_id) << " failed\n";
+        return false;
+    }
+    err << "gyrocal analyze: " << r.sensor_id << ": published coefficient set " << msg.coeff_set_id
+        << " (" << msg.source << ") on " << channels::Coeffs(r.sensor_id) << "\n";
+    return true;
+}
+
+// Keeps each result (and its extended model) in the database and, with a bus, publishes the
+// stored extended models. Returns the exit code: 0, or 1 when publishing failed.
+int StoreResults(const AnalyzeOptions& o, const Analysed& a, Bus* bus, std::ostream& err) {
+    std::unique_ptr<st::Db> rw = st::OpenForUpdate(o.db);
+    for (size_t i = 0; i < a.results.size(); ++i) {
+        const an::SensorResult& r = a.results[i];
+        // The extended model only when it differs from the declared one. Its id and time are the
+        // run's last still sample (message time; the store sets the source).
+        std::optional<model::CoeffSet> set;
+        if (!r.added.empty()) set = an::ExtendedCoeffSet(r, o.run_id, "pending", a.end_utimes[i]);
+        const st::StoredAnalysis stored =
+            st::StoreAnalysis(*rw, ToAnalysisRow(o, r), set ? &*set : nullptr);
+        err << "gyrocal analyze: " << r.sensor_id << ": stored as analysis " << stored.analysis_id
+            << (stored.coeff_row_id ? ", extended model as coefficient set source " + stored.source
+                                    : std::string())
+            << "\n";
+        if (bus && !PublishStored(*bus, r, set, stored, err)) return 1;
+    }
+    return 0;
+}
+
+// Draws the figures into --plot DIR (created now). Returns the exit code: 0, or 1 on failure.
+int DrawPlots(const AnalyzeOptions& o, const std::string& gnuplot,
+              const std::vector<plot::Figure>& plots, std::ostream& err) {
+    std::error_code ec;
+    fs::create_directory(o.plot_dir, ec);
+    if (ec) {
+        err << "gyrocal analyze: --plot " << o.plot_dir << ": " << ec.message() << "\n";
+        return 1;
+    }
+    std::vector<std::string> images;
+    try {
+        images = plot::DrawInto(gnuplot, o.plot_dir, plots,
+                                {plot::Terminal::kPng, plot::Terminal::kSvg});
+    } catch (const plot::GnuplotError& e) {
+        err << "gyrocal analyze: --plot: " << e.what() << "\n";
+        return 1;
+    }
+    err << "gyrocal analyze: wrote " << images.size() << " pictures to " << o.plot_dir << "\n";
+    return 0;
+}
+
+// The whole command but the last-resort error line: options, analysis, store, pictures, report.
+int AnalyzeRun(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
+    an::AnalysisOptions ao;
+    std::string gnuplot;
+    std::unique_ptr<Bus> bus;
+    if (const auto code = PrepareAnalyze(o, ao, gnuplot, bus, err)) return *code;
+    std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
+    const st::RunDetail detail = st::ShowRun(*db, o.run_id);
+    std::vector<std::string> sensors;
+    if (const auto code = ChooseSensors(o, detail, sensors, err)) return *code;
+    const Analysed a = AnalyseSensors(o, ao, *db, detail, sensors);
+    if (a.results.empty()) {
+        err << "gyrocal analyze: run '" << o.run_id << "' has no sensors with samples\n";
+        return 1;
+    }
+    if (o.store) {
+        if (const int code = StoreResults(o, a, bus.get(), err); code != 0) return code;
+    }
+    if (!o.plot_dir.empty()) {
+        if (const int code = DrawPlots(o, gnuplot, a.plots, err); code != 0) return code;
+    }
+    if (o.json) {
+        out << an::ToJson(a.results).dump(2) << "\n";
+    } else {
+        out << "run " << o.run_id << " (" << o.db << ")\n";
+        for (const an::SensorResult& r : a.results) out << an::FormatReport(r);
+    }
+    return out ? 0 : 1;
+}
+
 }  // namespace
 
 int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
     try {
-        an::AnalysisOptions ao = an::AnalysisOptions::Defaults();
-        ao.bins.bin_s = o.bin_s;
-        ao.holdout_fraction = o.holdout_fraction;
-        ao.holdout_block_s = o.holdout_block_s;
-        if (const std::string p = ao.Problem(); !p.empty()) {
-            err << "gyrocal analyze: " << p << "\n";
-            return 2;
-        }
-        std::string gnuplot;
-        if (!o.plot_dir.empty()) {
-            // Checked before the (long) analysis so a wrong DIR costs nothing.
-            fs::path dir = fs::absolute(o.plot_dir).lexically_normal();
-            if (!dir.has_filename()) dir = dir.parent_path();  // "pics/" -> "pics"
-            const fs::path parent = dir.parent_path();
-            std::error_code ec;
-            if (!fs::is_directory(parent, ec)) {
-                err << "gyrocal analyze: --plot " << o.plot_dir << ": parent directory '"
-                    << parent.string()
-                    << "' does not exist (DIR itself is created, its parent must exist)\n";
-                return 2;
-            }
-            if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
-                err << "gyrocal analyze: --plot " << o.plot_dir
-                    << ": exists and is not a directory\n";
-                return 2;
-            }
-            gnuplot = plot::FindOnPath("gnuplot");
-            if (gnuplot.empty()) {
-                err << "gyrocal analyze: --plot " << plot::kGnuplotMissing << "\n";
-                return 1;
-            }
-        }
-        if (o.publish && !o.store) {
-            err << "gyrocal analyze: --publish needs the result stored (drop --no-store): the "
-                   "published set's source names the stored analysis\n";
-            return 2;
-        }
-        std::unique_ptr<Bus> bus;
-        if (o.publish) {
-            // Opened before the analysis: a bad --lcm-url fails at once, not after minutes.
-            try {
-                bus = std::make_unique<Bus>(BusOptions{o.lcm_url});
-            } catch (const std::exception& e) {
-                err << "gyrocal analyze: --lcm-url: " << e.what() << "\n";
-                return 1;
-            }
-        }
-        std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
-        const st::RunDetail detail = st::ShowRun(*db, o.run_id);
-        std::vector<std::string> sensors = detail.run.sensor_ids;
-        if (!o.sensor_id.empty()) {
-            if (std::find(sensors.begin(), sensors.end(), o.sensor_id) == sensors.end()) {
-                std::string known;
-                for (const auto& s : sensors) known += (known.empty() ? "" : ", ") + s;
-                err << "gyrocal analyze: --sensor '" << o.sensor_id << "' is not in run '"
-                    << o.run_id << "' (sensors: " << (known.empty() ? "none" : known) << ")\n";
-                return 1;
-            }
-            sensors = {o.sensor_id};
-        }
-        const std::map<std::string, an::SensorRun> runs = LoadSensorRuns(*db, detail, sensors);
-        std::vector<an::SensorResult> results;
-        std::vector<int64_t> end_utimes;
-        std::vector<plot::Figure> plots;
-        for (const std::string& id : sensors) {
-            const an::SensorRun& run = runs.at(id);
-            results.push_back(an::Analyze(run, ao));
-            if (!o.plot_dir.empty())
-                for (plot::Figure& f : an::MakePlots(run, results.back(), ao)) plots.push_back(std::move(f));
-            if (!o.plot_dir.empty()) AddAllanPlot(detail, id, plots);
-            end_utimes.push_back(run.samples.empty() ? 0 : run.samples.back().utime);
-        }
-        if (results.empty()) {
-            err << "gyrocal analyze: run '" << o.run_id << "' has no sensors with samples\n";
-            return 1;
-        }
-        if (o.store) {
-            std::unique_ptr<st::Db> rw = st::OpenForUpdate(o.db);
-            for (size_t i = 0; i < results.size(); ++i) {
-                const an::SensorResult& r = results[i];
-                st::AnalysisRow row;
-                row.run_id = o.run_id;
-                row.sensor_id = r.sensor_id;
-                row.software_version = gyrocal::kSoftwareVersion;
-                row.command_line = o.command_line;
-                row.verdict = r.verdict;
-                row.outcome = an::ToString(r.outcome);
-                const nlohmann::json j = an::ToJson(r);
-                row.candidates_json = j["candidates"].dump();
-                row.added_json = j["added"].dump();
-                row.offset_rms_v_before = r.error_before.offset_rms_v;
-                row.offset_rms_v_after = r.error_after.offset_rms_v;
-                row.rate_rms_dps_before = r.error_before.rate_rms_dps;
-                row.rate_rms_dps_after = r.error_after.rate_rms_dps;
-                row.drift_dph_before = r.error_before.drift_dph;
-                row.drift_dph_after = r.error_after.drift_dph;
-                row.floor_rate_rms_dps = r.floor_rate_rms_dps;
-                row.result_json = j.dump();
-                // The extended model only when it differs from the declared one. Its id and time
-                // are the run's last still sample (message time; the store sets the source).
-                std::optional<model::CoeffSet> set;
-                if (!r.added.empty())
-                    set = an::ExtendedCoeffSet(r, o.run_id, "pending", end_utimes[i]);
-                const st::StoredAnalysis stored =
-                    st::StoreAnalysis(*rw, row, set ? &*set : nullptr);
-                err << "gyrocal analyze: " << r.sensor_id << ": stored as analysis "
-                    << stored.analysis_id
-                    << (stored.coeff_row_id
-                            ? ", extended model as coefficient set source " + stored.source
-                            : std::string())
-                    << "\n";
-                if (!bus) continue;
-                if (!set || !stored.coeff_row_id) {
-                    err << "gyrocal analyze: " << r.sensor_id
-                        << ": nothing published (no effect added: the declared model stands)\n";
-                    continue;
-                }
-                set->source = stored.source;
-                // ToMsg fills the length fields, so the message is whole or not sent at all.
-                const gyrocal::coeff_set_t msg = model::ToMsg(*set);
-                if (!bus->Publish(channels::Coeffs(r.sensor_id), msg)) {
-                    err << "gyrocal analyze: " << r.sensor_id << ": publishing on "
-                        << channels::Coeffs(r.sensor_id) << " failed\n";
-                    return 1;
-                }
-                err << "gyrocal analyze: " << r.sensor_id << ": published coefficient set "
-                    << msg.coeff_set_id << " (" << msg.source << ") on "
-                    << channels::Coeffs(r.sensor_id) << "\n";
-            }
-        }
-        if (!o.plot_dir.empty()) {
-            std::error_code ec;
-            fs::create_directory(o.plot_dir, ec);
-            if (ec) {
-                err << "gyrocal analyze: --plot " << o.plot_dir << ": " << ec.message() << "\n";
-                return 1;
-            }
-            std::vector<std::string> images;
-            try {
-                images = plot::DrawInto(gnuplot, o.plot_dir, plots, {plot::Terminal::kPng, plot::Terminal::kSvg});
-            } catch (const plot::GnuplotError& e) {
-                err << "gyrocal analyze: --plot: " << e.what() << "\n";
-                return 1;
-            }
-            err << "gyrocal analyze: wrote " << images.size() << " pictures to " << o.plot_dir
-                << "\n";
-        }
-        if (o.json) {
-            out << an::ToJson(results).dump(2) << "\n";
-        } else {
-            out << "run " << o.run_id << " (" << o.db << ")\n";
-            for (const an::SensorResult& r : results) out << an::FormatReport(r);
-        }
-        return out ? 0 : 1;
+        return AnalyzeRun(o, out, err);
     } catch (const std::exception& e) {
         err << "gyrocal analyze: " << e.what() << "\n";
         return 1;

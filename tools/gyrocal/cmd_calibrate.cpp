@@ -108,10 +108,13 @@ void AddRigOptions(CLI::App* cmd, CalibrateOptions* o) {
                     "characterisation), for the fitter's uncertainties; default: the simulated gyro's "
                     "for --source sim, each unit's own Allan deviation from the run for measured data")
         ->check(CLI::Range(0.0, 10.0));
-    cmd->add_option("--speed", o->speed,
-                    "simulated seconds per wall second; 0 = auto: the fastest the whole graph ran without "
-                    "loss on a 2-core machine (15000 rig messages/s: speed 30 for 4 units, 75 for 1)")
-        ->check(CLI::Range(0.0, 2000.0))->capture_default_str();
+    cmd->add_option(
+           "--speed", o->speed,
+           "simulated seconds per wall second; 0 = auto: 15000 rig messages/s (speed 30 for 4 "
+           "units, 75 for 1), the fastest the whole graph ran without loss (README.md, "
+           "Benchmarks)")
+        ->check(CLI::Range(0.0, 2000.0))
+        ->capture_default_str();
     cmd->add_option("--profile", o->profile, sequencer::ProfilesHelp())
         ->check(CLI::IsMember(sequencer::ProfileNames()))->capture_default_str();
     cmd->add_option("--setpoints-c", o->setpoints_c, "explicit setpoints [degC], overrides --profile")->delimiter(',');

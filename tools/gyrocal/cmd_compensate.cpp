@@ -12,6 +12,7 @@
 #include "csv/csv_file.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
+#include "runtime/renamed_option.hpp"
 #include "sqlite_db.hpp"
 
 namespace gyrocal::cli {
@@ -100,7 +101,7 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
     csv::ConversionOptions conv;
     conv.preset = o.preset;
     conv.temp_v_at_25c = o.temp_v_at_25c;
-    conv.temp_v_per_k = o.temp_v_per_k;
+    conv.temp_v_per_c = o.temp_v_per_c;
     std::string terr;
     const auto transfer = conv.Transfer(&terr);
     if (!transfer) {
@@ -154,7 +155,7 @@ void AddCompensateCommand(CLI::App& app, std::function<int()>& action) {
     auto o = std::make_shared<CompensateOptions>();
     auto row = std::make_shared<int64_t>(0);
     auto v25 = std::make_shared<double>(0.0);
-    auto vpk = std::make_shared<double>(0.0);
+    auto vpc = std::make_shared<double>(0.0);
     CLI::App* sub = app.add_subcommand(
         "compensate",
         "apply a stored coefficient set (or its JSON export) to measured data in a CSV and write "
@@ -177,14 +178,15 @@ void AddCompensateCommand(CLI::App& app, std::function<int()>& action) {
                     "module preset for temp_v -> temp_c when the CSV has no temp_c: 610 or 613")
         ->capture_default_str();
     auto* a = sub->add_option("--temp-v-at-25c", *v25, "[V] temperature output at 25 degC");
-    auto* k = sub->add_option("--temp-v-per-k", *vpk, "[V/K] temperature output slope");
+    auto* k = sub->add_option("--temp-v-per-c", *vpc, "[V/degC] temperature output slope");
+    auto* old_k = AddOldOptionName<double>(*sub, k, "--temp-v-per-k", *vpc);
     sub->footer(
         "Exit codes: 0 written, 1 failure (bad CSV, bad or missing coefficients, a sensor without "
         "a set, database unreadable, output not writable), 2 bad options.");
-    sub->callback([o, row, v25, vpk, r, a, k, &action] {
+    sub->callback([o, row, v25, vpc, r, a, k, old_k, &action] {
         if (r->count()) o->coeff_set_row = *row;
         if (a->count()) o->temp_v_at_25c = *v25;
-        if (k->count()) o->temp_v_per_k = *vpk;
+        if (k->count() || old_k->count()) o->temp_v_per_c = *vpc;
         action = [o] { return RunCompensate(*o, std::cout, std::cerr); };
     });
 }

@@ -1,7 +1,7 @@
 #pragma once
 // `gyrocal compensate CSV (--coeffs FILE | --db FILE (--run RUN [--sensor ID] | --sensor ID |
 //  --coeff-set-row N)) [--out FILE] [--out-of-range clip|extrapolate]
-//  [--preset 610|613] [--temp-v-at-25c V] [--temp-v-per-k V]`:
+//  [--preset 610|613] [--temp-v-at-25c V] [--temp-v-per-c V]`:
 // applies a coefficient set to measured data offline and writes the compensated
 // rate per sample as CSV (time_s, sensor_id, rate_dps, angle_deg, temp_c, range_flag).
 // Thin: the CSV is read with the producers' reader (csv::ReadCsv, stop on the first bad row), the
@@ -35,7 +35,7 @@ struct CompensateOptions {
     std::string range_policy = "extrapolate";  // the default of gyrocal-compensator --out-of-range
     std::string preset = "610";            // temperature transfer when the CSV has no temp_c
     std::optional<double> temp_v_at_25c;   // [V]
-    std::optional<double> temp_v_per_k;    // [V/K]
+    std::optional<double> temp_v_per_c;    // [V/degC]
 };
 
 // Where coefficient sets come from (shared with `gyrocal validate`): a JSON file, or a database

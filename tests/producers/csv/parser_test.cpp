@@ -240,16 +240,16 @@ TEST(CsvConversionOptions, PresetsAndRangesNameTheOption) {
     const auto t = o.Transfer(&err);
     ASSERT_TRUE(t);
     EXPECT_EQ(t->v_at_25c, 2.5);
-    EXPECT_EQ(t->v_per_k, 0.009);
-    o.temp_v_per_k = 0.010;
-    EXPECT_EQ(o.Transfer(&err)->v_per_k, 0.010);  // an explicit value wins over the preset
+    EXPECT_EQ(t->v_per_c, 0.009);
+    o.temp_v_per_c = 0.010;
+    EXPECT_EQ(o.Transfer(&err)->v_per_c, 0.010);  // an explicit value wins over the preset
 
     ConversionOptions bad = ConversionOptions::Defaults();
     bad.preset = "999";
     EXPECT_EQ(bad.Validate(), "--preset '999' is unknown; valid: 610 or 613");
     bad = ConversionOptions::Defaults();
-    bad.temp_v_per_k = 0.0;
-    EXPECT_THAT(bad.Validate(), HasSubstr("--temp-v-per-k 0 is out of range; valid: > 0"));
+    bad.temp_v_per_c = 0.0;
+    EXPECT_THAT(bad.Validate(), HasSubstr("--temp-v-per-c 0 is out of range; valid: > 0"));
     bad = ConversionOptions::Defaults();
     bad.encoder_counts_per_rev = 0;
     EXPECT_THAT(bad.Validate(), HasSubstr("--encoder-counts-per-rev 0 is out of range"));

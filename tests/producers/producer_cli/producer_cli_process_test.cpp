@@ -40,7 +40,12 @@ TEST(SourcesBadInput, BadOptionsExitTwoNamingTheOption) {
         {{src}, "file is required"},
         {{src, in, "--preset", "612"}, "--preset '612' is unknown; valid: 610 or 613"},
         {{src, in, "--on-error", "ignore"}, "--on-error 'ignore' is unknown; valid: stop or skip"},
-        {{src, in, "--temp-v-per-k", "0"}, "--temp-v-per-k 0 is out of range"},
+        {{src, in, "--temp-v-per-c", "0"}, "--temp-v-per-c 0 is out of range"},
+        // The old name sets the same value (hidden from --help); both at once are refused.
+        {{src, in, "--temp-v-per-k", "0"}, "--temp-v-per-c 0 is out of range"},
+        {{line, "--temp-v-per-k", "0"}, "--temp-v-per-c 0 is out of range"},
+        {{src, in, "--temp-v-per-c", "0.01", "--temp-v-per-k", "0.01"},
+         "--temp-v-per-k is the old name of --temp-v-per-c: give one of them"},
         {{src, in, "--encoder-counts-per-rev", "0"}, "--encoder-counts-per-rev 0 is out of range"},
         {{src, in, "--max-rate-hz", "0", "--max"}, "--max-rate-hz 0 is out of range"},
         {{src, in, "--max", "--speed", "2"}, "--max"},

@@ -241,7 +241,11 @@ TEST(SimRigProcess, BadOptionsExitTwo) {
     for (std::vector<std::string> args : {std::vector<std::string>{"--speed", "0"},
                                           {"--speed", "-3"},
                                           {"--preset", "611"},
+                                          {"--noise-density-dps-rthz", "-1"},
+                                          // old names, hidden from --help, still work
                                           {"--noise-density", "-1"},
+                                          {"--package-tau-spread", "-1"},
+                                          {"--package-tau-spread-frac", "-1"},
                                           {"--effect", "warmup"},
                                           {"--mode", "fast"},
                                           {"--profile", "-10,abc"},
