@@ -183,23 +183,29 @@ void Floors(const BinnedRun& binned, const Split& split, SensorResult& res) {
     }
 }
 
-
-// Step 8's guard: a named term whose held-out residual a time-shaped generic feature (drift, slow
-// transient, step, periodic; its parameter chosen on the training bins) explains significantly
-// better than the term itself does (z > gate_min_z and min_feature_drop less squared residual)
-// only mimicked that feature: it is taken out of the selection.
+// Step 8's guard, an encompassing test on the held-out bins between each added term and each
+// time-shaped generic feature (drift, slow transient, step, periodic; its parameter chosen on the
+// training bins): with both in the model, a real effect keeps improving the held-out error beyond
+// its noise while its mimic does not, and a term that only mimicked the feature stops improving
+// it while the feature still explains held-out data (the features' own standard: z above
+// gate_min_z and min_feature_drop of the squared residual). Such a term is taken out of the
+// selection ("not attributed"). Comparing each ALONE would refuse a real effect whenever a
+// feature, fitted to the same held-out residual, also takes in the noise or a second effect.
 std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
                                   const Split& split, Selection& sel, const AnalysisOptions& o,
                                   SensorResult& res) {
     std::vector<std::string> out;
     const size_t nd = o.offset_terms.size();
     const MatrixXd none(static_cast<Index>(binned.size()), 0);
-    const VectorXd r_named =
-        HeldResidual(binned, train, split, binned.Design(sel.terms, train.t0), none);
+    const MatrixXd all_terms = binned.Design(sel.terms, train.t0);
+    const VectorXd r_named = HeldResidual(binned, train, split, all_terms, none);
     if (sel.terms.size() == nd || r_named.size() == 0) return out;
     const std::vector<GenericFeature> features =
         GenericFeatures(binned, train, binned.Design(o.offset_terms, train.t0), o);
     const std::vector<Candidate> cands = OffsetCandidates(binned, o);
+    auto improves = [&](const Gain& g) {
+        return std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0;
+    };
     for (size_t k = nd; k < sel.terms.size(); ++k) {
         bool edge = false;
         for (const Candidate& c : cands)
@@ -210,21 +216,31 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
         const MatrixXd base = binned.Design(without, train.t0);
         for (const GenericFeature& f : features) {
             if (!f.competes) continue;
-            const VectorXd r_g = HeldResidual(binned, train, split, base, f.columns);
-            if (r_g.size() != r_named.size()) continue;
-            const Gain g = HeldOutGain(r_named, r_g, split.held_block, train.hac_lag);
-            const double drop = 1.0 - r_g.squaredNorm() / r_named.squaredNorm();
-            const bool better = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 &&
-                                drop > o.min_feature_drop;
+            const VectorXd r_feature = HeldResidual(binned, train, split, base, f.columns);
+            const VectorXd r_both = HeldResidual(binned, train, split, all_terms, f.columns);
+            if (r_feature.size() != r_named.size() || r_both.size() != r_named.size()) continue;
+            const Gain term_given_feature =
+                HeldOutGain(r_feature, r_both, split.held_block, train.hac_lag);
+            const Gain feature_given_term =
+                HeldOutGain(r_named, r_both, split.held_block, train.hac_lag);
+            const double feature_drop = 1.0 - r_both.squaredNorm() / r_named.squaredNorm();
+            const bool mimic = !improves(term_given_feature) && improves(feature_given_term) &&
+                               feature_drop > o.min_feature_drop;
             // A warm-up whose tau sits at the upper end of its grid is not a shape the data
             // resolved (the best tau may lie beyond it): a time-shaped feature that predicts its
             // held-out residual at least as well takes it.
-            const bool tie_at_edge = edge && std::isfinite(drop) && drop >= 0.0;
-            if (!better && !tie_at_edge) continue;
+            const double drop_alone = 1.0 - r_feature.squaredNorm() / r_named.squaredNorm();
+            const bool tie_at_edge = edge && std::isfinite(drop_alone) && drop_alone >= 0.0;
+            if (!mimic && !tie_at_edge) continue;
             const std::string& effect = sel.added_effects[k - nd];
-            res.not_attributed.push_back(effect + " (" + f.name + ", " + f.detail +
-                                         ", explains its held-out residual better: z " +
-                                         Fmt(g.z) + ")");
+            const std::string why =
+                mimic ? "explains its held-out residual with the term in the model (z " +
+                            Fmt(feature_given_term.z) + "), the term none with it in (z " +
+                            Fmt(term_given_feature.z) + ")"
+                      : "explains its held-out residual better: z " +
+                            Fmt(HeldOutGain(r_named, r_feature, split.held_block, train.hac_lag).z);
+            res.not_attributed.push_back(effect + " (" + f.name + ", " + f.detail + ", " + why +
+                                         ")");
             out.push_back(effect);
             break;
         }

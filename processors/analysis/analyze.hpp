@@ -62,9 +62,12 @@
 //    start, a slow transient, a step, a periodic term, temperature shape and rate at other time
 //    scales, supply and its rate, chamber air and air minus sensor, table angle and the last
 //    turn), each judged on the held-out bins like the candidates. They are
-//    never added to the model; they say what the residual correlates with. A named term whose
-//    held-out residual a time-shaped feature (drift, slow transient, step, periodic) explains
-//    significantly better than the term does is refused ("not attributed"): it only mimicked it.
+//    never added to the model; they say what the residual correlates with. A named term is
+//    refused ("not attributed") when a time-shaped feature (drift, slow transient, step, periodic)
+//    encompasses it on the held-out bins: with both in the model the term no longer improves the
+//    held-out error beyond its noise while the feature still explains held-out data; it only
+//    mimicked the feature. (A real effect survives its mimic; each judged alone, a feature that
+//    also takes in noise or a second effect would refuse it.)
 // 9. The outcome, from what is left on the held-out bins compared with the floor bound
 //      bound^2 = floor^2 (1 + 9 k^2) + 9 prediction^2
 //    floor: the white bin scatter (step 7); prediction: what white noise at the floor puts into

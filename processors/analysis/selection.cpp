@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "fit/least_squares.hpp"
 #include "regress.hpp"
@@ -85,185 +88,236 @@ std::string JointNote(const std::string& other, double r, const JointScore& j,
            separation;
 }
 
+// The forward selection's state: the model so far (terms and their design on the training
+// bins), the candidates still in the pool and every tested candidate's latest statistics.
+struct Forward {
+    Forward(const Context& c_, std::vector<Candidate> pool_, const Floor& floor_,
+            const AnalysisOptions& o_)
+        : c(c_), floor(floor_), o(o_), pool(std::move(pool_)) {
+        sel.terms = o.offset_terms;
+        x = c.Design(sel.terms);
+    }
+    const Context& c;
+    const Floor& floor;
+    const AnalysisOptions& o;
+    std::vector<Candidate> pool;
+    Selection sel;
+    std::map<std::string, CandidateResult> last;  // latest statistics of each pool candidate
+    std::vector<std::string> joint;  // effects added as a collinear pair (re-tested as a pair)
+    MatrixXd x;                      // design of sel.terms
+};
+
+// Every pool candidate's statistics at one forward step, with the noise they were tested against.
+struct StepScores {
+    double base_cv = kNan;
+    std::vector<StepScore> scores;  // in pool order
+    std::vector<bool> passes;       // (a)-(c) all pass
+    LsFit full;                     // the model with every remaining candidate in
+    int noise_params = 0;           // its columns
+    int best = -1;                  // the passing candidate that explains the most; -1: none
+    const VectorXd* noise() const { return full.ok ? &full.residuals : nullptr; }
+};
+
+// Records a candidate's statistics at this step (rejected until something decides otherwise) and
+// says whether it passes (a) z^2, (b) the blocked-CV gain and (c) its size above the floor.
+bool Passes(const StepScore& s, const Candidate& cand, int step, const Floor& floor,
+            const AnalysisOptions& o, CandidateResult& r) {
+    r = {cand.effect, s.term, Decision::kRejected, s.z2, s.cv_gain, step, "", s.effect_rms_v};
+    r.grid_edge = s.grid_edge;
+    if (!s.ok) r.note = "could not be fitted with the current model";
+    const bool big_enough = !std::isfinite(floor.offset_rms_v) ||
+                            s.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
+    if (s.ok && !big_enough)
+        r.note = "effect RMS " + Fmt(s.effect_rms_v) + " V is below " +
+                 Fmt(o.min_effect_floor_ratio) + "x the noise floor " + Fmt(floor.offset_rms_v) +
+                 " V";
+    return s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && big_enough;
+}
+
+StepScores ScoreStep(Forward& f, int step) {
+    const Context& c = f.c;
+    StepScores s;
+    s.base_cv = BlockedCvMse(f.x, c.y, c.cv_blocks, c.cv_guard);
+    // First pass: each candidate's column (warm-up tau searched). The noise for the tests is the
+    // residual of the model with ALL remaining candidates in (when it can be fitted), so a second
+    // missing effect does not pass for noise while the first is tested.
+    MatrixXd xfull = f.x;
+    for (size_t k = 0; k < f.pool.size(); ++k) {
+        s.scores.push_back(Score(c, f.x, s.base_cv, f.pool[k], f.o));
+        if (s.scores.back().column.size() == 0) continue;
+        MatrixXd xn(xfull.rows(), xfull.cols() + 1);
+        xn << xfull, s.scores.back().column;
+        xfull = xn;
+    }
+    s.full = FitLs(xfull, c.y, c.segment, 0);
+    s.noise_params = static_cast<int>(xfull.cols());
+    s.passes.assign(f.pool.size(), false);
+    for (size_t k = 0; k < f.pool.size(); ++k) {
+        if (s.noise())
+            s.scores[k] = Score(c, f.x, s.base_cv, f.pool[k], f.o, s.noise(), s.noise_params);
+        s.passes[k] = Passes(s.scores[k], f.pool[k], step, f.floor, f.o, f.last[f.pool[k].effect]);
+        // The best explains the most (smallest residual sum of squares), not the largest z^2: a
+        // candidate correlated with a stronger missing effect borrows its signal.
+        if (s.passes[k] &&
+            (s.best < 0 || s.scores[k].rss < s.scores[static_cast<size_t>(s.best)].rss))
+            s.best = static_cast<int>(k);
+    }
+    return s;
+}
+
+// Collinear candidates: with both in the model the data may still say which (an encompassing
+// test): the one that keeps its significance while the other loses it explains the other. When
+// the best by RSS loses to a twin, the twin is taken instead and its twins are examined in turn
+// (at most once per candidate). Returns the candidate to add and, in `twins`, those the data
+// cannot tell from it.
+size_t WinnerAmongTwins(Forward& f, const StepScores& s, std::vector<size_t>& twins) {
+    auto b = static_cast<size_t>(s.best);
+    std::vector<bool> was_best(f.pool.size(), false);
+    for (bool again = true; again;) {
+        again = false;
+        was_best[b] = true;
+        twins.clear();
+        for (size_t k = 0; k < f.pool.size(); ++k) {
+            if (k == b || s.scores[k].column.size() == 0) continue;
+            const double r = ProjectedCorrelation(f.x, s.scores[b].column, s.scores[k].column);
+            if (!std::isfinite(r) || std::fabs(r) <= f.o.max_collinearity) continue;
+            const Encompassing e = Encompass(f.c, f.x, s.scores[b].column, s.scores[k].column,
+                                             s.noise(), s.noise_params);
+            if (e.z2_best > f.o.min_z2) {
+                const std::string& best = f.pool[b].effect;
+                const std::string& other = f.pool[k].effect;
+                f.last[other].note = "collinear with " + best + " (projected correlation " +
+                                     Fmt(r, 3) + "); with both in the model " + best +
+                                     " keeps z2 " + Fmt(e.z2_best) + ", " + other + " " +
+                                     Fmt(e.z2_other);
+                continue;
+            }
+            if (e.z2_other > f.o.min_z2 && !was_best[k] && s.passes[k]) {
+                b = k;  // the twin explains the best: examine it instead
+                again = true;
+                break;
+            }
+            twins.push_back(k);
+        }
+    }
+    return b;
+}
+
+// One collinear pair (b and its only twin k): both added when the pair passes (a)-(c) jointly.
+bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k) {
+    const JointScore j = Joint(f.c, f.x, s.base_cv, s.scores[b].column, s.scores[k].column,
+                               s.noise(), s.noise_params);
+    if (!PairPasses(j, f.floor, f.o)) return false;
+    const double r = ProjectedCorrelation(f.x, s.scores[b].column, s.scores[k].column);
+    for (size_t i : {b, k}) {
+        CandidateResult& cr = f.last[f.pool[i].effect];
+        cr.decision = Decision::kAdded;
+        cr.note += (cr.note.empty() ? "" : "; ") +
+                   JointNote(f.pool[i == b ? k : b].effect, r, j,
+                             Separation(f.pool[b].effect, f.pool[k].effect));
+    }
+    f.sel.joint_pairs.push_back({f.pool[b].effect, f.pool[k].effect, f.sel.ambiguous.size()});
+    f.sel.ambiguous.push_back(f.pool[b].effect + " vs " + f.pool[k].effect);
+    for (size_t i : {b, k}) {
+        f.sel.terms.push_back(s.scores[i].term);
+        f.sel.added_effects.push_back(f.pool[i].effect);
+        f.joint.push_back(f.pool[i].effect);
+    }
+    MatrixXd xn(f.x.rows(), f.x.cols() + 2);
+    xn << f.x, s.scores[b].column, s.scores[k].column;
+    f.x = xn;
+    f.pool.erase(f.pool.begin() + static_cast<long>(std::max(b, k)));
+    f.pool.erase(f.pool.begin() + static_cast<long>(std::min(b, k)));
+    return true;
+}
+
+// b and its twins are ambiguous, each with the measurement that would separate it from b: none of
+// them is added, all leave the pool.
+void DropAmbiguous(Forward& f, const StepScores& s, size_t b, const std::vector<size_t>& twins) {
+    std::vector<size_t> drop = twins;
+    drop.push_back(b);
+    for (size_t k : twins) {
+        const double r = ProjectedCorrelation(f.x, s.scores[b].column, s.scores[k].column);
+        for (size_t i : {b, k}) {
+            CandidateResult& cr = f.last[f.pool[i].effect];
+            cr.decision = Decision::kAmbiguous;
+            const std::string other = f.pool[i == b ? k : b].effect;
+            cr.note += (cr.note.empty() ? "" : "; ") + std::string("ambiguous with ") + other +
+                       " (projected correlation " + Fmt(r, 3) +
+                       "); to separate: " + Separation(f.pool[b].effect, f.pool[k].effect);
+        }
+        f.sel.ambiguous.push_back(f.pool[b].effect + " vs " + f.pool[k].effect);
+    }
+    std::sort(drop.rbegin(), drop.rend());
+    for (size_t k : drop) f.pool.erase(f.pool.begin() + static_cast<long>(k));
+}
+
+void AddTerm(Forward& f, const StepScores& s, size_t b) {
+    f.last[f.pool[b].effect].decision = Decision::kAdded;
+    f.sel.terms.push_back(s.scores[b].term);
+    f.sel.added_effects.push_back(f.pool[b].effect);
+    MatrixXd xn(f.x.rows(), f.x.cols() + 1);
+    xn << f.x, s.scores[b].column;
+    f.x = xn;
+    f.pool.erase(f.pool.begin() + static_cast<long>(b));
+}
+
+// Backward re-test: each added term with all the others in the model and the model's own
+// residuals as the noise; the weakest below min_z2 is removed, and so on.
+void RemoveWeakTerms(Forward& f) {
+    const size_t nd = f.o.offset_terms.size();
+    for (;;) {
+        const LsFit fit = FitLs(f.x, f.c.y, f.c.segment, f.c.hac_lag);
+        if (!fit.ok || f.sel.terms.size() == nd) break;
+        size_t weakest = 0;
+        double weakest_z2 = INFINITY;
+        for (size_t k = nd; k < f.sel.terms.size(); ++k) {
+            // A pair added jointly is collinear by construction: each alone has a wide variance
+            // with the other in; it passed as a pair and stays as one.
+            const std::string& e = f.sel.added_effects[k - nd];
+            if (std::find(f.joint.begin(), f.joint.end(), e) != f.joint.end()) continue;
+            const auto i = static_cast<Index>(k);
+            const double z2 = fit.coeffs[i] * fit.coeffs[i] / fit.covariance(i, i);
+            if (z2 < weakest_z2) weakest_z2 = z2, weakest = k;
+        }
+        if (weakest_z2 > f.o.min_z2) break;
+        const std::string effect = f.sel.added_effects[weakest - nd];
+        std::string others;
+        for (const std::string& e : f.sel.added_effects)
+            if (e != effect) others += (others.empty() ? "" : ", ") + e;
+        CandidateResult& r = f.last[effect];
+        r.decision = Decision::kRejected;
+        r.z2 = weakest_z2;
+        r.note = "removed on re-test with " + others + " in the model (z2 " + Fmt(weakest_z2) + ")";
+        f.sel.terms.erase(f.sel.terms.begin() + static_cast<long>(weakest));
+        f.sel.added_effects.erase(f.sel.added_effects.begin() + static_cast<long>(weakest - nd));
+        MatrixXd xn(f.x.rows(), f.x.cols() - 1);
+        const auto w = static_cast<Index>(weakest);
+        xn << f.x.leftCols(w), f.x.rightCols(f.x.cols() - w - 1);
+        f.x = xn;
+    }
+}
+
 }  // namespace
 
 Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const Floor& floor,
                             const AnalysisOptions& o) {
-    Selection sel;
-    std::vector<std::string>& terms = sel.terms;
-    std::vector<std::string>& added_effects = sel.added_effects;
-    std::vector<std::string>& ambiguous = sel.ambiguous;
-    terms = o.offset_terms;
-    std::map<std::string, CandidateResult> last;  // latest statistics of each pool candidate
-    std::vector<std::string> joint;  // effects added as a collinear pair (re-tested as a pair)
-    MatrixXd x = c.Design(terms);
-    for (int step = 1; !pool.empty(); ++step) {
-        const double base_cv = BlockedCvMse(x, c.y, c.cv_blocks, c.cv_guard);
-        // First pass: each candidate's column (warm-up tau searched). The noise for the tests
-        // is the residual of the model with ALL remaining candidates in (when it can be
-        // fitted), so a second missing effect does not pass for noise while the first is
-        // tested.
-        std::vector<StepScore> scores;
-        MatrixXd xfull = x;
-        for (size_t k = 0; k < pool.size(); ++k) {
-            scores.push_back(Score(c, x, base_cv, pool[k], o));
-            if (scores.back().column.size() == 0) continue;
-            MatrixXd xn(xfull.rows(), xfull.cols() + 1);
-            xn << xfull, scores.back().column;
-            xfull = xn;
-        }
-        const LsFit full = FitLs(xfull, c.y, c.segment, 0);
-        const VectorXd* noise = full.ok ? &full.residuals : nullptr;
-        int best = -1;
-        std::vector<bool> passes(pool.size(), false);
-        for (size_t k = 0; k < pool.size(); ++k) {
-            if (noise)
-                scores[k] = Score(c, x, base_cv, pool[k], o, noise, static_cast<int>(xfull.cols()));
-            const StepScore& s = scores[k];
-            CandidateResult& r = last[pool[k].effect];
-            r = {pool[k].effect, s.term, Decision::kRejected, s.z2, s.cv_gain,
-                 step,           "",     s.effect_rms_v};
-            r.grid_edge = s.grid_edge;
-            if (!s.ok) r.note = "could not be fitted with the current model";
-            const bool big_enough = !std::isfinite(floor.offset_rms_v) ||
-                                    s.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
-            if (s.ok && !big_enough)
-                r.note = "effect RMS " + Fmt(s.effect_rms_v) + " V is below " +
-                         Fmt(o.min_effect_floor_ratio) + "x the noise floor " +
-                         Fmt(floor.offset_rms_v) + " V";
-            const bool pass = s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && big_enough;
-            passes[k] = pass;
-            // The best explains the most (smallest residual sum of squares), not the largest
-            // z^2: a candidate correlated with a stronger missing effect borrows its signal.
-            if (pass && (best < 0 || s.rss < scores[static_cast<size_t>(best)].rss))
-                best = static_cast<int>(k);
-        }
-        if (best < 0) break;
-        auto b = static_cast<size_t>(best);
+    Forward f(c, std::move(pool), floor, o);
+    for (int step = 1; !f.pool.empty(); ++step) {
+        const StepScores s = ScoreStep(f, step);
+        if (s.best < 0) break;
         std::vector<size_t> twins;
-        // Collinear candidates: with both in the model the data may still say which (an
-        // encompassing test): the one that keeps its significance while the other loses it
-        // explains the other. When the best by RSS loses to a twin, the twin is taken instead
-        // and its twins are examined in turn (at most once per candidate).
-        std::vector<bool> was_best(pool.size(), false);
-        for (bool again = true; again;) {
-            again = false;
-            was_best[b] = true;
-            twins.clear();
-            for (size_t k = 0; k < pool.size(); ++k) {
-                if (k == b || scores[k].column.size() == 0) continue;
-                const double r = ProjectedCorrelation(x, scores[b].column, scores[k].column);
-                if (!std::isfinite(r) || std::fabs(r) <= o.max_collinearity) continue;
-                const Encompassing e = Encompass(c, x, scores[b].column, scores[k].column,
-                                                 noise, static_cast<int>(xfull.cols()));
-                if (e.z2_best > o.min_z2) {
-                    CandidateResult& cr = last[pool[k].effect];
-                    cr.note = "collinear with " + pool[b].effect + " (projected correlation " +
-                              Fmt(r, 3) + "); with both in the model " + pool[b].effect +
-                              " keeps z2 " + Fmt(e.z2_best) + ", " + pool[k].effect + " " +
-                              Fmt(e.z2_other);
-                    continue;
-                }
-                if (e.z2_other > o.min_z2 && !was_best[k] && passes[k]) {
-                    b = k;  // the twin explains the best: examine it instead
-                    again = true;
-                    break;
-                }
-                twins.push_back(k);
-            }
-        }
-        if (twins.size() == 1) {
-            // One collinear pair: kept together when the pair passes (a)-(c) jointly.
-            const size_t k = twins[0];
-            const JointScore j = Joint(c, x, base_cv, scores[b].column, scores[k].column, noise,
-                                       static_cast<int>(xfull.cols()));
-            if (PairPasses(j, floor, o)) {
-                const double r = ProjectedCorrelation(x, scores[b].column, scores[k].column);
-                for (size_t i : {b, k}) {
-                    CandidateResult& cr = last[pool[i].effect];
-                    cr.decision = Decision::kAdded;
-                    cr.note += (cr.note.empty() ? "" : "; ") +
-                               JointNote(pool[i == b ? k : b].effect, r, j,
-                                         Separation(pool[b].effect, pool[k].effect));
-                }
-                sel.joint_pairs.push_back({pool[b].effect, pool[k].effect, ambiguous.size()});
-                ambiguous.push_back(pool[b].effect + " vs " + pool[k].effect);
-                for (size_t i : {b, k}) {
-                    terms.push_back(scores[i].term);
-                    added_effects.push_back(pool[i].effect);
-                    joint.push_back(pool[i].effect);
-                }
-                MatrixXd xn(x.rows(), x.cols() + 2);
-                xn << x, scores[b].column, scores[k].column;
-                x = xn;
-                pool.erase(pool.begin() + static_cast<long>(std::max(b, k)));
-                pool.erase(pool.begin() + static_cast<long>(std::min(b, k)));
-                continue;
-            }
-        }
-        if (!twins.empty()) {
-            std::vector<size_t> drop = twins;
-            drop.push_back(b);
-            for (size_t k : twins) {
-                const double r = ProjectedCorrelation(x, scores[b].column, scores[k].column);
-                for (size_t i : {b, k}) {
-                    CandidateResult& cr = last[pool[i].effect];
-                    cr.decision = Decision::kAmbiguous;
-                    const std::string other = pool[i == b ? k : b].effect;
-                    cr.note += (cr.note.empty() ? "" : "; ") + std::string("ambiguous with ") +
-                               other + " (projected correlation " + Fmt(r, 3) +
-                               "); to separate: " + Separation(pool[b].effect, pool[k].effect);
-                }
-                ambiguous.push_back(pool[b].effect + " vs " + pool[k].effect);
-            }
-            std::sort(drop.rbegin(), drop.rend());
-            for (size_t k : drop) pool.erase(pool.begin() + static_cast<long>(k));
-            continue;
-        }
-        last[pool[b].effect].decision = Decision::kAdded;
-        terms.push_back(scores[b].term);
-        added_effects.push_back(pool[b].effect);
-        MatrixXd xn(x.rows(), x.cols() + 1);
-        xn << x, scores[b].column;
-        x = xn;
-        pool.erase(pool.begin() + static_cast<long>(b));
+        const size_t b = WinnerAmongTwins(f, s, twins);
+        if (twins.size() == 1 && AddedAsPair(f, s, b, twins[0])) continue;
+        if (twins.empty())
+            AddTerm(f, s, b);
+        else
+            DropAmbiguous(f, s, b, twins);
     }
-    // Backward re-test: each added term with all the others in the model and the model's own
-    // residuals as the noise; the weakest below min_z2 is removed, and so on.
-    for (;;) {
-        const LsFit f = FitLs(x, c.y, c.segment, c.hac_lag);
-        if (!f.ok || terms.size() == o.offset_terms.size()) break;
-        size_t weakest = 0;
-        double weakest_z2 = INFINITY;
-        for (size_t k = o.offset_terms.size(); k < terms.size(); ++k) {
-            // A pair added jointly is collinear by construction: each alone has a wide variance
-            // with the other in; it passed as a pair and stays as one.
-            const std::string& e = added_effects[k - o.offset_terms.size()];
-            if (std::find(joint.begin(), joint.end(), e) != joint.end()) continue;
-            const auto i = static_cast<Index>(k);
-            const double z2 = f.coeffs[i] * f.coeffs[i] / f.covariance(i, i);
-            if (z2 < weakest_z2) weakest_z2 = z2, weakest = k;
-        }
-        if (weakest_z2 > o.min_z2) break;
-        const std::string effect = added_effects[weakest - o.offset_terms.size()];
-        std::string others;
-        for (const std::string& e : added_effects)
-            if (e != effect) others += (others.empty() ? "" : ", ") + e;
-        CandidateResult& r = last[effect];
-        r.decision = Decision::kRejected;
-        r.z2 = weakest_z2;
-        r.note = "removed on re-test with " + others + " in the model (z2 " + Fmt(weakest_z2) + ")";
-        terms.erase(terms.begin() + static_cast<long>(weakest));
-        added_effects.erase(added_effects.begin() +
-                            static_cast<long>(weakest - o.offset_terms.size()));
-        MatrixXd xn(x.rows(), x.cols() - 1);
-        const auto w = static_cast<Index>(weakest);
-        xn << x.leftCols(w), x.rightCols(x.cols() - w - 1);
-        x = xn;
-    }
-    for (auto& [effect, r] : last) sel.candidates.push_back(r);
-    sel.x = x;
-    return sel;
+    RemoveWeakTerms(f);
+    for (auto& [effect, r] : f.last) f.sel.candidates.push_back(r);
+    f.sel.x = f.x;
+    return std::move(f.sel);
 }
 
 }  // namespace gyrocal::analysis::detail

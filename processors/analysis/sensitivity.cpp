@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "fit/fit.hpp"
 #include "fit/levels.hpp"
@@ -36,6 +38,90 @@ double RelRms(const fit::FitResult& f, const std::vector<fit::FitPoint>& pts) {
     return std::sqrt(ss / static_cast<double>(pts.size()));
 }
 
+// Leave one temperature level out: chi^2 of the held-out points under the declared (terms) and
+// the extended (ext_terms) model, each fitted on the other levels.
+struct LevelCv {
+    double sse_base = 0.0, sse_ext = 0.0;
+    int folds = 0;  // levels whose two fits succeeded
+};
+LevelCv LeaveOneLevelOut(const std::vector<fit::FitPoint>& pts,
+                         const std::vector<fit::Level>& levels,
+                         const std::vector<std::string>& terms,
+                         const std::vector<std::string>& ext_terms, double t0) {
+    LevelCv cv;
+    for (const fit::Level& l : levels) {
+        std::vector<fit::FitPoint> train, test;
+        for (size_t i = 0; i < pts.size(); ++i)
+            (std::find(l.members.begin(), l.members.end(), i) != l.members.end() ? test : train)
+                .push_back(pts[i]);
+        const fit::FitResult fb = fit::FitWls(train, terms, t0, model::kSensitivityQuantity);
+        const fit::FitResult fe = fit::FitWls(train, ext_terms, t0, model::kSensitivityQuantity);
+        if (!fb.ok() || !fe.ok()) continue;
+        const model::Evaluator eb(fb.model), ee(fe.model);
+        for (const auto& p : test) {
+            const double rb =
+                (p.y - eb.Value(p.inputs, model::RangePolicy::kExtrapolate)) / p.sigma_y;
+            const double re =
+                (p.y - ee.Value(p.inputs, model::RangePolicy::kExtrapolate)) / p.sigma_y;
+            cv.sse_base += rb * rb;
+            cv.sse_ext += re * re;
+        }
+        ++cv.folds;
+    }
+    return cv;
+}
+
+// The sf_asymmetry candidate: the direction term added to the declared terms, judged by its z^2
+// and the leave-one-level-out gain; out.extended and out.added when both pass.
+void TestDirectionTerm(const std::vector<fit::FitPoint>& pts, const std::vector<fit::Level>& levels,
+                       const std::vector<std::string>& terms, double t0, const AnalysisOptions& o,
+                       SensitivityOutcome& out) {
+    int n_pos = 0, n_neg = 0;
+    for (const auto& p : pts) (p.inputs.direction > 0 ? n_pos : n_neg)++;
+    if (n_pos < 2 || n_neg < 2) {
+        out.candidate.note = "not tested: needs >= 2 rotations in each direction (have " +
+                             std::to_string(n_pos) + " positive, " + std::to_string(n_neg) +
+                             " negative)";
+        return;
+    }
+    std::vector<std::string> ext_terms = terms;
+    ext_terms.push_back("direction");
+    const fit::FitResult ext = fit::FitWls(pts, ext_terms, t0, model::kSensitivityQuantity);
+    if (!ext.ok() || ext.dof < 1) {
+        out.candidate.note = "not tested: too few points for the direction term (" +
+                             (ext.ok() ? std::string("no degree of freedom left") : ext.detail) +
+                             ")";
+        return;
+    }
+    const auto last = static_cast<Eigen::Index>(ext_terms.size() - 1);
+    const double inflate = std::max(1.0, ext.chi2_per_dof);
+    const double c = ext.model.coeffs[last];
+    const double var = ext.model.covariance(last, last) * inflate;
+    out.candidate.z2 = c * c / var;
+    out.candidate.step = 1;
+    const LevelCv cv = LeaveOneLevelOut(pts, levels, terms, ext_terms, t0);
+    if (cv.folds == 0 || !(cv.sse_base > 0.0)) {
+        out.candidate.note = "not tested: no cross-validation fold could be fitted";
+        out.candidate.decision = Decision::kNotTested;
+        return;
+    }
+    out.candidate.cv_gain = (cv.sse_base - cv.sse_ext) / cv.sse_base;
+    const bool pass = out.candidate.z2 > o.min_z2 && out.candidate.cv_gain > o.min_cv_gain;
+    out.candidate.decision = pass ? Decision::kAdded : Decision::kRejected;
+    if (!pass) return;
+    out.extended = ext.model;
+    out.extended->method = "analysis";
+    out.rel_rms_after = RelRms(ext, pts);
+    out.chi2_dof_after = ext.chi2_per_dof;
+    AddedEffect a;
+    a.effect = "sf_asymmetry";
+    a.term = "direction";
+    a.unit = "V/(deg/s)";
+    a.coefficient = c;
+    a.stderr_ = std::sqrt(var);
+    out.added = a;
+}
+
 }  // namespace
 
 SensitivityOutcome AnalyzeSensitivity(const std::vector<SensitivityInput>& in,
@@ -67,73 +153,7 @@ SensitivityOutcome AnalyzeSensitivity(const std::vector<SensitivityInput>& in,
     out.extended = base.model;
     out.rel_rms_before = out.rel_rms_after = RelRms(base, pts);
     out.chi2_dof_before = out.chi2_dof_after = base.chi2_per_dof;
-
-    int n_pos = 0, n_neg = 0;
-    for (const auto& p : pts) (p.inputs.direction > 0 ? n_pos : n_neg)++;
-    if (n_pos < 2 || n_neg < 2) {
-        out.candidate.note = "not tested: needs >= 2 rotations in each direction (have " +
-                             std::to_string(n_pos) + " positive, " + std::to_string(n_neg) +
-                             " negative)";
-        return out;
-    }
-    std::vector<std::string> ext_terms = terms;
-    ext_terms.push_back("direction");
-    const fit::FitResult ext = fit::FitWls(pts, ext_terms, t0, model::kSensitivityQuantity);
-    if (!ext.ok() || ext.dof < 1) {
-        out.candidate.note = "not tested: too few points for the direction term (" +
-                             (ext.ok() ? std::string("no degree of freedom left") : ext.detail) +
-                             ")";
-        return out;
-    }
-    const auto last = static_cast<Eigen::Index>(ext_terms.size() - 1);
-    const double inflate = std::max(1.0, ext.chi2_per_dof);
-    const double c = ext.model.coeffs[last];
-    const double var = ext.model.covariance(last, last) * inflate;
-    out.candidate.z2 = c * c / var;
-    out.candidate.step = 1;
-
-    // Leave one temperature level out; chi2 of the held-out points under both models.
-    double sse_base = 0.0, sse_ext = 0.0;
-    int folds = 0;
-    for (const fit::Level& l : levels) {
-        std::vector<fit::FitPoint> train, test;
-        for (size_t i = 0; i < pts.size(); ++i)
-            (std::find(l.members.begin(), l.members.end(), i) != l.members.end() ? test : train)
-                .push_back(pts[i]);
-        const fit::FitResult fb = fit::FitWls(train, terms, t0, model::kSensitivityQuantity);
-        const fit::FitResult fe = fit::FitWls(train, ext_terms, t0, model::kSensitivityQuantity);
-        if (!fb.ok() || !fe.ok()) continue;
-        const model::Evaluator eb(fb.model), ee(fe.model);
-        for (const auto& p : test) {
-            const double rb =
-                (p.y - eb.Value(p.inputs, model::RangePolicy::kExtrapolate)) / p.sigma_y;
-            const double re =
-                (p.y - ee.Value(p.inputs, model::RangePolicy::kExtrapolate)) / p.sigma_y;
-            sse_base += rb * rb;
-            sse_ext += re * re;
-        }
-        ++folds;
-    }
-    if (folds == 0 || !(sse_base > 0.0)) {
-        out.candidate.note = "not tested: no cross-validation fold could be fitted";
-        out.candidate.decision = Decision::kNotTested;
-        return out;
-    }
-    out.candidate.cv_gain = (sse_base - sse_ext) / sse_base;
-    const bool pass = out.candidate.z2 > o.min_z2 && out.candidate.cv_gain > o.min_cv_gain;
-    out.candidate.decision = pass ? Decision::kAdded : Decision::kRejected;
-    if (!pass) return out;
-    out.extended = ext.model;
-    out.extended->method = "analysis";
-    out.rel_rms_after = RelRms(ext, pts);
-    out.chi2_dof_after = ext.chi2_per_dof;
-    AddedEffect a;
-    a.effect = "sf_asymmetry";
-    a.term = "direction";
-    a.unit = "V/(deg/s)";
-    a.coefficient = c;
-    a.stderr_ = std::sqrt(var);
-    out.added = a;
+    TestDirectionTerm(pts, levels, terms, t0, o, out);
     return out;
 }
 

@@ -126,21 +126,27 @@ Outcome OneSeed(const char* effect, double value, uint64_t seed) {
     return out;
 }
 
-// The cases still above 1.2x the true model, and why (measured on this profile and these seeds):
-//   hysteresis 202: hysteresis added and confirmed (1.21x): the residual left correlates with
-//                   dT/dt over 60-300 s (the thermometer's lag), which the temp_rate candidate's
-//                   time constants (2-60 s) do not reach with significance on this run;
-//   warmup 202:     the warm-up (tau ~300 s) falls on the first ramp down from 25 degC; the term
-//                   chosen on the training bins does not predict the held-out blocks (slope ~0),
-//                   so the held-out gate refuses it and the declared quadratic keeps its bias
-//                   (the verdict: "not confirmed on the held-out data: warmup"; within the noise
-//                   bound of the declared model's own covariance);
-//   supply 202:     the supply term is confirmed on held-out data, but a step in time explains
-//                   that held-out residual better (the rig's supply is a slow random drift), so
-//                   it is "not attributed" and not applied (a supply coefficient fitted to a drift
-//                   it only resembles would be wrong on the unit's next run).
-const std::set<std::pair<std::string, uint64_t>> kMisses = {
-    {"hysteresis", 202}, {"warmup", 202}, {"supply", 202}};
+// The cases still above 1.2x the true model, and why (measured on this profile and these seeds;
+// the README's "Held-out ramp" gives the figures):
+//   hysteresis 202: hysteresis added and confirmed, just above 1.2x. Two causes, neither one a
+//                   term the analysis could honestly choose: (1) `five` reverses the temperature
+//                   once, so the training bins do not resolve the branch width (their residual
+//                   is flat over widths of 2-8 degC; the one chosen is at the wide end), while
+//                   the ramp run reverses three times; (2) what is left follows dT/dt with a
+//                   coefficient that changes with temperature (the thermometer's lag times the
+//                   offset's slope), a shape no candidate has (dTdt(tau) has one coefficient,
+//                   not significant on this run);
+//   warmup 202:     the warm-up is found on the training bins (z2 far above the threshold), but
+//                   the held-out blocks hold the run's only data below the training bins' coldest
+//                   temperature (the -40 degC setpoint) and the end of the warm-up, so the gate
+//                   judges the quadratic's extrapolation there more than the term: fitted with
+//                   the term, the training bins' polynomial lands further from the truth at
+//                   -43 degC than without it, and the gate refuses the term ("not confirmed on
+//                   the held-out data: warmup"; within the noise bound of the declared model's
+//                   own covariance). Holding each block out in turn (each rotation choosing its
+//                   own terms) does not confirm it either: the rotation that holds out the first
+//                   block cannot see the warm-up and chooses nothing.
+const std::set<std::pair<std::string, uint64_t>> kMisses = {{"hysteresis", 202}, {"warmup", 202}};
 
 void RunEffect(const char* effect, double value) {
     constexpr int kSeeds = 3;
@@ -170,10 +176,11 @@ void RunEffect(const char* effect, double value) {
             << effect << " seed " << seed << ": extended " << o.after
             << " deg/s above the noise bound " << noise_bound << " and the analysis did not say so\n"
             << o.report;
-        if (!listed)
+        if (!listed) {
             EXPECT_LE(o.after, 1.2 * o.truth)
                 << effect << " seed " << seed << ": extended " << o.after << " deg/s, true model "
                 << o.truth << " deg/s\n" << o.report;
+        }
     }
     std::printf("[ held-out ] %-12s within 1.2x of the true model on %d of %d seeds\n", effect,
                 within, kSeeds);
