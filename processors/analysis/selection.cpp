@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "fit/least_squares.hpp"
+#include "numeric/least_squares.hpp"
 #include "regress.hpp"
 
 namespace gyrocal::analysis::detail {

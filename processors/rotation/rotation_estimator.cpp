@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "slip_check.hpp"
-#include "window_stats.hpp"
+#include "numeric/series_stats.hpp"
 
 namespace gyrocal::rotation {
 
@@ -261,7 +261,7 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     WindowMean& w2 = offset.w2;
     const double need_s = config_.min_rest_fraction * config_.rest_s;
     if (std::string why = WindowsProblem(w1, w2, w.mid.size(), need_s); !why.empty()) return reject(why);
-    const stats::NoiseLevel noise = stats::PooledNoiseLevel({Values(w.pre), Values(w.post)});
+    const numeric::NoiseLevel noise = numeric::PooledNoiseLevel({Values(w.pre), Values(w.post)});
     const double var_eff = noise.var * noise.tau_int;  // [V^2] per sample, correlation included
     w1.se = std::sqrt(var_eff / w1.n);
     w2.se = std::sqrt(var_eff / w2.n);

@@ -8,9 +8,9 @@
 
 #include "csv/csv_file.hpp"
 #include "generator.hpp"
+#include "motion/table_motion.hpp"
 #include "rotation_estimator.hpp"
 #include "slip_check.hpp"
-#include "table_motion.hpp"
 
 namespace gyrocal::rotation {
 namespace {
