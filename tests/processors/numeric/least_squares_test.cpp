@@ -20,6 +20,7 @@
 #include "analysis/regress.hpp"
 #include "fit/fit.hpp"
 #include "numeric/least_squares.hpp"
+#include "synthetic_noise.hpp"
 
 namespace gyrocal {
 namespace {
@@ -28,15 +29,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-// Deterministic noise in [-0.5, 0.5): a 64-bit LCG (Knuth's MMIX constants), the same on every
-// platform (std:: distributions are not specified bit for bit).
-struct Lcg {
-    uint64_t s;
-    double operator()() {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(s >> 11) / 9007199254740992.0 - 0.5;
-    }
-};
+using numeric::testing::Lcg;
 
 // The fixed input: 60 bins, temperature swept -30 .. 75 degC, columns 1, dT, dT^2 and a slow
 // exponential (a warm-up-like regressor), y with correlated noise (AR(1) 0.6) of ~1e-4.

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "ar1.hpp"
+#include "synthetic_noise.hpp"
 
 namespace gyrocal::numeric {
 namespace {

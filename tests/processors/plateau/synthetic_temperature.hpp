@@ -6,7 +6,7 @@
 #include <functional>
 #include <random>
 
-#include "ar1.hpp"
+#include "synthetic_noise.hpp"
 #include "plateau_detector.hpp"
 
 namespace gyrocal::plateau::testing {

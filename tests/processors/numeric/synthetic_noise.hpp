@@ -1,5 +1,7 @@
 #pragma once
-// Correlated noise with a known spectrum, for tests of estimators on correlated series.
+// Noise for tests of the numerics and their callers: AR(1) noise of a known spectrum (estimators
+// on correlated series) and a deterministic uniform generator that gives the same numbers on every
+// platform (fixed inputs whose results are compared with figures printed once).
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -22,6 +24,16 @@ private:
     double sigma_, rho_, x_ = 0;
     std::mt19937_64 rng_;
     std::normal_distribution<double> n_{0.0, 1.0};
+};
+
+// Uniform noise in [-0.5, 0.5): a 64-bit LCG (Knuth's MMIX constants), the same on every platform
+// (std:: distributions are not specified bit for bit).
+struct Lcg {
+    uint64_t s;
+    double operator()() {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(s >> 11) / 9007199254740992.0 - 0.5;
+    }
 };
 
 }  // namespace gyrocal::numeric::testing
