@@ -6,6 +6,7 @@
 
 #include "numeric/least_squares.hpp"
 #include "regress.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis::detail {
 
@@ -79,8 +80,8 @@ bool PairPasses(const JointScore& j, const Floor& floor, const AnalysisOptions& 
 
 std::string JointNote(const std::string& other, double r, const JointScore& j,
                       const std::string& separation) {
-    return "added jointly with " + other + " (projected correlation " + Fmt(r, 3) +
-           "; together z2 " + Fmt(j.z2) + ", cv_gain " + Fmt(j.cv_gain, 2) +
+    return "added jointly with " + other + " (projected correlation " + text::Sig(r, 3) +
+           "; together z2 " + text::Sig(j.z2, 3) + ", cv_gain " + text::Sig(j.cv_gain, 2) +
            "): this data cannot say which of the two carries the effect; to separate: " +
            separation;
 }
@@ -128,9 +129,9 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
             const bool big_enough = !std::isfinite(floor.offset_rms_v) ||
                                     s.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
             if (s.ok && !big_enough)
-                r.note = "effect RMS " + Fmt(s.effect_rms_v) + " V is below " +
-                         Fmt(o.min_effect_floor_ratio) + "x the noise floor " +
-                         Fmt(floor.offset_rms_v) + " V";
+                r.note = "effect RMS " + text::Sig(s.effect_rms_v, 3) + " V is below " +
+                         text::Sig(o.min_effect_floor_ratio, 3) + "x the noise floor " +
+                         text::Sig(floor.offset_rms_v, 3) + " V";
             const bool pass = s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && big_enough;
             passes[k] = pass;
             // The best explains the most (smallest residual sum of squares), not the largest
@@ -159,9 +160,9 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
                 if (e.z2_best > o.min_z2) {
                     CandidateResult& cr = last[pool[k].effect];
                     cr.note = "collinear with " + pool[b].effect + " (projected correlation " +
-                              Fmt(r, 3) + "); with both in the model " + pool[b].effect +
-                              " keeps z2 " + Fmt(e.z2_best) + ", " + pool[k].effect + " " +
-                              Fmt(e.z2_other);
+                              text::Sig(r, 3) + "); with both in the model " + pool[b].effect +
+                              " keeps z2 " + text::Sig(e.z2_best, 3) + ", " + pool[k].effect + " " +
+                              text::Sig(e.z2_other, 3);
                     continue;
                 }
                 if (e.z2_other > o.min_z2 && !was_best[k] && passes[k]) {
@@ -211,7 +212,7 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
                     cr.decision = Decision::kAmbiguous;
                     const std::string other = pool[i == b ? k : b].effect;
                     cr.note += (cr.note.empty() ? "" : "; ") + std::string("ambiguous with ") +
-                               other + " (projected correlation " + Fmt(r, 3) +
+                               other + " (projected correlation " + text::Sig(r, 3) +
                                "); to separate: " + Separation(pool[b].effect, pool[k].effect);
                 }
                 ambiguous.push_back(pool[b].effect + " vs " + pool[k].effect);
@@ -252,7 +253,8 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
         CandidateResult& r = last[effect];
         r.decision = Decision::kRejected;
         r.z2 = weakest_z2;
-        r.note = "removed on re-test with " + others + " in the model (z2 " + Fmt(weakest_z2) + ")";
+        r.note = "removed on re-test with " + others + " in the model (z2 " +
+                 text::Sig(weakest_z2, 3) + ")";
         terms.erase(terms.begin() + static_cast<long>(weakest));
         added_effects.erase(added_effects.begin() +
                             static_cast<long>(weakest - o.offset_terms.size()));

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "model/json.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::compensate {
 
@@ -13,12 +14,6 @@ std::string Known(const std::map<std::string, model::CoeffSet>& sets) {
     std::string s;
     for (const auto& [id, set] : sets) s += (s.empty() ? "" : ", ") + id;
     return s.empty() ? "none" : s;
-}
-
-std::string Num(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
 }
 
 }  // namespace
@@ -108,8 +103,9 @@ std::string FormatRatesCsv(const std::vector<OfflineRate>& rates) {
     for (const OfflineRate& r : rates) {
         char t[40];
         std::snprintf(t, sizeof t, "%.6f", r.time_s);  // the microsecond grid of utime
-        out += std::string(t) + "," + r.sensor_id + "," + Num(r.rate_dps) + "," + Num(r.angle_deg) +
-               "," + Num(r.temp_c) + "," + std::to_string(r.range_flag) + "\n";
+        out += std::string(t) + "," + r.sensor_id + "," + text::Sig(r.rate_dps, 17) + "," +
+               text::Sig(r.angle_deg, 17) + "," + text::Sig(r.temp_c, 17) + "," +
+               std::to_string(r.range_flag) + "\n";
     }
     return out;
 }

@@ -5,6 +5,7 @@
 
 #include "fit_util.hpp"
 #include "numeric/least_squares.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -53,9 +54,9 @@ FitResult FitWls(const std::vector<FitPoint>& pts, const std::vector<std::string
                           "' is zero at every point");
     const double cond = ls.condition_number;
     if (!(cond <= max_cond))
-        return Refuse(Refusal::kIllConditioned, "design matrix condition number " + Fmt(cond) +
-                                                    " exceeds " + Fmt(max_cond) +
-                                                    ": the points cannot separate the terms");
+        return Refuse(Refusal::kIllConditioned,
+                      "design matrix condition number " + text::Sig(cond, 4) + " exceeds " +
+                          text::Sig(max_cond, 4) + ": the points cannot separate the terms");
     if (!ls.ok) return Refuse(Refusal::kIllConditioned, ls.why);
 
     FitResult out;

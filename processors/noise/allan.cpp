@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "fit/distributions.hpp"
 #include "numeric/least_squares.hpp"
@@ -215,10 +214,8 @@ NoiseTerms FitTerms(const std::vector<SegmentSums>& segments, double tau0_s,
     for (int j = 0; j < 3; ++j) {
         if (all.active[j]) continue;
         const bool short_taus = j == 2 && pts.back().tau_s < min_rrw_tau_s;
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "%s %s", labels[j],
-                      short_taus ? "not fitted: tau reaches only " : "not resolved (set 0)");
-        t.note += std::string(t.note.empty() ? "" : "; ") + buf +
+        t.note += std::string(t.note.empty() ? "" : "; ") + labels[j] +
+                  (short_taus ? " not fitted: tau reaches only " : " not resolved (set 0)") +
                   (short_taus ? std::to_string(static_cast<int>(pts.back().tau_s)) + " s" : "");
     }
     if (segments.size() >= 3) {

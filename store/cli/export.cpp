@@ -11,6 +11,7 @@
 #include "model/terms.hpp"
 #include "model_rows.hpp"
 #include "report.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::store::report {
 namespace {
@@ -134,9 +135,9 @@ std::optional<gyrocal_tracker_config_t> TrackerConfig(const CoeffSetInfo& s, std
 void CModel(std::ostream& out, const std::string& id, const char* role, const ModelRow& m) {
     const size_t n = m.term_names.size();
     out << "/* " << role << ": " << CComment(m.quantity) << ", method " << CComment(m.method)
-        << ", " << m.n_points << " points, residual rms " << Num(m.residual_rms, 4) << ", T0 "
-        << Num(m.t0_c) << " C, valid " << Num(m.temp_min_c) << ".." << Num(m.temp_max_c)
-        << " C */\n";
+        << ", " << m.n_points << " points, residual rms " << text::SigOrDash(m.residual_rms, 4)
+        << ", T0 " << text::SigOrDash(m.t0_c) << " C, valid " << text::SigOrDash(m.temp_min_c)
+        << ".." << text::SigOrDash(m.temp_max_c) << " C */\n";
     if (n == 0) {
         out << "/* (no terms: this model was not fitted) */\n";
         out << "static const gyrocal_model_t " << id << " = {0, 0, 0, 0, " << CDouble(m.t0_c)

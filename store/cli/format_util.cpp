@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 #include "model_rows.hpp"
 #include "report.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::store::report::detail {
 
@@ -43,20 +43,6 @@ std::string Table::str() const {
     return out.str();
 }
 
-std::string Num(double v, int precision) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-    return buf;
-}
-
-std::string Fixed(double v, int decimals) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return buf;
-}
-
 std::string Opt(std::optional<int64_t> v) { return v ? std::to_string(*v) : "-"; }
 
 nlohmann::json OptJson(std::optional<int64_t> v) {
@@ -76,7 +62,8 @@ std::string Join(const std::vector<std::string>& v, const std::string& sep) {
 std::string Terms(const ModelRow& m) {
     std::vector<std::string> parts;
     for (size_t i = 0; i < m.term_names.size(); ++i) {
-        parts.push_back(m.term_names[i] + "=" + Num(i < m.coeffs.size() ? m.coeffs[i] : NAN, 6));
+        parts.push_back(m.term_names[i] + "=" +
+                        text::SigOrDash(i < m.coeffs.size() ? m.coeffs[i] : NAN, 6));
     }
     return Join(parts, " ");
 }

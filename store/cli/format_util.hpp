@@ -21,8 +21,6 @@ private:
     std::vector<std::vector<std::string>> rows_;
 };
 
-std::string Num(double v, int precision = 6);    // "%.*g"; "-" when not finite
-std::string Fixed(double v, int decimals);       // "%.*f"; "-" when not finite
 std::string Opt(std::optional<int64_t> v);       // "-" when absent
 nlohmann::json OptJson(std::optional<int64_t> v);
 nlohmann::json Finite(double v);                 // null when not finite (JSON has no NaN)
