@@ -30,7 +30,7 @@ std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_c
         return std::nullopt;
     }
     std::string err;
-    const csv::TempTransfer transfer = *o.conversion.Transfer(&err);
+    const sensor::TempTransfer transfer = *o.conversion.Transfer(&err);
     try {
         return csv::ReadCsv(in, o.file, transfer, o.on_error);
     } catch (const csv::CsvError& e) {

@@ -13,7 +13,7 @@
 namespace gyrocal {
 namespace {
 // As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
-csv::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
+sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
     std::string err;
     return *conversion.Transfer(&err);  // validated by main
 }

@@ -32,6 +32,7 @@ void RangeOpenLow(const char* option, double value, double lo, double hi) {
 GyroPreset PresetByName(const std::string& name) {
     GyroPreset p;
     p.name = name;
+    if (const auto transfer = sensor::PresetTransfer(name)) p.temp_transfer = *transfer;
     if (name == "610") {  // myGyro610EB, ADXRS610
         p.range_dps = 300.0;
         p.sensitivity_v_per_dps = 0.006;

@@ -275,8 +275,7 @@ void Rig::EmitGyros(int64_t utime, RigSink& sink) {
         }
 
         const double sensor_read_c = s.sensor_c + u.temp_sensor_offset_c;
-        const double temp_analog_v =
-            c.preset.temp_v_at_25c + c.preset.temp_v_per_c * (sensor_read_c - 25.0) + temp_noise_v;
+        const double temp_analog_v = c.preset.temp_transfer.TempV(sensor_read_c) + temp_noise_v;
 
         GyroReading r;
         r.utime = utime;
@@ -295,7 +294,7 @@ void Rig::EmitGyros(int64_t utime, RigSink& sink) {
             r.gyro_v = s.lpf_v;
             r.temp_v = temp_analog_v;
         }
-        r.temp_c = 25.0 + (r.temp_v - c.preset.temp_v_at_25c) / c.preset.temp_v_per_c;
+        r.temp_c = c.preset.temp_transfer.TempC(r.temp_v);
         sink.OnGyro(r, truth);
     }
 }

@@ -200,14 +200,14 @@ std::optional<int> ParseInto(CLI::App& app, int argc, char** argv, SimRigOptions
                     throw sim::ConfigError(
                         "--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
                 }
-                r.preset.temp_v_at_25c = temp_v_at_25c;
+                r.preset.temp_transfer.v_at_25c = temp_v_at_25c;
             }
             if (!std::isnan(temp_v_per_c)) {
                 if (!std::isfinite(temp_v_per_c) || temp_v_per_c <= 0.0 || temp_v_per_c > 1.0) {
                     throw sim::ConfigError(
                         "--temp-v-per-c is out of range; valid: > 0 and <= 1 V/K");
                 }
-                r.preset.temp_v_per_c = temp_v_per_c;
+                r.preset.temp_transfer.v_per_k = temp_v_per_c;
             }
             if (!sensor_ids_text.empty()) {
                 std::stringstream ss(sensor_ids_text);

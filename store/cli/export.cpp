@@ -8,6 +8,7 @@
 #include "format_util.hpp"
 #include "model/c_source.hpp"
 #include "model/inputs.hpp"
+#include "model/json.hpp"
 #include "model/terms.hpp"
 #include "model_rows.hpp"
 #include "report.hpp"
@@ -69,18 +70,11 @@ std::string CDouble(double v) {
 using namespace detail;
 
 nlohmann::json CoeffSetJson(const CoeffSetInfo& c) {
-    nlohmann::json j;
+    // The model library's writer (model/json.hpp: what `gyrocal compensate --coeffs` reads back),
+    // plus where the set is stored.
+    nlohmann::json j = model::ToJson(ToCoeffSet(c.set));
     j["coeff_row_id"] = c.coeff_row_id;
-    j["sensor_id"] = c.set.sensor_id;
-    j["run_id"] = c.set.run_id;
-    j["coeff_set_id"] = c.set.coeff_set_id;
-    j["source"] = c.set.source;
-    j["utime"] = c.set.utime;
     j["recv_utime"] = c.set.recv_utime;
-    j["offset"] = ModelJson(c.set.offset);
-    j["sensitivity"] = ModelJson(c.set.sensitivity);
-    j["plateau_ids"] = c.set.plateau_ids;
-    j["rotation_ids"] = c.set.rotation_ids;
     return j;
 }
 

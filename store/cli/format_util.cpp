@@ -68,30 +68,6 @@ std::string Terms(const ModelRow& m) {
     return Join(parts, " ");
 }
 
-nlohmann::json ModelJson(const ModelRow& m) {
-    nlohmann::json j;
-    j["quantity"] = m.quantity;
-    j["term_names"] = m.term_names;
-    nlohmann::json coeffs = nlohmann::json::array();
-    for (double c : m.coeffs) coeffs.push_back(Finite(c));
-    j["coeffs"] = coeffs;
-    nlohmann::json cov = nlohmann::json::array();
-    for (const auto& row : m.covariance) {
-        nlohmann::json r = nlohmann::json::array();
-        for (double v : row) r.push_back(Finite(v));
-        cov.push_back(r);
-    }
-    j["covariance"] = cov;
-    j["t0_c"] = Finite(m.t0_c);
-    j["temp_min_c"] = Finite(m.temp_min_c);
-    j["temp_max_c"] = Finite(m.temp_max_c);
-    j["residual_rms"] = Finite(m.residual_rms);
-    j["n_points"] = m.n_points;
-    j["condition_number"] = Finite(m.condition_number);
-    j["method"] = m.method;
-    return j;
-}
-
 std::optional<double> Eval(const ModelRow& m, double temp_c) {
     return SteadyStateValue(m, temp_c);
 }

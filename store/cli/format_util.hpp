@@ -27,7 +27,6 @@ nlohmann::json Finite(double v);                 // null when not finite (JSON h
 std::string RunLabel(const std::string& run_id); // "(no run)" for ''
 std::string Join(const std::vector<std::string>& v, const std::string& sep);
 std::string Terms(const ModelRow& m);            // "1=2.5 dT=0.001"
-nlohmann::json ModelJson(const ModelRow& m);
 // The model at temp_c [degC] by the shared evaluator, at steady state (SteadyStateInputs),
 // extrapolated outside its valid range; nullopt when the model is not usable.
 std::optional<double> Eval(const ModelRow& m, double temp_c);

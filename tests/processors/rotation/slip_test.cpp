@@ -21,7 +21,7 @@ std::vector<Point> Points(const othersim::Options& o) {
     std::ostringstream text;
     othersim::Generate(o, text);
     std::istringstream in(text.str());
-    const csv::CsvFile f = csv::ReadCsv(in, "x.csv", csv::TempTransfer{}, csv::OnError::kStop);
+    const csv::CsvFile f = csv::ReadCsv(in, "x.csv", sensor::TempTransfer{}, csv::OnError::kStop);
     motion::MoveDetector detector(motion::MoveDetectorConfig::Defaults());
     RotationEstimator est(RotationConfig::Defaults());
     std::vector<Point> out;
