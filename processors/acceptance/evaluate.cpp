@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "text/number.hpp"
+
 namespace gyrocal::acceptance {
 
 namespace {
@@ -38,7 +40,7 @@ Check Start(const std::string& key, double limit) {
 
 void Compare(Check& c, const Measure& m, Outcome when_unmeasured) {
     c.measured = m.value;
-    c.measured_text = Short(m.value);
+    c.measured_text = std::isnan(m.value) ? "-" : text::Sig(m.value, 3);  // inf stays "inf"
     c.note = m.note;
     if (std::isnan(m.value)) {
         c.outcome = when_unmeasured;
@@ -106,13 +108,6 @@ const char* ToString(Outcome o) {
         case Outcome::kNotEvaluated: return "not evaluated";
     }
     return "?";
-}
-
-std::string Short(double v) {
-    if (std::isnan(v)) return "-";
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
 }
 
 Measure ResidualOverFloor(const UnitEvidence& u) {
@@ -222,7 +217,8 @@ std::string Summary(const UnitVerdict& v) {
         if (c.kind == "require")
             item += c.outcome == Outcome::kFail ? "failed (" + c.measured_text + ")" : "not evaluated (" + c.note + ")";
         else if (c.outcome == Outcome::kFail && !std::isnan(c.measured))
-            item += c.measured_text + (c.kind == "min" ? " < " : " > ") + Short(c.limit) + " " + c.unit;
+            item += c.measured_text + (c.kind == "min" ? " < " : " > ") + text::Sig(c.limit, 3) +
+                    " " + c.unit;
         else
             item += (c.outcome == Outcome::kFail ? "failed (" : "not evaluated (") + c.note + ")";
         out += (out.empty() ? "" : "; ") + item;

@@ -84,7 +84,4 @@ UnitVerdict Evaluate(const Limits& limits, const UnitEvidence& unit);
 // (failed or not evaluated), or "S01: pass".
 std::string Summary(const UnitVerdict& verdict);
 
-// "3.42" style: 3 significant digits, "-" for NaN.
-std::string Short(double v);
-
 }  // namespace gyrocal::acceptance

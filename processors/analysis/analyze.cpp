@@ -14,6 +14,7 @@
 #include "score.hpp"
 #include "selection.hpp"
 #include "sensitivity.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis {
 
@@ -138,8 +139,8 @@ HeldOut Confirm(const Context& train, const BinnedRun& binned, const Split& spli
     h.confirmed = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 && drift_ok;
     if (std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 && !drift_ok)
         res.notes.push_back("the chosen terms lowered the held-out RMS but raised the held-out "
-                            "drift (" + Fmt(res.error_before.drift_dph) + " -> " +
-                            Fmt(res.error_after.drift_dph) + " deg/h): not added");
+                            "drift (" + text::Sig(res.error_before.drift_dph, 3) + " -> " +
+                            text::Sig(res.error_after.drift_dph, 3) + " deg/h): not added");
     return h;
 }
 
@@ -235,10 +236,10 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
             const std::string& effect = sel.added_effects[k - nd];
             const std::string why =
                 mimic ? "explains its held-out residual with the term in the model (z " +
-                            Fmt(feature_given_term.z) + "), the term none with it in (z " +
-                            Fmt(term_given_feature.z) + ")"
+                            text::Sig(feature_given_term.z, 3) + "), the term none with it in (z " +
+                            text::Sig(term_given_feature.z, 3) + ")"
                       : "explains its held-out residual better: z " +
-                            Fmt(HeldOutGain(r_named, r_feature, split.held_block, train.hac_lag).z);
+                            text::Sig(HeldOutGain(r_named, r_feature, split.held_block, train.hac_lag).z, 3);
             res.not_attributed.push_back(effect + " (" + f.name + ", " + f.detail + ", " + why +
                                          ")");
             out.push_back(effect);
@@ -309,9 +310,10 @@ Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
         if (c.decision == Decision::kAdded && !h.confirmed) {
             c.decision = Decision::kRejected;
             c.note = "chosen on the training bins, not confirmed on the held-out bins "
-                     "(prediction slope " + Fmt(res.heldout_slope) + ", " +
-                     Fmt(res.heldout_gain_z) + " standard errors, need " + Fmt(o.gate_min_z) +
-                     "; squared error change " + Fmt(-res.heldout_gain_v2) + " V^2)";
+                     "(prediction slope " + text::Sig(res.heldout_slope, 3) + ", " +
+                     text::Sig(res.heldout_gain_z, 3) + " standard errors, need " +
+                     text::Sig(o.gate_min_z, 3) + "; squared error change " +
+                     text::Sig(-res.heldout_gain_v2, 3) + " V^2)";
         }
     return sel;
 }
@@ -435,7 +437,7 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
     if (!analysed) {
         res.could_not_test.push_back(
             "offset candidates: " + std::to_string(res.n_train_bins) + " training bins of " +
-            Fmt(o.bins.bin_s) + " s and " + std::to_string(split.n_blocks) +
+            text::Sig(o.bins.bin_s, 3) + " s and " + std::to_string(split.n_blocks) +
             " held-out blocks, need " + std::to_string(min_bins) + " and 1");
         for (const char* e : kOffsetEffects)
             res.candidates.push_back({e, "", Decision::kNotTested, kNan, kNan, 0,

@@ -5,18 +5,13 @@
 #include <set>
 
 #include "model/model.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis::detail {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-std::string Fmt(double v, int prec) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-    return buf;
-}
 
 double RoundT0(double lo_c, double hi_c) { return 5.0 * std::round(0.5 * (lo_c + hi_c) / 5.0); }
 
@@ -86,12 +81,12 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
     const int n = static_cast<int>(bins.size());
     if (ramp < o.min_ramp_bins)
         c[0].why_not = "no ramps in the still data (" + std::to_string(ramp) +
-                       " bins with |dT/dt| >= " + Fmt(o.min_ramp_c_per_s * 60) +
+                       " bins with |dT/dt| >= " + text::Sig(o.min_ramp_c_per_s * 60, 3) +
                        " degC/min, need " + std::to_string(o.min_ramp_bins) + ")";
     if (heat < 3 || cool < 3)
         c[1].why_not = "the temperature did not move both up and down by more than " +
-                       Fmt(GYROCAL_SIGN_BRANCH_WIDTH_C) + " degC (" + std::to_string(heat) +
-                       " heating bins, " + std::to_string(cool) +
+                       text::Sig(GYROCAL_SIGN_BRANCH_WIDTH_C, 3) + " degC (" +
+                       std::to_string(heat) + " heating bins, " + std::to_string(cool) +
                        " cooling bins): no branches to compare";
     if (levels.size() < 5)
         c[2].why_not = "the still data covers fewer than 5 distinct 2-degC temperature bands (" +
@@ -102,10 +97,12 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
                                          " of " + std::to_string(n) + " still bins";
     const double first_on_s = bins.empty() ? INFINITY : bins.front().time_since_power_s;
     if (!(first_on_s <= 3.0 * o.warmup_tau_min_s + o.bins.bin_s))
-        c[4].why_not = "no still data soon after power-on (first still bin " + Fmt(first_on_s) +
+        c[4].why_not = "no still data soon after power-on (first still bin " +
+                       text::Sig(first_on_s, 3) +
                        " s after power-on): a warm-up transient cannot be seen";
     else if (!(tau_max > o.warmup_tau_min_s))
-        c[4].why_not = "the still data span " + Fmt(span_s) + " s is too short to tell a warm-up "
+        c[4].why_not = "the still data span " + text::Sig(span_s, 3) +
+                       " s is too short to tell a warm-up "
                        "transient from slow drift";
     return c;
 }

@@ -15,8 +15,6 @@
 
 namespace gyrocal::analysis::detail {
 
-std::string Fmt(double v, int prec = 3);
-
 // T0 of the declared model: mid-range rounded to 5 degC, as the fitter does.
 double RoundT0(double lo_c, double hi_c);
 

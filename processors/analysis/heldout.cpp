@@ -4,8 +4,8 @@
 #include <cmath>
 #include <map>
 
-#include "fit/least_squares.hpp"
 #include "model/inputs.hpp"
+#include "numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
 

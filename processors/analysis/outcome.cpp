@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "candidates.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis::detail {
 
@@ -31,7 +32,7 @@ std::string List(const std::vector<std::string>& v) {
     return s;
 }
 
-std::string Mv(double v) { return Fmt(v * 1e3) + " mV"; }
+std::string Mv(double v) { return text::Sig(v * 1e3, 3) + " mV"; }
 
 // "correlates with ..." : the generic features that explain held-out data, strongest first.
 std::string Correlates(const SensorResult& r) {
@@ -40,8 +41,8 @@ std::string Correlates(const SensorResult& r) {
         if (!f.explains_heldout || c.size() >= 2) continue;
         c.push_back(f.feature + " [" + f.channel + "; " + f.detail +
                     (f.edge.empty() ? std::string() : " (" + f.edge + ")") + "; removes " +
-                    Fmt(100.0 * f.heldout_drop, 2) + " % of the held-out squared residual, z " +
-                    Fmt(f.heldout_z) + "]");
+                    text::Sig(100.0 * f.heldout_drop, 2) +
+                    " % of the held-out squared residual, z " + text::Sig(f.heldout_z, 3) + "]");
     }
     if (c.empty()) return "correlates with none of the generic features on held-out data";
     return "correlates with " + List(c);
@@ -51,17 +52,17 @@ std::string Where(const SensorResult& r) {
     const ResidualDiagnostics& d = r.residual;
     std::string s;
     if (std::isfinite(d.worst_time.rms_v))
-        s += "largest at " + Fmt(d.worst_time.lo, 4) + "-" + Fmt(d.worst_time.hi, 4) +
+        s += "largest at " + text::Sig(d.worst_time.lo, 4) + "-" + text::Sig(d.worst_time.hi, 4) +
              " s from the start (" + Mv(d.worst_time.rms_v) + " RMS)";
     if (std::isfinite(d.worst_temp.rms_v))
-        s += std::string(s.empty() ? "" : ", ") + "at " + Fmt(d.worst_temp.lo, 3) + ".." +
-             Fmt(d.worst_temp.hi, 3) + " degC (" + Mv(d.worst_temp.rms_v) + " RMS)";
+        s += std::string(s.empty() ? "" : ", ") + "at " + text::Sig(d.worst_temp.lo, 3) + ".." +
+             text::Sig(d.worst_temp.hi, 3) + " degC (" + Mv(d.worst_temp.rms_v) + " RMS)";
     return s;
 }
 
 std::string Residual(const SensorResult& r) {
-    return "held-out residual " + Mv(r.heldout_residual_rms_v) + " = " + Fmt(r.excess_ratio, 2) +
-           "x the floor bound " + Mv(r.floor_bound_rms_v);
+    return "held-out residual " + Mv(r.heldout_residual_rms_v) + " = " +
+           text::Sig(r.excess_ratio, 2) + "x the floor bound " + Mv(r.floor_bound_rms_v);
 }
 
 }  // namespace

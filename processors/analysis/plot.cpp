@@ -6,18 +6,13 @@
 #include <optional>
 
 #include "bins.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis {
 
 namespace {
 
 // 3 significant digits, for titles.
-std::string Short(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
-}
-
 std::optional<model::Evaluator> EvaluatorOf(const std::optional<model::Model>& m) {
     if (!m) return std::nullopt;
     try {
@@ -35,7 +30,7 @@ plot::Table ResidualTable(const BinnedRun& binned, const SensorResult& r) {
     const Eigen::VectorXd va = after ? binned.Values(after->model()) : Eigen::VectorXd();
     const double bin_s = binned.bin_s();
     plot::Table t{r.sensor_id + "_residual",
-                  "sensor " + r.sensor_id + ": still bins of " + Short(bin_s) + " s",
+                  "sensor " + r.sensor_id + ": still bins of " + text::Sig(bin_s, 3) + " s",
                   {"time_h", "temp_c", "resid_before_mv", "resid_after_mv"},
                   {}};
     const int64_t first = binned.run().first_sample_utime;
@@ -59,8 +54,9 @@ std::optional<plot::Figure> EffectFigure(const BinnedRun& binned, const SensorRe
     const auto k = static_cast<Eigen::Index>(it - ext.term_names.begin());
     const std::string name = r.sensor_id + "_effect_" + a.effect;
     plot::Table t{name,
-                  "sensor " + r.sensor_id + ": effect " + a.effect + ", term " + a.term + ", coefficient " +
-                      Short(a.coefficient) + " +- " + Short(a.stderr_) + " " + a.unit,
+                  "sensor " + r.sensor_id + ": effect " + a.effect + ", term " + a.term +
+                      ", coefficient " + text::Sig(a.coefficient, 3) + " +- " +
+                      text::Sig(a.stderr_, 3) + " " + a.unit,
                   {"regressor", "partial_resid_mv", "fitted_effect_mv"},
                   {}};
     const gyrocal_tracker_config_t config = model::TrackerConfigFor(ext);
@@ -80,8 +76,12 @@ std::optional<plot::Figure> EffectFigure(const BinnedRun& binned, const SensorRe
     f.ylabel = "partial residual [mV]";
     f.tables = {t};
     f.series = {{name, plot::Style::kPoints, {1, 2}, "residual without this term", ""},
-                {name, plot::Style::kLines, {1, 3},
-                 "fitted " + a.term + ": " + Short(a.coefficient) + " +- " + Short(a.stderr_) + " " + a.unit, ""}};
+                {name,
+                 plot::Style::kLines,
+                 {1, 3},
+                 "fitted " + a.term + ": " + text::Sig(a.coefficient, 3) + " +- " +
+                     text::Sig(a.stderr_, 3) + " " + a.unit,
+                 ""}};
     return f;
 }
 
@@ -100,8 +100,8 @@ std::optional<plot::Figure> PeriodogramFigure(const SensorResult& r) {
     char period[40];  // a period of 100 s or more in whole seconds, not "1.57e+03"
     std::snprintf(period, sizeof period, d.period_s >= 100.0 ? "%.0f" : "%.3g", d.period_s);
     const std::string label = "peak: period " + std::string(period) + " s, amplitude " +
-                              Short(d.period_amplitude_v * 1e3) + " mV (" +
-                              Short(d.period_power_ratio) + " x the median power)";
+                              text::Sig(d.period_amplitude_v * 1e3, 3) + " mV (" +
+                              text::Sig(d.period_power_ratio, 3) + " x the median power)";
     plot::Table peak{name + "_peak",
                      label,
                      {"period_s", "amplitude_mv"},
@@ -137,7 +137,7 @@ std::optional<plot::Figure> AutocorrFigure(const SensorResult& r) {
     plot::Figure f;
     f.name = name;
     f.title = r.sensor_id + ": autocorrelation of the still residual (lag-1 " +
-              Short(d.lag1_autocorr) + ")";
+              text::Sig(d.lag1_autocorr, 3) + ")";
     f.xlabel = "lag [s]";
     f.ylabel = "autocorrelation [1]";
     f.tables = {t};

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "fit/least_squares.hpp"
+#include "numeric/least_squares.hpp"
 
 namespace gyrocal::analysis {
 
@@ -15,10 +15,10 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-// The one solver (fit/least_squares.hpp): unit-norm column scaling, pivoting QR, (X'X)^-1 from
-// the triangular factor; false when rank-deficient.
+// The one solver (numeric/least_squares.hpp): unit-norm column scaling, pivoting QR, (X'X)^-1
+// from the triangular factor; false when rank-deficient.
 bool Solve(const MatrixXd& x, const VectorXd& y, VectorXd* coeffs, MatrixXd* xtx_inv) {
-    const fit::LeastSquares ls = fit::SolveLeastSquares(x, y);
+    const numeric::LeastSquares ls = numeric::SolveLeastSquares(x, y);
     if (!ls.ok) return false;
     *coeffs = ls.coeffs;
     if (xtx_inv) *xtx_inv = ls.xtwx_inv;
@@ -40,10 +40,10 @@ LsFit FitLs(const MatrixXd& x, const VectorXd& y, const std::vector<int>& segmen
     f.residuals = y - x * f.coeffs;
     f.rss = f.residuals.squaredNorm();
     const VectorXd& e = noise ? *noise : f.residuals;
-    const double dof = static_cast<double>(n - (noise ? std::max<Index>(p, noise_params) : p));
+    const Index noise_p = noise ? std::max<Index>(p, noise_params) : p;
+    const double dof = static_cast<double>(n - noise_p);
     // The pooled noise variance s^2 of the classical covariance s^2 (X'X)^-1 (the one solver's).
-    const MatrixXd classical =
-        b * fit::ResidualVariance(e.squaredNorm(), n, noise ? std::max<Index>(p, noise_params) : p);
+    const MatrixXd classical = b * numeric::ResidualVariance(e.squaredNorm(), n, noise_p);
     // Meat of the sandwich.
     MatrixXd u = x.array().colwise() * e.array();
     MatrixXd s = u.transpose() * u;
@@ -114,7 +114,7 @@ double BlockedCvMse(const MatrixXd& x, const VectorXd& y, int blocks, int guard)
 double ProjectedCorrelation(const MatrixXd& base, const VectorXd& a, const VectorXd& b) {
     MatrixXd ab(a.size(), 2);
     ab << a, b;
-    const MatrixXd r = fit::ProjectOut(base, ab);
+    const MatrixXd r = numeric::ProjectOut(base, ab);
     const VectorXd ra = r.col(0), rb = r.col(1);
     const double na = ra.norm(), nb = rb.norm();
     if (!(na > 1e-9 * a.norm()) || !(nb > 1e-9 * b.norm())) return kNan;

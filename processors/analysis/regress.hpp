@@ -2,7 +2,7 @@
 // Least squares on bins with honest uncertainty when residuals are autocorrelated.
 //
 // Fit: ordinary least squares (bins have equal length, hence about equal noise) through the
-// project's one solver (fit/least_squares.hpp: columns scaled to unit norm, column-pivoting
+// project's one solver (numeric/least_squares.hpp: columns scaled to unit norm, column-pivoting
 // Householder QR, (X'X)^-1 from the triangular factor, never an explicit inverse of X'X); this
 // file adds what is particular to bins: the autocorrelation-robust covariance and blocked CV.
 // Covariance: Newey-West (HAC): B S B with B = (X'X)^-1 and

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "model/json.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis {
 
@@ -17,13 +18,6 @@ nlohmann::json Errors(const ErrorFigures& e) {
     return {{"offset_rms_v", Num(e.offset_rms_v)},
             {"rate_rms_dps", Num(e.rate_rms_dps)},
             {"drift_dph", Num(e.drift_dph)}};
-}
-
-std::string G(double v, int prec = 3) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-    return buf;
 }
 
 nlohmann::json Windows(const std::vector<WindowRms>& w) {
@@ -149,8 +143,9 @@ namespace {
 
 std::string FormatBeyond(const SensorResult& r) {
     std::string out = "  outcome: " + std::string(ToString(r.outcome)) + " (held-out residual " +
-                      G(r.heldout_residual_rms_v) + " V, floor bound " + G(r.floor_bound_rms_v) +
-                      " V, ratio " + G(r.excess_ratio) + ")\n";
+                      text::SigOrDash(r.heldout_residual_rms_v, 3) + " V, floor bound " +
+                      text::SigOrDash(r.floor_bound_rms_v, 3) + " V, ratio " +
+                      text::SigOrDash(r.excess_ratio, 3) + ")\n";
     char line[320];
     if (!r.features.empty()) {
         std::snprintf(line, sizeof line, "  %-20s %-20s %7s %8s %11s  %s\n", "beyond the list",
@@ -159,8 +154,9 @@ std::string FormatBeyond(const SensorResult& r) {
     }
     for (const FeatureResult& f : r.features) {
         std::snprintf(line, sizeof line, "  %-20s %-20s %7s %8s %11s  %s  (%s)\n",
-                      f.feature.c_str(), f.channel.c_str(), G(f.corr, 2).c_str(),
-                      G(f.heldout_z).c_str(), G(f.heldout_after_rms_v).c_str(),
+                      f.feature.c_str(), f.channel.c_str(), text::SigOrDash(f.corr, 2).c_str(),
+                      text::SigOrDash(f.heldout_z, 3).c_str(),
+                      text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
                       f.explains_heldout ? "yes" : "no", f.detail.c_str());
         out += line;
     }
@@ -169,15 +165,21 @@ std::string FormatBeyond(const SensorResult& r) {
         std::snprintf(line, sizeof line,
                       "  residual: RMS %s V, lag-1 autocorrelation %s, trend %s V/h (%s sigma), "
                       "periodogram peak %s s amplitude %s V (%s x median power)\n",
-                      G(d.rms_v).c_str(), G(d.lag1_autocorr, 2).c_str(),
-                      G(d.trend_v_per_h).c_str(), G(d.trend_z, 2).c_str(), G(d.period_s).c_str(),
-                      G(d.period_amplitude_v).c_str(), G(d.period_power_ratio, 2).c_str());
+                      text::SigOrDash(d.rms_v, 3).c_str(),
+                      text::SigOrDash(d.lag1_autocorr, 2).c_str(),
+                      text::SigOrDash(d.trend_v_per_h, 3).c_str(),
+                      text::SigOrDash(d.trend_z, 2).c_str(), text::SigOrDash(d.period_s, 3).c_str(),
+                      text::SigOrDash(d.period_amplitude_v, 3).c_str(),
+                      text::SigOrDash(d.period_power_ratio, 2).c_str());
         out += line;
         std::snprintf(line, sizeof line,
                       "  residual largest at %s..%s s (%s V RMS) and at %s..%s degC (%s V RMS)\n",
-                      G(d.worst_time.lo, 4).c_str(), G(d.worst_time.hi, 4).c_str(),
-                      G(d.worst_time.rms_v).c_str(), G(d.worst_temp.lo).c_str(),
-                      G(d.worst_temp.hi).c_str(), G(d.worst_temp.rms_v).c_str());
+                      text::SigOrDash(d.worst_time.lo, 4).c_str(),
+                      text::SigOrDash(d.worst_time.hi, 4).c_str(),
+                      text::SigOrDash(d.worst_time.rms_v, 3).c_str(),
+                      text::SigOrDash(d.worst_temp.lo, 3).c_str(),
+                      text::SigOrDash(d.worst_temp.hi, 3).c_str(),
+                      text::SigOrDash(d.worst_temp.rms_v, 3).c_str());
         out += line;
     }
     for (const std::string& s : r.not_attributed) out += "  not attributed: " + s + "\n";
@@ -197,8 +199,8 @@ std::string FormatReport(const SensorResult& r) {
     out += line;
     for (const CandidateResult& c : r.candidates) {
         std::snprintf(line, sizeof line, "  %-13s %-14s %10s %9s  %s\n", c.effect.c_str(),
-                      c.term.c_str(), G(c.z2).c_str(), G(c.cv_gain, 2).c_str(),
-                      ToString(c.decision));
+                      c.term.c_str(), text::SigOrDash(c.z2, 3).c_str(),
+                      text::SigOrDash(c.cv_gain, 2).c_str(), ToString(c.decision));
         out += line;
         if (!c.note.empty() && c.decision != Decision::kRejected) out += "      " + c.note + "\n";
     }
@@ -211,30 +213,34 @@ std::string FormatReport(const SensorResult& r) {
         std::snprintf(line, sizeof line,
                       "  held-out check of the chosen terms: prediction slope %s (%s standard "
                       "errors), squared error drop %s V^2\n",
-                      G(r.heldout_slope).c_str(), G(r.heldout_gain_z).c_str(),
-                      G(r.heldout_gain_v2).c_str());
+                      text::SigOrDash(r.heldout_slope, 3).c_str(),
+                      text::SigOrDash(r.heldout_gain_z, 3).c_str(),
+                      text::SigOrDash(r.heldout_gain_v2, 3).c_str());
         out += line;
     }
     std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "held-out bins", "offset_rms_v",
                   "rate_rms_dps", "drift_dph");
     out += line;
     std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "before (declared)",
-                  G(r.error_before.offset_rms_v).c_str(), G(r.error_before.rate_rms_dps).c_str(),
-                  G(r.error_before.drift_dph).c_str());
+                  text::SigOrDash(r.error_before.offset_rms_v, 3).c_str(),
+                  text::SigOrDash(r.error_before.rate_rms_dps, 3).c_str(),
+                  text::SigOrDash(r.error_before.drift_dph, 3).c_str());
     out += line;
     std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "after (extended)",
-                  G(r.error_after.offset_rms_v).c_str(), G(r.error_after.rate_rms_dps).c_str(),
-                  G(r.error_after.drift_dph).c_str());
+                  text::SigOrDash(r.error_after.offset_rms_v, 3).c_str(),
+                  text::SigOrDash(r.error_after.rate_rms_dps, 3).c_str(),
+                  text::SigOrDash(r.error_after.drift_dph, 3).c_str());
     out += line;
     if (std::isfinite(r.expected_after_offset_rms_v)) {
         std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "after expected (fit)",
-                      G(r.expected_after_offset_rms_v).c_str(),
-                      G(r.expected_after_rate_rms_dps).c_str(), "");
+                      text::SigOrDash(r.expected_after_offset_rms_v, 3).c_str(),
+                      text::SigOrDash(r.expected_after_rate_rms_dps, 3).c_str(), "");
         out += line;
     }
     std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "floor (bin scatter)",
-                  G(r.floor_offset_rms_v).c_str(), G(r.floor_rate_rms_dps).c_str(),
-                  G(r.floor_drift_dph).c_str());
+                  text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
+                  text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),
+                  text::SigOrDash(r.floor_drift_dph, 3).c_str());
     out += line;
     out += FormatBeyond(r);
     out += "  power-on: " + r.power_on_source + "\n";

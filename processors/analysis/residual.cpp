@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "regress.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis::detail {
 
@@ -96,7 +97,7 @@ GenericFeature Search(const Context& train, const MatrixXd& base_all,
     }
     if (!std::isfinite(best_p)) return f;
     f.columns = make(best_p);
-    f.detail = f.detail + Fmt(best_p) + unit;
+    f.detail = f.detail + text::Sig(best_p, 3) + unit;
     if (best_p == grid.front() || best_p == grid.back())
         f.edge = EdgeText(param, best_p == grid.back(), grid.front(), grid.back(), unit);
     return f;
@@ -150,7 +151,8 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
     for (double w : {60.0, 300.0, 1200.0}) {
         const VectorXd r = Rate(temp, t, 0.5 * w);
         if (r.allFinite())
-            out.push_back({"dT/dt over " + Fmt(w) + " s", "temperature", "degC/s", r, false});
+            out.push_back(
+                {"dT/dt over " + text::Sig(w, 3) + " s", "temperature", "degC/s", r, false});
     }
     const VectorXd r300 = Rate(temp, t, 150.0);
     if (r300.allFinite())
@@ -239,8 +241,9 @@ void TableFeatures(const BinnedRun& b, double t0, std::vector<GenericFeature>& o
         if (std::isfinite(rate[i])) lo = std::min(lo, rate[i]), hi = std::max(hi, rate[i]);
     if (!(hi > lo * 1.01))
         absent.push_back("encoder: last turn rate: " +
-                         (std::isfinite(lo) ? "every turn at the same rate (" + Fmt(lo) + " deg/s)"
-                                            : std::string("no turn before the still data")) +
+                         (std::isfinite(lo)
+                              ? "every turn at the same rate (" + text::Sig(lo, 3) + " deg/s)"
+                              : std::string("no turn before the still data")) +
                          ": turns at several rates would test it");
     else if (rate.allFinite())
         out.push_back({"last turn rate", "encoder: last turn rate", "deg/s", rate, false});
@@ -254,8 +257,9 @@ void TableFeatures(const BinnedRun& b, double t0, std::vector<GenericFeature>& o
 
 std::string EdgeText(const std::string& param, bool upper, double lo, double hi,
                      const std::string& unit) {
-    return param + " at the " + (upper ? "upper" : "lower") + " edge of the searched " + Fmt(lo) +
-           "-" + Fmt(hi) + unit + ": the true value may be " + (upper ? "larger" : "smaller");
+    return param + " at the " + (upper ? "upper" : "lower") + " edge of the searched " +
+           text::Sig(lo, 3) + "-" + text::Sig(hi, 3) + unit + ": the true value may be " +
+           (upper ? "larger" : "smaller");
 }
 
 std::vector<GenericFeature> GenericFeatures(const BinnedRun& b, const Context& train,

@@ -86,7 +86,7 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
         }
         last_utime = s.utime;
         while (m < run.moves.size() && run.moves[m].end_utime + guard_us < s.utime) ++m;
-        const bool moving = m < run.moves.size() && s.utime >= run.moves[m].start_utime - guard_us;
+        const bool moving = m < run.moves.size() && run.moves[m].Near(s.utime, guard_us);
         run.samples.push_back(s);
         run.still.push_back(moving ? 0 : 1);
         if (moving) ++run.n_moving_samples;

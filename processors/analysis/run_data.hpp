@@ -3,9 +3,9 @@
 // a CSV reader or a test, through BuildSensorRun so that all of them share one definition of
 // "still" and "moving" and of the power-on time.
 //
-// Still vs moving: the live detector's definition (motion::MoveDetector, processors/plateau/
+// Still vs moving: the live detector's definition (motion::MoveDetector, processors/motion/
 // table_motion.hpp, with its dither threshold and settle time) run over the encoder's counts; a
-// sample within guard_s of a move (before its start or after its end) is moving. No encoder
+// sample within guard_s of a move (before its start or after its end: TableMove::Near) is moving. No encoder
 // readings: every sample counts as still (reported).
 // Power-on: the power records of the unit (POWER_<id> on the bus, a CSV time_since_power_s
 // column); each distinct power_on_utime is a power cycle. None: the first sample is taken as the
@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "table_motion.hpp"
+#include "motion/table_motion.hpp"
 
 namespace gyrocal::analysis {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fit/least_squares.hpp"
+#include "numeric/least_squares.hpp"
 #include "regress.hpp"
 
 namespace gyrocal::analysis::detail {
@@ -44,7 +44,7 @@ StepScore Score(const Context& c, const MatrixXd& x, double base_cv, const Candi
     s.var = f.covariance(p, p);
     s.rss = f.rss;
     {
-        const VectorXd proj = fit::ProjectOut(x, s.column);
+        const VectorXd proj = numeric::ProjectOut(x, s.column);
         s.effect_rms_v =
             std::fabs(s.coef) * proj.norm() / std::sqrt(static_cast<double>(proj.size()));
     }

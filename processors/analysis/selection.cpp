@@ -7,8 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "fit/least_squares.hpp"
+#include "numeric/least_squares.hpp"
 #include "regress.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis::detail {
 
@@ -82,8 +83,8 @@ bool PairPasses(const JointScore& j, const Floor& floor, const AnalysisOptions& 
 
 std::string JointNote(const std::string& other, double r, const JointScore& j,
                       const std::string& separation) {
-    return "added jointly with " + other + " (projected correlation " + Fmt(r, 3) +
-           "; together z2 " + Fmt(j.z2) + ", cv_gain " + Fmt(j.cv_gain, 2) +
+    return "added jointly with " + other + " (projected correlation " + text::Sig(r, 3) +
+           "; together z2 " + text::Sig(j.z2, 3) + ", cv_gain " + text::Sig(j.cv_gain, 2) +
            "): this data cannot say which of the two carries the effect; to separate: " +
            separation;
 }
@@ -128,8 +129,8 @@ bool Passes(const StepScore& s, const Candidate& cand, int step, const Floor& fl
     const bool big_enough = !std::isfinite(floor.offset_rms_v) ||
                             s.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
     if (s.ok && !big_enough)
-        r.note = "effect RMS " + Fmt(s.effect_rms_v) + " V is below " +
-                 Fmt(o.min_effect_floor_ratio) + "x the noise floor " + Fmt(floor.offset_rms_v) +
+        r.note = "effect RMS " + text::Sig(s.effect_rms_v, 3) + " V is below " +
+                 text::Sig(o.min_effect_floor_ratio, 3) + "x the noise floor " + text::Sig(floor.offset_rms_v, 3) +
                  " V";
     return s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && big_enough;
 }
@@ -187,9 +188,9 @@ size_t WinnerAmongTwins(Forward& f, const StepScores& s, std::vector<size_t>& tw
                 const std::string& best = f.pool[b].effect;
                 const std::string& other = f.pool[k].effect;
                 f.last[other].note = "collinear with " + best + " (projected correlation " +
-                                     Fmt(r, 3) + "); with both in the model " + best +
-                                     " keeps z2 " + Fmt(e.z2_best) + ", " + other + " " +
-                                     Fmt(e.z2_other);
+                                     text::Sig(r, 3) + "); with both in the model " + best +
+                                     " keeps z2 " + text::Sig(e.z2_best, 3) + ", " + other + " " +
+                                     text::Sig(e.z2_other, 3);
                 continue;
             }
             if (e.z2_other > f.o.min_z2 && !was_best[k] && s.passes[k]) {
@@ -243,7 +244,7 @@ void DropAmbiguous(Forward& f, const StepScores& s, size_t b, const std::vector<
             cr.decision = Decision::kAmbiguous;
             const std::string other = f.pool[i == b ? k : b].effect;
             cr.note += (cr.note.empty() ? "" : "; ") + std::string("ambiguous with ") + other +
-                       " (projected correlation " + Fmt(r, 3) +
+                       " (projected correlation " + text::Sig(r, 3) +
                        "); to separate: " + Separation(f.pool[b].effect, f.pool[k].effect);
         }
         f.sel.ambiguous.push_back(f.pool[b].effect + " vs " + f.pool[k].effect);
@@ -288,7 +289,7 @@ void RemoveWeakTerms(Forward& f) {
         CandidateResult& r = f.last[effect];
         r.decision = Decision::kRejected;
         r.z2 = weakest_z2;
-        r.note = "removed on re-test with " + others + " in the model (z2 " + Fmt(weakest_z2) + ")";
+        r.note = "removed on re-test with " + others + " in the model (z2 " + text::Sig(weakest_z2, 3) + ")";
         f.sel.terms.erase(f.sel.terms.begin() + static_cast<long>(weakest));
         f.sel.added_effects.erase(f.sel.added_effects.begin() + static_cast<long>(weakest - nd));
         MatrixXd xn(f.x.rows(), f.x.cols() - 1);

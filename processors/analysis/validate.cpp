@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "heldout.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::analysis {
 
@@ -59,12 +60,6 @@ ValidationResult Validate(const SensorRun& run, const model::CoeffSet& set,
 
 namespace {
 nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-std::string G(double v) {
-    if (!std::isfinite(v)) return "-";
-    char b[32];
-    std::snprintf(b, sizeof b, "%.3g", v);
-    return b;
-}
 }  // namespace
 
 nlohmann::json ToJson(const ValidationResult& r) {
@@ -89,17 +84,21 @@ std::string FormatValidation(const ValidationResult& r) {
     std::string out = "sensor " + r.sensor_id + ": model " + r.model_origin + "\n";
     char line[256];
     std::snprintf(line, sizeof line, "  %d still bins in %d stretches, %s..%s degC\n", r.n_bins,
-                  r.n_stretches, G(r.temp_min_c).c_str(), G(r.temp_max_c).c_str());
+                  r.n_stretches, text::SigOrDash(r.temp_min_c, 3).c_str(),
+                  text::SigOrDash(r.temp_max_c, 3).c_str());
     out += line;
     std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "", "offset_rms_v",
                   "rate_rms_dps", "drift_dph");
     out += line;
-    std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "error", G(r.offset_rms_v).c_str(),
-                  G(r.rate_rms_dps).c_str(), G(r.drift_dph).c_str());
+    std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "error",
+                  text::SigOrDash(r.offset_rms_v, 3).c_str(),
+                  text::SigOrDash(r.rate_rms_dps, 3).c_str(),
+                  text::SigOrDash(r.drift_dph, 3).c_str());
     out += line;
     std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "floor",
-                  G(r.floor_offset_rms_v).c_str(), G(r.floor_rate_rms_dps).c_str(),
-                  G(r.floor_drift_dph).c_str());
+                  text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
+                  text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),
+                  text::SigOrDash(r.floor_drift_dph, 3).c_str());
     out += line;
     out += "  power-on: " + r.power_on + "\n";
     for (const std::string& n : r.notes) out += "  note: " + n + "\n";

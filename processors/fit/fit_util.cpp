@@ -1,22 +1,17 @@
 #include "fit_util.hpp"
 
-#include "distributions.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
+#include "distributions.hpp"
+#include "text/number.hpp"
+
 namespace gyrocal::fit::detail {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-std::string Fmt(double v, int prec) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-    return buf;
-}
 
 FitResult Refuse(Refusal r, std::string detail) {
     FitResult out;
@@ -41,8 +36,8 @@ std::optional<FitResult> CheckFinite(const std::vector<FitPoint>& pts) {
                               ": temp_c, value and standard error must be finite");
         if (!(p.sigma_y > 0.0))
             return Refuse(Refusal::kBadStandardError, "point " + std::to_string(p.id) +
-                                                          ": standard error " + Fmt(p.sigma_y) +
-                                                          " must be > 0");
+                                                          ": standard error " +
+                                                          text::Sig(p.sigma_y, 4) + " must be > 0");
     }
     return std::nullopt;
 }
@@ -84,7 +79,7 @@ void SetRange(model::Model& m, const std::vector<FitPoint>& pts) {
 std::string FitNotes(const FitResult& r) {
     std::string s;
     if (r.dof > 0)
-        s += ", chi2/dof " + Fmt(r.chi2_per_dof, 3) + " on " + std::to_string(r.dof) + " dof";
+        s += ", chi2/dof " + text::Sig(r.chi2_per_dof, 3) + " on " + std::to_string(r.dof) + " dof";
     if (r.scatter_exceeds_errors)
         s += ": scatter exceeds the stated standard errors (model too small or errors understated)";
     return s;
@@ -113,8 +108,9 @@ void ApplyOverdispersion(FitResult& out, double reference_chi2, int reference_do
 std::string OverdispersionNotes(const FitResult& r) {
     if (!std::isfinite(r.overdispersion))
         return "; overdispersion not estimated (no dof): covariance from the stated errors";
-    return "; overdispersion c " + Fmt(r.overdispersion, 3) + " on " +
-           std::to_string(r.overdispersion_dof) + " dof, covariance x" + Fmt(r.covariance_scale, 3);
+    return "; overdispersion c " + text::Sig(r.overdispersion, 3) + " on " +
+           std::to_string(r.overdispersion_dof) + " dof, covariance x" +
+           text::Sig(r.covariance_scale, 3);
 }
 
 double FOneUpperQuantile(double upper_tail, int nu) {

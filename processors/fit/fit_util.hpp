@@ -8,7 +8,6 @@
 
 namespace gyrocal::fit::detail {
 
-std::string Fmt(double v, int prec = 4);
 FitResult Refuse(Refusal r, std::string detail);
 // Condition number of a matrix with full column rank: ratio of extreme singular values.
 double ConditionNumber(const Eigen::MatrixXd& m);

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "fit_util.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -54,7 +55,7 @@ double TieBand(int nu) {
 
 std::string Listed(const std::vector<double>& temps) {
     std::string listed;
-    for (double t : temps) listed += (listed.empty() ? "" : ", ") + Fmt(t);
+    for (double t : temps) listed += (listed.empty() ? "" : ", ") + text::Sig(t, 4);
     return listed;
 }
 
@@ -74,20 +75,22 @@ Geometry CheckGeometry(const std::vector<FitPoint>& pts, const FitOptions& o) {
     g.separated = SeparatedLevelCount(g.levels, o.min_temp_separation_c);
     const std::string listed = Listed(g.level_temps);
     if (g.separated < 3) {
-        g.refusal = Refuse(Refusal::kTooFewTemperatures,
-                           "fewer than 3 temperatures at least " + Fmt(o.min_temp_separation_c) +
-                               " degC apart (have " + std::to_string(g.separated) + " among " +
-                               std::to_string(g.levels.size()) + " levels" +
-                               (listed.empty() ? "" : ": " + listed + " degC") + ")");
+        g.refusal =
+            Refuse(Refusal::kTooFewTemperatures,
+                   "fewer than 3 temperatures at least " + text::Sig(o.min_temp_separation_c, 4) +
+                       " degC apart (have " + std::to_string(g.separated) + " among " +
+                       std::to_string(g.levels.size()) + " levels" +
+                       (listed.empty() ? "" : ": " + listed + " degC") + ")");
         return g;
     }
     const double range = g.levels.back().temp_c - g.levels.front().temp_c;
     if (range < o.min_range_c)
-        g.refusal = Refuse(Refusal::kRangeTooNarrow,
-                           "temperature range " + Fmt(g.levels.front().temp_c) + ".." +
-                               Fmt(g.levels.back().temp_c) + " degC spans " + Fmt(range, 3) +
-                               " degC, narrower than the minimum " + Fmt(o.min_range_c) +
-                               " degC (a fit is only a guess outside its range)");
+        g.refusal =
+            Refuse(Refusal::kRangeTooNarrow,
+                   "temperature range " + text::Sig(g.levels.front().temp_c, 4) + ".." +
+                       text::Sig(g.levels.back().temp_c, 4) + " degC spans " + text::Sig(range, 3) +
+                       " degC, narrower than the minimum " + text::Sig(o.min_range_c, 4) +
+                       " degC (a fit is only a guess outside its range)");
     return g;
 }
 
@@ -113,7 +116,7 @@ FitResult FixedDegree(const std::vector<FitPoint>& pts, const Geometry& g, doubl
         return Refuse(Refusal::kNotApplicable,
                       "degree " + std::to_string(o.fixed_degree) + " needs at least " +
                           std::to_string(o.fixed_degree + 1) + " temperatures " +
-                          Fmt(o.min_temp_separation_c) + " degC apart and " +
+                          text::Sig(o.min_temp_separation_c, 4) + " degC apart and " +
                           std::to_string(o.fixed_degree + 2) + " points; have " +
                           std::to_string(g.separated) + " and " + std::to_string(n));
     FitResult out =
@@ -176,8 +179,9 @@ FitResult SelectOrder(const std::vector<FitPoint>& pts, const Geometry& g, doubl
     std::ostringstream why;
     why << "degree " << candidates[chosen].degree << (od.dof > 0 ? " by QAIC (" : " by AIC (");
     for (size_t k = 0; k < candidates.size(); ++k)
-        why << (k ? ", " : "") << "d" << candidates[k].degree << "=" << Fmt(candidates[k].aic, 5);
-    why << "; tie band " << Fmt(band, 3) << "; capacity " << capacity << ")";
+        why << (k ? ", " : "") << "d" << candidates[k].degree << "="
+            << text::Sig(candidates[k].aic, 5);
+    why << "; tie band " << text::Sig(band, 3) << "; capacity " << capacity << ")";
     out.detail = why.str() + FitNotes(out) + OverdispersionNotes(out);
     return out;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fit_util.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -17,8 +18,8 @@ int Approach(const std::vector<FitPoint>& pts, size_t i) {
 }
 
 std::string Verdict(const Repeat& r, double z_limit) {
-    if (std::abs(r.z) <= z_limit) return "repeatable within " + Fmt(z_limit, 2) + " sigma";
-    std::string s = "not repeatable (" + Fmt(r.z, 3) + " sigma): ";
+    if (std::abs(r.z) <= z_limit) return "repeatable within " + text::Sig(z_limit, 2) + " sigma";
+    std::string s = "not repeatable (" + text::Sig(r.z, 3) + " sigma): ";
     if (r.first_approach != 0 && r.second_approach != 0 && r.first_approach != r.second_approach)
         return s + "approached from " + (r.first_approach > 0 ? "colder" : "hotter") +
                " then from " + (r.second_approach > 0 ? "colder" : "hotter") +

@@ -5,6 +5,7 @@
 
 #include "distributions.hpp"
 #include "fit_util.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -141,19 +142,20 @@ CalibrationFit FitCalibration(const std::vector<FitPoint>& points, const std::st
         }
         const Exclusion& w = s.worst_point;
         if (s.worst_ratio <= 1.0 || excluded.size() >= max_excluded) {
-            out.outlier_check = "checked " + std::to_string(s.tested) + " points: largest |t| " +
-                                Fmt(std::abs(w.statistic), 3) + " (point " + std::to_string(w.id) +
-                                ")" + (s.worst_ratio <= 1.0 ? " within " : " beyond ") +
-                                "the threshold " + Fmt(w.threshold, 3) +
-                                (s.worst_ratio <= 1.0 ? "" : ", but the exclusion limit is reached");
+            out.outlier_check =
+                "checked " + std::to_string(s.tested) + " points: largest |t| " +
+                text::Sig(std::abs(w.statistic), 3) + " (point " + std::to_string(w.id) + ")" +
+                (s.worst_ratio <= 1.0 ? " within " : " beyond ") + "the threshold " +
+                text::Sig(w.threshold, 3) +
+                (s.worst_ratio <= 1.0 ? "" : ", but the exclusion limit is reached");
             return out;
         }
         Exclusion x = w;
-        x.reason = "leave-one-out: " + Fmt(x.value, 7) + " at " + Fmt(x.temp_c, 4) +
-                   " degC is " + Fmt(x.residual, 3) + " from the others' prediction, t = " +
-                   Fmt(x.statistic, 3) + " beyond +-" + Fmt(x.threshold, 3) +
-                   " (family alpha " + Fmt(oo.family_alpha, 2) + " over " +
-                   std::to_string(kept.size()) + " points)";
+        x.reason = "leave-one-out: " + text::Sig(x.value, 7) + " at " + text::Sig(x.temp_c, 4) +
+                   " degC is " + text::Sig(x.residual, 3) +
+                   " from the others' prediction, t = " + text::Sig(x.statistic, 3) + " beyond +-" +
+                   text::Sig(x.threshold, 3) + " (family alpha " + text::Sig(oo.family_alpha, 2) +
+                   " over " + std::to_string(kept.size()) + " points)";
         excluded.push_back(x);
         kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(s.worst));
     }

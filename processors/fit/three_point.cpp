@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "fit_util.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -27,9 +28,10 @@ FitResult SeedThreePoint(const std::vector<FitPoint>& pts, const std::string& qu
     const double cond = ConditionNumber(A3 * scale.cwiseInverse().asDiagonal());
     if (!(cond < 1e12))
         return Refuse(Refusal::kIllConditioned,
-                      "3-point temperatures " + Fmt(T0) + ", " + Fmt(T0 + d1) + ", " +
-                          Fmt(T0 + d2) + " degC do not determine a quadratic (condition number " +
-                          Fmt(cond) + ")");
+                      "3-point temperatures " + text::Sig(T0, 4) + ", " + text::Sig(T0 + d1, 4) +
+                          ", " + text::Sig(T0 + d2, 4) +
+                          " degC do not determine a quadratic (condition number " +
+                          text::Sig(cond, 4) + ")");
     Eigen::Matrix2d A2;
     A2 << d1, d1 * d1, d2, d2 * d2;
     const Eigen::Vector2d rhs(pts[1].y - V0, pts[2].y - V0);

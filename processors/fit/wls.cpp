@@ -4,7 +4,8 @@
 #include <sstream>
 
 #include "fit_util.hpp"
-#include "least_squares.hpp"
+#include "numeric/least_squares.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -40,22 +41,22 @@ FitResult FitWls(const std::vector<FitPoint>& pts, const std::vector<std::string
         y[i] = pt.y;
         sigma[i] = pt.sigma_y;
     }
-    // The one solver (least_squares.hpp): rows whitened by 1/sigma, columns scaled to unit norm,
-    // so the condition number measures the geometry of the temperatures, not the units of the
-    // terms.
-    LeastSquaresOptions lo;
+    // The one solver (numeric/least_squares.hpp): rows whitened by 1/sigma, columns scaled to
+    // unit norm, so the condition number measures the geometry of the temperatures, not the units
+    // of the terms.
+    numeric::LeastSquaresOptions lo;
     lo.min_diag_ratio = 0.0;  // the condition number below decides what is ill-posed
     lo.want_condition_number = true;
-    const LeastSquares ls = SolveLeastSquares(A, y, &sigma, lo);
+    const numeric::LeastSquares ls = numeric::SolveLeastSquares(A, y, &sigma, lo);
     if (ls.bad_column >= 0)
         return Refuse(Refusal::kIllConditioned,
                       "term '" + names[static_cast<size_t>(ls.bad_column)] +
                           "' is zero at every point");
     const double cond = ls.condition_number;
     if (!(cond <= max_cond))
-        return Refuse(Refusal::kIllConditioned, "design matrix condition number " + Fmt(cond) +
-                                                    " exceeds " + Fmt(max_cond) +
-                                                    ": the points cannot separate the terms");
+        return Refuse(Refusal::kIllConditioned,
+                      "design matrix condition number " + text::Sig(cond, 4) + " exceeds " +
+                          text::Sig(max_cond, 4) + ": the points cannot separate the terms");
     if (!ls.ok) return Refuse(Refusal::kIllConditioned, ls.why);
 
     FitResult out;

@@ -5,16 +5,11 @@
 #include <cstdio>
 
 #include "fit/pooling.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fitter {
 
 namespace {
-
-std::string Fmt(double v, int prec = 4) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-    return buf;
-}
 
 }  // namespace
 
@@ -110,8 +105,8 @@ CoreOutput FitterCore::OnPlateau(const gyrocal::plateau_t& p, const std::string&
     }
     if (!(p.gyro_sem_v > 0.0)) {
         out.rejections.push_back({"bad_sem", "plateau " + std::to_string(p.plateau_id) + " of " +
-                                                 p.sensor_id + ": gyro_sem_v " + Fmt(p.gyro_sem_v) +
-                                                 " must be > 0"});
+                                                 p.sensor_id + ": gyro_sem_v " +
+                                                 text::Sig(p.gyro_sem_v, 4) + " must be > 0"});
         return out;
     }
     SensorState& s = sensors_[p.sensor_id];

@@ -8,16 +8,11 @@
 #include "fitter_core.hpp"
 #include "model/convert.hpp"
 #include "slow_noise.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fitter {
 
 namespace {
-
-std::string Fmt(double v, int prec = 4) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
-    return buf;
-}
 
 bool SameModel(const gyrocal::model_t& a, const gyrocal::model_t& b) {
     return a.term_names == b.term_names && a.coeffs == b.coeffs && a.method == b.method &&
@@ -35,9 +30,9 @@ std::string Describe(const fit::FitResult& r) {
     if (r.model.method == "wls")
         s += " d" + std::to_string(static_cast<int>(r.model.term_names.size()) - 1);
     s += " (" + std::to_string(r.model.n_points) + " pts";
-    if (r.dof > 0) s += ", chi2/dof " + Fmt(r.chi2_per_dof, 3);
+    if (r.dof > 0) s += ", chi2/dof " + text::Sig(r.chi2_per_dof, 3);
     if (std::isfinite(r.overdispersion))
-        s += ", overdispersion c " + Fmt(r.overdispersion, 3) + " on " +
+        s += ", overdispersion c " + text::Sig(r.overdispersion, 3) + " on " +
              std::to_string(r.overdispersion_dof) + " dof";
     s += ")";
     if (r.scatter_exceeds_errors) s += " SCATTER EXCEEDS STATED ERRORS";
@@ -81,9 +76,9 @@ Part Nominal(double s, const model::Model& offset) {
     m.temp_max_c = offset.temp_max_c;
     m.n_points = 0;
     m.method = "nominal";
-    p.reason = "sensitivity: nominal " + Fmt(s) + " V/(deg/s), no accepted rotation";
+    p.reason = "sensitivity: nominal " + text::Sig(s, 4) + " V/(deg/s), no accepted rotation";
     p.detail = "nominal (no accepted rotation)";
-    p.text = "sensitivity NOMINAL " + Fmt(s) + " V/dps (no rotations)";
+    p.text = "sensitivity NOMINAL " + text::Sig(s, 4) + " V/dps (no rotations)";
     return p;
 }
 

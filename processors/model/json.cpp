@@ -104,8 +104,10 @@ nlohmann::json ToJson(const Model& m) {
     j["term_names"] = m.term_names;
     nlohmann::json coeffs = nlohmann::json::array();
     nlohmann::json cov = nlohmann::json::array();
-    for (Eigen::Index i = 0; i < m.coeffs.size(); ++i) {
-        coeffs.push_back(Num(m.coeffs[i]));
+    for (Eigen::Index i = 0; i < m.coeffs.size(); ++i) coeffs.push_back(Num(m.coeffs[i]));
+    // Row by row as stored, so a model whose sizes disagree (a damaged database row) is written
+    // as it is and refused when read back, never read out of bounds.
+    for (Eigen::Index i = 0; i < m.covariance.rows(); ++i) {
         nlohmann::json row = nlohmann::json::array();
         for (Eigen::Index k = 0; k < m.covariance.cols(); ++k)
             row.push_back(Num(m.covariance(i, k)));

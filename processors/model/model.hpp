@@ -8,7 +8,16 @@
 // Valid range: a fit is only trusted over [temp_min_c, temp_max_c] (the seed: a narrow range is
 // only a guess outside it). Outside it the policy either clips temp_c to the nearest bound before
 // evaluating (PX4's choice: the correction stops changing) or extrapolates the polynomial; the
-// result says which happened.
+// result says which happened. Which one each consumer uses (one rule, here):
+// - compensating samples (gyrocal-compensator, `gyrocal compensate`): their --out-of-range option,
+//   default extrapolate, each rate flagged; the firmware header: the policy given at init, clip in
+//   its example (the firmware default);
+// - a model's value compared with data or truth at a temperature (residuals, leave-one-out
+//   predictions, the model's step between revisits, the analysis' bins, stored values, the
+//   sequencer's uncertainty): extrapolate, since a clipped value would hide the model's own error;
+// - the calibration as applied over a temperature range (curves, tables, the acceptance's change
+//   and uncertainty over the range) and a sensitivity used as a scale between V and deg/s: clip,
+//   what the firmware applies, and never an extrapolated sensitivity near zero.
 #include <Eigen/Dense>
 #include <cstdint>
 #include <optional>

@@ -1,9 +1,10 @@
 #include "terms.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+
+#include "text/number.hpp"
 
 namespace gyrocal::model {
 
@@ -95,9 +96,7 @@ std::vector<std::string> PolynomialTerms(int degree) {
 
 namespace {
 std::string WithParam(const char* name, double param) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%s(%.3g)", name, param);
-    return buf;
+    return text::Printf("%s(%.3g)", name, param);
 }
 }  // namespace
 

@@ -3,9 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "fit/distributions.hpp"
+#include "numeric/least_squares.hpp"
 
 namespace gyrocal::noise {
 
@@ -29,6 +29,9 @@ struct TermFit {
     bool ok = false;
 };
 
+// The one solver, with no refusal on conditioning: the tau points are what the run gave.
+constexpr numeric::LeastSquaresOptions kTermSolve{0.0, false};
+
 // Weighted least squares of AVAR = N^2/tau + B^2 + K^2 tau/3 with negative terms dropped.
 TermFit SolveTerms(const std::vector<AllanPoint>& pts, double min_rrw_tau_s) {
     TermFit f;
@@ -41,7 +44,7 @@ TermFit SolveTerms(const std::vector<AllanPoint>& pts, double min_rrw_tau_s) {
         if (cols.empty() || n < static_cast<Eigen::Index>(cols.size())) return f;
         Eigen::VectorXd model(n);
         for (Eigen::Index i = 0; i < n; ++i) model[i] = pts[i].adev * pts[i].adev;
-        Eigen::VectorXd sol;
+        numeric::LeastSquares ls;
         Eigen::MatrixXd a(n, static_cast<Eigen::Index>(cols.size()));
         for (int iter = 0; iter < 4; ++iter) {  // weights from the model, refreshed
             Eigen::VectorXd y(n);
@@ -52,30 +55,31 @@ TermFit SolveTerms(const std::vector<AllanPoint>& pts, double min_rrw_tau_s) {
                 for (size_t c = 0; c < cols.size(); ++c) a(i, static_cast<Eigen::Index>(c)) = w * row[cols[c]];
                 y[i] = w * pts[i].adev * pts[i].adev;
             }
-            sol = a.colPivHouseholderQr().solve(y);
+            // Rows already whitened by w: ordinary least squares on them is the weighted fit.
+            ls = numeric::SolveLeastSquares(a, y, nullptr, kTermSolve);
+            if (!ls.ok) return f;
             for (Eigen::Index i = 0; i < n; ++i) {
                 const double tau = pts[i].tau_s;
                 const double row[3] = {1.0 / tau, 1.0, tau / 3.0};
                 double v = 0;
-                for (size_t c = 0; c < cols.size(); ++c) v += row[cols[c]] * sol[static_cast<Eigen::Index>(c)];
+                for (size_t c = 0; c < cols.size(); ++c) v += row[cols[c]] * ls.coeffs[static_cast<Eigen::Index>(c)];
                 model[i] = std::max(v, 1e-3 * pts[i].adev * pts[i].adev);
             }
         }
         int most_negative = -1;
         double most = 0.0;
         for (size_t c = 0; c < cols.size(); ++c) {
-            const double v = sol[static_cast<Eigen::Index>(c)];
+            const double v = ls.coeffs[static_cast<Eigen::Index>(c)];
             if (v < most) most = v, most_negative = cols[c];
         }
         if (most_negative >= 0) {
             f.active[static_cast<size_t>(most_negative)] = false;
             continue;
         }
-        const Eigen::MatrixXd ata = a.transpose() * a;
-        const Eigen::MatrixXd cov = ata.ldlt().solve(Eigen::MatrixXd::Identity(ata.rows(), ata.cols()));
+        const Eigen::MatrixXd& cov = ls.xtwx_inv;  // (a'a)^-1 of the whitened rows
         f.theta.setZero();
         for (size_t c = 0; c < cols.size(); ++c) {
-            f.theta[cols[c]] = sol[static_cast<Eigen::Index>(c)];
+            f.theta[cols[c]] = ls.coeffs[static_cast<Eigen::Index>(c)];
             for (size_t d = 0; d < cols.size(); ++d)
                 f.cov(cols[c], cols[d]) = cov(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(d));
         }
@@ -210,10 +214,8 @@ NoiseTerms FitTerms(const std::vector<SegmentSums>& segments, double tau0_s,
     for (int j = 0; j < 3; ++j) {
         if (all.active[j]) continue;
         const bool short_taus = j == 2 && pts.back().tau_s < min_rrw_tau_s;
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "%s %s", labels[j],
-                      short_taus ? "not fitted: tau reaches only " : "not resolved (set 0)");
-        t.note += std::string(t.note.empty() ? "" : "; ") + buf +
+        t.note += std::string(t.note.empty() ? "" : "; ") + labels[j] +
+                  (short_taus ? " not fitted: tau reaches only " : " not resolved (set 0)") +
                   (short_taus ? std::to_string(static_cast<int>(pts.back().tau_s)) + " s" : "");
     }
     if (segments.size() >= 3) {

@@ -1,17 +1,12 @@
 #include "allan_plot.hpp"
 
 #include <cmath>
-#include <cstdio>
+
+#include "text/number.hpp"
 
 namespace gyrocal::noise {
 
 namespace {
-
-std::string Short(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
-}
 
 double Finite0(double v) { return std::isfinite(v) ? v : 0.0; }
 
@@ -52,13 +47,22 @@ plot::Figure MakeAllanPlot(const AllanPlotInput& in) {
     // An asymptote only for a fitted term: a term the data could not reach (e.g. K on a run whose
     // longest still stretch is short) has no line, and its key entry would claim one.
     if (n > 0)
-        f.series.push_back({f.name, Style::kLines, {1, 6},
-                            "slope -1/2: N = " + Short(n) + " " + unit + "/sqrt(Hz)", "", 2});
+        f.series.push_back({f.name,
+                            Style::kLines,
+                            {1, 6},
+                            "slope -1/2: N = " + text::Sig(n, 3) + " " + unit + "/sqrt(Hz)",
+                            "",
+                            2});
     if (b > 0)
-        f.series.push_back({f.name, Style::kLines, {1, 7}, "slope 0: B = " + Short(b) + " " + unit, "", 3});
+        f.series.push_back(
+            {f.name, Style::kLines, {1, 7}, "slope 0: B = " + text::Sig(b, 3) + " " + unit, "", 3});
     if (k > 0)
-        f.series.push_back({f.name, Style::kLines, {1, 8},
-                            "slope +1/2: K = " + Short(k) + " " + unit + "/sqrt(s)", "", 4});
+        f.series.push_back({f.name,
+                            Style::kLines,
+                            {1, 8},
+                            "slope +1/2: K = " + text::Sig(k, 3) + " " + unit + "/sqrt(s)",
+                            "",
+                            4});
     return f;
 }
 

@@ -4,30 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "numeric/line_fit.hpp"
+
 namespace gyrocal::noise {
 
 namespace {
 
 bool In(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
-
-// Prefix sums for windowed means and line fits over bins.
-struct Prefix {
-    std::vector<double> t, v, tt, tv;
-    explicit Prefix(size_t n) : t(n + 1, 0), v(n + 1, 0), tt(n + 1, 0), tv(n + 1, 0) {}
-    void Set(size_t i, double ti, double vi) {
-        t[i + 1] = t[i] + ti;
-        v[i + 1] = v[i] + vi;
-        tt[i + 1] = tt[i] + ti * ti;
-        tv[i + 1] = tv[i] + ti * vi;
-    }
-    double Slope(size_t a, size_t b) const {  // of v against t over [a, b)
-        const double n = static_cast<double>(b - a);
-        const double st = t[b] - t[a], sv = v[b] - v[a];
-        const double den = n * (tt[b] - tt[a]) - st * st;
-        return den > 0 ? (n * (tv[b] - tv[a]) - st * sv) / den : 0.0;
-    }
-    double Mean(size_t a, size_t b) const { return (v[b] - v[a]) / static_cast<double>(b - a); }
-};
 
 }  // namespace
 
@@ -98,7 +81,7 @@ void NoiseTracker::Segment(const std::vector<Bin>& bins, std::vector<SegmentSums
     const size_t n = bins.size();
     const auto min_bins = static_cast<size_t>(std::ceil(config_.min_segment_s / tau0_s_));
     if (n < min_bins || n < 4) return;
-    Prefix temp(n);
+    numeric::PrefixLine temp(n);
     for (size_t i = 0; i < n; ++i) temp.Set(i, bins[i].t_s - bins[0].t_s, bins[i].temp_c);
     const auto half = static_cast<size_t>(std::max(1.0, 0.5 * config_.slope_window_s / tau0_s_));
     const auto smooth = static_cast<size_t>(std::max(1.0, 5.0 / tau0_s_));

@@ -2,8 +2,8 @@
 // and plateau_detector.hpp for the criterion and its defaults.
 #include <CLI/CLI.hpp>
 
+#include "motion/motion_options.hpp"
 #include "runtime/process_main.hpp"
-#include "motion_options.hpp"
 #include "plateau_node.hpp"
 
 namespace {

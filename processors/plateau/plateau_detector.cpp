@@ -96,13 +96,13 @@ void PlateauDetector::EndRun() {
     Rearm(kNaN);
 }
 
-bool PlateauDetector::CriterionHolds(const stats::LineFit& fit, double factor) const {
+bool PlateauDetector::CriterionHolds(const numeric::LineFit& fit, double factor) const {
     if (!fit.ok) return false;
     return std::fabs(fit.slope_per_s * 60.0) <= config_.slope_max_c_per_min * factor &&
            fit.resid_std <= config_.scatter_max_c * factor;
 }
 
-void PlateauDetector::Settle(const Sample& s, const stats::LineFit& fit) {
+void PlateauDetector::Settle(const Sample& s, const numeric::LineFit& fit) {
     if (s.moving) return;  // motion neither breaks nor builds stability
     if (!move_ref_c_ && CriterionHolds(fit, 1.0)) {
         if (!stable_since_) stable_since_ = s.utime;
@@ -116,7 +116,7 @@ void PlateauDetector::Settle(const Sample& s, const stats::LineFit& fit) {
 }
 
 void PlateauDetector::Average(const Sample& s, const Sample& prev, bool had_prev,
-                              const stats::LineFit& fit, Step& step) {
+                              const numeric::LineFit& fit, Step& step) {
     if (!s.moving && !CriterionHolds(fit, config_.leave_factor)) {
         Enter(State::kSettling);
         stable_since_.reset();
@@ -160,7 +160,7 @@ Step PlateauDetector::Feed(const Sample& s) {
     last_ = s;
     have_sample_ = true;
     if (!s.moving) window_.Add(s.utime, s.temp_c);
-    const stats::LineFit fit = window_.Fit();
+    const numeric::LineFit fit = window_.Fit();
 
     // Setpoint-change guard: cleared once the temperature has moved far enough.
     if (move_ref_c_) {
@@ -231,11 +231,11 @@ Plateau PlateauDetector::Finish() {
     p.n_samples = static_cast<int32_t>(a.temp_c.size());
     p.n_excluded_motion = a.excluded;
     p.seq_gaps = a.gaps;
-    p.temp_c = stats::DescribeSeries(a.temp_c, config_.sem_batches);
-    p.gyro_v = stats::DescribeSeries(a.gyro_v, config_.sem_batches);
-    const stats::LineFit line = stats::FitLine(a.t_s, a.temp_c);
+    p.temp_c = numeric::DescribeSeries(a.temp_c, config_.sem_batches);
+    p.gyro_v = numeric::DescribeSeries(a.gyro_v, config_.sem_batches);
+    const numeric::LineFit line = numeric::FitLine(a.t_s, a.temp_c);
     p.temp_slope_c_per_min = line.ok ? line.slope_per_s * 60.0 : kNaN;
-    p.temp_mean_v = stats::DescribeSeries(a.temp_v, 4).mean;
+    p.temp_mean_v = numeric::DescribeSeries(a.temp_v, 4).mean;
     double sum = 0;
     int n = 0;
     for (double v : a.supply_v) {
@@ -250,7 +250,7 @@ Plateau PlateauDetector::Finish() {
     return p;
 }
 
-StateReport PlateauDetector::Report(int64_t utime, const stats::LineFit& fit) const {
+StateReport PlateauDetector::Report(int64_t utime, const numeric::LineFit& fit) const {
     StateReport r;
     r.utime = utime;
     r.state = state_;

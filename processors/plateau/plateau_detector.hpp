@@ -51,7 +51,8 @@
 #include <string>
 #include <vector>
 
-#include "window_stats.hpp"
+#include "numeric/line_fit.hpp"
+#include "numeric/series_stats.hpp"
 
 namespace gyrocal::plateau {
 
@@ -91,7 +92,7 @@ struct Plateau {
     int64_t start_utime = 0, end_utime = 0;
     int64_t first_seq = 0, last_seq = 0;
     int32_t n_samples = 0, n_excluded_motion = 0, seq_gaps = 0;
-    stats::MeanStats temp_c, gyro_v;
+    numeric::MeanStats temp_c, gyro_v;
     double temp_slope_c_per_min = 0;
     double temp_mean_v = 0;
     double supply_mean_v = std::numeric_limits<double>::quiet_NaN();
@@ -137,14 +138,14 @@ public:
 private:
     void Rearm(double setpoint_change_c);
     void Enter(State s);
-    bool CriterionHolds(const stats::LineFit& fit, double factor) const;
+    bool CriterionHolds(const numeric::LineFit& fit, double factor) const;
     // Feed's state steps: settling until the criterion has held long enough, then averaging
     // the still samples until average_s of them (the plateau, in `step`).
-    void Settle(const Sample& s, const stats::LineFit& fit);
-    void Average(const Sample& s, const Sample& prev, bool had_prev, const stats::LineFit& fit,
+    void Settle(const Sample& s, const numeric::LineFit& fit);
+    void Average(const Sample& s, const Sample& prev, bool had_prev, const numeric::LineFit& fit,
                  Step& step);
     Plateau Finish();
-    StateReport Report(int64_t utime, const stats::LineFit& fit) const;
+    StateReport Report(int64_t utime, const numeric::LineFit& fit) const;
     // The averaging window's refusal when `s` follows a sequence gap; the window restarts at s.
     std::optional<std::string> RefuseHole(const Sample& s);
 
@@ -153,7 +154,7 @@ private:
     bool state_changed_ = true;
     std::string run_id_;
     double setpoint_c_ = std::numeric_limits<double>::quiet_NaN();
-    stats::SlidingLine window_;
+    numeric::SlidingLine window_;
     std::optional<int64_t> stable_since_;
     int64_t last_report_utime_ = 0;
     bool have_report_ = false;

@@ -6,7 +6,7 @@
 
 #include "bus/channels.hpp"
 #include "gyrocal/plateau_state_t.hpp"
-#include "motion_options.hpp"
+#include "motion/motion_options.hpp"
 #include "noise/noise_message.hpp"
 #include "plateau_message.hpp"
 

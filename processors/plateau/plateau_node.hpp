@@ -22,10 +22,10 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "motion_inputs.hpp"
+#include "motion/motion_inputs.hpp"
+#include "motion/table_motion.hpp"
 #include "noise/noise_tracker.hpp"
 #include "plateau_detector.hpp"
-#include "table_motion.hpp"
 
 namespace gyrocal {
 

@@ -1,20 +1,13 @@
 #include "figure.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
+
+#include "text/number.hpp"
 
 namespace gyrocal::plot {
 
 namespace {
-
-// "?" is gnuplot's missing-value marker (set datafile missing "?").
-std::string Num(double v) {
-    if (!std::isfinite(v)) return "?";
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.9g", v);
-    return buf;
-}
 
 bool SafeName(const std::string& name) {
     if (name.empty() || name[0] == '.') return false;
@@ -102,7 +95,9 @@ std::string DataFileText(const Table& t) {
     for (const std::string& c : t.columns) s << " " << c;
     s << "\n";
     for (const auto& row : t.rows) {
-        for (size_t i = 0; i < row.size(); ++i) s << (i ? " " : "") << Num(row[i]);
+        // "?" is gnuplot's missing-value marker (set datafile missing "?").
+        for (size_t i = 0; i < row.size(); ++i)
+            s << (i ? " " : "") << (std::isfinite(row[i]) ? text::Sig(row[i], 9) : "?");
         s << "\n";
     }
     return s.str();

@@ -2,8 +2,8 @@
 // threads and rotation_estimator.hpp for the windows and the uncertainty.
 #include <CLI/CLI.hpp>
 
+#include "motion/motion_options.hpp"
 #include "runtime/process_main.hpp"
-#include "motion_options.hpp"
 #include "rotation_node.hpp"
 
 namespace {

@@ -5,8 +5,9 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "numeric/series_stats.hpp"
 #include "slip_check.hpp"
-#include "window_stats.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::rotation {
 
@@ -15,12 +16,6 @@ namespace {
 bool InRange(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 
 int64_t Us(double s) { return static_cast<int64_t>(std::llround(s * 1e6)); }
-
-std::string Fmt(const char* fmt, double a, double b) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, fmt, a, b);
-    return buf;
-}
 
 struct WindowMean {
     double mean = 0, se = 0, t_mean_s = 0, span_s = 0;
@@ -166,9 +161,11 @@ WindowMean Describe(const std::vector<const Sample*>& w) {
 // "" when both rest windows and the move have enough samples, else why not.
 std::string WindowsProblem(const WindowMean& w1, const WindowMean& w2, size_t n_move, double need_s) {
     if (w1.n < 4 || w1.span_s < need_s)
-        return Fmt("rest window before the move covers %.3f s, less than %.3f s", w1.span_s, need_s);
+        return text::Printf("rest window before the move covers %.3f s, less than %.3f s",
+                            w1.span_s, need_s);
     if (w2.n < 4 || w2.span_s < need_s)
-        return Fmt("rest window after the move covers %.3f s, less than %.3f s", w2.span_s, need_s);
+        return text::Printf("rest window after the move covers %.3f s, less than %.3f s", w2.span_s,
+                            need_s);
     if (n_move < 2) return "fewer than 2 samples inside the move";
     return "";
 }
@@ -245,11 +242,11 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     };
 
     if (std::fabs(pt.encoder_angle_deg) < config_.min_angle_deg)
-        return reject(Fmt("move of %.3f deg is below the minimum angle %.3f deg",
-                          pt.encoder_angle_deg, config_.min_angle_deg));
+        return reject(text::Printf("move of %.3f deg is below the minimum angle %.3f deg",
+                                   pt.encoder_angle_deg, config_.min_angle_deg));
     if (static_cast<double>(m.end_utime - m.start_utime) > config_.max_move_s * 1e6)
-        return reject(Fmt("move lasted %.1f s, more than the maximum %.1f s",
-                          (m.end_utime - m.start_utime) * 1e-6, config_.max_move_s));
+        return reject(text::Printf("move lasted %.1f s, more than the maximum %.1f s",
+                                   (m.end_utime - m.start_utime) * 1e-6, config_.max_move_s));
     if (const int64_t missing = MissingSamples(samples_, pre_start, post_end); missing > 0)
         return reject(std::to_string(missing) +
                       " samples missing (sequence gaps) inside the move or its rest windows");
@@ -261,7 +258,7 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     WindowMean& w2 = offset.w2;
     const double need_s = config_.min_rest_fraction * config_.rest_s;
     if (std::string why = WindowsProblem(w1, w2, w.mid.size(), need_s); !why.empty()) return reject(why);
-    const stats::NoiseLevel noise = stats::PooledNoiseLevel({Values(w.pre), Values(w.post)});
+    const numeric::NoiseLevel noise = numeric::PooledNoiseLevel({Values(w.pre), Values(w.post)});
     const double var_eff = noise.var * noise.tau_int;  // [V^2] per sample, correlation included
     w1.se = std::sqrt(var_eff / w1.n);
     w2.se = std::sqrt(var_eff / w2.n);

@@ -18,7 +18,7 @@
 //            w1, w2 the line's weights at the window centre and se_i^2 = var * tau_int / n_i
 //   noise:   var_I += q * T_int, q = var * tau_int * dt the noise's two-sided spectral level
 //   where var (about each rest window's line) and the integrated autocorrelation time tau_int
-//   are pooled over both rest windows (window_stats.hpp: effective sample size, since 200
+//   are pooled over both rest windows (numeric/series_stats.hpp: effective sample size, since 200
 //   samples are too few for batch means); the module's LPF makes samples correlated, and white
 //   noise gives tau_int = 1, q = sigma^2 dt.
 //   encoder: var_theta = 2 * q_deg^2 / 12 (two readings, each +-half a count)
@@ -36,7 +36,7 @@
 #include <string>
 #include <vector>
 
-#include "table_motion.hpp"
+#include "motion/table_motion.hpp"
 
 namespace gyrocal::rotation {
 

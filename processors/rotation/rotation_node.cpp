@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "bus/channels.hpp"
-#include "motion_options.hpp"
+#include "motion/motion_options.hpp"
 #include "rotation_message.hpp"
 
 namespace gyrocal {

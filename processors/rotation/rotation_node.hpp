@@ -16,9 +16,9 @@
 #include "runtime/status.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "motion_inputs.hpp"
+#include "motion/motion_inputs.hpp"
+#include "motion/table_motion.hpp"
 #include "rotation_estimator.hpp"
-#include "table_motion.hpp"
 
 namespace gyrocal {
 

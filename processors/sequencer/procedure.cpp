@@ -1,8 +1,9 @@
 #include "procedure.hpp"
 
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
+
+#include "text/number.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
@@ -11,12 +12,6 @@ std::string Join(const std::set<std::string>& s) {
     std::string out;
     for (const auto& x : s) out += (out.empty() ? "" : ",") + x;
     return out;
-}
-
-std::string Num(double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
 }
 
 std::string Join(const std::map<std::string, std::string>& why) {
@@ -45,7 +40,7 @@ std::string ProfilesHelp() {
         // Held by name: a range-for over a member of the temporary optional would read freed
         // memory (the temporary dies before the loop body runs).
         const std::optional<Profile> profile = NamedProfile(name);
-        for (double t : profile->setpoints_c) list += (list.empty() ? "" : ",") + Num(t);
+        for (double t : profile->setpoints_c) list += (list.empty() ? "" : ",") + text::Sig(t);
         out += (out.empty() ? "" : ", ") + name + " (" + list + " C)";
     }
     return out;
@@ -55,38 +50,48 @@ void ProcedureOptions::Validate() const {
     if (profile.setpoints_c.empty()) throw std::invalid_argument("profile: at least one setpoint is needed");
     for (double t : profile.setpoints_c) {
         if (!std::isfinite(t) || t < -60.0 || t > 150.0)
-            throw std::invalid_argument("setpoint " + Num(t) + " degC: valid is -60..150 degC");
+            throw std::invalid_argument("setpoint " + text::Sig(t) +
+                                        " degC: valid is -60..150 degC");
     }
     if (sensor_ids.empty()) throw std::invalid_argument("sensors: at least one sensor id is needed");
     if (!(ramp_rate_c_per_min > 0.0 && ramp_rate_c_per_min <= 30.0))
-        throw std::invalid_argument("ramp rate " + Num(ramp_rate_c_per_min) + " degC/min: valid is (0, 30]");
+        throw std::invalid_argument("ramp rate " + text::Sig(ramp_rate_c_per_min) +
+                                    " degC/min: valid is (0, 30]");
     if (!(plateau_timeout_s > 0.0))
-        throw std::invalid_argument("plateau timeout " + Num(plateau_timeout_s) + " s: must be > 0");
+        throw std::invalid_argument("plateau timeout " + text::Sig(plateau_timeout_s) +
+                                    " s: must be > 0");
     if (!(rotation_timeout_s > 0.0))
-        throw std::invalid_argument("rotation timeout " + Num(rotation_timeout_s) + " s: must be > 0");
+        throw std::invalid_argument("rotation timeout " + text::Sig(rotation_timeout_s) +
+                                    " s: must be > 0");
     for (double m : moves_deg) {
         if (!std::isfinite(m) || m == 0.0 || std::abs(m) > 360.0)
-            throw std::invalid_argument("move " + Num(m) + " deg: valid is [-360, 360] without 0");
+            throw std::invalid_argument("move " + text::Sig(m) +
+                                        " deg: valid is [-360, 360] without 0");
     }
     if (!(rotation_rate_dps > 0.0 && rotation_rate_dps <= 300.0))
-        throw std::invalid_argument("rotation rate " + Num(rotation_rate_dps) + " deg/s: valid is (0, 300]");
+        throw std::invalid_argument("rotation rate " + text::Sig(rotation_rate_dps) +
+                                    " deg/s: valid is (0, 300]");
     if (!(rotation_accel_dps2 > 0.0))
-        throw std::invalid_argument("rotation acceleration " + Num(rotation_accel_dps2) + " deg/s^2: must be > 0");
+        throw std::invalid_argument("rotation acceleration " + text::Sig(rotation_accel_dps2) +
+                                    " deg/s^2: must be > 0");
     if (!(retry_wait_s >= 0.0 && retry_wait_s <= 600.0))
-        throw std::invalid_argument("retry wait " + Num(retry_wait_s) + " s: valid is 0..600");
+        throw std::invalid_argument("retry wait " + text::Sig(retry_wait_s) +
+                                    " s: valid is 0..600");
     if (move_attempts < 1 || move_attempts > 5)
         throw std::invalid_argument("move attempts " + std::to_string(move_attempts) + ": valid is 1..5");
     if (!(turn_interval_s >= 10.0 && turn_interval_s <= 7200.0))
-        throw std::invalid_argument("turn interval " + Num(turn_interval_s) + " s: valid is 10..7200");
+        throw std::invalid_argument("turn interval " + text::Sig(turn_interval_s) +
+                                    " s: valid is 10..7200");
     if (!(dwell_s >= 0.0 && dwell_s <= 7200.0))
-        throw std::invalid_argument("dwell " + Num(dwell_s) + " s: valid is 0..7200");
+        throw std::invalid_argument("dwell " + text::Sig(dwell_s) + " s: valid is 0..7200");
     if (!(reach_band_c > 0.0 && reach_band_c <= 20.0))
-        throw std::invalid_argument("reach band " + Num(reach_band_c) + " degC: valid is (0, 20]");
+        throw std::invalid_argument("reach band " + text::Sig(reach_band_c) +
+                                    " degC: valid is (0, 20]");
     if (!(target_offset_dps >= 0.0 && std::isfinite(target_offset_dps)))
-        throw std::invalid_argument("target offset " + Num(target_offset_dps) +
+        throw std::invalid_argument("target offset " + text::Sig(target_offset_dps) +
                                     " deg/s: valid is >= 0 (0 = no target)");
     if (!(target_sensitivity_pct >= 0.0 && target_sensitivity_pct <= 100.0))
-        throw std::invalid_argument("target sensitivity " + Num(target_sensitivity_pct) +
+        throw std::invalid_argument("target sensitivity " + text::Sig(target_sensitivity_pct) +
                                     " %: valid is 0..100 (0 = no target)");
     if (profile.continuous && resume_setpoint_index >= 0)
         throw std::invalid_argument("resume setpoint index: a continuous (ramp) run cannot be resumed");
@@ -122,15 +127,17 @@ std::vector<Order> Procedure::OnTime(int64_t utime) {
     }
     const double waited_s = static_cast<double>(now_utime_ - phase_start_utime_) * 1e-6;
     if (phase_ == Phase::kWaitPlateau && waited_s > options_.plateau_timeout_s) {
-        return Finish("abort", "chamber fault: no plateau within " + Num(options_.plateau_timeout_s) +
-                                   " s at setpoint " + Num(options_.profile.setpoints_c[setpoint_index_]) +
+        return Finish("abort", "chamber fault: no plateau within " +
+                                   text::Sig(options_.plateau_timeout_s) + " s at setpoint " +
+                                   text::Sig(options_.profile.setpoints_c[setpoint_index_]) +
                                    " degC for sensors " + Join(pending_));
     }
     if (phase_ == Phase::kWaitRetry && waited_s >= options_.retry_wait_s)
         return EnterMove(move_index_, now_utime_, retry_why_);
     if (phase_ == Phase::kWaitRotation && waited_s > options_.rotation_timeout_s) {
         for (const auto& id : pending_)
-            move_failed_[id] = "no sensitivity point within " + Num(options_.rotation_timeout_s) + " s";
+            move_failed_[id] =
+                "no sensitivity point within " + text::Sig(options_.rotation_timeout_s) + " s";
         pending_.clear();
         return MoveDone(now_utime_);
     }
@@ -160,9 +167,10 @@ std::vector<Order> Procedure::OnSensitivity(const std::string& sensor_id, int64_
 
 std::vector<Order> Procedure::MoveDone(int64_t utime) {
     if (move_failed_.empty()) return Advance(utime);
-    const std::string what = "move " + Num(options_.moves_deg[static_cast<size_t>(move_index_)]) +
-                             " deg at setpoint " +
-                             Num(options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]) + " degC";
+    const std::string what =
+        "move " + text::Sig(options_.moves_deg[static_cast<size_t>(move_index_)]) +
+        " deg at setpoint " +
+        text::Sig(options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]) + " degC";
     if (move_attempt_ < options_.move_attempts) {
         retry_why_ = "attempt " + std::to_string(move_attempt_ + 1) + " of " + std::to_string(options_.move_attempts) +
                      " after " + Join(move_failed_);
@@ -209,10 +217,11 @@ std::vector<Order> Procedure::EnterMove(int index, int64_t utime, const std::str
     phase_start_utime_ = utime;
     pending_ = std::set<std::string>(options_.sensor_ids.begin(), options_.sensor_ids.end());
     const double move = options_.moves_deg[static_cast<size_t>(index)];
-    return {RunEventOrder{"rotation", "move " + Num(move) + " deg" + (why.empty() ? "" : " (" + why + ")"),
-                          setpoint_index_,
-                          options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]},
-            TurntableOrder{move, options_.rotation_rate_dps, options_.rotation_accel_dps2}};
+    return {
+        RunEventOrder{
+            "rotation", "move " + text::Sig(move) + " deg" + (why.empty() ? "" : " (" + why + ")"),
+            setpoint_index_, options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]},
+        TurntableOrder{move, options_.rotation_rate_dps, options_.rotation_accel_dps2}};
 }
 
 std::vector<Order> Procedure::Advance(int64_t utime) {

@@ -2,20 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
+
+#include "text/number.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
 
 constexpr double kFirstTurnS = 30.0;  // [s] at rest at the start temperature before the first pair
-
-std::string Num(double v, int precision = 3) {
-    std::ostringstream os;
-    os.precision(precision);
-    os << v;
-    return os.str();
-}
 
 std::string Join(const std::set<std::string>& s) {
     std::string out;
@@ -54,8 +48,9 @@ std::vector<Order> RampProcedure::OnTime(int64_t utime) {
     if (finishing_.empty()) {
         if (reached_utime_ < 0 &&
             static_cast<double>(now_utime_ - leg_start_utime_) * 1e-6 > options_.plateau_timeout_s)
-            return Finish("abort", "chamber fault: the air did not reach " + Num(Waypoint(leg_)) +
-                                       " degC within " + Num(options_.plateau_timeout_s) + " s");
+            return Finish("abort", "chamber fault: the air did not reach " +
+                                       text::Sig(Waypoint(leg_), 3) + " degC within " +
+                                       text::Sig(options_.plateau_timeout_s, 3) + " s");
         if (reached_utime_ >= 0 &&
             static_cast<double>(now_utime_ - reached_utime_) * 1e-6 >= options_.dwell_s) {
             if (leg_ + 1 < static_cast<int>(options_.profile.setpoints_c.size()))
@@ -66,9 +61,10 @@ std::vector<Order> RampProcedure::OnTime(int64_t utime) {
     }
     if (phase_ == Phase::kWaitRotation &&
         static_cast<double>(now_utime_ - move_start_utime_) * 1e-6 > options_.rotation_timeout_s) {
-        notes_.push_back("move " + Num(options_.moves_deg[static_cast<size_t>(move_index_)]) +
-                         " deg at " + Num(air_c_) + " degC air: no sensitivity point within " +
-                         Num(options_.rotation_timeout_s) + " s from " + Join(pending_));
+        notes_.push_back(
+            "move " + text::Sig(options_.moves_deg[static_cast<size_t>(move_index_)], 3) +
+            " deg at " + text::Sig(air_c_, 3) + " degC air: no sensitivity point within " +
+            text::Sig(options_.rotation_timeout_s, 3) + " s from " + Join(pending_));
         pending_.clear();
         auto more = MoveDone(now_utime_);
         out.insert(out.end(), more.begin(), more.end());
@@ -98,7 +94,8 @@ std::vector<Order> RampProcedure::OnSensitivity(const std::string& sensor_id, in
     if (phase_ != Phase::kWaitRotation || utime < move_start_utime_) return OnTime(utime);
     if (!pending_.erase(sensor_id)) return OnTime(utime);
     if (!accepted)
-        notes_.push_back("move " + Num(options_.moves_deg[static_cast<size_t>(move_index_)]) +
+        notes_.push_back("move " +
+                         text::Sig(options_.moves_deg[static_cast<size_t>(move_index_)], 3) +
                          " deg, " + sensor_id + ": rejected: " + reject_reason);
     if (!pending_.empty()) return OnTime(utime);
     auto out = MoveDone(std::max(utime, now_utime_));
@@ -117,14 +114,15 @@ std::vector<Order> RampProcedure::OnCoefficients(const std::string& sensor_id, i
         const double elapsed_s = static_cast<double>(now_utime_ - start_utime_) * 1e-6;
         std::string what;
         if (options_.target_offset_dps > 0)
-            what += "offset <= " + Num(options_.target_offset_dps) + " deg/s";
+            what += "offset <= " + text::Sig(options_.target_offset_dps, 3) + " deg/s";
         if (options_.target_sensitivity_pct > 0)
-            what += std::string(what.empty() ? "" : ", ") + "sensitivity <= " +
-                    Num(options_.target_sensitivity_pct) + " %";
+            what += std::string(what.empty() ? "" : ", ") +
+                    "sensitivity <= " + text::Sig(options_.target_sensitivity_pct, 3) + " %";
         finishing_ = "completed early: target reached (" + what + ") for " +
-                     std::to_string(uncertainty_.size()) + " units at " + Num(elapsed_s / 3600.0) +
-                     " h; chamber time saved " + Num(saved_s_ / 3600.0) + " h of the planned " +
-                     Num((elapsed_s + saved_s_) / 3600.0) + " h";
+                     std::to_string(uncertainty_.size()) + " units at " +
+                     text::Sig(elapsed_s / 3600.0, 3) + " h; chamber time saved " +
+                     text::Sig(saved_s_ / 3600.0, 3) + " h of the planned " +
+                     text::Sig((elapsed_s + saved_s_) / 3600.0, 3) + " h";
     }
     return OnTime(utime);
 }
@@ -165,9 +163,10 @@ std::vector<Order> RampProcedure::EnterLeg(int index, int64_t utime) {
     reached_utime_ = -1;
     if (phase_ == Phase::kIdle) phase_ = Phase::kRamping;
     const double wp = Waypoint(index);
-    return {RunEventOrder{"setpoint", "ramp leg " + std::to_string(index + 1) + " of " +
-                                          std::to_string(options_.profile.setpoints_c.size()) +
-                                          " to " + Num(wp) + " degC",
+    return {RunEventOrder{"setpoint",
+                          "ramp leg " + std::to_string(index + 1) + " of " +
+                              std::to_string(options_.profile.setpoints_c.size()) + " to " +
+                              text::Sig(wp, 3) + " degC",
                           index, wp},
             ChamberOrder{wp, options_.ramp_rate_c_per_min}};
 }
@@ -178,8 +177,9 @@ std::vector<Order> RampProcedure::EnterMove(int index, int64_t utime) {
     phase_ = Phase::kWaitRotation;
     pending_ = std::set<std::string>(options_.sensor_ids.begin(), options_.sensor_ids.end());
     const double move = options_.moves_deg[static_cast<size_t>(index)];
-    return {RunEventOrder{"rotation", "move " + Num(move) + " deg on the ramp (pair " +
-                                          std::to_string(turns_done_ + 1) + ")",
+    return {RunEventOrder{"rotation",
+                          "move " + text::Sig(move, 3) + " deg on the ramp (pair " +
+                              std::to_string(turns_done_ + 1) + ")",
                           leg_, Waypoint(leg_)},
             TurntableOrder{move, options_.rotation_rate_dps, options_.rotation_accel_dps2}};
 }

@@ -2,15 +2,15 @@
 
 namespace gyrocal::csv {
 
-std::optional<TempTransfer> ConversionOptions::Transfer(std::string* error) const {
-    std::optional<TempTransfer> t = PresetTransfer(preset);
+std::optional<sensor::TempTransfer> ConversionOptions::Transfer(std::string* error) const {
+    std::optional<sensor::TempTransfer> t = sensor::PresetTransfer(preset);
     if (!t) {
-        *error = "--preset '" + preset + "' is unknown; valid: " + kValidPresets;
+        *error = "--preset '" + preset + "' is unknown; valid: " + sensor::kValidPresets;
         return std::nullopt;
     }
     if (temp_v_at_25c) t->v_at_25c = *temp_v_at_25c;
     if (temp_v_per_c) t->v_per_c = *temp_v_per_c;
-    *error = ValidateTransfer(*t);
+    *error = sensor::ValidateTransfer(*t);
     if (!error->empty()) return std::nullopt;
     return t;
 }

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "row_messages.hpp"
-#include "temp_transfer.hpp"
+#include "sensor/temp_transfer.hpp"
 
 namespace gyrocal::csv {
 
@@ -20,7 +20,7 @@ struct ConversionOptions {
     static ConversionOptions Defaults() { return {}; }
 
     // The resolved transfer function, or the error text (naming the option) in `error`.
-    std::optional<TempTransfer> Transfer(std::string* error) const;
+    std::optional<sensor::TempTransfer> Transfer(std::string* error) const;
     // "" when every field is valid.
     std::string Validate() const;
 };

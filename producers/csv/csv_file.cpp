@@ -6,7 +6,7 @@
 
 namespace gyrocal::csv {
 
-CsvFile ReadCsv(std::istream& in, const std::string& file, const TempTransfer& transfer,
+CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTransfer& transfer,
                 OnError policy) {
     CsvFile out;
     std::optional<RowParser> parser;

@@ -21,7 +21,7 @@ struct CsvFile {
 
 // Reads `in` (named `file` in messages). Blank lines and '#' comments are ignored.
 // Throws CsvError for a bad header, and under kStop for the first bad row.
-CsvFile ReadCsv(std::istream& in, const std::string& file, const TempTransfer& transfer,
+CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTransfer& transfer,
                 OnError policy);
 
 }  // namespace gyrocal::csv

@@ -8,7 +8,7 @@
 
 namespace gyrocal::csv {
 
-RowParser::RowParser(Header header, std::string file, TempTransfer transfer)
+RowParser::RowParser(Header header, std::string file, sensor::TempTransfer transfer)
     : header_(std::move(header)), file_(std::move(file)), transfer_(transfer) {}
 
 namespace {

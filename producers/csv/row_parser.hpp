@@ -9,7 +9,7 @@
 #include <string>
 
 #include "csv_header.hpp"
-#include "temp_transfer.hpp"
+#include "sensor/temp_transfer.hpp"
 
 namespace gyrocal::csv {
 
@@ -34,7 +34,7 @@ struct CsvRow {
 
 class RowParser {
 public:
-    RowParser(Header header, std::string file, TempTransfer transfer);
+    RowParser(Header header, std::string file, sensor::TempTransfer transfer);
 
     // Throws CsvError when the line is malformed; the per-sensor time state is then unchanged.
     CsvRow Parse(const std::string& line, long line_no);
@@ -50,7 +50,7 @@ private:
     };
     Header header_;
     std::string file_;
-    TempTransfer transfer_;
+    sensor::TempTransfer transfer_;
     std::map<std::string, Last> last_;
 };
 

@@ -2,24 +2,19 @@
 
 #include <cmath>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 
 #include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
+#include "runtime/shutdown.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal {
 namespace {
 // As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
-std::string FormatNumber(double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-}
 }  // namespace
 
 std::string CsvRecordOptions::Validate() const {
@@ -31,7 +26,7 @@ std::string CsvRecordOptions::Validate() const {
         }
     }
     if (!(idle_exit_s >= 0.0 && idle_exit_s <= 86400.0)) {
-        return "--idle-exit-s " + FormatNumber(idle_exit_s) +
+        return "--idle-exit-s " + text::Sig(idle_exit_s) +
                " is out of range; valid: 0 (never) to 86400 s";
     }
     return "";

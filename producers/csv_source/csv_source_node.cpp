@@ -6,20 +6,15 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 #include "bus/channels.hpp"
 #include "runtime/shutdown.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal {
 namespace {
 // As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
-std::string FormatNumber(double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-}
 }  // namespace
 
 namespace {
@@ -35,7 +30,7 @@ std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_c
         return std::nullopt;
     }
     std::string err;
-    const csv::TempTransfer transfer = *o.conversion.Transfer(&err);
+    const sensor::TempTransfer transfer = *o.conversion.Transfer(&err);
     try {
         return csv::ReadCsv(in, o.file, transfer, o.on_error);
     } catch (const csv::CsvError& e) {
@@ -84,15 +79,15 @@ int ReplayCsvFile(const CsvSourceOptions& o) {
 
 std::string CsvSourceOptions::Validate() const {
     if (!max && !(speed > 0.0 && speed <= 1e6)) {
-        return "--speed " + FormatNumber(speed) +
+        return "--speed " + text::Sig(speed) +
                " is out of range; valid: > 0 and <= 1e6 data seconds per wall second (or --max)";
     }
     if (!(max_rate_hz >= 1.0 && max_rate_hz <= 1e7)) {
-        return "--max-rate-hz " + FormatNumber(max_rate_hz) +
+        return "--max-rate-hz " + text::Sig(max_rate_hz) +
                " is out of range; valid: 1 to 1e7 messages per second";
     }
     if (!(drain_s >= 0.0 && drain_s <= 60.0)) {
-        return "--drain-s " + FormatNumber(drain_s) + " is out of range; valid: 0 to 60 s";
+        return "--drain-s " + text::Sig(drain_s) + " is out of range; valid: 0 to 60 s";
     }
     return conversion.Validate();
 }

@@ -3,22 +3,17 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
-#include <sstream>
 #include <thread>
 #include <vector>
 
 #include "bus/channels.hpp"
 #include "runtime/shutdown.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal {
 namespace {
 // As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
-std::string FormatNumber(double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-}
-csv::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
+sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
     std::string err;
     return *conversion.Transfer(&err);  // validated by main
 }
@@ -26,7 +21,7 @@ csv::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
 
 std::string LineSourceOptions::Validate() const {
     if (!(drain_s >= 0.0 && drain_s <= 60.0)) {
-        return "--drain-s " + FormatNumber(drain_s) + " is out of range; valid: 0 to 60 s";
+        return "--drain-s " + text::Sig(drain_s) + " is out of range; valid: 0 to 60 s";
     }
     return conversion.Validate();
 }

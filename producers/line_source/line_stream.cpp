@@ -4,7 +4,7 @@
 
 namespace gyrocal {
 
-LineStream::LineStream(std::string name, csv::TempTransfer transfer)
+LineStream::LineStream(std::string name, sensor::TempTransfer transfer)
     : name_(std::move(name)), transfer_(transfer) {}
 
 LineOutcome LineStream::Feed(const InputLine& line) {

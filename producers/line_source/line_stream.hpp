@@ -24,7 +24,7 @@ struct LineOutcome {
 
 class LineStream {
 public:
-    LineStream(std::string name, csv::TempTransfer transfer);
+    LineStream(std::string name, sensor::TempTransfer transfer);
 
     // Never throws for any text.
     LineOutcome Feed(const InputLine& line);
@@ -34,7 +34,7 @@ public:
 
 private:
     std::string name_;
-    csv::TempTransfer transfer_;
+    sensor::TempTransfer transfer_;
     std::optional<csv::RowParser> parser_;
     std::string header_text_;
     long line_no_ = 0;

@@ -2,33 +2,28 @@
 
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "bus_free_ids.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::sim {
 
 namespace {
 
-std::string Num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 // Refuses `value` of `option` unless lo <= value <= hi (and finite).
 void Range(const char* option, double value, double lo, double hi) {
     if (!std::isfinite(value) || value < lo || value > hi) {
-        throw ConfigError(std::string(option) + " = " + Num(value) +
-                          " is out of range; valid: " + Num(lo) + " .. " + Num(hi));
+        throw ConfigError(std::string(option) + " = " + text::Sig(value) +
+                          " is out of range; valid: " + text::Sig(lo) + " .. " + text::Sig(hi));
     }
 }
 
 // Refuses unless lo < value <= hi.
 void RangeOpenLow(const char* option, double value, double lo, double hi) {
     if (!std::isfinite(value) || value <= lo || value > hi) {
-        throw ConfigError(std::string(option) + " = " + Num(value) + " is out of range; valid: > " +
-                          Num(lo) + " and <= " + Num(hi));
+        throw ConfigError(std::string(option) + " = " + text::Sig(value) +
+                          " is out of range; valid: > " + text::Sig(lo) +
+                          " and <= " + text::Sig(hi));
     }
 }
 
@@ -37,6 +32,7 @@ void RangeOpenLow(const char* option, double value, double lo, double hi) {
 GyroPreset PresetByName(const std::string& name) {
     GyroPreset p;
     p.name = name;
+    if (const auto transfer = sensor::PresetTransfer(name)) p.temp_transfer = *transfer;
     if (name == "610") {  // myGyro610EB, ADXRS610
         p.range_dps = 300.0;
         p.sensitivity_v_per_dps = 0.006;

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "sensor/temp_transfer.hpp"
+
 namespace gyrocal::sim {
 
 // A refused configuration; what() names the option (as spelled on the command line) and what is
@@ -24,8 +26,7 @@ struct GyroPreset {
     double sensitivity_v_per_dps = 0.006;  // [V/(deg/s)] nominal sensitivity at 25 degC
     double rail_low_v = 0.25;              // [V] lowest output swing
     double rail_high_v = 4.75;             // [V] highest output swing
-    double temp_v_at_25c = 2.5;            // [V] temperature output at 25 degC
-    double temp_v_per_c = 0.009;           // [V/K] temperature output slope
+    sensor::TempTransfer temp_transfer;    // temperature output, volts <-> degC
 };
 
 // "610" or "613"; throws ConfigError naming --preset and the valid names otherwise.

@@ -283,7 +283,7 @@ GyroReading Rig::ReadUnit(int64_t utime, size_t i, double gyro_analog_v, double 
     const GyroPreset& p = config_.preset;
     const double sensor_read_c = state_[i]->sensor_c + units_[i].temp_sensor_offset_c;
     const double temp_analog_v =
-        p.temp_v_at_25c + p.temp_v_per_c * (sensor_read_c - 25.0) + temp_noise_v;
+        p.temp_transfer.TempV(sensor_read_c) + temp_noise_v;
 
     GyroReading r;
     r.utime = utime;
@@ -302,7 +302,7 @@ GyroReading Rig::ReadUnit(int64_t utime, size_t i, double gyro_analog_v, double 
         r.gyro_v = gyro_analog_v;
         r.temp_v = temp_analog_v;
     }
-    r.temp_c = 25.0 + (r.temp_v - p.temp_v_at_25c) / p.temp_v_per_c;
+    r.temp_c = p.temp_transfer.TempC(r.temp_v);
     return r;
 }
 

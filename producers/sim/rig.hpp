@@ -15,7 +15,7 @@
 //   v      = offset_u(T_die) + effects + S_u(T_die) * asym * rate, clamped to the output rails
 //            (effects: EffectsConfig; each one's formula in producers/sim/README.md)
 //   gyro_v = ADC(LPF(v)),  temp_v = ADC(V25 + k_T (sensor_state + sensor_offset_u - 25) + noise)
-//   temp_c = 25 + (temp_v - V25) / k_T  (the preset's transfer function)
+//   temp_c = 25 + (temp_v - V25) / k_T  (the preset's sensor::TempTransfer, as the CSV sources)
 // Commands take effect at now_utime() (the last processed event). A sink may issue commands from
 // its callbacks (the built-in profile does so from OnChamber).
 #include <cstdint>

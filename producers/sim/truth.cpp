@@ -17,8 +17,8 @@ nlohmann::json ConfigJson(const RigConfig& c) {
                    {"sensitivity_v_per_dps", c.preset.sensitivity_v_per_dps},
                    {"rail_low_v", c.preset.rail_low_v},
                    {"rail_high_v", c.preset.rail_high_v},
-                   {"temp_v_at_25c", c.preset.temp_v_at_25c},
-                   {"temp_v_per_c", c.preset.temp_v_per_c}};
+                   {"temp_v_at_25c", c.preset.temp_transfer.v_at_25c},
+                   {"temp_v_per_c", c.preset.temp_transfer.v_per_c}};
     j["noise"] = {{"noise_density_dps_rthz", c.noise.noise_density_dps_rthz},
                   {"noise_density_convention", "allan_deviation(tau) = density / sqrt(tau)"},
                   {"bias_instability_dps", c.noise.bias_instability_dps},

@@ -176,13 +176,13 @@ void ResolvePreset(const RawOptions& raw, sim::GyroPreset& preset) {
             raw.temp_v_at_25c >= 50.0) {
             throw sim::ConfigError("--temp-v-at-25c is out of range; valid: > 0 and < 50 V");
         }
-        preset.temp_v_at_25c = raw.temp_v_at_25c;
+        preset.temp_transfer.v_at_25c = raw.temp_v_at_25c;
     }
     if (!std::isnan(raw.temp_v_per_c)) {
         if (!std::isfinite(raw.temp_v_per_c) || raw.temp_v_per_c <= 0.0 || raw.temp_v_per_c > 1.0) {
             throw sim::ConfigError("--temp-v-per-c is out of range; valid: > 0 and <= 1 V/degC");
         }
-        preset.temp_v_per_c = raw.temp_v_per_c;
+        preset.temp_transfer.v_per_c = raw.temp_v_per_c;
     }
 }
 

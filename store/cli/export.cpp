@@ -8,9 +8,11 @@
 #include "format_util.hpp"
 #include "model/c_source.hpp"
 #include "model/inputs.hpp"
+#include "model/json.hpp"
 #include "model/terms.hpp"
 #include "model_rows.hpp"
 #include "report.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::store::report {
 namespace {
@@ -68,18 +70,11 @@ std::string CDouble(double v) {
 using namespace detail;
 
 nlohmann::json CoeffSetJson(const CoeffSetInfo& c) {
-    nlohmann::json j;
+    // The model library's writer (model/json.hpp: what `gyrocal compensate --coeffs` reads back),
+    // plus where the set is stored.
+    nlohmann::json j = model::ToJson(ToCoeffSet(c.set));
     j["coeff_row_id"] = c.coeff_row_id;
-    j["sensor_id"] = c.set.sensor_id;
-    j["run_id"] = c.set.run_id;
-    j["coeff_set_id"] = c.set.coeff_set_id;
-    j["source"] = c.set.source;
-    j["utime"] = c.set.utime;
     j["recv_utime"] = c.set.recv_utime;
-    j["offset"] = ModelJson(c.set.offset);
-    j["sensitivity"] = ModelJson(c.set.sensitivity);
-    j["plateau_ids"] = c.set.plateau_ids;
-    j["rotation_ids"] = c.set.rotation_ids;
     return j;
 }
 
@@ -134,9 +129,9 @@ std::optional<gyrocal_tracker_config_t> TrackerConfig(const CoeffSetInfo& s, std
 void CModel(std::ostream& out, const std::string& id, const char* role, const ModelRow& m) {
     const size_t n = m.term_names.size();
     out << "/* " << role << ": " << CComment(m.quantity) << ", method " << CComment(m.method)
-        << ", " << m.n_points << " points, residual rms " << Num(m.residual_rms, 4) << ", T0 "
-        << Num(m.t0_c) << " C, valid " << Num(m.temp_min_c) << ".." << Num(m.temp_max_c)
-        << " C */\n";
+        << ", " << m.n_points << " points, residual rms " << text::SigOrDash(m.residual_rms, 4)
+        << ", T0 " << text::SigOrDash(m.t0_c) << " C, valid " << text::SigOrDash(m.temp_min_c)
+        << ".." << text::SigOrDash(m.temp_max_c) << " C */\n";
     if (n == 0) {
         out << "/* (no terms: this model was not fitted) */\n";
         out << "static const gyrocal_model_t " << id << " = {0, 0, 0, 0, " << CDouble(m.t0_c)

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 #include "model_rows.hpp"
 #include "report.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::store::report::detail {
 
@@ -43,20 +43,6 @@ std::string Table::str() const {
     return out.str();
 }
 
-std::string Num(double v, int precision) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
-    return buf;
-}
-
-std::string Fixed(double v, int decimals) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return buf;
-}
-
 std::string Opt(std::optional<int64_t> v) { return v ? std::to_string(*v) : "-"; }
 
 nlohmann::json OptJson(std::optional<int64_t> v) {
@@ -76,33 +62,10 @@ std::string Join(const std::vector<std::string>& v, const std::string& sep) {
 std::string Terms(const ModelRow& m) {
     std::vector<std::string> parts;
     for (size_t i = 0; i < m.term_names.size(); ++i) {
-        parts.push_back(m.term_names[i] + "=" + Num(i < m.coeffs.size() ? m.coeffs[i] : NAN, 6));
+        parts.push_back(m.term_names[i] + "=" +
+                        text::SigOrDash(i < m.coeffs.size() ? m.coeffs[i] : NAN, 6));
     }
     return Join(parts, " ");
-}
-
-nlohmann::json ModelJson(const ModelRow& m) {
-    nlohmann::json j;
-    j["quantity"] = m.quantity;
-    j["term_names"] = m.term_names;
-    nlohmann::json coeffs = nlohmann::json::array();
-    for (double c : m.coeffs) coeffs.push_back(Finite(c));
-    j["coeffs"] = coeffs;
-    nlohmann::json cov = nlohmann::json::array();
-    for (const auto& row : m.covariance) {
-        nlohmann::json r = nlohmann::json::array();
-        for (double v : row) r.push_back(Finite(v));
-        cov.push_back(r);
-    }
-    j["covariance"] = cov;
-    j["t0_c"] = Finite(m.t0_c);
-    j["temp_min_c"] = Finite(m.temp_min_c);
-    j["temp_max_c"] = Finite(m.temp_max_c);
-    j["residual_rms"] = Finite(m.residual_rms);
-    j["n_points"] = m.n_points;
-    j["condition_number"] = Finite(m.condition_number);
-    j["method"] = m.method;
-    return j;
 }
 
 std::optional<double> Eval(const ModelRow& m, double temp_c) {

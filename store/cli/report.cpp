@@ -8,6 +8,7 @@
 
 #include "format_util.hpp"
 #include "report_fit.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::store::report {
 
@@ -139,7 +140,7 @@ static std::string AddedEffects(const std::string& added_json) {
 }
 
 static std::string BeforeAfter(double before, double after, int precision) {
-    return Num(before, precision) + " -> " + Num(after, precision);
+    return text::SigOrDash(before, precision) + " -> " + text::SigOrDash(after, precision);
 }
 
 static const ProvenanceSummary* FindProv(const std::vector<ProvenanceSummary>& p, int64_t id) {
@@ -190,9 +191,11 @@ static void PlateausText(std::ostream& out, const RunDetail& d) {
         Table t({"SENSOR", "PLATEAU_ID", "SETPOINT_C", "TEMP_MEAN_C", "TEMP_SLOPE_C_PER_MIN",
                  "GYRO_MEAN_V", "GYRO_SEM_V", "N_SAMPLES", "SEQ_GAPS"});
         for (const auto& p : d.plateaus) {
-            t.Add({p.sensor_id, std::to_string(p.plateau_id), Num(p.setpoint_c),
-                   Fixed(p.temp_mean_c, 3), Num(p.temp_slope_c_per_min, 3), Num(p.gyro_mean_v, 8),
-                   Num(p.gyro_sem_v, 3), std::to_string(p.n_samples), std::to_string(p.seq_gaps)});
+            t.Add({p.sensor_id, std::to_string(p.plateau_id), text::SigOrDash(p.setpoint_c),
+                   text::PrintfOrDash("%.3f", p.temp_mean_c),
+                   text::SigOrDash(p.temp_slope_c_per_min, 3), text::SigOrDash(p.gyro_mean_v, 8),
+                   text::SigOrDash(p.gyro_sem_v, 3), std::to_string(p.n_samples),
+                   std::to_string(p.seq_gaps)});
         }
         out << t.str();
     }
@@ -206,8 +209,9 @@ static void SensitivityPointsText(std::ostream& out, const RunDetail& d) {
                  "SENSITIVITY_V_PER_DPS", "STDERR", "ACCEPTED"});
         for (const auto& s : d.sensitivity_points) {
             t.Add({s.sensor_id, std::to_string(s.rotation_id), std::to_string(s.direction),
-                   Fixed(s.temp_c, 3), Num(s.encoder_angle_deg), Num(s.sensitivity_v_per_dps, 8),
-                   Num(s.sensitivity_stderr_v_per_dps, 3),
+                   text::PrintfOrDash("%.3f", s.temp_c), text::SigOrDash(s.encoder_angle_deg),
+                   text::SigOrDash(s.sensitivity_v_per_dps, 8),
+                   text::SigOrDash(s.sensitivity_stderr_v_per_dps, 3),
                    s.accepted ? "yes" : "no: " + s.reject_reason});
         }
         out << t.str();
@@ -222,9 +226,10 @@ static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vect
             << Printable(c.set.source) << ")" << SetStatusLabel(d, c) << "\n";
         for (const auto* m : {&c.set.offset, &c.set.sensitivity}) {
             out << "    " << Printable(m->quantity) << ": " << Printable(Terms(*m))
-                << "  T0=" << Num(m->t0_c) << " C, valid " << Num(m->temp_min_c) << ".."
-                << Num(m->temp_max_c) << " C, rms " << Num(m->residual_rms, 3) << ", "
-                << m->n_points << " points, " << Printable(m->method) << "\n";
+                << "  T0=" << text::SigOrDash(m->t0_c) << " C, valid "
+                << text::SigOrDash(m->temp_min_c) << ".." << text::SigOrDash(m->temp_max_c)
+                << " C, rms " << text::SigOrDash(m->residual_rms, 3) << ", " << m->n_points
+                << " points, " << Printable(m->method) << "\n";
         }
         if (const ProvenanceSummary* p = FindProv(provenance, c.coeff_row_id)) {
             int64_t found = 0, samples = 0;
@@ -251,7 +256,7 @@ static void AnalysesText(std::ostream& out, const RunDetail& d) {
                    BeforeAfter(a.offset_rms_v_before, a.offset_rms_v_after, 3),
                    BeforeAfter(a.rate_rms_dps_before, a.rate_rms_dps_after, 3),
                    BeforeAfter(a.drift_dph_before, a.drift_dph_after, 3),
-                   Num(a.floor_rate_rms_dps, 3), Opt(a.coeff_row_id)});
+                   text::SigOrDash(a.floor_rate_rms_dps, 3), Opt(a.coeff_row_id)});
         }
         out << t.str();
         out << "  (before -> after: the run's declared model -> the extended model; an extended "
@@ -461,12 +466,13 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
             if (k > 0) {
                 const auto p_off = Eval(sets[k - 1].set.offset, temp);
                 const auto p_sens = Eval(sets[k - 1].set.sensitivity, temp);
-                if (off && p_off) d_off = Num((*off - *p_off) * 1e3, 4);
-                if (sens && p_sens && *p_sens != 0) d_sens = Num((*sens / *p_sens - 1) * 100, 4);
+                if (off && p_off) d_off = text::SigOrDash((*off - *p_off) * 1e3, 4);
+                if (sens && p_sens && *p_sens != 0)
+                    d_sens = text::SigOrDash((*sens / *p_sens - 1) * 100, 4);
             }
             t.Add({UtcText(c.recv_utime), RunLabel(c.run_id), std::to_string(c.coeff_set_id),
-                   c.source, Num(temp, 4), off ? Num(*off, 8) : "n/a", d_off,
-                   sens ? Num(*sens, 8) : "n/a", d_sens});
+                   c.source, text::SigOrDash(temp, 4), off ? text::SigOrDash(*off, 8) : "n/a",
+                   d_off, sens ? text::SigOrDash(*sens, 8) : "n/a", d_sens});
         }
     }
     out << t.str();

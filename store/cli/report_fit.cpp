@@ -5,6 +5,7 @@
 
 #include "format_util.hpp"
 #include "report.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::store::report {
 
@@ -13,7 +14,7 @@ using namespace detail;
 namespace {
 
 std::string PlusMinus(double v, double se, int precision) {
-    return Num(v, precision) + " +- " + Num(se, 2);
+    return text::SigOrDash(v, precision) + " +- " + text::SigOrDash(se, 2);
 }
 
 std::string Approach(int a) { return a > 0 ? "from colder" : a < 0 ? "from hotter" : "run start"; }
@@ -24,11 +25,12 @@ void ReportBlock(std::ostringstream& out, const FitReportRow& r) {
         << (r.is_final ? ", final" : ", not final: the run's stop made no report") << "): ";
     out << (r.status == "complete" ? "COMPLETE" : r.status == "partial" ? "PARTIAL" : "NONE");
     if (!r.reason.empty()) out << " - " << Printable(r.reason);
-    out << "\n    slow noise added to each plateau: " << Num(r.slow_noise_dps, 3) << " deg/s ("
-        << Num(r.slow_noise_v, 3) << " V), from " << Printable(r.slow_noise_source) << "\n";
+    out << "\n    slow noise added to each plateau: " << text::SigOrDash(r.slow_noise_dps, 3)
+        << " deg/s (" << text::SigOrDash(r.slow_noise_v, 3) << " V), from "
+        << Printable(r.slow_noise_source) << "\n";
     for (const FitExclusionRow& e : r.excluded)
         out << "    EXCLUDED " << Printable(e.kind) << " " << e.item_id << " at "
-            << Fixed(e.temp_c, 2) << " C: " << Printable(e.reason) << "\n";
+            << text::PrintfOrDash("%.2f", e.temp_c) << " C: " << Printable(e.reason) << "\n";
     out << "    offset: " << Printable(r.offset_detail) << "\n";
     out << "    sensitivity: " << Printable(r.sensitivity_detail) << "\n";
 }
@@ -40,12 +42,12 @@ std::string RepeatabilityText(const RunDetail& d) {
     for (const FitReportInfo& f : d.fit_reports)
         for (const RepeatabilityRow& r : f.report.repeats) {
             ++n;
-            t.Add({f.report.sensor_id, Fixed(r.temp_c, 2), std::to_string(r.first_plateau_id),
-                   std::to_string(r.second_plateau_id),
+            t.Add({f.report.sensor_id, text::PrintfOrDash("%.2f", r.temp_c),
+                   std::to_string(r.first_plateau_id), std::to_string(r.second_plateau_id),
                    Approach(r.first_approach) + ", " + Approach(r.second_approach),
                    PlusMinus(1e3 * r.offset_diff_v, 1e3 * r.offset_diff_stderr_v, 3),
-                   PlusMinus(r.offset_diff_dps, r.offset_diff_stderr_dps, 3), Num(r.z, 3),
-                   r.verdict});
+                   PlusMinus(r.offset_diff_dps, r.offset_diff_stderr_dps, 3),
+                   text::SigOrDash(r.z, 3), r.verdict});
         }
     if (n == 0) return "  none: no temperature was visited twice\n";
     return t.str() +
@@ -61,11 +63,13 @@ std::string NoiseText(const RunDetail& d) {
     for (const NoiseInfo& ni : d.noise) {
         const NoiseRow& n = ni.noise;
         const double s = ni.sensitivity_v_per_dps.value_or(NAN);
-        t.Add({n.sensor_id, Num(n.still_s, 5), std::to_string(n.n_segments),
-               Num(n.longest_segment_s, 4), PlusMinus(n.arw_v_rthz / s, n.arw_stderr_v_rthz / s, 3),
+        t.Add({n.sensor_id, text::SigOrDash(n.still_s, 5), std::to_string(n.n_segments),
+               text::SigOrDash(n.longest_segment_s, 4),
+               PlusMinus(n.arw_v_rthz / s, n.arw_stderr_v_rthz / s, 3),
                PlusMinus(n.bias_instability_v / s, n.bias_instability_stderr_v / s, 3),
-               PlusMinus(n.rrw_v_rts / s, n.rrw_stderr_v_rts / s, 3), Num(n.arw_v_rthz, 3),
-               Num(n.bias_instability_v, 3), Num(n.rrw_v_rts, 3)});
+               PlusMinus(n.rrw_v_rts / s, n.rrw_stderr_v_rts / s, 3),
+               text::SigOrDash(n.arw_v_rthz, 3), text::SigOrDash(n.bias_instability_v, 3),
+               text::SigOrDash(n.rrw_v_rts, 3)});
         if (!n.fit_note.empty()) notes += "  " + Printable(n.sensor_id) + ": " + Printable(n.fit_note) + "\n";
     }
     return t.str() + notes +

@@ -1,6 +1,6 @@
 #include "writer_watch.hpp"
 
-#include <cstdio>
+#include "text/number.hpp"
 
 namespace gyrocal::record {
 
@@ -8,12 +8,6 @@ namespace {
 
 double Seconds(std::chrono::steady_clock::duration d) {
     return std::chrono::duration<double>(d).count();
-}
-
-std::string Fixed1(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.1f", v);
-    return buf;
 }
 
 std::string StateWord(const std::string& fault) {
@@ -55,14 +49,13 @@ WatchReport WriterWatch::Update(const store::AsyncWriterStats& s, Clock::time_po
     } else if (s.blocked && now - last_log_ >= repeat_) {
         last_log_ = now;
         r.log.push_back("database still failing (" + s.blocked_reason + ") after " +
-                        Fixed1(blocked_s) + " s: " + held + ", " +
-                        std::to_string(s.dropped - dropped_at_block_) +
-                        " dropped at the bound");
+                        text::Printf("%.1f", blocked_s) + " s: " + held + ", " +
+                        std::to_string(s.dropped - dropped_at_block_) + " dropped at the bound");
     } else if (!s.blocked && blocked_) {
         blocked_ = false;
-        r.log.push_back("database writable again after " + Fixed1(Seconds(now - since_)) +
-                        " s: " +
-                        std::to_string(s.written - written_at_block_) +
+        r.log.push_back("database writable again after " +
+                        text::Printf("%.1f", Seconds(now - since_)) +
+                        " s: " + std::to_string(s.written - written_at_block_) +
                         " rows written since the fault began, " +
                         std::to_string(s.dropped - dropped_at_block_) +
                         " dropped at the bound (stored in losses.queue_drops by run and channel)");

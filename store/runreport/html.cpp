@@ -1,9 +1,9 @@
 #include "html.hpp"
 
 #include <cmath>
-#include <cstdio>
 
 #include "plot/svg.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::runreport::html {
 
@@ -54,15 +54,8 @@ footer { margin-top: 40px; color: var(--muted); font-size: 12px; border-top: 1px
 
 std::string Esc(const std::string& text) { return plot::XmlEscape(text); }
 
-std::string Num(double v, const char* format) {
-    if (!std::isfinite(v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
-
 Cell Text(const std::string& text, const std::string& cls) { return {Esc(text), cls, ""}; }
-Cell Number(double v, const char* format) { return {Num(v, format), "num", ""}; }
+Cell Number(double v, const char* format) { return {text::PrintfOrDash(format, v), "num", ""}; }
 
 Table::Table(std::vector<std::string> headers, std::string css_class)
     : headers_(std::move(headers)), css_class_(std::move(css_class)) {}

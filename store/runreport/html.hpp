@@ -16,8 +16,6 @@ namespace gyrocal::runreport::html {
 std::string Esc(const std::string& text);
 
 // printf-style number ("%.6g" ...); "-" when not finite.
-std::string Num(double v, const char* format = "%.6g");
-
 struct Cell {
     std::string html;   // already HTML
     std::string cls;    // CSS class ("num", "pass", ...)

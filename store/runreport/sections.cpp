@@ -4,8 +4,9 @@
 #include <cmath>
 
 #include "html.hpp"
-#include "utc_text.hpp"
 #include "model/terms.hpp"
+#include "text/number.hpp"
+#include "utc_text.hpp"
 
 namespace gyrocal::runreport {
 
@@ -14,7 +15,6 @@ namespace {
 using acceptance::Outcome;
 using html::Cell;
 using html::Esc;
-using html::Num;
 
 const char* kCoeff = "%.6g";
 
@@ -53,11 +53,14 @@ Section Curves(const UnitContext& c) {
     Section s{"curves", "Offset and sensitivity against temperature", Figures(c, {"_offset", "_sens"})};
     if (s.html.empty()) s.html = html::NotMeasured("the unit has no plateau, no turn and no coefficient set");
     else
-        s.html = "<p class=\"note\">Error bars: a plateau's standard error combined with the run's plateau slow noise of " +
-                 Num(c.plateau_slow_noise_dps, "%.3g") +
-                 " deg/s (what the fitter weighted it by); a turn's standard error. Band: the fitted curve +-2 "
-                 "sigma from the coefficient covariance.</p>\n" +
-                 s.html;
+        s.html =
+            "<p class=\"note\">Error bars: a plateau's standard error combined with the run's "
+            "plateau slow noise of " +
+            text::PrintfOrDash("%.3g", c.plateau_slow_noise_dps) +
+            " deg/s (what the fitter weighted it by); a turn's standard error. Band: the fitted "
+            "curve +-2 "
+            "sigma from the coefficient covariance.</p>\n" +
+            s.html;
     return s;
 }
 
@@ -75,10 +78,12 @@ std::string ModelTable(const store::ModelRow& m) {
                html::Number(std::sqrt(var), "%.2g"), html::Text(CoeffUnit(m.quantity, m.term_names[i]))},
               "data-quantity=\"" + Esc(m.quantity) + "\" data-term=\"" + Esc(m.term_names[i]) + "\"");
     }
-    return t.str() + "<p class=\"note\">" + Esc(m.quantity) + ": method " + Esc(m.method) + ", T0 " + Num(m.t0_c, "%.4g") +
-           " degC, valid " + Num(m.temp_min_c, "%.4g") + " .. " + Num(m.temp_max_c, "%.4g") + " degC, " +
-           std::to_string(m.n_points) + " points, weighted residual RMS " + Num(m.residual_rms, "%.3g") +
-           ", condition number " + Num(m.condition_number, "%.3g") + "</p>\n";
+    return t.str() + "<p class=\"note\">" + Esc(m.quantity) + ": method " + Esc(m.method) +
+           ", T0 " + text::PrintfOrDash("%.4g", m.t0_c) + " degC, valid " +
+           text::PrintfOrDash("%.4g", m.temp_min_c) + " .. " +
+           text::PrintfOrDash("%.4g", m.temp_max_c) + " degC, " + std::to_string(m.n_points) +
+           " points, weighted residual RMS " + text::PrintfOrDash("%.3g", m.residual_rms) +
+           ", condition number " + text::PrintfOrDash("%.3g", m.condition_number) + "</p>\n";
 }
 
 std::string SetHtml(const store::CoeffSetInfo& set, const std::string& role) {
@@ -137,11 +142,13 @@ Section Refusals(const UnitContext& c) {
     std::string items;
     for (const auto& r : c.unit.turns)
         if (!r.accepted)
-            items += "<li>turn " + std::to_string(r.rotation_id) + " at " + Num(r.temp_c, "%.2f") +
+            items += "<li>turn " + std::to_string(r.rotation_id) + " at " +
+                     text::PrintfOrDash("%.2f", r.temp_c) +
                      " degC refused by the rotation estimator: " + Esc(r.reject_reason) + "</li>\n";
     for (const auto& p : c.unit.plateaus)
         if (c.unit.calibration && !InSet(c, p.plateau_id))
-            items += "<li>plateau " + std::to_string(p.plateau_id) + " at " + Num(p.temp_mean_c, "%.2f") +
+            items += "<li>plateau " + std::to_string(p.plateau_id) + " at " +
+                     text::PrintfOrDash("%.2f", p.temp_mean_c) +
                      " degC is not in the final coefficient set</li>\n";
     if (!c.unit.analyses.empty()) {
         const auto j = nlohmann::json::parse(c.unit.analyses.back().result_json, nullptr, false);
@@ -253,25 +260,32 @@ std::string TraceabilityHtml(const store::RunDetail& d, const std::string& versi
     std::vector<std::pair<std::string, std::string>> kv = {
         {"run id", r.run_id},
         {"outcome", OutcomeText(r)},
-        {"software version (run)", r.software_version.empty() ? "not recorded" : r.software_version},
-        {"software version (recorder)", r.recorder_version.empty() ? "not recorded" : r.recorder_version},
+        {"software version (run)",
+         r.software_version.empty() ? "not recorded" : r.software_version},
+        {"software version (recorder)",
+         r.recorder_version.empty() ? "not recorded" : r.recorder_version},
         {"software version (this report)", version},
         {"command line", r.command_line.empty() ? "not recorded" : r.command_line},
-        {"started (producer clock, utime)", r.started_utime ? std::to_string(*r.started_utime) : "-"},
-        {"stopped (producer clock, utime)", r.stopped_utime ? std::to_string(*r.stopped_utime) : "-"},
-        {"length (producer clock)", r.started_utime && r.stopped_utime
-                                        ? Num((*r.stopped_utime - *r.started_utime) / 3.6e9, "%.3g") + " h"
-                                        : "-"},
+        {"started (producer clock, utime)",
+         r.started_utime ? std::to_string(*r.started_utime) : "-"},
+        {"stopped (producer clock, utime)",
+         r.stopped_utime ? std::to_string(*r.stopped_utime) : "-"},
+        {"length (producer clock)",
+         r.started_utime && r.stopped_utime
+             ? text::PrintfOrDash("%.3g", (*r.stopped_utime - *r.started_utime) / 3.6e9) + " h"
+             : "-"},
         {"first seen by the recorder (UTC)", store::UtcText(r.first_recv_utime)},
-        {"sensors", [&] {
+        {"sensors",
+         [&] {
              std::string s;
              for (const auto& id : r.sensor_ids) s += (s.empty() ? "" : ", ") + id;
              return s.empty() ? std::string("none declared") : s;
          }()},
-        {"recorded", std::to_string(r.gyro_samples) + " gyro samples, " + std::to_string(r.encoder_samples) +
-                         " encoder samples, " + std::to_string(r.chamber_states) + " chamber states, " +
-                         std::to_string(r.plateaus) + " plateaus, " + std::to_string(r.sensitivity_points) + " turns, " +
-                         std::to_string(r.coeff_sets) + " coefficient sets"},
+        {"recorded",
+         std::to_string(r.gyro_samples) + " gyro samples, " + std::to_string(r.encoder_samples) +
+             " encoder samples, " + std::to_string(r.chamber_states) + " chamber states, " +
+             std::to_string(r.plateaus) + " plateaus, " + std::to_string(r.sensitivity_points) +
+             " turns, " + std::to_string(r.coeff_sets) + " coefficient sets"},
     };
     const DataSource src = SourceOf(r);
     std::vector<std::pair<std::string, std::string>> source = {{"kind", src.kind}};
@@ -301,8 +315,10 @@ std::string AcceptanceHtml(const LimitsInfo& l, const std::vector<acceptance::Un
         std::string name = Esc(c.key);
         for (size_t at = name.find('_'); at != std::string::npos; at = name.find('_', at + 6)) name.insert(at + 1, "<wbr>");
         const std::string op = c.kind == "max" ? "&lt;= " : c.kind == "min" ? "&gt;= " : "required";
-        head += "<th>" + name + "<br><span class=\"muted\">" + op +
-                (c.kind == "require" ? "" : Num(c.limit, "%.6g") + " " + Esc(c.unit)) + "</span></th>";
+        head +=
+            "<th>" + name + "<br><span class=\"muted\">" + op +
+            (c.kind == "require" ? "" : text::PrintfOrDash("%.6g", c.limit) + " " + Esc(c.unit)) +
+            "</span></th>";
     }
     std::string rows;
     for (const auto& v : verdicts) {
@@ -310,7 +326,8 @@ std::string AcceptanceHtml(const LimitsInfo& l, const std::vector<acceptance::Un
                 "\"><td class=\"mono\">" + Esc(v.sensor_id) + "</td><td class=\"" + html::OutcomeClass(v.outcome) + "\">" +
                 Esc(acceptance::ToString(v.outcome)) + "</td>";
         for (const auto& c : v.checks) {
-            const std::string shown = c.kind == "require" ? c.measured_text : Num(c.measured, "%.4g");
+            const std::string shown =
+                c.kind == "require" ? c.measured_text : text::PrintfOrDash("%.4g", c.measured);
             rows += "<td class=\"" + html::OutcomeClass(c.outcome) + "\" data-key=\"" + Esc(c.key) + "\">" + Esc(shown) +
                     "<br>" + Esc(acceptance::ToString(c.outcome)) + "</td>";
         }

@@ -1,9 +1,10 @@
 #include "traceability.hpp"
 
-#include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+
+#include "text/number.hpp"
 
 namespace gyrocal::runreport {
 
@@ -16,11 +17,7 @@ std::string Text(const nlohmann::json& v) {
         for (const auto& e : v) s += (s.empty() ? "" : ", ") + Text(e);
         return s.empty() ? "none" : s;
     }
-    if (v.is_number_float()) {
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "%.4g", v.get<double>());
-        return buf;
-    }
+    if (v.is_number_float()) return text::Sig(v.get<double>(), 4);
     return v.dump();
 }
 

@@ -31,7 +31,7 @@ void CheckEncodes(const Msg& m) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
-    const csv::TempTransfer transfer;
+    const sensor::TempTransfer transfer;
     csv::CsvFile skip;
     try {
         std::istringstream in(text);

@@ -35,7 +35,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(joined == std::string(reinterpret_cast<const char*>(data), size),
                "the lines do not give back the input");
 
-    LineStream stream("fuzz-stream", csv::TempTransfer{});
+    LineStream stream("fuzz-stream", sensor::TempTransfer{});
     std::map<std::string, long long> last_us;
     bool fatal = false;
     for (const InputLine& line : lines) {

@@ -73,7 +73,7 @@ std::vector<std::string> WriteSyntheticCsv(const std::string& path, const Synthe
 csv::CsvFile ReadCsvFile(const std::string& path) {
     std::ifstream in(path);
     EXPECT_TRUE(in.good()) << path;
-    return csv::ReadCsv(in, path, csv::TempTransfer{}, csv::OnError::kStop);
+    return csv::ReadCsv(in, path, sensor::TempTransfer{}, csv::OnError::kStop);
 }
 
 std::string Slurp(const std::string& path) {

@@ -7,7 +7,7 @@
 #include <memory>
 #include <sstream>
 
-#include "analysis/compensate_cli/offline.hpp"
+#include "compensator/offline.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/csv_file.hpp"
 #include "model_rows.hpp"
@@ -17,22 +17,22 @@
 
 namespace gyrocal::cli {
 
-namespace an = gyrocal::analysis;
+namespace cp = gyrocal::compensate;
 namespace st = gyrocal::store;
 
 std::map<std::string, model::CoeffSet> LoadCoeffSets(const CoeffSource& o, std::string* origin) {
     std::map<std::string, model::CoeffSet> sets;
     if (!o.coeffs_path.empty()) {
         std::ifstream f(o.coeffs_path, std::ios::binary);
-        if (!f) throw an::OfflineError("--coeffs: cannot read '" + o.coeffs_path + "'");
+        if (!f) throw cp::OfflineError("--coeffs: cannot read '" + o.coeffs_path + "'");
         std::ostringstream text;
         text << f.rdbuf();
         *origin = o.coeffs_path;
-        sets = an::CoeffSetsFromJson(text.str(), o.coeffs_path);
+        sets = cp::CoeffSetsFromJson(text.str(), o.coeffs_path);
         if (!o.sensor_id.empty()) {
             const auto it = sets.find(o.sensor_id);
             if (it == sets.end())
-                throw an::OfflineError(o.coeffs_path + ": no coefficient set for --sensor '" +
+                throw cp::OfflineError(o.coeffs_path + ": no coefficient set for --sensor '" +
                                        o.sensor_id + "'");
             sets = {{it->first, it->second}};
         }
@@ -122,10 +122,10 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
             err << me << o.csv_path << ": no data rows\n";
             return 1;
         }
-        an::OfflineOptions oo;
+        cp::OfflineOptions oo;
         oo.core.range_policy = *policy;
-        const an::OfflineResult r = an::CompensateRows(file.rows, sets, o.csv_path, origin, oo);
-        const std::string text = an::FormatRatesCsv(r.rates);
+        const cp::OfflineResult r = cp::CompensateRows(file.rows, sets, o.csv_path, origin, oo);
+        const std::string text = cp::FormatRatesCsv(r.rates);
         if (o.out_path.empty()) {
             out << text;
             if (!out.flush()) return 1;

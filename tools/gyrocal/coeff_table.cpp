@@ -8,21 +8,17 @@
 #include "model/convert.hpp"
 #include "model/inputs.hpp"
 #include "model/model.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::cli {
 namespace {
 
-std::string Fmt(const char* fmt, double a) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, fmt, a);
-    return buf;
-}
-
 void ModelBlock(std::ostringstream& os, const char* label, const model_t& m) {
-    os << "  " << label << " [" << m.quantity << "]  method " << m.method << ", T0 " << Fmt("%.2f", m.t0_c)
-       << " C, range " << Fmt("%.2f", m.temp_min_c) << ".." << Fmt("%.2f", m.temp_max_c) << " C, "
-       << m.n_points << " points, residual RMS " << Fmt("%.3g", m.residual_rms) << ", cond "
-       << Fmt("%.3g", m.condition_number) << "\n";
+    os << "  " << label << " [" << m.quantity << "]  method " << m.method << ", T0 "
+       << text::Printf("%.2f", m.t0_c) << " C, range " << text::Printf("%.2f", m.temp_min_c) << ".."
+       << text::Printf("%.2f", m.temp_max_c) << " C, " << m.n_points << " points, residual RMS "
+       << text::Printf("%.3g", m.residual_rms) << ", cond "
+       << text::Printf("%.3g", m.condition_number) << "\n";
     for (int i = 0; i < m.num_terms; ++i) {
         const double var = m.covariance.size() > static_cast<size_t>(i) &&
                                    m.covariance[i].size() > static_cast<size_t>(i)

@@ -28,8 +28,9 @@
 #include <vector>
 
 #include "held_out.hpp"
-#include "virtual_lab.hpp"
 #include "machine.hpp"
+#include "text/number.hpp"
+#include "virtual_lab.hpp"
 
 namespace {
 
@@ -90,13 +91,6 @@ struct Row {
         }
     }
 };
-
-std::string Fmt(double v, const char* f = "%.4f") {
-    if (!std::isfinite(v)) return "-";
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    return b;
-}
 
 }  // namespace
 
@@ -261,22 +255,29 @@ int main(int argc, char** argv) {
         if (!r.chamber_h.empty()) {
             double sum = 0;
             for (double v : r.chamber_h) sum += v;
-            hours = Fmt(sum / r.chamber_h.size(), "%.2f") + " [" +
-                    Fmt(*std::min_element(r.chamber_h.begin(), r.chamber_h.end()), "%.2f") + "-" +
-                    Fmt(*std::max_element(r.chamber_h.begin(), r.chamber_h.end()), "%.2f") + "]";
+            hours = text::PrintfOrDash("%.2f", sum / r.chamber_h.size()) + " [" +
+                    text::PrintfOrDash("%.2f",
+                                       *std::min_element(r.chamber_h.begin(), r.chamber_h.end())) +
+                    "-" +
+                    text::PrintfOrDash("%.2f",
+                                       *std::max_element(r.chamber_h.begin(), r.chamber_h.end())) +
+                    "]";
             const double per = static_cast<double>(seeds) * units;
-            points = Fmt(r.plateaus / per, "%.3g") + "+" + Fmt(r.rotations / per, "%.3g");
+            points = text::PrintfOrDash("%.3g", r.plateaus / per) + "+" +
+                     text::PrintfOrDash("%.3g", r.rotations / per);
         }
         auto rms = [](double sum2, long n) { return n > 0 ? std::sqrt(sum2 / n) : NAN; };
-        std::printf(hdr, r.label.c_str(), r.method.c_str(), points.c_str(), hours.c_str(),
-                    Fmt(rms(r.sum2_all, r.n_all)).c_str(),
-                    Fmt(rms(r.sum2_common, r.n_common)).c_str(),
-                    Fmt(rms(r.sum2_model_all, r.n_all)).c_str(),
-                    Fmt(rms(r.sum2_model_common, r.n_common)).c_str(), Fmt(r.max_in).c_str(),
-                    r.bins_out_any ? Fmt(r.max_out).c_str() : "-",
-                    Fmt(std::sqrt(r.sum2_drift / std::max(1, r.units)), "%.1f").c_str(),
-                    Fmt(r.worst_hour, "%.1f").c_str(),
-                    Fmt(rms(r.sum2_all, r.n_all) / floor_rms, "%.2f").c_str());
+        std::printf(
+            hdr, r.label.c_str(), r.method.c_str(), points.c_str(), hours.c_str(),
+            text::PrintfOrDash("%.4f", rms(r.sum2_all, r.n_all)).c_str(),
+            text::PrintfOrDash("%.4f", rms(r.sum2_common, r.n_common)).c_str(),
+            text::PrintfOrDash("%.4f", rms(r.sum2_model_all, r.n_all)).c_str(),
+            text::PrintfOrDash("%.4f", rms(r.sum2_model_common, r.n_common)).c_str(),
+            text::PrintfOrDash("%.4f", r.max_in).c_str(),
+            r.bins_out_any ? text::PrintfOrDash("%.4f", r.max_out).c_str() : "-",
+            text::PrintfOrDash("%.1f", std::sqrt(r.sum2_drift / std::max(1, r.units))).c_str(),
+            text::PrintfOrDash("%.1f", r.worst_hour).c_str(),
+            text::PrintfOrDash("%.2f", rms(r.sum2_all, r.n_all) / floor_rms).c_str());
     }
     for (size_t k = 0; k < nc; ++k) {
         std::printf("%s: offset degree chosen:", configs[k].label.c_str());

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "held_out.hpp"
+#include "text/number.hpp"
 #include "virtual_lab.hpp"
 
 namespace {
@@ -72,13 +73,6 @@ std::string CpuModel() {
     return "unknown";
 }
 
-std::string Fmt(double v, const char* f = "%.4f") {
-    if (!std::isfinite(v)) return "-";
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    return b;
-}
-
 std::string TermList(const model::Model& m) {
     std::string s;
     for (const auto& t : m.term_names) s += (s.empty() ? "" : ",") + t;
@@ -90,8 +84,9 @@ std::vector<Config> Configs(const std::vector<double>& rates, const std::vector<
         {"five (plateau)", "five", {-40.0, -10.0, 25.0, 55.0, 85.0}, fit::Method::kWls},
         {"seed3 (3point)", "seed3", {-10.0, 30.0, 60.0}, fit::Method::kThreePoint},
     };
-    for (double r : rates) c.push_back({"ramp " + Fmt(r, "%.1f") + " C/min", "ramp", waypoints,
-                                        fit::Method::kAuto, r});
+    for (double r : rates)
+        c.push_back({"ramp " + text::PrintfOrDash("%.1f", r) + " C/min", "ramp", waypoints,
+                     fit::Method::kAuto, r});
     return c;
 }
 
@@ -198,16 +193,19 @@ int main(int argc, char** argv) {
                 double sum = 0;
                 for (double v : r.chamber_h) sum += v;
                 const double mean = sum / r.chamber_h.size();
-                hours = Fmt(mean, "%.2f") + " [" +
-                        Fmt(*std::min_element(r.chamber_h.begin(), r.chamber_h.end()), "%.2f") +
+                hours = text::PrintfOrDash("%.2f", mean) + " [" +
+                        text::PrintfOrDash(
+                            "%.2f", *std::min_element(r.chamber_h.begin(), r.chamber_h.end())) +
                         "-" +
-                        Fmt(*std::max_element(r.chamber_h.begin(), r.chamber_h.end()), "%.2f") +
+                        text::PrintfOrDash(
+                            "%.2f", *std::max_element(r.chamber_h.begin(), r.chamber_h.end())) +
                         "]";
-                ratio = Fmt(mean / five_h, "%.2f");
+                ratio = text::PrintfOrDash("%.2f", mean / five_h);
             }
             std::printf("%-18s %16s %9s %12s %10s %8s\n", r.label.c_str(), hours.c_str(),
-                        ratio.c_str(), Fmt(r.Rms()).c_str(), Fmt(r.Drift(), "%.2f").c_str(),
-                        Fmt(r.Rms() / limit, "%.2f").c_str());
+                        ratio.c_str(), text::PrintfOrDash("%.4f", r.Rms()).c_str(),
+                        text::PrintfOrDash("%.2f", r.Drift()).c_str(),
+                        text::PrintfOrDash("%.2f", r.Rms() / limit).c_str());
         }
         for (size_t k = 0; k < configs.size(); ++k) {
             std::printf("  %s offset terms:", configs[k].label.c_str());

@@ -279,7 +279,7 @@ SensorRun OthersimRun(uint64_t seed, const othersim::EffectOptions& e) {
     std::ostringstream text;
     othersim::Generate(o, text);
     std::istringstream in(text.str());
-    const csv::CsvFile f = csv::ReadCsv(in, "othersim.csv", csv::TempTransfer{}, csv::OnError::kStop);
+    const csv::CsvFile f = csv::ReadCsv(in, "othersim.csv", sensor::TempTransfer{}, csv::OnError::kStop);
     std::vector<GyroSample> g;
     std::vector<EncoderSample> enc;
     std::vector<AirSample> air;  // its chamber_c column, as the importer would publish it

@@ -9,6 +9,7 @@
 #include "noise/allan.hpp"
 #include "noise/noise_tracker.hpp"
 #include "physics.hpp"
+#include "synthetic_noise.hpp"
 
 namespace gyrocal::noise {
 namespace {
@@ -144,6 +145,69 @@ TEST(Tracker, ASegmentWithAStepIsLeftOutAndOneSomewhatNoisierIsNot) {
     for (const AllanPoint& p : e.adev)
         if (p.tau_s >= 1 && p.tau_s <= 30)
             EXPECT_LT(p.adev, 1.3 * 1e-3 * std::sqrt(0.01 / p.tau_s) * 1.25) << p.tau_s;
+}
+
+// The tracker's quiet stretches (windowed temperature slopes, numeric::PrefixLine) and the noise
+// terms' weighted fit (the one solver, numeric/least_squares.hpp) give the figures they gave
+// before they moved to the shared numerics, on one fixed input (white noise plus a random walk,
+// a temperature ramp between quiet stretches, deterministic noise). The reference figures were
+// printed by the code as it stood before (its own prefix sums; its own QR solve and normal-
+// equation covariance). The stretches are the same arithmetic: equal to the bit. The fit is the
+// same method with another order of operations (columns scaled to unit norm first, the
+// covariance from the triangular factor): relative 1e-9, far above the round-off of a
+// 3-column fit (condition ~1e3: ~1e-13) and far below any change of method (another weighting
+// or a dropped term moves the figures by 1e-3 or more).
+NoiseEstimate FixedTrackerRun(int stretches) {
+    numeric::testing::Lcg u{2024};
+    NoiseTracker tr(TrackerConfig::Defaults());
+    int64_t seq = 0, t_us = 0;
+    double walk = 0.0, temp = 25.0;
+    for (int s = 0; s < stretches; ++s) {
+        for (int k = 0; k < 210000; ++k) {  // 2100 s still: quiet, then a 2 degC/min ramp
+            if (k >= 200000) temp += 2.0 / 60.0 * 0.01;
+            walk += 5e-7 * u();
+            tr.Add({t_us, seq++, 2.5 + 1e-3 * u() + walk + 1e-3 * (temp - 25.0), temp, false});
+            t_us += 10000;
+        }
+        tr.Add({t_us, seq++, 2.5, temp, true});  // a turn between stretches
+        t_us += 10000;
+    }
+    return tr.Estimate();
+}
+
+TEST(Tracker, QuietStretchesAndTermsGiveTheFiguresTheyGaveBeforeSharingTheNumerics) {
+    struct Expected {
+        int stretches, segments;
+        double still_s, longest_s;
+        double arw, arw_se, bias, bias_se, rrw, rrw_se;
+    };
+    const Expected cases[] = {
+        // four stretches: jackknife errors; the bias term is negative and dropped
+        {4, 4, 7912.3999999999996, 1978.0999999999999, 2.8988764480184436e-05,
+         1.231498587624416e-07, 0, 0, 1.5381855649657712e-06, 1.1789450713111258e-07},
+        // two: the weighted fit's errors (its covariance)
+        {2, 2, 3956.1999999999998, 1978.0999999999999, 2.9181088307314935e-05,
+         1.233077235814467e-07, 0, NAN, 1.4939928251627099e-06, 6.5301319634388015e-08},
+    };
+    auto same = [](double got, double want) {
+        if (std::isnan(want)) return std::isnan(got);
+        return std::fabs(got - want) <= 1e-9 * std::fabs(want);
+    };
+    for (const Expected& x : cases) {
+        SCOPED_TRACE(x.stretches);
+        const NoiseEstimate e = FixedTrackerRun(x.stretches);
+        EXPECT_EQ(e.segments, x.segments);
+        EXPECT_EQ(e.still_s, x.still_s);
+        EXPECT_EQ(e.longest_s, x.longest_s);
+        ASSERT_TRUE(e.terms.ok);
+        EXPECT_PRED2(same, e.terms.arw, x.arw);
+        EXPECT_PRED2(same, e.terms.arw_se, x.arw_se);
+        EXPECT_PRED2(same, e.terms.bias, x.bias);
+        EXPECT_PRED2(same, e.terms.bias_se, x.bias_se);
+        EXPECT_PRED2(same, e.terms.rrw, x.rrw);
+        EXPECT_PRED2(same, e.terms.rrw_se, x.rrw_se);
+        EXPECT_NE(e.terms.note.find("bias instability not resolved"), std::string::npos);
+    }
 }
 
 TEST(Tracker, BadConfigurationIsRefusedNamingTheOption) {

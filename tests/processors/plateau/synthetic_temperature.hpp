@@ -6,6 +6,7 @@
 #include <functional>
 #include <random>
 
+#include "synthetic_noise.hpp"
 #include "plateau_detector.hpp"
 
 namespace gyrocal::plateau::testing {
@@ -20,23 +21,7 @@ inline double FirstOrderLag(double t_s, double t_start_s, double initial_c, doub
     return final_c + (initial_c - final_c) * std::exp(-(t_s - t_start_s) / tau_s);
 }
 
-// AR(1) noise x_k = rho x_{k-1} + sqrt(1 - rho^2) sigma e_k: stationary std sigma, correlation
-// rho^|lag|, the variance of an n-sample mean -> sigma^2/n * (1 + rho)/(1 - rho) for large n.
-class Ar1 {
-public:
-    Ar1(double sigma, double rho, uint64_t seed) : sigma_(sigma), rho_(rho), rng_(seed) {
-        x_ = sigma_ * n_(rng_);
-    }
-    double Next() {
-        x_ = rho_ * x_ + std::sqrt(1 - rho_ * rho_) * sigma_ * n_(rng_);
-        return x_;
-    }
-
-private:
-    double sigma_, rho_, x_ = 0;
-    std::mt19937_64 rng_;
-    std::normal_distribution<double> n_{0.0, 1.0};
-};
+using numeric::testing::Ar1;
 
 struct StreamSpec {
     std::function<double(double)> temp_true_c;  // truth of the sensor temperature at t [s]

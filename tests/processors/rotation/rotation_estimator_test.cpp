@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "motion/table_motion.hpp"
 #include "synthetic_rotation.hpp"
-#include "table_motion.hpp"
 
 namespace gyrocal::rotation {
 namespace {

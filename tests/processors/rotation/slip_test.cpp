@@ -8,9 +8,9 @@
 
 #include "csv/csv_file.hpp"
 #include "generator.hpp"
+#include "motion/table_motion.hpp"
 #include "rotation_estimator.hpp"
 #include "slip_check.hpp"
-#include "table_motion.hpp"
 
 namespace gyrocal::rotation {
 namespace {
@@ -21,7 +21,7 @@ std::vector<Point> Points(const othersim::Options& o) {
     std::ostringstream text;
     othersim::Generate(o, text);
     std::istringstream in(text.str());
-    const csv::CsvFile f = csv::ReadCsv(in, "x.csv", csv::TempTransfer{}, csv::OnError::kStop);
+    const csv::CsvFile f = csv::ReadCsv(in, "x.csv", sensor::TempTransfer{}, csv::OnError::kStop);
     motion::MoveDetector detector(motion::MoveDetectorConfig::Defaults());
     RotationEstimator est(RotationConfig::Defaults());
     std::vector<Point> out;

@@ -17,9 +17,10 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const TempTransfer kDefault{2.5, 0.009};
+const sensor::TempTransfer kDefault{2.5, 0.009};
 
-CsvFile Read(const std::string& text, OnError policy = OnError::kStop, TempTransfer t = kDefault) {
+CsvFile Read(const std::string& text, OnError policy = OnError::kStop,
+             sensor::TempTransfer t = kDefault) {
     std::istringstream in(text);
     return ReadCsv(in, "f.csv", t, policy);
 }
@@ -161,7 +162,7 @@ TEST(CsvRows, InvalidSensorIds) {
 
 TEST(CsvRows, TempCFromTheTransferFunctionUnlessGiven) {
     // GIVEN a non-default transfer (1.8 V at 25 degC, 12 mV/K) and temperatures with known truth
-    const TempTransfer t{1.8, 0.012};
+    const sensor::TempTransfer t{1.8, 0.012};
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> temp(-40.0, 85.0);
     std::ostringstream text;
@@ -231,9 +232,9 @@ TEST(CsvPolicy, StopThrowsTheFirstErrorOnly) {
 }
 
 TEST(CsvConversionOptions, PresetsAndRangesNameTheOption) {
-    EXPECT_TRUE(PresetTransfer("610"));
-    EXPECT_TRUE(PresetTransfer("613"));
-    EXPECT_FALSE(PresetTransfer("612"));
+    EXPECT_TRUE(sensor::PresetTransfer("610"));
+    EXPECT_TRUE(sensor::PresetTransfer("613"));
+    EXPECT_FALSE(sensor::PresetTransfer("612"));
     ConversionOptions o = ConversionOptions::Defaults();
     EXPECT_EQ(o.Validate(), "");
     std::string err;

@@ -74,7 +74,7 @@ TEST(CsvWriter, RowsParseBackThroughTheReader) {
         text << FormatRecordRow(s, kOrigin, enc, air) << "\n";
     }
     std::istringstream in(text.str());
-    const CsvFile f = ReadCsv(in, "rec.csv", TempTransfer{}, OnError::kStop);
+    const CsvFile f = ReadCsv(in, "rec.csv", sensor::TempTransfer{}, OnError::kStop);
     // THEN every value reads back bit-identical, unknown values read back as absent
     ASSERT_EQ(f.rows.size(), sent.size());
     for (size_t i = 0; i < sent.size(); ++i) {

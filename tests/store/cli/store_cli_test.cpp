@@ -15,6 +15,7 @@
 #include "fixture.hpp"
 #include "launch/child_process.hpp"
 #include "model/c_source.hpp"
+#include "model/json.hpp"
 #include "model/model.hpp"
 #include "model_rows.hpp"
 #include "report.hpp"
@@ -503,6 +504,46 @@ TEST_F(StoreCli, CHeaderEvaluatesExtendedModelsLikeTheSharedEvaluator) {
               offset.Value(inputs[1], model::RangePolicy::kExtrapolate));
     EXPECT_TRUE(std::isnan(offset.Value(inputs[3], model::RangePolicy::kClip)));
     EXPECT_FALSE(std::isnan(sens.Value(inputs[3], model::RangePolicy::kClip)));
+}
+
+// A stored set's JSON is the model library's writer (model/json.hpp) plus where it is stored: it
+// reads back through the library's reader to the same doubles (NaN as null and back), with
+// exactly the fields `gyrocal compensate --coeffs` and the export documentation name.
+TEST(StoreCliJson, AStoredSetIsWrittenByTheModelWriterAndReadsBackBitForBit) {
+    store::CoeffSetInfo c;
+    c.coeff_row_id = 17;
+    c.set.run_id = "R9";
+    c.set.sensor_id = "S03";
+    c.set.source = "fitter";
+    c.set.coeff_set_id = 4;
+    c.set.utime = 1'000'000'123;
+    c.set.recv_utime = 1'000'000'456;
+    c.set.plateau_ids = {1, 2, 3};
+    c.set.rotation_ids = {7};
+    c.set.offset = {"offset_v", {"1", "dT", "dT^2"}, {2.5, 4.1e-4, -3.3e-6},
+                    {{1e-8, 0, 0}, {0, 1e-12, 0}, {0, 0, std::nan("")}},
+                    25.0, -10.0, 60.0, 1.2e-5, 5, 3.3, "wls"};
+    c.set.sensitivity = {"sensitivity_v_per_dps", {"1"}, {0.006}, {{std::nan("")}},
+                         25.0, -10.0, 60.0, std::nan(""), 0, 1.0, "nominal"};
+    const nlohmann::json j = store::report::CoeffSetJson(c);
+    std::vector<std::string> keys;
+    for (const auto& [k, v] : j.items()) keys.push_back(k);
+    EXPECT_EQ(keys, (std::vector<std::string>{"coeff_row_id", "coeff_set_id", "offset",
+                                              "plateau_ids", "recv_utime", "rotation_ids",
+                                              "run_id", "sensitivity", "sensor_id", "source",
+                                              "utime"}));
+    EXPECT_EQ(j["coeff_row_id"], 17);
+    EXPECT_EQ(j["recv_utime"], 1'000'000'456);
+    EXPECT_TRUE(j["offset"]["covariance"][2][2].is_null());
+    const model::CoeffSet back = model::CoeffSetFromJson(nlohmann::json::parse(j.dump()));
+    const model::CoeffSet want = store::ToCoeffSet(c.set);
+    EXPECT_EQ(back.offset.coeffs, want.offset.coeffs);
+    EXPECT_EQ(back.offset.covariance.topLeftCorner(2, 2), want.offset.covariance.topLeftCorner(2, 2));
+    EXPECT_TRUE(std::isnan(back.offset.covariance(2, 2)));
+    EXPECT_EQ(back.offset.residual_rms, 1.2e-5);
+    EXPECT_TRUE(std::isnan(back.sensitivity.residual_rms));
+    EXPECT_EQ(back.plateau_ids, want.plateau_ids);
+    EXPECT_EQ(back.utime, want.utime);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "run_db.hpp"
 #include "sections.hpp"
 #include "sqlite_db.hpp"
+#include "text/number.hpp"
 #include "traceability.hpp"
 #include "unit_data.hpp"
 
@@ -34,12 +35,6 @@ using acceptance::Outcome;
 std::string Slurp(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
-std::string Fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
 }
 
 class Report : public ::testing::Test {
@@ -227,8 +222,9 @@ TEST_F(ReportPage, IsSelfContainedAndCarriesTheRunsNumbers) {
     // The calibration's coefficients as stored, in the table of S01.
     for (size_t i = 0; i < testing::kOffset.size(); ++i) {
         const std::string term = i == 0 ? "1" : i == 1 ? "dT" : "dT^2";
-        const std::string row = "data-quantity=\"offset_v\" data-term=\"" + term + "\"><td class=\"mono\">" + term +
-                                "</td><td class=\"num\">" + Fmt("%.6g", testing::kOffset[i]) + "</td>";
+        const std::string row = "data-quantity=\"offset_v\" data-term=\"" + term +
+                                "\"><td class=\"mono\">" + term + "</td><td class=\"num\">" +
+                                text::Printf("%.6g", testing::kOffset[i]) + "</td>";
         EXPECT_NE(page.find(row), std::string::npos) << row;
     }
     const std::vector<std::string> shown = {

@@ -29,7 +29,7 @@ Options Small() {
 
 csv::CsvFile Parse(const std::string& text) {
     std::istringstream in(text);
-    return csv::ReadCsv(in, "othersim.csv", csv::TempTransfer{}, csv::OnError::kStop);
+    return csv::ReadCsv(in, "othersim.csv", sensor::TempTransfer{}, csv::OnError::kStop);
 }
 
 TEST(Othersim, ReturnToStartProfileHasItsDwellsAndTurnsAndImportsCleanly) {

@@ -1,25 +1,20 @@
 #include "held_out.hpp"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
+
+#include "text/number.hpp"
 
 namespace gyrocal::virtual_lab {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string Num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
 
 // One sensor's running bin and integrals, for the floor and every candidate.
 struct Track {
@@ -201,20 +196,21 @@ void HeldOutProfile::Validate(const sim::RigConfig& rig) const {
         throw std::invalid_argument("held-out waypoints_c: at least one is needed");
     for (double w : waypoints_c) {
         if (!std::isfinite(w) || w < rig.thermal.min_setpoint_c || w > rig.thermal.max_setpoint_c)
-            throw std::invalid_argument("held-out waypoints_c: " + Num(w) + " degC; valid: " +
-                                        Num(rig.thermal.min_setpoint_c) + " .. " +
-                                        Num(rig.thermal.max_setpoint_c) + " (the chamber's range)");
+            throw std::invalid_argument("held-out waypoints_c: " + text::Sig(w) +
+                                        " degC; valid: " + text::Sig(rig.thermal.min_setpoint_c) +
+                                        " .. " + text::Sig(rig.thermal.max_setpoint_c) +
+                                        " (the chamber's range)");
     }
     if (!(ramp_c_per_min > 0.0 && ramp_c_per_min <= rig.thermal.ramp_c_per_min))
-        throw std::invalid_argument("held-out ramp_c_per_min: " + Num(ramp_c_per_min) +
+        throw std::invalid_argument("held-out ramp_c_per_min: " + text::Sig(ramp_c_per_min) +
                                     "; valid: > 0 and <= the chamber's " +
-                                    Num(rig.thermal.ramp_c_per_min));
+                                    text::Sig(rig.thermal.ramp_c_per_min));
     if (!(hold_s >= 0.0 && hold_s <= 1e6))
         throw std::invalid_argument("held-out hold_s: valid 0 .. 1e6 s");
     if (!(lead_in_s >= 0.0 && lead_in_s <= 1e7))
         throw std::invalid_argument("held-out lead_in_s: valid 0 .. 1e7 s");
     if (!(bin_s * rig.sample_rate_hz >= 2.0 && bin_s <= 3600.0))
-        throw std::invalid_argument("held-out bin_s: " + Num(bin_s) +
+        throw std::invalid_argument("held-out bin_s: " + text::Sig(bin_s) +
                                     "; valid: >= 2 samples and <= 3600 s");
 }
 
@@ -241,7 +237,7 @@ HeldOutResult EvaluateHeldOut(const sim::RigConfig& rig_config, const HeldOutPro
         profile.lead_in_s + legs_c / profile.ramp_c_per_min * 60.0 + profile.hold_s + 7200.0;
     rig.RunUntil(rig_config.start_utime + static_cast<int64_t>(cap_s * 1e6), recorder);
     if (!recorder.finished())
-        throw std::runtime_error("held-out: the profile did not finish within " + Num(cap_s) +
+        throw std::runtime_error("held-out: the profile did not finish within " + text::Sig(cap_s) +
                                  " s");
     return out;
 }

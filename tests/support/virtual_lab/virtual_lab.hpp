@@ -31,6 +31,7 @@
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
+#include "motion/table_motion.hpp"
 #include "noise/noise_tracker.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
@@ -39,7 +40,6 @@
 #include "procedure.hpp"
 #include "rotation_estimator.hpp"
 #include "sim/rig.hpp"
-#include "table_motion.hpp"
 
 namespace gyrocal::virtual_lab {
 

@@ -17,6 +17,7 @@
 #include "model_rows.hpp"
 #include "query.hpp"
 #include "report.hpp"
+#include "text/number.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::analysis {
@@ -89,12 +90,6 @@ Truth MakeData(unsigned seed) {
     return t;
 }
 
-std::string G(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
-
 class CompensateCli : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -107,8 +102,9 @@ protected:
         std::ofstream csv(dir_ / "data.csv");
         csv << "time_s,sensor_id,gyro_v,temp_v,temp_c\n";
         for (size_t i = 0; i < truth_.time_s.size(); ++i)
-            csv << G(truth_.time_s[i]) << ",S01," << G(truth_.gyro_v[i]) << ","
-                << G(2.5 + (truth_.temp_c[i] - 25.0) * 0.009) << "," << G(truth_.temp_c[i]) << "\n";
+            csv << text::Sig(truth_.time_s[i], 17) << ",S01," << text::Sig(truth_.gyro_v[i], 17)
+                << "," << text::Sig(2.5 + (truth_.temp_c[i] - 25.0) * 0.009, 17) << ","
+                << text::Sig(truth_.temp_c[i], 17) << "\n";
         // The set stored as a recorder would keep it, and exported as `gyrocal export` does.
         db_ = (dir_ / "run.db").string();
         {

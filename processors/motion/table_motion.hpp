@@ -1,7 +1,7 @@
 #pragma once
 // Turntable motion from the optical encoder, shared by the plateau detector (which must neither
-// average nor judge stability on samples taken while the table turns) and the rotation estimator
-// (which integrates over each move).
+// average nor judge stability on samples taken while the table turns), the rotation estimator
+// (which integrates over each move) and the analysis (which fits only still data).
 //
 // Move detection (MoveDetector): at rest the encoder count may dither by a count or so at a line
 // edge, so "moving" needs a threshold. The table LEAVES rest when |counts - rest_counts| exceeds
@@ -40,6 +40,11 @@ struct TableMove {
     double count_deg() const { return 360.0 / counts_per_rev; }  // [deg] one count
     double angle_deg() const {
         return static_cast<double>(end_counts - start_counts) * count_deg();
+    }
+    // True when t_utime lies within guard_us of this move, [start - guard, end + guard]: a sample
+    // there is moving (live in TableMotion, offline in the analysis).
+    bool Near(int64_t t_utime, int64_t guard_us) const {
+        return t_utime >= start_utime - guard_us && t_utime <= end_utime + guard_us;
     }
 };
 

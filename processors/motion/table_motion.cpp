@@ -1,4 +1,4 @@
-#include "table_motion.hpp"
+#include "motion/table_motion.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -83,7 +83,7 @@ bool TableMotion::Decided(int64_t t, int64_t newest_stream_utime) const {
 bool TableMotion::Moving(int64_t t) const {
     if (auto start = detector_.current_start_utime(); start && t >= *start - guard_us_) return true;
     for (const TableMove& m : moves_) {
-        if (t >= m.start_utime - guard_us_ && t <= m.end_utime + guard_us_) return true;
+        if (m.Near(t, guard_us_)) return true;
     }
     return false;
 }

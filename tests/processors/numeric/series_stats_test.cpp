@@ -1,6 +1,6 @@
-// Window statistics: the batch-means SEM against the truth of correlated noise over many seeds,
-// and the sliding line against the closed-form fit.
-#include "window_stats.hpp"
+// Statistics of correlated series: the batch-means SEM and the pooled noise level against the
+// truth of correlated noise over many seeds.
+#include "numeric/series_stats.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,19 +8,19 @@
 #include <random>
 #include <vector>
 
-#include "synthetic_temperature.hpp"
+#include "synthetic_noise.hpp"
 
-namespace gyrocal::stats {
+namespace gyrocal::numeric {
 namespace {
 
-TEST(WindowStats, BatchMeansSemMatchesTheScatterOfMeansForCorrelatedNoise) {
+TEST(SeriesStats, BatchMeansSemMatchesTheScatterOfMeansForCorrelatedNoise) {
     // GIVEN M = 200 windows of n = 6000 AR(1) samples (rho = 0.9, sigma = 1)
     const int m = 200, n = 6000, batches = 20;
     const double rho = 0.9;
     std::vector<double> means;
     double sem_sum = 0, naive_sum = 0;
     for (int seed = 0; seed < m; ++seed) {
-        plateau::testing::Ar1 noise(1.0, rho, 1000 + seed);
+        testing::Ar1 noise(1.0, rho, 1000 + seed);
         std::vector<double> x(n);
         for (double& v : x) v = noise.Next();
         const MeanStats s = DescribeSeries(x, batches);
@@ -44,7 +44,7 @@ TEST(WindowStats, BatchMeansSemMatchesTheScatterOfMeansForCorrelatedNoise) {
     EXPECT_LT(naive_sum / m / empirical, 0.5);
 }
 
-TEST(WindowStats, SemIgnoresALinearDriftInsideTheWindow) {
+TEST(SeriesStats, SemIgnoresALinearDriftInsideTheWindow) {
     // GIVEN white noise sigma = 1 plus a drift of 10 sigma across the window
     const int n = 6000;
     std::mt19937_64 rng(4);
@@ -56,7 +56,7 @@ TEST(WindowStats, SemIgnoresALinearDriftInsideTheWindow) {
     EXPECT_NEAR(s.sem * std::sqrt(static_cast<double>(n)), 1.0, 0.5);
 }
 
-TEST(WindowStats, SmallSeriesFallBackToTheWhiteFormula) {
+TEST(SeriesStats, SmallSeriesFallBackToTheWhiteFormula) {
     const MeanStats s = DescribeSeries({1.0, 2.0, 3.0, 4.0, 5.0}, 20);
     EXPECT_EQ(s.batches, 0);
     EXPECT_DOUBLE_EQ(s.mean, 3.0);
@@ -65,7 +65,7 @@ TEST(WindowStats, SmallSeriesFallBackToTheWhiteFormula) {
     EXPECT_TRUE(std::isnan(DescribeSeries({}, 20).mean));
 }
 
-TEST(WindowStats, PooledNoiseLevelFindsTheSpectralLevelOfShortCorrelatedWindows) {
+TEST(SeriesStats, PooledNoiseLevelFindsTheSpectralLevelOfShortCorrelatedWindows) {
     // GIVEN 300 pairs of 200-sample AR(1) windows (a rotation's two 2 s rest windows) with
     // rho = 0 and 0.8: the spectral level per sample var * tau_int is sigma^2 (1 + rho)/(1 - rho).
     for (double rho : {0.0, 0.8}) {
@@ -73,7 +73,7 @@ TEST(WindowStats, PooledNoiseLevelFindsTheSpectralLevelOfShortCorrelatedWindows)
         double sum = 0;
         const int m = 300;
         for (int k = 0; k < m; ++k) {
-            plateau::testing::Ar1 noise(1.0, rho, 500 + k);
+            testing::Ar1 noise(1.0, rho, 500 + k);
             std::vector<double> a(200), b(200);
             for (double& v : a) v = noise.Next();
             for (int i = 0; i < 300; ++i) noise.Next();  // the move between them
@@ -95,38 +95,5 @@ TEST(WindowStats, PooledNoiseLevelFindsTheSpectralLevelOfShortCorrelatedWindows)
     }
 }
 
-TEST(WindowStats, SlidingLineEqualsTheClosedFormFitOfItsWindow) {
-    // GIVEN a long random walk (large values, so re-anchoring and cancellation are exercised)
-    const double window_s = 10;
-    SlidingLine line(window_s);
-    std::mt19937_64 rng(9);
-    std::normal_distribution<double> g(0, 0.1);
-    std::vector<std::pair<int64_t, double>> all;
-    double y = 1000;
-    const int64_t t0 = 1'000'000'000'000'000;
-    for (int k = 0; k < 20000; ++k) {
-        y += g(rng);
-        const int64_t t = t0 + k * 10'000 + (k % 3) * 7;  // slightly uneven sampling
-        line.Add(t, y);
-        all.emplace_back(t, y);
-        if (k % 997 != 0 || k < 10) continue;
-        std::vector<double> ts, ys;
-        for (const auto& [tt, yy] : all) {
-            if (t - tt <= static_cast<int64_t>(window_s * 1e6)) {
-                ts.push_back((tt - t0) * 1e-6);
-                ys.push_back(yy);
-            }
-        }
-        const LineFit a = line.Fit(), b = FitLine(ts, ys);
-        ASSERT_TRUE(a.ok && b.ok);
-        EXPECT_EQ(a.n, b.n);
-        // THEN the O(1) sums agree with the two-pass fit to rounding (relative 1e-8)
-        EXPECT_NEAR(a.slope_per_s, b.slope_per_s,
-                    1e-8 * (std::fabs(b.slope_per_s) + b.slope_stderr_per_s));
-        EXPECT_NEAR(a.resid_std, b.resid_std, 1e-8 * b.resid_std + 1e-12);
-        EXPECT_NEAR(a.value_at_last, b.value_at_last, 1e-9 * std::fabs(b.value_at_last));
-    }
-}
-
 }  // namespace
-}  // namespace gyrocal::stats
+}  // namespace gyrocal::numeric

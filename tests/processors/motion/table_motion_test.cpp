@@ -1,5 +1,5 @@
 // Turntable move detection and sample classification from encoder readings.
-#include "table_motion.hpp"
+#include "motion/table_motion.hpp"
 
 #include <gtest/gtest.h>
 

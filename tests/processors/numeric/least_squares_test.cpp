@@ -1,6 +1,6 @@
-// The one least-squares solver (fit/least_squares.hpp) and its two callers: the fitter's weighted
-// fit on plateau points (FitWls) and the analysis' fit on still bins (analysis::FitLs, its blocked
-// cross-validation and projected correlation).
+// The one least-squares solver (numeric/least_squares.hpp) and its callers: the fitter's
+// weighted fit on plateau points (FitWls) and the analysis' fit on still bins (analysis::FitLs,
+// its blocked cross-validation and projected correlation).
 //
 // (1) The solver against the truth: noise-free data are reproduced to rounding, and the
 //     covariance equals the normal equations' (X'WX)^-1 on a well-conditioned system.
@@ -19,7 +19,8 @@
 
 #include "analysis/regress.hpp"
 #include "fit/fit.hpp"
-#include "fit/least_squares.hpp"
+#include "numeric/least_squares.hpp"
+#include "synthetic_noise.hpp"
 
 namespace gyrocal {
 namespace {
@@ -28,15 +29,7 @@ using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-// Deterministic noise in [-0.5, 0.5): a 64-bit LCG (Knuth's MMIX constants), the same on every
-// platform (std:: distributions are not specified bit for bit).
-struct Lcg {
-    uint64_t s;
-    double operator()() {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(s >> 11) / 9007199254740992.0 - 0.5;
-    }
-};
+using numeric::testing::Lcg;
 
 // The fixed input: 60 bins, temperature swept -30 .. 75 degC, columns 1, dT, dT^2 and a slow
 // exponential (a warm-up-like regressor), y with correlated noise (AR(1) 0.6) of ~1e-4.
@@ -76,7 +69,7 @@ TEST(LeastSquares, NoiseFreeDataAreReproducedAndTheCovarianceIsTheNormalEquation
     const VectorXd y = f.x * truth;
     VectorXd sigma(f.x.rows());
     for (Index i = 0; i < sigma.size(); ++i) sigma[i] = 1e-5 * (1.0 + 0.5 * (i % 3));
-    const fit::LeastSquares ls = fit::SolveLeastSquares(f.x, y, &sigma);
+    const numeric::LeastSquares ls = numeric::SolveLeastSquares(f.x, y, &sigma);
     ASSERT_TRUE(ls.ok) << ls.why;
     EXPECT_EQ(ls.rank, 4);
     // 1e-11 relative: a QR of a condition-~100 scaled system loses a few digits of 16.
@@ -94,11 +87,11 @@ TEST(LeastSquares, NoiseFreeDataAreReproducedAndTheCovarianceIsTheNormalEquation
 TEST(LeastSquares, RefusesARankDeficientDesignAndSaysWhichColumn) {
     Fixed f = MakeFixed();
     f.x.col(3) = 2.0 * f.x.col(1);
-    const fit::LeastSquares ls = fit::SolveLeastSquares(f.x, f.y);
+    const numeric::LeastSquares ls = numeric::SolveLeastSquares(f.x, f.y);
     EXPECT_FALSE(ls.ok);
     EXPECT_NE(ls.why.find("rank"), std::string::npos) << ls.why;
     f.x.col(2).setZero();
-    const fit::LeastSquares z = fit::SolveLeastSquares(f.x, f.y);
+    const numeric::LeastSquares z = numeric::SolveLeastSquares(f.x, f.y);
     EXPECT_FALSE(z.ok);
     EXPECT_NE(z.why.find("column 2"), std::string::npos) << z.why;
 }

@@ -1,4 +1,4 @@
-#include "motion_options.hpp"
+#include "motion/motion_options.hpp"
 
 #include "bus/channels.hpp"
 

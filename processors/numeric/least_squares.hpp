@@ -1,8 +1,8 @@
 #pragma once
 // The project's one (weighted) linear least-squares solver. The fitter's weighted fit of plateau
-// points (wls.cpp) and the analysis' fit of still bins (analysis/regress.cpp, with its
-// autocorrelation-robust covariance on top) both solve through it; it lives in gyrocal_fit
-// because gyrocal_analysis already links gyrocal_fit (never the other way round).
+// points (fit/wls.cpp), the analysis' fit of still bins (analysis/regress.cpp, with its
+// autocorrelation-robust covariance on top) and the noise terms' fit to the Allan variance
+// (noise/allan.cpp) all solve through it.
 //
 // Solve min_c || W^(1/2) (y - X c) ||^2, W = diag(1 / sigma_i^2) when sigma is given, else I:
 //   1. whiten the rows: X_w = diag(1/sigma) X, y_w = y / sigma;
@@ -26,7 +26,7 @@
 #include <Eigen/Dense>
 #include <string>
 
-namespace gyrocal::fit {
+namespace gyrocal::numeric {
 
 struct LeastSquaresOptions {
     double min_diag_ratio = 1e-10;     // smallest / largest |R_jj| of the scaled design
@@ -62,4 +62,12 @@ double MeanLeverage(const Eigen::MatrixXd& x_fit, const Eigen::MatrixXd& x_other
 // of a on base, columns of base scaled to unit norm first).
 Eigen::MatrixXd ProjectOut(const Eigen::MatrixXd& base, const Eigen::MatrixXd& a);
 
+}  // namespace gyrocal::numeric
+
+// The analysis' held-out and selection code still spell these with fit::, the solver's namespace
+// before it moved here; the declarations go once those files say numeric::.
+namespace gyrocal::fit {
+using numeric::MeanLeverage;
+using numeric::ProjectOut;
+using numeric::ResidualVariance;
 }  // namespace gyrocal::fit

@@ -1,12 +1,12 @@
 #pragma once
-// Offline compensation (issue 6, step 7): a stored coefficient set, or its JSON export, applied to
-// measured data read from a CSV (producers/csv), with the live compensator's library, so that a
-// model can be judged on data it never saw and the numbers equal what gyrocal-compensator would
-// have published for the same samples.
+// Offline compensation: a stored coefficient set, or its JSON export, applied to measured data
+// read from a CSV (producers/csv), with the live compensator's library, so that a model can be
+// judged on data it never saw and the numbers equal what gyrocal-compensator would have published
+// for the same samples. The command (`gyrocal compensate`) is built in tools/gyrocal.
 //
 // Same path as live: each CSV row becomes the gyro_sample_t a CSV source would publish
 // (csv::MessageBuilder: seq per sensor from 0; utime = start_utime + time_s on the microsecond
-// grid, csv::StreamUtime), which is handed to compensate::SensorCompensator exactly as
+// grid, csv::StreamUtime), which is handed to SensorCompensator exactly as
 // gyrocal-compensator hands it a GYRO_<id> message ({utime, seq, gyro_v, temp_c, supply_v}).
 // One compensator per sensor, its set applied before the sensor's first sample (so the angle
 // starts at 0 on the first sample). A sample the live compensator would not publish (e.g. a dTdt
@@ -19,12 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "compensator/compensate.hpp"
+#include "compensate.hpp"
 #include "csv/row_messages.hpp"
 #include "csv/row_parser.hpp"
 #include "model/convert.hpp"
 
-namespace gyrocal::analysis {
+namespace gyrocal::compensate {
 
 // Bad input (names the file, line or JSON field and what is valid).
 class OfflineError : public std::runtime_error {
@@ -33,7 +33,7 @@ public:
 };
 
 struct OfflineOptions {
-    compensate::CompensatorOptions core = compensate::CompensatorOptions::Defaults();
+    CompensatorOptions core = CompensatorOptions::Defaults();
     int64_t start_utime = csv::kDefaultStartUtime;  // [us] utime of time_s = 0
     static OfflineOptions Defaults() { return {}; }
 };
@@ -75,4 +75,4 @@ std::map<std::string, model::CoeffSet> CoeffSetsFromJson(const std::string& text
 // significant digits (they read back to the same double).
 std::string FormatRatesCsv(const std::vector<OfflineRate>& rates);
 
-}  // namespace gyrocal::analysis
+}  // namespace gyrocal::compensate

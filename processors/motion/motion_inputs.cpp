@@ -1,4 +1,4 @@
-#include "motion_inputs.hpp"
+#include "motion/motion_inputs.hpp"
 
 #include <algorithm>
 #include <utility>

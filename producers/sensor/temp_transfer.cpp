@@ -1,9 +1,9 @@
-#include "temp_transfer.hpp"
+#include "sensor/temp_transfer.hpp"
 
 #include <cmath>
 #include <sstream>
 
-namespace gyrocal::csv {
+namespace gyrocal::sensor {
 
 std::optional<TempTransfer> PresetTransfer(const std::string& preset) {
     // Both datasheets give the same temperature output; the presets differ in rate sensitivity,
@@ -23,4 +23,4 @@ std::string ValidateTransfer(const TempTransfer& t) {
     return os.str();
 }
 
-}  // namespace gyrocal::csv
+}  // namespace gyrocal::sensor

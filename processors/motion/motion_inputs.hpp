@@ -15,7 +15,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "table_motion.hpp"
+#include "motion/table_motion.hpp"
 
 namespace gyrocal::motion {
 

@@ -4,8 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include "model/json.hpp"
+#include "text/number.hpp"
 
-namespace gyrocal::analysis {
+namespace gyrocal::compensate {
 
 namespace {
 
@@ -13,12 +14,6 @@ std::string Known(const std::map<std::string, model::CoeffSet>& sets) {
     std::string s;
     for (const auto& [id, set] : sets) s += (s.empty() ? "" : ", ") + id;
     return s.empty() ? "none" : s;
-}
-
-std::string Num(double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
 }
 
 }  // namespace
@@ -29,7 +24,7 @@ OfflineResult CompensateRows(const std::vector<csv::CsvRow>& rows,
                              const OfflineOptions& o) {
     OfflineResult res;
     csv::MessageBuilder builder;
-    std::map<std::string, compensate::SensorCompensator> comps;
+    std::map<std::string, SensorCompensator> comps;
     for (const csv::CsvRow& row : rows) {
         auto it = comps.find(row.sensor_id);
         if (it == comps.end()) {
@@ -38,9 +33,9 @@ OfflineResult CompensateRows(const std::vector<csv::CsvRow>& rows,
                 throw OfflineError(csv_file + ":" + std::to_string(row.line) + ": sensor_id '" +
                                    row.sensor_id + "' has no coefficient set in " + coeff_origin +
                                    " (sets for: " + Known(sets) + ")");
-            it = comps.emplace(row.sensor_id, compensate::SensorCompensator(o.core)).first;
-            const compensate::SetResult sr = it->second.SetCoefficients(set->second);
-            if (sr.outcome == compensate::SetOutcome::kRejected)
+            it = comps.emplace(row.sensor_id, SensorCompensator(o.core)).first;
+            const SetResult sr = it->second.SetCoefficients(set->second);
+            if (sr.outcome == SetOutcome::kRejected)
                 throw OfflineError(coeff_origin + ": coefficient set " +
                                    std::to_string(set->second.coeff_set_id) + " of sensor '" +
                                    row.sensor_id + "' refused: " + sr.detail);
@@ -49,12 +44,12 @@ OfflineResult CompensateRows(const std::vector<csv::CsvRow>& rows,
         const csv::RowMessages msgs = builder.Build(row, csv::StreamUtime(o.start_utime, row.time_s));
         if (msgs.power) it->second.PowerOn(msgs.power->power_on_utime);
         const gyro_sample_t& m = msgs.gyro;
-        const compensate::ApplyResult r =
+        const ApplyResult r =
             it->second.Apply({m.utime, m.seq, m.gyro_v, m.temp_c, m.supply_v});
-        if (r.status != compensate::ApplyStatus::kOk) {
+        if (r.status != ApplyStatus::kOk) {
             if (res.skipped++ == 0)
                 res.first_skip = "line " + std::to_string(row.line) + " (sensor " + row.sensor_id +
-                                 "): " + compensate::ToString(r.status) +
+                                 "): " + ToString(r.status) +
                                  (r.detail.empty() ? "" : ": " + r.detail);
             continue;
         }
@@ -108,10 +103,11 @@ std::string FormatRatesCsv(const std::vector<OfflineRate>& rates) {
     for (const OfflineRate& r : rates) {
         char t[40];
         std::snprintf(t, sizeof t, "%.6f", r.time_s);  // the microsecond grid of utime
-        out += std::string(t) + "," + r.sensor_id + "," + Num(r.rate_dps) + "," + Num(r.angle_deg) +
-               "," + Num(r.temp_c) + "," + std::to_string(r.range_flag) + "\n";
+        out += std::string(t) + "," + r.sensor_id + "," + text::Sig(r.rate_dps, 17) + "," +
+               text::Sig(r.angle_deg, 17) + "," + text::Sig(r.temp_c, 17) + "," +
+               std::to_string(r.range_flag) + "\n";
     }
     return out;
 }
 
-}  // namespace gyrocal::analysis
+}  // namespace gyrocal::compensate

@@ -1,5 +1,5 @@
 #pragma once
-// Statistics of a window of samples whose noise is correlated in time.
+// Statistics of a series of samples whose noise is correlated in time.
 //
 // The module's low-pass filter (and any chamber or supply wander) makes neighbouring samples
 // correlated, so std/sqrt(n) understates the standard error of a mean by sqrt(1 + 2 sum rho_k)
@@ -17,16 +17,9 @@
 // tau_int = 1 + 2 sum_k rho_k (in samples) by Geyer's initial positive sequence, pooled over
 // several series, so SEM = sqrt(var * tau_int / n) and the noise's two-sided spectral level is
 // var * tau_int * dt.
-//
-// Also a straight-line fit y = a + b t (closed form on centred data) used for the slope and
-// scatter criteria, and a sliding-window version with O(1) updates.
-#include <cstddef>
-#include <cstdint>
-#include <deque>
-#include <utility>
 #include <vector>
 
-namespace gyrocal::stats {
+namespace gyrocal::numeric {
 
 struct MeanStats {
     int n = 0;
@@ -51,37 +44,4 @@ struct NoiseLevel {
 // nothing is left.
 NoiseLevel PooledNoiseLevel(const std::vector<std::vector<double>>& series);
 
-struct LineFit {
-    bool ok = false;  // false with fewer than 3 points or zero time span
-    int n = 0;
-    double slope_per_s = 0;         // [unit of y / s]
-    double value_at_last = 0;       // [unit of y] fitted value at the newest time
-    double resid_std = 0;           // [unit of y] scatter about the line (n - 2 dof)
-    double slope_stderr_per_s = 0;  // [unit of y / s] white-noise standard error of the slope
-};
-
-// t in seconds (any origin), same length as y.
-LineFit FitLine(const std::vector<double>& t_s, const std::vector<double>& y);
-
-// Straight line over the samples of the last window_s seconds, updated in O(1) per sample with
-// running sums about a local anchor (re-anchored, i.e. recomputed, once the anchor is more than
-// two windows old so the sums never lose precision).
-class SlidingLine {
-public:
-    explicit SlidingLine(double window_s);
-    void Add(int64_t utime, double y);  // utime increasing
-    void Clear();
-    size_t size() const { return points_.size(); }
-    double span_s() const;  // [s] newest - oldest time in the window
-    LineFit Fit() const;
-
-private:
-    void Reanchor();
-    int64_t window_us_;
-    std::deque<std::pair<int64_t, double>> points_;
-    int64_t t0_us_ = 0;
-    double y0_ = 0;
-    double st_ = 0, sy_ = 0, stt_ = 0, sty_ = 0, syy_ = 0;
-};
-
-}  // namespace gyrocal::stats
+}  // namespace gyrocal::numeric

@@ -1,10 +1,10 @@
-#include "least_squares.hpp"
+#include "numeric/least_squares.hpp"
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-namespace gyrocal::fit {
+namespace gyrocal::numeric {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -104,4 +104,4 @@ MatrixXd ProjectOut(const MatrixXd& base, const MatrixXd& a) {
     return a - bs * qr.solve(a);
 }
 
-}  // namespace gyrocal::fit
+}  // namespace gyrocal::numeric

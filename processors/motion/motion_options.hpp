@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "table_motion.hpp"
+#include "motion/table_motion.hpp"
 
 namespace gyrocal::motion {
 
