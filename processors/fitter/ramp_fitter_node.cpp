@@ -38,7 +38,7 @@ RampFitterNode::RampFitterNode(const FitterOptions& o)
                 if (!id) return;
                 fitter_.AddSensitivity(*id, {m.rotation_id, m.utime, m.temp_c, m.direction,
                                              m.sensitivity_v_per_dps,
-                                             m.sensitivity_stderr_v_per_dps, m.accepted});
+                                             m.sensitivity_stderr_v_per_dps, m.accepted != 0});
             });
         });
     bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),

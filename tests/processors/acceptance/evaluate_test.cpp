@@ -153,8 +153,9 @@ TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisOutcomeAndIsNeverASilentPass
         EXPECT_EQ(v.checks[0].outcome, c.expected) << c.outcome;
         EXPECT_NE(v.checks[0].measured_text.find(c.outcome), std::string::npos)
             << v.checks[0].measured_text;
-        if (c.expected == Outcome::kFail)
+        if (c.expected == Outcome::kFail) {
             EXPECT_NE(v.checks[0].note.find(c.headline), std::string::npos) << v.checks[0].note;
+        }
     }
     // Explained by terms that no stored set carries: the unit is not served by what was stored.
     u.analysis_outcome = "explained";

@@ -62,8 +62,12 @@ TEST(Bins, MeansAndTrackedInputsFromEverySample) {
         const model::ModelInputs in = binned.Inputs(i, c);
         // the tracker's dT/dt: 0 at the first sample, then within 2 r exp(-t / 2 tau) of the
         // ramp: below 1e-6 from 250 s (2 * 0.1 * exp(-25) = 3e-12)
-        if (i >= 25) EXPECT_NEAR(in.dtemp_dt_c_per_s, 0.1, 1e-6);
-        if (i >= 1) EXPECT_EQ(in.heating, 1.0);  // the temperature rose by the 1 degC width
+        if (i >= 25) {
+            EXPECT_NEAR(in.dtemp_dt_c_per_s, 0.1, 1e-6);
+        }
+        if (i >= 1) {
+            EXPECT_EQ(in.heating, 1.0);  // the temperature rose by the 1 degC width
+        }
     }
     // A column of a parametric term is tracked with its own parameter.
     const Eigen::VectorXd w = binned.Column("warmup(100)", 25.0);

@@ -210,7 +210,9 @@ TEST(SensorCompensator, ExtendedTermsGetTheirInputsFromTheStream) {
         EXPECT_DOUBLE_EQ(a.out.inputs.time_since_power_s, ts + 10.0);
         // dT/dt starts at 0 and converges as exp(-t / 2 tau) (tau 5 s): after 200 s the
         // remaining error 3 V/(degC/s) * ramp * exp(-20) is ~1e-10 V, i.e. ~2e-8 deg/s.
-        if (ts > 200.0) EXPECT_NEAR(a.out.rate_dps, rate, 1e-6) << k;
+        if (ts > 200.0) {
+            EXPECT_NEAR(a.out.rate_dps, rate, 1e-6) << k;
+        }
     }
 }
 

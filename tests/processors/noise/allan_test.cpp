@@ -114,7 +114,9 @@ TEST(Tracker, RampsMotionAndGapsAreNotNoise) {
     // THEN the ramps' temperature dependence is not in the Allan deviation: white noise's
     // 1e-3 / sqrt(tau / 0.01 s) within 15 % out to 50 s
     for (const AllanPoint& p : e.adev)
-        if (p.tau_s <= 50) EXPECT_NEAR(p.adev, 1e-3 * std::sqrt(0.01 / p.tau_s), 0.15 * p.adev) << p.tau_s;
+        if (p.tau_s <= 50) {
+            EXPECT_NEAR(p.adev, 1e-3 * std::sqrt(0.01 / p.tau_s), 0.15 * p.adev) << p.tau_s;
+        }
     tr.Reset();
     EXPECT_EQ(tr.Estimate().segments, 0);
 }
@@ -143,8 +145,9 @@ TEST(Tracker, ASegmentWithAStepIsLeftOutAndOneSomewhatNoisierIsNot) {
     // white noise of 1e-3 per 10 ms sample: B stays far below the step's ~1e-3 signature
     EXPECT_LT(e.terms.bias, 1e-5);
     for (const AllanPoint& p : e.adev)
-        if (p.tau_s >= 1 && p.tau_s <= 30)
+        if (p.tau_s >= 1 && p.tau_s <= 30) {
             EXPECT_LT(p.adev, 1.3 * 1e-3 * std::sqrt(0.01 / p.tau_s) * 1.25) << p.tau_s;
+        }
 }
 
 // The tracker's quiet stretches (windowed temperature slopes, numeric::PrefixLine) and the noise

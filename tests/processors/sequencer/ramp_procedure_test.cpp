@@ -40,7 +40,7 @@ struct Driver {
     double air_c = 25.0, target_c = 25.0;
     int64_t t = 0;
     int64_t move_answer_utime = -1;
-    std::vector<Order> all;
+    std::vector<Order> all{};
     void Take(const std::vector<Order>& o) {
         for (const auto& c : All<ChamberOrder>(o)) target_c = c.setpoint_c;
         if (!All<TurntableOrder>(o).empty()) move_answer_utime = t + 5 * kS;

@@ -151,7 +151,7 @@ private:
                 if (ramp_)
                     ramp_->AddSensitivity(s.id, {m.rotation_id, m.utime, m.temp_c, m.direction,
                                                  m.sensitivity_v_per_dps,
-                                                 m.sensitivity_stderr_v_per_dps, m.accepted});
+                                                 m.sensitivity_stderr_v_per_dps, m.accepted != 0});
                 Collect(fitter_.OnSensitivity(m, s.id));
                 Execute(procedure_->OnSensitivity(s.id, m.utime));
             }
