@@ -32,8 +32,8 @@ TEST(TempTransfer, PresetsAndRefusalsNameTheOption) {
     EXPECT_FALSE(PresetTransfer("612"));
     EXPECT_EQ(ValidateTransfer(TempTransfer{}), "");
     EXPECT_NE(ValidateTransfer({11.0, 0.009}).find("--temp-v-at-25c"), std::string::npos);
-    EXPECT_NE(ValidateTransfer({2.5, 0.0}).find("--temp-v-per-k"), std::string::npos);
-    EXPECT_NE(ValidateTransfer({2.5, NAN}).find("--temp-v-per-k"), std::string::npos);
+    EXPECT_NE(ValidateTransfer({2.5, 0.0}).find("--temp-v-per-c"), std::string::npos);
+    EXPECT_NE(ValidateTransfer({2.5, NAN}).find("--temp-v-per-c"), std::string::npos);
 }
 
 }  // namespace
