@@ -21,8 +21,8 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
+#include "status_watch.hpp"
 
 namespace gyrocal {
 namespace {
@@ -30,22 +30,14 @@ namespace {
 constexpr const char* kUrl = "udpm://239.255.76.67:7740?ttl=0&recv_buf_size=4194304";
 constexpr int64_t kT0 = 1'000'000'000'000'000;
 
-// Handles messages until `done()` or the bounded wait ends.
 bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseconds limit) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        bus.Handle(std::chrono::milliseconds(20));
-    }
-    return true;
+    return testing::HandleUntil(bus, done, limit, std::chrono::milliseconds(20));
 }
 
 TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
     Bus bus(BusOptions{kUrl});
     std::map<std::string, plateau_t> plateaus;
     std::map<std::string, std::vector<std::string>> states;
-    status_t last_status;
-    bool have_status = false;
     bus.Subscribe<plateau_t>(
         channels::AllSensors(channels::kPlateauPrefix),
         [&](const plateau_t& m, const std::string&) { plateaus[m.sensor_id] = m; });
@@ -54,12 +46,7 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
                                        auto& v = states[m.sensor_id];
                                        if (v.empty() || v.back() != m.state) v.push_back(m.state);
                                    });
-    bus.Subscribe<status_t>(std::string(channels::kStatus),
-                            [&](const status_t& m, const std::string&) {
-                                if (m.process != "gyrocal-plateau") return;
-                                last_status = m;
-                                have_status = true;
-                            });
+    testing::StatusWatch status(bus, "gyrocal-plateau");
 
     const auto dir =
         std::filesystem::temp_directory_path() / ("gyrocal_plateau_mp_" + std::to_string(getpid()));
@@ -73,7 +60,7 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
                         "S01,S02", "--motion-guard-s", "0.5"},
                        (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
     ASSERT_TRUE(WaitFor(
-        bus, [&] { return have_status; }, std::chrono::seconds(10)))
+        bus, [&] { return status.seen; }, std::chrono::seconds(10)))
         << "no STATUS from gyrocal-plateau";
 
     // Bad input first: a wrong type on GYRO_X, an unknown sensor, a NaN sample.
@@ -190,22 +177,15 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
     // STATUS counts two decode errors (the wrong type, and the malformed run event whose array
     // length the bus refuses), the three refusals (unknown sensor, NaN, out of order; heartbeat
     // once a second), and shows each sensor's state (3 = done).
-    auto extra = [&](const std::string& name) {
-        for (int i = 0; i < last_status.num_extra; ++i)
-            if (last_status.extra_names[i] == name) return last_status.extra_values[i];
-        return -1.0;
-    };
-    ASSERT_TRUE(WaitFor(
-        bus,
+    ASSERT_TRUE(testing::StatusReaches(
+        bus, status,
         [&] {
-            return last_status.decode_errors >= 2 && last_status.rejected >= 3 &&
-                   extra("S01.state") == 3 && extra("S02.state") == 3;
+            return status.last.decode_errors >= 2 && status.last.rejected >= 3 &&
+                   status.Extra("S01.state") == 3 && status.Extra("S02.state") == 3;
         },
-        std::chrono::seconds(5)))
-        << "decode_errors " << last_status.decode_errors << " rejected " << last_status.rejected
-        << " last_reject " << last_status.last_reject;
-    EXPECT_NE(last_status.last_reject.find("out-of-order"), std::string::npos)
-        << last_status.last_reject;
+        std::chrono::seconds(5)));
+    EXPECT_NE(status.last.last_reject.find("out-of-order"), std::string::npos)
+        << status.last.last_reject;
     const ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);

@@ -24,6 +24,7 @@
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
+#include "bus_wait.hpp"
 #include "launch/child_process.hpp"
 #include "sim/noise.hpp"
 
@@ -33,12 +34,7 @@ namespace {
 constexpr const char* kUrl = "udpm://239.255.76.67:7742?ttl=0&recv_buf_size=4194304";
 
 bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseconds limit) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        bus.Handle(std::chrono::milliseconds(20));
-    }
-    return true;
+    return testing::HandleUntil(bus, done, limit, std::chrono::milliseconds(20));
 }
 
 // y = sum c_i dT^i for the truth's {1, dT, dT^2} curves.

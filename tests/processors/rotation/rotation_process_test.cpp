@@ -18,10 +18,9 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
+#include "status_watch.hpp"
 #include "synthetic_rotation.hpp"
-#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {
@@ -35,24 +34,17 @@ bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseco
 TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
     Bus bus(BusOptions{kUrl});
     std::vector<sensitivity_point_t> points;
-    status_t last_status;
-    bool have_status = false;
     bus.Subscribe<sensitivity_point_t>(
         channels::AllSensors(channels::kSensitivityPrefix),
         [&](const sensitivity_point_t& m, const std::string&) { points.push_back(m); });
-    bus.Subscribe<status_t>(std::string(channels::kStatus),
-                            [&](const status_t& m, const std::string&) {
-                                if (m.process != "gyrocal-rotation") return;
-                                last_status = m;
-                                have_status = true;
-                            });
+    testing::StatusWatch status(bus, "gyrocal-rotation");
     const auto dir = std::filesystem::temp_directory_path() /
                      ("gyrocal_rotation_mp_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
     ChildProcess child({GYROCAL_ROTATION_BIN, "--lcm-url", kUrl, "--sensors", "S01"},
                        (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
     ASSERT_TRUE(WaitFor(
-        bus, [&] { return have_status; }, std::chrono::seconds(10)))
+        bus, [&] { return status.seen; }, std::chrono::seconds(10)))
         << "no STATUS from gyrocal-rotation";
 
     // Bad input: a wrong type on GYRO_X (decode error), an unknown sensor, a NaN sample.
@@ -138,22 +130,15 @@ TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
     bus.Publish(channels::Gyro("S01"), late);
     // STATUS: the decode error, the three refusals (unknown sensor, NaN, out of order; the
     // heartbeat comes once a second) and the two accepted points.
-    auto extra = [&](const std::string& name) {
-        for (int i = 0; i < last_status.num_extra; ++i)
-            if (last_status.extra_names[i] == name) return last_status.extra_values[i];
-        return -1.0;
-    };
-    ASSERT_TRUE(WaitFor(
-        bus,
+    ASSERT_TRUE(testing::StatusReaches(
+        bus, status,
         [&] {
-            return last_status.decode_errors >= 1 && last_status.rejected >= 3 &&
-                   extra("points_accepted") == 2;
+            return status.last.decode_errors >= 1 && status.last.rejected >= 3 &&
+                   status.Extra("points_accepted") == 2;
         },
-        std::chrono::seconds(5)))
-        << "decode_errors " << last_status.decode_errors << " rejected " << last_status.rejected
-        << " last_reject " << last_status.last_reject;
-    EXPECT_NE(last_status.last_reject.find("out-of-order"), std::string::npos)
-        << last_status.last_reject;
+        std::chrono::seconds(5)));
+    EXPECT_NE(status.last.last_reject.find("out-of-order"), std::string::npos)
+        << status.last.last_reject;
     const ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);
