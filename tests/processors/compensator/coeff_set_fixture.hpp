@@ -28,8 +28,8 @@ inline model::Model Quadratic(const char* quantity, double c0, double c1, double
     return m;
 }
 
-// Set `id` (its coeff_set_id and utime) of S01 in run `run_id`.
-inline coeff_set_t KnownSet(int64_t id, const std::string& run_id) {
+// Set `id` (its coeff_set_id and utime) of S01 in run `run_id`, as the library takes it.
+inline model::CoeffSet KnownCoeffSet(int64_t id, const std::string& run_id) {
     model::CoeffSet s;
     s.utime = id;
     s.coeff_set_id = id;
@@ -39,7 +39,12 @@ inline coeff_set_t KnownSet(int64_t id, const std::string& run_id) {
     s.offset = Quadratic(model::kOffsetQuantity, 2.5, 4e-4, 3e-6);
     s.sensitivity = Quadratic(model::kSensitivityQuantity, 0.006, 6e-7, -1.2e-8);
     s.plateau_ids = {1, 2, 3, 4, 5};
-    return model::ToMsg(s);
+    return s;
+}
+
+// The same set as it travels on COEFFS_S01.
+inline coeff_set_t KnownSet(int64_t id, const std::string& run_id) {
+    return model::ToMsg(KnownCoeffSet(id, run_id));
 }
 
 // Sample `seq` of S01 at 100 Hz turning at `rate_dps`: gyro_v from the known set's own models.

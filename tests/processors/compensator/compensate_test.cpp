@@ -7,32 +7,13 @@
 #include <cmath>
 #include <random>
 
+#include "coeff_set_fixture.hpp"
+
 namespace gyrocal::compensate {
 namespace {
 
-model::Model Quadratic(const char* quantity, double c0, double c1, double c2) {
-    model::Model m;
-    m.quantity = quantity;
-    m.term_names = {"1", "dT", "dT^2"};
-    m.coeffs = Eigen::Vector3d(c0, c1, c2);
-    m.covariance = Eigen::Matrix3d::Identity() * 1e-14;
-    m.t0_c = 25.0;
-    m.temp_min_c = -10.0;
-    m.temp_max_c = 60.0;
-    m.method = "wls";
-    return m;
-}
-
-model::CoeffSet Set(int64_t id) {
-    model::CoeffSet s;
-    s.coeff_set_id = id;
-    s.utime = id;
-    s.sensor_id = "S01";
-    s.source = "fitter";
-    s.offset = Quadratic(model::kOffsetQuantity, 2.5, 4e-4, 3e-6);
-    s.sensitivity = Quadratic(model::kSensitivityQuantity, 0.006, 6e-7, -1.2e-8);
-    return s;
-}
+// The known set; its run, point count and plateau ids are not read by the compensator.
+model::CoeffSet Set(int64_t id) { return testing::KnownCoeffSet(id, ""); }
 
 double Eval(const model::Model& m, double temp_c) {
     model::ModelInputs in;
