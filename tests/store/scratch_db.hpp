@@ -1,10 +1,14 @@
 #pragma once
-// Scratch SQLite files for the store's and the recorder's tests, and single numbers read from them.
+// Scratch SQLite files for the store's and the recorder's tests, and single numbers read from them
+// (also while another process is still writing them).
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include "schema.hpp"
 #include "sqlite_db.hpp"
@@ -31,6 +35,22 @@ inline int64_t Count(store::Db& db, const std::string& sql) {
 inline int64_t Count(const std::string& db_path, const std::string& sql) {
     store::Db db(db_path, store::Db::Mode::kReadOnly);
     return Count(db, sql);
+}
+
+// Polls `sql` until it returns `expected` or `timeout` passes; returns the last value.
+inline int64_t WaitForCount(const std::string& db_path, const std::string& sql, int64_t expected,
+                            std::chrono::milliseconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    int64_t n = -1;
+    for (;;) {
+        try {
+            n = Count(db_path, sql);
+        } catch (const std::exception&) {
+            n = -1;  // not created yet
+        }
+        if (n == expected || std::chrono::steady_clock::now() >= end) return n;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
 }
 
 // A new database at schema `version`, as an older gyrocal left it, for a test to fill.

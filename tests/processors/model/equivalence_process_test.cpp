@@ -31,6 +31,7 @@
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 #include "model/convert.hpp"
+#include "scratch_db.hpp"
 
 namespace gyrocal {
 namespace {
@@ -156,30 +157,10 @@ std::map<std::string, Row> LiveRates(const std::string& db) {
     return out;
 }
 
-int64_t Count(const std::string& db, const std::string& sql) {
-    sqlite3* h = nullptr;
-    if (sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-        sqlite3_close(h);
-        return -1;
-    }
-    sqlite3_stmt* st = nullptr;
-    int64_t n = -1;
-    if (sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr) == SQLITE_OK &&
-        sqlite3_step(st) == SQLITE_ROW)
-        n = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    sqlite3_close(h);
-    return n;
-}
-
+// Whether `sql` counts `want` within `timeout` (the recorder writes on its own schedule).
 bool WaitForCount(const std::string& db, const std::string& sql, int64_t want,
                   std::chrono::seconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (Count(db, sql) != want) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        std::this_thread::sleep_for(100ms);
-    }
-    return true;
+    return testing::WaitForCount(db, sql, want, timeout) == want;
 }
 
 int RunChild(const std::vector<std::string>& argv, const std::string& log) {
@@ -250,7 +231,7 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
         << ReadLog(dir + "/source.log");
     const std::string rates_sql = "SELECT count(*) FROM rates WHERE coeff_set_id=4242";
     ASSERT_TRUE(WaitForCount(db, rates_sql, kSamples, 60s))
-        << Count(db, rates_sql) << " rates stored of " << kSamples << "\n"
+        << testing::Count(db, rates_sql) << " rates stored of " << kSamples << "\n"
         << ReadLog(dir + "/comp.log");
     ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM gyro_samples", kSamples, 60s));
     w.bus.Publish(std::string(channels::kRunEvent), RunEvent("stop"));

@@ -1,9 +1,8 @@
 #pragma once
 // Shared pieces of the multi-process recorder and replay tests: start a real gyrocal-recorder on a
-// test's own multicast port, wait until it listens, and count rows in its database.
+// test's own multicast port and wait until it listens (rows are counted with scratch_db.hpp).
 #include <chrono>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "bus/bus.hpp"
@@ -45,21 +44,5 @@ struct RecorderOnBus {
     Bus bus;
     ChildProcess rec;
 };
-
-// Polls `sql` until it returns `expected` or `timeout` passes; returns the last value.
-inline int64_t WaitForCount(const std::string& db_path, const std::string& sql, int64_t expected,
-                            std::chrono::milliseconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    int64_t n = -1;
-    for (;;) {
-        try {
-            n = Count(db_path, sql);
-        } catch (const std::exception&) {
-            n = -1;  // not created yet
-        }
-        if (n == expected || std::chrono::steady_clock::now() >= end) return n;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-}
 
 }  // namespace gyrocal::testing

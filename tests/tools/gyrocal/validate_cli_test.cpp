@@ -8,7 +8,6 @@
 // run, sensor or set, a model of another unit, a run without still data - is one clear line and
 // exit 1, bad options exit 2, and nothing is stored for them.
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <chrono>
 #include <cmath>
@@ -21,6 +20,7 @@
 
 #include "launch/child_process.hpp"
 #include "run_db.hpp"
+#include "scratch_db.hpp"
 #include "sim/noise.hpp"
 #include "sim_run.hpp"
 #include "writer.hpp"
@@ -44,18 +44,7 @@ Cli Gyrocal(const std::vector<std::string>& args, const std::string& dir) {
     return {st ? st->code : -1, ReadLog(dir + "/cli.out"), ReadLog(dir + "/cli.err")};
 }
 
-int64_t Count(const std::string& db, const std::string& sql) {
-    sqlite3* h = nullptr;
-    sqlite3_open_v2(db.c_str(), &h, SQLITE_OPEN_READONLY, nullptr);
-    sqlite3_stmt* st = nullptr;
-    int64_t n = -1;
-    if (sqlite3_prepare_v2(h, sql.c_str(), -1, &st, nullptr) == SQLITE_OK &&
-        sqlite3_step(st) == SQLITE_ROW)
-        n = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    sqlite3_close(h);
-    return n;
-}
+using gyrocal::testing::Count;
 
 class ValidateCli : public ::testing::Test {
 protected:
