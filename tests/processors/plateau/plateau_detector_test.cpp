@@ -49,6 +49,15 @@ RunResult Feed(PlateauDetector& det, Stream& stream, double n_s, Hook hook, Movi
 auto NoHook = [](double) {};
 auto Still = [](double) { return false; };
 
+// A hook that orders the chamber to `setpoint_c` once, at the first sample at or after `t_s`.
+auto SetpointAt(PlateauDetector& det, double t_s, double setpoint_c) {
+    return [&det, t_s, setpoint_c, done = false](double t) mutable {
+        if (done || t < t_s) return;
+        det.SetChamberSetpoint(setpoint_c);
+        done = true;
+    };
+}
+
 // Standard error of a window slope [degC/min] for white scatter sigma over W seconds at 100 Hz:
 // sigma * sqrt(12) / (W * sqrt(n)), n = W * 100.
 double SlopeSePerMin(double sigma_c, double window_s) {
@@ -65,17 +74,9 @@ TEST(PlateauDetector, FiresOnlyAfterFirstOrderLagHasSettled) {
     const PlateauConfig cfg = PlateauConfig::Defaults();
     PlateauDetector det(cfg);
     det.SetChamberSetpoint(25);
-    bool stepped = false;
     // WHEN 11 tau of data are fed
-    RunResult r = Feed(
-        det, stream, t_step_s + 11 * tau_s,
-        [&](double t) {
-            if (!stepped && t >= t_step_s) {
-                det.SetChamberSetpoint(final_c);
-                stepped = true;
-            }
-        },
-        Still);
+    RunResult r =
+        Feed(det, stream, t_step_s + 11 * tau_s, SetpointAt(det, t_step_s, final_c), Still);
     // THEN one plateau at 25 before the step, and exactly one at 60 after it
     std::vector<Plateau> after;
     for (const Plateau& p : r.plateaus) {
@@ -131,16 +132,7 @@ TEST(PlateauDetector, FiresOnlyAfterTheDieHasSettledBehindARampingChamber) {
     const PlateauConfig cfg = PlateauConfig::Defaults();
     PlateauDetector det(cfg);
     det.SetChamberSetpoint(25);
-    bool ordered = false;
-    RunResult r = Feed(
-        det, stream, 4000,
-        [&](double t) {
-            if (!ordered && t >= t_order) {
-                det.SetChamberSetpoint(final_c);
-                ordered = true;
-            }
-        },
-        Still);
+    RunResult r = Feed(det, stream, 4000, SetpointAt(det, t_order, final_c), Still);
     std::vector<Plateau> after;
     for (const Plateau& p : r.plateaus)
         if (p.setpoint_c == final_c) after.push_back(p);
@@ -208,21 +200,39 @@ TEST(PlateauDetector, RotationNeitherBreaksStabilityNorIsAveraged) {
     EXPECT_NEAR(p.temp_c.mean, 30.0, 4 * spec.temp_noise_c / std::sqrt(n));
 }
 
-TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
-    // GIVEN a flat 40 degC trace with white noise
+// What 300 s of a flat 40 degC trace with white noise (seed 3) in run "run-7" gives the
+// default detector, the samples for which `lost(seq)` holds dropped on the way.
+struct FlatRun {
     StreamSpec spec;
-    spec.temp_true_c = [](double) { return 40.0; };
-    spec.seed = 3;
-    Stream stream(spec);
-    const PlateauConfig cfg = PlateauConfig::Defaults();
-    PlateauDetector det(cfg);
+    std::vector<Plateau> plateaus;
+    std::vector<std::string> refused;
+};
+template <class Lost>
+FlatRun FeedFlat40(Lost lost) {
+    FlatRun r;
+    r.spec.temp_true_c = [](double) { return 40.0; };
+    r.spec.seed = 3;
+    Stream stream(r.spec);
+    PlateauDetector det(PlateauConfig::Defaults());
     det.StartRun("run-7");
     det.SetChamberSetpoint(40);
-    std::vector<Plateau> got;
     for (int k = 0; k < 300 * 100; ++k) {
         Sample s = stream.Next();
-        if (auto p = det.Feed(s).plateau) got.push_back(*p);
+        if (lost(s.seq)) continue;
+        Step st = det.Feed(s);
+        if (st.plateau) r.plateaus.push_back(*st.plateau);
+        if (st.refused) r.refused.push_back(*st.refused);
     }
+    return r;
+}
+
+TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
+    // GIVEN a flat 40 degC trace with white noise
+    const FlatRun run = FeedFlat40([](int64_t) { return false; });
+    const StreamSpec& spec = run.spec;
+    const Stream stream(spec);
+    const PlateauConfig cfg = PlateauConfig::Defaults();
+    const std::vector<Plateau>& got = run.plateaus;
     ASSERT_EQ(got.size(), 1u);
     const Plateau& p = got[0];
     EXPECT_EQ(p.run_id, "run-7");
@@ -256,23 +266,10 @@ TEST(PlateauDetector, PlateauStatisticsMatchTheTruth) {
 TEST(PlateauDetector, RefusesAWindowWithASequenceGapAndAveragesAgain) {
     // GIVEN a flat 40 degC trace; averaging starts at ~120 s (90 s window + 30 s stable), and
     // 7 samples are lost at 150 s, inside the first averaging window
-    StreamSpec spec;
-    spec.temp_true_c = [](double) { return 40.0; };
-    spec.seed = 3;
-    Stream stream(spec);
-    const PlateauConfig cfg = PlateauConfig::Defaults();
-    PlateauDetector det(cfg);
-    det.StartRun("run-7");
-    det.SetChamberSetpoint(40);
-    std::vector<Plateau> got;
-    std::vector<std::string> refused;
-    for (int k = 0; k < 300 * 100; ++k) {
-        Sample s = stream.Next();
-        if (s.seq >= 15000 && s.seq < 15007) continue;  // lost on the network
-        Step st = det.Feed(s);
-        if (st.plateau) got.push_back(*st.plateau);
-        if (st.refused) refused.push_back(*st.refused);
-    }
+    const FlatRun run =
+        FeedFlat40([](int64_t seq) { return seq >= 15000 && seq < 15007; });  // lost on the network
+    const std::vector<Plateau>& got = run.plateaus;
+    const std::vector<std::string>& refused = run.refused;
     // THEN one refusal naming the hole, and one plateau that starts after it, without a gap
     ASSERT_EQ(refused.size(), 1u);
     EXPECT_NE(refused[0].find("7 samples missing (sequence gap after seq 14999)"), std::string::npos)
