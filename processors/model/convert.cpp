@@ -13,8 +13,7 @@ Model FromMsg(const gyrocal::model_t& msg) {
                          std::to_string(msg.coeffs.size()) + ") or covariance rows (" +
                          std::to_string(msg.covariance.size()) + ")");
     Model m;
-    m.quantity = msg.quantity;
-    m.term_names = msg.term_names;
+    CopyModelScalars(m, msg);
     m.coeffs.resize(static_cast<Eigen::Index>(n));
     m.covariance.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
     for (size_t i = 0; i < n; ++i) {
@@ -27,13 +26,6 @@ Model FromMsg(const gyrocal::model_t& msg) {
             m.covariance(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
                 msg.covariance[i][j];
     }
-    m.t0_c = msg.t0_c;
-    m.temp_min_c = msg.temp_min_c;
-    m.temp_max_c = msg.temp_max_c;
-    m.residual_rms = msg.residual_rms;
-    m.n_points = msg.n_points;
-    m.condition_number = msg.condition_number;
-    m.method = msg.method;
     const std::string problem = Problem(m);
     if (!problem.empty()) throw ModelError(problem);
     return m;
@@ -44,22 +36,14 @@ gyrocal::model_t ToMsg(const Model& m) {
     if (!problem.empty()) throw ModelError(problem);
     gyrocal::model_t msg;
     const auto n = static_cast<size_t>(m.term_names.size());
-    msg.quantity = m.quantity;
+    CopyModelScalars(msg, m);
     msg.num_terms = static_cast<int16_t>(n);
-    msg.term_names = m.term_names;
     msg.coeffs.assign(m.coeffs.data(), m.coeffs.data() + n);
     msg.covariance.assign(n, std::vector<double>(n));
     for (size_t i = 0; i < n; ++i)
         for (size_t j = 0; j < n; ++j)
             msg.covariance[i][j] =
                 m.covariance(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-    msg.t0_c = m.t0_c;
-    msg.temp_min_c = m.temp_min_c;
-    msg.temp_max_c = m.temp_max_c;
-    msg.residual_rms = m.residual_rms;
-    msg.n_points = m.n_points;
-    msg.condition_number = m.condition_number;
-    msg.method = m.method;
     return msg;
 }
 
@@ -81,11 +65,7 @@ CoeffSet FromMsg(const gyrocal::coeff_set_t& msg) {
                          " does not match rotation_ids (" +
                          std::to_string(msg.rotation_ids.size()) + ")");
     CoeffSet set;
-    set.utime = msg.utime;
-    set.sensor_id = msg.sensor_id;
-    set.run_id = msg.run_id;
-    set.coeff_set_id = msg.coeff_set_id;
-    set.source = msg.source;
+    CopySetIdentity(set, msg);
     try {
         set.offset = FromMsg(msg.offset);
     } catch (const ModelError& e) {
@@ -98,8 +78,6 @@ CoeffSet FromMsg(const gyrocal::coeff_set_t& msg) {
     }
     CheckQuantity(set.offset, kOffsetQuantity, "offset");
     CheckQuantity(set.sensitivity, kSensitivityQuantity, "sensitivity");
-    set.plateau_ids = msg.plateau_ids;
-    set.rotation_ids = msg.rotation_ids;
     return set;
 }
 
@@ -107,17 +85,11 @@ gyrocal::coeff_set_t ToMsg(const CoeffSet& set) {
     CheckQuantity(set.offset, kOffsetQuantity, "offset");
     CheckQuantity(set.sensitivity, kSensitivityQuantity, "sensitivity");
     gyrocal::coeff_set_t msg;
-    msg.utime = set.utime;
-    msg.sensor_id = set.sensor_id;
-    msg.run_id = set.run_id;
-    msg.coeff_set_id = set.coeff_set_id;
-    msg.source = set.source;
+    CopySetIdentity(msg, set);
     msg.offset = ToMsg(set.offset);
     msg.sensitivity = ToMsg(set.sensitivity);
     msg.num_plateaus = static_cast<int32_t>(set.plateau_ids.size());
-    msg.plateau_ids = set.plateau_ids;
     msg.num_rotations = static_cast<int32_t>(set.rotation_ids.size());
-    msg.rotation_ids = set.rotation_ids;
     return msg;
 }
 

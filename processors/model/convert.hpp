@@ -26,6 +26,34 @@ struct CoeffSet {
     std::vector<int64_t> rotation_ids;
 };
 
+// The fields a model's forms (Model, model_t, the store's ModelRow) share by name, copied from
+// one to another; coefficients and covariance differ in container and are each conversion's own.
+template <class To, class From>
+void CopyModelScalars(To& to, const From& from) {
+    to.quantity = from.quantity;
+    to.term_names = from.term_names;
+    to.t0_c = from.t0_c;
+    to.temp_min_c = from.temp_min_c;
+    to.temp_max_c = from.temp_max_c;
+    to.residual_rms = from.residual_rms;
+    to.n_points = from.n_points;
+    to.condition_number = from.condition_number;
+    to.method = from.method;
+}
+
+// The same for a set's identity and evidence (CoeffSet, coeff_set_t, CoeffSetRow); the models
+// and the message's length fields are each conversion's own.
+template <class To, class From>
+void CopySetIdentity(To& to, const From& from) {
+    to.utime = from.utime;
+    to.sensor_id = from.sensor_id;
+    to.run_id = from.run_id;
+    to.coeff_set_id = from.coeff_set_id;
+    to.source = from.source;
+    to.plateau_ids = from.plateau_ids;
+    to.rotation_ids = from.rotation_ids;
+}
+
 // Throws ModelError on inconsistent array lengths, unknown/duplicate terms, non-finite values.
 Model FromMsg(const gyrocal::model_t& msg);
 gyrocal::model_t ToMsg(const Model& model);

@@ -19,6 +19,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
+#include "model/convert.hpp"
 
 namespace gyrocal::record {
 namespace {
@@ -161,31 +162,17 @@ SensitivityRow ToRow(const sensitivity_point_t& m) {
 
 ModelRow ToModel(const model_t& m) {
     ModelRow r;
-    r.quantity = m.quantity;
-    r.term_names = m.term_names;
+    model::CopyModelScalars(r, m);
     r.coeffs = m.coeffs;
     r.covariance = m.covariance;
-    r.t0_c = m.t0_c;
-    r.temp_min_c = m.temp_min_c;
-    r.temp_max_c = m.temp_max_c;
-    r.residual_rms = m.residual_rms;
-    r.n_points = m.n_points;
-    r.condition_number = m.condition_number;
-    r.method = m.method;
     return r;
 }
 
 CoeffSetRow ToRow(const coeff_set_t& m) {
     CoeffSetRow r;
-    r.run_id = m.run_id;
-    r.sensor_id = m.sensor_id;
-    r.source = m.source;
-    r.coeff_set_id = m.coeff_set_id;
-    r.utime = m.utime;
+    model::CopySetIdentity(r, m);
     r.offset = ToModel(m.offset);
     r.sensitivity = ToModel(m.sensitivity);
-    r.plateau_ids = m.plateau_ids;
-    r.rotation_ids = m.rotation_ids;
     return r;
 }
 
