@@ -263,15 +263,9 @@ TEST(BadInput, OthersimOutsideEffectOptionsAreRefusedWithTheirName) {
 // quadratic (no cubic, no cold bend) and its own warm-up off, so that none of the candidates is
 // really there; the temperature line's lag is a real temp_rate effect and may be found.
 SensorRun OthersimRun(uint64_t seed, const othersim::EffectOptions& e) {
-    othersim::Options o = othersim::Options::ReturnToStart(420.0);
+    othersim::Options o = othersim::Options::QuickReturnToStart(420.0);
     o.units = 1;
     o.seed = seed;
-    o.sample_rate_hz = 20.0;
-    o.noise.lpf_hz = 8.0;
-    o.thermal.board_tau_s = 40.0;
-    o.thermal.die_tau_s = 8.0;
-    o.thermal.chamber_period_s = 120.0;
-    o.profile.ramp_c_per_min = 8.0;
     o.spread.cubic_sd_v = 0.0;
     o.spread.cold_bend_sd_v = 0.0;
     o.effects = e;

@@ -115,6 +115,17 @@ Options Options::ReturnToStart(double dwell_s) {
     return o;
 }
 
+Options Options::QuickReturnToStart(double dwell_s) {
+    Options o = ReturnToStart(dwell_s);
+    o.sample_rate_hz = 20.0;
+    o.noise.lpf_hz = 8.0;
+    o.thermal.board_tau_s = 40.0;
+    o.thermal.die_tau_s = 8.0;
+    o.thermal.chamber_period_s = 120.0;
+    o.profile.ramp_c_per_min = 8.0;
+    return o;
+}
+
 std::vector<std::string> Options::SensorIds() const {
     std::vector<std::string> ids;
     for (int i = 1; i <= units; ++i) ids.push_back(id_prefix + std::to_string(i));

@@ -15,17 +15,8 @@
 namespace gyrocal::othersim {
 namespace {
 
-// A short two-unit run: fast thermal path so that dwells settle in minutes.
-Options Small() {
-    Options o = Options::ReturnToStart(240.0);
-    o.sample_rate_hz = 20.0;
-    o.noise.lpf_hz = 8.0;
-    o.thermal.board_tau_s = 40.0;
-    o.thermal.die_tau_s = 8.0;
-    o.thermal.chamber_period_s = 120.0;
-    o.profile.ramp_c_per_min = 8.0;
-    return o;
-}
+// A short two-unit run.
+Options Small() { return Options::QuickReturnToStart(240.0); }
 
 csv::CsvFile Parse(const std::string& text) {
     std::istringstream in(text);
