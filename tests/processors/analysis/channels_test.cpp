@@ -19,22 +19,18 @@
 #include "analysis/analyze.hpp"
 #include "analysis/bins.hpp"
 #include "analysis/report.hpp"
+#include "feature_lookup.hpp"
 #include "sim_run.hpp"
 
 namespace gyrocal::analysis {
 namespace {
 
+using testing::FirstExplaining;
 using testing::MakeSimRun;
 using testing::OutsideInputs;
 using testing::SimRunOptions;
 
 constexpr double kTwoPi = 6.283185307179586;
-
-const FeatureResult* FirstExplaining(const SensorResult& r) {
-    for (const FeatureResult& f : r.features)
-        if (f.explains_heldout) return &f;
-    return nullptr;
-}
 
 bool HasFeatureFrom(const SensorResult& r, const std::string& channel_prefix) {
     for (const FeatureResult& f : r.features)

@@ -26,21 +26,17 @@
 
 #include "analysis/analyze.hpp"
 #include "analysis/report.hpp"
+#include "feature_lookup.hpp"
 #include "sim_run.hpp"
 
 namespace gyrocal::analysis {
 namespace {
 
+using testing::FirstExplaining;
 using testing::MakeSimRun;
 using testing::SimRunOptions;
 
 constexpr int kSeeds = 4;
-
-const FeatureResult* FirstExplaining(const SensorResult& r) {
-    for (const FeatureResult& f : r.features)
-        if (f.explains_heldout) return &f;
-    return nullptr;
-}
 
 bool TimeShaped(const FeatureResult& f) {
     return f.channel == "time" || f.channel == "time since power-on";

@@ -26,12 +26,14 @@
 #include "csv/csv_file.hpp"
 #include "csv/row_messages.hpp"
 #include "cli.hpp"
+#include "feature_lookup.hpp"
 #include "generator.hpp"
 #include "sim_run.hpp"
 
 namespace gyrocal::analysis {
 namespace {
 
+using testing::FirstExplaining;
 using testing::MakeSimRun;
 using testing::SimRunOptions;
 
@@ -43,12 +45,6 @@ bool NamedOffsetAdded(const SensorResult& r) {
         for (const char* e : kOffsetEffects)
             if (a.effect == e) return true;
     return false;
-}
-
-const FeatureResult* FirstExplaining(const SensorResult& r) {
-    for (const FeatureResult& f : r.features)
-        if (f.explains_heldout) return &f;
-    return nullptr;
 }
 
 struct OutsideCase {
