@@ -442,6 +442,33 @@ bool IsEmpty(Db& db) {
     return s.Int(0) == 0;
 }
 
+// What a file holds, read in one snapshot: another process creating the same file at that
+// moment commits its first schema step between two separate reads, so the version would be read
+// as 0 before that commit and the tables after it, which looks like a foreign SQLite file.
+struct FileState {
+    int version = 0;
+    bool empty = true;
+    bool gyrocal = false;
+};
+
+FileState ReadFileState(Db& db) {
+    db.Exec("BEGIN");  // deferred: a read transaction, whose snapshot starts at the first read
+    try {
+        FileState s;
+        s.version = db.UserVersion();
+        s.empty = IsEmpty(db);
+        s.gyrocal = IsGyrocalDb(db);
+        db.Exec("COMMIT");
+        return s;
+    } catch (...) {
+        try {
+            db.Exec("ROLLBACK");
+        } catch (const StoreError&) {  // the read's own error is the one to report
+        }
+        throw;
+    }
+}
+
 }  // namespace
 
 void ConfigureConnection(Db& db) {
@@ -470,16 +497,17 @@ void Migrate(Db& db, int target_version) {
         throw StoreError("schema version " + std::to_string(target_version) +
                          " is not valid (0.." + std::to_string(kSchemaVersion) + ")");
     }
-    int version = db.UserVersion();
+    const FileState state = ReadFileState(db);
+    int version = state.version;
     if (version > kSchemaVersion) {
         throw StoreError("database '" + db.path() + "' has schema version " +
                          std::to_string(version) + ", newer than this software (" +
                          std::to_string(kSchemaVersion) + "): use a newer gyrocal");
     }
-    if (version == 0 && !IsEmpty(db)) {
+    if (version == 0 && !state.empty) {
         throw StoreError("'" + db.path() + "' is an SQLite file but not a gyrocal database");
     }
-    if (version > 0 && !IsGyrocalDb(db)) {
+    if (version > 0 && !state.gyrocal) {
         throw StoreError("'" + db.path() + "' is not a gyrocal database (no gyrocal_meta table)");
     }
     while (version < target_version) {
