@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "text/names.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::acceptance {
@@ -99,16 +100,12 @@ Check Verdict(const UnitEvidence& u) {
     return c;
 }
 
+constexpr text::NameTable<Outcome, 3> kOutcomeNames{
+    {{Outcome::kPass, "pass"}, {Outcome::kFail, "FAIL"}, {Outcome::kNotEvaluated, "not evaluated"}}};
+
 }  // namespace
 
-const char* ToString(Outcome o) {
-    switch (o) {
-        case Outcome::kPass: return "pass";
-        case Outcome::kFail: return "FAIL";
-        case Outcome::kNotEvaluated: return "not evaluated";
-    }
-    return "?";
-}
+const char* ToString(Outcome o) { return text::NameOf(kOutcomeNames, o); }
 
 Measure ResidualOverFloor(const UnitEvidence& u) {
     if (!u.has_calibration) return {NAN, "no coefficient set for this unit"};

@@ -3,33 +3,27 @@
 #include <string>
 
 #include "analyze.hpp"
+#include "text/names.hpp"
 
 namespace gyrocal::analysis {
 
-const char* ToString(Decision d) {
-    switch (d) {
-        case Decision::kAdded:
-            return "added";
-        case Decision::kRejected:
-            return "rejected";
-        case Decision::kAmbiguous:
-            return "ambiguous";
-        case Decision::kNotTested:
-            return "not_tested";
-    }
-    return "?";
-}
+namespace {
 
-const char* ToString(Outcome o) {
-    switch (o) {
-        case Outcome::kAdequate: return "adequate";
-        case Outcome::kExplained: return "explained";
-        case Outcome::kPartlyExplained: return "partly explained";
-        case Outcome::kUnexplained: return "unexplained residual";
-        case Outcome::kNotTestable: return "not testable";
-    }
-    return "?";
-}
+constexpr text::NameTable<Decision, 4> kDecisionNames{{{Decision::kAdded, "added"},
+                                                       {Decision::kRejected, "rejected"},
+                                                       {Decision::kAmbiguous, "ambiguous"},
+                                                       {Decision::kNotTested, "not_tested"}}};
+
+constexpr text::NameTable<Outcome, 5> kOutcomeNames{
+    {{Outcome::kAdequate, "adequate"}, {Outcome::kExplained, "explained"},
+     {Outcome::kPartlyExplained, "partly explained"}, {Outcome::kUnexplained, "unexplained residual"},
+     {Outcome::kNotTestable, "not testable"}}};
+
+}  // namespace
+
+const char* ToString(Decision d) { return text::NameOf(kDecisionNames, d); }
+
+const char* ToString(Outcome o) { return text::NameOf(kOutcomeNames, o); }
 
 std::string AnalysisOptions::Problem() const {
     if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";

@@ -3,23 +3,20 @@
 #include <cmath>
 #include <cstdio>
 
+#include "text/names.hpp"
+
 namespace gyrocal::compensate {
 
-const char* ToString(ApplyStatus s) {
-    switch (s) {
-        case ApplyStatus::kOk:
-            return "ok";
-        case ApplyStatus::kNoCoefficients:
-            return "no_coefficients";
-        case ApplyStatus::kOutOfOrder:
-            return "out_of_order";
-        case ApplyStatus::kNonFinite:
-            return "non_finite";
-        case ApplyStatus::kNotComputable:
-            return "not_computable";
-    }
-    return "?";
-}
+namespace {
+
+constexpr text::NameTable<ApplyStatus, 5> kApplyStatusNames{
+    {{ApplyStatus::kOk, "ok"}, {ApplyStatus::kNoCoefficients, "no_coefficients"},
+     {ApplyStatus::kOutOfOrder, "out_of_order"}, {ApplyStatus::kNonFinite, "non_finite"},
+     {ApplyStatus::kNotComputable, "not_computable"}}};
+
+}  // namespace
+
+const char* ToString(ApplyStatus s) { return text::NameOf(kApplyStatusNames, s); }
 
 std::string SensitivityProblem(const model::Evaluator& s) {
     // Sample the valid range densely (the models are low-order polynomials plus bounded terms),

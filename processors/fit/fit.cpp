@@ -3,46 +3,33 @@
 #include <cmath>
 #include <cstdio>
 
+#include "text/names.hpp"
+
 namespace gyrocal::fit {
 
-std::optional<Method> ParseMethod(const std::string& text) {
-    if (text == "auto") return Method::kAuto;
-    if (text == "3point") return Method::kThreePoint;
-    if (text == "wls") return Method::kWls;
-    return std::nullopt;
+namespace {
+
+constexpr text::NameTable<Method, 3> kMethodNames{
+    {{Method::kAuto, "auto"}, {Method::kThreePoint, "3point"}, {Method::kWls, "wls"}}};
+
+constexpr text::NameTable<Refusal, 7> kRefusalNames{
+    {{Refusal::kNone, "none"},
+     {Refusal::kTooFewTemperatures, "too_few_temperatures"},
+     {Refusal::kRangeTooNarrow, "range_too_narrow"},
+     {Refusal::kNonFiniteInput, "non_finite_input"},
+     {Refusal::kBadStandardError, "bad_standard_error"},
+     {Refusal::kIllConditioned, "ill_conditioned"},
+     {Refusal::kNotApplicable, "not_applicable"}}};
+
+}  // namespace
+
+std::optional<Method> ParseMethod(const std::string& name) {
+    return text::ValueOf(kMethodNames, name);
 }
 
-const char* ToString(Method m) {
-    switch (m) {
-        case Method::kAuto:
-            return "auto";
-        case Method::kThreePoint:
-            return "3point";
-        case Method::kWls:
-            return "wls";
-    }
-    return "?";
-}
+const char* ToString(Method m) { return text::NameOf(kMethodNames, m); }
 
-const char* ToString(Refusal r) {
-    switch (r) {
-        case Refusal::kNone:
-            return "none";
-        case Refusal::kTooFewTemperatures:
-            return "too_few_temperatures";
-        case Refusal::kRangeTooNarrow:
-            return "range_too_narrow";
-        case Refusal::kNonFiniteInput:
-            return "non_finite_input";
-        case Refusal::kBadStandardError:
-            return "bad_standard_error";
-        case Refusal::kIllConditioned:
-            return "ill_conditioned";
-        case Refusal::kNotApplicable:
-            return "not_applicable";
-    }
-    return "?";
-}
+const char* ToString(Refusal r) { return text::NameOf(kRefusalNames, r); }
 
 std::string FitOptions::Problem() const {
     if (!(min_temp_separation_c >= 0.0) || !std::isfinite(min_temp_separation_c))

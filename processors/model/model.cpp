@@ -4,17 +4,22 @@
 #include <cmath>
 #include <set>
 
+#include "text/names.hpp"
+
 namespace gyrocal::model {
 
-std::optional<RangePolicy> ParseRangePolicy(const std::string& text) {
-    if (text == "clip") return RangePolicy::kClip;
-    if (text == "extrapolate") return RangePolicy::kExtrapolate;
-    return std::nullopt;
+namespace {
+
+constexpr text::NameTable<RangePolicy, 2> kRangePolicyNames{
+    {{RangePolicy::kClip, "clip"}, {RangePolicy::kExtrapolate, "extrapolate"}}};
+
+}  // namespace
+
+std::optional<RangePolicy> ParseRangePolicy(const std::string& name) {
+    return text::ValueOf(kRangePolicyNames, name);
 }
 
-const char* ToString(RangePolicy policy) {
-    return policy == RangePolicy::kClip ? "clip" : "extrapolate";
-}
+const char* ToString(RangePolicy policy) { return text::NameOf(kRangePolicyNames, policy); }
 
 std::string Problem(const Model& m) {
     const auto n = static_cast<Eigen::Index>(m.term_names.size());

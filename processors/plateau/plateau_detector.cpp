@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "text/names.hpp"
+
 namespace gyrocal::plateau {
 
 namespace {
@@ -28,19 +30,16 @@ std::string PlateauConfig::Validate() const {
     return "";
 }
 
-const char* StateName(State s) {
-    switch (s) {
-        case State::kWaiting:
-            return "waiting";
-        case State::kSettling:
-            return "settling";
-        case State::kAveraging:
-            return "averaging";
-        case State::kDone:
-            return "done";
-    }
-    return "?";
-}
+namespace {
+
+constexpr text::NameTable<State, 4> kStateNames{{{State::kWaiting, "waiting"},
+                                                 {State::kSettling, "settling"},
+                                                 {State::kAveraging, "averaging"},
+                                                 {State::kDone, "done"}}};
+
+}  // namespace
+
+const char* StateName(State s) { return text::NameOf(kStateNames, s); }
 
 PlateauDetector::PlateauDetector(const PlateauConfig& config)
     : config_(config), window_(config.window_s) {

@@ -1,6 +1,7 @@
 #include "csv_header.hpp"
 
 #include "fields.hpp"
+#include "text/names.hpp"
 
 namespace gyrocal::csv {
 
@@ -10,29 +11,18 @@ CsvError::CsvError(const std::string& file, long line, const std::string& column
       line_(line),
       column_(column) {}
 
-const char* ColumnName(Column c) {
-    switch (c) {
-        case Column::kTimeS:
-            return "time_s";
-        case Column::kSensorId:
-            return "sensor_id";
-        case Column::kGyroV:
-            return "gyro_v";
-        case Column::kTempV:
-            return "temp_v";
-        case Column::kTempC:
-            return "temp_c";
-        case Column::kSupplyV:
-            return "supply_v";
-        case Column::kEncoderDeg:
-            return "encoder_deg";
-        case Column::kChamberC:
-            return "chamber_c";
-        case Column::kTimeSincePowerS:
-            return "time_since_power_s";
-    }
-    return "?";
-}
+namespace {
+
+// Declaration order of Column, so that a column's row is also its index.
+constexpr text::NameTable<Column, kNumColumns> kColumnNames{
+    {{Column::kTimeS, "time_s"}, {Column::kSensorId, "sensor_id"}, {Column::kGyroV, "gyro_v"},
+     {Column::kTempV, "temp_v"}, {Column::kTempC, "temp_c"}, {Column::kSupplyV, "supply_v"},
+     {Column::kEncoderDeg, "encoder_deg"}, {Column::kChamberC, "chamber_c"},
+     {Column::kTimeSincePowerS, "time_since_power_s"}}};
+
+}  // namespace
+
+const char* ColumnName(Column c) { return text::NameOf(kColumnNames, c); }
 
 Header ParseHeader(const std::string& line, const std::string& file, long line_no) {
     Header h;
@@ -44,17 +34,17 @@ Header ParseHeader(const std::string& line, const std::string& file, long line_n
             throw CsvError(file, line_no, "#" + std::to_string(i + 1),
                            "empty column name in the header; every header field needs a name");
         }
-        bool known = false;
-        for (int c = 0; c < kNumColumns; ++c) {
-            if (name != ColumnName(static_cast<Column>(c))) continue;
-            if (h.index[c]) {
-                throw CsvError(file, line_no, name,
-                               "appears twice in the header; each column may appear once");
-            }
-            h.index[c] = i;
-            known = true;
+        const std::optional<Column> column = text::ValueOf(kColumnNames, name);
+        if (!column) {
+            h.unknown.push_back(name);
+            continue;
         }
-        if (!known) h.unknown.push_back(name);
+        std::optional<int>& index = h.index[static_cast<int>(*column)];
+        if (index) {
+            throw CsvError(file, line_no, name,
+                           "appears twice in the header; each column may appear once");
+        }
+        index = i;
     }
     for (Column c : {Column::kTimeS, Column::kSensorId, Column::kGyroV, Column::kTempV}) {
         if (!h.Index(c)) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "plot/svg.hpp"
+#include "text/names.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::runreport::html {
@@ -83,12 +84,10 @@ std::string KeyValues(const std::vector<std::pair<std::string, std::string>>& it
 }
 
 std::string OutcomeClass(acceptance::Outcome o) {
-    switch (o) {
-        case acceptance::Outcome::kPass: return "pass";
-        case acceptance::Outcome::kFail: return "fail";
-        case acceptance::Outcome::kNotEvaluated: return "ne";
-    }
-    return "ne";
+    using acceptance::Outcome;
+    static constexpr text::NameTable<Outcome, 3> kClasses{
+        {{Outcome::kPass, "pass"}, {Outcome::kFail, "fail"}, {Outcome::kNotEvaluated, "ne"}}};
+    return text::NameOf(kClasses, o, "ne");
 }
 
 std::string Badge(acceptance::Outcome o) {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "bus/bus.hpp"
+#include "text/names.hpp"
 
 namespace gyrocal::cli {
 namespace {
@@ -21,29 +22,16 @@ bool In(const std::array<std::string_view, N>& set, std::string_view name) {
     return false;
 }
 
+constexpr text::NameTable<Role, 4> kRoleNames{{{Role::kAll, "all"},
+                                               {Role::kProducers, "producers"},
+                                               {Role::kProcessors, "processors"},
+                                               {Role::kRecorder, "recorder"}}};
+
 }  // namespace
 
-std::optional<Role> ParseRole(std::string_view text) {
-    if (text == "all") return Role::kAll;
-    if (text == "producers") return Role::kProducers;
-    if (text == "processors") return Role::kProcessors;
-    if (text == "recorder") return Role::kRecorder;
-    return std::nullopt;
-}
+std::optional<Role> ParseRole(std::string_view name) { return text::ValueOf(kRoleNames, name); }
 
-const char* RoleName(Role role) {
-    switch (role) {
-        case Role::kAll:
-            return "all";
-        case Role::kProducers:
-            return "producers";
-        case Role::kProcessors:
-            return "processors";
-        case Role::kRecorder:
-            return "recorder";
-    }
-    return "?";
-}
+const char* RoleName(Role role) { return text::NameOf(kRoleNames, role); }
 
 bool RoleRuns(Role role, std::string_view process) {
     switch (role) {
