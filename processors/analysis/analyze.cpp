@@ -97,41 +97,58 @@ struct HeldOut {
     bool confirmed = false;
 };
 
+// One model of the held-out check (design x of `terms` on the training bins): fitted on the
+// training bins into `model`, judged on the held-out bins into `errors`. Returns the fit and its
+// held-out residual [V], or nullopt with the reason in could_not_test ("<what> on the held-out
+// bins: ...").
+struct Judged {
+    LsFit fit;
+    VectorXd residual_v;
+};
+std::optional<Judged> FitAndJudge(const Context& train, const BinnedRun& binned, const Split& split,
+                                  const std::vector<std::string>& terms, const MatrixXd& x,
+                                  const std::string& what, std::optional<model::Model>& model,
+                                  ErrorFigures& errors, SensorResult& res) {
+    LsFit f = FitLs(x, train.y, train.segment, train.hac_lag);
+    if (!f.ok) {
+        res.could_not_test.push_back(what + " on the held-out bins: " + f.why);
+        return std::nullopt;
+    }
+    model = FitModel(terms, train.t0, binned, train.rows, f);
+    VectorXd r = Residuals(binned, *model, split.held);
+    errors = ErrorsOn(binned, r, split.held, split.held_block, res.declared_sensitivity);
+    return Judged{std::move(f), std::move(r)};
+}
+
 // Step 5: declared and chosen terms fitted on the training bins, judged on the held-out bins.
 HeldOut Confirm(const Context& train, const BinnedRun& binned, const Split& split,
                 const Selection& sel, const AnalysisOptions& o, SensorResult& res) {
     HeldOut h;
     const std::optional<model::Model>& sens = res.declared_sensitivity;
-    const LsFit fb = FitLs(train.Design(o.offset_terms), train.y, train.segment, train.hac_lag);
-    if (!fb.ok) {
-        res.could_not_test.push_back("error before on the held-out bins: " + fb.why);
-        return h;
-    }
-    res.holdout_before_offset = FitModel(o.offset_terms, train.t0, binned, train.rows, fb);
-    const VectorXd rb = Residuals(binned, *res.holdout_before_offset, split.held);
-    res.error_before = ErrorsOn(binned, rb, split.held, split.held_block, sens);
+    const std::optional<Judged> before =
+        FitAndJudge(train, binned, split, o.offset_terms, train.Design(o.offset_terms),
+                    "error before", res.holdout_before_offset, res.error_before, res);
+    if (!before) return h;
     const double inv_s = sens ? MeanInverseSensitivity(binned, *sens, split.held) : kNan;
     if (sel.terms.size() == o.offset_terms.size()) {
         res.error_after = res.error_before;
         res.holdout_after_offset = res.holdout_before_offset;
-        ExpectedAfter(fb, binned.Design(o.offset_terms, train.t0)(split.held, Eigen::all), inv_s,
-                      &res);
+        ExpectedAfter(before->fit, binned.Design(o.offset_terms, train.t0)(split.held, Eigen::all),
+                      inv_s, &res);
         res.heldout_gain_v2 = res.heldout_slope = res.heldout_gain_z = kNan;
         return h;
     }
-    const LsFit fa = FitLs(sel.x, train.y, train.segment, train.hac_lag);
-    if (!fa.ok) {
-        res.could_not_test.push_back("error after on the held-out bins: " + fa.why);
-        return h;
-    }
-    res.holdout_after_offset = FitModel(sel.terms, train.t0, binned, train.rows, fa);
-    const VectorXd ra = Residuals(binned, *res.holdout_after_offset, split.held);
-    res.error_after = ErrorsOn(binned, ra, split.held, split.held_block, sens);
-    const Gain g = HeldOutGain(rb, ra, split.held_block, train.hac_lag);
+    const std::optional<Judged> after =
+        FitAndJudge(train, binned, split, sel.terms, sel.x, "error after", res.holdout_after_offset,
+                    res.error_after, res);
+    if (!after) return h;
+    const Gain g =
+        HeldOutGain(before->residual_v, after->residual_v, split.held_block, train.hac_lag);
     res.heldout_gain_v2 = g.mean_v2;
     res.heldout_slope = g.slope;
     res.heldout_gain_z = g.z;
-    ExpectedAfter(fa, binned.Design(sel.terms, train.t0)(split.held, Eigen::all), inv_s, &res);
+    ExpectedAfter(after->fit, binned.Design(sel.terms, train.t0)(split.held, Eigen::all), inv_s,
+                  &res);
     // Beyond its noise (z) and never at the cost of the held-out drift.
     const bool drift_ok = !std::isfinite(res.error_before.drift_dph) ||
                           !std::isfinite(res.error_after.drift_dph) ||
