@@ -4,33 +4,44 @@
 #include <cmath>
 
 namespace gyrocal::numeric {
+namespace {
+
+// The line through n points from their sums about the means (sxx = sum (t - mean_t)^2, ...):
+// mean_y is the fitted value at mean_t, last_from_mean_s the newest time minus mean_t.
+LineFit FromCentredSums(int n, double sxx, double sxy, double syy, double mean_y,
+                        double last_from_mean_s) {
+    LineFit f;
+    f.n = n;
+    if (n < 3 || !(sxx > 0)) return f;
+    f.ok = true;
+    f.slope_per_s = sxy / sxx;
+    f.value_at_last = mean_y + f.slope_per_s * last_from_mean_s;
+    const double rss = std::max(0.0, syy - f.slope_per_s * sxy);
+    f.resid_std = std::sqrt(rss / (n - 2));
+    f.slope_stderr_per_s = f.resid_std / std::sqrt(sxx);
+    return f;
+}
+
+}  // namespace
 
 LineFit FitLine(const std::vector<double>& t, const std::vector<double>& y) {
-    LineFit f;
-    f.n = static_cast<int>(std::min(t.size(), y.size()));
-    if (f.n < 3) return f;
+    const int n = static_cast<int>(std::min(t.size(), y.size()));
+    if (n < 3) return FromCentredSums(n, 0, 0, 0, 0, 0);
     double mt = 0, my = 0;
-    for (int i = 0; i < f.n; ++i) {
+    for (int i = 0; i < n; ++i) {
         mt += t[i];
         my += y[i];
     }
-    mt /= f.n;
-    my /= f.n;
+    mt /= n;
+    my /= n;
     double sxx = 0, sxy = 0, syy = 0;
-    for (int i = 0; i < f.n; ++i) {
+    for (int i = 0; i < n; ++i) {
         const double dt = t[i] - mt, dy = y[i] - my;
         sxx += dt * dt;
         sxy += dt * dy;
         syy += dy * dy;
     }
-    if (!(sxx > 0)) return f;
-    f.ok = true;
-    f.slope_per_s = sxy / sxx;
-    f.value_at_last = my + f.slope_per_s * (t[f.n - 1] - mt);
-    const double rss = std::max(0.0, syy - f.slope_per_s * sxy);
-    f.resid_std = std::sqrt(rss / (f.n - 2));
-    f.slope_stderr_per_s = f.resid_std / std::sqrt(sxx);
-    return f;
+    return FromCentredSums(n, sxx, sxy, syy, my, t[n - 1] - mt);
 }
 
 SlidingLine::SlidingLine(double window_s)
@@ -50,14 +61,16 @@ void SlidingLine::Reanchor() {
     t0_us_ = points_.front().first;
     y0_ = points_.front().second;
     st_ = sy_ = stt_ = sty_ = syy_ = 0;
-    for (const auto& [t, y] : points_) {
-        const double dt = (t - t0_us_) * 1e-6, dy = y - y0_;
-        st_ += dt;
-        sy_ += dy;
-        stt_ += dt * dt;
-        sty_ += dt * dy;
-        syy_ += dy * dy;
-    }
+    for (const auto& [t, y] : points_) Accumulate(t, y, +1.0);
+}
+
+void SlidingLine::Accumulate(int64_t utime, double y, double sign) {
+    const double dt = (utime - t0_us_) * 1e-6, dy = y - y0_;
+    st_ += sign * dt;
+    sy_ += sign * dy;
+    stt_ += sign * dt * dt;
+    sty_ += sign * dt * dy;
+    syy_ += sign * dy * dy;
 }
 
 void SlidingLine::Add(int64_t utime, double y) {
@@ -66,23 +79,10 @@ void SlidingLine::Add(int64_t utime, double y) {
         y0_ = y;
     }
     points_.emplace_back(utime, y);
-    {
-        const double dt = (utime - t0_us_) * 1e-6, dy = y - y0_;
-        st_ += dt;
-        sy_ += dy;
-        stt_ += dt * dt;
-        sty_ += dt * dy;
-        syy_ += dy * dy;
-    }
+    Accumulate(utime, y, +1.0);
     bool popped = false;
     while (points_.size() > 1 && utime - points_.front().first > window_us_) {
-        const auto [t, yy] = points_.front();
-        const double dt = (t - t0_us_) * 1e-6, dy = yy - y0_;
-        st_ -= dt;
-        sy_ -= dy;
-        stt_ -= dt * dt;
-        sty_ -= dt * dy;
-        syy_ -= dy * dy;
+        Accumulate(points_.front().first, points_.front().second, -1.0);
         points_.pop_front();
         popped = true;
     }
@@ -90,23 +90,13 @@ void SlidingLine::Add(int64_t utime, double y) {
 }
 
 LineFit SlidingLine::Fit() const {
-    LineFit f;
-    f.n = static_cast<int>(points_.size());
-    if (f.n < 3) return f;
-    const double n = f.n;
+    const int count = static_cast<int>(points_.size());
+    if (count < 3) return FromCentredSums(count, 0, 0, 0, 0, 0);
+    const double n = count;
     const double mt = st_ / n, my = sy_ / n;
-    const double sxx = stt_ - n * mt * mt;
-    const double sxy = sty_ - n * mt * my;
-    const double syy = syy_ - n * my * my;
-    if (!(sxx > 0)) return f;
-    f.ok = true;
-    f.slope_per_s = sxy / sxx;
     const double t_last = (points_.back().first - t0_us_) * 1e-6;
-    f.value_at_last = y0_ + my + f.slope_per_s * (t_last - mt);
-    const double rss = std::max(0.0, syy - f.slope_per_s * sxy);
-    f.resid_std = std::sqrt(rss / (n - 2));
-    f.slope_stderr_per_s = f.resid_std / std::sqrt(sxx);
-    return f;
+    return FromCentredSums(count, stt_ - n * mt * mt, sty_ - n * mt * my, syy_ - n * my * my,
+                           y0_ + my, t_last - mt);
 }
 
 PrefixLine::PrefixLine(size_t n) : t_(n + 1, 0), y_(n + 1, 0), tt_(n + 1, 0), ty_(n + 1, 0) {}

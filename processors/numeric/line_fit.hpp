@@ -38,6 +38,8 @@ public:
 
 private:
     void Reanchor();
+    // Adds (sign +1) or removes (sign -1) one point's terms of the sums about (t0_us_, y0_).
+    void Accumulate(int64_t utime, double y, double sign);
     int64_t window_us_;
     std::deque<std::pair<int64_t, double>> points_;
     int64_t t0_us_ = 0;
