@@ -46,23 +46,24 @@ plot::Figure MakeAllanPlot(const AllanPlotInput& in) {
         f.series.push_back({f.name, Style::kLines, {1, 5}, "fit sqrt(N^2/tau + B^2 + K^2 tau/3)", "", 0});
     // An asymptote only for a fitted term: a term the data could not reach (e.g. K on a run whose
     // longest still stretch is short) has no line, and its key entry would claim one.
-    if (n > 0)
-        f.series.push_back({f.name,
-                            Style::kLines,
-                            {1, 6},
-                            "slope -1/2: N = " + text::Sig(n, 3) + " " + unit + "/sqrt(Hz)",
-                            "",
-                            2});
-    if (b > 0)
-        f.series.push_back(
-            {f.name, Style::kLines, {1, 7}, "slope 0: B = " + text::Sig(b, 3) + " " + unit, "", 3});
-    if (k > 0)
-        f.series.push_back({f.name,
-                            Style::kLines,
-                            {1, 8},
-                            "slope +1/2: K = " + text::Sig(k, 3) + " " + unit + "/sqrt(s)",
-                            "",
-                            4});
+    struct Asymptote {
+        double value;  // [unit, unit/sqrt(Hz) or unit/sqrt(s)] the fitted term
+        int column;    // its line's column of the table
+        const char* label;
+        std::string unit;
+        int dash;
+    };
+    for (const Asymptote& a : {Asymptote{n, 6, "slope -1/2: N = ", unit + "/sqrt(Hz)", 2},
+                               Asymptote{b, 7, "slope 0: B = ", unit, 3},
+                               Asymptote{k, 8, "slope +1/2: K = ", unit + "/sqrt(s)", 4}}) {
+        if (a.value > 0)
+            f.series.push_back({f.name,
+                                Style::kLines,
+                                {1, a.column},
+                                a.label + text::Sig(a.value, 3) + " " + a.unit,
+                                "",
+                                a.dash});
+    }
     return f;
 }
 
