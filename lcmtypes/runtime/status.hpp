@@ -3,6 +3,7 @@
 // process, not the data), and the rate-limited stderr warnings that go with refusals.
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <map>
 #include <string>
@@ -35,6 +36,16 @@ public:
     const std::string& state() const { return state_; }
     // A decoded message refused by a guard: counted, reason kept for STATUS, warned (rate-limited).
     void Reject(const std::string& reason_key, const std::string& detail);
+    // Runs a handler's body: an exception it throws is a counted refusal ("internal_error") of
+    // that message, never thrown through LCM's C stack.
+    template <class F>
+    void Guarded(F&& body) {
+        try {
+            body();
+        } catch (const std::exception& e) {
+            Reject("internal_error", e.what());
+        }
+    }
     void AddQueueDrops(int64_t n) { queue_drops_ += n; }
     // Loss a process finds itself beyond its bus's typed subscriptions (the recorder decodes raw
     // bytes): added to the bus's own counts in STATUS.

@@ -50,17 +50,15 @@ bool CompensatorNode::Accept(std::string_view prefix, const std::string& channel
 }
 
 void CompensatorNode::OnPower(const power_state_t& m, const std::string& channel) {
-    try {
+    status_.Guarded([&] {
         std::string id;
         if (!Accept(channels::kPowerPrefix, channel, m.sensor_id, &id)) return;
         Comp(id).PowerOn(m.power_on_utime);
-    } catch (const std::exception& e) {
-        status_.Reject("internal_error", e.what());
-    }
+    });
 }
 
 void CompensatorNode::OnCoeffs(const coeff_set_t& m, const std::string& channel) {
-    try {
+    status_.Guarded([&] {
         std::string id;
         if (!Accept(channels::kCoeffsPrefix, channel, m.sensor_id, &id)) return;
         const std::string which = channel + " set " + std::to_string(m.coeff_set_id) + ": ";
@@ -79,13 +77,11 @@ void CompensatorNode::OnCoeffs(const coeff_set_t& m, const std::string& channel)
             if (!r.detail.empty()) status_.Reject("trackers_restarted", which + r.detail);
         }
         UpdateStatus();
-    } catch (const std::exception& e) {
-        status_.Reject("internal_error", e.what());
-    }
+    });
 }
 
 void CompensatorNode::OnGyro(const gyro_sample_t& m, const std::string& channel) {
-    try {
+    status_.Guarded([&] {
         std::string id;
         if (!Accept(channels::kGyroPrefix, channel, m.sensor_id, &id)) return;
         const compensate::ApplyResult r =
@@ -111,9 +107,7 @@ void CompensatorNode::OnGyro(const gyro_sample_t& m, const std::string& channel)
         if (r.out.range != model::RangeFlag::kInRange) ++out_of_range_;
         bus_.Publish(channels::Rate(id), out);
         ++compensated_;
-    } catch (const std::exception& e) {
-        status_.Reject("internal_error", e.what());
-    }
+    });
 }
 
 compensate::SensorCompensator& CompensatorNode::Comp(const std::string& id) {

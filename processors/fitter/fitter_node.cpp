@@ -77,7 +77,7 @@ FitterNode::FitterNode(const FitterOptions& o)
     : bus_(BusOptions{o.lcm_url}), status_(bus_, kProcess), core_(o.core) {
     bus_.Subscribe<plateau_t>(channels::AllSensors(channels::kPlateauPrefix),
                               [this](const plateau_t& m, const std::string& ch) {
-                                  Guarded([&] {
+                                  status_.Guarded([&] {
                                       Apply(core_.OnPlateau(
                                           m, channels::SensorOf(channels::kPlateauPrefix, ch).value()));
                                   });
@@ -85,37 +85,27 @@ FitterNode::FitterNode(const FitterOptions& o)
     bus_.Subscribe<sensitivity_point_t>(
         channels::AllSensors(channels::kSensitivityPrefix),
         [this](const sensitivity_point_t& m, const std::string& ch) {
-            Guarded([&] {
+            status_.Guarded([&] {
                 Apply(core_.OnSensitivity(
                     m, channels::SensorOf(channels::kSensitivityPrefix, ch).value()));
             });
         });
     bus_.Subscribe<noise_t>(channels::AllSensors(channels::kNoisePrefix),
                             [this](const noise_t& m, const std::string& ch) {
-                                Guarded([&] {
+                                status_.Guarded([&] {
                                     Apply(core_.OnNoise(
                                         m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
                                 });
                             });
     bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
                                 [this](const run_event_t& m, const std::string&) {
-                                    Guarded([&] { Apply(core_.OnRunEvent(m)); });
+                                    status_.Guarded([&] { Apply(core_.OnRunEvent(m)); });
                                     if (m.event == "stop" || m.event == "start") status_.PublishNow();
                                 });
     status_.set_state("waiting");
 }
 
 void FitterNode::Run() { RunLoop(bus_, status_); }
-
-// No exception escapes a handler: a failure is a counted refusal of that message.
-template <class F>
-void FitterNode::Guarded(F&& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        status_.Reject("internal_error", e.what());
-    }
-}
 
 void FitterNode::Apply(const fitter::CoreOutput& out) {
     for (const fitter::Rejection& r : out.rejections) status_.Reject(r.key, r.detail);

@@ -35,8 +35,6 @@ public:
     const StatusReporter& status() const { return status_; }
 
 private:
-    template <class F>
-    void Guarded(F&& f);
     void Apply(const fitter::CoreOutput& out);
     void UpdateStatus();
 
@@ -54,8 +52,6 @@ public:
     void Run();
 
 private:
-    template <class F>
-    void Guarded(F&& f);
     void Publish(const std::vector<fitter::RampFitResult>& results);
 
     Bus bus_;

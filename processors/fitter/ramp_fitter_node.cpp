@@ -12,7 +12,7 @@ RampFitterNode::RampFitterNode(const FitterOptions& o)
     bus_.Subscribe<gyro_sample_t>(
         channels::AllSensors(channels::kGyroPrefix),
         [this](const gyro_sample_t& m, const std::string& ch) {
-            Guarded([&] {
+            status_.Guarded([&] {
                 const auto id = channels::SensorOf(channels::kGyroPrefix, ch);
                 // Guard: a sample the fit cannot use is counted, not kept.
                 if (!id || !std::isfinite(m.gyro_v) || !std::isfinite(m.temp_c))
@@ -26,14 +26,14 @@ RampFitterNode::RampFitterNode(const FitterOptions& o)
         });
     bus_.Subscribe<encoder_sample_t>(std::string(channels::kEncoder),
                                      [this](const encoder_sample_t& m, const std::string&) {
-                                         Guarded([&] {
+                                         status_.Guarded([&] {
                                              fitter_.AddEncoder({m.utime, m.counts, m.counts_per_rev});
                                          });
                                      });
     bus_.Subscribe<sensitivity_point_t>(
         channels::AllSensors(channels::kSensitivityPrefix),
         [this](const sensitivity_point_t& m, const std::string& ch) {
-            Guarded([&] {
+            status_.Guarded([&] {
                 const auto id = channels::SensorOf(channels::kSensitivityPrefix, ch);
                 if (!id) return;
                 fitter_.AddSensitivity(*id, {m.rotation_id, m.utime, m.temp_c, m.direction,
@@ -43,7 +43,7 @@ RampFitterNode::RampFitterNode(const FitterOptions& o)
         });
     bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
                                 [this](const run_event_t& m, const std::string&) {
-                                    Guarded([&] {
+                                    status_.Guarded([&] {
                                         if (m.event == "start") fitter_.StartRun(m.run_id);
                                         if ((m.event == "stop" || m.event == "abort") &&
                                             m.run_id == fitter_.run_id())
@@ -55,15 +55,6 @@ RampFitterNode::RampFitterNode(const FitterOptions& o)
 }
 
 void RampFitterNode::Run() { RunLoop(bus_, status_); }
-
-template <class F>
-void RampFitterNode::Guarded(F&& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        status_.Reject("internal_error", e.what());
-    }
-}
 
 void RampFitterNode::Publish(const std::vector<fitter::RampFitResult>& results) {
     for (const fitter::RampFitResult& r : results) {
