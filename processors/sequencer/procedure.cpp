@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "text/names.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::sequencer {
@@ -19,6 +20,11 @@ std::string Join(const std::map<std::string, std::string>& why) {
     for (const auto& [id, reason] : why) out += (out.empty() ? "" : "; ") + id + ": " + reason;
     return out;
 }
+
+constexpr text::NameTable<Phase, 6> kPhaseNames{
+    {{Phase::kIdle, "idle"}, {Phase::kWaitPlateau, "waiting for plateaus"},
+     {Phase::kWaitRotation, "rotating"}, {Phase::kWaitRetry, "at rest before turning again"},
+     {Phase::kRamping, "ramping"}, {Phase::kDone, "done"}}};
 
 }  // namespace
 
@@ -101,17 +107,7 @@ void ProcedureOptions::Validate() const {
                                     " (0-based, of the profile's setpoints) or -1 for a new run");
 }
 
-const char* PhaseName(Phase p) {
-    switch (p) {
-        case Phase::kIdle: return "idle";
-        case Phase::kWaitPlateau: return "waiting for plateaus";
-        case Phase::kWaitRotation: return "rotating";
-        case Phase::kWaitRetry: return "at rest before turning again";
-        case Phase::kRamping: return "ramping";
-        case Phase::kDone: return "done";
-    }
-    return "?";
-}
+const char* PhaseName(Phase p) { return text::NameOf(kPhaseNames, p); }
 
 Procedure::Procedure(ProcedureOptions options) : options_(std::move(options)) { options_.Validate(); }
 
@@ -183,7 +179,7 @@ std::vector<Order> Procedure::MoveDone(int64_t utime) {
     return Advance(utime);
 }
 
-void Procedure::EndedElsewhere(const std::string& event, const std::string& reason) {
+void Runner::EndedElsewhere(const std::string& event, const std::string& reason) {
     if (phase_ == Phase::kDone) return;
     phase_ = Phase::kDone;
     outcome_ = event == "stop" ? "completed" : "abort";
@@ -191,7 +187,7 @@ void Procedure::EndedElsewhere(const std::string& event, const std::string& reas
     pending_.clear();
 }
 
-std::vector<Order> Procedure::Abort(const std::string& reason) {
+std::vector<Order> Runner::Abort(const std::string& reason) {
     if (phase_ == Phase::kDone) return {};
     return Finish("abort", reason);
 }

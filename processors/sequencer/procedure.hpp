@@ -127,15 +127,30 @@ public:
                                               const CoeffUncertainty&) {
         return OnTime(utime);
     }
-    virtual std::vector<Order> Abort(const std::string& reason) = 0;
-    virtual void EndedElsewhere(const std::string& event, const std::string& reason) = 0;
-    virtual Phase phase() const = 0;
-    bool done() const { return phase() == Phase::kDone; }
+    // Operator stop (Ctrl-C): ends the run as "abort" with the reason given.
+    std::vector<Order> Abort(const std::string& reason);
+    // The run was ended by someone else (a supervisor's abort of this run): done, nothing ordered.
+    void EndedElsewhere(const std::string& event, const std::string& reason);
+
+    Phase phase() const { return phase_; }
+    bool done() const { return phase_ == Phase::kDone; }
     virtual int setpoint_index() const = 0;
-    virtual const std::string& outcome() const = 0;  // "completed" or "abort"
-    virtual const std::string& outcome_reason() const = 0;
-    virtual const std::vector<std::string>& notes() const = 0;
-    virtual std::set<std::string> pending_sensors() const = 0;
+    const std::string& outcome() const { return outcome_; }  // "completed" or "abort"
+    const std::string& outcome_reason() const { return outcome_reason_; }
+    const std::vector<std::string>& notes() const { return notes_; }  // e.g. skipped moves
+    std::set<std::string> pending_sensors() const { return pending_; }
+
+protected:
+    // Ends the run with a RUN_EVENT `event` ("stop" or "abort") and sets the outcome.
+    virtual std::vector<Order> Finish(const std::string& event, const std::string& reason) = 0;
+
+    // The state both procedures keep the same way: where the run is, whom it waits for, how it
+    // ended.
+    Phase phase_ = Phase::kIdle;
+    std::set<std::string> pending_;
+    std::string outcome_;
+    std::string outcome_reason_;
+    std::vector<std::string> notes_;
 };
 
 // Validates (throws std::invalid_argument naming the field).
@@ -155,39 +170,25 @@ public:
     std::vector<Order> OnSensitivity(const std::string& sensor_id, int64_t utime,
                                      bool accepted = true,
                                      const std::string& reject_reason = "") override;
-    // Operator stop (Ctrl-C): ends the run as "abort" with the reason given.
-    std::vector<Order> Abort(const std::string& reason) override;
-    // The run was ended by someone else (a supervisor's abort of this run): done, nothing ordered.
-    void EndedElsewhere(const std::string& event, const std::string& reason) override;
 
-    Phase phase() const override { return phase_; }
     int setpoint_index() const override { return setpoint_index_; }
     int move_index() const { return move_index_; }
-    const std::string& outcome() const override { return outcome_; }  // "completed" or "abort"
-    const std::string& outcome_reason() const override { return outcome_reason_; }
-    const std::vector<std::string>& notes() const override { return notes_; }  // skipped moves
-    std::set<std::string> pending_sensors() const override { return pending_; }
 
 private:
     std::vector<Order> EnterSetpoint(int index, int64_t utime);
     std::vector<Order> EnterMove(int index, int64_t utime, const std::string& why = "");
     std::vector<Order> MoveDone(int64_t utime);  // every sensor answered or the move timed out
     std::vector<Order> Advance(int64_t utime);  // after a setpoint's plateaus or a move completes
-    std::vector<Order> Finish(const std::string& event, const std::string& reason);
+    std::vector<Order> Finish(const std::string& event, const std::string& reason) override;
 
     ProcedureOptions options_;
-    Phase phase_ = Phase::kIdle;
     int setpoint_index_ = -1;
     int move_index_ = -1;
     int64_t phase_start_utime_ = 0;
     int64_t now_utime_ = 0;
-    std::set<std::string> pending_;
     int move_attempt_ = 0;                            // 1-based attempt of the current move
     std::map<std::string, std::string> move_failed_;  // sensor -> why, for the current attempt
     std::string retry_why_;                           // kWaitRetry: what the next order says
-    std::string outcome_;
-    std::string outcome_reason_;
-    std::vector<std::string> notes_;
 };
 
 }  // namespace gyrocal::sequencer

@@ -193,19 +193,6 @@ std::vector<Order> RampProcedure::MoveDone(int64_t utime) {
     return {};
 }
 
-std::vector<Order> RampProcedure::Abort(const std::string& reason) {
-    if (phase_ == Phase::kDone) return {};
-    return Finish("abort", reason);
-}
-
-void RampProcedure::EndedElsewhere(const std::string& event, const std::string& reason) {
-    if (phase_ == Phase::kDone) return;
-    phase_ = Phase::kDone;
-    outcome_ = event == "stop" ? "completed" : "abort";
-    outcome_reason_ = reason;
-    pending_.clear();
-}
-
 std::vector<Order> RampProcedure::Finish(const std::string& event, const std::string& reason) {
     phase_ = Phase::kDone;
     outcome_ = event == "stop" ? "completed" : "abort";

@@ -46,15 +46,8 @@ public:
     std::vector<Order> OnChamber(int64_t utime, double air_c) override;
     std::vector<Order> OnCoefficients(const std::string& sensor_id, int64_t utime,
                                       const CoeffUncertainty& u) override;
-    std::vector<Order> Abort(const std::string& reason) override;
-    void EndedElsewhere(const std::string& event, const std::string& reason) override;
 
-    Phase phase() const override { return phase_; }
     int setpoint_index() const override { return leg_; }
-    const std::string& outcome() const override { return outcome_; }
-    const std::string& outcome_reason() const override { return outcome_reason_; }
-    const std::vector<std::string>& notes() const override { return notes_; }
-    std::set<std::string> pending_sensors() const override { return pending_; }
 
     int turns_done() const { return turns_done_; }  // completed +90/-90 pairs
     double saved_s() const { return saved_s_; }     // [s] of the plan left at an early stop
@@ -66,12 +59,11 @@ private:
     std::vector<Order> EnterLeg(int index, int64_t utime);
     std::vector<Order> EnterMove(int index, int64_t utime);
     std::vector<Order> MoveDone(int64_t utime);
-    std::vector<Order> Finish(const std::string& event, const std::string& reason);
+    std::vector<Order> Finish(const std::string& event, const std::string& reason) override;
     bool TargetsMet() const;
     double Waypoint(int i) const { return options_.profile.setpoints_c[static_cast<size_t>(i)]; }
 
     ProcedureOptions options_;
-    Phase phase_ = Phase::kIdle;
     int leg_ = -1;
     int64_t start_utime_ = 0;
     int64_t leg_start_utime_ = 0;
@@ -81,14 +73,10 @@ private:
     int64_t next_turn_utime_ = 0;
     int64_t now_utime_ = 0;
     double air_c_ = NAN;
-    std::set<std::string> pending_;
     std::map<std::string, CoeffUncertainty> uncertainty_;
     std::string finishing_;  // the stop reason once the plan is done or the targets are met
     int turns_done_ = 0;
     double saved_s_ = 0.0;
-    std::string outcome_;
-    std::string outcome_reason_;
-    std::vector<std::string> notes_;
 };
 
 }  // namespace gyrocal::sequencer

@@ -136,49 +136,47 @@ void SequencerNode::OnAnyTime(int64_t utime) {
 }
 
 void SequencerNode::Publish(const std::vector<Order>& orders) {
-    for (const Order& order : orders) {
-        if (const auto* c = std::get_if<ChamberOrder>(&order)) {
-            chamber_cmd_t m;
-            m.utime = now_utime_;
-            m.run_id = options_.run_id;
-            m.cmd_id = ++chamber_cmd_id_;
-            m.setpoint_c = c->setpoint_c;
-            m.ramp_rate_c_per_min = c->ramp_rate_c_per_min;
-            bus_.Publish(std::string(channels::kChamberCmd), m);
-        } else if (const auto* t = std::get_if<TurntableOrder>(&order)) {
-            turntable_cmd_t m;
-            m.utime = now_utime_;
-            m.run_id = options_.run_id;
-            m.cmd_id = ++turntable_cmd_id_;
-            m.move_deg = t->move_deg;
-            m.rate_dps = t->rate_dps;
-            m.accel_dps2 = t->accel_dps2;
-            bus_.Publish(std::string(channels::kTurntableCmd), m);
-        } else if (const auto* r = std::get_if<RunEventOrder>(&order)) {
-            run_event_t m;
-            m.utime = now_utime_;
-            m.run_id = options_.run_id;
-            m.event = r->event;
-            m.reason = r->reason;
-            m.setpoint_index = r->setpoint_index;
-            m.setpoint_c = r->setpoint_c;
-            m.sensor_ids = procedure_ ? std::vector<std::string>(discovered_.begin(), discovered_.end())
-                                      : std::vector<std::string>{};
-            if (!options_.procedure.sensor_ids.empty()) m.sensor_ids = options_.procedure.sensor_ids;
-            m.num_sensors = static_cast<int16_t>(m.sensor_ids.size());
-            m.software_version = kSoftwareVersion;
-            m.config_json = config_json_;
-            m.command_line = options_.command_line;
-            m.host = HostName();
-            bus_.Publish(std::string(channels::kRunEvent), m);
-            std::cout << "gyrocal-sequencer: " << r->event << " " << r->reason << std::endl;
-        }
-    }
+    for (const Order& order : orders) std::visit([this](const auto& o) { PublishOrder(o); }, order);
     if (procedure_) {
         status_.set_state(PhaseName(procedure_->phase()));
         status_.SetExtra("setpoint_index", procedure_->setpoint_index());
         status_.SetExtra("pending_sensors", static_cast<double>(procedure_->pending_sensors().size()));
     }
+}
+
+void SequencerNode::PublishOrder(const ChamberOrder& c) {
+    auto m = Stamped<chamber_cmd_t>();
+    m.cmd_id = ++chamber_cmd_id_;
+    m.setpoint_c = c.setpoint_c;
+    m.ramp_rate_c_per_min = c.ramp_rate_c_per_min;
+    bus_.Publish(std::string(channels::kChamberCmd), m);
+}
+
+void SequencerNode::PublishOrder(const TurntableOrder& t) {
+    auto m = Stamped<turntable_cmd_t>();
+    m.cmd_id = ++turntable_cmd_id_;
+    m.move_deg = t.move_deg;
+    m.rate_dps = t.rate_dps;
+    m.accel_dps2 = t.accel_dps2;
+    bus_.Publish(std::string(channels::kTurntableCmd), m);
+}
+
+void SequencerNode::PublishOrder(const RunEventOrder& r) {
+    auto m = Stamped<run_event_t>();
+    m.event = r.event;
+    m.reason = r.reason;
+    m.setpoint_index = r.setpoint_index;
+    m.setpoint_c = r.setpoint_c;
+    m.sensor_ids = procedure_ ? std::vector<std::string>(discovered_.begin(), discovered_.end())
+                              : std::vector<std::string>{};
+    if (!options_.procedure.sensor_ids.empty()) m.sensor_ids = options_.procedure.sensor_ids;
+    m.num_sensors = static_cast<int16_t>(m.sensor_ids.size());
+    m.software_version = kSoftwareVersion;
+    m.config_json = config_json_;
+    m.command_line = options_.command_line;
+    m.host = HostName();
+    bus_.Publish(std::string(channels::kRunEvent), m);
+    std::cout << "gyrocal-sequencer: " << r.event << " " << r.reason << std::endl;
 }
 
 int SequencerNode::Run() {

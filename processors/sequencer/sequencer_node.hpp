@@ -40,6 +40,18 @@ public:
 private:
     void OnAnyTime(int64_t utime);
     void Publish(const std::vector<Order>& orders);
+    void PublishOrder(const ChamberOrder& c);
+    void PublishOrder(const TurntableOrder& t);
+    void PublishOrder(const RunEventOrder& r);
+    // A message of this run stamped with the data time (commands then take the next id of
+    // their kind).
+    template <class Msg>
+    Msg Stamped() const {
+        Msg m{};
+        m.utime = now_utime_;
+        m.run_id = options_.run_id;
+        return m;
+    }
     void MaybeStart(int64_t utime);
     void OnCoeffs(const std::string& sensor_id, int64_t utime, const model::CoeffSet& set);
 
