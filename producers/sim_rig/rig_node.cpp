@@ -43,23 +43,22 @@ SimRigNode::SimRigNode(const SimRigOptions& options)
     status_.SetExtra("speed", options_.speed);
 }
 
+bool SimRigNode::IgnoredInBuiltinMode(const std::string& what, int64_t cmd_id) {
+    if (!profile_) return false;
+    status_.Reject(what + "_ignored", "--mode builtin runs its own profile; cmd_id " +
+                                          std::to_string(cmd_id) + " ignored");
+    return true;
+}
+
 void SimRigNode::OnChamberCmd(const chamber_cmd_t& cmd) {
-    if (profile_) {
-        status_.Reject("chamber_cmd_ignored", "--mode builtin runs its own profile; cmd_id " +
-                                                  std::to_string(cmd.cmd_id) + " ignored");
-        return;
-    }
+    if (IgnoredInBuiltinMode("chamber_cmd", cmd.cmd_id)) return;
     const sim::CommandResult r =
         rig_.ChamberCommand(cmd.cmd_id, cmd.setpoint_c, cmd.ramp_rate_c_per_min);
     if (!r.accepted) status_.Reject("chamber_cmd_refused", "CHAMBER_CMD " + r.reason);
 }
 
 void SimRigNode::OnTurntableCmd(const turntable_cmd_t& cmd) {
-    if (profile_) {
-        status_.Reject("turntable_cmd_ignored", "--mode builtin runs its own profile; cmd_id " +
-                                                    std::to_string(cmd.cmd_id) + " ignored");
-        return;
-    }
+    if (IgnoredInBuiltinMode("turntable_cmd", cmd.cmd_id)) return;
     const sim::CommandResult r =
         rig_.TurntableCommand(cmd.cmd_id, cmd.move_deg, cmd.rate_dps, cmd.accel_dps2);
     if (!r.accepted) status_.Reject("turntable_cmd_refused", "TURNTABLE_CMD " + r.reason);

@@ -46,6 +46,9 @@ public:
     int Run();
 
 private:
+    // Guard: a built-in profile drives the rig itself; a command on the bus (`what`, e.g.
+    // "chamber_cmd") is counted as refused, not obeyed.
+    bool IgnoredInBuiltinMode(const std::string& what, int64_t cmd_id);
     void OnChamberCmd(const chamber_cmd_t& cmd);
     void OnTurntableCmd(const turntable_cmd_t& cmd);
     bool Advance();  // pacing step; true when finished
