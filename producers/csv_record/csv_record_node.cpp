@@ -73,27 +73,29 @@ CsvRecordNode::CsvRecordNode(const CsvRecordOptions& options)
             bus_.Subscribe<gyro_sample_t>(channels::Gyro(id), on_gyro);
         }
     }
-    bus_.Subscribe<encoder_sample_t>(
-        std::string(channels::kEncoder), [this](const encoder_sample_t& e, const std::string&) {
-            if (!std::isfinite(e.angle_deg)) {
-                status_.Reject("nonfinite_encoder", "ENCODER angle_deg is not finite");
-                return;
-            }
-            encoder_deg_.Add(e.utime, e.angle_deg);
-        });
+    bus_.Subscribe<encoder_sample_t>(std::string(channels::kEncoder),
+                                     [this](const encoder_sample_t& e, const std::string&) {
+                                         KeepFinite(encoder_deg_, e.utime, e.angle_deg,
+                                                    "nonfinite_encoder", "ENCODER angle_deg");
+                                     });
     bus_.Subscribe<chamber_state_t>(
         std::string(channels::kChamberState), [this](const chamber_state_t& c, const std::string&) {
-            if (!std::isfinite(c.air_c)) {
-                status_.Reject("nonfinite_chamber", "CHAMBER_STATE air_c is not finite");
-                return;
-            }
-            chamber_c_.Add(c.utime, c.air_c);
+            KeepFinite(chamber_c_, c.utime, c.air_c, "nonfinite_chamber", "CHAMBER_STATE air_c");
         });
     bus_.Subscribe<power_state_t>(
         channels::AllSensors(channels::kPowerPrefix),
         [this](const power_state_t& p, const std::string&) {
             power_on_utime_[p.sensor_id] = p.power_on_utime;
         });
+}
+
+void CsvRecordNode::KeepFinite(csv::LatestAt& series, int64_t utime, double value,
+                               const std::string& reject_key, const std::string& field) {
+    if (!std::isfinite(value)) {
+        status_.Reject(reject_key, field + " is not finite");
+        return;
+    }
+    series.Add(utime, value);
 }
 
 std::optional<int64_t> CsvRecordNode::PowerOn(const std::string& sensor_id) const {

@@ -40,6 +40,10 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     bool Idle();
+    // Guard: a non-finite reading is refused (counted as `reject_key`); the series keeps its
+    // last finite value.
+    void KeepFinite(csv::LatestAt& series, int64_t utime, double value,
+                    const std::string& reject_key, const std::string& field);
 
     CsvRecordOptions options_;
     std::ofstream out_;
