@@ -10,6 +10,16 @@
 
 namespace gyrocal::analysis {
 
+fit::FitPoint SensitivityFitPoint(const SensitivityInput& s) {
+    fit::FitPoint p;
+    p.inputs.temp_c = s.temp_c;
+    p.inputs.direction = s.direction;
+    p.y = s.sensitivity_v_per_dps;
+    p.sigma_y = s.stderr_v_per_dps;
+    p.id = s.rotation_id;
+    return p;
+}
+
 namespace {
 
 std::vector<fit::FitPoint> ToPoints(const std::vector<SensitivityInput>& in) {
@@ -18,13 +28,7 @@ std::vector<fit::FitPoint> ToPoints(const std::vector<SensitivityInput>& in) {
         if (!s.accepted || !std::isfinite(s.temp_c) || !std::isfinite(s.sensitivity_v_per_dps) ||
             !(s.stderr_v_per_dps > 0.0) || (s.direction != 1 && s.direction != -1))
             continue;
-        fit::FitPoint p;
-        p.inputs.temp_c = s.temp_c;
-        p.inputs.direction = s.direction;
-        p.y = s.sensitivity_v_per_dps;
-        p.sigma_y = s.stderr_v_per_dps;
-        p.id = s.rotation_id;
-        pts.push_back(p);
+        pts.push_back(SensitivityFitPoint(s));
     }
     return pts;
 }

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "analyze.hpp"
+#include "fit/fit.hpp"
 
 namespace gyrocal::analysis {
 
@@ -22,6 +23,10 @@ struct SensitivityOutcome {
     int n_points = 0;
     std::string problem;  // why there is no declared model ("" when there is)
 };
+
+// A rotation as a point of the sensitivity fit: y = sensitivity_v_per_dps with its standard
+// error, at temp_c, the direction as an input (the sf_asymmetry term's).
+fit::FitPoint SensitivityFitPoint(const SensitivityInput& s);
 
 SensitivityOutcome AnalyzeSensitivity(const std::vector<SensitivityInput>& points,
                                       const AnalysisOptions& options);

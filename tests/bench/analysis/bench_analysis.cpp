@@ -28,6 +28,7 @@
 
 #include "analysis/analyze.hpp"
 #include "analysis/bins.hpp"
+#include "analysis/sensitivity.hpp"
 #include "model/inputs.hpp"
 #include "fit/fit.hpp"
 #include "fit/levels.hpp"
@@ -100,14 +101,8 @@ std::vector<fit::FitPoint> SensPoints(const analysis::SensorRun& run,
                                       const std::vector<int>& held) {
     std::vector<fit::FitPoint> pts;
     for (const auto& s : run.sensitivities) {
-        if (InHeldTime(binned, held, s.utime - 10'000'000, s.utime)) continue;
-        fit::FitPoint f;
-        f.inputs.temp_c = s.temp_c;
-        f.inputs.direction = s.direction;
-        f.y = s.sensitivity_v_per_dps;
-        f.sigma_y = s.stderr_v_per_dps;
-        f.id = s.rotation_id;
-        pts.push_back(f);
+        if (!InHeldTime(binned, held, s.utime - 10'000'000, s.utime))
+            pts.push_back(analysis::SensitivityFitPoint(s));
     }
     return pts;
 }
