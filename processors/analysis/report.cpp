@@ -10,20 +10,18 @@ namespace gyrocal::analysis {
 
 namespace {
 
-nlohmann::json Num(double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
+using model::JsonNumber;
 
 nlohmann::json Errors(const ErrorFigures& e) {
-    return {{"offset_rms_v", Num(e.offset_rms_v)},
-            {"rate_rms_dps", Num(e.rate_rms_dps)},
-            {"drift_dph", Num(e.drift_dph)}};
+    return {{"offset_rms_v", JsonNumber(e.offset_rms_v)},
+            {"rate_rms_dps", JsonNumber(e.rate_rms_dps)},
+            {"drift_dph", JsonNumber(e.drift_dph)}};
 }
 
 nlohmann::json Windows(const std::vector<WindowRms>& w) {
     nlohmann::json a = nlohmann::json::array();
     for (const WindowRms& x : w)
-        a.push_back({{"lo", Num(x.lo)}, {"hi", Num(x.hi)}, {"rms_v", Num(x.rms_v)}, {"bins", x.n}});
+        a.push_back({{"lo", JsonNumber(x.lo)}, {"hi", JsonNumber(x.hi)}, {"rms_v", JsonNumber(x.rms_v)}, {"bins", x.n}});
     return a;
 }
 
@@ -34,25 +32,25 @@ nlohmann::json Beyond(const SensorResult& r) {
         f.push_back({{"feature", x.feature},
                      {"channel", x.channel},
                      {"detail", x.detail},
-                     {"corr", Num(x.corr)},
-                     {"heldout_z", Num(x.heldout_z)},
-                     {"heldout_gain_v2", Num(x.heldout_gain_v2)},
-                     {"heldout_after_rms_v", Num(x.heldout_after_rms_v)},
-                     {"effect_rms_v", Num(x.effect_rms_v)},
-                     {"heldout_drop", Num(x.heldout_drop)},
+                     {"corr", JsonNumber(x.corr)},
+                     {"heldout_z", JsonNumber(x.heldout_z)},
+                     {"heldout_gain_v2", JsonNumber(x.heldout_gain_v2)},
+                     {"heldout_after_rms_v", JsonNumber(x.heldout_after_rms_v)},
+                     {"effect_rms_v", JsonNumber(x.effect_rms_v)},
+                     {"heldout_drop", JsonNumber(x.heldout_drop)},
                      {"explains_heldout", x.explains_heldout},
                      {"at_edge_of_search", !x.edge.empty()},
                      {"edge", x.edge}});
     const ResidualDiagnostics& d = r.residual;
     return {{"features", f},
             {"residual",
-             {{"rms_v", Num(d.rms_v)},
-              {"lag1_autocorr", Num(d.lag1_autocorr)},
-              {"trend_v_per_h", Num(d.trend_v_per_h)},
-              {"trend_z", Num(d.trend_z)},
-              {"period_s", Num(d.period_s)},
-              {"period_amplitude_v", Num(d.period_amplitude_v)},
-              {"period_power_ratio", Num(d.period_power_ratio)},
+             {{"rms_v", JsonNumber(d.rms_v)},
+              {"lag1_autocorr", JsonNumber(d.lag1_autocorr)},
+              {"trend_v_per_h", JsonNumber(d.trend_v_per_h)},
+              {"trend_z", JsonNumber(d.trend_z)},
+              {"period_s", JsonNumber(d.period_s)},
+              {"period_amplitude_v", JsonNumber(d.period_amplitude_v)},
+              {"period_power_ratio", JsonNumber(d.period_power_ratio)},
               {"by_time_s", Windows(d.by_time)},
               {"by_temp_c", Windows(d.by_temp)}}}};
 }
@@ -66,9 +64,9 @@ nlohmann::json ToJson(const SensorResult& r) {
     j["verdict"] = r.verdict;
     j["outcome"] = ToString(r.outcome);
     j["headline"] = r.headline;
-    j["heldout_residual_rms_v"] = Num(r.heldout_residual_rms_v);
-    j["floor_bound_rms_v"] = Num(r.floor_bound_rms_v);
-    j["excess_ratio"] = Num(r.excess_ratio);
+    j["heldout_residual_rms_v"] = JsonNumber(r.heldout_residual_rms_v);
+    j["floor_bound_rms_v"] = JsonNumber(r.floor_bound_rms_v);
+    j["excess_ratio"] = JsonNumber(r.excess_ratio);
     j["untested"] = r.untested;
     j["to_test"] = r.to_test;
     j["not_attributed"] = r.not_attributed;
@@ -81,10 +79,10 @@ nlohmann::json ToJson(const SensorResult& r) {
     for (const CandidateResult& c : r.candidates)
         cands.push_back({{"effect", c.effect},
                          {"term", c.term},
-                         {"statistic", Num(c.z2)},
+                         {"statistic", JsonNumber(c.z2)},
                          {"statistic_name", "z2 (coefficient^2 / robust variance)"},
-                         {"cv_gain", Num(c.cv_gain)},
-                         {"effect_rms_v", Num(c.effect_rms_v)},
+                         {"cv_gain", JsonNumber(c.cv_gain)},
+                         {"effect_rms_v", JsonNumber(c.effect_rms_v)},
                          {"decision", ToString(c.decision)},
                          {"step", c.step},
                          {"at_edge_of_search", c.grid_edge},
@@ -95,34 +93,34 @@ nlohmann::json ToJson(const SensorResult& r) {
     for (const AddedEffect& a : r.added)
         added.push_back({{"effect", a.effect},
                          {"term", a.term},
-                         {"coefficient", Num(a.coefficient)},
-                         {"stderr", Num(a.stderr_)},
+                         {"coefficient", JsonNumber(a.coefficient)},
+                         {"stderr", JsonNumber(a.stderr_)},
                          {"unit", a.unit}});
     j["added"] = added;
     j["error_before"] = Errors(r.error_before);
     j["error_after"] = Errors(r.error_after);
-    j["floor_rate_rms_dps"] = Num(r.floor_rate_rms_dps);
-    j["floor_offset_rms_v"] = Num(r.floor_offset_rms_v);
-    j["floor_drift_dph"] = Num(r.floor_drift_dph);
-    j["expected_after"] = {{"offset_rms_v", Num(r.expected_after_offset_rms_v)},
-                           {"rate_rms_dps", Num(r.expected_after_rate_rms_dps)},
-                           {"prediction_rms_v", Num(r.prediction_rms_v)},
-                           {"prediction_rms_dps", Num(r.prediction_rms_dps)}};
-    j["residual_all_rms_v"] = Num(r.residual_all_rms_v);
-    j["residual_all_extended_rms_v"] = Num(r.residual_all_extended_rms_v);
-    j["sensitivity"] = {{"rel_rms_before", Num(r.sens_rel_rms_before)},
-                        {"rel_rms_after", Num(r.sens_rel_rms_after)},
-                        {"chi2_dof_before", Num(r.sens_chi2_dof_before)},
-                        {"chi2_dof_after", Num(r.sens_chi2_dof_after)},
+    j["floor_rate_rms_dps"] = JsonNumber(r.floor_rate_rms_dps);
+    j["floor_offset_rms_v"] = JsonNumber(r.floor_offset_rms_v);
+    j["floor_drift_dph"] = JsonNumber(r.floor_drift_dph);
+    j["expected_after"] = {{"offset_rms_v", JsonNumber(r.expected_after_offset_rms_v)},
+                           {"rate_rms_dps", JsonNumber(r.expected_after_rate_rms_dps)},
+                           {"prediction_rms_v", JsonNumber(r.prediction_rms_v)},
+                           {"prediction_rms_dps", JsonNumber(r.prediction_rms_dps)}};
+    j["residual_all_rms_v"] = JsonNumber(r.residual_all_rms_v);
+    j["residual_all_extended_rms_v"] = JsonNumber(r.residual_all_extended_rms_v);
+    j["sensitivity"] = {{"rel_rms_before", JsonNumber(r.sens_rel_rms_before)},
+                        {"rel_rms_after", JsonNumber(r.sens_rel_rms_after)},
+                        {"chi2_dof_before", JsonNumber(r.sens_chi2_dof_before)},
+                        {"chi2_dof_after", JsonNumber(r.sens_chi2_dof_after)},
                         {"points", r.n_sensitivity_points}};
     j["bin_s"] = r.bin_s;
     j["bins"] = r.n_bins;
     j["holdout_bins"] = r.n_holdout_bins;
     j["train_bins"] = r.n_train_bins;
     j["holdout_blocks"] = r.n_holdout_blocks;
-    j["heldout_gain"] = {{"mean_v2", Num(r.heldout_gain_v2)},
-                         {"slope", Num(r.heldout_slope)},
-                         {"z", Num(r.heldout_gain_z)}};
+    j["heldout_gain"] = {{"mean_v2", JsonNumber(r.heldout_gain_v2)},
+                         {"slope", JsonNumber(r.heldout_slope)},
+                         {"z", JsonNumber(r.heldout_gain_z)}};
     j["unconfirmed"] = r.unconfirmed;
     j["plateaus"] = r.n_plateaus;
     j["power_on"] = r.power_on_source;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "heldout.hpp"
+#include "model/json.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::analysis {
@@ -58,9 +59,7 @@ ValidationResult Validate(const SensorRun& run, const model::CoeffSet& set,
     return r;
 }
 
-namespace {
-nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-}  // namespace
+using model::JsonNumber;
 
 nlohmann::json ToJson(const ValidationResult& r) {
     return {{"sensor_id", r.sensor_id},
@@ -68,14 +67,14 @@ nlohmann::json ToJson(const ValidationResult& r) {
             {"bins", r.n_bins},
             {"stretches", r.n_stretches},
             {"bins_outside_range", r.n_bins_outside_range},
-            {"temp_min_c", Num(r.temp_min_c)},
-            {"temp_max_c", Num(r.temp_max_c)},
-            {"offset_rms_v", Num(r.offset_rms_v)},
-            {"rate_rms_dps", Num(r.rate_rms_dps)},
-            {"drift_dph", Num(r.drift_dph)},
-            {"floor_offset_rms_v", Num(r.floor_offset_rms_v)},
-            {"floor_rate_rms_dps", Num(r.floor_rate_rms_dps)},
-            {"floor_drift_dph", Num(r.floor_drift_dph)},
+            {"temp_min_c", JsonNumber(r.temp_min_c)},
+            {"temp_max_c", JsonNumber(r.temp_max_c)},
+            {"offset_rms_v", JsonNumber(r.offset_rms_v)},
+            {"rate_rms_dps", JsonNumber(r.rate_rms_dps)},
+            {"drift_dph", JsonNumber(r.drift_dph)},
+            {"floor_offset_rms_v", JsonNumber(r.floor_offset_rms_v)},
+            {"floor_rate_rms_dps", JsonNumber(r.floor_rate_rms_dps)},
+            {"floor_drift_dph", JsonNumber(r.floor_drift_dph)},
             {"power_on", r.power_on},
             {"notes", r.notes}};
 }

@@ -4,11 +4,11 @@
 
 namespace gyrocal::model {
 
-namespace {
-
-nlohmann::json Num(double v) {
+nlohmann::json JsonNumber(double v) {
     return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
+
+namespace {
 
 const nlohmann::json& Field(const nlohmann::json& j, const char* name, const std::string& where) {
     if (!j.is_object()) throw ModelError(where + ": must be a JSON object");
@@ -104,23 +104,23 @@ nlohmann::json ToJson(const Model& m) {
     j["term_names"] = m.term_names;
     nlohmann::json coeffs = nlohmann::json::array();
     nlohmann::json cov = nlohmann::json::array();
-    for (Eigen::Index i = 0; i < m.coeffs.size(); ++i) coeffs.push_back(Num(m.coeffs[i]));
+    for (Eigen::Index i = 0; i < m.coeffs.size(); ++i) coeffs.push_back(JsonNumber(m.coeffs[i]));
     // Row by row as stored, so a model whose sizes disagree (a damaged database row) is written
     // as it is and refused when read back, never read out of bounds.
     for (Eigen::Index i = 0; i < m.covariance.rows(); ++i) {
         nlohmann::json row = nlohmann::json::array();
         for (Eigen::Index k = 0; k < m.covariance.cols(); ++k)
-            row.push_back(Num(m.covariance(i, k)));
+            row.push_back(JsonNumber(m.covariance(i, k)));
         cov.push_back(row);
     }
     j["coeffs"] = coeffs;
     j["covariance"] = cov;
-    j["t0_c"] = Num(m.t0_c);
-    j["temp_min_c"] = Num(m.temp_min_c);
-    j["temp_max_c"] = Num(m.temp_max_c);
-    j["residual_rms"] = Num(m.residual_rms);
+    j["t0_c"] = JsonNumber(m.t0_c);
+    j["temp_min_c"] = JsonNumber(m.temp_min_c);
+    j["temp_max_c"] = JsonNumber(m.temp_max_c);
+    j["residual_rms"] = JsonNumber(m.residual_rms);
     j["n_points"] = m.n_points;
-    j["condition_number"] = Num(m.condition_number);
+    j["condition_number"] = JsonNumber(m.condition_number);
     j["method"] = m.method;
     return j;
 }

@@ -9,6 +9,10 @@
 
 namespace gyrocal::model {
 
+// A number as JSON: null when it is not finite (JSON has no NaN or infinity; a missing figure
+// reads as null everywhere this project writes JSON).
+nlohmann::json JsonNumber(double v);
+
 nlohmann::json ToJson(const Model& model);
 Model ModelFromJson(const nlohmann::json& j);
 
