@@ -2,6 +2,19 @@
 
 namespace gyrocal::sim {
 
+// The configuration sections written whole, every member under its own name (found by
+// nlohmann-json's ADL lookup in this namespace).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(NoiseConfig, noise_density_dps_rthz, bias_instability_dps,
+                                   rate_random_walk_dps_rts, lpf_hz, temp_noise_v)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ThermalConfig, start_temp_c, ramp_c_per_min, air_tau_s,
+                                   air_noise_c, air_noise_tau_s, package_tau_s, sensor_tau_s,
+                                   setpoint_tolerance_c, min_setpoint_c, max_setpoint_c)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TableConfig, default_rate_dps, default_accel_dps2,
+                                   max_rate_dps, max_accel_dps2, max_move_deg)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AdcConfig, bits, vref_v, supply_divider)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SupplyConfig, nominal_v, ripple_v, ripple_hz, drift_std_v,
+                                   drift_tau_s, noise_v)
+
 nlohmann::json ConfigJson(const RigConfig& c) {
     using nlohmann::json;
     json j;
@@ -19,36 +32,16 @@ nlohmann::json ConfigJson(const RigConfig& c) {
                    {"rail_high_v", c.preset.rail_high_v},
                    {"temp_v_at_25c", c.preset.temp_transfer.v_at_25c},
                    {"temp_v_per_c", c.preset.temp_transfer.v_per_c}};
-    j["noise"] = {{"noise_density_dps_rthz", c.noise.noise_density_dps_rthz},
-                  {"noise_density_convention", "allan_deviation(tau) = density / sqrt(tau)"},
-                  {"bias_instability_dps", c.noise.bias_instability_dps},
-                  {"rate_random_walk_dps_rts", c.noise.rate_random_walk_dps_rts},
-                  {"lpf_hz", c.noise.lpf_hz},
-                  {"temp_noise_v", c.noise.temp_noise_v}};
-    j["thermal"] = {{"start_temp_c", c.thermal.start_temp_c},
-                    {"ramp_c_per_min", c.thermal.ramp_c_per_min},
-                    {"air_tau_s", c.thermal.air_tau_s},
-                    {"air_noise_c", c.thermal.air_noise_c},
-                    {"air_noise_tau_s", c.thermal.air_noise_tau_s},
-                    {"package_tau_s", c.thermal.package_tau_s},
-                    {"sensor_tau_s", c.thermal.sensor_tau_s},
-                    {"setpoint_tolerance_c", c.thermal.setpoint_tolerance_c},
-                    {"min_setpoint_c", c.thermal.min_setpoint_c},
-                    {"max_setpoint_c", c.thermal.max_setpoint_c}};
-    j["table"] = {{"default_rate_dps", c.table.default_rate_dps},
-                  {"default_accel_dps2", c.table.default_accel_dps2},
-                  {"max_rate_dps", c.table.max_rate_dps},
-                  {"max_accel_dps2", c.table.max_accel_dps2},
-                  {"max_move_deg", c.table.max_move_deg}};
+    j["noise"] = c.noise;
+    j["noise"]["noise_density_convention"] = "allan_deviation(tau) = density / sqrt(tau)";
+    j["thermal"] = c.thermal;
+    j["table"] = c.table;
     j["encoder"] = {{"lines_per_rev", c.encoder.lines_per_rev},
                     {"quadrature", c.encoder.quadrature},
                     {"counts_per_rev", c.encoder.lines_per_rev * c.encoder.quadrature},
                     {"rate_hz", c.encoder.rate_hz}};
-    j["adc"] = {
-        {"bits", c.adc.bits}, {"vref_v", c.adc.vref_v}, {"supply_divider", c.adc.supply_divider}};
-    j["supply"] = {{"nominal_v", c.supply.nominal_v},     {"ripple_v", c.supply.ripple_v},
-                   {"ripple_hz", c.supply.ripple_hz},     {"drift_std_v", c.supply.drift_std_v},
-                   {"drift_tau_s", c.supply.drift_tau_s}, {"noise_v", c.supply.noise_v}};
+    j["adc"] = c.adc;
+    j["supply"] = c.supply;
     return j;
 }
 
