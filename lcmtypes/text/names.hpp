@@ -8,7 +8,6 @@
 #include <array>
 #include <cstddef>
 #include <optional>
-#include <string>
 #include <string_view>
 #include <utility>
 
@@ -31,18 +30,6 @@ constexpr std::optional<E> ValueOf(const NameTable<E, N>& table, std::string_vie
     for (const auto& [v, n] : table)
         if (name == n) return v;
     return std::nullopt;
-}
-
-// The table's names in order, joined by `separator` ("auto|3point|wls"), for help texts and
-// for errors that say what would be valid.
-template <class E, std::size_t N>
-std::string JoinNames(const NameTable<E, N>& table, std::string_view separator = "|") {
-    std::string out;
-    for (const auto& [v, name] : table) {
-        if (!out.empty()) out += separator;
-        out += name;
-    }
-    return out;
 }
 
 }  // namespace gyrocal::text

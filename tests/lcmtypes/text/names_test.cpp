@@ -32,10 +32,5 @@ TEST(Names, ParsingIsExactAndCaseSensitive) {
     EXPECT_FALSE(ValueOf(kColorNames, "").has_value());
 }
 
-TEST(Names, JoinNamesListsTheValidNamesInTableOrder) {
-    EXPECT_EQ(JoinNames(kColorNames), "red|green|blue");
-    EXPECT_EQ(JoinNames(kColorNames, ", "), "red, green, blue");
-}
-
 }  // namespace
 }  // namespace gyrocal::text
