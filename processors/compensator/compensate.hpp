@@ -46,6 +46,17 @@ struct Sample {
     double supply_v = model::kUnknown;  // [V] NaN when not measured
 };
 
+// The sample of a gyro reading: anything whose fields are named as gyro_sample_t's (the
+// message, the simulator's reading).
+template <class Gyro>
+Sample SampleOf(const Gyro& g) {
+    return Sample{.utime = g.utime,
+                  .seq = g.seq,
+                  .gyro_v = g.gyro_v,
+                  .temp_c = g.temp_c,
+                  .supply_v = g.supply_v};
+}
+
 struct Compensated {
     double rate_dps = 0.0;
     double angle_deg = 0.0;

@@ -84,8 +84,7 @@ void CompensatorNode::OnGyro(const gyro_sample_t& m, const std::string& channel)
     status_.Guarded([&] {
         std::string id;
         if (!Accept(channels::kGyroPrefix, channel, m.sensor_id, &id)) return;
-        const compensate::ApplyResult r =
-            Comp(id).Apply({m.utime, m.seq, m.gyro_v, m.temp_c, m.supply_v});
+        const compensate::ApplyResult r = Comp(id).Apply(compensate::SampleOf(m));
         if (r.status == compensate::ApplyStatus::kNoCoefficients) {
             ++uncompensated_;
             return;

@@ -44,8 +44,7 @@ OfflineResult CompensateRows(const std::vector<csv::CsvRow>& rows,
         const csv::RowMessages msgs = builder.Build(row, csv::StreamUtime(o.start_utime, row.time_s));
         if (msgs.power) it->second.PowerOn(msgs.power->power_on_utime);
         const gyro_sample_t& m = msgs.gyro;
-        const ApplyResult r =
-            it->second.Apply({m.utime, m.seq, m.gyro_v, m.temp_c, m.supply_v});
+        const ApplyResult r = it->second.Apply(SampleOf(m));
         if (r.status != ApplyStatus::kOk) {
             if (res.skipped++ == 0)
                 res.first_skip = "line " + std::to_string(row.line) + " (sensor " + row.sensor_id +

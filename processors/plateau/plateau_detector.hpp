@@ -85,6 +85,18 @@ struct Sample {
     bool moving = false;  // table moved within the guard interval
 };
 
+// The sample of a gyro reading: anything whose fields are named as gyro_sample_t's (the
+// message, the simulator's reading). Its motion is decided later (MotionClassifier).
+template <class Gyro>
+Sample SampleOf(const Gyro& g) {
+    return Sample{.utime = g.utime,
+                  .seq = g.seq,
+                  .temp_c = g.temp_c,
+                  .gyro_v = g.gyro_v,
+                  .temp_v = g.temp_v,
+                  .supply_v = g.supply_v};
+}
+
 struct Plateau {
     std::string run_id;
     int64_t plateau_id = 0;  // [us] = start_utime

@@ -75,14 +75,7 @@ void PlateauNode::OnGyro(const std::string& id, const gyro_sample_t& m,
     Sensor& sensor = SensorFor(id);
     if (!sensor.time.InOrder(m.utime, channel, status_)) return;
     sensor.time.Advance(m.utime);
-    plateau::Sample s;
-    s.utime = m.utime;
-    s.seq = m.seq;
-    s.temp_c = m.temp_c;
-    s.gyro_v = m.gyro_v;
-    s.temp_v = m.temp_v;
-    s.supply_v = m.supply_v;
-    sensor.pending.push_back(s);
+    sensor.pending.push_back(plateau::SampleOf(m));
     Drain(id, sensor);
 }
 

@@ -123,12 +123,7 @@ public:
         t.sum_die += truth.die_c;
         t.sum_floor += floor;
         t.sum_floor_meas += floor_meas;
-        compensate::Sample cs;
-        cs.utime = r.utime;
-        cs.seq = r.seq;
-        cs.gyro_v = r.gyro_v;
-        cs.temp_c = r.temp_c;
-        cs.supply_v = r.supply_v;
+        const compensate::Sample cs = compensate::SampleOf(r);
         for (size_t k = 0; k < t.cands.size(); ++k) {
             Track::PerCandidate& c = t.cands[k];
             if (!c.comp) {

@@ -59,14 +59,7 @@ public:
         Sensor& s = *sensors_[static_cast<size_t>(r.unit_index)];
         if (ramp_) ramp_->AddGyro(s.id, {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
         // gyrocal-plateau: queue until the table's motion around the sample is known.
-        plateau::Sample ps;
-        ps.utime = r.utime;
-        ps.seq = r.seq;
-        ps.temp_c = r.temp_c;
-        ps.gyro_v = r.gyro_v;
-        ps.temp_v = r.temp_v;
-        ps.supply_v = r.supply_v;
-        s.pending.push_back(ps);
+        s.pending.push_back(plateau::SampleOf(r));
         s.newest_utime = r.utime;
         Drain(s);
         // gyrocal-rotation.
