@@ -90,10 +90,21 @@ inline store::RunEventRow Event(const std::string& run, const std::string& ev,
     return e;
 }
 
-// Sample `seq` of a sensor: 10 ms apart from utime 1 s.
+// When sample `seq` of a sensor was taken: 10 ms apart from utime 1 s.
+inline int64_t SampleUtime(int64_t seq) { return 1000000 + seq * 10000; }
+
 inline store::GyroRow Sample(const std::string& run, const std::string& sensor, int64_t seq,
                              int64_t recv_utime) {
-    return GyroSample(run, sensor, seq, 1000000 + seq * 10000, recv_utime);
+    return GyroSample(run, sensor, seq, SampleUtime(seq), recv_utime);
+}
+
+// A plateau or rotation of S01 in R1 over its samples first..last.
+template <class Row>
+Row OverSamples(Row r, int64_t first, int64_t last) {
+    r.first_seq = first;
+    r.last_seq = last;
+    r.n_samples = static_cast<int32_t>(last - first + 1);
+    return r;
 }
 
 inline void WriteFixture(const std::string& path) {
@@ -106,17 +117,14 @@ inline void WriteFixture(const std::string& path) {
         rows.push_back(Sample("R1", "S01", s, t1 + s));
         rows.push_back(Sample("R1", "S02", s, t1 + s));
     }
-    store::PlateauRow p = Plateau("R1", "S01", 1000000, 1000000 + 99 * 10000);  // seq 0..99
-    p.first_seq = 0;
-    p.last_seq = 99;
-    p.n_samples = 100;
+    store::PlateauRow p = OverSamples(Plateau("R1", "S01", SampleUtime(0), SampleUtime(99)), 0, 99);
     p.setpoint_c = 25;
     p.temp_mean_c = 25.01;
     p.gyro_mean_v = 2.5;
     p.recv_utime = t1 + 400;
     rows.push_back(p);
-    store::SensitivityRow r = Rotation("R1", "S01", 2000000, 2000000 + 99 * 10000);  // 100..199
-    r.n_samples = 100;
+    store::SensitivityRow r =
+        OverSamples(Rotation("R1", "S01", SampleUtime(100), SampleUtime(199)), 100, 199);
     r.direction = 1;
     r.temp_c = 25;
     r.encoder_angle_deg = 90;
