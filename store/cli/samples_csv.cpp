@@ -6,6 +6,7 @@
 
 #include "csv/csv_writer.hpp"
 #include "csv/row_messages.hpp"
+#include "message_fields.hpp"
 #include "replay_reader.hpp"
 
 namespace gyrocal::store::report {
@@ -30,12 +31,7 @@ int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string&
                 } else if constexpr (std::is_same_v<T, GyroRow>) {
                     if (!sensor_id.empty() && r.sensor_id != sensor_id) return;
                     gyro_sample_t s;
-                    s.utime = r.utime;
-                    s.sensor_id = r.sensor_id;
-                    s.gyro_v = r.gyro_v;
-                    s.temp_v = r.temp_v;
-                    s.temp_c = r.temp_c;
-                    s.supply_v = r.supply_v;
+                    record::CopyFields(s, r);
                     const auto p = power_on.find(r.sensor_id);
                     out << csv::FormatRecordRow(s, csv::kDefaultStartUtime, encoder_deg.At(r.utime),
                                                 chamber_c.At(r.utime),

@@ -113,13 +113,13 @@ CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
            c.recv_utime);
     c.offset = ReadModel(db, info.coeff_row_id, "offset");
     c.sensitivity = ReadModel(db, info.coeff_row_id, "sensitivity");
-    Stmt p(db, "SELECT plateau_id FROM coeff_set_plateaus WHERE coeff_row_id = ? ORDER BY rowid");
-    p.Bind(1, info.coeff_row_id);
-    while (p.Step()) c.plateau_ids.push_back(p.Int(0));
-    Stmt r(db,
-           "SELECT rotation_id FROM coeff_set_rotations WHERE coeff_row_id = ? ORDER BY rowid");
-    r.Bind(1, info.coeff_row_id);
-    while (r.Step()) c.rotation_ids.push_back(r.Int(0));
+    const auto first_int = [](const Stmt& row) { return row.Int(0); };
+    c.plateau_ids = SelectAll(
+        db, "SELECT plateau_id FROM coeff_set_plateaus WHERE coeff_row_id = ? ORDER BY rowid",
+        info.coeff_row_id, first_int);
+    c.rotation_ids = SelectAll(
+        db, "SELECT rotation_id FROM coeff_set_rotations WHERE coeff_row_id = ? ORDER BY rowid",
+        info.coeff_row_id, first_int);
     return info;
 }
 
@@ -134,11 +134,8 @@ constexpr const char* kFinalOnly =
 // The coefficient sets (with their models and links) that kCoeffColumns + `where`, its one
 // parameter bound to `key`, selects, in its order.
 std::vector<CoeffSetInfo> QueryCoeffSets(Db& db, const std::string& where, const std::string& key) {
-    Stmt s(db, std::string(kCoeffColumns) + where);
-    s.Bind(1, key);
-    std::vector<CoeffSetInfo> out;
-    while (s.Step()) out.push_back(ReadCoeffSet(db, s));
-    return out;
+    return SelectAll(db, std::string(kCoeffColumns) + where, key,
+                     [&db](const Stmt& s) { return ReadCoeffSet(db, s); });
 }
 
 }  // namespace
@@ -250,67 +247,57 @@ RunInfo GetRun(Db& db, const std::string& run_id) {
 
 // The run's events in the order they were recorded.
 static std::vector<RunEventRow> RunEvents(Db& db, const std::string& run_id) {
-    std::vector<RunEventRow> events;
-    Stmt s(db, std::string("SELECT ") + kRunEventColumns +
-                   ", recv_utime FROM run_events WHERE run_id = ? ORDER BY rowid");
-    s.Bind(1, run_id);
-    while (s.Step()) {
-        RunEventRow e = ReadRunEvent(s, 0);
-        e.recv_utime = s.Int(11);
-        events.push_back(std::move(e));
-    }
-    return events;
+    return SelectAll(db,
+                     std::string("SELECT ") + kRunEventColumns +
+                         ", recv_utime FROM run_events WHERE run_id = ? ORDER BY rowid",
+                     run_id, [](const Stmt& s) {
+                         RunEventRow e = ReadRunEvent(s, 0);
+                         e.recv_utime = s.Int(11);
+                         return e;
+                     });
 }
 
 // The last STATUS of each process (process, host, pid) in the run.
 static std::vector<StatusRow> LastStatuses(Db& db, const std::string& run_id) {
-    std::vector<StatusRow> processes;
-    Stmt s(db,
-           "SELECT process, host, pid, state, received, published, decode_errors, seq_gaps, "
-           "queue_drops, rejected, last_reject, utime, recv_utime FROM status WHERE rowid IN "
-           "(SELECT max(rowid) FROM status WHERE run_id = ?1 GROUP BY process, host, pid) "
-           "ORDER BY process, host, pid");
-    s.Bind(1, run_id);
-    while (s.Step()) {
-        StatusRow st;
-        st.run_id = run_id;
-        s.Read(0, st.process, st.host, st.pid, st.state, st.received, st.published,
-               st.decode_errors, st.seq_gaps, st.queue_drops, st.rejected, st.last_reject, st.utime,
-               st.recv_utime);
-        processes.push_back(std::move(st));
-    }
-    return processes;
+    return SelectAll(
+        db,
+        "SELECT process, host, pid, state, received, published, decode_errors, seq_gaps, "
+        "queue_drops, rejected, last_reject, utime, recv_utime FROM status WHERE rowid IN "
+        "(SELECT max(rowid) FROM status WHERE run_id = ?1 GROUP BY process, host, pid) "
+        "ORDER BY process, host, pid",
+        run_id, [&run_id](const Stmt& s) {
+            StatusRow st;
+            st.run_id = run_id;
+            s.Read(0, st.process, st.host, st.pid, st.state, st.received, st.published,
+                   st.decode_errors, st.seq_gaps, st.queue_drops, st.rejected, st.last_reject,
+                   st.utime, st.recv_utime);
+            return st;
+        });
 }
 
 RunDetail ShowRun(Db& db, const std::string& run_id) {
     RunDetail d;
     d.run = GetRun(db, run_id);
-    {
-        Stmt s(db, std::string("SELECT ") + kPlateauColumns +
-                       " FROM plateaus WHERE run_id = ? ORDER BY sensor_id, plateau_id, "
-                       "plateau_row_id");
-        s.Bind(1, run_id);
-        while (s.Step()) d.plateaus.push_back(ReadPlateau(s));
-    }
-    {
-        Stmt s(db, std::string("SELECT ") + kSensitivityColumns +
-                       " FROM sensitivity_points WHERE run_id = ? ORDER BY sensor_id, "
-                       "rotation_id, rotation_row_id");
-        s.Bind(1, run_id);
-        while (s.Step()) d.sensitivity_points.push_back(ReadSensitivity(s));
-    }
+    d.plateaus = SelectAll(db,
+                           std::string("SELECT ") + kPlateauColumns +
+                               " FROM plateaus WHERE run_id = ? ORDER BY sensor_id, plateau_id, "
+                               "plateau_row_id",
+                           run_id, ReadPlateau);
+    d.sensitivity_points =
+        SelectAll(db,
+                  std::string("SELECT ") + kSensitivityColumns +
+                      " FROM sensitivity_points WHERE run_id = ? ORDER BY sensor_id, "
+                      "rotation_id, rotation_row_id",
+                  run_id, ReadSensitivity);
     d.coeff_sets = RunFinalCoeffs(db, run_id);
     d.fit_reports = RunFitReports(db, run_id);
     d.noise = RunNoise(db, run_id);
-    {
-        Stmt s(db,
-               "SELECT channel, seq_gaps, seq_backwards, decode_errors, queue_drops FROM losses "
-               "WHERE run_id = ? ORDER BY channel");
-        s.Bind(1, run_id);
-        while (s.Step()) {
-            d.losses.push_back({s.Text(0), s.Int(1), s.Int(2), s.Int(3), s.Int(4)});
-        }
-    }
+    d.losses = SelectAll(db,
+                         "SELECT channel, seq_gaps, seq_backwards, decode_errors, queue_drops "
+                         "FROM losses WHERE run_id = ? ORDER BY channel",
+                         run_id, [](const Stmt& s) -> LossInfo {
+                             return {s.Text(0), s.Int(1), s.Int(2), s.Int(3), s.Int(4)};
+                         });
     d.events = RunEvents(db, run_id);
     d.processes = LastStatuses(db, run_id);
     d.analyses = ListAnalyses(db, run_id);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace gyrocal::store {
@@ -135,6 +136,16 @@ private:
     sqlite3_stmt* stmt_ = nullptr;
     std::string sql_;
 };
+
+// The rows `sql` selects with `key` bound to ?1, each made by read_row(stmt), in order.
+template <class Key, class ReadRow>
+auto SelectAll(Db& db, std::string_view sql, const Key& key, ReadRow read_row) {
+    Stmt s(db, sql);
+    s.Bind(1, key);
+    std::vector<std::decay_t<std::invoke_result_t<ReadRow&, const Stmt&>>> out;
+    while (s.Step()) out.push_back(read_row(s));
+    return out;
+}
 
 // BEGIN IMMEDIATE ... COMMIT, rolled back when destroyed without Commit().
 class Transaction {

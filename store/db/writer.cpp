@@ -7,6 +7,8 @@
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <type_traits>
+#include <variant>
 
 #include "analyses.hpp"
 #include "schema.hpp"
@@ -252,6 +254,20 @@ void StoreWriter::WriteBatch(const std::vector<Row>& rows, const LossMap& losses
 
 namespace {
 
+// std::visit over one lambda per row type.
+template <class... F>
+struct Overloaded : F... {
+    using F::operator()...;
+};
+
+// The rows that register their sensor (table sensors) before they are written: a unit's samples,
+// points, coefficient sets and reports (rates, power and plateau states do not).
+template <class R>
+constexpr bool kRegistersSensor =
+    std::is_same_v<R, GyroRow> || std::is_same_v<R, PlateauRow> ||
+    std::is_same_v<R, SensitivityRow> || std::is_same_v<R, CoeffSetRow> ||
+    std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow>;
+
 // One INSERT per row type, bound in the column order of the statements prepared above.
 void Insert(Stmt& s, const EncoderRow& e) {
     s.BindAll(e.run_id, e.encoder_id, e.utime, e.seq, e.counts, e.counts_per_rev, e.angle_deg,
@@ -341,46 +357,36 @@ void Insert(Stmt& s, const SensitivityRow& sp) {
 }  // namespace
 
 void StoreWriter::WriteOne(const Row& row) {
-    std::visit([this](const auto& r) { EnsureRun(r.run_id, r.recv_utime); }, row);
-    if (const auto* g = std::get_if<GyroRow>(&row)) {
-        EnsureSensor(g->sensor_id, g->recv_utime);
-        Insert(st_->gyro, *g);
-        NoteBlock(*g, db_->LastInsertRowId());
-    } else if (const auto* e = std::get_if<EncoderRow>(&row)) {
-        Insert(st_->encoder, *e);
-    } else if (const auto* c = std::get_if<ChamberStateRow>(&row)) {
-        Insert(st_->chamber, *c);
-    } else if (const auto* pw = std::get_if<PowerStateRow>(&row)) {
-        Insert(st_->power, *pw);
-    } else if (const auto* cc = std::get_if<ChamberCmdRow>(&row)) {
-        Insert(st_->chamber_cmd, *cc);
-    } else if (const auto* t = std::get_if<TurntableCmdRow>(&row)) {
-        Insert(st_->turntable_cmd, *t);
-    } else if (const auto* ps = std::get_if<PlateauStateRow>(&row)) {
-        Insert(st_->plateau_state, *ps);
-    } else if (const auto* p = std::get_if<PlateauRow>(&row)) {
-        EnsureSensor(p->sensor_id, p->recv_utime);
-        Insert(st_->plateau, *p);
-    } else if (const auto* sp = std::get_if<SensitivityRow>(&row)) {
-        EnsureSensor(sp->sensor_id, sp->recv_utime);
-        Insert(st_->sensitivity, *sp);
-    } else if (const auto* cs = std::get_if<CoeffSetRow>(&row)) {
-        WriteCoeffSet(*cs);
-    } else if (const auto* r = std::get_if<RateRow>(&row)) {
-        Insert(st_->rate, *r);
-    } else if (const auto* st = std::get_if<StatusRow>(&row)) {
-        Insert(st_->status, *st);
-    } else if (const auto* ev = std::get_if<RunEventRow>(&row)) {
-        WriteRunEvent(*ev);
-    } else if (const auto* n = std::get_if<NoiseRow>(&row)) {
-        EnsureSensor(n->sensor_id, n->recv_utime);
-        WriteNoise(*n);
-    } else if (const auto* f = std::get_if<FitReportRow>(&row)) {
-        EnsureSensor(f->sensor_id, f->recv_utime);
-        WriteFitReport(*f);
-    } else if (const auto* raw = std::get_if<RawEventRow>(&row)) {
-        Insert(st_->raw, *raw);
-    }
+    std::visit(
+        [this](const auto& r) {
+            EnsureRun(r.run_id, r.recv_utime);
+            if constexpr (kRegistersSensor<std::decay_t<decltype(r)>>) {
+                EnsureSensor(r.sensor_id, r.recv_utime);
+            }
+        },
+        row);
+    const Overloaded write{
+        [this](const GyroRow& g) {
+            Insert(st_->gyro, g);
+            NoteBlock(g, db_->LastInsertRowId());
+        },
+        [this](const CoeffSetRow& cs) { WriteCoeffSet(cs); },
+        [this](const RunEventRow& ev) { WriteRunEvent(ev); },
+        [this](const NoiseRow& n) { WriteNoise(n); },
+        [this](const FitReportRow& f) { WriteFitReport(f); },
+        [this](const PlateauRow& p) { Insert(st_->plateau, p); },
+        [this](const SensitivityRow& sp) { Insert(st_->sensitivity, sp); },
+        [this](const EncoderRow& e) { Insert(st_->encoder, e); },
+        [this](const ChamberStateRow& c) { Insert(st_->chamber, c); },
+        [this](const PowerStateRow& pw) { Insert(st_->power, pw); },
+        [this](const ChamberCmdRow& cc) { Insert(st_->chamber_cmd, cc); },
+        [this](const TurntableCmdRow& t) { Insert(st_->turntable_cmd, t); },
+        [this](const PlateauStateRow& ps) { Insert(st_->plateau_state, ps); },
+        [this](const RateRow& r) { Insert(st_->rate, r); },
+        [this](const StatusRow& st) { Insert(st_->status, st); },
+        [this](const RawEventRow& raw) { Insert(st_->raw, raw); },
+    };
+    std::visit(write, row);
 }
 
 void StoreWriter::NoteBlock(const GyroRow& g, int64_t rowid) {
@@ -418,7 +424,6 @@ void StoreWriter::WriteRunEvent(const RunEventRow& r) {
 }
 
 void StoreWriter::WriteCoeffSet(const CoeffSetRow& r) {
-    EnsureSensor(r.sensor_id, r.recv_utime);
     // Kept once per (run, sensor, coeff_set_id, source): a set that `gyrocal analyze` stored
     // directly and then published is not stored again when the recorder hears it.
     InsertCoeffSetOnce(*db_, r);

@@ -32,9 +32,10 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
+#include "machine.hpp"
+#include "row_builders.hpp"
 #include "sqlite_db.hpp"
 #include "writer.hpp"
-#include "machine.hpp"
 
 namespace {
 
@@ -56,33 +57,27 @@ void Remove(const std::string& p) {
     for (const char* ext : {"", "-wal", "-shm"}) std::filesystem::remove(p + ext);
 }
 
+// The i-th sample of the bench stream: a unit at rest (its output moving a little), 16 sensors
+// in turn, 1 ms apart, received at i.
 st::GyroRow Row(int64_t i) {
-    st::GyroRow g;
-    g.run_id = "BENCH";
-    g.sensor_id = "S" + std::to_string(i % 16);
-    g.seq = i / 16;
-    g.utime = 1000000000000000 + i * 1000;
-    g.gyro_v = 2.5 + 1e-6 * static_cast<double>(i % 1000);
+    st::GyroRow g = gyrocal::testing::GyroSample("BENCH", "S" + std::to_string(i % 16), i / 16,
+                                                 1000000000000000 + i * 1000, i);
+    g.gyro_v += 1e-6 * static_cast<double>(i % 1000);
     g.temp_v = 2.5;
-    g.temp_c = 25.0;
-    g.supply_v = std::nan("");
-    g.supply_counts = -1;
-    g.recv_utime = i;
     return g;
 }
 
-st::RateRow RateRowOf(int64_t i) {
-    st::RateRow r;
-    r.run_id = "BENCH";
-    r.sensor_id = "S" + std::to_string(i % 16);
-    r.seq = i / 16;
-    r.utime = 1000000000000000 + i * 1000;
-    r.rate_dps = 0.01;
-    r.angle_deg = 1.0;
-    r.temp_c = 25.0;
-    r.coeff_set_id = 7;
-    r.recv_utime = i;
-    return r;
+// The compensated rate of sample `g`, stored beside it.
+st::RateRow RateRowOf(const st::GyroRow& g) {
+    return {.run_id = g.run_id,
+            .sensor_id = g.sensor_id,
+            .utime = g.utime,
+            .seq = g.seq,
+            .rate_dps = 0.01,
+            .angle_deg = 1.0,
+            .temp_c = g.temp_c,
+            .coeff_set_id = 7,
+            .recv_utime = g.recv_utime};
 }
 
 // What a rates(run_id, sensor_id, utime) index would cost: the recorder's real mix (each gyro
@@ -109,8 +104,9 @@ void RatesIndexCost(const std::string& dir) {
             for (int64_t b = 0; b < kSamples / kBatch; ++b) {
                 batch.clear();
                 for (int64_t k = 0; k < kBatch; ++k) {
-                    batch.push_back(Row(b * kBatch + k));
-                    batch.push_back(RateRowOf(b * kBatch + k));
+                    const st::GyroRow g = Row(b * kBatch + k);
+                    batch.push_back(g);
+                    batch.push_back(RateRowOf(g));
                 }
                 w.Write(batch, {});
             }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analyses.hpp"
+#include "row_builders.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::testing {
@@ -79,34 +80,31 @@ inline store::ModelRow ExtendedSensitivity() {
 
 inline store::RunEventRow Event(const std::string& run, const std::string& ev,
                                 std::vector<std::string> sensors, int64_t recv_utime) {
-    store::RunEventRow e;
-    e.run_id = run;
+    store::RunEventRow e = RunEvent(run, ev, std::move(sensors), recv_utime);
     e.utime = 1000;
-    e.event = ev;
     e.reason = ev == "abort" ? "operator pressed stop" : "";
-    e.setpoint_c = std::nan("");
-    e.sensor_ids = std::move(sensors);
     e.software_version = "v1.2.3";
     e.config_json = R"({"setpoints_c":[0,25,50]})";
     e.command_line = "gyrocal calibrate";
     e.host = "lab-pc";
-    e.recv_utime = recv_utime;
     return e;
 }
 
+// When sample `seq` of a sensor was taken: 10 ms apart from utime 1 s.
+inline int64_t SampleUtime(int64_t seq) { return 1000000 + seq * 10000; }
+
 inline store::GyroRow Sample(const std::string& run, const std::string& sensor, int64_t seq,
                              int64_t recv_utime) {
-    store::GyroRow g;
-    g.run_id = run;
-    g.sensor_id = sensor;
-    g.seq = seq;
-    g.utime = 1000000 + seq * 10000;
-    g.gyro_v = 2.5;
-    g.temp_c = 25;
-    g.supply_v = std::nan("");
-    g.supply_counts = -1;
-    g.recv_utime = recv_utime;
-    return g;
+    return GyroSample(run, sensor, seq, SampleUtime(seq), recv_utime);
+}
+
+// A plateau or rotation of S01 in R1 over its samples first..last.
+template <class Row>
+Row OverSamples(Row r, int64_t first, int64_t last) {
+    r.first_seq = first;
+    r.last_seq = last;
+    r.n_samples = static_cast<int32_t>(last - first + 1);
+    return r;
 }
 
 inline void WriteFixture(const std::string& path) {
@@ -119,33 +117,18 @@ inline void WriteFixture(const std::string& path) {
         rows.push_back(Sample("R1", "S01", s, t1 + s));
         rows.push_back(Sample("R1", "S02", s, t1 + s));
     }
-    store::PlateauRow p;
-    p.run_id = "R1";
-    p.sensor_id = "S01";
-    p.plateau_id = 1000000;      // = start_utime, covers seq 0..99
-    p.start_utime = 1000000;
-    p.end_utime = 1000000 + 99 * 10000;
-    p.first_seq = 0;
-    p.last_seq = 99;
-    p.n_samples = 100;
+    store::PlateauRow p = OverSamples(Plateau("R1", "S01", SampleUtime(0), SampleUtime(99)), 0, 99);
     p.setpoint_c = 25;
     p.temp_mean_c = 25.01;
     p.gyro_mean_v = 2.5;
-    p.supply_mean_v = std::nan("");
     p.recv_utime = t1 + 400;
     rows.push_back(p);
-    store::SensitivityRow r;
-    r.run_id = "R1";
-    r.sensor_id = "S01";
-    r.rotation_id = 2000000;  // covers seq 100..199
-    r.start_utime = 2000000;
-    r.end_utime = 2000000 + 99 * 10000;
-    r.n_samples = 100;
+    store::SensitivityRow r =
+        OverSamples(Rotation("R1", "S01", SampleUtime(100), SampleUtime(199)), 100, 199);
     r.direction = 1;
     r.temp_c = 25;
     r.encoder_angle_deg = 90;
     r.sensitivity_v_per_dps = 0.0067;
-    r.accepted = true;
     r.recv_utime = t1 + 401;
     rows.push_back(r);
     rows.push_back(Set("R1", "S01", 10, 2.4, 0.0066, t1 + 500, {1000000}, {}));  // superseded
@@ -194,12 +177,7 @@ inline void WriteFixture(const std::string& path) {
                         R"({"effect":"hysteresis","statistic":0.4,"decision":"rejected"}])";
     a.added_json = R"j([{"effect":"temp_rate","term":"dTdt","coefficient":0.02,)j"
                    R"j("stderr":0.001,"unit":"V/(degC/s)"}])j";
-    a.offset_rms_v_before = 2.1e-4;
-    a.offset_rms_v_after = 4.2e-5;
-    a.rate_rms_dps_before = 0.031;
-    a.rate_rms_dps_after = 0.0062;
-    a.drift_dph_before = 95;
-    a.drift_dph_after = 21;
+    SetErrors(a, {2.1e-4, 4.2e-5}, {0.031, 0.0062}, {95, 21});
     a.floor_rate_rms_dps = 0.0058;
     a.result_json = R"({"sensor_id":"S01","verdict":"added temp_rate"})";
     store::CoeffSetRow ext = Set("R2", "S01", 22, 0, 0, 0);

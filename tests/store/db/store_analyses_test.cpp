@@ -8,9 +8,10 @@
 
 #include "analyses.hpp"
 #include "query.hpp"
+#include "row_builders.hpp"
 #include "schema.hpp"
-#include "writer.hpp"
 #include "scratch_db.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::store {
 namespace {
@@ -19,16 +20,7 @@ using testing::Count;
 using testing::FreshDbPath;
 using testing::OldDatabase;
 
-RunEventRow Start(const std::string& run) {
-    RunEventRow e;
-    e.run_id = run;
-    e.event = "start";
-    e.utime = 1;
-    e.sensor_ids = {"S01"};
-    e.setpoint_c = std::nan("");
-    e.recv_utime = 100;
-    return e;
-}
+RunEventRow Start(const std::string& run) { return testing::RunEvent(run, "start", {"S01"}, 100); }
 
 CoeffSetRow Set(const std::string& run, int64_t id, const std::string& source, int64_t recv) {
     CoeffSetRow c;
@@ -62,12 +54,7 @@ AnalysisRow Analysis(const std::string& run) {
     a.candidates_json = R"([{"effect":"temp_rate","statistic":41.5,"decision":"added"}])";
     a.added_json =
         R"j([{"effect":"temp_rate","term":"dTdt","coefficient":0.01,"stderr":0.001,"unit":"V/(degC/s)"}])j";
-    a.offset_rms_v_before = 2e-4;
-    a.offset_rms_v_after = 5e-5;
-    a.rate_rms_dps_before = 0.03;
-    a.rate_rms_dps_after = 0.008;
-    a.drift_dph_before = 90;
-    a.drift_dph_after = 20;
+    testing::SetErrors(a, {2e-4, 5e-5}, {0.03, 0.008}, {90, 20});
     // floor_rate_rms_dps left NaN: stored as NULL, read back as NaN
     a.result_json = R"({"sensor_id":"S01","verdict":"added temp_rate"})";
     return a;
@@ -135,12 +122,9 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
 // WHEN the writer opens it, THEN the value is read back under the fixed name temp_mean_v.
 TEST(MigrateRename, PlateauTempLineMeanKeepsItsValueUnderTheFixedName) {
     const std::string path = FreshDbPath("rename_v6.db");
-    {
-        OldDatabase db(path, 6);
-        db.Exec(
-            "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, temp_v_mean, recv_utime) "
-            "VALUES ('OLD', 'S01', 1, 5, 2.545, 6)");
-    }
+    OldDatabase(path, 6).Exec(
+        "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, temp_v_mean, recv_utime) "
+        "VALUES ('OLD', 'S01', 1, 5, 2.545, 6)");
     StoreWriter w(path, {"test", "h", 1});
     Stmt s(w.db(), "SELECT temp_mean_v FROM plateaus WHERE run_id = 'OLD'");
     ASSERT_TRUE(s.Step());

@@ -1,22 +1,22 @@
 // The store library without LCM: schema migrations, the writer's round trip, the batching
 // writer's bounds and drop accounting.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <thread>
 
 #include "async_writer.hpp"
 #include "query.hpp"
 #include "replay_reader.hpp"
+#include "row_builders.hpp"
 #include "schema.hpp"
-#include "writer.hpp"
 #include "scratch_db.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::store {
 namespace {
@@ -28,16 +28,8 @@ using testing::FreshDbPath;
 using testing::OldDatabase;
 
 GyroRow Sample(const std::string& run, int64_t seq) {
-    GyroRow g;
-    g.run_id = run;
-    g.sensor_id = "S01";
-    g.seq = seq;
-    g.utime = 1000 + seq;
-    g.gyro_v = 2.5 + 1e-6 * static_cast<double>(seq);
-    g.temp_c = 25;
-    g.supply_v = std::nan("");
-    g.supply_counts = -1;
-    g.recv_utime = 5000 + seq;
+    GyroRow g = testing::GyroSample(run, "S01", seq, 1000 + seq, 5000 + seq);
+    g.gyro_v += 1e-6 * static_cast<double>(seq);
     return g;
 }
 
@@ -161,15 +153,9 @@ TEST(Schema, TwoWritersCreatingOneDatabaseAtOnceBothComeUp) {
 TEST(Writer, RoundTripsRowsRunsAndLosses) {
     const std::string path = FreshDbPath("roundtrip.db");
     StoreWriter w(path, {"rec-1", "host", 1});
-    RunEventRow start;
-    start.run_id = "R1";
-    start.event = "start";
-    start.utime = 1;
-    start.sensor_ids = {"S01"};
+    RunEventRow start = testing::RunEvent("R1", "start", {"S01"}, 100);
     start.software_version = "sw";
     start.config_json = "{}";
-    start.setpoint_c = std::nan("");
-    start.recv_utime = 100;
     std::vector<Row> rows = {start, Sample("R1", 0), Sample("R1", 1)};
     CoeffSetRow c;
     c.run_id = "R1";

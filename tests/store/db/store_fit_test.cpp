@@ -18,13 +18,20 @@ using testing::Count;
 using testing::FreshDbPath;
 using testing::OldDatabase;
 
-FitReportRow Report(int64_t set_id, bool final, const std::string& status) {
-    FitReportRow r;
+// A row about the fitter's set `set_id` of unit U1 in run R1 (the set itself, or its report).
+template <class R>
+R OfFitterSet(int64_t set_id) {
+    R r;
     r.run_id = "R1";
     r.sensor_id = "U1";
     r.source = "fitter";
     r.coeff_set_id = set_id;
     r.utime = set_id;
+    return r;
+}
+
+FitReportRow Report(int64_t set_id, bool final, const std::string& status) {
+    FitReportRow r = OfFitterSet<FitReportRow>(set_id);
     r.is_final = final;
     r.status = status;
     r.reason = status == "complete" ? "" : "sensitivity: nominal";
@@ -59,12 +66,7 @@ NoiseRow Noise(int64_t utime, double bias_v) {
 }
 
 CoeffSetRow Set(int64_t id, double sensitivity) {
-    CoeffSetRow c;
-    c.run_id = "R1";
-    c.sensor_id = "U1";
-    c.source = "fitter";
-    c.coeff_set_id = id;
-    c.utime = id;
+    CoeffSetRow c = OfFitterSet<CoeffSetRow>(id);
     c.recv_utime = 60;
     for (ModelRow* m : {&c.offset, &c.sensitivity}) {
         m->term_names = {"1"};

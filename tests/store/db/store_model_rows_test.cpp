@@ -10,8 +10,9 @@
 #include "model/inputs.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
-#include "writer.hpp"
+#include "row_builders.hpp"
 #include "scratch_db.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::store {
 namespace {
@@ -103,12 +104,7 @@ TEST(ModelRows, SteadyStateValueIsTheSharedEvaluatorAtSteadyInputs) {
 TEST(ModelRows, StoreAnalysisWithAModelCoeffSetAndWithAMessage) {
     const std::string path = FreshDbPath("model_rows.db");
     StoreWriter w(path, {"test", "h", 1});
-    RunEventRow start;
-    start.run_id = "R1";
-    start.event = "start";
-    start.setpoint_c = std::nan("");
-    start.recv_utime = 1;
-    w.Write({start}, {});
+    w.Write({testing::RunEvent("R1", "start", {}, 1)}, {});
     Db& db = w.db();
 
     AnalysisRow a;

@@ -11,8 +11,9 @@
 
 #include "open_run.hpp"
 #include "query.hpp"
-#include "writer.hpp"
+#include "row_builders.hpp"
 #include "scratch_db.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::record {
 namespace {
@@ -23,42 +24,27 @@ using testing::FreshDbPath;
 
 RunEventRow Event(const std::string& run, const std::string& event, const std::string& config,
                   int64_t recv) {
-    RunEventRow e;
-    e.run_id = run;
-    e.event = event;
-    e.utime = recv;
-    e.setpoint_c = std::nan("");
-    e.sensor_ids = {"A1"};
+    RunEventRow e = testing::RunEvent(run, event, {"A1"}, recv);
     e.config_json = config;
-    e.recv_utime = recv;
     return e;
 }
 
+// A one-minute plateau starting at `id` [us].
 PlateauRow Plateau(const std::string& run, const std::string& sensor, int64_t id, double mean_v) {
-    PlateauRow p;
-    p.run_id = run;
-    p.sensor_id = sensor;
-    p.plateau_id = id;
-    p.utime = id + 60'000'000;
+    PlateauRow p = testing::Plateau(run, sensor, id, id + 60'000'000);
     p.setpoint_c = 25;
     p.gyro_mean_v = mean_v;
     p.temp_mean_c = 25.1;
-    p.supply_mean_v = std::nan("");
-    p.recv_utime = id;
     return p;
 }
 
+// A five-second rotation starting at `id` [us], clockwise.
 SensitivityRow Point(const std::string& run, const std::string& sensor, int64_t id, bool accepted) {
-    SensitivityRow s;
-    s.run_id = run;
-    s.sensor_id = sensor;
-    s.rotation_id = id;
-    s.utime = id + 5'000'000;
+    SensitivityRow s = testing::Rotation(run, sensor, id, id + 5'000'000);
     s.direction = -1;
     s.sensitivity_v_per_dps = 0.006;
     s.accepted = accepted;
     s.reject_reason = accepted ? "" : "12 samples missing (sequence gaps)";
-    s.recv_utime = id;
     return s;
 }
 

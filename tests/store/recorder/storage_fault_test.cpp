@@ -112,6 +112,13 @@ protected:
         ASSERT_TRUE(bus_->Publish(std::string(channels::kRunEvent), RunEvent("RF", "start", {"K"})));
     }
 
+    // The recorder on `db`, with its first 200 samples stored before a fault is made.
+    void StartAndStore(const std::string& db, int port) {
+        Start(db, port);
+        Publish(200);
+        ExpectAllStored();
+    }
+
     // Publishes n samples of sensor K (about 2000/s, handling STATUS meanwhile).
     void Publish(int64_t n) {
         for (int64_t i = 0; i < n; ++i) {
@@ -134,6 +141,13 @@ protected:
         EXPECT_EQ(WaitForCount(db_, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RF'", seq_,
                                30s),
                   seq_);
+    }
+
+    // Once the fault is gone: every held row written and recording again; then StopAndCheck.
+    void ExpectRecoveredThenStop(const std::string& fault) {
+        ExpectAllStored();
+        EXPECT_TRUE(WaitStatus([&] { return status_.state == "recording"; }));
+        StopAndCheck(fault);
     }
 
     // SIGTERM: exit 0, the log says the fault began and ended, the file is intact.
@@ -159,9 +173,7 @@ protected:
 };
 
 TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
-    Start(FreshDbPath("fault_locked.db"), 7850);
-    Publish(200);
-    ExpectAllStored();
+    StartAndStore(FreshDbPath("fault_locked.db"), 7850);
     {
         store::Db blocker(db_, store::Db::Mode::kReadWrite);
         blocker.Exec("BEGIN IMMEDIATE");  // as another writer would, e.g. a long import
@@ -173,9 +185,7 @@ TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
         EXPECT_EQ(Stored(), 200);
         blocker.Exec("COMMIT");
     }
-    ExpectAllStored();
-    EXPECT_TRUE(WaitStatus([&] { return status_.state == "recording"; }));
-    StopAndCheck("locked by another writer");
+    ExpectRecoveredThenStop("locked by another writer");
 }
 
 TEST_F(Fault, AtTheMemoryBoundWhatIsDroppedIsCountedInLosses) {
@@ -220,9 +230,7 @@ TEST_F(Fault, DiskFullHoldsRowsAndWritesThemWhenSpaceIsFreed) {
     if (const std::string why = m.MountTmpfs("full", 4096); !why.empty()) {
         GTEST_SKIP() << why;
     }
-    Start(m.dir() + "/gyrocal.db", 7852);
-    Publish(200);
-    ExpectAllStored();
+    StartAndStore(m.dir() + "/gyrocal.db", 7852);
     // Fill the file system to the last byte (dd stops with "No space left on device").
     const std::string filler = m.dir() + "/filler";
     ScratchMount::Run("dd if=/dev/zero of=" + filler + " bs=4k");
@@ -234,9 +242,7 @@ TEST_F(Fault, DiskFullHoldsRowsAndWritesThemWhenSpaceIsFreed) {
     Publish(1000);
     EXPECT_LT(Stored(), seq_);
     fs::remove(filler);
-    ExpectAllStored();
-    EXPECT_TRUE(WaitStatus([&] { return status_.state == "recording"; }));
-    StopAndCheck("disk full");
+    ExpectRecoveredThenStop("disk full");
 }
 
 TEST_F(Fault, ReadOnlyDatabaseFileHoldsRowsAndWritesThemWhenWritableAgain) {
@@ -244,9 +250,7 @@ TEST_F(Fault, ReadOnlyDatabaseFileHoldsRowsAndWritesThemWhenWritableAgain) {
     if (const std::string why = m.MountExt4("readonly", 16); !why.empty()) {
         GTEST_SKIP() << why;
     }
-    Start(m.dir() + "/gyrocal.db", 7853);
-    Publish(200);
-    ExpectAllStored();
+    StartAndStore(m.dir() + "/gyrocal.db", 7853);
     // The database and its WAL refuse writes (EPERM), as a read-only file would; -shm is left
     // alone (SQLite maps it).
     const std::string files = db_ + " " + db_ + "-wal";
@@ -256,9 +260,7 @@ TEST_F(Fault, ReadOnlyDatabaseFileHoldsRowsAndWritesThemWhenWritableAgain) {
     ScratchMount::Run("chattr -i " + files);  // before any assertion can end the test
     ASSERT_TRUE(blocked) << "state " << status_.state;
     Publish(200);
-    ExpectAllStored();
-    EXPECT_TRUE(WaitStatus([&] { return status_.state == "recording"; }));
-    StopAndCheck("read-only");
+    ExpectRecoveredThenStop("read-only");
 }
 
 TEST(FaultAtStart, ADatabaseOnAReadOnlyFileSystemIsAClearErrorAndExitTwo) {

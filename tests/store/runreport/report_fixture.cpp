@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "analyses.hpp"
+#include "row_builders.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::testing {
@@ -70,31 +71,19 @@ void WriteReportDb(const std::string& path) {
     set.sensitivity = Model("sensitivity_v_per_dps", kSens, "wls");
     set.recv_utime = t0 + 9 * hour;
     for (size_t i = 0; i < kPlateauTemps.size(); ++i) {
-        store::PlateauRow p;
-        p.run_id = kRunId;
-        p.sensor_id = "S01";
-        p.start_utime = t0 + static_cast<int64_t>(i + 1) * hour;
-        p.end_utime = p.start_utime + 60'000'000;
-        p.plateau_id = p.start_utime;
-        p.utime = p.end_utime;
+        const int64_t start = t0 + static_cast<int64_t>(i + 1) * hour;
+        store::PlateauRow p = Plateau(kRunId, "S01", start, start + 60'000'000);
         p.setpoint_c = kPlateauTemps[i];
         p.temp_mean_c = kPlateauTemps[i];
         p.n_samples = 6000;
         p.gyro_sem_v = kSemV;
         const double sigma = std::hypot(kSemV, kSlowNoiseDps * Poly(kSens, p.temp_mean_c));
         p.gyro_mean_v = Poly(kOffset, p.temp_mean_c) + kResidualSigmas[i] * sigma;
-        p.supply_mean_v = NAN;
-        p.recv_utime = p.end_utime;
         rows.push_back(p);
         set.plateau_ids.push_back(p.plateau_id);
         for (int dir : {+1, -1}) {
-            store::SensitivityRow s;
-            s.run_id = kRunId;
-            s.sensor_id = "S01";
-            s.start_utime = p.end_utime + (dir > 0 ? 1 : 2) * 10'000'000;
-            s.end_utime = s.start_utime + 5'000'000;
-            s.rotation_id = s.start_utime;
-            s.utime = s.end_utime;
+            const int64_t turn = p.end_utime + (dir > 0 ? 1 : 2) * 10'000'000;
+            store::SensitivityRow s = Rotation(kRunId, "S01", turn, turn + 5'000'000);
             s.direction = dir;
             s.temp_c = kPlateauTemps[i];
             s.encoder_angle_deg = 90.0 * dir;
@@ -102,25 +91,17 @@ void WriteReportDb(const std::string& path) {
             s.sensitivity_stderr_v_per_dps = 1e-5;
             s.accepted = !(i == 2 && dir < 0);
             if (!s.accepted) s.reject_reason = kRefusal;
-            s.recv_utime = s.end_utime;
             rows.push_back(s);
             if (s.accepted) set.rotation_ids.push_back(s.rotation_id);
         }
     }
     rows.push_back(set);
     for (int i = 0; i < 2; ++i) {
-        store::PlateauRow p;
-        p.run_id = kRunId;
-        p.sensor_id = "S02";
-        p.start_utime = t0 + (i + 1) * hour + 5;
-        p.end_utime = p.start_utime + 60'000'000;
-        p.plateau_id = p.start_utime;
-        p.utime = p.end_utime;
+        const int64_t start = t0 + (i + 1) * hour + 5;
+        store::PlateauRow p = Plateau(kRunId, "S02", start, start + 60'000'000);
         p.temp_mean_c = kPlateauTemps[i];
         p.gyro_mean_v = 2.49;
         p.gyro_sem_v = kSemV;
-        p.supply_mean_v = NAN;
-        p.recv_utime = p.end_utime;
         rows.push_back(p);
     }
     for (const char* process : {"gyrocal-fitter", "gyrocal-plateau"}) {
@@ -151,12 +132,7 @@ void WriteReportDb(const std::string& path) {
     a.outcome = "partly explained";
     a.candidates_json = R"([{"effect":"supply","term":"supply","statistic":61.5,"cv_gain":0.2,"decision":"added"}])";
     a.added_json = R"([{"effect":"supply","term":"supply","coefficient":0.004,"stderr":0.0002,"unit":"V/V"}])";
-    a.offset_rms_v_before = 2e-4;
-    a.offset_rms_v_after = 5e-5;
-    a.rate_rms_dps_before = 0.035;
-    a.rate_rms_dps_after = 0.009;
-    a.drift_dph_before = 80;
-    a.drift_dph_after = 20;
+    SetErrors(a, {2e-4, 5e-5}, {0.035, 0.009}, {80, 20});
     a.floor_rate_rms_dps = 0.006;
     a.result_json = R"({"could_not_test":["warmup: the run is shorter than 10 tau"],)"
                     R"("expected_after":{"offset_rms_v":4.5e-5,"rate_rms_dps":0.008}})";

@@ -1,0 +1,95 @@
+#pragma once
+// Store rows for the store's and the recorder's tests, as the recorder would store them: the
+// identity and the values every test needs are set here once; a test sets what it checks.
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "analyses.hpp"
+#include "rows.hpp"
+
+namespace gyrocal::testing {
+
+// A sample of a unit at rest at 25 degC: 2.5 V, its supply not measured (NaN, no ADC code).
+inline store::GyroRow GyroSample(const std::string& run, const std::string& sensor, int64_t seq,
+                                 int64_t utime, int64_t recv_utime) {
+    return {.run_id = run,
+            .sensor_id = sensor,
+            .utime = utime,
+            .seq = seq,
+            .gyro_v = 2.5,
+            .temp_c = 25,
+            .supply_v = std::nan(""),
+            .supply_counts = -1,
+            .recv_utime = recv_utime};
+}
+
+// A run event as the sequencer sends it (no setpoint), received when sent.
+inline store::RunEventRow RunEvent(const std::string& run, const std::string& event,
+                                   std::vector<std::string> sensors, int64_t utime) {
+    store::RunEventRow e;
+    e.run_id = run;
+    e.event = event;
+    e.sensor_ids = std::move(sensors);
+    e.setpoint_c = std::nan("");
+    e.utime = utime;
+    e.recv_utime = utime;
+    return e;
+}
+
+// What plateaus and rotations share: `sensor` in `run` over [start_utime, end_utime] [us], named
+// by its start as the processors name them, sent and received at its end.
+template <class Row>
+Row OverWindow(const std::string& run, const std::string& sensor, int64_t start_utime,
+               int64_t end_utime) {
+    Row r;
+    r.run_id = run;
+    r.sensor_id = sensor;
+    r.start_utime = start_utime;
+    r.end_utime = end_utime;
+    if constexpr (std::is_same_v<Row, store::PlateauRow>) {
+        r.plateau_id = start_utime;
+    } else {
+        r.rotation_id = start_utime;
+    }
+    r.utime = end_utime;
+    r.recv_utime = end_utime;
+    return r;
+}
+
+// A plateau, its supply not measured.
+inline store::PlateauRow Plateau(const std::string& run, const std::string& sensor,
+                                 int64_t start_utime, int64_t end_utime) {
+    store::PlateauRow p = OverWindow<store::PlateauRow>(run, sensor, start_utime, end_utime);
+    p.supply_mean_v = std::nan("");
+    return p;
+}
+
+// An accepted rotation (sensitivity point).
+inline store::SensitivityRow Rotation(const std::string& run, const std::string& sensor,
+                                      int64_t start_utime, int64_t end_utime) {
+    store::SensitivityRow s =
+        OverWindow<store::SensitivityRow>(run, sensor, start_utime, end_utime);
+    s.accepted = true;
+    return s;
+}
+
+// A figure of an analysis with the run's declared model (before) and the extended one (after).
+struct BeforeAfter {
+    double before, after;
+};
+
+// Sets an analysis' errors: residual offset RMS [V], rate RMS [deg/s], integrated drift [deg/h].
+inline void SetErrors(store::AnalysisRow& a, BeforeAfter offset_rms_v, BeforeAfter rate_rms_dps,
+                      BeforeAfter drift_dph) {
+    a.offset_rms_v_before = offset_rms_v.before;
+    a.offset_rms_v_after = offset_rms_v.after;
+    a.rate_rms_dps_before = rate_rms_dps.before;
+    a.rate_rms_dps_after = rate_rms_dps.after;
+    a.drift_dph_before = drift_dph.before;
+    a.drift_dph_after = drift_dph.after;
+}
+
+}  // namespace gyrocal::testing
