@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analyses.hpp"
+#include "test_model.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::testing {
@@ -28,13 +29,7 @@ inline store::ModelRow PolyModel(const std::string& quantity, std::vector<double
     m.coeffs = coeffs;
     m.covariance.assign(coeffs.size(), std::vector<double>(coeffs.size(), 0.0));
     for (size_t i = 0; i < coeffs.size(); ++i) m.covariance[i][i] = 4e-10;  // stddev 2e-5
-    m.t0_c = 25.0;
-    m.temp_min_c = -10.0;
-    m.temp_max_c = 60.0;
-    m.residual_rms = 1e-5;
-    m.n_points = 3;
-    m.condition_number = 5.0;
-    m.method = "wls";
+    SetTestModelScalars(m, {.condition_number = 5.0});
     return m;
 }
 
@@ -122,7 +117,7 @@ inline void WriteFixture(const std::string& path) {
     store::PlateauRow p;
     p.run_id = "R1";
     p.sensor_id = "S01";
-    p.plateau_id = 1000000;      // = start_utime, covers seq 0..99
+    p.plateau_id = 1000000;  // = start_utime, covers seq 0..99
     p.start_utime = 1000000;
     p.end_utime = 1000000 + 99 * 10000;
     p.first_seq = 0;

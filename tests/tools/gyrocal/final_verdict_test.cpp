@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "final_verdict.hpp"
+#include "message_builders.hpp"
 
 namespace gyrocal::cli {
 namespace {
@@ -24,11 +25,10 @@ coeff_set_t Set(const std::string& id, int64_t set_id, int offset_terms) {
     return c;
 }
 
+// A final report of set `set_id`.
 fit_report_t Report(const std::string& id, int64_t set_id, const std::string& status, const std::string& reason) {
-    fit_report_t r{};
-    r.sensor_id = id;
+    fit_report_t r = testing::FitReport(id);
     r.coeff_set_id = set_id;
-    r.is_final = true;
     r.status = status;
     r.reason = reason;
     return r;
