@@ -12,6 +12,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "compensator/compensator_node.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -36,8 +37,7 @@ struct MemqCompensator {
     CompensatorNode node;
     std::vector<rate_t> rates;
     explicit MemqCompensator(CompensatorNodeOptions o) : node((o.lcm_url = "memq://", o)) {
-        node.bus().Subscribe<rate_t>(channels::AllSensors(channels::kRatePrefix),
-                                     [this](const rate_t& m, const std::string&) { rates.push_back(m); });
+        testing::CollectInto(node.bus(), channels::AllSensors(channels::kRatePrefix), rates);
     }
     // Dispatches until the queue is empty (what a handler publishes is dispatched too).
     void Drain() {

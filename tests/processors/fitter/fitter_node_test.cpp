@@ -11,6 +11,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "fitter/fitter_node.hpp"
 #include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
@@ -47,10 +48,8 @@ TEST(FitterNode, FinalSetIsTheTruthWithExactIdsAndBadInputIsRefused) {
     Bus& bus = node.bus();
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
-    bus.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
-                               [&](const coeff_set_t& m, const std::string&) { coeffs.push_back(m); });
-    bus.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
-                                [&](const fit_report_t& m, const std::string&) { reports.push_back(m); });
+    testing::CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);
+    testing::CollectInto(bus, channels::AllSensors(channels::kFitPrefix), reports);
 
     // GIVEN a run of S01 with plateaus at three temperatures, two accepted rotations at each and
     // one not accepted
