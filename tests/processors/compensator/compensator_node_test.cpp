@@ -3,6 +3,8 @@
 // with an unknown term is refused and the old set stays in force; NaN, backwards and
 // mislabelled samples are refused and counted. The real process over UDP multicast is
 // compensator_process_test.cpp.
+#include "compensator/compensator_node.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -13,11 +15,10 @@
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "bus_wait.hpp"
-#include "compensator/compensator_node.hpp"
+#include "coeff_set_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
-#include "coeff_set_fixture.hpp"
 #include "model/convert.hpp"
 
 namespace gyrocal {

@@ -14,14 +14,14 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "coeff_set_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
-#include "status_watch.hpp"
-#include "coeff_set_fixture.hpp"
 #include "model/convert.hpp"
+#include "status_watch.hpp"
 
 namespace gyrocal {
 namespace {
@@ -54,8 +54,7 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
     std::vector<std::string> argv = {GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl};
     argv.insert(argv.end(), policy_args.begin(), policy_args.end());
     ChildProcess comp(argv);
-    ASSERT_TRUE(l.WaitFor([&] { return l.status.seen; }))
-        << "no STATUS from gyrocal-compensator";
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.seen; })) << "no STATUS from gyrocal-compensator";
 
     // GIVEN samples before any coefficient set: not published, counted.
     int64_t seq = 0;

@@ -2,6 +2,8 @@
 // plateaus, rotations and RUN_EVENT published into the node's own bus give COEFFS_<id> with
 // exactly the ids used and the truth's curves, and a FIT_<id> report; bad input is refused and
 // counted. The real process over UDP multicast is fitter_process_test.cpp.
+#include "fitter/fitter_node.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -12,7 +14,6 @@
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "bus_wait.hpp"
-#include "fitter/fitter_node.hpp"
 #include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"

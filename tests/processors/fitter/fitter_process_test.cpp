@@ -12,6 +12,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
@@ -22,7 +23,6 @@
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 #include "model/convert.hpp"
-#include "bus_wait.hpp"
 #include "status_watch.hpp"
 
 namespace gyrocal {
