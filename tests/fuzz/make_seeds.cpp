@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "gyrocal/fit_report_t.hpp"
-#include "gyrocal/noise_t.hpp"
 #include "message_builders.hpp"
 #include "model/convert.hpp"
 #include "model/json.hpp"
@@ -29,7 +27,8 @@ void Put(const std::string& harness, const std::string& name, const std::vector<
     const fs::path dir = g_root / harness;
     fs::create_directories(dir);
     std::ofstream(dir / name, std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+        .write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
 }
 
 void PutText(const std::string& harness, const std::string& name, const std::string& text) {
@@ -38,60 +37,7 @@ void PutText(const std::string& harness, const std::string& name, const std::str
 
 template <class Msg>
 void PutMsg(const std::string& name, const Msg& m) {
-    Put("decode_" + std::string(Msg::getTypeName()), name,
-        EncodeMsg(m));
-}
-
-// The fitter's messages: an Allan estimate and a final report with one exclusion and one
-// repeatability line (their elements travel only inside the report).
-noise_t Noise(const std::string& id) {
-    noise_t n{};
-    n.utime = kT0Utime;
-    n.sensor_id = id;
-    n.run_id = "R1";
-    n.still_s = 600;
-    n.n_segments = 2;
-    n.longest_segment_s = 300;
-    n.tau0_s = 0.1;
-    n.arw_v_rthz = 2.4e-4;
-    n.bias_instability_v = 5e-5;
-    n.fit_note = "rate random walk not fitted";
-    n.tau_s = {0.1, 1.0, 10.0};
-    n.adev_v = {7.6e-4, 2.4e-4, 9e-5};
-    n.adev_lo_v = {7.5e-4, 2.3e-4, 8e-5};
-    n.adev_hi_v = {7.7e-4, 2.5e-4, 1e-4};
-    n.edf = {5000, 500, 40};
-    n.num_taus = 3;
-    return n;
-}
-
-fit_report_t FitReport(const std::string& id) {
-    fit_report_t r{};
-    r.utime = kT0Utime;
-    r.sensor_id = id;
-    r.run_id = "R1";
-    r.coeff_set_id = 99;
-    r.source = "fitter";
-    r.is_final = true;
-    r.status = "complete";
-    r.slow_noise_v = 7e-5;
-    r.slow_noise_dps = 0.012;
-    r.slow_noise_source = "Allan deviation of this run (NOISE_" + id + ")";
-    fit_exclusion_t x{};
-    x.kind = "plateau";
-    x.item_id = 20;
-    x.reason = "leave-one-out";
-    r.excluded = {x};
-    r.num_excluded = 1;
-    repeatability_t rep{};
-    rep.first_plateau_id = 10;
-    rep.second_plateau_id = 30;
-    rep.first_approach = 0;
-    rep.second_approach = -1;
-    rep.verdict = "repeatable within 3 sigma";
-    r.repeats = {rep};
-    r.num_repeats = 1;
-    return r;
+    Put("decode_" + std::string(Msg::getTypeName()), name, EncodeMsg(m));
 }
 
 void MessageSeeds() {

@@ -48,8 +48,7 @@ TEST(Bus, WrongTypeOnChannelIsCountedNotDelivered) {
     Bus bus(BusOptions{"memq://"});
     int delivered = 0;
     CountDeliveries<gyro_sample_t>(bus, "GYRO_X", delivered);
-    encoder_sample_t wrong;
-    wrong.encoder_id = "TABLE";
+    const encoder_sample_t wrong = testing::Encoder(0);
     bus.Publish("GYRO_X", wrong);
     bus.Publish("GYRO_X", wrong);
     bus.Publish("GYRO_X", Gyro("X", 0));
@@ -95,11 +94,7 @@ TEST(Bus, HostileArrayLengthIsADecodeErrorNotACrash) {
     Bus bus(BusOptions{"memq://"});
     int delivered = 0;
     CountDeliveries<run_event_t>(bus, "RUN_EVENT", delivered);
-    run_event_t e;
-    e.run_id = "r";
-    e.event = "start";
-    e.num_sensors = 1;
-    e.sensor_ids = {"S01"};
+    const run_event_t e = testing::RunEvent("r", "start", {"S01"});
     std::vector<uint8_t> buf = EncodeMsg(e);
     // Layout after the 8-byte fingerprint: utime(8), run_id(4+len+1), event(4+len+1), reason(4+1),
     // setpoint_index(4), setpoint_c(8), then num_sensors(int16).

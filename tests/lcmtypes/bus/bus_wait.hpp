@@ -1,7 +1,9 @@
 #pragma once
-// Bounded waits on the bus for the tests that talk to real processes or nodes: no test waits
-// forever on a message that was lost.
+// Bounded waits on the bus for the tests that talk to real processes or nodes (no test waits
+// forever on a message that was lost), and the messages they keep meanwhile.
 #include <chrono>
+#include <string>
+#include <vector>
 
 #include "bus/bus.hpp"
 
@@ -18,6 +20,13 @@ bool HandleUntil(Bus& bus, Done&& done, std::chrono::milliseconds timeout,
         bus.Handle(step);
     }
     return true;
+}
+
+// Keeps every Msg heard on `channel` (a name or a regex) in `into`, in arrival order; `into`
+// must outlive the bus.
+template <class Msg>
+void CollectInto(Bus& bus, const std::string& channel, std::vector<Msg>& into) {
+    bus.Subscribe<Msg>(channel, [&into](const Msg& m, const std::string&) { into.push_back(m); });
 }
 
 }  // namespace gyrocal::testing

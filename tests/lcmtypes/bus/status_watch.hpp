@@ -36,7 +36,7 @@ public:
         return -1.0;
     }
 
-    status_t last;
+    status_t last{};
     bool seen = false;
 
 private:

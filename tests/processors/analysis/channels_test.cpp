@@ -238,9 +238,7 @@ TEST(Edges, AShapeParameterAtTheEndOfItsRangeIsFlagged) {
     o.outside_v = [](double t) { return 1.5e-3 * std::sin(kTwoPi * t / 2500.0); };
     const SensorResult r = Analyze(MakeSimRun(o).run);
     SCOPED_TRACE(FormatReport(r));
-    const FeatureResult* per = nullptr;
-    for (const FeatureResult& f : r.features)
-        if (f.feature == "periodic") per = &f;
+    const FeatureResult* per = testing::LastFeature(r, "periodic");
     ASSERT_NE(per, nullptr);
     EXPECT_NE(per->edge.find("period at the upper edge of the searched 40-"), std::string::npos)
         << per->edge;
@@ -276,9 +274,7 @@ TEST(Edges, AWarmupCandidateBeyondItsGridIsFlagged) {
     o.outside_v = [](double t) { return 4e-3 * std::exp(-t / 1500.0); };
     const SensorResult r = Analyze(MakeSimRun(o).run);
     SCOPED_TRACE(FormatReport(r));
-    const CandidateResult* w = nullptr;
-    for (const CandidateResult& c : r.candidates)
-        if (c.effect == "warmup") w = &c;
+    const CandidateResult* w = testing::CandidateFor(r, "warmup");
     ASSERT_NE(w, nullptr);
     ASSERT_FALSE(w->term.empty()) << w->note;
     EXPECT_TRUE(w->grid_edge) << w->term;

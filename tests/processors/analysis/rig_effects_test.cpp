@@ -151,9 +151,7 @@ void RunShaped(const char* name, const std::vector<std::string>& effects, const 
         for (const AddedEffect& a : r.added) {
             EXPECT_EQ(a.effect, right) << "named a wrong candidate: " << a.effect;
             if (a.effect != right) continue;
-            const CandidateResult* c = nullptr;
-            for (const CandidateResult& k : r.candidates)
-                if (k.effect == right) c = &k;
+            const CandidateResult* c = testing::CandidateFor(r, right);
             ASSERT_NE(c, nullptr);
             EXPECT_TRUE(sensible(a, *c)) << a.term << " " << a.coefficient << " +- " << a.stderr_;
         }

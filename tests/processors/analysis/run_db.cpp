@@ -28,71 +28,67 @@ std::string WriteRunDb(const std::string& name, const SimRunOptions& o) {
     return path;
 }
 
+namespace {
+
+// A row of run `run_id` (of unit S01 where the row is about a unit) sent at `utime` [us] and
+// received at once, as the recorder stores what it hears.
+template <class Row>
+Row RunRow(const std::string& run_id, int64_t utime) {
+    Row r;
+    r.run_id = run_id;
+    if constexpr (requires { r.sensor_id; }) r.sensor_id = "S01";
+    r.utime = utime;
+    r.recv_utime = utime;
+    return r;
+}
+
+}  // namespace
+
 void WriteSimRun(const std::string& path, const std::string& run_id, const SimRun& s) {
     st::StoreWriter w(path, {"test", "host", 1});
     std::vector<st::Row> rows;
-    st::RunEventRow start;
-    start.run_id = run_id;
+    st::RunEventRow start = RunRow<st::RunEventRow>(run_id, s.raw.front().utime);
     start.event = "start";
-    start.utime = s.raw.front().utime;
     start.sensor_ids = {"S01"};
     start.setpoint_c = NAN;
-    start.recv_utime = start.utime;
     rows.push_back(start);
     for (const GyroSample& g : s.raw) {
-        st::GyroRow r;
-        r.run_id = run_id;
-        r.sensor_id = "S01";
-        r.utime = g.utime;
+        st::GyroRow r = RunRow<st::GyroRow>(run_id, g.utime);
         r.seq = g.seq;
         r.gyro_v = g.gyro_v;
         r.temp_c = g.temp_c;
         r.temp_v = NAN;
         r.supply_v = g.supply_v;
-        r.recv_utime = g.utime;
         rows.push_back(r);
     }
     int64_t seq = 0;
     for (const EncoderSample& e : s.encoder) {
-        st::EncoderRow r;
-        r.run_id = run_id;
+        st::EncoderRow r = RunRow<st::EncoderRow>(run_id, e.utime);
         r.encoder_id = "E";
-        r.utime = e.utime;
         r.seq = seq++;
         r.counts = e.counts;
         r.counts_per_rev = e.counts_per_rev;
         r.angle_deg = static_cast<double>(e.counts) * 360.0 / e.counts_per_rev;
-        r.recv_utime = e.utime;
         rows.push_back(r);
     }
     seq = 0;
     for (const AirSample& a : s.air) {
-        st::ChamberStateRow r;
-        r.run_id = run_id;
-        r.utime = a.utime;
+        st::ChamberStateRow r = RunRow<st::ChamberStateRow>(run_id, a.utime);
         r.seq = seq++;
         r.cmd_id = -1;
         r.setpoint_c = kNan;
         r.air_c = a.air_c;
-        r.recv_utime = a.utime;
         rows.push_back(r);
     }
     for (const PowerRecord& p : s.power) {
-        st::PowerStateRow r;
-        r.run_id = run_id;
-        r.sensor_id = "S01";
-        r.utime = p.utime;
+        st::PowerStateRow r = RunRow<st::PowerStateRow>(run_id, p.utime);
         r.power_on_utime = p.power_on_utime;
         r.source = p.source;
-        r.recv_utime = p.utime;
         rows.push_back(r);
     }
     for (const PlateauInput& p : s.run.plateaus) {
-        st::PlateauRow r;
-        r.run_id = run_id;
-        r.sensor_id = "S01";
+        st::PlateauRow r = RunRow<st::PlateauRow>(run_id, p.end_utime);
         r.plateau_id = p.plateau_id;
-        r.utime = p.end_utime;
         r.start_utime = p.start_utime;
         r.end_utime = p.end_utime;
         r.n_samples = static_cast<int32_t>(p.n_samples);
@@ -100,21 +96,16 @@ void WriteSimRun(const std::string& path, const std::string& run_id, const SimRu
         r.temp_sem_c = p.temp_sem_c;
         r.gyro_mean_v = p.gyro_mean_v;
         r.gyro_sem_v = p.gyro_sem_v;
-        r.recv_utime = p.end_utime;
         rows.push_back(r);
     }
     for (const SensitivityInput& si : s.run.sensitivities) {
-        st::SensitivityRow r;
-        r.run_id = run_id;
-        r.sensor_id = "S01";
+        st::SensitivityRow r = RunRow<st::SensitivityRow>(run_id, si.utime);
         r.rotation_id = si.rotation_id;
-        r.utime = si.utime;
         r.direction = si.direction;
         r.temp_c = si.temp_c;
         r.sensitivity_v_per_dps = si.sensitivity_v_per_dps;
         r.sensitivity_stderr_v_per_dps = si.stderr_v_per_dps;
         r.accepted = true;
-        r.recv_utime = si.utime;
         rows.push_back(r);
     }
     w.Write(rows, {});

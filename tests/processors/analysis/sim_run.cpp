@@ -126,16 +126,14 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
         const auto start = end - static_cast<int64_t>(o.plateau_window_s * 1e6);
         const Stats t = WindowStats(col.gyro, start, end, true),
                     v = WindowStats(col.gyro, start, end, false);
-        PlateauInput p;
-        p.plateau_id = start;
-        p.start_utime = start;
-        p.end_utime = end;
-        p.temp_mean_c = t.mean;
-        p.temp_sem_c = t.sem;
-        p.gyro_mean_v = v.mean;
-        p.gyro_sem_v = v.sem;
-        p.n_samples = v.n;
-        plateaus.push_back(p);
+        plateaus.push_back({.plateau_id = start,
+                            .start_utime = start,
+                            .end_utime = end,
+                            .temp_mean_c = t.mean,
+                            .temp_sem_c = t.sem,
+                            .gyro_mean_v = v.mean,
+                            .gyro_sem_v = v.sem,
+                            .n_samples = v.n});
     }
     std::vector<SensitivityInput> sens;
     const int64_t guard = 1'000'000, rest = 5'000'000;

@@ -25,7 +25,6 @@
 #include "analysis/report.hpp"
 #include "csv/csv_file.hpp"
 #include "csv/row_messages.hpp"
-#include "cli.hpp"
 #include "feature_lookup.hpp"
 #include "generator.hpp"
 #include "sim_run.hpp"
@@ -220,37 +219,6 @@ TEST(BadInput, VerdictOptionsAreRefusedWithTheirName) {
         EXPECT_NE(o.Problem().find("min_feature_drop"), std::string::npos) << v;
         EXPECT_THROW(Analyze(run, o), std::invalid_argument);
     }
-}
-
-TEST(BadInput, OthersimOutsideEffectOptionsAreRefusedWithTheirName) {
-    // Through the real command-line parser (what gyrocal-othersim runs), then Options::Problem.
-    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
-        {{"--drift-v-per-h", "0.5"}, "--drift-v-per-h"},
-        {{"--periodic-v", "-0.2"}, "--periodic-v"},
-        {{"--periodic-s", "0"}, "--periodic-s"},
-        {{"--step-v", "1"}, "--step-v"},
-        {{"--step-at-s", "-5"}, "--step-at-s"},
-        {{"--warmup2-v", "0.2"}, "--warmup2-v"},
-        {{"--warmup2-tau-s", "0.5"}, "--warmup2-tau-s"}};
-    for (const auto& [args, name] : cases) {
-        othersim::Options o;
-        othersim::CliValues v;
-        CLI::App app;
-        othersim::AddOptions(app, o, v);
-        std::vector<std::string> argv = {"--out", "x.csv"};
-        argv.insert(argv.end(), args.begin(), args.end());
-        std::vector<std::string> rev(argv.rbegin(), argv.rend());
-        app.parse(rev);
-        const std::string problem = othersim::Finish(o, v);
-        EXPECT_NE(problem.find(name), std::string::npos) << name << ": " << problem;
-    }
-    // A word where a number belongs: the parser itself refuses it.
-    othersim::Options o;
-    othersim::CliValues v;
-    CLI::App app;
-    othersim::AddOptions(app, o, v);
-    std::vector<std::string> rev = {"abc", "--drift-v-per-h", "x.csv", "--out"};
-    EXPECT_THROW(app.parse(rev), CLI::ParseError);
 }
 
 // ---- othersim: an independent rig ------------------------------------------------------------

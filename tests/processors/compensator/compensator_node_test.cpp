@@ -3,6 +3,8 @@
 // with an unknown term is refused and the old set stays in force; NaN, backwards and
 // mislabelled samples are refused and counted. The real process over UDP multicast is
 // compensator_process_test.cpp.
+#include "compensator/compensator_node.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -12,11 +14,11 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "compensator/compensator_node.hpp"
+#include "bus_wait.hpp"
+#include "coeff_set_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
-#include "coeff_set_fixture.hpp"
 #include "model/convert.hpp"
 
 namespace gyrocal {
@@ -36,8 +38,7 @@ struct MemqCompensator {
     CompensatorNode node;
     std::vector<rate_t> rates;
     explicit MemqCompensator(CompensatorNodeOptions o) : node((o.lcm_url = "memq://", o)) {
-        node.bus().Subscribe<rate_t>(channels::AllSensors(channels::kRatePrefix),
-                                     [this](const rate_t& m, const std::string&) { rates.push_back(m); });
+        testing::CollectInto(node.bus(), channels::AllSensors(channels::kRatePrefix), rates);
     }
     // Dispatches until the queue is empty (what a handler publishes is dispatched too).
     void Drain() {

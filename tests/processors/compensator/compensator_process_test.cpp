@@ -10,18 +10,18 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
-#include <optional>
 #include <thread>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "coeff_set_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
-#include "coeff_set_fixture.hpp"
 #include "model/convert.hpp"
+#include "status_watch.hpp"
 
 namespace gyrocal {
 namespace {
@@ -35,28 +35,11 @@ coeff_set_t Set(int64_t id) { return testing::KnownSet(id, "run-7751"); }
 struct Listener {
     Bus bus{BusOptions{kUrl}};
     std::vector<rate_t> rates;
-    std::optional<status_t> status;
-    Listener() {
-        bus.Subscribe<rate_t>(channels::AllSensors(channels::kRatePrefix),
-                              [this](const rate_t& m, const std::string&) { rates.push_back(m); });
-        bus.Subscribe<status_t>(std::string(channels::kStatus),
-                                [this](const status_t& m, const std::string&) {
-                                    if (m.process == "gyrocal-compensator") status = m;
-                                });
-    }
+    testing::StatusWatch status{bus, "gyrocal-compensator"};
+    Listener() { testing::CollectInto(bus, channels::AllSensors(channels::kRatePrefix), rates); }
     template <class F>
     bool WaitFor(F&& cond, std::chrono::milliseconds timeout = 10s) {
-        const auto deadline = std::chrono::steady_clock::now() + timeout;
-        while (!cond()) {
-            if (std::chrono::steady_clock::now() > deadline) return false;
-            bus.Handle(50ms);
-        }
-        return true;
-    }
-    double Extra(const std::string& name) const {
-        for (size_t i = 0; status && i < status->extra_names.size(); ++i)
-            if (status->extra_names[i] == name) return status->extra_values[i];
-        return NAN;
+        return testing::HandleUntil(bus, std::forward<F>(cond), timeout);
     }
 };
 
@@ -71,8 +54,7 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
     std::vector<std::string> argv = {GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl};
     argv.insert(argv.end(), policy_args.begin(), policy_args.end());
     ChildProcess comp(argv);
-    ASSERT_TRUE(l.WaitFor([&] { return l.status.has_value(); }))
-        << "no STATUS from gyrocal-compensator";
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.seen; })) << "no STATUS from gyrocal-compensator";
 
     // GIVEN samples before any coefficient set: not published, counted.
     int64_t seq = 0;
@@ -100,10 +82,10 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
     l.bus.Publish(channels::Gyro("S01"), stray);
 
     ASSERT_TRUE(l.WaitFor([&] {
-        return l.rates.size() >= 105 && l.Extra("coeff_sets_rejected") >= 1 &&
-               l.Extra("uncompensated") >= 5 && l.status->rejected >= 4;
+        return l.rates.size() >= 105 && l.status.Extra("coeff_sets_rejected") >= 1 &&
+               l.status.Extra("uncompensated") >= 5 && l.status.last.rejected >= 4;
     })) << "rates "
-        << l.rates.size() << ", rejected " << l.Extra("coeff_sets_rejected");
+        << l.rates.size() << ", rejected " << l.status.Extra("coeff_sets_rejected");
     // THEN rate = truth to rounding (the test builds gyro_v from the same models: 1e-9 deg/s is
     // ~1e-11 V / 6 mV/dps, far above double rounding of a 2.5 V sum), the angle is the trapezoid
     // integral of a constant rate (exact: 10 deg/s * elapsed), and the range flag marks 70 degC.
@@ -129,9 +111,9 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
             EXPECT_NEAR(r.angle_deg, 10.0 * elapsed_s, 1e-9) << r.seq;
         }
     }
-    EXPECT_EQ(l.status->rejected, 4);  // the bad set and the three bad samples, none published
-    EXPECT_EQ(l.Extra("coeff_sets_applied"), 1.0);
-    EXPECT_EQ(l.Extra("uncompensated"), 5.0);
+    EXPECT_EQ(l.status.last.rejected, 4);  // the bad set and the three bad samples, none published
+    EXPECT_EQ(l.status.Extra("coeff_sets_applied"), 1.0);
+    EXPECT_EQ(l.status.Extra("uncompensated"), 5.0);
     comp.Signal(SIGTERM);
     const auto st = comp.Wait(5s);
     ASSERT_TRUE(st.has_value());

@@ -150,7 +150,7 @@ TEST(Overdispersion, BirgeScaledCovarianceIsCalibratedOver500Seeds) {
     FitOptions quadratic;
     quadratic.fixed_degree = 2;
     std::mt19937_64 rng(2718);
-    std::vector<std::vector<double>> z(3);
+    testing::ZScores z(3);
     double c_sum = 0;
     for (int n = 0; n < kN; ++n) {
         const FitResult r = FitPolynomial(
@@ -159,17 +159,11 @@ TEST(Overdispersion, BirgeScaledCovarianceIsCalibratedOver500Seeds) {
         ASSERT_EQ(r.overdispersion_dof, 37);
         EXPECT_EQ(r.covariance_scale, std::max(1.0, r.overdispersion));
         c_sum += r.overdispersion;
-        for (int j = 0; j < 3; ++j)
-            z[static_cast<size_t>(j)].push_back(
-                (r.model.coeffs[j] - kQuadTruth.c[static_cast<size_t>(j)]) /
-                std::sqrt(r.model.covariance(j, j)));
+        z.Add(r, kQuadTruth);
     }
-    for (int j = 0; j < 3; ++j) {
-        double mean = 0, var = 0;
-        for (double v : z[static_cast<size_t>(j)]) mean += v / kN;
-        for (double v : z[static_cast<size_t>(j)]) var += (v - mean) * (v - mean) / (kN - 1);
-        EXPECT_NEAR(std::sqrt(var), expected_std, tol) << "coefficient " << j;
-        EXPECT_NEAR(mean, 0.0, 4.0 * expected_std / std::sqrt(kN)) << "coefficient " << j;
+    for (size_t j = 0; j < 3; ++j) {
+        EXPECT_NEAR(z.Std(j), expected_std, tol) << "coefficient " << j;
+        EXPECT_NEAR(z.Mean(j), 0.0, 4.0 * expected_std / std::sqrt(kN)) << "coefficient " << j;
     }
     // c estimates k^2 = 4: the mean of 4 chi2_37/37 over N has sd 4 sqrt(2/37/N) = 0.042.
     EXPECT_NEAR(c_sum / kN, 4.0, 4 * 4.0 * std::sqrt(2.0 / 37.0 / kN));

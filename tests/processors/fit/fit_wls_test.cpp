@@ -74,24 +74,18 @@ TEST(FitWls, NoiseFreeDataIsReproducedToRounding) {
 TEST(FitWls, ReportedCovarianceMatchesTheScatterOver500Seeds) {
     constexpr int kN = 500;
     std::mt19937_64 rng(2024);
-    std::vector<std::vector<double>> z(3);
+    testing::ZScores z(3);
     double chi2_sum = 0;
     for (int k = 0; k < kN; ++k) {
         const FitResult r =
             FitPolynomial(Points(kQuadTruth, kTemps, kSigmas, rng), "offset_v", Quadratic());
         ASSERT_TRUE(r.ok());
-        for (int j = 0; j < 3; ++j)
-            z[static_cast<size_t>(j)].push_back(
-                (r.model.coeffs[j] - kQuadTruth.c[static_cast<size_t>(j)]) /
-                std::sqrt(r.model.covariance(j, j)));
+        z.Add(r, kQuadTruth);
         chi2_sum += r.chi2;
     }
-    for (int j = 0; j < 3; ++j) {
-        double mean = 0, var = 0;
-        for (double v : z[static_cast<size_t>(j)]) mean += v / kN;
-        for (double v : z[static_cast<size_t>(j)]) var += (v - mean) * (v - mean) / (kN - 1);
-        EXPECT_NEAR(std::sqrt(var), 1.0, 4.0 / std::sqrt(2.0 * (kN - 1))) << "coefficient " << j;
-        EXPECT_NEAR(mean, 0.0, 4.0 / std::sqrt(kN)) << "coefficient " << j;
+    for (size_t j = 0; j < 3; ++j) {
+        EXPECT_NEAR(z.Std(j), 1.0, 4.0 / std::sqrt(2.0 * (kN - 1))) << "coefficient " << j;
+        EXPECT_NEAR(z.Mean(j), 0.0, 4.0 / std::sqrt(kN)) << "coefficient " << j;
     }
     EXPECT_NEAR(chi2_sum / kN, 4.0, 4.0 * std::sqrt(8.0 / kN));
 }
@@ -101,21 +95,15 @@ TEST(SeedThreePoint, ReportedCovarianceMatchesTheScatterOver500Seeds) {
     constexpr int kN = 500;
     std::mt19937_64 rng(7);
     const Poly truth{-10.0, {2.49, 3e-4, 2e-6}};  // truth written about the seed's T0
-    std::vector<std::vector<double>> z(3);
+    testing::ZScores z(3);
     for (int k = 0; k < kN; ++k) {
         const FitResult r =
             SeedThreePoint(Points(truth, {-10, 30, 60}, {2e-5, 1e-5, 3e-5}, rng), "offset_v");
         ASSERT_TRUE(r.ok());
-        for (int j = 0; j < 3; ++j)
-            z[static_cast<size_t>(j)].push_back(
-                (r.model.coeffs[j] - truth.c[static_cast<size_t>(j)]) /
-                std::sqrt(r.model.covariance(j, j)));
+        z.Add(r, truth);
     }
-    for (int j = 0; j < 3; ++j) {
-        double mean = 0, var = 0;
-        for (double v : z[static_cast<size_t>(j)]) mean += v / kN;
-        for (double v : z[static_cast<size_t>(j)]) var += (v - mean) * (v - mean) / (kN - 1);
-        EXPECT_NEAR(std::sqrt(var), 1.0, 4.0 / std::sqrt(2.0 * (kN - 1))) << "coefficient " << j;
+    for (size_t j = 0; j < 3; ++j) {
+        EXPECT_NEAR(z.Std(j), 1.0, 4.0 / std::sqrt(2.0 * (kN - 1))) << "coefficient " << j;
     }
 }
 

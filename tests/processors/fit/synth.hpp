@@ -1,5 +1,6 @@
 #pragma once
 // Synthetic calibration points with known truth: y = truth(T) + N(0, sigma_i), T exact.
+#include <cmath>
 #include <functional>
 #include <random>
 #include <vector>
@@ -36,5 +37,34 @@ inline std::vector<FitPoint> Points(const Poly& truth, const std::vector<double>
     }
     return pts;
 }
+
+// The normalised errors z_j = (est_j - true_j) / sqrt(C_jj) of a fit's coefficients, collected
+// over many noise draws: N(0, 1) when the reported covariance is right (the calibration tests
+// compare their sample mean and standard deviation with that).
+class ZScores {
+public:
+    explicit ZScores(size_t n_coeffs) : z_(n_coeffs) {}
+    void Add(const FitResult& r, const Poly& truth) {
+        for (size_t j = 0; j < z_.size(); ++j) {
+            const auto i = static_cast<Eigen::Index>(j);
+            z_[j].push_back((r.model.coeffs[i] - truth.c[j]) / std::sqrt(r.model.covariance(i, i)));
+        }
+    }
+    double Mean(size_t j) const {
+        double mean = 0;
+        for (double v : z_[j]) mean += v / static_cast<double>(z_[j].size());
+        return mean;
+    }
+    // Sample standard deviation (n - 1 in the denominator).
+    double Std(size_t j) const {
+        const double mean = Mean(j), n = static_cast<double>(z_[j].size());
+        double var = 0;
+        for (double v : z_[j]) var += (v - mean) * (v - mean) / (n - 1);
+        return std::sqrt(var);
+    }
+
+private:
+    std::vector<std::vector<double>> z_;  // [coefficient][draw]
+};
 
 }  // namespace gyrocal::fit::testing

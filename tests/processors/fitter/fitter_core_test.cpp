@@ -10,44 +10,29 @@
 #include <random>
 #include <utility>
 
+#include "fitter_fixture.hpp"
 #include "model/convert.hpp"
 #include "noise/allan.hpp"
 
 namespace gyrocal::fitter {
 namespace {
 
-double OffsetV(double t) { return 2.5 + 4e-4 * (t - 25) + 3e-6 * (t - 25) * (t - 25); }
+using testing::OffsetTruthV;
 
 run_event_t Event(const std::string& what, const std::string& run,
                   std::vector<std::string> sensors = {"S01"}) {
-    run_event_t e{};
-    e.run_id = run;
-    e.event = what;
-    e.sensor_ids = sensors;
-    e.num_sensors = static_cast<int16_t>(sensors.size());
-    return e;
+    return testing::FitterRunEvent(run, what, 0, sensors);
 }
 
+// The offset truth's 60 s plateau starting at `id` [us].
 plateau_t Plateau(double temp_c, int64_t id, const std::string& run = "A",
                   const std::string& sensor = "S01") {
-    plateau_t p{};
-    p.utime = id + 60'000'000;
-    p.sensor_id = sensor;
-    p.run_id = run;
-    p.plateau_id = id;
-    p.temp_mean_c = temp_c;
-    p.gyro_mean_v = OffsetV(temp_c);
-    p.gyro_sem_v = 2e-5;
-    p.supply_mean_v = NAN;
-    return p;
+    return testing::TruthPlateau(run, sensor, temp_c, id);
 }
 
+// A 5 s turn starting at `id` [us] that measures a sensitivity linear in temperature.
 sensitivity_point_t Rotation(double temp_c, int64_t id, int dir, bool accepted = true) {
-    sensitivity_point_t r{};
-    r.utime = id + 5'000'000;
-    r.sensor_id = "S01";
-    r.run_id = "A";
-    r.rotation_id = id;
+    sensitivity_point_t r = testing::WindowOf<sensitivity_point_t>("S01", "A", id, id + 5'000'000);
     r.direction = static_cast<int8_t>(dir);
     r.temp_c = temp_c;
     r.sensitivity_v_per_dps = 0.006 + 1e-6 * temp_c;
@@ -291,14 +276,15 @@ TEST(FitterCore, PlateauSlowNoiseMakesTheThreePointUncertaintyHonest) {
             const model::CoeffSet set = model::FromMsg(out->publish[0]);
             const model::Evaluation e =
                 model::Evaluator(set.offset).Evaluate(in, model::RangePolicy::kClip);
-            *z2 += (e.value - OffsetV(45.0)) * (e.value - OffsetV(45.0)) / e.variance;
+            *z2 += (e.value - OffsetTruthV(45.0)) * (e.value - OffsetTruthV(45.0)) / e.variance;
         }
     }
     // Mean z^2 is 1 when the claimed variance is the true one; its estimate from 2000 trials has
     // sd sqrt(2/2000) = 0.032: 4 sigma = 0.13. Without the option it is (1 + 4.5^2) = 21.
-    std::printf("[ fitter ] 3-point fits, slow noise 4.5x the window SEM: mean z^2 at 45 degC %.3f "
-                "with --plateau-slow-noise-dps, %.1f without\n",
-                z2_with / trials, z2_without / trials);
+    std::printf(
+        "[ fitter ] 3-point fits, slow noise 4.5x the window SEM: mean z^2 at 45 degC %.3f "
+        "with --plateau-slow-noise-dps, %.1f without\n",
+        z2_with / trials, z2_without / trials);
     EXPECT_NEAR(z2_with / trials, 1.0, 0.13);
     EXPECT_GT(z2_without / trials, 10.0);
 }
@@ -384,10 +370,7 @@ namespace gyrocal::fitter {
 namespace {
 
 noise_t Noise(double bias_v, double bias_se_v, int64_t utime, const std::string& sensor = "S01") {
-    noise_t n{};
-    n.utime = utime;
-    n.sensor_id = sensor;
-    n.run_id = "A";
+    noise_t n = testing::Stamped<noise_t>(utime, sensor, "A");
     n.still_s = 1800;
     n.n_segments = 6;
     n.bias_instability_v = bias_v;
@@ -395,14 +378,6 @@ noise_t Noise(double bias_v, double bias_se_v, int64_t utime, const std::string&
     n.rrw_v_rts = 0.0;
     n.arw_v_rthz = 3e-4;
     return n;
-}
-
-plateau_t Windowed(double temp_c, int64_t start_utime, const std::string& sensor = "S01") {
-    plateau_t p = Plateau(temp_c, start_utime, "A", sensor);
-    p.start_utime = start_utime;
-    p.end_utime = start_utime + 60'000'000;
-    p.utime = p.end_utime;
-    return p;
 }
 
 // Without a hand-given value the slow noise is the unit's own Allan estimate: the newest NOISE
@@ -414,11 +389,11 @@ TEST(FitterCore, SlowNoiseComesFromTheUnitsAllanEstimate) {
     core.OnRunEvent(Event("start", "A"));
     const int64_t t0 = 1'000'000'000;
     core.OnNoise(Noise(5e-5, 1e-5, t0 - 1), "S01");
-    core.OnPlateau(Windowed(-10, t0), "S01");
-    core.OnPlateau(Windowed(30, t0 + 3600'000'000), "S01");
-    core.OnNoise(Noise(9e-5, 1e-5, t0 + 7200'000'000 + 60'000'000 - 1), "S01");  // before the 3rd
+    core.OnPlateau(Plateau(-10, t0), "S01");
+    core.OnPlateau(Plateau(30, t0 + 3600'000'000), "S01");
+    core.OnNoise(Noise(9e-5, 1e-5, t0 + 7200'000'000 + 60'000'000 - 1), "S01");   // before the 3rd
     core.OnNoise(Noise(5e-4, 1e-5, t0 + 7200'000'000 + 60'000'000 + 10), "S01");  // after it
-    const CoreOutput out = core.OnPlateau(Windowed(60, t0 + 7200'000'000), "S01");
+    const CoreOutput out = core.OnPlateau(Plateau(60, t0 + 7200'000'000), "S01");
     ASSERT_EQ(out.reports.size(), 1u);
     const fit_report_t& r = out.reports[0];
     const double span_s = 7200 + 60, nu = 9e-5 * 9e-5 / (2 * 1e-5 * 1e-5);
@@ -439,8 +414,9 @@ TEST(FitterCore, SlowNoiseComesFromTheUnitsAllanEstimate) {
     FitterCore g(given);
     g.OnRunEvent(Event("start", "A"));
     g.OnNoise(Noise(9e-5, 1e-5, t0 - 1), "S01");
-    for (double t : {-10.0, 30.0}) g.OnPlateau(Windowed(t, t0 + static_cast<int64_t>(t * 1e8)), "S01");
-    const CoreOutput go = g.OnPlateau(Windowed(60, t0 + 7200'000'000), "S01");
+    for (double t : {-10.0, 30.0})
+        g.OnPlateau(Plateau(t, t0 + static_cast<int64_t>(t * 1e8)), "S01");
+    const CoreOutput go = g.OnPlateau(Plateau(60, t0 + 7200'000'000), "S01");
     ASSERT_EQ(go.reports.size(), 1u);
     EXPECT_NEAR(go.reports[0].slow_noise_v, 0.01 * 0.006, 1e-15);
     EXPECT_NE(go.reports[0].slow_noise_source.find("given"), std::string::npos);
@@ -463,10 +439,11 @@ TEST(FitterCore, ABadUnitDoesNotContaminateTheOthers) {
         core.OnRunEvent(Event("start", "A", ids));
         for (size_t i = 0; i < temps.size(); ++i)
             for (const std::string& id : ids) {
-                plateau_t p = Plateau(temps[i], static_cast<int64_t>(1000 * i + (id.back() - '0')), "A", id);
+                plateau_t p =
+                    Plateau(temps[i], static_cast<int64_t>(1000 * i + (id.back() - '0')), "A", id);
                 // S04: +-40 stated errors at every plateau, a scatter no curve absorbs
                 p.gyro_mean_v += id == "S04" ? 40 * 2e-5 * (i % 2 ? -1.0 : 1.0) : 2e-5 * z[id][i];
-                if (id == "S02" && i == 3) p.gyro_mean_v += 30 * 2e-5;         // S02: one outlier
+                if (id == "S02" && i == 3) p.gyro_mean_v += 30 * 2e-5;  // S02: one outlier
                 core.OnPlateau(p, id);
             }
         return core.OnRunEvent(Event("stop", "A", ids));
@@ -478,16 +455,20 @@ TEST(FitterCore, ABadUnitDoesNotContaminateTheOthers) {
     ASSERT_EQ(rep["S02"]->num_excluded, 1) << rep["S02"]->offset_detail;
     EXPECT_EQ(rep["S02"]->excluded[0].kind, "plateau");
     EXPECT_EQ(rep["S02"]->excluded[0].item_id, 3002);
-    EXPECT_NE(rep["S04"]->offset_detail.find("disagrees"), std::string::npos) << rep["S04"]->offset_detail;
+    EXPECT_NE(rep["S04"]->offset_detail.find("disagrees"), std::string::npos)
+        << rep["S04"]->offset_detail;
     EXPECT_NE(rep["S01"]->offset_detail.find("unit S04 left out of the pool"), std::string::npos)
         << rep["S01"]->offset_detail;
     for (const std::string id : {"S01", "S03"}) {
         const coeff_set_t* a = nullptr;
         const coeff_set_t* b = nullptr;
-        for (const auto& c : clean.publish) if (c.sensor_id == id) a = &c;
-        for (const auto& c : dirty.publish) if (c.sensor_id == id) b = &c;
+        for (const auto& c : clean.publish)
+            if (c.sensor_id == id) a = &c;
+        for (const auto& c : dirty.publish)
+            if (c.sensor_id == id) b = &c;
         ASSERT_TRUE(a && b);
-        EXPECT_TRUE(model::FromMsg(*a).offset.covariance.isApprox(model::FromMsg(*b).offset.covariance, 1e-9))
+        EXPECT_TRUE(model::FromMsg(*a).offset.covariance.isApprox(
+            model::FromMsg(*b).offset.covariance, 1e-9))
             << id;
     }
 }
@@ -496,7 +477,8 @@ TEST(FitterCore, AReturnToTheStartIsReportedAsRepeatability) {
     FitterCore core(CoreOptions::Defaults());
     core.OnRunEvent(Event("start", "A"));
     int64_t id = 0;
-    for (double t : {25.0, -10.0, 10.0, 30.0, 50.0, 70.0}) core.OnPlateau(Plateau(t, id += 1000), "S01");
+    for (double t : {25.0, -10.0, 10.0, 30.0, 50.0, 70.0})
+        core.OnPlateau(Plateau(t, id += 1000), "S01");
     plateau_t back = Plateau(25.3, id += 1000);
     back.gyro_mean_v += 1e-4;  // 5 stated errors of sqrt(2) x 2e-5: not repeatable
     core.OnPlateau(back, "S01");
@@ -510,7 +492,8 @@ TEST(FitterCore, AReturnToTheStartIsReportedAsRepeatability) {
     // the difference is the 0.1 mV added, within 2 % (the truth's step is subtracted exactly)
     EXPECT_NEAR(r.repeats[0].offset_diff_v, 1e-4, 2e-6);
     EXPECT_NEAR(r.repeats[0].offset_diff_stderr_v, std::sqrt(2.0) * 2e-5, 1e-12);
-    EXPECT_NE(r.repeats[0].verdict.find("not repeatable"), std::string::npos) << r.repeats[0].verdict;
+    EXPECT_NE(r.repeats[0].verdict.find("not repeatable"), std::string::npos)
+        << r.repeats[0].verdict;
 }
 
 }  // namespace

@@ -6,38 +6,26 @@
 #include <string>
 #include <vector>
 
-#include "gyrocal/plateau_t.hpp"
-#include "gyrocal/run_event_t.hpp"
-#include "gyrocal/sensitivity_point_t.hpp"
+#include "message_builders.hpp"
 
 namespace gyrocal::testing {
 
 inline double OffsetTruthV(double t) { return 2.5 + 4e-4 * (t - 25) + 3e-6 * (t - 25) * (t - 25); }
-inline double SensTruth(double t) { return 0.006 * (1 + 1e-4 * (t - 25) - 2e-6 * (t - 25) * (t - 25)); }
+inline double SensTruth(double t) {
+    return 0.006 * (1 + 1e-4 * (t - 25) - 2e-6 * (t - 25) * (t - 25));
+}
 
 inline run_event_t FitterRunEvent(const std::string& run_id, const std::string& what, int64_t utime,
                                   const std::vector<std::string>& sensors) {
-    run_event_t e{};
+    run_event_t e = RunEvent(run_id, what, sensors);
     e.utime = utime;
-    e.run_id = run_id;
-    e.event = what;
-    e.setpoint_index = -1;
-    e.setpoint_c = NAN;
-    e.sensor_ids = sensors;
-    e.num_sensors = static_cast<int16_t>(sensors.size());
     return e;
 }
 
 // A 60 s plateau of sensor `id` at `temp_c` whose mean is the offset truth (sem 2e-5 V).
 inline plateau_t TruthPlateau(const std::string& run_id, const std::string& id, double temp_c,
                               int64_t start_utime) {
-    plateau_t p{};
-    p.utime = start_utime + 60'000'000;
-    p.sensor_id = id;
-    p.run_id = run_id;
-    p.plateau_id = start_utime;
-    p.start_utime = start_utime;
-    p.end_utime = p.utime;
+    plateau_t p = WindowOf<plateau_t>(id, run_id, start_utime, start_utime + 60'000'000);
     p.n_samples = 6000;
     p.temp_mean_c = temp_c;
     p.gyro_mean_v = OffsetTruthV(temp_c);
@@ -49,14 +37,10 @@ inline plateau_t TruthPlateau(const std::string& run_id, const std::string& id, 
 
 // A 90 deg turn (`dir` +1 or -1) of sensor `id` at `temp_c` measuring the sensitivity truth.
 inline sensitivity_point_t TruthRotation(const std::string& run_id, const std::string& id,
-                                         double temp_c, int64_t start_utime, int dir, bool accepted) {
-    sensitivity_point_t r{};
-    r.utime = start_utime + 5'000'000;
-    r.sensor_id = id;
-    r.run_id = run_id;
-    r.rotation_id = start_utime;
-    r.start_utime = start_utime;
-    r.end_utime = r.utime;
+                                         double temp_c, int64_t start_utime, int dir,
+                                         bool accepted) {
+    sensitivity_point_t r =
+        WindowOf<sensitivity_point_t>(id, run_id, start_utime, start_utime + 5'000'000);
     r.direction = static_cast<int8_t>(dir);
     r.temp_c = temp_c;
     r.encoder_angle_deg = 90.0 * dir;

@@ -2,6 +2,8 @@
 // plateaus, rotations and RUN_EVENT published into the node's own bus give COEFFS_<id> with
 // exactly the ids used and the truth's curves, and a FIT_<id> report; bad input is refused and
 // counted. The real process over UDP multicast is fitter_process_test.cpp.
+#include "fitter/fitter_node.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -11,7 +13,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "fitter/fitter_node.hpp"
+#include "bus_wait.hpp"
 #include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
@@ -47,10 +49,8 @@ TEST(FitterNode, FinalSetIsTheTruthWithExactIdsAndBadInputIsRefused) {
     Bus& bus = node.bus();
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
-    bus.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
-                               [&](const coeff_set_t& m, const std::string&) { coeffs.push_back(m); });
-    bus.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
-                                [&](const fit_report_t& m, const std::string&) { reports.push_back(m); });
+    testing::CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);
+    testing::CollectInto(bus, channels::AllSensors(channels::kFitPrefix), reports);
 
     // GIVEN a run of S01 with plateaus at three temperatures, two accepted rotations at each and
     // one not accepted

@@ -12,6 +12,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
@@ -22,7 +23,7 @@
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 #include "model/convert.hpp"
-#include "bus_wait.hpp"
+#include "status_watch.hpp"
 
 namespace gyrocal {
 namespace {
@@ -38,18 +39,10 @@ struct Listener {
     Bus bus{BusOptions{kUrl}};
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
-    std::optional<status_t> status;
+    testing::StatusWatch status{bus, "gyrocal-fitter"};
     Listener() {
-        bus.Subscribe<fit_report_t>(
-            channels::AllSensors(channels::kFitPrefix),
-            [this](const fit_report_t& m, const std::string&) { reports.push_back(m); });
-        bus.Subscribe<coeff_set_t>(
-            channels::AllSensors(channels::kCoeffsPrefix),
-            [this](const coeff_set_t& m, const std::string&) { coeffs.push_back(m); });
-        bus.Subscribe<status_t>(std::string(channels::kStatus),
-                                [this](const status_t& m, const std::string&) {
-                                    if (m.process == "gyrocal-fitter") status = m;
-                                });
+        testing::CollectInto(bus, channels::AllSensors(channels::kFitPrefix), reports);
+        testing::CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);
     }
     // Bounded wait for a condition, dispatching messages meanwhile.
     template <class F>
@@ -73,7 +66,7 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     Listener l;
     ChildProcess fitter({GYROCAL_FITTER_EXE, "--lcm-url", kUrl}, "", "");
     // The fitter's first STATUS comes after it has subscribed: then it hears what we publish.
-    ASSERT_TRUE(l.WaitFor([&] { return l.status.has_value(); })) << "no STATUS from gyrocal-fitter";
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.seen; })) << "no STATUS from gyrocal-fitter";
 
     l.bus.Publish(std::string(channels::kRunEvent), Event("start", kT0Utime));
     std::vector<int64_t> plateau_ids, rotation_ids;
@@ -137,7 +130,7 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     };
     ASSERT_TRUE(l.WaitFor([&] {
         return count("S01", 3, 6) >= 2 && count("S02", 3, 0) >= 2 && count("S03", 5, 0) >= 2 &&
-               l.status && l.status->rejected >= 4 && l.reports.size() >= 6;
+               l.status.seen && l.status.last.rejected >= 4 && l.reports.size() >= 6;
     })) << "coeffs received: "
         << l.coeffs.size();
     EXPECT_EQ(count("S01", 3, 6), 2);
@@ -211,7 +204,7 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
         EXPECT_NEAR(e.value, OffsetTruthV(temp), 4 * std::sqrt(e.variance)) << temp;
     }
 
-    EXPECT_GE(l.status->rejected, 4);
+    EXPECT_GE(l.status.last.rejected, 4);
     fitter.Signal(SIGTERM);
     const auto st = fitter.Wait(5s);
     ASSERT_TRUE(st.has_value());

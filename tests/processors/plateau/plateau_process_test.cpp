@@ -8,7 +8,6 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
-#include <limits>
 #include <map>
 #include <random>
 #include <thread>
@@ -22,6 +21,7 @@
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "launch/child_process.hpp"
+#include "sample_guards.hpp"
 #include "status_watch.hpp"
 
 namespace gyrocal {
@@ -64,18 +64,7 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
         << "no STATUS from gyrocal-plateau";
 
     // Bad input first: a wrong type on GYRO_X, an unknown sensor, a NaN sample.
-    encoder_sample_t wrong;
-    wrong.encoder_id = "TABLE";
-    bus.Publish(channels::Gyro("X"), wrong);
-    gyro_sample_t bad;
-    bad.utime = kT0;
-    bad.sensor_id = "S99";
-    bad.temp_c = bad.temp_v = bad.gyro_v = 1.0;
-    bad.supply_v = std::numeric_limits<double>::quiet_NaN();
-    bus.Publish(channels::Gyro("S99"), bad);
-    bad.sensor_id = "S01";
-    bad.temp_c = std::numeric_limits<double>::quiet_NaN();
-    bus.Publish(channels::Gyro("S01"), bad);
+    testing::PublishBadSamples(bus, kT0, "S99", "S01", &gyro_sample_t::temp_c);
 
     // A malformed RUN_EVENT: a negative array length makes LCM's decode throw.
     run_event_t malformed;
@@ -84,13 +73,8 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
     malformed.num_sensors = -1;
     bus.Publish(std::string(channels::kRunEvent), malformed);
 
-    run_event_t start;
-    start.num_sensors = 0;
+    run_event_t start = testing::RunEvent("run-mp", "start", {});
     start.utime = kT0;
-    start.run_id = "run-mp";
-    start.event = "start";
-    start.setpoint_index = -1;
-    start.setpoint_c = std::numeric_limits<double>::quiet_NaN();
     bus.Publish(std::string(channels::kRunEvent), start);
 
     // 20 s of data at 100 Hz: two sensors flat at 30 degC (sigma 0.05 degC, gyro 2 mV), the
@@ -102,34 +86,19 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
         const int64_t utime = kT0 + k * 10'000;
         const double t = k * 0.01;
         if (k % 100 == 1) {
-            chamber_state_t cs;
+            chamber_state_t cs = testing::Chamber(k / 100);
             cs.utime = utime;
-            cs.seq = k / 100;
-            cs.cmd_id = 1;
-            cs.setpoint_c = 30;
-            cs.air_c = 30;
-            cs.at_setpoint = true;
+            cs.setpoint_c = cs.air_c = 30;
             bus.Publish(std::string(channels::kChamberState), cs);
         }
-        encoder_sample_t enc;
-        enc.utime = utime;
-        enc.encoder_id = "TABLE";
-        enc.seq = k;
-        enc.counts_per_rev = 144000;
-        enc.counts = t < 9 ? 0 : t < 10 ? static_cast<int64_t>((t - 9) * 36000) : 36000;
-        enc.angle_deg = enc.counts * 360.0 / enc.counts_per_rev;
-        bus.Publish(std::string(channels::kEncoder), enc);
+        const int64_t counts = t < 9 ? 0 : t < 10 ? static_cast<int64_t>((t - 9) * 36000) : 36000;
+        bus.Publish(std::string(channels::kEncoder),
+                    testing::TableEncoder(utime, k, counts, 144000));
         for (const char* id : {"S01", "S02"}) {
-            gyro_sample_t s;
-            s.utime = utime;
-            s.sensor_id = id;
-            s.seq = k;
-            s.temp_c = 30 + sigma_t * g(rng);
-            s.temp_v = 2.5 + 0.009 * (s.temp_c - 25);
-            s.gyro_v = 2.505 + sigma_g * g(rng) + (t >= 9 && t < 10 ? 0.5 : 0.0);
+            const double temp_c = 30 + sigma_t * g(rng);
+            const double gyro_v = 2.505 + sigma_g * g(rng) + (t >= 9 && t < 10 ? 0.5 : 0.0);
+            gyro_sample_t s = testing::GyroSample(id, utime, k, gyro_v, temp_c);
             s.supply_v = 5.0;
-            s.has_adc = false;
-            s.supply_counts = -1;
             bus.Publish(channels::Gyro(id), s);
         }
         if (k % 20 == 0) {  // pace: ~100 messages per 2 ms
@@ -162,30 +131,14 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
                   (std::vector<std::string>{"waiting", "settling", "averaging", "done"}));
     }
     EXPECT_EQ(plateaus.count("S99"), 0u);
-    // An out-of-order sample (utime earlier than the newest of S01) is refused too.
-    {
-        gyro_sample_t late;
-        late.utime = kT0 + 5'000'000;
-        late.sensor_id = "S01";
-        late.seq = 500;
-        late.temp_c = 30;
-        late.temp_v = 2.545;
-        late.gyro_v = 2.505;
-        late.supply_v = 5.0;
-        bus.Publish(channels::Gyro("S01"), late);
-    }
-    // STATUS counts two decode errors (the wrong type, and the malformed run event whose array
-    // length the bus refuses), the three refusals (unknown sensor, NaN, out of order; heartbeat
-    // once a second), and shows each sensor's state (3 = done).
-    ASSERT_TRUE(testing::StatusReaches(
-        bus, status,
-        [&] {
-            return status.last.decode_errors >= 2 && status.last.rejected >= 3 &&
-                   status.Extra("S01.state") == 3 && status.Extra("S02.state") == 3;
-        },
-        std::chrono::seconds(5)));
-    EXPECT_NE(status.last.last_reject.find("out-of-order"), std::string::npos)
-        << status.last.last_reject;
+    // An out-of-order sample (utime earlier than the newest of S01) is refused too. STATUS
+    // counts two decode errors (the wrong type, and the malformed run event whose array length
+    // the bus refuses), the three refusals (unknown sensor, NaN, out of order; heartbeat once a
+    // second), and shows each sensor's state (3 = done).
+    ASSERT_TRUE(testing::LateSampleIsRefused(bus, status, "S01", kT0 + 5'000'000, 500, [&] {
+        return status.last.decode_errors >= 2 && status.last.rejected >= 3 &&
+               status.Extra("S01.state") == 3 && status.Extra("S02.state") == 3;
+    }));
     const ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);

@@ -64,12 +64,8 @@ TEST(RigPipeline, PlateausAndSensitivitiesMatchTheRigTruth) {
     std::vector<plateau_t> plateaus;
     std::vector<sensitivity_point_t> points;
     std::map<std::string, bool> up;
-    bus.Subscribe<plateau_t>(
-        channels::AllSensors(channels::kPlateauPrefix),
-        [&](const plateau_t& m, const std::string&) { plateaus.push_back(m); });
-    bus.Subscribe<sensitivity_point_t>(
-        channels::AllSensors(channels::kSensitivityPrefix),
-        [&](const sensitivity_point_t& m, const std::string&) { points.push_back(m); });
+    testing::CollectInto(bus, channels::AllSensors(channels::kPlateauPrefix), plateaus);
+    testing::CollectInto(bus, channels::AllSensors(channels::kSensitivityPrefix), points);
     bus.Subscribe<status_t>(std::string(channels::kStatus),
                             [&](const status_t& m, const std::string&) { up[m.process] = true; });
     const auto dir = std::filesystem::temp_directory_path() /

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
-#include <limits>
 #include <thread>
 #include <vector>
 
@@ -19,6 +18,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "launch/child_process.hpp"
+#include "sample_guards.hpp"
 #include "status_watch.hpp"
 #include "synthetic_rotation.hpp"
 
@@ -34,9 +34,7 @@ bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseco
 TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
     Bus bus(BusOptions{kUrl});
     std::vector<sensitivity_point_t> points;
-    bus.Subscribe<sensitivity_point_t>(
-        channels::AllSensors(channels::kSensitivityPrefix),
-        [&](const sensitivity_point_t& m, const std::string&) { points.push_back(m); });
+    testing::CollectInto(bus, channels::AllSensors(channels::kSensitivityPrefix), points);
     testing::StatusWatch status(bus, "gyrocal-rotation");
     const auto dir = std::filesystem::temp_directory_path() /
                      ("gyrocal_rotation_mp_" + std::to_string(getpid()));
@@ -48,25 +46,11 @@ TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
         << "no STATUS from gyrocal-rotation";
 
     // Bad input: a wrong type on GYRO_X (decode error), an unknown sensor, a NaN sample.
-    encoder_sample_t wrong;
-    wrong.encoder_id = "TABLE";
-    bus.Publish(channels::Gyro("X"), wrong);
-    gyro_sample_t bad;
-    bad.utime = rotation::testing::kT0Utime - 1000;
-    bad.sensor_id = "S07";
-    bad.gyro_v = bad.temp_c = bad.temp_v = 1.0;
-    bus.Publish(channels::Gyro("S07"), bad);
-    bad.sensor_id = "S01";
-    bad.gyro_v = std::numeric_limits<double>::quiet_NaN();
-    bus.Publish(channels::Gyro("S01"), bad);
+    testing::PublishBadSamples(bus, rotation::testing::kT0Utime - 1000, "S07", "S01",
+                               &gyro_sample_t::gyro_v);
 
-    run_event_t start;
+    run_event_t start = testing::RunEvent("run-rot", "start", {});
     start.utime = rotation::testing::kT0Utime;
-    start.run_id = "run-rot";
-    start.event = "start";
-    start.setpoint_index = -1;
-    start.setpoint_c = std::numeric_limits<double>::quiet_NaN();
-    start.num_sensors = 0;
     bus.Publish(std::string(channels::kRunEvent), start);
 
     // The synthetic rig with a 200 Hz encoder (fewer messages; start found within 5 ms).
@@ -77,25 +61,11 @@ TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
     int sent = 0;
     for (const rotation::testing::Event& e : rotation::testing::Generate(spec, moves, 25)) {
         if (e.is_gyro) {
-            gyro_sample_t s;
-            s.utime = e.utime;
-            s.sensor_id = "S01";
-            s.seq = e.seq;
-            s.gyro_v = e.gyro_v;
-            s.temp_c = e.temp_c;
-            s.temp_v = 2.5 + 0.009 * (e.temp_c - 25);
-            s.supply_v = std::numeric_limits<double>::quiet_NaN();
-            s.supply_counts = -1;
-            bus.Publish(channels::Gyro("S01"), s);
+            bus.Publish(channels::Gyro("S01"),
+                        testing::GyroSample("S01", e.utime, e.seq, e.gyro_v, e.temp_c));
         } else {
-            encoder_sample_t enc;
-            enc.utime = e.utime;
-            enc.encoder_id = "TABLE";
-            enc.seq = e.seq;
-            enc.counts = e.counts;
-            enc.counts_per_rev = spec.counts_per_rev;
-            enc.angle_deg = e.counts * 360.0 / spec.counts_per_rev;
-            bus.Publish(std::string(channels::kEncoder), enc);
+            bus.Publish(std::string(channels::kEncoder),
+                        testing::TableEncoder(e.utime, e.seq, e.counts, spec.counts_per_rev));
         }
         if (++sent % 40 == 0) {  // pace: ~40 messages per 2 ms
             bus.Handle(std::chrono::milliseconds(0));
@@ -119,26 +89,14 @@ TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
         // Within 4 sigma of the truth, sigma from the noise (see ExpectedSensitivityStderr).
         EXPECT_NEAR(p.sensitivity_v_per_dps, spec.sensitivity_v_per_dps, 4 * sigma_s);
     }
-    // An out-of-order sample (earlier than the newest of S01) is refused too.
-    gyro_sample_t late;
-    late.utime = rotation::testing::kT0Utime + 1'000'000;
-    late.sensor_id = "S01";
-    late.seq = 100;
-    late.gyro_v = 2.5;
-    late.temp_c = 30;
-    late.temp_v = 2.545;
-    bus.Publish(channels::Gyro("S01"), late);
-    // STATUS: the decode error, the three refusals (unknown sensor, NaN, out of order; the
-    // heartbeat comes once a second) and the two accepted points.
-    ASSERT_TRUE(testing::StatusReaches(
-        bus, status,
-        [&] {
+    // An out-of-order sample (earlier than the newest of S01) is refused too. STATUS: the
+    // decode error, the three refusals (unknown sensor, NaN, out of order; the heartbeat comes
+    // once a second) and the two accepted points.
+    ASSERT_TRUE(testing::LateSampleIsRefused(
+        bus, status, "S01", rotation::testing::kT0Utime + 1'000'000, 100, [&] {
             return status.last.decode_errors >= 1 && status.last.rejected >= 3 &&
                    status.Extra("points_accepted") == 2;
-        },
-        std::chrono::seconds(5)));
-    EXPECT_NE(status.last.last_reject.find("out-of-order"), std::string::npos)
-        << status.last.last_reject;
+        }));
     const ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);

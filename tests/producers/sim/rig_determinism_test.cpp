@@ -33,10 +33,16 @@ std::vector<unsigned char> Bytes(const testing::Recorded& r) {
     return out;
 }
 
-testing::Recorded RunScenario(uint64_t seed, int units, int64_t chunk_us, uint64_t noise_seed = 0) {
+// The default rig drawn with `seed`, its noise with `noise_seed` (0: the seed's).
+RigConfig Seeded(uint64_t seed, uint64_t noise_seed = 0) {
     RigConfig c = RigConfig::Defaults();
     c.seed = seed;
     c.noise_seed = noise_seed;
+    return c;
+}
+
+testing::Recorded RunScenario(uint64_t seed, int units, int64_t chunk_us, uint64_t noise_seed = 0) {
+    RigConfig c = Seeded(seed, noise_seed);
     c.num_units = units;
     Rig rig(c);
     testing::RecordingSink sink;
@@ -64,11 +70,7 @@ TEST(SimDeterminism, SameSeedSameBytesWhateverTheChunking) {
 }
 
 TEST(SimDeterminism, DifferentSeedsGiveDifferentUnits) {
-    RigConfig c = RigConfig::Defaults();
-    c.seed = 1;
-    Rig one(c);
-    c.seed = 2;
-    Rig two(c);
+    const Rig one(Seeded(1)), two(Seeded(2));
     for (int u = 0; u < 4; ++u) {
         EXPECT_NE(one.units()[u].offset_coeffs[0], two.units()[u].offset_coeffs[0]);
         EXPECT_NE(one.units()[u].sensitivity_coeffs[1], two.units()[u].sensitivity_coeffs[1]);
@@ -84,11 +86,7 @@ TEST(SimDeterminism, NoiseSeedRedrawsTheNoiseAndKeepsTheUnits) {
     // The noise seed set to the seed is the default, byte for byte.
     EXPECT_TRUE(Bytes(RunScenario(5, 2, 60'000'000, 5)) == Bytes(RunScenario(5, 2, 60'000'000)));
     // Another noise seed: the same units (truth), other samples.
-    RigConfig c = RigConfig::Defaults();
-    c.seed = 5;
-    Rig a(c);
-    c.noise_seed = 6;
-    Rig b(c);
+    const Rig a(Seeded(5)), b(Seeded(5, 6));
     for (int u = 0; u < 4; ++u) {
         EXPECT_EQ(a.units()[u].offset_coeffs, b.units()[u].offset_coeffs);
         EXPECT_EQ(a.units()[u].sensitivity_coeffs, b.units()[u].sensitivity_coeffs);
@@ -96,7 +94,8 @@ TEST(SimDeterminism, NoiseSeedRedrawsTheNoiseAndKeepsTheUnits) {
     }
     EXPECT_EQ(TruthJson(b)["noise_seed"], 6);
     EXPECT_EQ(TruthJson(a)["noise_seed"], 5);
-    const testing::Recorded r5 = RunScenario(5, 1, 60'000'000), r6 = RunScenario(5, 1, 60'000'000, 6);
+    const testing::Recorded r5 = RunScenario(5, 1, 60'000'000),
+                            r6 = RunScenario(5, 1, 60'000'000, 6);
     ASSERT_EQ(r5.gyro.size(), r6.gyro.size());
     size_t differ = 0;
     for (size_t i = 0; i < r5.gyro.size(); ++i) differ += r5.gyro[i].gyro_v != r6.gyro[i].gyro_v;
@@ -152,8 +151,7 @@ uint64_t Digest(const EffectsConfig& effects) {
         void OnEncoder(const EncoderReading& e) override { Put(&e.utime, 8), Put(&e.counts, 8); }
         void OnChamber(const ChamberReading& c) override { Put(&c.utime, 8), Put(&c.air_c, 8); }
     };
-    RigConfig c = RigConfig::Defaults();
-    c.seed = 7;
+    RigConfig c = Seeded(7);
     c.num_units = 2;
     c.effects = effects;
     Rig rig(c);

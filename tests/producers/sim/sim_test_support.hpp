@@ -31,15 +31,13 @@ public:
 inline RigConfig QuietConfig() {
     RigConfig c = RigConfig::Defaults();
     c.num_units = 1;
-    c.noise.noise_density_dps_rthz = 0.0;
-    c.noise.bias_instability_dps = 0.0;
-    c.noise.rate_random_walk_dps_rts = 0.0;
-    c.noise.temp_noise_v = 0.0;
-    c.thermal.air_noise_c = 0.0;
-    c.supply.ripple_v = 0.0;
-    c.supply.drift_std_v = 0.0;
-    c.supply.noise_v = 0.0;
-    c.adc.bits = 0;
+    for (double* noise :
+         {&c.noise.noise_density_dps_rthz, &c.noise.bias_instability_dps,
+          &c.noise.rate_random_walk_dps_rts, &c.noise.temp_noise_v, &c.thermal.air_noise_c,
+          &c.supply.ripple_v, &c.supply.drift_std_v, &c.supply.noise_v}) {
+        *noise = 0.0;
+    }
+    c.adc.bits = 0;  // no quantization
     return c;
 }
 

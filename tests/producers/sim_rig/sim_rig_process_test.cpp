@@ -62,12 +62,8 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
     bus.Subscribe<gyro_sample_t>(
         channels::AllSensors(channels::kGyroPrefix),
         [&](const gyro_sample_t& m, const std::string&) { seen.gyro[m.sensor_id].push_back(m); });
-    bus.Subscribe<encoder_sample_t>(
-        std::string(channels::kEncoder),
-        [&](const encoder_sample_t& m, const std::string&) { seen.encoder.push_back(m); });
-    bus.Subscribe<chamber_state_t>(
-        std::string(channels::kChamberState),
-        [&](const chamber_state_t& m, const std::string&) { seen.chamber.push_back(m); });
+    testing::CollectInto(bus, std::string(channels::kEncoder), seen.encoder);
+    testing::CollectInto(bus, std::string(channels::kChamberState), seen.chamber);
     bus.Subscribe<status_t>(std::string(channels::kStatus),
                             [&](const status_t& m, const std::string&) {
                                 if (m.process == "gyrocal-sim-rig") seen.status.push_back(m);
@@ -169,12 +165,8 @@ TEST(SimRigProcess, BuiltinProfileRunsWithoutASequencerAndExits) {
     std::vector<encoder_sample_t> encoder;
     std::vector<chamber_state_t> chamber;
     int64_t gyro = 0;
-    bus.Subscribe<encoder_sample_t>(
-        std::string(channels::kEncoder),
-        [&](const encoder_sample_t& m, const std::string&) { encoder.push_back(m); });
-    bus.Subscribe<chamber_state_t>(
-        std::string(channels::kChamberState),
-        [&](const chamber_state_t& m, const std::string&) { chamber.push_back(m); });
+    testing::CollectInto(bus, std::string(channels::kEncoder), encoder);
+    testing::CollectInto(bus, std::string(channels::kChamberState), chamber);
     bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
                                  [&](const gyro_sample_t&, const std::string&) { ++gyro; });
     const auto wall_start = std::chrono::steady_clock::now();

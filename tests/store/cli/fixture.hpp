@@ -13,6 +13,7 @@
 
 #include "analyses.hpp"
 #include "row_builders.hpp"
+#include "test_model.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::testing {
@@ -29,13 +30,7 @@ inline store::ModelRow PolyModel(const std::string& quantity, std::vector<double
     m.coeffs = coeffs;
     m.covariance.assign(coeffs.size(), std::vector<double>(coeffs.size(), 0.0));
     for (size_t i = 0; i < coeffs.size(); ++i) m.covariance[i][i] = 4e-10;  // stddev 2e-5
-    m.t0_c = 25.0;
-    m.temp_min_c = -10.0;
-    m.temp_max_c = 60.0;
-    m.residual_rms = 1e-5;
-    m.n_points = 3;
-    m.condition_number = 5.0;
-    m.method = "wls";
+    SetTestModelScalars(m, {.condition_number = 5.0});
     return m;
 }
 

@@ -12,6 +12,7 @@
 #include "query.hpp"
 #include "row_builders.hpp"
 #include "scratch_db.hpp"
+#include "test_model.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::store {
@@ -31,13 +32,7 @@ model::Model Extended(const std::string& quantity) {
     m.coeffs << 2.5, 1e-3, -2e-5, 3e-7, 0.02, 4e-4, 0.01, -3e-4, 5e-3;
     m.covariance = Eigen::MatrixXd::Identity(n, n) * 1e-10;
     m.covariance(0, 1) = m.covariance(1, 0) = 2e-11;
-    m.t0_c = 25;
-    m.temp_min_c = -10;
-    m.temp_max_c = 60;
-    m.residual_rms = 1e-5;
-    m.n_points = 40;
-    m.condition_number = 30;
-    m.method = "analysis";
+    testing::SetTestModelScalars(m, {.n_points = 40, .condition_number = 30, .method = "analysis"});
     return m;
 }
 

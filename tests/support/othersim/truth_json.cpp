@@ -5,6 +5,11 @@
 
 namespace gyrocal::othersim {
 
+// The effects under their option names (the phase of the periodic one is not part of the truth).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EffectOptions, warmup_v, warmup_tau_s, gradient_v_per_c,
+                                   supply_v_per_v, drift_v_per_h, periodic_v, periodic_s, step_v,
+                                   step_at_s, warmup2_v, warmup2_tau_s)
+
 namespace {
 
 nlohmann::json UnitJson(const UnitTruth& u) {
@@ -78,17 +83,7 @@ nlohmann::json TruthJson(const Options& o, const Generated& g) {
                     {"10", RateNoise::TheoryAdevDps(o.noise, 10)},
                     {"100", RateNoise::TheoryAdevDps(o.noise, 100)},
                     {"1000", RateNoise::TheoryAdevDps(o.noise, 1000)}}}};
-    j["effects"] = {{"warmup_v", o.effects.warmup_v},
-                    {"warmup_tau_s", o.effects.warmup_tau_s},
-                    {"gradient_v_per_c", o.effects.gradient_v_per_c},
-                    {"supply_v_per_v", o.effects.supply_v_per_v},
-                    {"drift_v_per_h", o.effects.drift_v_per_h},
-                    {"periodic_v", o.effects.periodic_v},
-                    {"periodic_s", o.effects.periodic_s},
-                    {"step_v", o.effects.step_v},
-                    {"step_at_s", o.effects.step_at_s},
-                    {"warmup2_v", o.effects.warmup2_v},
-                    {"warmup2_tau_s", o.effects.warmup2_tau_s}};
+    j["effects"] = o.effects;
     j["timeline"] = TimelineJson(g.timeline);
     j["faults"] = FaultsJson(g.timeline);
     return j;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli.hpp"
 #include "csv/csv_file.hpp"
 #include "generator.hpp"
 #include "launch/child_process.hpp"
@@ -156,6 +157,30 @@ TEST(Othersim, BadOptionsNameTheOption) {
     EXPECT_NE(o.Problem().find("--lpf-hz"), std::string::npos);
     EXPECT_THROW(ParseSetpoints("25,abc", 60, true), std::invalid_argument);
     EXPECT_THROW(BuildTimeline(Options{}), std::invalid_argument);  // no steps
+}
+
+TEST(OthersimCli, OutsideEffectOptionsAreRefusedWithTheirName) {
+    // Through the real command-line parser (what gyrocal-othersim runs), then Finish: each bad
+    // value is refused naming its option.
+    const std::vector<std::vector<std::string>> bad = {
+        {"--drift-v-per-h", "0.5"}, {"--periodic-v", "-0.2"}, {"--periodic-s", "0"},
+        {"--step-v", "1"},          {"--step-at-s", "-5"},    {"--warmup2-v", "0.2"},
+        {"--warmup2-tau-s", "0.5"}};
+    auto parse = [](std::vector<std::string> args) {
+        Options o;
+        CliValues v;
+        CLI::App app;
+        AddOptions(app, o, v);
+        args.insert(args.begin(), {"--out", "x.csv"});
+        app.parse(std::vector<std::string>(args.rbegin(), args.rend()));
+        return Finish(o, v);
+    };
+    for (const std::vector<std::string>& args : bad) {
+        const std::string problem = parse(args);
+        EXPECT_NE(problem.find(args[0]), std::string::npos) << args[0] << ": " << problem;
+    }
+    // A word where a number belongs: the parser itself refuses it.
+    EXPECT_THROW(parse({"--drift-v-per-h", "abc"}), CLI::ParseError);
 }
 
 TEST(OthersimCli, WritesTheFilesAndRefusesBadInput) {

@@ -1,9 +1,11 @@
 // calibrate's final verdict (tools/gyrocal/final_verdict): from the sets and FIT_<id> reports a
 // run left, which units are complete, what the table marks, and what exit 3 explains. Pure
 // bookkeeping over messages; every case below has one right answer.
+#include "final_verdict.hpp"
+
 #include <gtest/gtest.h>
 
-#include "final_verdict.hpp"
+#include "message_builders.hpp"
 
 namespace gyrocal::cli {
 namespace {
@@ -24,11 +26,10 @@ coeff_set_t Set(const std::string& id, int64_t set_id, int offset_terms) {
     return c;
 }
 
+// A final report of set `set_id`.
 fit_report_t Report(const std::string& id, int64_t set_id, const std::string& status, const std::string& reason) {
-    fit_report_t r{};
-    r.sensor_id = id;
+    fit_report_t r = testing::FitReport(id);
     r.coeff_set_id = set_id;
-    r.is_final = true;
     r.status = status;
     r.reason = reason;
     return r;

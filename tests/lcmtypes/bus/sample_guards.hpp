@@ -1,0 +1,48 @@
+#pragma once
+// The bad input a process that consumes GYRO_<id> must count in its STATUS and survive, for the
+// process tests of those processes (gyrocal-plateau, gyrocal-rotation): what each guard of its
+// sample handler refuses (STYLE.md: decode, guard, count and skip).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+#include "message_builders.hpp"
+#include "status_watch.hpp"
+
+namespace gyrocal::testing {
+
+// A payload of another type on GYRO_X (a decode error); a sample at `utime` of `unknown_id`, a
+// unit the process was not given; and one of `id` whose `nan_field` is NaN (two refusals).
+inline void PublishBadSamples(Bus& bus, int64_t utime, const std::string& unknown_id,
+                              const std::string& id, double gyro_sample_t::*nan_field) {
+    bus.Publish(channels::Gyro("X"), Encoder(0));
+    gyro_sample_t bad = GyroSample(unknown_id, utime, 0, 1.0, 1.0);
+    bus.Publish(channels::Gyro(unknown_id), bad);
+    bad.sensor_id = id;
+    bad.*nan_field = std::nan("");
+    bus.Publish(channels::Gyro(id), bad);
+}
+
+// Publishes sample `seq` of `id` at `utime`, earlier than its newest, and waits until STATUS
+// shows `counted()` with that sample refused as out of order (its last refusal).
+template <class Counted>
+::testing::AssertionResult LateSampleIsRefused(Bus& bus, const StatusWatch& watch,
+                                               const std::string& id, int64_t utime, int64_t seq,
+                                               Counted&& counted) {
+    bus.Publish(channels::Gyro(id), GyroSample(id, utime, seq, 2.505, 30.0));
+    if (auto reached = StatusReaches(bus, watch, counted, std::chrono::seconds(5)); !reached) {
+        return reached;
+    }
+    if (watch.last.last_reject.find("out-of-order") == std::string::npos) {
+        return ::testing::AssertionFailure() << "last_reject " << watch.last.last_reject;
+    }
+    return ::testing::AssertionSuccess();
+}
+
+}  // namespace gyrocal::testing
