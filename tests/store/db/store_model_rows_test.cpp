@@ -12,12 +12,13 @@
 #include "query.hpp"
 #include "row_builders.hpp"
 #include "scratch_db.hpp"
-#include "test_model.hpp"
+#include "test_models.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::store {
 namespace {
 
+using model::testing::ExpectSameModel;
 using testing::Count;
 using testing::FreshDbPath;
 
@@ -48,18 +49,6 @@ model::CoeffSet ExtendedSet(const std::string& run) {
     s.plateau_ids = {1, 2, 3};
     s.rotation_ids = {4};
     return s;
-}
-
-void ExpectSameModel(const model::Model& a, const model::Model& b) {
-    EXPECT_EQ(a.quantity, b.quantity);
-    EXPECT_EQ(a.term_names, b.term_names);
-    EXPECT_EQ(a.coeffs, b.coeffs);  // exact: stored as 8-byte REAL
-    EXPECT_EQ(a.covariance, b.covariance);
-    EXPECT_EQ(a.t0_c, b.t0_c);
-    EXPECT_EQ(a.temp_min_c, b.temp_min_c);
-    EXPECT_EQ(a.temp_max_c, b.temp_max_c);
-    EXPECT_EQ(a.n_points, b.n_points);
-    EXPECT_EQ(a.method, b.method);
 }
 
 TEST(ModelRows, RoundTripThroughRows) {
