@@ -17,6 +17,7 @@
 #include "analysis/run_data.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "command.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
 #include "noise/allan_plot.hpp"
@@ -261,12 +262,7 @@ int AnalyzeRun(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
 }  // namespace
 
 int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
-    try {
-        return AnalyzeRun(o, out, err);
-    } catch (const std::exception& e) {
-        err << "gyrocal analyze: " << e.what() << "\n";
-        return 1;
-    }
+    return FailOnThrow(err, "gyrocal analyze: ", [&] { return AnalyzeRun(o, out, err); });
 }
 
 void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {

@@ -8,6 +8,7 @@
 #include "acceptance/limits.hpp"
 #include "build.hpp"
 #include "cmd_analyze.hpp"
+#include "command.hpp"
 #include "gyrocal/version.hpp"
 #include "plot/gnuplot.hpp"
 #include "query.hpp"
@@ -64,7 +65,7 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
         err << "gyrocal report: " << plot::kGnuplotMissing << "\n";
         return 1;
     }
-    try {
+    return FailOnThrow(err, "gyrocal report: ", [&] {
         ro.db = o.db;
         ro.run_id = o.latest ? LatestRun(o.db) : o.run_id;
         ro.out_dir = o.out_dir;
@@ -80,10 +81,7 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
             out << "report: " << r.path << "\n" << rr::AcceptanceText(r.acceptance);
         }
         return out ? 0 : 1;
-    } catch (const std::exception& e) {
-        err << "gyrocal report: " << e.what() << "\n";
-        return 1;
-    }
+    });
 }
 
 void AddReportCommand(CLI::App& app, std::function<int()>& action) {
