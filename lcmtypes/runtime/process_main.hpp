@@ -25,4 +25,22 @@ std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
 // stopped), 1 when it throws (on stderr as "<process>: <what>").
 int RunUntilStopped(const std::string& process, const std::function<void()>& run);
 
+// The whole main() of a node process whose options come from Options::Defaults(), `add_options`
+// and `std::string Options::Validate()`, and that runs Node(options) until stopped: --help shows
+// `description`, every option's default and kNodeExitCodes; the exit codes and messages are
+// ParseCommandLine's and RunUntilStopped's.
+template <class Node, class Options>
+int NodeMain(int argc, char** argv, const std::string& process, const std::string& description,
+             void (*add_options)(CLI::App&, Options&)) {
+    Options options = Options::Defaults();
+    CLI::App app{description, process};
+    app.footer(kNodeExitCodes);
+    app.option_defaults()->always_capture_default();
+    add_options(app, options);
+    if (auto exit_code =
+            ParseCommandLine(app, argc, argv, process, [&] { return options.Validate(); }))
+        return *exit_code;
+    return RunUntilStopped(process, [&] { Node(options).Run(); });
+}
+
 }  // namespace gyrocal

@@ -10,57 +10,48 @@ constexpr const char* kProcess = "gyrocal-fitter";
 }  // namespace
 
 std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
+    app.option_defaults()->always_capture_default();  // --help shows every option's default
     app.add_option(
         "--lcm-url", o.lcm_url,
         "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(kDefaultLcmUrl) + ")");
-    app.add_option("--method", o.method, "auto (3point with exactly 3 points, else wls), 3point, wls")
-        ->capture_default_str();
-    app.add_option("--min-temp-separation-c", o.core.fit.min_temp_separation_c,
-                   "[degC] temperatures closer than this add no polynomial degree (they stay data)")
-        ->capture_default_str();
-    app.add_option("--same-level-tolerance-c", o.core.fit.same_level_tolerance_c,
-                   "[degC] points closer than this in temperature are replicates of one temperature")
-        ->capture_default_str();
+    app.add_option("--method", o.method,
+                   "auto (3point with exactly 3 points, else wls), 3point, wls");
+    app.add_option(
+        "--min-temp-separation-c", o.core.fit.min_temp_separation_c,
+        "[degC] temperatures closer than this add no polynomial degree (they stay data)");
+    app.add_option(
+        "--same-level-tolerance-c", o.core.fit.same_level_tolerance_c,
+        "[degC] points closer than this in temperature are replicates of one temperature");
     app.add_option("--min-range-c", o.core.fit.min_range_c,
-                   "[degC] a narrower range gets a line only (partial)")
-        ->capture_default_str();
+                   "[degC] a narrower range gets a line only (partial)");
     app.add_option("--max-degree", o.core.fit.max_degree,
-                   "highest polynomial degree order selection may choose (1..3)")
-        ->capture_default_str();
+                   "highest polynomial degree order selection may choose (1..3)");
     app.add_option("--fixed-degree", o.core.fit.fixed_degree,
                    "use this polynomial degree (1..3) for wls; 0 = choose on evidence (QAIC: AIC "
-                   "with the overdispersion of the run's points, see processors/fit/fit.hpp)")
-        ->capture_default_str();
+                   "with the overdispersion of the run's points, see processors/fit/fit.hpp)");
     app.add_option("--nominal-sensitivity-v-per-dps", o.core.nominal_sensitivity_v_per_dps,
-                   "sensitivity published while a sensor has no accepted rotation [V/(deg/s)]")
-        ->capture_default_str();
-    app.add_option("--plateau-slow-noise-dps", o.core.plateau_slow_noise_dps,
-                   "[deg/s] slow noise in a plateau mean that its standard error cannot show, added "
-                   "in quadrature; 0..10 to give it, < 0 (default) = from the run's own Allan "
-                   "deviation (NOISE_<id>)")
-        ->capture_default_str();
+                   "sensitivity published while a sensor has no accepted rotation [V/(deg/s)]");
+    app.add_option(
+        "--plateau-slow-noise-dps", o.core.plateau_slow_noise_dps,
+        "[deg/s] slow noise in a plateau mean that its standard error cannot show, added "
+        "in quadrature; 0..10 to give it, < 0 (default) = from the run's own Allan "
+        "deviation (NOISE_<id>)");
     app.add_option("--outlier-alpha", o.core.outliers.family_alpha,
-                   "chance per fit of excluding a good point (leave-one-out test), (0, 0.5)")
-        ->capture_default_str();
+                   "chance per fit of excluding a good point (leave-one-out test), (0, 0.5)");
     app.add_flag("!--no-outlier-test", o.core.outliers.enabled, "keep every point");
     app.add_option("--pool-alpha", o.core.pool_alpha,
                    "false-alarm rate of the test that keeps disagreeing units out of the pooled "
-                   "overdispersion, (0, 0.5)")
-        ->capture_default_str();
+                   "overdispersion, (0, 0.5)");
     app.add_option("--repeat-tolerance-c", o.core.repeat_tolerance_c,
                    "[degC] a plateau this close to an earlier one after others is a return "
-                   "(repeatability)")
-        ->capture_default_str();
+                   "(repeatability)");
     app.add_option("--mode", o.mode,
                    "plateau (fit the plateaus) or ramp (fit every still window of a ramp run "
-                   "with the analysis' term selection: processors/fitter/ramp_fitter.hpp)")
-        ->capture_default_str();
+                   "with the analysis' term selection: processors/fitter/ramp_fitter.hpp)");
     app.add_option("--refit-interval-s", o.ramp.refit_interval_s,
-                   "--mode ramp: [s] data time between fits during the run, 10..86400")
-        ->capture_default_str();
+                   "--mode ramp: [s] data time between fits during the run, 10..86400");
     app.add_option("--min-span-s", o.ramp.min_span_s,
-                   "--mode ramp: [s] of a unit's data before its first fit, 0..86400")
-        ->capture_default_str();
+                   "--mode ramp: [s] of a unit's data before its first fit, 0..86400");
     app.footer(kNodeExitCodes);
     return [&o]() -> std::string {
         if (o.mode != "plateau" && o.mode != "ramp")

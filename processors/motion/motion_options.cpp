@@ -9,20 +9,17 @@ void AddInputOptions(CLI::App& app, std::string& lcm_url, std::vector<std::strin
     app.add_option("--lcm-url", lcm_url,
                    "LCM provider URL (default: $GYROCAL_LCM_URL, else udpm default)");
     app.add_option("--sensors", sensors, "accept only these sensor ids (default: every valid id)")
-        ->delimiter(',');
-    app.add_option("--encoder-id", encoder_id, "encoder_id of the turntable encoder")
-        ->capture_default_str();
+        ->delimiter(',')
+        ->default_str("");  // the help says what none means; "[]" would not
+    app.add_option("--encoder-id", encoder_id, "encoder_id of the turntable encoder");
 }
 
 void AddMoveOptions(CLI::App& app, MoveDetectorConfig& move, const std::string& settled) {
     app.add_option("--start-threshold-counts", move.start_threshold_counts,
-                   "[count] the table leaves rest when it moves more than this")
-        ->capture_default_str();
+                   "[count] the table leaves rest when it moves more than this");
     app.add_option("--settle-band-counts", move.settle_band_counts,
-                   "[count] encoder dither tolerated at rest")
-        ->capture_default_str();
-    app.add_option("--settle-s", move.settle_s, "[s] within the band this long = " + settled)
-        ->capture_default_str();
+                   "[count] encoder dither tolerated at rest");
+    app.add_option("--settle-s", move.settle_s, "[s] within the band this long = " + settled);
 }
 
 std::string ValidateInput(const std::vector<std::string>& sensors, const std::string& encoder_id) {

@@ -1,6 +1,7 @@
 #pragma once
 // The options gyrocal-plateau and gyrocal-rotation share, with the same names, defaults, help
 // texts and checks in both: where the samples and the encoder come from, and the move detector.
+// Whether --help shows their defaults is the app's choice (the processes' NodeMain shows them).
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>

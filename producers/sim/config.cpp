@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <string>
 
 #include "bus_free_ids.hpp"
 #include "text/number.hpp"
@@ -25,6 +27,33 @@ void RangeOpenLow(const char* option, double value, double lo, double hi) {
                           " is out of range; valid: > " + text::Sig(lo) +
                           " and <= " + text::Sig(hi));
     }
+}
+
+// Which end of a Limit is in range: kFrom lo <= value, kAbove lo < value (a zero time constant,
+// rate or width has no meaning); value <= hi either way.
+enum Low { kFrom, kAbove };
+
+void CheckRange(const char* option, double value, Low low, double lo, double hi) {
+    if (low == kAbove) {
+        RangeOpenLow(option, value, lo, hi);
+    } else {
+        Range(option, value, lo, hi);
+    }
+}
+
+// One option of a config section and its valid range.
+template <class Config>
+struct Limit {
+    const char* option;
+    double Config::*field;
+    Low low;
+    double lo, hi;
+};
+
+// Refuses the first field of `c` outside its limit, in the order given.
+template <class Config>
+void CheckLimits(const Config& c, std::initializer_list<Limit<Config>> limits) {
+    for (const Limit<Config>& l : limits) CheckRange(l.option, c.*l.field, l.low, l.lo, l.hi);
 }
 
 }  // namespace
@@ -65,6 +94,7 @@ struct EffectField {
     const char* unit;
     double lo, hi;
     bool shape;
+    const char* option = nullptr;  // a shape's own option of the rig, if it has one
 };
 
 const std::vector<EffectField>& EffectFields() {
@@ -81,8 +111,9 @@ const std::vector<EffectField>& EffectFields() {
         {"gsens", &E::gsens_v_per_g, "V/g", -1.0, 1.0, false},
         {"hysteresis_smooth", &E::hysteresis_smooth_v, "V", -0.5, 0.5, false},
         {"warmup2", &E::warmup2_v, "V", -0.5, 0.5, false},
-        {"hysteresis_width_c", &E::hysteresis_width_c, "degC", 0.0, 50.0, true},
-        {"warmup_tau_s", &E::warmup_tau_s, "s", 0.0, 1e5, true},
+        {"hysteresis_width_c", &E::hysteresis_width_c, "degC", 0.0, 50.0, true,
+         "--hysteresis-width-c"},
+        {"warmup_tau_s", &E::warmup_tau_s, "s", 0.0, 1e5, true, "--warmup-tau-s"},
         {"compressor_period_s", &E::compressor_period_s, "s", 1.0, 1e5, true},
         {"tilt_deg", &E::tilt_deg, "deg", 0.0, 90.0, true},
         {"hysteresis_travel_c", &E::hysteresis_travel_c, "degC", 0.0, 50.0, true},
@@ -119,11 +150,7 @@ void SetEffect(EffectsConfig& e, const std::string& name, double value) {
     for (const EffectField& f : EffectFields()) {
         if (name != f.name) continue;
         const std::string option = "--effect " + name + " [" + f.unit + "]";
-        if (f.shape) {
-            RangeOpenLow(option.c_str(), value, f.lo, f.hi);
-        } else {
-            Range(option.c_str(), value, f.lo, f.hi);
-        }
+        CheckRange(option.c_str(), value, f.shape ? kAbove : kFrom, f.lo, f.hi);
         e.*f.field = value;
         return;
     }
@@ -189,39 +216,45 @@ void CheckUnitIds(const RigConfig& c) {
 }
 
 void CheckNoise(const NoiseConfig& noise) {
-    Range("--noise-density-dps-rthz", noise.noise_density_dps_rthz, 0.0, 10.0);
-    Range("--bias-instability-dps", noise.bias_instability_dps, 0.0, 10.0);
-    Range("--rrw-dps-rts", noise.rate_random_walk_dps_rts, 0.0, 1.0);
-    Range("--lpf-hz", noise.lpf_hz, 0.0, 100000.0);
-    Range("--temp-noise-v", noise.temp_noise_v, 0.0, 0.1);
+    using N = NoiseConfig;
+    CheckLimits(noise, {{"--noise-density-dps-rthz", &N::noise_density_dps_rthz, kFrom, 0.0, 10.0},
+                        {"--bias-instability-dps", &N::bias_instability_dps, kFrom, 0.0, 10.0},
+                        {"--rrw-dps-rts", &N::rate_random_walk_dps_rts, kFrom, 0.0, 1.0},
+                        {"--lpf-hz", &N::lpf_hz, kFrom, 0.0, 100000.0},
+                        {"--temp-noise-v", &N::temp_noise_v, kFrom, 0.0, 0.1}});
 }
 
-void CheckThermal(const ThermalConfig& thermal) {
-    Range("--start-temp-c", thermal.start_temp_c, thermal.min_setpoint_c, thermal.max_setpoint_c);
-    RangeOpenLow("--ramp-c-per-min", thermal.ramp_c_per_min, 0.0, 1000.0);
-    RangeOpenLow("--air-tau-s", thermal.air_tau_s, 0.0, 1e5);
-    Range("--air-noise-c", thermal.air_noise_c, 0.0, 5.0);
-    RangeOpenLow("--air-noise-tau-s", thermal.air_noise_tau_s, 0.0, 1e5);
-    RangeOpenLow("--package-tau-s", thermal.package_tau_s, 0.0, 1e5);
-    RangeOpenLow("--sensor-tau-s", thermal.sensor_tau_s, 0.0, 1e5);
-    RangeOpenLow("--setpoint-tolerance-c", thermal.setpoint_tolerance_c, 0.0, 20.0);
-    Range("--min-setpoint-c", thermal.min_setpoint_c, -100.0, thermal.max_setpoint_c);
-    Range("--max-setpoint-c", thermal.max_setpoint_c, thermal.min_setpoint_c, 200.0);
+void CheckThermal(const ThermalConfig& t) {
+    using T = ThermalConfig;
+    CheckLimits(t, {{"--start-temp-c", &T::start_temp_c, kFrom, t.min_setpoint_c, t.max_setpoint_c},
+                    {"--ramp-c-per-min", &T::ramp_c_per_min, kAbove, 0.0, 1000.0},
+                    {"--air-tau-s", &T::air_tau_s, kAbove, 0.0, 1e5},
+                    {"--air-noise-c", &T::air_noise_c, kFrom, 0.0, 5.0},
+                    {"--air-noise-tau-s", &T::air_noise_tau_s, kAbove, 0.0, 1e5},
+                    {"--package-tau-s", &T::package_tau_s, kAbove, 0.0, 1e5},
+                    {"--sensor-tau-s", &T::sensor_tau_s, kAbove, 0.0, 1e5},
+                    {"--setpoint-tolerance-c", &T::setpoint_tolerance_c, kAbove, 0.0, 20.0},
+                    {"--min-setpoint-c", &T::min_setpoint_c, kFrom, -100.0, t.max_setpoint_c},
+                    {"--max-setpoint-c", &T::max_setpoint_c, kFrom, t.min_setpoint_c, 200.0}});
 }
 
 void CheckSpread(const SpreadConfig& spread) {
-    Range("--spread-null-std-v", spread.null_std_v, 0.0, 0.5);
-    Range("--temp-sensor-offset-std-c", spread.temp_sensor_offset_std_c, 0.0, 20.0);
-    Range("--package-tau-spread-frac", spread.package_tau_spread_frac, 0.0, 0.3);
-    Range("--sens-std-frac", spread.sens_std_frac, 0.0, 0.3);
+    using S = SpreadConfig;
+    CheckLimits(spread,
+                {{"--spread-null-std-v", &S::null_std_v, kFrom, 0.0, 0.5},
+                 {"--temp-sensor-offset-std-c", &S::temp_sensor_offset_std_c, kFrom, 0.0, 20.0},
+                 {"--package-tau-spread-frac", &S::package_tau_spread_frac, kFrom, 0.0, 0.3},
+                 {"--sens-std-frac", &S::sens_std_frac, kFrom, 0.0, 0.3}});
 }
 
 void CheckTableAndEncoder(const TableConfig& table, const EncoderConfig& encoder) {
-    RangeOpenLow("--table-max-rate-dps", table.max_rate_dps, 0.0, 2000.0);
-    RangeOpenLow("--table-max-accel-dps2", table.max_accel_dps2, 0.0, 1e5);
-    RangeOpenLow("--table-rate-dps", table.default_rate_dps, 0.0, table.max_rate_dps);
-    RangeOpenLow("--table-accel-dps2", table.default_accel_dps2, 0.0, table.max_accel_dps2);
-    RangeOpenLow("--table-max-move-deg", table.max_move_deg, 0.0, 1e6);
+    using T = TableConfig;
+    CheckLimits(table,
+                {{"--table-max-rate-dps", &T::max_rate_dps, kAbove, 0.0, 2000.0},
+                 {"--table-max-accel-dps2", &T::max_accel_dps2, kAbove, 0.0, 1e5},
+                 {"--table-rate-dps", &T::default_rate_dps, kAbove, 0.0, table.max_rate_dps},
+                 {"--table-accel-dps2", &T::default_accel_dps2, kAbove, 0.0, table.max_accel_dps2},
+                 {"--table-max-move-deg", &T::max_move_deg, kAbove, 0.0, 1e6}});
 
     Range("--encoder-lines", encoder.lines_per_rev, 1, 1'000'000);
     if (encoder.quadrature != 1 && encoder.quadrature != 2 && encoder.quadrature != 4) {
@@ -238,24 +271,26 @@ void CheckAdcAndSupply(const AdcConfig& adc, const SupplyConfig& supply) {
                           " is not valid; valid: 0 "
                           "(no ADC) or 8 .. 24");
     }
-    RangeOpenLow("--adc-vref-v", adc.vref_v, 0.0, 50.0);
-    RangeOpenLow("--adc-supply-divider", adc.supply_divider, 0.0, 1.0);
+    CheckLimits(adc, {{"--adc-vref-v", &AdcConfig::vref_v, kAbove, 0.0, 50.0},
+                      {"--adc-supply-divider", &AdcConfig::supply_divider, kAbove, 0.0, 1.0}});
 
-    RangeOpenLow("--supply-nominal-v", supply.nominal_v, 0.0, 50.0);
-    Range("--supply-ripple-v", supply.ripple_v, 0.0, 1.0);
-    RangeOpenLow("--supply-ripple-hz", supply.ripple_hz, 0.0, 1e6);
-    Range("--supply-drift-std-v", supply.drift_std_v, 0.0, 1.0);
-    RangeOpenLow("--supply-drift-tau-s", supply.drift_tau_s, 0.0, 1e6);
-    Range("--supply-noise-v", supply.noise_v, 0.0, 1.0);
+    using S = SupplyConfig;
+    CheckLimits(supply, {{"--supply-nominal-v", &S::nominal_v, kAbove, 0.0, 50.0},
+                         {"--supply-ripple-v", &S::ripple_v, kFrom, 0.0, 1.0},
+                         {"--supply-ripple-hz", &S::ripple_hz, kAbove, 0.0, 1e6},
+                         {"--supply-drift-std-v", &S::drift_std_v, kFrom, 0.0, 1.0},
+                         {"--supply-drift-tau-s", &S::drift_tau_s, kAbove, 0.0, 1e6},
+                         {"--supply-noise-v", &S::noise_v, kFrom, 0.0, 1.0}});
 }
 
+// The shapes' ranges are --effect's (EffectFields); those with an option of their own are named
+// by it.
 void CheckEffectShapes(const EffectsConfig& effects) {
-    RangeOpenLow("--hysteresis-width-c", effects.hysteresis_width_c, 0.0, 50.0);
-    RangeOpenLow("--warmup-tau-s", effects.warmup_tau_s, 0.0, 1e5);
-    RangeOpenLow("--effect compressor_period_s", effects.compressor_period_s, 1.0, 1e5);
-    RangeOpenLow("--effect tilt_deg", effects.tilt_deg, 0.0, 90.0);
-    RangeOpenLow("--effect hysteresis_travel_c", effects.hysteresis_travel_c, 0.0, 50.0);
-    RangeOpenLow("--effect warmup2_tau_s", effects.warmup2_tau_s, 0.0, 1e5);
+    for (const EffectField& f : EffectFields()) {
+        if (!f.shape) continue;
+        const std::string option = f.option ? f.option : "--effect " + std::string(f.name);
+        RangeOpenLow(option.c_str(), effects.*f.field, f.lo, f.hi);
+    }
 }
 
 }  // namespace

@@ -17,17 +17,18 @@ int main(int argc, char** argv) {
         "Exit codes: 0 done (or stopped by SIGINT/SIGTERM), 1 unknown run, database or LCM\n"
         "failure, 2 bad options.",
         kReplayProcess};
+    app.option_defaults()->always_capture_default();  // --help shows every option's default
     app.add_option("run", o.run_id, "run id to replay")->required();
-    app.add_option("--db", o.db_path, "SQLite database file")->capture_default_str();
+    app.add_option("--db", o.db_path, "SQLite database file");
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
     app.add_option("--as-run", o.as_run,
                    "publish the run events under this run id instead (keeps a replay recorded "
                    "into the same database apart from the original)");
     auto* speed = app.add_option("--speed", o.speed, "recorded seconds per wall second")
-                      ->check(CLI::Range(1e-3, 1e6))
-                      ->capture_default_str();
+                      ->check(CLI::Range(1e-3, 1e6));
     app.add_flag("--max", o.max, "publish as fast as possible (no timing)")->excludes(speed);
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess)) return *exit_code;
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess))
+        return *exit_code;
     try {
         gyrocal::record::ReplayNode node(o);
         gyrocal::InstallStopHandlers();

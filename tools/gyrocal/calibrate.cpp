@@ -41,24 +41,19 @@
 namespace gyrocal::cli {
 
 namespace {
-AfterRunHook& Hook() {
-    static AfterRunHook hook;
+// The one installed function of each hook type (main installs them; none = not built in).
+template <class Hook>
+Hook& Installed() {
+    static Hook hook;
     return hook;
 }
 }  // namespace
 
-void SetAfterRunHook(AfterRunHook hook) { Hook() = std::move(hook); }
-bool HasAfterRunHook() { return static_cast<bool>(Hook()); }
+void SetAfterRunHook(AfterRunHook hook) { Installed<AfterRunHook>() = std::move(hook); }
+bool HasAfterRunHook() { return static_cast<bool>(Installed<AfterRunHook>()); }
 
-namespace {
-RecoveryReader& Reader() {
-    static RecoveryReader reader;
-    return reader;
-}
-}  // namespace
-
-void SetRecoveryReader(RecoveryReader reader) { Reader() = std::move(reader); }
-const RecoveryReader& InstalledRecoveryReader() { return Reader(); }
+void SetRecoveryReader(RecoveryReader reader) { Installed<RecoveryReader>() = std::move(reader); }
+const RecoveryReader& InstalledRecoveryReader() { return Installed<RecoveryReader>(); }
 
 std::vector<std::string> SourceNames() {
     std::vector<std::string> names;
@@ -496,7 +491,9 @@ int Calibration::Finish(int code) {
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
     if (stop_seen_ && WaitsForCoeffs()) std::cerr << Verdict().Explain();
     // The acceptance step reads the database: on the host that holds it.
-    if (Hook() && !run_id_.empty() && Runs("gyrocal-recorder")) code = Hook()(o_, run_id_, code);
+    const AfterRunHook& after_run = Installed<AfterRunHook>();
+    if (after_run && !run_id_.empty() && Runs("gyrocal-recorder"))
+        code = after_run(o_, run_id_, code);
     return code;
 }
 

@@ -17,6 +17,7 @@
 #include "analysis/run_data.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "command.hpp"
 #include "gyrocal/version.hpp"
 #include "model_rows.hpp"
 #include "noise/allan_plot.hpp"
@@ -261,12 +262,7 @@ int AnalyzeRun(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
 }  // namespace
 
 int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
-    try {
-        return AnalyzeRun(o, out, err);
-    } catch (const std::exception& e) {
-        err << "gyrocal analyze: " << e.what() << "\n";
-        return 1;
-    }
+    return FailOnThrow(err, "gyrocal analyze: ", [&] { return AnalyzeRun(o, out, err); });
 }
 
 void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
@@ -275,23 +271,21 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
         "analyze",
         "find what the declared model lacks in a recorded run: candidate effects tested out of "
         "sample, errors before/after on a held-out stretch, versus the noise floor");
+    sub->option_defaults()->always_capture_default();  // --help shows every option's default
     sub->add_option("run", o->run_id, "run id (see `gyrocal runs`)")->required();
     sub->add_option("--sensor", o->sensor_id,
                     "analyse only this sensor (default: every sensor of the run)");
-    sub->add_option("--db", o->db, "SQLite database the recorder wrote")->capture_default_str();
+    sub->add_option("--db", o->db, "SQLite database the recorder wrote");
     sub->add_flag("--json", o->json, "print JSON (sensors[]) instead of the table");
     sub->add_option("--bin-s", o->bin_s, "[s] bin length of the still data")
-        ->check(CLI::Range(0.5, 600.0))
-        ->capture_default_str();
+        ->check(CLI::Range(0.5, 600.0));
     sub->add_option("--holdout-fraction", o->holdout_fraction,
                     "fraction of the still data held out for the before/after figures and the "
                     "confirmation of added terms: one block of --holdout-block-s in round(1/F)")
-        ->check(CLI::Range(0.05, 0.5))
-        ->capture_default_str();
+        ->check(CLI::Range(0.05, 0.5));
     sub->add_option("--holdout-block-s", o->holdout_block_s,
                     "[s] length of the held-out blocks (interleaved with the training data)")
-        ->check(CLI::Range(60.0, 86400.0))
-        ->capture_default_str();
+        ->check(CLI::Range(60.0, 86400.0));
     sub->add_option("--plot", o->plot_dir,
                     "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
                     "created if its parent exists");

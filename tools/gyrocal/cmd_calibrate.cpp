@@ -59,6 +59,16 @@ void CheckAfterRunOptions(CalibrateOptions& o) {
     if (plot::FindOnPath("gnuplot").empty()) throw CLI::ValidationError("--report", plot::kGnuplotMissing);
 }
 
+// An option whose valid range CLI11 checks and whose help ends with it (", LO..HI"), both from
+// the same two numbers.
+template <class T>
+CLI::Option* AddInRange(CLI::App* cmd, const std::string& name, T& value, const std::string& help,
+                        T lo, T hi) {
+    std::ostringstream range;
+    range << ", " << lo << ".." << hi;
+    return cmd->add_option(name, value, help + range.str())->check(CLI::Range(lo, hi));
+}
+
 // Where the run happens: source, database, bus, role of this host, procedure, supervision.
 void AddPlaceOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option("--source", o->source, "sim (simulated rig), csv FILE, lines (stdin), log FILE (lcm-logger file)")
@@ -82,14 +92,13 @@ void AddPlaceOptions(CLI::App* cmd, CalibrateOptions* o) {
                     "itself on data time: the same seed gives the same samples, on one host or several)")
         ->check(CLI::IsMember({"sequencer", "rig"}))
         ->capture_default_str();
-    cmd->add_option("--max-restarts", o->max_restarts,
-                    "restarts of one crashed process per run before the run is aborted, 0..20")
-        ->check(CLI::Range(0, 20))
+    AddInRange(cmd, "--max-restarts", o->max_restarts,
+               "restarts of one crashed process per run before the run is aborted", 0, 20)
         ->capture_default_str();
-    cmd->add_option("--await-peers-s", o->await_peers_s,
-                    "wall seconds the producers wait to hear every consumer (recorder, processors) "
-                    "before publishing, 1..3600")
-        ->check(CLI::Range(1.0, 3600.0))
+    AddInRange(cmd, "--await-peers-s", o->await_peers_s,
+               "wall seconds the producers wait to hear every consumer (recorder, processors) "
+               "before publishing",
+               1.0, 3600.0)
         ->capture_default_str();
 }
 
@@ -125,13 +134,14 @@ void AddRigOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option("--ramp-range-c", o->ramp_range_c,
                     "--profile ramp: MIN,MAX [degC]: cool to MIN, then heat to MAX (default -40,85)")
         ->delimiter(',')->expected(2);
-    cmd->add_option("--turn-interval-s", o->turn_interval_s,
-                    "--profile ramp: [s] data time between +90/-90 turn pairs on the move, 10..7200")
-        ->check(CLI::Range(10.0, 7200.0))->capture_default_str();
-    cmd->add_option("--dwell-s", o->dwell_s,
-                    "--profile ramp: [s] held at each waypoint once the air is there (the units' dies "
-                    "lag the air), 0..7200")
-        ->check(CLI::Range(0.0, 7200.0))->capture_default_str();
+    AddInRange(cmd, "--turn-interval-s", o->turn_interval_s,
+               "--profile ramp: [s] data time between +90/-90 turn pairs on the move", 10.0, 7200.0)
+        ->capture_default_str();
+    AddInRange(cmd, "--dwell-s", o->dwell_s,
+               "--profile ramp: [s] held at each waypoint once the air is there (the units' dies "
+               "lag the air)",
+               0.0, 7200.0)
+        ->capture_default_str();
     cmd->add_option("--target-offset-dps", o->target_offset_dps,
                     "--profile ramp: [deg/s] stop early once every unit's offset is known to this "
                     "(1 sigma, worst temperature of the range); 0 = no target")

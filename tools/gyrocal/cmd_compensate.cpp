@@ -7,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include "command.hpp"
 #include "compensator/offline.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/csv_file.hpp"
@@ -108,7 +109,7 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
         err << me << terr << "\n";
         return 2;
     }
-    try {
+    return FailOnThrow(err, me, [&] {
         std::string origin;
         const std::map<std::string, model::CoeffSet> sets = LoadCoeffSets(
             {o.coeffs_path, o.db, o.run_id, o.sensor_id, o.coeff_set_row}, &origin);
@@ -145,10 +146,7 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
                 << r.first_skip << ")";
         err << "\n";
         return 0;
-    } catch (const std::exception& e) {
-        err << me << e.what() << "\n";
-        return 1;
-    }
+    });
 }
 
 void AddCompensateCommand(CLI::App& app, std::function<int()>& action) {

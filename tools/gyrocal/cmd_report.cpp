@@ -8,6 +8,7 @@
 #include "acceptance/limits.hpp"
 #include "build.hpp"
 #include "cmd_analyze.hpp"
+#include "command.hpp"
 #include "gyrocal/version.hpp"
 #include "plot/gnuplot.hpp"
 #include "query.hpp"
@@ -64,7 +65,7 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
         err << "gyrocal report: " << plot::kGnuplotMissing << "\n";
         return 1;
     }
-    try {
+    return FailOnThrow(err, "gyrocal report: ", [&] {
         ro.db = o.db;
         ro.run_id = o.latest ? LatestRun(o.db) : o.run_id;
         ro.out_dir = o.out_dir;
@@ -80,10 +81,7 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
             out << "report: " << r.path << "\n" << rr::AcceptanceText(r.acceptance);
         }
         return out ? 0 : 1;
-    } catch (const std::exception& e) {
-        err << "gyrocal report: " << e.what() << "\n";
-        return 1;
-    }
+    });
 }
 
 void AddReportCommand(CLI::App& app, std::function<int()>& action) {
@@ -91,12 +89,13 @@ void AddReportCommand(CLI::App& app, std::function<int()>& action) {
     CLI::App* sub = app.add_subcommand(
         "report", "the calibration report of a run: one self-contained HTML page (figures, coefficients with "
                   "uncertainties, analysis, acceptance, traceability)");
+    sub->option_defaults()->always_capture_default();  // --help shows every option's default
     auto* run = sub->add_option("run", o->run_id, "run id (see gyrocal runs)");
     auto* latest = sub->add_flag("--latest", o->latest, "the newest run of the database");
     run->excludes(latest);
-    sub->add_option("--db", o->db, "SQLite database the recorder wrote")->capture_default_str();
-    sub->add_option("--out", o->out_dir, "directory of the page report-<run>.html (created if its parent exists)")
-        ->capture_default_str();
+    sub->add_option("--db", o->db, "SQLite database the recorder wrote");
+    sub->add_option("--out", o->out_dir,
+                    "directory of the page report-<run>.html (created if its parent exists)");
     sub->add_option("--limits", o->limits_file,
                     "acceptance limits (JSON) to judge the run by, instead of those stored with it");
     sub->add_flag("--json", o->json, "print the path and the acceptance as JSON");

@@ -9,6 +9,7 @@
 #include "analysis/validate.hpp"
 #include "analyses.hpp"
 #include "cmd_compensate.hpp"
+#include "command.hpp"
 #include "gyrocal/version.hpp"
 #include "query.hpp"
 #include "run_loader.hpp"
@@ -58,7 +59,7 @@ int RunValidate(const ValidateOptions& o, std::ostream& out, std::ostream& err) 
         err << me << p << "\n";
         return 2;
     }
-    try {
+    return FailOnThrow(err, me, [&] {
         std::string origin;
         const std::map<std::string, model::CoeffSet> sets = LoadCoeffSets(
             {o.coeffs_path, o.coeffs_path.empty() ? o.db : "", o.model_run_id, o.sensor_id,
@@ -102,10 +103,7 @@ int RunValidate(const ValidateOptions& o, std::ostream& out, std::ostream& err) 
         if (o.json && !all.empty())
             out << nlohmann::json{{"run_id", o.run_id}, {"sensors", all}}.dump(2) << "\n";
         return out && failed == 0 ? 0 : 1;
-    } catch (const std::exception& e) {
-        err << me << e.what() << "\n";
-        return 1;
-    }
+    });
 }
 
 void AddValidateCommand(CLI::App& app, std::function<int()>& action) {

@@ -14,6 +14,7 @@
 #include "cmd_spy.hpp"
 #include "cmd_store.hpp"
 #include "cmd_validate.hpp"
+#include "command.hpp"
 #include "gyrocal/version.hpp"
 #include "query.hpp"
 #include "recovery.hpp"
@@ -38,11 +39,5 @@ int main(int argc, char** argv) {
         gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
         return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations), std::move(r.newest_coeffs)};
     });
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e);
-        return rc == 0 ? 0 : 2;
-    }
-    return action ? action() : 2;
+    return gyrocal::cli::ParseAndRun(app, argc, argv, action);
 }

@@ -33,6 +33,7 @@
 #include "fit/fit.hpp"
 #include "fit/levels.hpp"
 #include "sim_run.hpp"
+#include "bench_args.hpp"
 #include "machine.hpp"
 
 using namespace gyrocal;
@@ -133,11 +134,8 @@ void SeedPoints(const std::vector<fit::FitPoint>& off, const std::vector<fit::Fi
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int seeds = argc > 1 ? std::atoi(argv[1]) : 6;
-    if (seeds < 1 || seeds > 1000) {
-        std::fprintf(stderr, "usage: %s [seeds 1..1000]\n", argv[0]);
-        return 2;
-    }
+    const int seeds = bench::IntArg(argc, argv, 1, 6);
+    if (seeds < 1 || seeds > 1000) return bench::Usage(argv, "[seeds 1..1000]");
     std::printf(
         "gyrocal analysis benchmark: held-out stretch of simulated runs, mean over %d seeds\n",
         seeds);

@@ -12,6 +12,7 @@
 
 #include "analysis/analyze.hpp"
 #include "sim_run.hpp"
+#include "support/bench_args.hpp"
 #include "support/machine.hpp"
 
 using namespace gyrocal;
@@ -23,11 +24,8 @@ double CpuS() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int repeats = argc > 1 ? std::atoi(argv[1]) : 3;
-    if (repeats < 1 || repeats > 20) {
-        std::fprintf(stderr, "usage: %s [repeats 1..20]\n", argv[0]);
-        return 2;
-    }
+    const int repeats = bench::IntArg(argc, argv, 1, 3);
+    if (repeats < 1 || repeats > 20) return bench::Usage(argv, "[repeats 1..20]");
     analysis::testing::SimRunOptions o;
     o.seed = 901;
     // 11 setpoints with 900 s dwells and 6 degC/min ramps: about 1.5 M samples at 100 Hz.

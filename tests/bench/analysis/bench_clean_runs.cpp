@@ -13,6 +13,7 @@
 #include <string>
 
 #include "analysis/analyze.hpp"
+#include "bench_args.hpp"
 #include "sim_run.hpp"
 
 using namespace gyrocal;
@@ -35,12 +36,10 @@ struct GroupStats {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int seeds = argc > 1 ? std::atoi(argv[1]) : 100;
-    const int first = argc > 2 ? std::atoi(argv[2]) : 1001;
-    if (seeds < 1 || seeds > 1000 || first < 1) {
-        std::fprintf(stderr, "usage: %s [seeds 1..1000] [first seed >= 1]\n", argv[0]);
-        return 2;
-    }
+    const int seeds = bench::IntArg(argc, argv, 1, 100);
+    const int first = bench::IntArg(argc, argv, 2, 1001);
+    if (seeds < 1 || seeds > 1000 || first < 1)
+        return bench::Usage(argv, "[seeds 1..1000] [first seed >= 1]");
     std::map<std::string, int> outcomes;
     std::map<std::string, GroupStats> groups;
     for (int k = 0; k < seeds; ++k) {

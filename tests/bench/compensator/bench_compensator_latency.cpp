@@ -125,16 +125,14 @@ int main(int argc, char** argv) {
         "Latency from a GYRO_<id> sample to its RATE_<id> through a real gyrocal-compensator "
         "over LCM multicast on this machine (p50 ... max), with the compensator's CPU.",
         kProcess};
-    app.add_option("--case", o.cases, "SENSORSxHZ, repeatable (a case per value)")
-        ->capture_default_str();
+    app.option_defaults()->always_capture_default();  // --help shows every option's default
+    app.add_option("--case", o.cases, "SENSORSxHZ, repeatable (a case per value)");
     app.add_option("--duration-s", o.duration_s, "seconds of samples per case")
-        ->check(CLI::Range(0.1, 3600.0))
-        ->capture_default_str();
+        ->check(CLI::Range(0.1, 3600.0));
     app.add_option("--model", o.model,
                    "coefficient set: quadratic (the seed's) or extended "
-                   "(every term kind)")
-        ->capture_default_str();
-    app.add_option("--lcm-url", o.lcm_url, "udpm:// URL with ttl=0")->capture_default_str();
+                   "(every term kind)");
+    app.add_option("--lcm-url", o.lcm_url, "udpm:// URL with ttl=0");
     app.footer("Exit codes: 0 done, 1 a case failed, 2 bad options.");
     if (auto code =
             gyrocal::ParseCommandLine(app, argc, argv, kProcess, [&] { return Problem(o); }))

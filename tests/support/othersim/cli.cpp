@@ -60,69 +60,53 @@ Slip ParseSlip(const std::string& text) {
 }
 
 void AddOptions(CLI::App& app, Options& o, CliValues& v) {
+    app.option_defaults()->always_capture_default();  // --help shows every option's default
     app.add_option("--out", v.out, "CSV file to write (the project's import format)")->required();
     app.add_option("--truth-out", v.truth_out, "truth JSON (default: OUT with .truth.json)");
-    app.add_option("--seed", o.seed, "draws the units and the noise")->capture_default_str();
-    app.add_option("--units", o.units, "units U1..Un, 1..64")->capture_default_str();
-    app.add_option("--id-prefix", o.id_prefix, "sensor id prefix")->capture_default_str();
-    app.add_option("--setpoints-c", v.setpoints, "[degC] chamber setpoints, comma-separated")
-        ->capture_default_str();
-    app.add_option("--dwell-s", v.dwell_s, "[s] hold at each setpoint before its turns")
-        ->capture_default_str();
+    app.add_option("--seed", o.seed, "draws the units and the noise");
+    app.add_option("--units", o.units, "units U1..Un, 1..64");
+    app.add_option("--id-prefix", o.id_prefix, "sensor id prefix");
+    app.add_option("--setpoints-c", v.setpoints, "[degC] chamber setpoints, comma-separated");
+    app.add_option("--dwell-s", v.dwell_s, "[s] hold at each setpoint before its turns");
     app.add_flag("--ramp-only", v.ramp_only, "no dwells and no turns: ramps through the setpoints");
-    app.add_option("--ramp-c-per-min", o.profile.ramp_c_per_min, "[degC/min] controller ramp")
-        ->capture_default_str();
-    app.add_option("--start-c", o.profile.start_c, "[degC] room temperature at power-on")
-        ->capture_default_str();
-    app.add_option("--lead-in-s", o.profile.lead_in_s, "[s] powered before the first ramp")
-        ->capture_default_str();
-    app.add_option("--tail-s", o.profile.tail_s, "[s] recorded after the last step")
-        ->capture_default_str();
-    app.add_option("--turn-deg", o.profile.turn_deg, "[deg] each turn")->capture_default_str();
-    app.add_option("--turn-rate-dps", o.profile.turn_rate_dps, "[deg/s]")->capture_default_str();
-    app.add_option("--turn-accel-dps2", o.profile.turn_accel_dps2, "[deg/s^2]")
-        ->capture_default_str();
-    app.add_option("--sample-rate-hz", o.sample_rate_hz, "[Hz]")->capture_default_str();
-    app.add_option("--encoder-counts-per-rev", o.encoder_counts_per_rev, "[count/rev]")
-        ->capture_default_str();
-    app.add_option("--chamber-period-s", o.thermal.chamber_period_s, "[s]")->capture_default_str();
-    app.add_option("--chamber-damping", o.thermal.chamber_damping, "< 1 overshoots")
-        ->capture_default_str();
-    app.add_option("--board-tau-s", o.thermal.board_tau_s, "[s]")->capture_default_str();
-    app.add_option("--die-tau-s", o.thermal.die_tau_s, "[s]")->capture_default_str();
-    app.add_option("--self-heating-c", o.thermal.self_heating_c, "[degC]")->capture_default_str();
-    app.add_option("--white-dps-rthz", o.noise.white_dps_rthz, "[deg/s/sqrt(Hz)]")
-        ->capture_default_str();
-    app.add_option("--flicker-dps", o.noise.flicker_dps, "[deg/s] flat Allan level")
-        ->capture_default_str();
-    app.add_option("--rrw-dps-rts", o.noise.rrw_dps_rts, "[deg/s/sqrt(s)]")->capture_default_str();
-    app.add_option("--lpf-hz", o.noise.lpf_hz, "[Hz] each of two poles")->capture_default_str();
-    app.add_option("--adc-bits", o.adc.bits, "0 = unquantised volts")->capture_default_str();
-    app.add_option("--warmup-v", o.effects.warmup_v, "[V] power-on offset transient")
-        ->capture_default_str();
+    app.add_option("--ramp-c-per-min", o.profile.ramp_c_per_min, "[degC/min] controller ramp");
+    app.add_option("--start-c", o.profile.start_c, "[degC] room temperature at power-on");
+    app.add_option("--lead-in-s", o.profile.lead_in_s, "[s] powered before the first ramp");
+    app.add_option("--tail-s", o.profile.tail_s, "[s] recorded after the last step");
+    app.add_option("--turn-deg", o.profile.turn_deg, "[deg] each turn");
+    app.add_option("--turn-rate-dps", o.profile.turn_rate_dps, "[deg/s]");
+    app.add_option("--turn-accel-dps2", o.profile.turn_accel_dps2, "[deg/s^2]");
+    app.add_option("--sample-rate-hz", o.sample_rate_hz, "[Hz]");
+    app.add_option("--encoder-counts-per-rev", o.encoder_counts_per_rev, "[count/rev]");
+    app.add_option("--chamber-period-s", o.thermal.chamber_period_s, "[s]");
+    app.add_option("--chamber-damping", o.thermal.chamber_damping, "< 1 overshoots");
+    app.add_option("--board-tau-s", o.thermal.board_tau_s, "[s]");
+    app.add_option("--die-tau-s", o.thermal.die_tau_s, "[s]");
+    app.add_option("--self-heating-c", o.thermal.self_heating_c, "[degC]");
+    app.add_option("--white-dps-rthz", o.noise.white_dps_rthz, "[deg/s/sqrt(Hz)]");
+    app.add_option("--flicker-dps", o.noise.flicker_dps, "[deg/s] flat Allan level");
+    app.add_option("--rrw-dps-rts", o.noise.rrw_dps_rts, "[deg/s/sqrt(s)]");
+    app.add_option("--lpf-hz", o.noise.lpf_hz, "[Hz] each of two poles");
+    app.add_option("--adc-bits", o.adc.bits, "0 = unquantised volts");
+    app.add_option("--warmup-v", o.effects.warmup_v, "[V] power-on offset transient");
     app.add_option("--gradient-v-per-c", o.effects.gradient_v_per_c,
-                   "[V/degC] offset per degC of board-die gradient")
-        ->capture_default_str();
-    app.add_option("--supply-v-per-v", o.effects.supply_v_per_v, "[V/V] offset per supply volt")
-        ->capture_default_str();
-    app.add_option("--drift-v-per-h", o.effects.drift_v_per_h, "[V/h] offset drift (aging)")
-        ->capture_default_str();
-    app.add_option("--periodic-v", o.effects.periodic_v, "[V] periodic offset amplitude")
-        ->capture_default_str();
-    app.add_option("--periodic-s", o.effects.periodic_s, "[s] its period")->capture_default_str();
-    app.add_option("--step-v", o.effects.step_v, "[V] offset step")->capture_default_str();
-    app.add_option("--step-at-s", o.effects.step_at_s, "[s] when the step happens")
-        ->capture_default_str();
-    app.add_option("--warmup2-v", o.effects.warmup2_v, "[V] second, slow warm-up")
-        ->capture_default_str();
-    app.add_option("--warmup2-tau-s", o.effects.warmup2_tau_s, "[s] its time constant")
-        ->capture_default_str();
+                   "[V/degC] offset per degC of board-die gradient");
+    app.add_option("--supply-v-per-v", o.effects.supply_v_per_v, "[V/V] offset per supply volt");
+    app.add_option("--drift-v-per-h", o.effects.drift_v_per_h, "[V/h] offset drift (aging)");
+    app.add_option("--periodic-v", o.effects.periodic_v, "[V] periodic offset amplitude");
+    app.add_option("--periodic-s", o.effects.periodic_s, "[s] its period");
+    app.add_option("--step-v", o.effects.step_v, "[V] offset step");
+    app.add_option("--step-at-s", o.effects.step_at_s, "[s] when the step happens");
+    app.add_option("--warmup2-v", o.effects.warmup2_v, "[V] second, slow warm-up");
+    app.add_option("--warmup2-tau-s", o.effects.warmup2_tau_s, "[s] its time constant");
     app.add_flag("--no-supply", v.no_supply, "leave the supply_v column out");
     app.add_option("--disturb", v.disturb,
                    "DWELL[:SENSOR]:VOLTS[:START_S:DURATION_S] offset shift during that dwell "
                    "(0-based; SENSOR empty = all; default from the dwell's start to its turns), "
-                   "repeatable");
-    app.add_option("--slip", v.slip, "TURN:DEG the encoder slips during that turn, repeatable");
+                   "repeatable")
+        ->default_str("");  // none: "[]" would say nothing
+    app.add_option("--slip", v.slip, "TURN:DEG the encoder slips during that turn, repeatable")
+        ->default_str("");
 }
 
 std::string Finish(Options& o, CliValues& v) {
@@ -135,9 +119,9 @@ std::string Finish(Options& o, CliValues& v) {
     }
     o.supply.write = !v.no_supply;
     if (v.truth_out.empty()) {
-        const std::string stem =
-            v.out.size() > 4 && v.out.substr(v.out.size() - 4) == ".csv" ? v.out.substr(0, v.out.size() - 4)
-                                                                       : v.out;
+        const std::string stem = v.out.size() > 4 && v.out.substr(v.out.size() - 4) == ".csv"
+                                     ? v.out.substr(0, v.out.size() - 4)
+                                     : v.out;
         v.truth_out = stem + ".truth.json";
     }
     return o.Problem();
