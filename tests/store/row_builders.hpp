@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "analyses.hpp"
+#include "message_headers.hpp"
 #include "rows.hpp"
 
 namespace gyrocal::testing {
@@ -40,21 +40,11 @@ inline store::RunEventRow RunEvent(const std::string& run, const std::string& ev
 }
 
 // What plateaus and rotations share: `sensor` in `run` over [start_utime, end_utime] [us], named
-// by its start as the processors name them, sent and received at its end.
+// by its start as the processors name them (the messages' WindowOf), sent and received at its end.
 template <class Row>
 Row OverWindow(const std::string& run, const std::string& sensor, int64_t start_utime,
                int64_t end_utime) {
-    Row r;
-    r.run_id = run;
-    r.sensor_id = sensor;
-    r.start_utime = start_utime;
-    r.end_utime = end_utime;
-    if constexpr (std::is_same_v<Row, store::PlateauRow>) {
-        r.plateau_id = start_utime;
-    } else {
-        r.rotation_id = start_utime;
-    }
-    r.utime = end_utime;
+    Row r = WindowOf<Row>(sensor, run, start_utime, end_utime);
     r.recv_utime = end_utime;
     return r;
 }
