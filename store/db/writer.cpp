@@ -259,6 +259,9 @@ template <class... F>
 struct Overloaded : F... {
     using F::operator()...;
 };
+// Needed by clang 14 (the sanitizer builds), which does not deduce an aggregate's arguments.
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 // The rows that register their sensor (table sensors) before they are written: a unit's samples,
 // points, coefficient sets and reports (rates, power and plateau states do not).
