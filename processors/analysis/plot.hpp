@@ -1,6 +1,7 @@
 #pragma once
-// Pictures of an analysis (issue 6, "Show it"), as figures of the project's one plotting path
-// (plot/figure.hpp: tables and series, drawn by gnuplot). This library builds the figures only.
+// Pictures of an analysis (what `gyrocal analyze --plot` draws), as figures of the project's one
+// plotting path (plot/figure.hpp: tables and series, drawn by gnuplot). This library builds the
+// figures only.
 //
 // Per sensor, on the still bins of the run (bins.hpp, the unit the analysis worked on):
 //   <id>_residual_time     residual [mV] vs time since the first sample [h], before and after

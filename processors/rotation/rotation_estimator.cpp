@@ -159,7 +159,8 @@ WindowMean Describe(const std::vector<const Sample*>& w) {
 }
 
 // "" when both rest windows and the move have enough samples, else why not.
-std::string WindowsProblem(const WindowMean& w1, const WindowMean& w2, size_t n_move, double need_s) {
+std::string WindowsProblem(const WindowMean& w1, const WindowMean& w2, size_t n_move,
+                           double need_s) {
     if (w1.n < 4 || w1.span_s < need_s)
         return text::Printf("rest window before the move covers %.3f s, less than %.3f s",
                             w1.span_s, need_s);
@@ -189,11 +190,47 @@ double IntegralAboveOffset(const std::vector<const Sample*>& mid, const OffsetLi
     return integral;
 }
 
-// The encoder against the integrated gyro during the move (slip_check.hpp): "" when they agree.
-std::string SlipProblem(const std::deque<motion::EncoderReading>& encoder, const motion::TableMove& m,
-                        int64_t a, int64_t b, const std::vector<const Sample*>& mid,
-                        const OffsetLine& offset, const Point& pt, double q_v2_s,
+// A point's identity, angle and mean temperature over the move (accepted or not, it is published).
+Point PointOfMove(const motion::TableMove& m, int64_t a, int64_t b,
+                  const std::vector<const Sample*>& mid) {
+    Point pt;
+    pt.rotation_id = a;
+    pt.start_utime = a;
+    pt.end_utime = b;
+    pt.encoder_angle_deg = m.angle_deg();
+    pt.direction = pt.encoder_angle_deg >= 0 ? 1 : -1;
+    if (!mid.empty()) {
+        pt.first_seq = mid.front()->seq;
+        pt.last_seq = mid.back()->seq;
+        pt.n_samples = static_cast<int32_t>(mid.size());
+        double t = 0;
+        for (const Sample* s : mid) t += s->temp_c;
+        pt.temp_c = t / mid.size();
+    }
+    return pt;
+}
+
+// "" when the move itself may give a point: large enough, short enough, no sample missing.
+std::string MoveProblem(const motion::TableMove& m, int64_t missing_samples,
                         const RotationConfig& config) {
+    const double angle_deg = m.angle_deg();
+    if (std::fabs(angle_deg) < config.min_angle_deg)
+        return text::Printf("move of %.3f deg is below the minimum angle %.3f deg", angle_deg,
+                            config.min_angle_deg);
+    if (static_cast<double>(m.end_utime - m.start_utime) > config.max_move_s * 1e6)
+        return text::Printf("move lasted %.1f s, more than the maximum %.1f s",
+                            (m.end_utime - m.start_utime) * 1e-6, config.max_move_s);
+    if (missing_samples > 0)
+        return std::to_string(missing_samples) +
+               " samples missing (sequence gaps) inside the move or its rest windows";
+    return "";
+}
+
+// The encoder against the integrated gyro during the move (slip_check.hpp): "" when they agree.
+std::string SlipProblem(const std::deque<motion::EncoderReading>& encoder,
+                        const motion::TableMove& m, int64_t a, int64_t b,
+                        const std::vector<const Sample*>& mid, const OffsetLine& offset,
+                        const Point& pt, double q_v2_s, const RotationConfig& config) {
     SlipInputs si;
     for (const Sample* s : mid) {
         si.gyro_t_s.push_back(s->utime * 1e-6);
@@ -219,37 +256,16 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     const int64_t a = m.start_utime - guard_us_;
     const int64_t b = m.end_utime + guard_us_;
     const int64_t pre_start = std::max(a - rest_us_, p.pre_limit_utime);
-    Point pt;
-    pt.rotation_id = a;
-    pt.start_utime = a;
-    pt.end_utime = b;
-    pt.encoder_angle_deg = m.angle_deg();
-    pt.direction = pt.encoder_angle_deg >= 0 ? 1 : -1;
-
     const Windows w = SplitWindows(samples_, pre_start, a, b, post_end);
-    if (!w.mid.empty()) {
-        pt.first_seq = w.mid.front()->seq;
-        pt.last_seq = w.mid.back()->seq;
-        pt.n_samples = static_cast<int32_t>(w.mid.size());
-        double t = 0;
-        for (const Sample* s : w.mid) t += s->temp_c;
-        pt.temp_c = t / w.mid.size();
-    }
+    Point pt = PointOfMove(m, a, b, w.mid);
     auto reject = [&pt](std::string why) {
         pt.accepted = false;
         pt.reject_reason = std::move(why);
         return pt;
     };
-
-    if (std::fabs(pt.encoder_angle_deg) < config_.min_angle_deg)
-        return reject(text::Printf("move of %.3f deg is below the minimum angle %.3f deg",
-                                   pt.encoder_angle_deg, config_.min_angle_deg));
-    if (static_cast<double>(m.end_utime - m.start_utime) > config_.max_move_s * 1e6)
-        return reject(text::Printf("move lasted %.1f s, more than the maximum %.1f s",
-                                   (m.end_utime - m.start_utime) * 1e-6, config_.max_move_s));
-    if (const int64_t missing = MissingSamples(samples_, pre_start, post_end); missing > 0)
-        return reject(std::to_string(missing) +
-                      " samples missing (sequence gaps) inside the move or its rest windows");
+    if (std::string why = MoveProblem(m, MissingSamples(samples_, pre_start, post_end), config_);
+        !why.empty())
+        return reject(why);
 
     // Rest means, and the noise level pooled over both rest windows (same sensor, seconds
     // apart): variance about each window's line and the integrated autocorrelation time.
@@ -257,7 +273,8 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
     WindowMean& w1 = offset.w1;
     WindowMean& w2 = offset.w2;
     const double need_s = config_.min_rest_fraction * config_.rest_s;
-    if (std::string why = WindowsProblem(w1, w2, w.mid.size(), need_s); !why.empty()) return reject(why);
+    if (std::string why = WindowsProblem(w1, w2, w.mid.size(), need_s); !why.empty())
+        return reject(why);
     const numeric::NoiseLevel noise = numeric::PooledNoiseLevel({Values(w.pre), Values(w.post)});
     const double var_eff = noise.var * noise.tau_int;  // [V^2] per sample, correlation included
     w1.se = std::sqrt(var_eff / w1.n);
@@ -288,7 +305,8 @@ Point RotationEstimator::Compute(const Pending& p, int64_t post_end) const {
         !std::isfinite(pt.temp_c))
         return reject("a result is not finite (non-finite input?)");
     if (!encoder_.empty()) {
-        if (std::string why = SlipProblem(encoder_, m, a, b, w.mid, offset, pt, q, config_); !why.empty())
+        if (std::string why = SlipProblem(encoder_, m, a, b, w.mid, offset, pt, q, config_);
+            !why.empty())
             return reject(why);
     }
     pt.accepted = true;
