@@ -5,6 +5,7 @@
 // *OrDash forms write "-" for NaN and infinities, for tables where a missing figure should look
 // missing; the plain forms write what printf writes ("nan", "inf").
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <string>
 
@@ -17,16 +18,25 @@ inline std::string Sig(double v, int digits = 6) {
     return buf;
 }
 
-// printf of `format` with `args` (numbers), never truncated.
-template <class... Args>
-std::string Printf(const char* format, Args... args) {
+// printf of `format` with its arguments (numbers, C strings), never truncated. A C variadic
+// with printf's format attribute, so the compiler checks every call's arguments against its
+// format as it does printf's.
+[[gnu::format(printf, 1, 2)]] inline std::string Printf(const char* format, ...) {
+    std::va_list args, again;
+    va_start(args, format);
+    va_copy(again, args);
     char buf[128];
-    const int n = std::snprintf(buf, sizeof buf, format, args...);
-    if (n < 0) return "";
-    if (static_cast<size_t>(n) < sizeof buf) return std::string(buf, static_cast<size_t>(n));
-    std::string out(static_cast<size_t>(n) + 1, '\0');
-    std::snprintf(out.data(), out.size(), format, args...);
-    out.resize(static_cast<size_t>(n));
+    const int n = std::vsnprintf(buf, sizeof buf, format, args);
+    va_end(args);
+    std::string out;
+    if (n >= 0 && static_cast<size_t>(n) < sizeof buf) {
+        out.assign(buf, static_cast<size_t>(n));
+    } else if (n >= 0) {
+        out.resize(static_cast<size_t>(n) + 1);
+        std::vsnprintf(out.data(), out.size(), format, again);
+        out.resize(static_cast<size_t>(n));
+    }
+    va_end(again);
     return out;
 }
 

@@ -68,7 +68,8 @@ std::optional<plot::Figure> EffectFigure(const BinnedRun& binned, const SensorRe
         t.rows.push_back({phi[k], (b.gyro_v - others) * 1e3, phi[k] * ext.coeffs[k] * 1e3});
     }
     // Sorted by the regressor so the fitted effect is drawn as one line.
-    std::sort(t.rows.begin(), t.rows.end(), [](const auto& p, const auto& q) { return p[0] < q[0]; });
+    std::sort(t.rows.begin(), t.rows.end(),
+              [](const auto& p, const auto& q) { return p[0] < q[0]; });
     plot::Figure f;
     f.name = name;
     f.title = r.sensor_id + ": " + a.effect + " (" + a.term + ")";
@@ -97,9 +98,9 @@ std::optional<plot::Figure> PeriodogramFigure(const SensorResult& r) {
         {"period_s", "amplitude_mv"},
         {}};
     for (const CurvePoint& p : d.periodogram) t.rows.push_back({p.x, p.y * 1e3});
-    char period[40];  // a period of 100 s or more in whole seconds, not "1.57e+03"
-    std::snprintf(period, sizeof period, d.period_s >= 100.0 ? "%.0f" : "%.3g", d.period_s);
-    const std::string label = "peak: period " + std::string(period) + " s, amplitude " +
+    // A period of 100 s or more in whole seconds, not "1.57e+03".
+    const std::string period = text::Printf(d.period_s >= 100.0 ? "%.0f" : "%.3g", d.period_s);
+    const std::string label = "peak: period " + period + " s, amplitude " +
                               text::Sig(d.period_amplitude_v * 1e3, 3) + " mV (" +
                               text::Sig(d.period_power_ratio, 3) + " x the median power)";
     plot::Table peak{name + "_peak",
@@ -148,12 +149,13 @@ std::optional<plot::Figure> AutocorrFigure(const SensorResult& r) {
 
 }  // namespace
 
-std::vector<plot::Figure> MakePlots(const SensorRun& run, const SensorResult& r, const AnalysisOptions& o) {
+std::vector<plot::Figure> MakePlots(const SensorRun& run, const SensorResult& r,
+                                    const AnalysisOptions& o) {
     const BinnedRun binned(run, o.bins);
     const plot::Table residual = ResidualTable(binned, r);
-    const std::string after_label = r.added.empty()
-                                        ? "after (declared terms refitted on all bins: nothing added)"
-                                        : "after (extended model)";
+    const std::string after_label =
+        r.added.empty() ? "after (declared terms refitted on all bins: nothing added)"
+                        : "after (extended model)";
     std::vector<plot::Figure> figures;
     for (const auto& [suffix, xcol, xlabel] :
          {std::tuple<std::string, int, std::string>{"time", 1, "time since first sample [h]"},

@@ -21,7 +21,10 @@ nlohmann::json Errors(const ErrorFigures& e) {
 nlohmann::json Windows(const std::vector<WindowRms>& w) {
     nlohmann::json a = nlohmann::json::array();
     for (const WindowRms& x : w)
-        a.push_back({{"lo", JsonNumber(x.lo)}, {"hi", JsonNumber(x.hi)}, {"rms_v", JsonNumber(x.rms_v)}, {"bins", x.n}});
+        a.push_back({{"lo", JsonNumber(x.lo)},
+                     {"hi", JsonNumber(x.hi)},
+                     {"rms_v", JsonNumber(x.rms_v)},
+                     {"bins", x.n}});
     return a;
 }
 
@@ -144,41 +147,35 @@ std::string FormatBeyond(const SensorResult& r) {
                       text::SigOrDash(r.heldout_residual_rms_v, 3) + " V, floor bound " +
                       text::SigOrDash(r.floor_bound_rms_v, 3) + " V, ratio " +
                       text::SigOrDash(r.excess_ratio, 3) + ")\n";
-    char line[320];
     if (!r.features.empty()) {
-        std::snprintf(line, sizeof line, "  %-20s %-20s %7s %8s %11s  %s\n", "beyond the list",
-                      "channel", "corr", "heldout_z", "after_v", "explains held-out");
-        out += line;
+        out += text::Printf("  %-20s %-20s %7s %8s %11s  %s\n", "beyond the list", "channel",
+                            "corr", "heldout_z", "after_v", "explains held-out");
     }
     for (const FeatureResult& f : r.features) {
-        std::snprintf(line, sizeof line, "  %-20s %-20s %7s %8s %11s  %s  (%s)\n",
-                      f.feature.c_str(), f.channel.c_str(), text::SigOrDash(f.corr, 2).c_str(),
-                      text::SigOrDash(f.heldout_z, 3).c_str(),
-                      text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
-                      f.explains_heldout ? "yes" : "no", f.detail.c_str());
-        out += line;
+        out += text::Printf("  %-20s %-20s %7s %8s %11s  %s  (%s)\n", f.feature.c_str(),
+                            f.channel.c_str(), text::SigOrDash(f.corr, 2).c_str(),
+                            text::SigOrDash(f.heldout_z, 3).c_str(),
+                            text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
+                            f.explains_heldout ? "yes" : "no", f.detail.c_str());
     }
     const ResidualDiagnostics& d = r.residual;
     if (std::isfinite(d.rms_v)) {
-        std::snprintf(line, sizeof line,
-                      "  residual: RMS %s V, lag-1 autocorrelation %s, trend %s V/h (%s sigma), "
-                      "periodogram peak %s s amplitude %s V (%s x median power)\n",
-                      text::SigOrDash(d.rms_v, 3).c_str(),
-                      text::SigOrDash(d.lag1_autocorr, 2).c_str(),
-                      text::SigOrDash(d.trend_v_per_h, 3).c_str(),
-                      text::SigOrDash(d.trend_z, 2).c_str(), text::SigOrDash(d.period_s, 3).c_str(),
-                      text::SigOrDash(d.period_amplitude_v, 3).c_str(),
-                      text::SigOrDash(d.period_power_ratio, 2).c_str());
-        out += line;
-        std::snprintf(line, sizeof line,
-                      "  residual largest at %s..%s s (%s V RMS) and at %s..%s degC (%s V RMS)\n",
-                      text::SigOrDash(d.worst_time.lo, 4).c_str(),
-                      text::SigOrDash(d.worst_time.hi, 4).c_str(),
-                      text::SigOrDash(d.worst_time.rms_v, 3).c_str(),
-                      text::SigOrDash(d.worst_temp.lo, 3).c_str(),
-                      text::SigOrDash(d.worst_temp.hi, 3).c_str(),
-                      text::SigOrDash(d.worst_temp.rms_v, 3).c_str());
-        out += line;
+        out += text::Printf(
+            "  residual: RMS %s V, lag-1 autocorrelation %s, trend %s V/h (%s sigma), "
+            "periodogram peak %s s amplitude %s V (%s x median power)\n",
+            text::SigOrDash(d.rms_v, 3).c_str(), text::SigOrDash(d.lag1_autocorr, 2).c_str(),
+            text::SigOrDash(d.trend_v_per_h, 3).c_str(), text::SigOrDash(d.trend_z, 2).c_str(),
+            text::SigOrDash(d.period_s, 3).c_str(),
+            text::SigOrDash(d.period_amplitude_v, 3).c_str(),
+            text::SigOrDash(d.period_power_ratio, 2).c_str());
+        out += text::Printf(
+            "  residual largest at %s..%s s (%s V RMS) and at %s..%s degC (%s V RMS)\n",
+            text::SigOrDash(d.worst_time.lo, 4).c_str(),
+            text::SigOrDash(d.worst_time.hi, 4).c_str(),
+            text::SigOrDash(d.worst_time.rms_v, 3).c_str(),
+            text::SigOrDash(d.worst_temp.lo, 3).c_str(),
+            text::SigOrDash(d.worst_temp.hi, 3).c_str(),
+            text::SigOrDash(d.worst_temp.rms_v, 3).c_str());
     }
     for (const std::string& s : r.not_attributed) out += "  not attributed: " + s + "\n";
     for (const std::string& s : r.edges) out += "  at the edge of its search: " + s + "\n";
@@ -191,55 +188,45 @@ std::string FormatBeyond(const SensorResult& r) {
 
 std::string FormatReport(const SensorResult& r) {
     std::string out = "sensor " + r.sensor_id + ": " + r.verdict + "\n";
-    char line[256];
-    std::snprintf(line, sizeof line, "  %-13s %-14s %10s %9s  %s\n", "candidate", "term", "z2",
-                  "cv_gain", "decision");
-    out += line;
+    out += text::Printf("  %-13s %-14s %10s %9s  %s\n", "candidate", "term", "z2", "cv_gain",
+                        "decision");
     for (const CandidateResult& c : r.candidates) {
-        std::snprintf(line, sizeof line, "  %-13s %-14s %10s %9s  %s\n", c.effect.c_str(),
-                      c.term.c_str(), text::SigOrDash(c.z2, 3).c_str(),
-                      text::SigOrDash(c.cv_gain, 2).c_str(), ToString(c.decision));
-        out += line;
+        out += text::Printf("  %-13s %-14s %10s %9s  %s\n", c.effect.c_str(), c.term.c_str(),
+                            text::SigOrDash(c.z2, 3).c_str(), text::SigOrDash(c.cv_gain, 2).c_str(),
+                            ToString(c.decision));
         if (!c.note.empty() && c.decision != Decision::kRejected) out += "      " + c.note + "\n";
     }
     for (const AddedEffect& a : r.added) {
-        std::snprintf(line, sizeof line, "  added %-12s %-14s %12.5g +- %-10.3g %s\n",
-                      a.effect.c_str(), a.term.c_str(), a.coefficient, a.stderr_, a.unit.c_str());
-        out += line;
+        out += text::Printf("  added %-12s %-14s %12.5g +- %-10.3g %s\n", a.effect.c_str(),
+                            a.term.c_str(), a.coefficient, a.stderr_, a.unit.c_str());
     }
     if (!r.unconfirmed.empty() || std::isfinite(r.heldout_gain_z)) {
-        std::snprintf(line, sizeof line,
-                      "  held-out check of the chosen terms: prediction slope %s (%s standard "
-                      "errors), squared error drop %s V^2\n",
-                      text::SigOrDash(r.heldout_slope, 3).c_str(),
-                      text::SigOrDash(r.heldout_gain_z, 3).c_str(),
-                      text::SigOrDash(r.heldout_gain_v2, 3).c_str());
-        out += line;
+        out += text::Printf(
+            "  held-out check of the chosen terms: prediction slope %s (%s standard "
+            "errors), squared error drop %s V^2\n",
+            text::SigOrDash(r.heldout_slope, 3).c_str(),
+            text::SigOrDash(r.heldout_gain_z, 3).c_str(),
+            text::SigOrDash(r.heldout_gain_v2, 3).c_str());
     }
-    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "held-out bins", "offset_rms_v",
-                  "rate_rms_dps", "drift_dph");
-    out += line;
-    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "before (declared)",
-                  text::SigOrDash(r.error_before.offset_rms_v, 3).c_str(),
-                  text::SigOrDash(r.error_before.rate_rms_dps, 3).c_str(),
-                  text::SigOrDash(r.error_before.drift_dph, 3).c_str());
-    out += line;
-    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "after (extended)",
-                  text::SigOrDash(r.error_after.offset_rms_v, 3).c_str(),
-                  text::SigOrDash(r.error_after.rate_rms_dps, 3).c_str(),
-                  text::SigOrDash(r.error_after.drift_dph, 3).c_str());
-    out += line;
+    out += text::Printf("  %-22s %14s %14s %12s\n", "held-out bins", "offset_rms_v", "rate_rms_dps",
+                        "drift_dph");
+    out += text::Printf("  %-22s %14s %14s %12s\n", "before (declared)",
+                        text::SigOrDash(r.error_before.offset_rms_v, 3).c_str(),
+                        text::SigOrDash(r.error_before.rate_rms_dps, 3).c_str(),
+                        text::SigOrDash(r.error_before.drift_dph, 3).c_str());
+    out += text::Printf("  %-22s %14s %14s %12s\n", "after (extended)",
+                        text::SigOrDash(r.error_after.offset_rms_v, 3).c_str(),
+                        text::SigOrDash(r.error_after.rate_rms_dps, 3).c_str(),
+                        text::SigOrDash(r.error_after.drift_dph, 3).c_str());
     if (std::isfinite(r.expected_after_offset_rms_v)) {
-        std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "after expected (fit)",
-                      text::SigOrDash(r.expected_after_offset_rms_v, 3).c_str(),
-                      text::SigOrDash(r.expected_after_rate_rms_dps, 3).c_str(), "");
-        out += line;
+        out += text::Printf("  %-22s %14s %14s %12s\n", "after expected (fit)",
+                            text::SigOrDash(r.expected_after_offset_rms_v, 3).c_str(),
+                            text::SigOrDash(r.expected_after_rate_rms_dps, 3).c_str(), "");
     }
-    std::snprintf(line, sizeof line, "  %-22s %14s %14s %12s\n", "floor (bin scatter)",
-                  text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
-                  text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),
-                  text::SigOrDash(r.floor_drift_dph, 3).c_str());
-    out += line;
+    out += text::Printf("  %-22s %14s %14s %12s\n", "floor (bin scatter)",
+                        text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
+                        text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),
+                        text::SigOrDash(r.floor_drift_dph, 3).c_str());
     out += FormatBeyond(r);
     out += "  power-on: " + r.power_on_source + "\n";
     for (const std::string& s : r.could_not_test) out += "  could not test: " + s + "\n";

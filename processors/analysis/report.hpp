@@ -1,8 +1,8 @@
 #pragma once
-// The analysis result as JSON (issue 6 schema: sensors[] with sensor_id, verdict, candidates[]
-// {effect, statistic, decision}, added[] {effect, term, coefficient, stderr, unit}, error_before /
-// error_after {offset_rms_v, rate_rms_dps, drift_dph}, floor_rate_rms_dps; plus extra fields) and
-// as a human table. Non-finite numbers are written as null.
+// The analysis result as JSON (`gyrocal analyze --json`: sensors[] with sensor_id, verdict,
+// candidates[] {effect, statistic, decision}, added[] {effect, term, coefficient, stderr, unit},
+// error_before / error_after {offset_rms_v, rate_rms_dps, drift_dph}, floor_rate_rms_dps; plus
+// extra fields) and as a human table. Non-finite numbers are written as null.
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>

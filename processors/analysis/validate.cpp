@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "heldout.hpp"
 #include "model/json.hpp"
@@ -49,8 +48,8 @@ ValidationResult Validate(const SensorRun& run, const model::CoeffSet& set,
     r.floor_offset_rms_v = NoiseFloor(binned.bins(), resid).offset_rms_v;
     const double inv_s = detail::MeanInverseSensitivity(binned, set.sensitivity, rows);
     r.floor_rate_rms_dps = r.floor_offset_rms_v * inv_s;
-    r.floor_drift_dph = r.floor_rate_rms_dps * 3600.0 /
-                        std::sqrt(static_cast<double>(r.n_bins) / r.n_stretches);
+    r.floor_drift_dph =
+        r.floor_rate_rms_dps * 3600.0 / std::sqrt(static_cast<double>(r.n_bins) / r.n_stretches);
     if (r.n_bins_outside_range > 0)
         r.notes.push_back(std::to_string(r.n_bins_outside_range) +
                           " bins outside the model's valid range (extrapolated)");
@@ -81,24 +80,18 @@ nlohmann::json ToJson(const ValidationResult& r) {
 
 std::string FormatValidation(const ValidationResult& r) {
     std::string out = "sensor " + r.sensor_id + ": model " + r.model_origin + "\n";
-    char line[256];
-    std::snprintf(line, sizeof line, "  %d still bins in %d stretches, %s..%s degC\n", r.n_bins,
-                  r.n_stretches, text::SigOrDash(r.temp_min_c, 3).c_str(),
-                  text::SigOrDash(r.temp_max_c, 3).c_str());
-    out += line;
-    std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "", "offset_rms_v",
-                  "rate_rms_dps", "drift_dph");
-    out += line;
-    std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "error",
-                  text::SigOrDash(r.offset_rms_v, 3).c_str(),
-                  text::SigOrDash(r.rate_rms_dps, 3).c_str(),
-                  text::SigOrDash(r.drift_dph, 3).c_str());
-    out += line;
-    std::snprintf(line, sizeof line, "  %-12s %14s %14s %12s\n", "floor",
-                  text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
-                  text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),
-                  text::SigOrDash(r.floor_drift_dph, 3).c_str());
-    out += line;
+    out += text::Printf("  %d still bins in %d stretches, %s..%s degC\n", r.n_bins, r.n_stretches,
+                        text::SigOrDash(r.temp_min_c, 3).c_str(),
+                        text::SigOrDash(r.temp_max_c, 3).c_str());
+    out +=
+        text::Printf("  %-12s %14s %14s %12s\n", "", "offset_rms_v", "rate_rms_dps", "drift_dph");
+    out += text::Printf(
+        "  %-12s %14s %14s %12s\n", "error", text::SigOrDash(r.offset_rms_v, 3).c_str(),
+        text::SigOrDash(r.rate_rms_dps, 3).c_str(), text::SigOrDash(r.drift_dph, 3).c_str());
+    out += text::Printf("  %-12s %14s %14s %12s\n", "floor",
+                        text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
+                        text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),
+                        text::SigOrDash(r.floor_drift_dph, 3).c_str());
     out += "  power-on: " + r.power_on + "\n";
     for (const std::string& n : r.notes) out += "  note: " + n + "\n";
     return out;

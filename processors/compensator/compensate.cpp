@@ -4,14 +4,17 @@
 #include <cstdio>
 
 #include "text/names.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::compensate {
 
 namespace {
 
 constexpr text::NameTable<ApplyStatus, 5> kApplyStatusNames{
-    {{ApplyStatus::kOk, "ok"}, {ApplyStatus::kNoCoefficients, "no_coefficients"},
-     {ApplyStatus::kOutOfOrder, "out_of_order"}, {ApplyStatus::kNonFinite, "non_finite"},
+    {{ApplyStatus::kOk, "ok"},
+     {ApplyStatus::kNoCoefficients, "no_coefficients"},
+     {ApplyStatus::kOutOfOrder, "out_of_order"},
+     {ApplyStatus::kNonFinite, "non_finite"},
      {ApplyStatus::kNotComputable, "not_computable"}}};
 
 }  // namespace
@@ -25,18 +28,16 @@ std::string SensitivityProblem(const model::Evaluator& s) {
     double sign = 0.0;
     for (int k = 0; k <= 40; ++k) {
         for (double side : {-1.0, 1.0}) {
-            model::ModelInputs in =
-                model::SteadyStateInputs(m, m.temp_min_c + (m.temp_max_c - m.temp_min_c) * k / 40.0);
+            model::ModelInputs in = model::SteadyStateInputs(
+                m, m.temp_min_c + (m.temp_max_c - m.temp_min_c) * k / 40.0);
             in.branch = in.heating = in.direction = side;
             const double v = s.Value(in, model::RangePolicy::kExtrapolate);
             if (!std::isfinite(v)) continue;  // needs an input we cannot know here; per sample
             if (v == 0.0 || (sign != 0.0 && (v > 0) != (sign > 0))) {
-                char buf[160];
-                std::snprintf(buf, sizeof buf,
-                              "sensitivity is zero or changes sign at %.3g degC inside its valid "
-                              "range",
-                              in.temp_c);
-                return buf;
+                return text::Printf(
+                    "sensitivity is zero or changes sign at %.3g degC inside its valid "
+                    "range",
+                    in.temp_c);
             }
             sign = v > 0 ? 1.0 : -1.0;
         }
@@ -83,8 +84,8 @@ SetResult SensorCompensator::SetCoefficients(const model::CoeffSet& set) {
         return {SetOutcome::kDuplicate, ""};
     std::unique_ptr<Active> next;
     try {
-        next.reset(new Active{set, model::Evaluator(set.offset), model::Evaluator(set.sensitivity),
-                              {}, {}, {}});
+        next.reset(new Active{
+            set, model::Evaluator(set.offset), model::Evaluator(set.sensitivity), {}, {}, {}});
         next->config = model::TrackerConfigFor({&set.offset, &set.sensitivity});
     } catch (const model::ModelError& e) {
         return {SetOutcome::kRejected, e.what()};

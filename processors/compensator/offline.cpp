@@ -1,6 +1,5 @@
 #include "offline.hpp"
 
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "model/json.hpp"
@@ -41,7 +40,8 @@ OfflineResult CompensateRows(const std::vector<csv::CsvRow>& rows,
                                    row.sensor_id + "' refused: " + sr.detail);
         }
         // The message a CSV source publishes for this row, handed over as the live node does.
-        const csv::RowMessages msgs = builder.Build(row, csv::StreamUtime(o.start_utime, row.time_s));
+        const csv::RowMessages msgs =
+            builder.Build(row, csv::StreamUtime(o.start_utime, row.time_s));
         if (msgs.power) it->second.PowerOn(msgs.power->power_on_utime);
         const gyro_sample_t& m = msgs.gyro;
         const ApplyResult r = it->second.Apply(SampleOf(m));
@@ -100,11 +100,10 @@ std::map<std::string, model::CoeffSet> CoeffSetsFromJson(const std::string& text
 std::string FormatRatesCsv(const std::vector<OfflineRate>& rates) {
     std::string out = "time_s,sensor_id,rate_dps,angle_deg,temp_c,range_flag\n";
     for (const OfflineRate& r : rates) {
-        char t[40];
-        std::snprintf(t, sizeof t, "%.6f", r.time_s);  // the microsecond grid of utime
-        out += std::string(t) + "," + r.sensor_id + "," + text::Sig(r.rate_dps, 17) + "," +
-               text::Sig(r.angle_deg, 17) + "," + text::Sig(r.temp_c, 17) + "," +
-               std::to_string(r.range_flag) + "\n";
+        // time_s on the microsecond grid of utime
+        out += text::Printf("%.6f", r.time_s) + "," + r.sensor_id + "," +
+               text::Sig(r.rate_dps, 17) + "," + text::Sig(r.angle_deg, 17) + "," +
+               text::Sig(r.temp_c, 17) + "," + std::to_string(r.range_flag) + "\n";
     }
     return out;
 }

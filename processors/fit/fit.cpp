@@ -1,9 +1,9 @@
 #include "fit.hpp"
 
 #include <cmath>
-#include <cstdio>
 
 #include "text/names.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
@@ -39,11 +39,9 @@ std::string FitOptions::Problem() const {
     if (!(same_level_tolerance_c >= 0.0) || !std::isfinite(same_level_tolerance_c))
         return "--same-level-tolerance-c must be a finite number >= 0";
     if (same_level_tolerance_c >= min_temp_separation_c && min_temp_separation_c > 0.0) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf,
-                      "--min-temp-separation-c (%g) must exceed --same-level-tolerance-c (%g degC)",
-                      min_temp_separation_c, same_level_tolerance_c);
-        return buf;
+        return text::Printf(
+            "--min-temp-separation-c (%g) must exceed --same-level-tolerance-c (%g degC)",
+            min_temp_separation_c, same_level_tolerance_c);
     }
     if (max_degree < 1 || max_degree > 3) return "--max-degree must be 1..3";
     if (fixed_degree < 0 || fixed_degree > 3)

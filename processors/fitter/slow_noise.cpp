@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "noise/allan.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fitter {
 
@@ -13,13 +14,11 @@ SlowNoise ChooseSlowNoise(double option_dps, double nominal_v_per_dps,
                           const std::map<int64_t, gyrocal::plateau_t>& plateaus,
                           const std::string& sensor_id) {
     SlowNoise out;
-    char buf[400];
     if (option_dps >= 0.0) {
         out.v = option_dps * nominal_v_per_dps;
-        std::snprintf(buf, sizeof buf,
-                      "--plateau-slow-noise-dps %.4g deg/s x nominal %.4g V/(deg/s) (given)",
-                      option_dps, nominal_v_per_dps);
-        out.source = buf;
+        out.source =
+            text::Printf("--plateau-slow-noise-dps %.4g deg/s x nominal %.4g V/(deg/s) (given)",
+                         option_dps, nominal_v_per_dps);
         return out;
     }
     if (plateaus.empty()) {
@@ -42,8 +41,8 @@ SlowNoise ChooseSlowNoise(double option_dps, double nominal_v_per_dps,
     }
     const gyrocal::noise_t& n = std::prev(it)->second;
     if (!std::isfinite(n.bias_instability_v)) {
-        out.source = "none: the Allan deviation in NOISE_" + sensor_id + " has no fit (" +
-                     n.fit_note + ")";
+        out.source =
+            "none: the Allan deviation in NOISE_" + sensor_id + " has no fit (" + n.fit_note + ")";
         return out;
     }
     const double window_s = window_sum_s / static_cast<double>(plateaus.size());
@@ -59,14 +58,13 @@ SlowNoise ChooseSlowNoise(double option_dps, double nominal_v_per_dps,
         inflate = nu > 2.5 ? nu / (nu - 2.0) : 5.0;
     }
     out.v = std::sqrt(var * inflate);
-    std::snprintf(buf, sizeof buf,
-                  "Allan deviation of this run (NOISE_%s at %lld: B %.3g +- %.2g mV, K %.3g "
-                  "mV/sqrt(s), %.0f s still in %d segments) for %.0f s windows over a %.0f s span, "
-                  "variance x%.3g for the estimate's own scatter",
-                  sensor_id.c_str(), static_cast<long long>(n.utime), 1e3 * n.bias_instability_v,
-                  1e3 * n.bias_instability_stderr_v, 1e3 * rrw, n.still_s, n.n_segments, window_s,
-                  span_s, inflate);
-    out.source = buf;
+    out.source = text::Printf(
+        "Allan deviation of this run (NOISE_%s at %lld: B %.3g +- %.2g mV, K %.3g "
+        "mV/sqrt(s), %.0f s still in %d segments) for %.0f s windows over a %.0f s span, "
+        "variance x%.3g for the estimate's own scatter",
+        sensor_id.c_str(), static_cast<long long>(n.utime), 1e3 * n.bias_instability_v,
+        1e3 * n.bias_instability_stderr_v, 1e3 * rrw, n.still_s, n.n_segments, window_s, span_s,
+        inflate);
     return out;
 }
 

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include "text/names.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::plateau {
 
@@ -206,15 +206,14 @@ Step PlateauDetector::Feed(const Sample& s) {
 std::optional<std::string> PlateauDetector::RefuseHole(const Sample& s) {
     const Acc& a = acc_;
     if (!a.seen_seq || s.seq <= a.prev_seq + 1) return std::nullopt;
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "averaging window refused at %.0f%% (%.1f s of %.1f s): %lld samples missing "
-                  "(sequence gap after seq %lld); averaging again from seq %lld",
-                  100.0 * std::min(1.0, a.still_us * 1e-6 / config_.average_s), a.still_us * 1e-6,
-                  config_.average_s, static_cast<long long>(s.seq - a.prev_seq - 1),
-                  static_cast<long long>(a.prev_seq), static_cast<long long>(s.seq));
+    std::string why = text::Printf(
+        "averaging window refused at %.0f%% (%.1f s of %.1f s): %lld samples missing "
+        "(sequence gap after seq %lld); averaging again from seq %lld",
+        100.0 * std::min(1.0, a.still_us * 1e-6 / config_.average_s), a.still_us * 1e-6,
+        config_.average_s, static_cast<long long>(s.seq - a.prev_seq - 1),
+        static_cast<long long>(a.prev_seq), static_cast<long long>(s.seq));
     acc_ = Acc{};
-    return std::string(buf);
+    return why;
 }
 
 Plateau PlateauDetector::Finish() {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "text/number.hpp"
+
 namespace gyrocal::rotation {
 
 SlipResult CheckSlip(const SlipInputs& in, double alpha, double min_slip_deg) {
@@ -14,7 +16,8 @@ SlipResult CheckSlip(const SlipInputs& in, double alpha, double min_slip_deg) {
     std::vector<double> g(n, 0.0);
     for (size_t i = 1; i < n; ++i)
         g[i] = g[i - 1] + 0.5 * (in.gyro_t_s[i] - in.gyro_t_s[i - 1]) *
-                              (in.gyro_rate_v[i] + in.gyro_rate_v[i - 1]) / in.sensitivity_v_per_dps;
+                              (in.gyro_rate_v[i] + in.gyro_rate_v[i - 1]) /
+                              in.sensitivity_v_per_dps;
     std::vector<double> e, w, t;
     for (size_t k = 0; k < m; ++k) {
         const double tk = in.encoder_t_s[k];
@@ -42,17 +45,15 @@ SlipResult CheckSlip(const SlipInputs& in, double alpha, double min_slip_deg) {
     const double s = std::abs(in.sensitivity_v_per_dps);
     const double sigma_t = std::sqrt(std::max(0.0, in.noise_q_v2_s) * window_s) / s;
     const double x = std::sqrt(std::log(2.0 / alpha) / 2.0);
-    out.threshold_deg = std::max(min_slip_deg, x * sigma_t + 1.5 * window_s * in.offset_stderr_v / s +
-                                                   2.0 * in.count_deg);
+    out.threshold_deg = std::max(
+        min_slip_deg, x * sigma_t + 1.5 * window_s * in.offset_stderr_v / s + 2.0 * in.count_deg);
     out.slip = out.max_deviation_deg > out.threshold_deg;
     if (out.slip) {
-        char buf[300];
-        std::snprintf(buf, sizeof buf,
-                      "encoder slip: the gyro's integrated angle departs from the encoder's by "
-                      "%.3f deg at %.2f s into the move (threshold %.3f deg; lag %.1f ms fitted): the "
-                      "encoder did not follow the table",
-                      out.max_deviation_deg, out.at_s, out.threshold_deg, 1e3 * out.lag_s);
-        out.reason = buf;
+        out.reason = text::Printf(
+            "encoder slip: the gyro's integrated angle departs from the encoder's by "
+            "%.3f deg at %.2f s into the move (threshold %.3f deg; lag %.1f ms fitted): the "
+            "encoder did not follow the table",
+            out.max_deviation_deg, out.at_s, out.threshold_deg, 1e3 * out.lag_s);
     }
     return out;
 }

@@ -2,8 +2,9 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <iterator>
+
+#include "text/number.hpp"
 
 namespace gyrocal::csv {
 
@@ -12,11 +13,9 @@ std::string FormatTimeS(int64_t utime_us) {
     // Magnitude in unsigned arithmetic so INT64_MIN cannot overflow.
     const uint64_t mag =
         negative ? uint64_t(0) - static_cast<uint64_t>(utime_us) : static_cast<uint64_t>(utime_us);
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%s%llu.%06llu", negative ? "-" : "",
-                  static_cast<unsigned long long>(mag / 1000000),
-                  static_cast<unsigned long long>(mag % 1000000));
-    return buf;
+    return text::Printf("%s%llu.%06llu", negative ? "-" : "",
+                        static_cast<unsigned long long>(mag / 1000000),
+                        static_cast<unsigned long long>(mag % 1000000));
 }
 
 std::string FormatValue(double v) {
@@ -53,7 +52,8 @@ std::string FormatRecordRow(const gyro_sample_t& s, int64_t time_origin_utime,
     line += ',';
     if (chamber_c) line += FormatValue(*chamber_c);
     line += ',';
-    if (power_on_utime && *power_on_utime <= s.utime) line += FormatTimeS(s.utime - *power_on_utime);
+    if (power_on_utime && *power_on_utime <= s.utime)
+        line += FormatTimeS(s.utime - *power_on_utime);
     return line;
 }
 

@@ -1,7 +1,6 @@
 #include "config.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <initializer_list>
 #include <string>
 
@@ -182,11 +181,7 @@ void ParseEffect(EffectsConfig& effects, const std::string& text) {
 std::vector<std::string> RigConfig::UnitIds() const {
     if (!sensor_ids.empty()) return sensor_ids;
     std::vector<std::string> ids;
-    for (int i = 1; i <= num_units; ++i) {
-        char buf[16];
-        std::snprintf(buf, sizeof buf, "S%02d", i);
-        ids.emplace_back(buf);
-    }
+    for (int i = 1; i <= num_units; ++i) ids.push_back(text::Printf("S%02d", i));
     return ids;
 }
 

@@ -1,7 +1,6 @@
 // The exports: a coefficient set as JSON, all sets as CSV (one line per term), and the C header
 // firmware includes (models with their terms, T0 and valid range, and an evaluator).
 #include <cmath>
-#include <cstdio>
 #include <set>
 #include <sstream>
 
@@ -26,9 +25,7 @@ std::string CsvField(const std::string& s) {
 
 std::string CsvNum(double v) {
     if (!std::isfinite(v)) return "";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
+    return text::Sig(v, 17);
 }
 
 // Text safe inside a C block comment and on one line.
@@ -44,7 +41,8 @@ std::string CComment(const std::string& s) {
 std::string CString(const std::string& s) {
     std::string out;
     for (unsigned char c : s) {
-        out += (c < 0x20 || c >= 0x7f || c == '"' || c == '\\' || c == '?') ? '_' : static_cast<char>(c);
+        out += (c < 0x20 || c >= 0x7f || c == '"' || c == '\\' || c == '?') ? '_'
+                                                                            : static_cast<char>(c);
     }
     return out;
 }
@@ -58,9 +56,7 @@ std::string CIdent(const std::string& s) {
 std::string CDouble(double v) {
     if (std::isnan(v)) return "NAN";
     if (std::isinf(v)) return v > 0 ? "INFINITY" : "-INFINITY";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    std::string s = buf;
+    std::string s = text::Sig(v, 17);
     if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
     return s;
 }
@@ -78,25 +74,26 @@ nlohmann::json CoeffSetJson(const CoeffSetInfo& c) {
     return j;
 }
 
-
 std::string CoeffsCsv(const std::vector<CoeffSetInfo>& sets) {
     std::ostringstream out;
     out << "sensor_id,run_id,coeff_set_id,source,role,quantity,term_index,term_name,coeff,"
            "coeff_stddev,t0_c,temp_min_c,temp_max_c,residual_rms,n_points,method\n";
     for (const auto& s : sets) {
-        for (const auto& [role, m] : {std::pair<const char*, const ModelRow*>{"offset", &s.set.offset},
-                                      {"sensitivity", &s.set.sensitivity}}) {
+        for (const auto& [role, m] :
+             {std::pair<const char*, const ModelRow*>{"offset", &s.set.offset},
+              {"sensitivity", &s.set.sensitivity}}) {
             for (size_t i = 0; i < m->term_names.size(); ++i) {
                 const double c = i < m->coeffs.size() ? m->coeffs[i] : NAN;
                 const double var = i < m->covariance.size() && i < m->covariance[i].size()
-                                       ? m->covariance[i][i] : NAN;
+                                       ? m->covariance[i][i]
+                                       : NAN;
                 out << CsvField(s.set.sensor_id) << "," << CsvField(s.set.run_id) << ","
                     << s.set.coeff_set_id << "," << CsvField(s.set.source) << "," << role << ","
-                    << CsvField(m->quantity) << "," << i << "," << CsvField(m->term_names[i])
-                    << "," << CsvNum(c) << "," << CsvNum(var >= 0 ? std::sqrt(var) : NAN) << ","
+                    << CsvField(m->quantity) << "," << i << "," << CsvField(m->term_names[i]) << ","
+                    << CsvNum(c) << "," << CsvNum(var >= 0 ? std::sqrt(var) : NAN) << ","
                     << CsvNum(m->t0_c) << "," << CsvNum(m->temp_min_c) << ","
-                    << CsvNum(m->temp_max_c) << "," << CsvNum(m->residual_rms) << ","
-                    << m->n_points << "," << CsvField(m->method) << "\n";
+                    << CsvNum(m->temp_max_c) << "," << CsvNum(m->residual_rms) << "," << m->n_points
+                    << "," << CsvField(m->method) << "\n";
             }
         }
     }
@@ -111,8 +108,8 @@ namespace {
 std::string CTermInit(const std::string& name) {
     model::ResolvedTerm t;
     if (!model::ResolveTerm(name, &t, nullptr)) return "{GYROCAL_TERM_UNKNOWN, 0.0}";
-    return "{" + std::to_string(t.c.kind) + " /* " + CComment(name) + " */, " +
-           CDouble(t.c.param) + "}";
+    return "{" + std::to_string(t.c.kind) + " /* " + CComment(name) + " */, " + CDouble(t.c.param) +
+           "}";
 }
 
 // The tracker configuration a stored set needs (model/inputs.hpp), or why it has none.
@@ -139,7 +136,8 @@ void CModel(std::ostream& out, const std::string& id, const char* role, const Mo
         return;
     }
     out << "static const char *const " << id << "_term_names[" << n << "] = {";
-    for (size_t i = 0; i < n; ++i) out << (i ? ", " : "") << "\"" << CString(m.term_names[i]) << "\"";
+    for (size_t i = 0; i < n; ++i)
+        out << (i ? ", " : "") << "\"" << CString(m.term_names[i]) << "\"";
     out << "};\n";
     out << "static const gyrocal_term_t " << id << "_terms[" << n << "] = {";
     for (size_t i = 0; i < n; ++i) out << (i ? ", " : "") << CTermInit(m.term_names[i]);
@@ -149,8 +147,8 @@ void CModel(std::ostream& out, const std::string& id, const char* role, const Mo
         out << (i ? ", " : "") << CDouble(i < m.coeffs.size() ? m.coeffs[i] : NAN);
     out << "};\n";
     out << "static const gyrocal_model_t " << id << " = {" << n << ", " << id << "_term_names, "
-        << id << "_terms, " << id << "_coeffs, " << CDouble(m.t0_c) << ", "
-        << CDouble(m.temp_min_c) << ", " << CDouble(m.temp_max_c) << "};\n";
+        << id << "_terms, " << id << "_coeffs, " << CDouble(m.t0_c) << ", " << CDouble(m.temp_min_c)
+        << ", " << CDouble(m.temp_max_c) << "};\n";
 }
 
 }  // namespace
@@ -166,7 +164,8 @@ std::string CoeffsCHeader(const std::vector<CoeffSetInfo>& sets, const std::stri
         << " * Use: gyrocal_compensator_t c; gyrocal_S_init(&c, GYROCAL_CLIP);\n"
         << " *      at boot, optionally: gyrocal_tracker_power_on(&c.tracker, boot_utime);\n"
         << " *      per raw sample, in time order: gyrocal_rate_t r;\n"
-        << " *        if (gyrocal_compensate(&c, utime, gyro_v, temp_c, supply_v, &r)) use r.rate_dps;\n"
+        << " *        if (gyrocal_compensate(&c, utime, gyro_v, temp_c, supply_v, &r)) use "
+           "r.rate_dps;\n"
         << " * The code below is gyrocal's own model path (gyrocal_model.h), the same the live\n"
         << " * compensator and `gyrocal compensate` run: the same raw samples from the same start\n"
         << " * give the same rate. GYROCAL_CLIP holds temp_c at the valid range (the firmware\n"
@@ -181,9 +180,8 @@ std::string CoeffsCHeader(const std::vector<CoeffSetInfo>& sets, const std::stri
         for (int k = 2; used.count(name); ++k) name = base + "_" + std::to_string(k);
         used.insert(name);
         out << "\n/* Sensor " << CComment(s.set.sensor_id) << ": run " << CComment(s.set.run_id)
-            << ", coefficient set " << s.set.coeff_set_id << " (source "
-            << CComment(s.set.source) << "), recorded " << UtcText(s.set.recv_utime)
-            << " UTC */\n";
+            << ", coefficient set " << s.set.coeff_set_id << " (source " << CComment(s.set.source)
+            << "), recorded " << UtcText(s.set.recv_utime) << " UTC */\n";
         out << "#define GYROCAL_" << name.substr(8) << "_COEFF_SET_ID " << s.set.coeff_set_id
             << "LL\n";
         CModel(out, name + "_offset", "offset", s.set.offset);

@@ -7,6 +7,7 @@
 #include "bus/decode.hpp"
 #include "message_fields.hpp"
 #include "model/convert.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::record {
 namespace {
@@ -83,9 +84,7 @@ std::optional<uint64_t> Fingerprint(const void* data, int size) {
 std::string FingerprintHex(const void* data, int size) {
     const auto fp = Fingerprint(data, size);
     if (!fp) return "";
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(*fp));
-    return buf;
+    return text::Printf("%016llx", static_cast<unsigned long long>(*fp));
 }
 
 RecordMapper::RecordMapper(MapperOptions options, std::string initial_run_id)

@@ -1,7 +1,6 @@
 #include "coeff_table.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -24,10 +23,8 @@ void ModelBlock(std::ostringstream& os, const char* label, const model_t& m) {
                                    m.covariance[i].size() > static_cast<size_t>(i)
                                ? m.covariance[i][i]
                                : NAN;
-        char buf[128];
-        std::snprintf(buf, sizeof buf, "      %-8s %+.6e  +- %.2e\n", m.term_names[i].c_str(), m.coeffs[i],
-                      std::sqrt(var));
-        os << buf;
+        os << text::Printf("      %-8s %+.6e  +- %.2e\n", m.term_names[i].c_str(), m.coeffs[i],
+                           std::sqrt(var));
     }
 }
 
@@ -55,9 +52,10 @@ std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs,
     os << "coefficient sets (1-sigma from the fit's covariance)\n";
     for (const auto& [id, c] : coeffs) {
         auto label = labels.find(id);
-        os << id << ": set " << c.coeff_set_id << " from " << c.source << ", run " << c.run_id << ", "
-           << c.num_plateaus << " plateaus, " << c.num_rotations << " rotations"
-           << (label != labels.end() && !label->second.empty() ? "  ** " + label->second + " **" : "")
+        os << id << ": set " << c.coeff_set_id << " from " << c.source << ", run " << c.run_id
+           << ", " << c.num_plateaus << " plateaus, " << c.num_rotations << " rotations"
+           << (label != labels.end() && !label->second.empty() ? "  ** " + label->second + " **"
+                                                               : "")
            << "\n";
         ModelBlock(os, "offset     ", c.offset);
         ModelBlock(os, "sensitivity", c.sensitivity);
@@ -65,12 +63,15 @@ std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs,
     return os.str();
 }
 
-std::string FormatTruthComparison(const std::map<std::string, coeff_set_t>& coeffs, const nlohmann::json& truth) {
+std::string FormatTruthComparison(const std::map<std::string, coeff_set_t>& coeffs,
+                                  const nlohmann::json& truth) {
     if (truth.value("format", "") != "gyrocal-sim-truth/1")
         throw std::runtime_error("truth file: format is not gyrocal-sim-truth/1");
     std::ostringstream os;
-    os << "fitted vs true (simulated rig truth; compared at equal die temperature, see coeff_table.hpp)\n";
-    os << "sensor  die_C   offset_fit_V  offset_true_V  err_mV   err_dps  | sens_fit_mV/dps sens_true_mV/dps err_%\n";
+    os << "fitted vs true (simulated rig truth; compared at equal die temperature, see "
+          "coeff_table.hpp)\n";
+    os << "sensor  die_C   offset_fit_V  offset_true_V  err_mV   err_dps  | sens_fit_mV/dps "
+          "sens_true_mV/dps err_%\n";
     for (const auto& unit : truth.at("units")) {
         const std::string id = unit.at("sensor_id");
         auto it = coeffs.find(id);
@@ -99,16 +100,13 @@ std::string FormatTruthComparison(const std::map<std::string, coeff_set_t>& coef
             const double err_pct = 100.0 * (sens_fit - sens_true) / sens_true;
             worst_dps = std::max(worst_dps, std::abs(err_dps));
             worst_pct = std::max(worst_pct, std::abs(err_pct));
-            char buf[200];
-            std::snprintf(buf, sizeof buf, "%-6s %6.1f  %12.6f  %13.6f  %+7.3f  %+8.4f  | %15.4f %16.4f %+6.3f\n",
-                          id.c_str(), die_c, off_fit, off_true, 1e3 * (off_fit - off_true), err_dps,
-                          1e3 * sens_fit, 1e3 * sens_true, err_pct);
-            os << buf;
+            os << text::Printf(
+                "%-6s %6.1f  %12.6f  %13.6f  %+7.3f  %+8.4f  | %15.4f %16.4f %+6.3f\n", id.c_str(),
+                die_c, off_fit, off_true, 1e3 * (off_fit - off_true), err_dps, 1e3 * sens_fit,
+                1e3 * sens_true, err_pct);
         }
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "%-6s worst: offset %.4f deg/s, sensitivity %.3f %%\n", id.c_str(), worst_dps,
-                      worst_pct);
-        os << buf;
+        os << text::Printf("%-6s worst: offset %.4f deg/s, sensitivity %.3f %%\n", id.c_str(),
+                           worst_dps, worst_pct);
     }
     return os.str();
 }

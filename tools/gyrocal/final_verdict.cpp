@@ -1,6 +1,6 @@
 #include "final_verdict.hpp"
 
-#include <cstdio>
+#include "text/number.hpp"
 
 namespace gyrocal::cli {
 
@@ -8,10 +8,8 @@ namespace {
 
 std::string Published(const coeff_set_t& c) {
     auto model = [](const model_t& m) {
-        char buf[200];
-        std::snprintf(buf, sizeof buf, "%s with %d terms over %.1f..%.1f C", m.method.c_str(),
-                      m.num_terms, m.temp_min_c, m.temp_max_c);
-        return std::string(buf);
+        return text::Printf("%s with %d terms over %.1f..%.1f C", m.method.c_str(), m.num_terms,
+                            m.temp_min_c, m.temp_max_c);
     };
     return "set " + std::to_string(c.coeff_set_id) + ": offset " + model(c.offset) +
            ", sensitivity " + model(c.sensitivity);

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "text/number.hpp"
 
 namespace gyrocal::cli {
 
@@ -64,41 +65,28 @@ double Progress::EtaS(double wall_elapsed_s) const {
 }
 
 std::string Progress::Line(double wall_elapsed_s) const {
-    char buf[160];
-    std::string line;
-    if (setpoint_index_ >= 0) {
-        std::snprintf(buf, sizeof buf, "setpoint %d/%d (%.1f C)", setpoint_index_ + 1, setpoints_total_, setpoint_c_);
-        line += buf;
-    } else {
-        line += "starting";
-    }
-    if (have_chamber_) {
-        std::snprintf(buf, sizeof buf, " | air %.1f C", air_c_);
-        line += buf;
-    }
+    std::string line = setpoint_index_ >= 0
+                           ? text::Printf("setpoint %d/%d (%.1f C)", setpoint_index_ + 1,
+                                          setpoints_total_, setpoint_c_)
+                           : "starting";
+    if (have_chamber_) line += text::Printf(" | air %.1f C", air_c_);
     for (const auto& [id, s] : stability_) {
         if (s.state == "averaging")
-            std::snprintf(buf, sizeof buf, " | %s %.1f C averaging %.0f%%", id.c_str(), s.temp_c,
-                          100.0 * s.averaging_progress);
+            line += text::Printf(" | %s %.1f C averaging %.0f%%", id.c_str(), s.temp_c,
+                                 100.0 * s.averaging_progress);
         else
-            std::snprintf(buf, sizeof buf, " | %s %.1f C %s %+.2f C/min", id.c_str(), s.temp_c, s.state.c_str(),
-                          s.temp_slope_c_per_min);
-        line += buf;
+            line += text::Printf(" | %s %.1f C %s %+.2f C/min", id.c_str(), s.temp_c,
+                                 s.state.c_str(), s.temp_slope_c_per_min);
     }
-    std::snprintf(buf, sizeof buf, " | rotations %d ok %d rejected | losses %lld", rotations_accepted_,
-                  rotations_rejected_, static_cast<long long>(drops()));
-    line += buf;
+    line += text::Printf(" | rotations %d ok %d rejected | losses %lld", rotations_accepted_,
+                         rotations_rejected_, static_cast<long long>(drops()));
     if (first_utime_ >= 0) {
         const double sim_s = static_cast<double>(last_utime_ - first_utime_) * 1e-6;
-        std::snprintf(buf, sizeof buf, " | data %02d:%02d:%02d", static_cast<int>(sim_s) / 3600,
-                      static_cast<int>(sim_s) / 60 % 60, static_cast<int>(sim_s) % 60);
-        line += buf;
+        line += text::Printf(" | data %02d:%02d:%02d", static_cast<int>(sim_s) / 3600,
+                             static_cast<int>(sim_s) / 60 % 60, static_cast<int>(sim_s) % 60);
     }
     const double eta = EtaS(wall_elapsed_s);
-    if (eta >= 0) {
-        std::snprintf(buf, sizeof buf, " | ~%.0f s left", eta);
-        line += buf;
-    }
+    if (eta >= 0) line += text::Printf(" | ~%.0f s left", eta);
     return line;
 }
 
