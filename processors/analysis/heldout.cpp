@@ -132,7 +132,7 @@ Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vecto
 }
 
 double MeanLeverage(const MatrixXd& x_train, const MatrixXd& x_held) {
-    return fit::MeanLeverage(x_train, x_held);
+    return numeric::MeanLeverage(x_train, x_held);
 }
 
 void ExpectedAfter(const LsFit& fit, const MatrixXd& x_held, double inv_sens, SensorResult* r) {
@@ -142,7 +142,7 @@ void ExpectedAfter(const LsFit& fit, const MatrixXd& x_held, double inv_sens, Se
     // Mean prediction variance x' C x over the held-out bins: how far the coefficients fitted on
     // the training bins may put the model off on them, by their own (robust) covariance.
     const double pred_var = (x_held * fit.covariance).cwiseProduct(x_held).rowwise().sum().mean();
-    const double resid_var = fit::ResidualVariance(fit.rss, n_train, p);
+    const double resid_var = numeric::ResidualVariance(fit.rss, n_train, p);
     if (!(pred_var >= 0.0) || !std::isfinite(resid_var)) return;
     r->prediction_rms_v = std::sqrt(pred_var);
     r->expected_after_offset_rms_v = std::sqrt(resid_var + pred_var);

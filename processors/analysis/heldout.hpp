@@ -53,7 +53,7 @@ struct Gain {
 Gain HeldOutGain(const Eigen::VectorXd& before, const Eigen::VectorXd& after,
                  const std::vector<int>& block, int hac_lag);
 
-// Mean over the held-out rows of x'(X'X)^-1 x, X the training design (fit::MeanLeverage, the
+// Mean over the held-out rows of x'(X'X)^-1 x, X the training design (numeric::MeanLeverage, the
 // one solver's QR); NaN when X cannot be solved.
 double MeanLeverage(const Eigen::MatrixXd& x_train, const Eigen::MatrixXd& x_held);
 

@@ -64,7 +64,7 @@ JointScore Joint(const Context& c, const MatrixXd& x, double base_cv, const Vect
     const double cv = BlockedCvMse(xe, c.y, c.cv_blocks, c.cv_guard);
     if (!std::isfinite(cv) || !(base_cv > 0.0)) return j;
     j.cv_gain = (base_cv - cv) / base_cv;
-    const VectorXd pred = fit::ProjectOut(x, xe.rightCols(2)) * cf;
+    const VectorXd pred = numeric::ProjectOut(x, xe.rightCols(2)) * cf;
     j.effect_rms_v = pred.norm() / std::sqrt(static_cast<double>(pred.size()));
     j.ok = std::isfinite(j.z2);
     return j;

@@ -152,7 +152,8 @@ struct FitResult {
 // The seed's method on exactly 3 points (points[0] is the seed's first point, T0).
 FitResult SeedThreePoint(const std::vector<FitPoint>& points, const std::string& quantity);
 
-// Weighted least squares of any term list (the analysis adds terms through this).
+// Weighted least squares of any term list (the analysis tests its sensitivity terms through this;
+// its offset terms, on bins, go through numeric/least_squares.hpp directly).
 FitResult FitWls(const std::vector<FitPoint>& points, const std::vector<std::string>& term_names,
                  double t0_c, const std::string& quantity, double max_condition_number = 1e8);
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "distributions.hpp"
+#include "numeric/distributions.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::fit::detail {
@@ -114,7 +114,7 @@ std::string OverdispersionNotes(const FitResult& r) {
 }
 
 double FOneUpperQuantile(double upper_tail, int nu) {
-    return FUpperQuantile(upper_tail, 1.0, static_cast<double>(nu));
+    return numeric::FUpperQuantile(upper_tail, 1.0, static_cast<double>(nu));
 }
 
 }  // namespace gyrocal::fit::detail

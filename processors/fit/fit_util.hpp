@@ -22,7 +22,7 @@ void SetRange(model::Model& m, const std::vector<FitPoint>& pts);
 // chi2/dof and, when it is out of its band, the warning a person must see.
 std::string FitNotes(const FitResult& r);
 // Upper quantile of the F(1, nu) distribution: the x with P(F > x) = upper_tail; nu >= 1,
-// 0 < upper_tail < 1 (distributions.hpp).
+// 0 < upper_tail < 1 (numeric/distributions.hpp).
 double FOneUpperQuantile(double upper_tail, int nu);
 
 // The overdispersion c (fit.hpp) from a reference model's chi2 and dof plus what the caller

@@ -1,21 +1,19 @@
 #include "pooling.hpp"
 
 #include <algorithm>
-#include <cstdio>
 
-#include "distributions.hpp"
+#include "numeric/distributions.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::fit {
 
 namespace {
 
 std::string Describe(const UnitEvidence& u, double c_rest, int dof_rest, double p) {
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "overdispersion %.3g on %d dof disagrees with the other units' %.3g on %d dof "
-                  "(F test, two-sided p = %.2g): not pooled",
-                  u.chi2 / u.dof, u.dof, c_rest, dof_rest, p);
-    return buf;
+    return text::Printf(
+        "overdispersion %.3g on %d dof disagrees with the other units' %.3g on %d dof "
+        "(F test, two-sided p = %.2g): not pooled",
+        u.chi2 / u.dof, u.dof, c_rest, dof_rest, p);
 }
 
 }  // namespace
@@ -39,7 +37,7 @@ Pool Pool::Decide(const std::vector<UnitEvidence>& units, double alpha) {
             const double c_rest = (total_chi2 - u.chi2) / dof_rest;
             if (!(c_rest > 0.0)) continue;
             const double f = (u.chi2 / u.dof) / c_rest;
-            const double upper = FUpperTail(f, u.dof, dof_rest);
+            const double upper = numeric::FUpperTail(f, u.dof, dof_rest);
             const double p = std::min(1.0, 2.0 * std::min(upper, 1.0 - upper));
             if (p < worst_p) {
                 worst_p = p;
@@ -58,7 +56,7 @@ Pool Pool::Decide(const std::vector<UnitEvidence>& units, double alpha) {
 std::string Disagreement(const UnitEvidence& u, const PooledEvidence& others, double alpha) {
     if (u.dof <= 0 || others.dof <= 0 || !(others.chi2 > 0.0)) return "";
     const double c_rest = others.chi2 / others.dof;
-    const double upper = FUpperTail((u.chi2 / u.dof) / c_rest, u.dof, others.dof);
+    const double upper = numeric::FUpperTail((u.chi2 / u.dof) / c_rest, u.dof, others.dof);
     const double p = std::min(1.0, 2.0 * std::min(upper, 1.0 - upper));
     return p < alpha ? Describe(u, c_rest, others.dof, p) : "";
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "distributions.hpp"
+#include "numeric/distributions.hpp"
 #include "fit_util.hpp"
 #include "text/number.hpp"
 
@@ -96,7 +96,7 @@ Screen ScreenOnce(const std::vector<FitPoint>& pts, const std::string& quantity,
         x.residual = pts[i].y - e.value;
         x.residual_sigma = sigma;
         x.statistic = x.residual / sigma;
-        x.threshold = TwoSidedTQuantile(alpha / static_cast<double>(n), f.overdispersion_dof);
+        x.threshold = numeric::TwoSidedTQuantile(alpha / static_cast<double>(n), f.overdispersion_dof);
         ++s.tested;
         const double ratio = std::abs(x.statistic) / x.threshold;
         if (!s.can_check || ratio > s.worst_ratio) {

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fit/distributions.hpp"
+#include "numeric/distributions.hpp"
 #include "numeric/least_squares.hpp"
 
 namespace gyrocal::noise {
@@ -152,8 +152,8 @@ std::vector<AllanPoint> Combine(const std::vector<SegmentSums>& segments, double
         p.edf = edf;
         const double avar = sum / (2.0 * p.tau_s * p.tau_s * static_cast<double>(terms));
         p.adev = std::sqrt(avar);
-        p.adev_lo = std::sqrt(edf * avar / fit::ChiSquareQuantile(0.8413, edf));
-        p.adev_hi = std::sqrt(edf * avar / fit::ChiSquareQuantile(0.1587, edf));
+        p.adev_lo = std::sqrt(edf * avar / numeric::ChiSquareQuantile(0.8413, edf));
+        p.adev_hi = std::sqrt(edf * avar / numeric::ChiSquareQuantile(0.1587, edf));
         out.push_back(p);
     }
     return out;
@@ -182,7 +182,7 @@ std::vector<SegmentSums> ScreenSegments(const std::vector<SegmentSums>& segments
                 const double e_s = SegmentEdf(g.bins + 1, m), e_r = edf - e_s;
                 const double ratio = (g.sum_sq[j] / g.terms[j]) /
                                      ((sum - g.sum_sq[j]) / static_cast<double>(terms - g.terms[j]));
-                const double limit = std::max(4.0, fit::FUpperQuantile(per_test, e_s, e_r));
+                const double limit = std::max(4.0, numeric::FUpperQuantile(per_test, e_s, e_r));
                 if (ratio / limit > worst_excess) worst_excess = ratio / limit, worst = static_cast<int>(k);
             }
         }

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <functional>
 
-namespace gyrocal::fit {
+namespace gyrocal::numeric {
 
 namespace {
 
@@ -108,4 +108,4 @@ double ChiSquareQuantile(double lower_tail, double nu) {
                            1.0 - lower_tail);
 }
 
-}  // namespace gyrocal::fit
+}  // namespace gyrocal::numeric

@@ -63,11 +63,3 @@ double MeanLeverage(const Eigen::MatrixXd& x_fit, const Eigen::MatrixXd& x_other
 Eigen::MatrixXd ProjectOut(const Eigen::MatrixXd& base, const Eigen::MatrixXd& a);
 
 }  // namespace gyrocal::numeric
-
-// The analysis' held-out and selection code still spell these with fit::, the solver's namespace
-// before it moved here; the declarations go once those files say numeric::.
-namespace gyrocal::fit {
-using numeric::MeanLeverage;
-using numeric::ProjectOut;
-using numeric::ResidualVariance;
-}  // namespace gyrocal::fit

@@ -1,11 +1,10 @@
-// The leave-one-out outlier test and the lower-order fallbacks (fit/robust.hpp), the distribution
-// functions behind the thresholds (fit/distributions.hpp) and the separated-level count.
+// The leave-one-out outlier test and the lower-order fallbacks (fit/robust.hpp) and the
+// separated-level count.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "fit/distributions.hpp"
 #include "fit/robust.hpp"
 #include "synth.hpp"
 
@@ -17,24 +16,11 @@ using testing::Poly;
 const Poly kTruth{25.0, {2.5, 4e-4, 3e-6}};
 const std::vector<double> kSeven = {-40, -20, 0, 20, 40, 60, 85};
 
-TEST(Distributions, QuantilesMatchTabulatedValues) {
-    // Tables (Abramowitz & Stegun 26.x; any statistics text): z_0.975 = 1.959964,
-    // t_10 two-sided 0.05 = 2.228139, F(2, 10) upper 0.05 = 4.102821, chi2_1 0.95 = 3.841459,
-    // chi2_10 median = 9.341818.
-    EXPECT_NEAR(TwoSidedTQuantile(0.05, 0), 1.959964, 1e-5);
-    EXPECT_NEAR(TwoSidedTQuantile(0.05, 10), 2.228139, 1e-5);
-    EXPECT_NEAR(FUpperQuantile(0.05, 2, 10), 4.102821, 1e-5);
-    EXPECT_NEAR(ChiSquareQuantile(0.95, 1), 3.841459, 1e-5);
-    EXPECT_NEAR(ChiSquareQuantile(0.5, 10), 9.341818, 1e-5);
-    EXPECT_NEAR(FUpperTail(4.102821, 2, 10), 0.05, 1e-6);
-    EXPECT_NEAR(ChiSquareLowerTail(3.841459, 1), 0.95, 1e-6);
-}
-
 TEST(Levels, SeparatedCountIsTheLargestSubsetThatFarApart) {
     auto count = [](std::vector<double> t, double sep) {
         return SeparatedLevelCount(TemperatureLevels(t, 1.0), sep);
     };
-    EXPECT_EQ(count({-11.9, 8, 22.9, 23.1, 27.8, 47, 67}, 5.0), 5);  // the run
+    EXPECT_EQ(count({-11.9, 8, 22.9, 23.1, 27.8, 47, 67}, 5.0), 5);  // two levels 0.2 degC apart
     EXPECT_EQ(count({0, 4, 8, 12}, 5.0), 2);
     EXPECT_EQ(count({25, 28, 60}, 5.0), 2);
     EXPECT_EQ(count({}, 5.0), 0);
