@@ -12,7 +12,7 @@
 #include "bus/channels.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
-#include "sequencer_node.hpp"
+#include "sequencer_options.hpp"
 #include <nlohmann/json.hpp>
 
 using namespace gyrocal::sequencer;

@@ -2,7 +2,6 @@
 // The LCM shell around Procedure: feeds it data time, plateaus and sensitivity points, and
 // publishes what it orders (RUN_EVENT, CHAMBER_CMD, TURNTABLE_CMD). A ramp run also hears the
 // chamber's air temperature and every unit's coefficient sets (COEFFS_<id>, for its early stop).
-#include <CLI/CLI.hpp>
 #include <functional>
 #include <memory>
 #include <set>
@@ -25,10 +24,6 @@ struct SequencerOptions {
     std::string command_line;         // recorded with the run
     static SequencerOptions Defaults();
 };
-
-// Registers gyrocal-sequencer's options on `app`; the returned validator resolves the profile and
-// checks every option ("" or the problem, naming the option). `o` must outlive the validator.
-std::function<std::string()> AddSequencerOptions(CLI::App& app, SequencerOptions& o);
 
 class SequencerNode {
 public:

@@ -1,6 +1,4 @@
-#include "sequencer_node.hpp"
-
-#include <CLI/CLI.hpp>
+#include "sequencer_options.hpp"
 
 #include <memory>
 #include <nlohmann/json.hpp>
