@@ -11,11 +11,13 @@
 
 namespace {
 constexpr const char* kFooter = R"(
-Output: header time_s,sensor_id,gyro_v,temp_v,temp_c,supply_v,encoder_deg,chamber_c; one row per
-gyro sample in arrival order. time_s = (utime - --time-origin-utime) / 1e6 with 6 decimals
+Output: header
+time_s,sensor_id,gyro_v,temp_v,temp_c,supply_v,encoder_deg,chamber_c,time_since_power_s; one row
+per gyro sample in arrival order. time_s = (utime - --time-origin-utime) / 1e6 with 6 decimals
 (microsecond exact); values in the shortest form that reads back to the same double;
 encoder_deg = latest ENCODER angle_deg with utime <= the sample's, chamber_c = latest
-CHAMBER_STATE air_c likewise; an empty field when unknown (and supply_v when NaN).
+CHAMBER_STATE air_c likewise, time_since_power_s = (utime - the latest POWER_<id>
+power_on_utime) / 1e6; an empty field when unknown (and supply_v when NaN).
 Samples with non-finite gyro_v/temp_v, or utime not after the sensor's previous sample, are not
 written (the file must read back): counted in STATUS rejected, warned at most once a second.
 
