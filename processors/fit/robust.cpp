@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "numeric/distributions.hpp"
 #include "fit_util.hpp"
+#include "numeric/distributions.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::fit {
@@ -24,7 +24,8 @@ FitResult LowerOrder(const std::vector<FitPoint>& pts, const std::string& quanti
     const std::vector<Level> levels = TemperatureLevels(Temps(pts), o.same_level_tolerance_c);
     const double t0 = o.t0_c ? *o.t0_c : DefaultT0(levels.front().temp_c, levels.back().temp_c);
     if (SeparatedLevelCount(levels, o.min_temp_separation_c) >= 2) {
-        FitResult line = FitWls(pts, model::PolynomialTerms(1), t0, quantity, o.max_condition_number);
+        FitResult line =
+            FitWls(pts, model::PolynomialTerms(1), t0, quantity, o.max_condition_number);
         if (line.ok()) {
             ApplyOverdispersion(line, line.chi2, line.dof, o);
             line.level_temps_c.clear();
@@ -87,8 +88,8 @@ Screen ScreenOnce(const std::vector<FitPoint>& pts, const std::string& quantity,
         if (!f.ok() || f.dof < 1) continue;
         const model::Evaluation e =
             model::Evaluate(f.model, pts[i].inputs, model::RangePolicy::kExtrapolate);
-        const double sigma = std::sqrt(f.covariance_scale * pts[i].sigma_y * pts[i].sigma_y +
-                                       e.variance);
+        const double sigma =
+            std::sqrt(f.covariance_scale * pts[i].sigma_y * pts[i].sigma_y + e.variance);
         Exclusion x;
         x.id = pts[i].id;
         x.temp_c = pts[i].inputs.temp_c;
@@ -96,7 +97,8 @@ Screen ScreenOnce(const std::vector<FitPoint>& pts, const std::string& quantity,
         x.residual = pts[i].y - e.value;
         x.residual_sigma = sigma;
         x.statistic = x.residual / sigma;
-        x.threshold = numeric::TwoSidedTQuantile(alpha / static_cast<double>(n), f.overdispersion_dof);
+        x.threshold =
+            numeric::TwoSidedTQuantile(alpha / static_cast<double>(n), f.overdispersion_dof);
         ++s.tested;
         const double ratio = std::abs(x.statistic) / x.threshold;
         if (!s.can_check || ratio > s.worst_ratio) {
@@ -126,8 +128,8 @@ CalibrationFit FitCalibration(const std::vector<FitPoint>& points, const std::st
                               const FitOptions& o, const OutlierOptions& oo) {
     std::vector<FitPoint> kept = points;
     std::vector<Exclusion> excluded;
-    const size_t max_excluded =
-        std::max<size_t>(1, static_cast<size_t>(oo.max_fraction * static_cast<double>(points.size())));
+    const size_t max_excluded = std::max<size_t>(
+        1, static_cast<size_t>(oo.max_fraction * static_cast<double>(points.size())));
     while (true) {
         CalibrationFit out = FitOrFallBack(kept, quantity, o);
         out.excluded = excluded;

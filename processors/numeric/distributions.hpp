@@ -1,6 +1,7 @@
 #pragma once
 // The few distribution functions the tests of significance need (F, Student t, chi-square,
-// normal: the fit's outlier, order and pooling tests, the Allan deviation's intervals), from the regularised incomplete beta and gamma functions. Pure numerics.
+// normal: the fit's outlier, order and pooling tests, the Allan deviation's intervals), from the
+// regularised incomplete beta and gamma functions. Pure numerics.
 //
 // Quantiles are found by bisection on log x of the tail function (monotone), to a relative 1e-12;
 // the tails use the continued fractions of Numerical Recipes' betacf/gcf (modified Lentz). These
