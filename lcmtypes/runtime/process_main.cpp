@@ -7,6 +7,18 @@
 
 namespace gyrocal {
 
+std::string ErrorLine(const std::string& process, const std::string& what) {
+    return process + kErrorTag + what;
+}
+
+void PrintError(const std::string& process, const std::string& what) {
+    std::cerr << ErrorLine(process, what) << "\n";
+}
+
+bool IsErrorLineOf(const std::string& process, const std::string& line) {
+    return line.rfind(process + kErrorTag, 0) == 0;
+}
+
 std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
                                     const std::string& process,
                                     const std::function<std::string()>& validate) {
@@ -15,11 +27,11 @@ std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << process << ": " << e.what() << " (see --help)\n";
+        PrintError(process, std::string(e.what()) + " (see --help)");
         return 2;
     }
     if (const std::string err = validate ? validate() : ""; !err.empty()) {
-        std::cerr << process << ": " << err << "\n";
+        PrintError(process, err);
         return 2;
     }
     return std::nullopt;
@@ -30,7 +42,7 @@ int RunUntilStopped(const std::string& process, const std::function<void()>& run
         InstallStopHandlers();
         run();
     } catch (const std::exception& e) {
-        std::cerr << process << ": " << e.what() << "\n";
+        PrintError(process, e.what());
         return 1;
     }
     return 0;

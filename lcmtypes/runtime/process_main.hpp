@@ -8,6 +8,15 @@
 
 namespace gyrocal {
 
+// The one shape of every process's fatal message, so the launcher can surface it as it is:
+//   "<process>: error: <where>: <what>; <what would be valid>"
+// (where = the file:line, option, channel or device). ErrorLine builds it; PrintError writes it
+// to stderr; IsErrorLineOf tells a launcher which lines of a child's log are its errors.
+inline constexpr const char* kErrorTag = ": error: ";
+std::string ErrorLine(const std::string& process, const std::string& what);
+void PrintError(const std::string& process, const std::string& what);
+bool IsErrorLineOf(const std::string& process, const std::string& line);
+
 // The --help footer of a process that runs until stopped (RunUntilStopped's exit codes).
 inline constexpr const char* kNodeExitCodes =
     "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open),\n"
@@ -16,13 +25,13 @@ inline constexpr const char* kNodeExitCodes =
 // Parses argv into what `app` binds, then asks `validate` ("" when the options are valid, else a
 // one-line error naming the option; none when the options' own checks suffice). Returns the exit
 // code when the process must end now: 0 after --help, 2 for a bad option (on stderr as
-// "<process>: <error>"); nullopt to go on.
+// "<process>: error: <what>"); nullopt to go on.
 std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
                                     const std::string& process,
                                     const std::function<std::string()>& validate = {});
 
 // Installs the SIGINT/SIGTERM handlers, then runs the node: 0 when `run` returns (it was
-// stopped), 1 when it throws (on stderr as "<process>: <what>").
+// stopped), 1 when it throws (on stderr as "<process>: error: <what>").
 int RunUntilStopped(const std::string& process, const std::function<void()>& run);
 
 // The whole main() of a node process whose options come from Options::Defaults(), `add_options`

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
         SequencerNode node(o);
         return node.Run();
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal-sequencer: " << e.what() << "\n";
+        gyrocal::PrintError("gyrocal-sequencer", e.what());
         return 1;
     }
 }

@@ -7,11 +7,12 @@
 namespace gyrocal::csv {
 
 CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTransfer& transfer,
-                OnError policy) {
+                OnError policy, long max_rows) {
     CsvFile out;
     std::optional<RowParser> parser;
     std::string line;
     long line_no = 0;
+    long data_rows = 0;
     while (std::getline(in, line)) {
         ++line_no;
         if (IsBlankOrComment(line)) continue;
@@ -21,6 +22,8 @@ CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTra
             parser.emplace(std::move(h), file, transfer);
             continue;
         }
+        if (max_rows >= 0 && data_rows >= max_rows) break;
+        ++data_rows;
         try {
             out.rows.push_back(parser->Parse(line, line_no));
         } catch (const CsvError& e) {

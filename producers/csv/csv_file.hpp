@@ -21,7 +21,9 @@ struct CsvFile {
 
 // Reads `in` (named `file` in messages). Blank lines and '#' comments are ignored.
 // Throws CsvError for a bad header, and under kStop for the first bad row.
+// max_rows >= 0 stops after that many data rows (a check of the file's head: the header and the
+// first rows; the rest is not read); < 0 reads the whole file.
 CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTransfer& transfer,
-                OnError policy);
+                OnError policy, long max_rows = -1);
 
 }  // namespace gyrocal::csv

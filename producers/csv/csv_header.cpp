@@ -7,7 +7,8 @@ namespace gyrocal::csv {
 
 CsvError::CsvError(const std::string& file, long line, const std::string& column,
                    const std::string& what)
-    : std::runtime_error(file + ":" + std::to_string(line) + ": column " + column + ": " + what),
+    : std::runtime_error(file + ":" + std::to_string(line) + ": " +
+                         (column.empty() ? "" : "column " + column + ": ") + what),
       line_(line),
       column_(column) {}
 

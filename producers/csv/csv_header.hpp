@@ -8,7 +8,8 @@
 
 namespace gyrocal::csv {
 
-// A malformed file or line: what() is "FILE:LINE: column NAME: what is wrong; what is valid".
+// A malformed file or line: what() is "FILE:LINE: column NAME: what is wrong; what is valid"
+// ("FILE:LINE: what ..." when no one column is at fault, column empty).
 class CsvError : public std::runtime_error {
 public:
     CsvError(const std::string& file, long line, const std::string& column,

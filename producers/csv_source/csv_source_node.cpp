@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "bus/channels.hpp"
+#include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
 #include "text/number.hpp"
 
@@ -23,20 +24,20 @@ namespace {
 std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_code) {
     std::ifstream in(o.file);
     if (!in) {
-        std::cerr << "gyrocal-csv-source: --file '" << o.file
-                  << "' cannot be opened: " << std::strerror(errno)
-                  << "; give a readable CSV file\n";
+        PrintError(kCsvSourceProcess, "--file '" + o.file + "' cannot be opened: " +
+                                              std::strerror(errno) + "; give a readable CSV file");
         *exit_code = 2;
         return std::nullopt;
     }
     std::string err;
     const sensor::TempTransfer transfer = *o.conversion.Transfer(&err);
     try {
-        return csv::ReadCsv(in, o.file, transfer, o.on_error);
+        return csv::ReadCsv(in, o.file, transfer, o.on_error, o.check_rows);
     } catch (const csv::CsvError& e) {
-        std::cerr << "gyrocal-csv-source: error: " << e.what()
-                  << "\ngyrocal-csv-source: nothing published (--on-error stop; use --on-error "
-                     "skip to drop bad rows)\n";
+        PrintError(kCsvSourceProcess, e.what());
+        std::cerr << kCsvSourceProcess
+                  << ": nothing published (--on-error stop; use --on-error skip to drop bad "
+                     "rows)\n";
         *exit_code = 1;
         return std::nullopt;
     }
@@ -67,12 +68,28 @@ int ReplayCsvFile(const CsvSourceOptions& o) {
     std::optional<csv::CsvFile> file = ReadWholeFile(o, &exit_code);
     if (!file) return exit_code;
     ReportReadProblems(o, *file);
+    if (file->rows.empty()) {  // nothing to replay is a bad file, not an empty run
+        PrintError(kCsvSourceProcess,
+                   o.file + ": no data rows: " +
+                       (file->skipped > 0 ? "every one of the " + std::to_string(file->skipped) +
+                                                " rows was bad (--on-error skip); fix them"
+                                          : std::string("the header names the columns but no "
+                                                        "row follows; give at least one row "
+                                                        "of samples")));
+        return 1;
+    }
+    if (o.check_rows >= 0) {
+        std::cerr << kCsvSourceProcess << ": " << o.file << ": the header and the first "
+                  << file->rows.size() + file->skipped << " rows are valid (--check-rows "
+                  << o.check_rows << "; nothing published)\n";
+        return 0;
+    }
     InstallStopHandlers();
     try {
         CsvSourceNode node(o, std::move(*file));
         return node.Run();
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal-csv-source: error: " << e.what() << "\n";
+        PrintError(kCsvSourceProcess, e.what());
         return 1;
     }
 }
@@ -179,8 +196,8 @@ int CsvSourceNode::Run() {
     if (StopRequested() && next_ < file_.rows.size()) std::cerr << "; stopped by signal";
     std::cerr << "\n";
     if (c.publish_errors > 0) {
-        std::cerr << "gyrocal-csv-source: error: " << c.publish_errors
-                  << " messages could not be sent (LCM publish failed)\n";
+        PrintError(kCsvSourceProcess, std::to_string(c.publish_errors) +
+                                          " messages could not be sent (LCM publish failed)");
         return 1;
     }
     return 0;

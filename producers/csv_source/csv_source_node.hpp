@@ -22,6 +22,7 @@ namespace gyrocal {
 // so that a pipeline of several processes has room; lcm-logger 1.3.1 (30-message subscription
 // queue) loses sooner. The measured losses per rate: producers/csv_source/README.md.
 inline constexpr double kDefaultMaxRateHz = 20000.0;
+inline constexpr const char* kCsvSourceProcess = "gyrocal-csv-source";
 
 struct CsvSourceOptions {
     std::string file;
@@ -31,6 +32,7 @@ struct CsvSourceOptions {
     double max_rate_hz = kDefaultMaxRateHz;  // [msg/s] cap of --max
     csv::OnError on_error = csv::OnError::kStop;
     double drain_s = 0.5;  // [s] wait after the last row before exiting
+    long check_rows = -1;  // >= 0: check the header and this many rows, publish nothing
     csv::ConversionOptions conversion = csv::ConversionOptions::Defaults();
     static CsvSourceOptions Defaults() { return {}; }
     std::string Validate() const;  // "" or one line naming the option and the valid range
@@ -40,6 +42,8 @@ struct CsvSourceOptions {
 // per o.on_error, reported on stderr as FILE:LINE), then publishes it with a CsvSourceNode.
 // Returns the exit code: 2 when the file cannot be opened, 1 for a malformed file under
 // OnError::kStop (nothing published) or a publish failure, 0 when done or stopped.
+// With o.check_rows >= 0 it only reads the header and that many rows (the check `gyrocal
+// calibrate` makes before it starts a run) and publishes nothing: 0 valid, 1 malformed.
 int ReplayCsvFile(const CsvSourceOptions& o);
 
 class CsvSourceNode {

@@ -37,7 +37,7 @@ beyond a 30-message queue: when it records, use --max-rate-hz 2000 or --speed.
 
 Exit codes: 0 file done (after --drain-s) or stopped by SIGINT/SIGTERM; 1 malformed file
 (stop policy) or publish failure; 2 bad options (unknown option, out-of-range value, missing
-or unreadable file).)";
+or unreadable file). With --check-rows: 0 valid, 1 malformed (or no data row), 2 unreadable.)";
 
 }  // namespace
 
@@ -59,6 +59,10 @@ int main(int argc, char** argv) {
     csv::AddConversionOptions(app, o.conversion,
                               "utime [us] of time_s = 0 (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after the last row before exit [s] (default 0.5)");
+    app.add_option("--check-rows", o.check_rows,
+                   "only check the header and the first N rows, publish nothing, exit 0 valid or "
+                   "1 malformed (gyrocal calibrate's check before a run), 0..1e9")
+        ->check(CLI::Range(0L, 1000000000L));
     const auto validate = [&] {
         const std::string err =
             csv::Choose("--on-error", on_error,

@@ -60,9 +60,9 @@ int main(int argc, char** argv) {
         fd = open(o.device.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC);
         if (fd < 0) {
             if (errno == EINTR && StopRequested()) return 0;
-            std::cerr << "gyrocal-line-source: --device '" << o.device
-                      << "' cannot be opened: " << std::strerror(errno)
-                      << "; give a readable serial device, FIFO or file\n";
+            PrintError("gyrocal-line-source", "--device '" + o.device + "' cannot be opened: " +
+                                                  std::strerror(errno) +
+                                                  "; give a readable serial device, FIFO or file");
             return 2;
         }
         name = o.device;
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
         LineSourceNode node(o, std::make_unique<LineInput>(fd, name));
         return node.Run();
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal-line-source: error: " << e.what() << "\n";
+        PrintError("gyrocal-line-source", e.what());
         return 1;
     }
 }

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <string>
 
+#include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
 #include "cli.hpp"
 #include "rig_node.hpp"
@@ -15,7 +16,7 @@ int main(int argc, char** argv) {
     if (!options.truth_out.empty()) {
         std::string error;
         if (!gyrocal::WriteTruthFile(options.truth_out, options, error)) {
-            std::cerr << "gyrocal-sim-rig: " << error << "\n";
+            gyrocal::PrintError("gyrocal-sim-rig", error);
             return 2;
         }
     }
@@ -24,10 +25,10 @@ int main(int argc, char** argv) {
         gyrocal::SimRigNode node(options);
         return node.Run();
     } catch (const gyrocal::sim::ConfigError& e) {
-        std::cerr << "gyrocal-sim-rig: " << e.what() << "\n";
+        gyrocal::PrintError("gyrocal-sim-rig", e.what());
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal-sim-rig: " << e.what() << "\n";
+        gyrocal::PrintError("gyrocal-sim-rig", e.what());
         return 1;
     }
 }

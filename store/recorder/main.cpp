@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     try {
         writer = gyrocal::record::OpenRecorderDatabase(o.db_path);
     } catch (const std::exception& e) {
-        std::cerr << kRecorderProcess << ": --db: " << e.what() << "\n";
+        gyrocal::PrintError(kRecorderProcess, std::string("--db: ") + e.what());
         return 2;
     }
     try {
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
         gyrocal::record::RecorderNode node(o, std::move(writer));
         return node.Run();
     } catch (const std::exception& e) {
-        std::cerr << kRecorderProcess << ": error: " << e.what() << "\n";
+        gyrocal::PrintError(kRecorderProcess, e.what());
         return 1;
     }
 }

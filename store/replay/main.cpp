@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
         gyrocal::InstallStopHandlers();
         return node.Run();
     } catch (const std::exception& e) {
-        std::cerr << kReplayProcess << ": error: " << e.what() << "\n";
+        gyrocal::PrintError(kReplayProcess, e.what());
         return 1;
     }
 }

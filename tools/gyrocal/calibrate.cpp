@@ -35,6 +35,9 @@
 #include "launch/child_process.hpp"
 #include "paths.hpp"
 #include "progress.hpp"
+#include "child_errors.hpp"
+#include "input_check.hpp"
+#include "runtime/process_main.hpp"
 #include "csv/file_digest.hpp"
 #include "procedure.hpp"
 
@@ -420,8 +423,16 @@ bool Calibration::DetectEnd() {
         if (!run_ended_) {
             // Let the processors drain what the source published before closing the run.
             for (int i = 0; i < 20; ++i) bus_.Handle(50ms);
-            AnnounceRun(s->exited && s->code == 0 ? "stop" : "abort",
-                        s->exited && s->code == 0 ? "end of data" : o_.source + " source " + s->Describe());
+            if (s->exited && s->code == 0) {
+                AnnounceRun("stop", "end of data");
+            } else {
+                // The source's own words, printed and stored with the run (child_errors.hpp).
+                const std::string reason =
+                    WithCause(o_.source + " source " + s->Describe(), CauseOf(*source_));
+                std::cerr << "\ngyrocal calibrate: aborting the run: " << reason << "\n";
+                run_outcome_ = "abort: " + reason;
+                AnnounceRun("abort", reason);
+            }
         }
         return true;
     }
@@ -504,6 +515,15 @@ int RunCalibration(const CalibrateOptions& options) {
         // The command line as the kernel has it (NUL-separated), recorded with the run.
         std::ifstream f("/proc/self/cmdline");
         for (std::string arg; std::getline(f, arg, '\0');) o.command_line += (o.command_line.empty() ? "" : " ") + arg;
+    }
+    // Measured input that cannot be replayed is refused before any process starts (no run).
+    if (RoleRuns(*ParseRole(o.role), "gyrocal-sim-rig")) {
+        if (const std::string problem = MeasuredInputProblem(o); !problem.empty()) {
+            PrintError("gyrocal calibrate", problem);
+            std::cerr << "gyrocal calibrate: no run was started (the input was checked before "
+                         "the process graph)\n";
+            return 2;
+        }
     }
     try {
         o.lcm_url = EffectiveLcmUrl(o);

@@ -36,6 +36,7 @@ private:
         std::string log;
         std::unique_ptr<ChildProcess> proc;
         int instance = 0;  // restarts so far
+        std::vector<std::string> previous_cause;  // error lines of the instance last restarted
     };
     struct PendingRecovery {
         Clock::time_point due;
@@ -76,6 +77,9 @@ private:
     std::vector<std::string> ResumeArgs(const Child& c) const;
     void PublishRestart(const Child& c, const ExitStatus& how, int previous_pid);
     int AbortRun(const std::string& reason);
+    // The child's own error lines from its log (child_errors.hpp), the cause shown under the
+    // abort line and stored with the run.
+    std::vector<std::string> CauseOf(const Child& c) const;
     void OnRestartEvent(const run_event_t& e);
     void RecoverDue();
     void StopAll();

@@ -187,10 +187,15 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
         "Several hosts: one command per host with --role, the same --lcm-url (ttl=1) and options;\n"
         "start the recorder and processors roles first. A crashed process is restarted (its state\n"
         "recovered) or the run is aborted with the reason: see the README's Faults table.\n"
+        "Measured input (--source csv|log) is checked before any process starts: a file whose header\n"
+        "or first 100 rows cannot be replayed is refused with one line (file:line, column, what is\n"
+        "valid), exit 2, no run recorded. A process that ends the run later (a bad row further down,\n"
+        "a crash) has its own error line printed under the abort line and stored as the run's reason.\n"
         "Exit codes: 0 run completed with coefficients for every sensor, 1 failure (a process could not\n"
-        "start or died; its log is named), 2 bad options, 3 run aborted or incomplete (chamber fault,\n"
-        "Ctrl-C, wall-clock limit, missing coefficients), 4 run completed but a unit did not pass its\n"
-        "--limits (each such unit and limit named).");
+        "start or died; its log is named), 2 bad options or measured input refused before the start,\n"
+        "3 run aborted or incomplete (chamber fault, Ctrl-C, wall-clock limit, missing coefficients, a\n"
+        "source or process that ended the run: its words shown), 4 run completed but a unit did not\n"
+        "pass its --limits (each such unit and limit named).");
 }
 
 // The checks across options, after parsing (CLI::ValidationError names the option); completes

@@ -9,6 +9,7 @@
 #include "runtime/shutdown.hpp"
 #include "runtime/status.hpp"
 #include "calibration.hpp"
+#include "child_errors.hpp"
 #include "gyrocal/version.hpp"
 
 namespace gyrocal::cli {
@@ -96,27 +97,36 @@ std::optional<int> Calibration::Supervise() {
     return std::nullopt;
 }
 
+std::vector<std::string> Calibration::CauseOf(const Child& c) const {
+    return ErrorLinesOf(ReadLog(c.log), c.name);
+}
+
 std::optional<int> Calibration::HandleCrash(Child& c, const ExitStatus& how) {
     std::cerr << "\ngyrocal calibrate: " << c.name << " ended unexpectedly (" << how.Describe()
               << "); log " << c.log << ":\n"
               << TailOf(c.log, 10);
     const std::string what = c.name + " ended unexpectedly (" + how.Describe() + ")";
+    const std::vector<std::string> cause = CauseOf(c);
     if (CrashPolicy(c.name) == OnCrash::kAbortRun) {
         const std::string lost = c.name == "gyrocal-sim-rig"
                                      ? "the simulated chamber and units went with it"
                                      : "its position in the data went with it";
-        return AbortRun(what + ": " + lost + "; a restart would be another experiment");
+        return AbortRun(
+            WithCause(what + ": " + lost + "; a restart would be another experiment", cause));
     }
     if (!budget_.Take(c.name))
-        return AbortRun(what + " after " + std::to_string(budget_.max()) +
-                        " restarts in this run (--max-restarts)");
+        return AbortRun(WithCause(what + " after " + std::to_string(budget_.max()) +
+                                      " restarts in this run (--max-restarts)",
+                                  cause));
     if (!Restart(c, how))
-        return AbortRun(what + " and did not come back when restarted (log " + c.log + ")");
+        return AbortRun(WithCause(
+            what + " and did not come back when restarted (log " + c.log + ")", cause));
     return std::nullopt;
 }
 
 bool Calibration::Restart(Child& c, const ExitStatus& how) {
     const int previous_pid = c.proc->pid();
+    c.previous_cause = CauseOf(c);
     ++c.instance;
     c.log = o_.log_dir + "/" + c.name + "." + std::to_string(c.instance) + ".log";
     std::vector<std::string> argv = c.argv;
@@ -162,10 +172,11 @@ void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int prev
                   .count();
     e.run_id = run_id_;
     e.event = "restart";
-    e.reason = c.name + " ended unexpectedly (" + how.Describe() + "); restarted as pid " +
-               std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " +
-               std::to_string(budget_.used(c.name)) + " of " + std::to_string(budget_.max()) +
-               "); recovery: " + kRecovery.at(r);
+    e.reason = WithCause(c.name + " ended unexpectedly (" + how.Describe() + "); restarted as pid " +
+                             std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " +
+                             std::to_string(budget_.used(c.name)) + " of " +
+                             std::to_string(budget_.max()) + "); recovery: " + kRecovery.at(r),
+                         c.previous_cause);
     e.setpoint_index = setpoint_index_;
     e.setpoint_c = setpoint_index_ >= 0 ? setpoint_c_ : NAN;
     e.num_sensors = 0;

@@ -17,7 +17,7 @@ struct Case {
     std::vector<std::string> args;  // after the program name
     std::string validation_error;   // what the process's own check says ("": valid)
     std::optional<int> exit_code;   // nullopt: the process goes on
-    std::string says;               // on stderr, one line after "gyrocal-test: " ("": nothing)
+    std::string says;               // on stderr, one line after "gyrocal-test: error: " ("": nothing)
     std::string ends;               // how that line ends
 };
 
@@ -56,7 +56,7 @@ TEST(ParseCommandLine, HelpBadOptionsAndFailedChecksEndTheProcessWithTheirCode) 
         if (c.says.empty()) {
             EXPECT_EQ(err, "");
         } else {
-            EXPECT_EQ(err.rfind("gyrocal-test: ", 0), 0u) << err;
+            EXPECT_EQ(err.rfind("gyrocal-test: error: ", 0), 0u) << err;
             EXPECT_NE(err.find(c.says), std::string::npos) << err;
             ASSERT_GE(err.size(), c.ends.size());
             EXPECT_EQ(err.substr(err.size() - c.ends.size()), c.ends) << err;
@@ -78,7 +78,15 @@ TEST(RunUntilStopped, ZeroWhenTheNodeReturnsOneNamingTheProcessWhenItThrows) {
     ::testing::internal::CaptureStderr();
     EXPECT_EQ(RunUntilStopped("gyrocal-test", [] { throw std::runtime_error("LCM cannot open"); }),
               1);
-    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "gyrocal-test: LCM cannot open\n");
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "gyrocal-test: error: LCM cannot open\n");
+}
+
+TEST(ErrorLine, OneShapeAndItsRecognition) {
+    EXPECT_EQ(ErrorLine("gyrocal-x", "f.csv:3: column a: bad; valid: b"),
+              "gyrocal-x: error: f.csv:3: column a: bad; valid: b");
+    EXPECT_TRUE(IsErrorLineOf("gyrocal-x", ErrorLine("gyrocal-x", "w")));
+    EXPECT_FALSE(IsErrorLineOf("gyrocal-x", ErrorLine("gyrocal-xy", "w")));
+    EXPECT_FALSE(IsErrorLineOf("gyrocal-x", "gyrocal-x: warning: w"));
 }
 
 }  // namespace

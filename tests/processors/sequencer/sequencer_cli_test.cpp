@@ -50,7 +50,7 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
         ASSERT_TRUE(st.has_value()) << c.args[0] << ": did not exit";
         EXPECT_TRUE(st->exited && st->code == 2) << c.args[0] << ": " << st->Describe();
         const std::string said = ReadLog(err);
-        EXPECT_EQ(said.rfind("gyrocal-sequencer: ", 0), 0u) << said;
+        EXPECT_EQ(said.rfind("gyrocal-sequencer: error: ", 0), 0u) << said;
         EXPECT_NE(said.find(c.says), std::string::npos) << said;
     }
     std::filesystem::remove(err);

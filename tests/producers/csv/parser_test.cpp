@@ -231,6 +231,20 @@ TEST(CsvPolicy, StopThrowsTheFirstErrorOnly) {
     }
 }
 
+TEST(CsvFile, HeadCheckReadsOnlyTheFirstRows) {
+    // GIVEN a bad row after the first three
+    const std::string text = kHeader + "0,S01,2.5,2.5\n1,S01,2.5,2.5\n2,S01,2.5,2.5\n3,S01,abc,2.5\n";
+    std::istringstream head(text), whole(text);
+    // WHEN only the head is read THEN the three rows are there and the bad one was never parsed
+    const CsvFile f = ReadCsv(head, "f.csv", kDefault, OnError::kStop, 3);
+    EXPECT_EQ(f.rows.size(), 3u);
+    // AND reading the whole file finds it
+    EXPECT_THROW(ReadCsv(whole, "f.csv", kDefault, OnError::kStop), CsvError);
+    // AND a head of 0 rows checks the header alone
+    std::istringstream bad_header("a,b\n");
+    EXPECT_THROW(ReadCsv(bad_header, "f.csv", kDefault, OnError::kStop, 0), CsvError);
+}
+
 TEST(CsvConversionOptions, PresetsAndRangesNameTheOption) {
     EXPECT_TRUE(sensor::PresetTransfer("610"));
     EXPECT_TRUE(sensor::PresetTransfer("613"));

@@ -225,7 +225,9 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
             << id;
         EXPECT_EQ(
             sql.Int(
-                "SELECT count(DISTINCT round(s.temp_c, -1) || '/' || s.direction) FROM "
+                // Setpoints 15, 30, 45 degC: temp_c / 15 rounds to the setpoint's index whatever
+                // the few tenths the die sits from it (rounding to tens split 15 and 45 degC).
+                "SELECT count(DISTINCT round(s.temp_c / 15.0) || '/' || s.direction) FROM "
                 "coeff_set_rotations l "
                 "JOIN sensitivity_points s ON s.rotation_id = l.rotation_id AND s.sensor_id = '" +
                 id + "' WHERE l.coeff_row_id = " + row),
@@ -280,6 +282,13 @@ TEST(CalibrateCrash, KilledRigAbortsTheRunWithTheReasonAndKeepsWhatWasRecorded) 
     EXPECT_EQ(run.at(1), "abort");
     EXPECT_NE(run.at(2).find("simulated chamber and units went with it"), std::string::npos)
         << run.at(2);
+    // The cause is where the user looks: `gyrocal show` prints the stored reason.
+    ChildProcess show({GYROCAL_CLI, "show", run.at(0), "--db", dir + "/run.db"}, dir + "/show.txt",
+                      dir + "/show.txt");
+    ASSERT_TRUE(show.Wait(std::chrono::seconds(60)).has_value());
+    EXPECT_NE(ReadLog(dir + "/show.txt").find("gyrocal-sim-rig ended unexpectedly (killed by signal 9"),
+              std::string::npos)
+        << ReadLog(dir + "/show.txt");
     // One abort: the sequencer ended on the supervisor's, without one of its own.
     EXPECT_EQ(sql.Int("SELECT count(*) FROM run_events WHERE event IN ('stop', 'abort')"), 1);
     EXPECT_EQ(ReadLog(dir + "/logs/gyrocal-sequencer.log").find("operator stop"),
