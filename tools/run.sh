@@ -4,7 +4,9 @@
 #                                                        judge it by tools/acceptance/limits.json and
 #                                                        write its report (reports/, path printed)
 #   tools/run.sh test                                    set up, build, run every test (CTest)
-#   tools/run.sh setup                                   set up and build only
+#   tools/run.sh setup                                   set up and build everything (tests too)
+# calibrate builds only what it runs (the processes and the gyrocal command: target
+# gyrocal_apps); test and setup build everything.
 #   tools/run.sh sanitize [asan|tsan|fast]               the tests under sanitizers (below)
 #   tools/run.sh fuzz [--seconds N] [HARNESS...]         run the fuzz harnesses (tests/fuzz/run.sh)
 # Set-up installs what is missing with apt-get (needs root or sudo) and is quick when all is there.
@@ -73,9 +75,17 @@ if command -v ccache >/dev/null; then
     launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 fi
 
-build_all() {
+configure() {
     cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
+}
+build_all() {
+    configure
     cmake --build "$build" -j "$jobs"
+}
+# What a calibration runs, without the tests and benchmarks (CMake target gyrocal_apps).
+build_apps() {
+    configure
+    cmake --build "$build" -j "$jobs" --target gyrocal_apps
 }
 
 # Sanitizer builds, each in its own folder, with clang (GCC 12's UBSan reports a false
@@ -141,7 +151,7 @@ cmd="${1:-}"
 [ $# -gt 0 ] && shift
 case "$cmd" in
     setup)     install_missing; check_multicast; build_all ;;
-    calibrate) install_missing; check_multicast; build_all
+    calibrate) install_missing; check_multicast; build_apps
                # Example limits and the report of the run, unless the caller chose their own.
                extra=()
                case " $* " in *" --limits"*) ;; *) extra+=(--limits "$here/tools/acceptance/limits.json") ;; esac
