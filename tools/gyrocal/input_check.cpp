@@ -56,7 +56,8 @@ std::string LcmLogProblem(const std::string& path) {
     unsigned char head[4] = {};
     in.read(reinterpret_cast<char*>(head), 4);
     const std::streamsize n = in.gcount();
-    const std::string valid = "an LCM log (written by lcm-logger) starts with the sync word 0xEDA1DA01";
+    const std::string valid =
+        "an LCM log (written by lcm-logger) starts with the sync word 0xEDA1DA01";
     if (n == 0) return path + ": the file is empty; " + valid;
     if (n < 4 || std::equal(head, head + 4, kSync) == false) {
         std::string got;

@@ -64,9 +64,10 @@ TEST(CalibrateBadInput, EmptyCsvIsRefusedBeforeAnyProcessStarts) {
     std::ofstream(dir + "/empty.csv").close();
     const Outcome o = Calibrate(dir, "csv", dir + "/empty.csv");
     EXPECT_EQ(o.code, 2) << o.printed;
-    EXPECT_NE(FirstLines(o.printed, 3).find("gyrocal calibrate: error: " + dir +
-                                            "/empty.csv:1: column time_s: no header row: the "
-                                            "file is empty"),
+    EXPECT_NE(FirstLines(o.printed, 3)
+                  .find("gyrocal calibrate: error: " + dir +
+                        "/empty.csv:1: column time_s: no header row: the "
+                        "file is empty"),
               std::string::npos)
         << o.printed;
     EXPECT_NE(o.printed.find("no run was started"), std::string::npos) << o.printed;
@@ -143,14 +144,14 @@ TEST(CalibrateBadInput, BadRowMidFileEndsTheRunWithTheSourcesOwnLinePrintedAndSt
     EXPECT_NE(run[0][2].find("is not a number"), std::string::npos) << run[0][2];
 
     // ... and shown by `gyrocal show` and on the report's first lines.
-    ChildProcess show({GYROCAL_CLI, "show", run[0][0], "--db", dir + "/run.db"},
-                      dir + "/show.out", dir + "/show.out");
+    ChildProcess show({GYROCAL_CLI, "show", run[0][0], "--db", dir + "/run.db"}, dir + "/show.out",
+                      dir + "/show.out");
     ASSERT_TRUE(show.Wait(60s).has_value());
     EXPECT_NE(ReadLog(dir + "/show.out").find(cause), std::string::npos)
         << ReadLog(dir + "/show.out");
-    ChildProcess report({GYROCAL_CLI, "report", run[0][0], "--db", dir + "/run.db", "--out",
-                         dir + "/report"},
-                        dir + "/report.out", dir + "/report.out");
+    ChildProcess report(
+        {GYROCAL_CLI, "report", run[0][0], "--db", dir + "/run.db", "--out", dir + "/report"},
+        dir + "/report.out", dir + "/report.out");
     ASSERT_TRUE(report.Wait(120s).has_value());
     std::string html;
     for (const auto& f : std::filesystem::directory_iterator(dir + "/report"))

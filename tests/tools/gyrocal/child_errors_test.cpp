@@ -23,7 +23,8 @@ TEST(ChildErrors, TheProcessesOwnErrorLinesWithoutTheirPrefix) {
 TEST(ChildErrors, AnotherProcessesErrorLineIsNotThisOnes) {
     // A line of another program in the same log (a library's message) is not this child's error.
     const std::string log = ErrorLine("lcm", "boom") + "\nlast words\n";
-    EXPECT_THAT(ErrorLinesOf(log, "gyrocal-plateau"), ElementsAre("last line of its log: last words"));
+    EXPECT_THAT(ErrorLinesOf(log, "gyrocal-plateau"),
+                ElementsAre("last line of its log: last words"));
 }
 
 TEST(ChildErrors, OnlyTheLastFewAreKeptOldestFirst) {
