@@ -49,6 +49,10 @@ class PlateauNode : private motion::MotionInputs::Handler {
 public:
     explicit PlateauNode(const PlateauOptions& options);  // throws BusError when LCM cannot open
     void Run();
+    // Tests drive the node in-process over memq://: they publish into its bus, dispatch with
+    // Handle, and see its STATUS (counters, per-sensor state) after PublishStatus.
+    Bus& bus() { return bus_; }
+    void PublishStatus() { status_.PublishNow(); }
     int64_t plateaus_published() const { return plateaus_; }
 
 private:

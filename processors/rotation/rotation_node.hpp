@@ -38,6 +38,10 @@ class RotationNode : private motion::MotionInputs::Handler {
 public:
     explicit RotationNode(const RotationOptions& options);  // throws BusError when LCM cannot open
     void Run();
+    // Tests drive the node in-process over memq://: they publish into its bus, dispatch with
+    // Handle, and see its STATUS (counters, per-sensor state) after PublishStatus.
+    Bus& bus() { return bus_; }
+    void PublishStatus() { status_.PublishNow(); }
 
 private:
     struct Sensor {

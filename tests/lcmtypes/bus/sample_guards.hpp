@@ -14,6 +14,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "message_builders.hpp"
 #include "status_watch.hpp"
+#include "wire.hpp"
 
 namespace gyrocal::testing {
 
@@ -29,15 +30,18 @@ inline void PublishBadSamples(Bus& bus, int64_t utime, const std::string& unknow
     bus.Publish(channels::Gyro(id), bad);
 }
 
-// Publishes sample `seq` of `id` at `utime`, earlier than its newest, and waits until STATUS
-// shows `counted()` with that sample refused as out of order (its last refusal).
+// Publishes sample `seq` of `id` at `utime`, earlier than its newest, and waits (through `wire`,
+// wire.hpp: the node in-process or the process over UDP) until STATUS shows `counted()` with
+// that sample refused as out of order (its last refusal).
 template <class Counted>
-::testing::AssertionResult LateSampleIsRefused(Bus& bus, const StatusWatch& watch,
-                                               const std::string& id, int64_t utime, int64_t seq,
-                                               Counted&& counted) {
+::testing::AssertionResult LateSampleIsRefused(Bus& bus, const Wire& wire,
+                                               const StatusWatch& watch, const std::string& id,
+                                               int64_t utime, int64_t seq, Counted&& counted) {
     bus.Publish(channels::Gyro(id), GyroSample(id, utime, seq, 2.505, 30.0));
-    if (auto reached = StatusReaches(bus, watch, counted, std::chrono::seconds(5)); !reached) {
-        return reached;
+    if (!wire.until(counted, std::chrono::seconds(5))) {
+        return ::testing::AssertionFailure()
+               << "decode_errors " << watch.last.decode_errors << " rejected "
+               << watch.last.rejected << " last_reject " << watch.last.last_reject;
     }
     if (watch.last.last_reject.find("out-of-order") == std::string::npos) {
         return ::testing::AssertionFailure() << "last_reject " << watch.last.last_reject;

@@ -1,7 +1,6 @@
 #pragma once
-// The STATUS heartbeat of one process as its process test watches it: the newest message, the
-// named extras the process adds (per-sensor state, counters), and a bounded wait on them whose
-// failure says where the counters stood.
+// The STATUS heartbeat of one process as its tests watch it: the newest message and the named
+// extras the process adds (per-sensor state, counters). Wait on it through wire.hpp.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -42,16 +41,5 @@ public:
 private:
     std::string process_;
 };
-
-// Handles `bus` until `done()` holds; on timeout the failure carries the newest counters.
-template <class Done>
-::testing::AssertionResult StatusReaches(Bus& bus, const StatusWatch& watch, Done&& done,
-                                         std::chrono::milliseconds timeout) {
-    if (HandleUntil(bus, done, timeout, std::chrono::milliseconds(20)))
-        return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure()
-           << "decode_errors " << watch.last.decode_errors << " rejected " << watch.last.rejected
-           << " last_reject " << watch.last.last_reject;
-}
 
 }  // namespace gyrocal::testing

@@ -1,0 +1,27 @@
+// gyrocal-rotation's node in one process over memq:// (LCM's in-process provider): the scenario
+// of rotation_scenario.hpp (a point per move within the noise of the truth, bad input counted),
+// driven with bounded waits on conditions and no sleep. The real process over UDP:
+// rotation_process_test.cpp.
+#include "rotation_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include "rotation_scenario.hpp"
+#include "status_watch.hpp"
+#include "wire.hpp"
+
+namespace gyrocal {
+namespace {
+
+TEST(RotationNode, PublishesOnePointPerMoveAndCountsBadInput) {
+    RotationOptions o = RotationOptions::Defaults();
+    o.lcm_url = "memq://";
+    o.sensors = testing::kRotationScenarioSensors;
+    ASSERT_EQ(o.Validate(), "");
+    RotationNode node(o);
+    testing::StatusWatch status(node.bus(), "gyrocal-rotation");
+    testing::RotationScenario(node.bus(), testing::ForNode(node), status);
+}
+
+}  // namespace
+}  // namespace gyrocal
