@@ -31,6 +31,11 @@ public:
     // Runs until the procedure is done or SIGINT/SIGTERM (which aborts the run, recorded).
     // Returns the exit code: 0 completed, 3 run aborted.
     int Run();
+    // Tests drive the node in-process over memq://: they publish into its bus and dispatch with
+    // Handle; done() once the procedure has ended.
+    Bus& bus() { return bus_; }
+    void PublishStatus() { status_.PublishNow(); }
+    bool done() const { return procedure_ && procedure_->done(); }
 
 private:
     void OnAnyTime(int64_t utime);
