@@ -129,10 +129,28 @@ struct AnalysisOptions {
     double warmup_tau_max_s = 3000.0;
     double warmup_max_tau_fraction = 0.1;  // [1] and at most this fraction of the still span
     double same_level_tolerance_c = 1.0;   // [degC] sensitivity points this close: one temperature
-    double slow_noise_floor_ratio = 1.0;   // [1] k of step 9
-    double min_feature_drop = 0.4;  // [1] fraction of the held-out squared residual a generic
-                                    // feature must remove to explain it (residual.hpp)
+    // [1] k of step 9; negative: measured from the run (the Allan deviation of its residual,
+    // noise_model.hpp), the default.
+    double slow_noise_floor_ratio = -1.0;
+    // The null distributions of step 8's features, the warm-up's check and the windows of step 9
+    // are built from this many surrogates of the run's own noise (noise_model.hpp), drawn from
+    // surrogate_seed (the same run gives the same verdict).
+    int surrogates = 200;
+    uint64_t surrogate_seed = 1;
+    double feature_fpr = 0.02;  // [1] family-wise false-positive rate of the generic features
+    double window_fpr = 0.01;   // [1] of the time windows and temperature bands (step 9)
+    double warmup_fpr = 0.01;   // [1] of the warm-up's localized check (step 4)
+    double early_block_s = 60.0;  // [s] the warm-up check's interleaved blocks after power-on
+    // "Not testable" when more than this fraction of the candidates could not be tested.
+    double max_untested_fraction = 0.5;
+    // [1] a generic feature must also remove this fraction of the held-out squared residual; 0:
+    // only the calibrated null decides (the default).
+    double min_feature_drop = 0.0;
     static AnalysisOptions Defaults() { return {}; }
+    // The false-positive rate the thresholds claim on a run with no missing effect, as a union
+    // bound: feature_fpr + window_fpr + warmup_fpr + what the floor bound's 3 sigma leaves
+    // (0.27 %). The candidates' z^2 at min_z2 = 25 (5 sigma) behind a held-out gate adds far less.
+    double ClaimedFalsePositiveRate() const;
     std::string Problem() const;  // "" when valid
 };
 
@@ -157,6 +175,9 @@ struct AddedEffect {
     std::string effect, term, unit;
     double coefficient = kNan;  // [unit]
     double stderr_ = kNan;      // [unit]
+    // The term's searched shape parameter (dT/dt or warm-up time constant [s], branch width
+    // [degC]) and its standard error from the fit linearised in it (NaN: the term has none).
+    double param = kNan, param_stderr = kNan;
 };
 
 struct ErrorFigures {
@@ -165,7 +186,14 @@ struct ErrorFigures {
     double drift_dph = kNan;
 };
 
-enum class Outcome { kAdequate, kExplained, kPartlyExplained, kUnexplained, kNotTestable };
+enum class Outcome {
+    kAdequate,
+    kExplained,
+    kPartlyExplained,
+    kUnexplained,
+    kNotTestable,
+    kAmbiguous  // a candidate and another shape explain the data equally well (both named)
+};
 const char* ToString(Outcome o);
 
 // A generic feature (step 8) judged on the held-out bins and correlated with the final residual.
@@ -179,7 +207,9 @@ struct FeatureResult {
     double heldout_after_rms_v = kNan;  // [V] held-out residual with the feature
     double effect_rms_v = kNan;     // [V] RMS of what it predicts on the held-out bins
     double heldout_drop = kNan;     // [1] fraction of the held-out squared residual it removes
-    bool explains_heldout = false;  // z > gate_min_z, gain > 0, effect above the floor
+    double null_z = kNan;           // its held-out statistic standardised by its null
+    double null_threshold = kNan;   // what null_z had to exceed (family-wise feature_fpr)
+    bool explains_heldout = false;  // null_z > null_threshold, gain > 0, effect above the floor
     std::string edge = {};          // its parameter ended at an end of its range (as candidates)
 };
 
@@ -191,6 +221,15 @@ struct CurvePoint {
 struct WindowRms {
     double lo = kNan, hi = kNan;  // [s from the start] or [degC]
     double rms_v = kNan;          // [V] residual RMS of the bins in it
+    int n = 0;
+};
+
+// A time window or temperature band whose residual exceeds what the run's noise leaves in a
+// window of its size (step 9): its RMS, the RMS the surrogates leave there on average, and its
+// statistic standardised by that null.
+struct WindowExcess {
+    std::string where;
+    double rms_v = kNan, expected_rms_v = kNan, z = kNan;
     int n = 0;
 };
 
@@ -258,6 +297,20 @@ struct SensorResult {
     // edge of the searched 30-300 s: the true value may be larger").
     std::vector<std::string> edges;
     ResidualDiagnostics residual;
+    // The thresholds the run itself gave (step 5 of the README's verdict): the slow noise k, from
+    // the Allan terms of the residual; the standardised thresholds of the features' and the
+    // windows' nulls over n_surrogates surrogates of that noise; the windows above theirs; the
+    // rate the thresholds claim on a run with no missing effect.
+    double slow_noise_k = kNan;
+    bool slow_noise_measured = false;
+    std::string noise_note;
+    int n_surrogates = 0;
+    double feature_null_threshold = kNan, window_null_threshold = kNan;
+    std::vector<WindowExcess> windows_above;  // strongest first
+    double claimed_false_positive_rate = kNan;
+    // A candidate and another shape (a generic feature or another candidate) that the data cannot
+    // tell apart: "a vs b: to separate: <measurement>".
+    std::vector<std::string> ambiguities;
     std::optional<model::Model> declared_offset, declared_sensitivity;  // fitted on all bins
     std::optional<model::Model> extended_offset, extended_sensitivity;  // fitted on all bins
     // The held-out split and the models the before/after figures used (fitted on the training
