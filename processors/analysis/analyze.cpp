@@ -48,10 +48,10 @@ void Notes(const SensorRun& run, const BinnedRun& binned, SensorResult& res) {
                             " contiguous stretches (moves and gaps split it)");
     res.power_on_source = run.power_on_source;
     if (run.power_on_assumed)
-        res.notes.push_back("time since power-on counted from the unit's first sample (no "
-                            "power-on record): warm-up terms assume the unit was powered then");
+        res.notes.push_back(
+            "time since power-on counted from the unit's first sample (no "
+            "power-on record): warm-up terms assume the unit was powered then");
 }
-
 
 // The sensitivity side (sensitivity.hpp): its figures into res; the outcome for the candidate.
 SensitivityOutcome Sensitivity(const SensorRun& run, const AnalysisOptions& o, SensorResult& res) {
@@ -150,6 +150,36 @@ std::vector<std::string> AddedNames(const SensorResult& r) {
     return v;
 }
 
+// Joint search (step 8): when a time-shaped feature explains held-out data, the candidates are
+// tested again with it accounted for (nuisance columns, fitted with the terms, never kept in the
+// model). That pass is the answer: what it names was masked by the time shape (named now), and
+// what only the first pass named mimicked the time shape (the shape explained held-out data with
+// it in, it adds nothing with the shape in): not attributed, with what would separate the two.
+void JointSearch(const BinnedRun& binned, const Split& split, double t0, const AnalysisOptions& o,
+                 const SensorResult& before, SensorResult& res) {
+    std::string name;
+    const MatrixXd nuisance = StrongTimeShape(binned, split, t0, o, res, name);
+    if (nuisance.cols() == 0) return;
+    SensorResult joint = before;
+    OffsetPass(binned, split, t0, o, nuisance, joint);
+    const std::vector<std::string> a = AddedNames(res), b = AddedNames(joint);
+    if (a == b) return;  // the same terms: the first pass stands (its figures without nuisance)
+    joint.notes.push_back("joint search: the candidates tested again with " + name +
+                          " accounted for (it explains held-out data; fitted with them, not kept "
+                          "in the model)");
+    for (const std::string& e : a) {
+        if (std::find(b.begin(), b.end(), e) != b.end()) continue;
+        const std::string why =
+            e + " (named only while " + name + " is not accounted for: with it in the model " + e +
+            " adds nothing, and it explained held-out data with " + e +
+            " in; to separate: " + SeparationFromTime(e, name.substr(0, name.find(" ["))) + ")";
+        joint.not_attributed.push_back(why);
+        for (CandidateResult& c : joint.candidates)
+            if (c.effect == e) c.decision = Decision::kRejected, c.note = "not attributed: " + why;
+    }
+    res = std::move(joint);
+}
+
 }  // namespace
 
 SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
@@ -174,33 +204,19 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
     const bool analysed = res.n_train_bins >= min_bins && split.n_blocks > 0;
     const MatrixXd none(static_cast<Index>(binned.size()), 0);
     if (!analysed) {
-        res.could_not_test.push_back(
-            "offset candidates: " + std::to_string(res.n_train_bins) + " training bins of " +
-            text::Sig(o.bins.bin_s, 3) + " s and " + std::to_string(split.n_blocks) +
-            " held-out blocks, need " + std::to_string(min_bins) + " and 1");
+        res.could_not_test.push_back("offset candidates: " + std::to_string(res.n_train_bins) +
+                                     " training bins of " + text::Sig(o.bins.bin_s, 3) + " s and " +
+                                     std::to_string(split.n_blocks) + " held-out blocks, need " +
+                                     std::to_string(min_bins) + " and 1");
         for (const char* e : kOffsetEffects)
-            res.candidates.push_back({e, "", Decision::kNotTested, kNan, kNan, 0,
-                                      "too few still bins", kNan, false});
+            res.candidates.push_back(
+                {e, "", Decision::kNotTested, kNan, kNan, 0, "too few still bins", kNan, false});
         FinalModels(binned, o.offset_terms, t0, o, none, res);
         Floors(binned, split, res);
     } else {
         const SensorResult before = res;
         OffsetPass(binned, split, t0, o, none, res);
-        // Joint search: the candidates again with the strongest time-shaped feature accounted
-        // for; taken when it names more (a masked effect), the first pass kept otherwise.
-        std::string nuisance_name;
-        const MatrixXd nuisance = StrongTimeShape(binned, split, t0, o, res, nuisance_name);
-        if (nuisance.cols() > 0) {
-            SensorResult joint = before;
-            OffsetPass(binned, split, t0, o, nuisance, joint);
-            const std::vector<std::string> a = AddedNames(res), b = AddedNames(joint);
-            if (b.size() > a.size() && std::includes(b.begin(), b.end(), a.begin(), a.end())) {
-                joint.notes.push_back("joint search: the candidates tested with " + nuisance_name +
-                                      " accounted for (it explains held-out data; fitted with "
-                                      "them, not kept in the model)");
-                res = std::move(joint);
-            }
-        }
+        JointSearch(binned, split, t0, o, before, res);
     }
     res.candidates.push_back(so.candidate);
     if (so.candidate.decision == Decision::kNotTested && so.problem.empty())

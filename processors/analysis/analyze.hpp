@@ -72,11 +72,11 @@
 //      bound^2 = floor^2 (1 + 9 k^2) + 9 prediction^2
 //    floor: the white bin scatter (step 7); prediction: what white noise at the floor puts into
 //    the held-out prediction of coefficients fitted on the training bins (floor x sqrt(mean
-//    leverage x'(X'X)^-1 x over the held-out bins)); k = slow_noise_floor_ratio: the correlated (slow)
-//    noise a perfect model also leaves in 10 s bin means, as a multiple of the floor (a MEMS gyro's
-//    flicker level is about its 10 s white scatter); it and the coefficients' prediction error are
-//    each nearly one shape over a held-out stretch, one degree of freedom, so 9x their variance is
-//    a 3-sigma allowance. Outcomes:
+//    leverage x'(X'X)^-1 x over the held-out bins)); k = slow_noise_floor_ratio: the correlated
+//    (slow) noise a perfect model also leaves in 10 s bin means, as a multiple of the floor (a MEMS
+//    gyro's flicker level is about its 10 s white scatter); it and the coefficients' prediction
+//    error are each nearly one shape over a held-out stretch, one degree of freedom, so 9x their
+//    variance is a 3-sigma allowance. Outcomes:
 //      adequate             nothing added, held-out residual within the bound and no generic
 //                           feature explains held-out data (its shape is noise's, not a trend's)
 //      explained            terms added and confirmed, residual after within the bound
@@ -123,9 +123,9 @@ struct AnalysisOptions {
     int min_ramp_bins = 6;                 // temp_rate needs this many ramp bins
     double rate_tau_min_s = 2.0;           // [s] search range of the dT/dt time constant
     double rate_tau_max_s = 60.0;
-    double branch_width_min_c = 0.25;      // [degC] search range of the branch width
+    double branch_width_min_c = 0.25;  // [degC] search range of the branch width
     double branch_width_max_c = 8.0;
-    double warmup_tau_min_s = 30.0;        // [s] search range of the warm-up time constant
+    double warmup_tau_min_s = 30.0;  // [s] search range of the warm-up time constant
     double warmup_tau_max_s = 3000.0;
     double warmup_max_tau_fraction = 0.1;  // [1] and at most this fraction of the still span
     double same_level_tolerance_c = 1.0;   // [degC] sensitivity points this close: one temperature
@@ -137,9 +137,9 @@ struct AnalysisOptions {
     // surrogate_seed (the same run gives the same verdict).
     int surrogates = 200;
     uint64_t surrogate_seed = 1;
-    double feature_fpr = 0.02;  // [1] family-wise false-positive rate of the generic features
-    double window_fpr = 0.01;   // [1] of the time windows and temperature bands (step 9)
-    double warmup_fpr = 0.01;   // [1] of the warm-up's localized check (step 4)
+    double feature_fpr = 0.02;    // [1] family-wise false-positive rate of the generic features
+    double window_fpr = 0.01;     // [1] of the time windows and temperature bands (step 9)
+    double warmup_fpr = 0.01;     // [1] of the warm-up's localized check (step 4)
     double early_block_s = 60.0;  // [s] the warm-up check's interleaved blocks after power-on
     // "Not testable" when more than this fraction of the candidates could not be tested.
     double max_untested_fraction = 0.5;
@@ -198,19 +198,19 @@ const char* ToString(Outcome o);
 
 // A generic feature (step 8) judged on the held-out bins and correlated with the final residual.
 struct FeatureResult {
-    std::string feature;   // "time since start", "periodic", ...
-    std::string channel;   // the measured channel it is built from
-    std::string detail;    // its searched parameter, e.g. "period 600 s"
-    double corr = kNan;    // [1] correlation with the final model's residual on all bins
-    double heldout_z = kNan;      // held-out gain over the model, in standard errors
+    std::string feature;            // "time since start", "periodic", ...
+    std::string channel;            // the measured channel it is built from
+    std::string detail;             // its searched parameter, e.g. "period 600 s"
+    double corr = kNan;             // [1] correlation with the final model's residual on all bins
+    double heldout_z = kNan;        // held-out gain over the model, in standard errors
     double heldout_gain_v2 = kNan;  // [V^2] mean drop of the squared held-out residual
     double heldout_after_rms_v = kNan;  // [V] held-out residual with the feature
-    double effect_rms_v = kNan;     // [V] RMS of what it predicts on the held-out bins
-    double heldout_drop = kNan;     // [1] fraction of the held-out squared residual it removes
-    double null_z = kNan;           // its held-out statistic standardised by its null
-    double null_threshold = kNan;   // what null_z had to exceed (family-wise feature_fpr)
-    bool explains_heldout = false;  // null_z > null_threshold, gain > 0, effect above the floor
-    std::string edge = {};          // its parameter ended at an end of its range (as candidates)
+    double effect_rms_v = kNan;         // [V] RMS of what it predicts on the held-out bins
+    double heldout_drop = kNan;         // [1] fraction of the held-out squared residual it removes
+    double null_z = kNan;               // its held-out statistic standardised by its null
+    double null_threshold = kNan;       // what null_z had to exceed (family-wise feature_fpr)
+    bool explains_heldout = false;      // null_z > null_threshold, gain > 0, effect above the floor
+    std::string edge = {};  // its parameter ended at an end of its range (as candidates)
 };
 
 // A point of a diagnostic curve of the residual.
@@ -236,8 +236,8 @@ struct WindowExcess {
 // The final model's residual on all bins.
 struct ResidualDiagnostics {
     double rms_v = kNan;
-    double lag1_autocorr = kNan;  // within contiguous stretches
-    double trend_v_per_h = kNan, trend_z = kNan;  // least-squares slope against time
+    double lag1_autocorr = kNan;                        // within contiguous stretches
+    double trend_v_per_h = kNan, trend_z = kNan;        // least-squares slope against time
     double period_s = kNan, period_amplitude_v = kNan;  // periodogram peak
     double period_power_ratio = kNan;  // peak power / median power over the periods searched
     std::vector<WindowRms> by_time, by_temp;
@@ -254,12 +254,12 @@ struct SensorResult {
     std::vector<AddedEffect> added;          // confirmed and in the extended model
     std::vector<std::string> unconfirmed;    // chosen on the training bins, refused by step 5
     ErrorFigures error_before, error_after;  // on the held-out bins
-    double heldout_gain_v2 = kNan;  // [V^2] mean drop of the squared held-out residual
-    double heldout_slope = kNan;    // [1] held-out residual on the added terms' prediction
-    double heldout_gain_z = kNan;   // that slope in its standard errors (step 5)
-    double floor_offset_rms_v = kNan;  // [V] step 7, of the (extended) model on all bins
+    double heldout_gain_v2 = kNan;           // [V^2] mean drop of the squared held-out residual
+    double heldout_slope = kNan;             // [1] held-out residual on the added terms' prediction
+    double heldout_gain_z = kNan;            // that slope in its standard errors (step 5)
+    double floor_offset_rms_v = kNan;        // [V] step 7, of the (extended) model on all bins
     double floor_rate_rms_dps = kNan;
-    double floor_drift_dph = kNan;     // white-noise drift over a held-out block
+    double floor_drift_dph = kNan;  // white-noise drift over a held-out block
     // What error_after should be if the extended model is right: the training fit's residual
     // variance plus its prediction variance on the held-out bins (mean x' Cov x, robust
     // covariance).
@@ -281,14 +281,14 @@ struct SensorResult {
     // prefixes older readers parse: "no missing effect", "missing effect", "not analysed").
     Outcome outcome = Outcome::kNotTestable;
     std::string headline;
-    double heldout_residual_rms_v = kNan;  // [V] the final model's held-out residual
-    double floor_bound_rms_v = kNan;       // [V] the bound it is compared with (step 9)
-    double floor_prediction_rms_v = kNan;  // [V] its prediction part
-    double excess_ratio = kNan;            // [1] residual / bound
-    std::vector<std::string> untested;     // candidates that could not be tested
-    std::vector<std::string> to_test;      // the measurement that would test each of them
+    double heldout_residual_rms_v = kNan;     // [V] the final model's held-out residual
+    double floor_bound_rms_v = kNan;          // [V] the bound it is compared with (step 9)
+    double floor_prediction_rms_v = kNan;     // [V] its prediction part
+    double excess_ratio = kNan;               // [1] residual / bound
+    std::vector<std::string> untested;        // candidates that could not be tested
+    std::vector<std::string> to_test;         // the measurement that would test each of them
     std::vector<std::string> not_attributed;  // named terms a generic feature displaced
-    std::vector<FeatureResult> features;   // step 8, strongest first
+    std::vector<FeatureResult> features;      // step 8, strongest first
     // Channels (or features of them) that were not recorded or did not vary, and what recording
     // would add them; a feature is never made up for them.
     std::vector<std::string> absent_channels;
@@ -315,7 +315,7 @@ struct SensorResult {
     std::optional<model::Model> extended_offset, extended_sensitivity;  // fitted on all bins
     // The held-out split and the models the before/after figures used (fitted on the training
     // bins), so a benchmark can put other methods on exactly the same data.
-    std::vector<int> holdout_bins;    // indices into the bins
+    std::vector<int> holdout_bins;  // indices into the bins
     std::optional<model::Model> holdout_before_offset, holdout_after_offset;
 };
 

@@ -24,8 +24,6 @@ double ParamOf(const std::string& term) {
     return end && *end == ')' ? v : kNan;
 }
 
-namespace {
-
 // The measurement that tells a candidate from a time-shaped shape.
 std::string SeparationFromTime(const std::string& effect, const std::string& feature) {
     if (feature == "step")
@@ -45,6 +43,8 @@ std::string SeparationFromTime(const std::string& effect, const std::string& fea
            "grows between the visits; " +
            effect + " repeats)";
 }
+
+namespace {
 
 struct TermVsFeatures {
     NullVerdict with, without;  // each family with every term in, and without this one
@@ -71,28 +71,21 @@ void TakeOut(size_t k, Decision d, const std::string& why, Selection& sel, Senso
             c.note = (d == Decision::kAmbiguous ? "ambiguous: " : "not attributed: ") + why;
 }
 
-// One added term against every time-shaped family: a mimic (the term adds nothing once the
-// feature is in, the feature still explains held-out data with the term in: not attributed), a
-// twin (neither adds to the other, the feature alone explains as the term did: ambiguous), or
-// neither (kept). The warm-up, checked on its own support, meets only the edge rule: at the upper
-// end of its grid the data did not resolve its shape, and a time-shaped feature that predicts the
-// held-out bins at least as well takes it. Returns the verdict text, empty when kept.
+// One added term against every time-shaped family (and temp_cubic also against a temperature
+// shape beyond it, (T - T0)^4): a mimic (the term adds nothing once the feature is in, the feature
+// still explains held-out data with the term in: not attributed), a twin (neither adds to the
+// other, the feature alone explains as the term did: ambiguous), or neither (kept). Returns the
+// verdict text, empty when kept.
 std::string Judge(const std::vector<Family>& fams, const TermVsFeatures& t,
-                  const std::string& effect, bool warmup_edge, const Split& split, int hac_lag,
+                  const std::string& effect, const Split& split, int hac_lag,
                   const AnalysisOptions& o, Decision& d) {
     for (size_t f = 0; f < fams.size(); ++f) {
         const FamilyFit &w = t.with.fits[f], &wo = t.without.fits[f];
         if (w.r1.size() == 0 || wo.r1.size() != w.r1.size()) continue;
         const std::string what = fams[f].name + " [" + fams[f].channel + "]";
-        if (effect == "warmup") {
-            if (warmup_edge && wo.r1.squaredNorm() <= w.r0.squaredNorm()) {
-                d = Decision::kRejected;
-                return effect + " (" + what +
-                       " explains its held-out residual at least as well, "
-                       "and its tau is at the upper end of its grid)";
-            }
-            continue;
-        }
+        // A feature without a time shape competes only with the candidate of its own kind: a
+        // temperature shape beyond the cubic with temp_cubic.
+        if (!fams[f].competes && effect != "temp_cubic") continue;
         const bool term_given_feature =
             Improves(HeldOutGain(wo.r1, w.r1, split.held_block, hac_lag), o);
         if (term_given_feature) continue;
@@ -125,7 +118,7 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
     if (sel.terms.size() == nd || s.noise.empty()) return out;
     std::vector<Family> fams;
     for (Family& f : FeatureFamilies(binned, train, train.AllDesign(o.offset_terms), o))
-        if (f.competes) fams.push_back(std::move(f));
+        if (f.competes || f.name == "temperature^4") fams.push_back(std::move(f));
     const VectorXd y = BinValues(binned);
     const HeldOutSearch with(train.AllDesign(sel.terms), train.rows, split.held, fams);
     if (!with.ok()) return out;
@@ -138,12 +131,12 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
         if (!wo.ok()) continue;
         t.without = JudgeOnNull(wo, y, s.noise, o.feature_fpr);
         const std::string effect = sel.added_effects[k - nd];
-        bool edge = false;  // a warm-up at the upper end of its grid
-        for (const Candidate& c : OffsetCandidates(binned, o))
-            edge =
-                edge || (c.effect == effect && c.grid.size() >= 2 && sel.terms[k] == c.grid.back());
+        // The warm-up is checked on its own support (localized.hpp), where the held-out blocks
+        // of this comparison hold little of it; the joint search (analyze.cpp) weighs it against
+        // the time shapes instead.
+        if (effect == "warmup") continue;
         Decision d = Decision::kRejected;
-        const std::string why = Judge(fams, t, effect, edge, split, train.hac_lag, o, d);
+        const std::string why = Judge(fams, t, effect, split, train.hac_lag, o, d);
         if (why.empty()) continue;
         (d == Decision::kAmbiguous ? res.ambiguities : res.not_attributed).push_back(why);
         TakeOut(k, d, why, sel, res);

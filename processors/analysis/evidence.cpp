@@ -15,6 +15,7 @@ using Eigen::VectorXd;
 Surrogates MakeSurrogates(const BinnedRun& binned, const VectorXd& residual_all,
                           const AnalysisOptions& o) {
     Surrogates s;
+    if (residual_all.size() != static_cast<Index>(binned.size()) || binned.size() < 8) return s;
     s.floor_v = NoiseFloor(binned.bins(), residual_all).offset_rms_v;
     s.model = MeasureNoise(binned.bins(), residual_all, binned.bin_s(), s.floor_v);
     const SurrogateNoise draw(s.model, binned.bins(), binned.bin_s());
@@ -29,7 +30,7 @@ std::vector<WindowSpec> Windows(const BinnedRun& b) {
     std::vector<WindowSpec> out;
     const std::vector<Bin>& bins = b.bins();
     const double t_first = bins.front().mid_utime * 1e-6;
-    for (double len : {300.0, 600.0, 1200.0, 2400.0}) {
+    for (double len : {600.0, 1200.0, 2400.0}) {
         std::vector<WindowSpec> tiles;
         for (size_t i = 0; i < bins.size(); ++i) {
             const auto k = static_cast<size_t>((bins[i].mid_utime * 1e-6 - t_first) / len);
@@ -71,21 +72,22 @@ std::vector<WindowExcess> WindowsAbove(const BinnedRun& b, const Eigen::MatrixXd
     const WindowStats stats(x_all, Windows(b));
     std::vector<std::vector<double>> null;
     std::vector<double> mean(stats.windows().size(), 0.0);
+    std::vector<double> ms;
     for (const VectorXd& u : s.noise) {
-        null.push_back(stats.Evaluate(u));
-        for (size_t w = 0; w < mean.size(); ++w) mean[w] += null.back()[w] / s.noise.size();
+        null.push_back(stats.Evaluate(u, &ms));
+        for (size_t w = 0; w < mean.size(); ++w) mean[w] += ms[w] / s.noise.size();
     }
     const MaxTNull max_t(null);
     const double threshold = max_t.Threshold(o.window_fpr);
     if (threshold_out) *threshold_out = threshold;
     VectorXd y(static_cast<Index>(b.size()));
     for (size_t i = 0; i < b.size(); ++i) y[static_cast<Index>(i)] = b.bins()[i].gyro_v;
-    const std::vector<double> run = stats.Evaluate(y);
+    const std::vector<double> run = stats.Evaluate(y, &ms);
     for (size_t w = 0; w < run.size(); ++w) {
         const double z = max_t.Z(w, run[w]);
         if (!(z > threshold)) continue;
         const WindowSpec& spec = stats.windows()[w];
-        out.push_back({spec.where, std::sqrt(run[w]), std::sqrt(mean[w]), z,
+        out.push_back({spec.where, std::sqrt(ms[w]), std::sqrt(mean[w]), z,
                        static_cast<int>(spec.rows.size())});
     }
     std::sort(out.begin(), out.end(),

@@ -1,15 +1,21 @@
 #pragma once
 // Internal to gyrocal_analysis: the evidence measured against the run's own noise (analyze.hpp,
 // steps 4, 8 and 9).
-//   Surrogates     the noise of a model's residual measured (noise_model.hpp) and drawn
-//                  o.surrogates times on the bins' times, from o.surrogate_seed
-//   WindowsAbove   the time windows (tiles of 300, 600, 1200 and 2400 s from the first bin) and
-//                  temperature bands (8 equal ones) whose residual mean square - the model fitted
-//                  on all bins - exceeds what the surrogates leave there: each window's statistic
+//   Surrogates     the noise of a model's residual measured (noise_model.hpp: its Allan terms,
+//                  the k of the floor bound) and o.surrogates noise vectors like it drawn on the
+//                  bins' times from o.surrogate_seed
+//   WindowsAbove   the time windows (tiles of 600, 1200 and 2400 s from the first bin) and
+//                  temperature bands (8 equal ones) whose residual mean - the model fitted on all
+//                  bins - exceeds what the surrogates leave there: each window's |mean|
 //                  standardised by its mean and spread over the surrogates, the threshold the
 //                  (1 - window_fpr) quantile of the surrogates' largest standardised value
 //                  (null.hpp, MaxTNull). So "part of the run far from the floor" is judged for a
 //                  window of that size, with a stated family-wise false-positive rate.
+//   Surrogates are noise drawn with the Allan deviation the residual shows over its still
+//   stretches (noise_model.hpp), not phase-randomised copies of the residual itself: an effect
+//   left in the residual (a drift over the whole run) would then be in every surrogate and hide
+//   from the very test meant to find it, while over stretches of minutes it barely moves the
+//   Allan terms.
 #include <Eigen/Dense>
 #include <vector>
 

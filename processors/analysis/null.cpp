@@ -150,13 +150,16 @@ NullVerdict JudgeOnNull(const HeldOutSearch& search, const VectorXd& y_all,
 WindowStats::WindowStats(const MatrixXd& x_all, std::vector<WindowSpec> windows)
     : q_(Basis(x_all)), windows_(std::move(windows)) {}
 
-std::vector<double> WindowStats::Evaluate(const VectorXd& y_all) const {
+std::vector<double> WindowStats::Evaluate(const VectorXd& y_all, std::vector<double>* ms) const {
     const VectorXd r = y_all - q_ * (q_.transpose() * y_all);
     std::vector<double> out;
+    if (ms) ms->clear();
     for (const WindowSpec& w : windows_) {
-        double ss = 0;
-        for (Index i : w.rows) ss += r[i] * r[i];
-        out.push_back(w.rows.empty() ? NAN : ss / static_cast<double>(w.rows.size()));
+        double s = 0, ss = 0;
+        for (Index i : w.rows) s += r[i], ss += r[i] * r[i];
+        const auto n = static_cast<double>(w.rows.size());
+        out.push_back(w.rows.empty() ? NAN : std::fabs(s) / n);
+        if (ms) ms->push_back(w.rows.empty() ? NAN : ss / n);
     }
     return out;
 }

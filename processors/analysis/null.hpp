@@ -15,8 +15,11 @@
 // (1 - alpha) quantile of the surrogates' largest standardised value. A family whose
 // standardised statistic on the run exceeds it is significant with a family-wise false-positive
 // rate of alpha under the run's noise (up to the surrogates' fidelity and count).
-// WindowStats: the residual's mean square in windows of time and temperature (the model fitted
-// on all bins), the statistic of step 9's "part of the run far from the floor".
+// WindowStats: the residual's mean in windows of time and temperature (the model fitted on all
+// bins), the statistic of step 9's "part of the run far from the floor": what a transient, a
+// shift or a bend confined to part of the run leaves there. (Its mean square would also count a
+// few bins of noise burst; a periodic or a drift, whose windows' means cancel or trend, are the
+// generic features' to find.)
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -89,11 +92,13 @@ struct WindowSpec {
     std::vector<Eigen::Index> rows;
 };
 
-// Mean square of y's residual (after least squares on x_all over all bins) in each window.
+// |mean| of y's residual (after least squares on x_all over all bins) in each window, and (when
+// ms is given) its mean square.
 class WindowStats {
 public:
     WindowStats(const Eigen::MatrixXd& x_all, std::vector<WindowSpec> windows);
-    std::vector<double> Evaluate(const Eigen::VectorXd& y_all) const;
+    std::vector<double> Evaluate(const Eigen::VectorXd& y_all,
+                                 std::vector<double>* ms = nullptr) const;
     const std::vector<WindowSpec>& windows() const { return windows_; }
 
 private:

@@ -16,9 +16,12 @@ constexpr text::NameTable<Decision, 4> kDecisionNames{{{Decision::kAdded, "added
                                                        {Decision::kNotTested, "not_tested"}}};
 
 constexpr text::NameTable<Outcome, 6> kOutcomeNames{
-    {{Outcome::kAdequate, "adequate"}, {Outcome::kExplained, "explained"},
-     {Outcome::kPartlyExplained, "partly explained"}, {Outcome::kUnexplained, "unexplained residual"},
-     {Outcome::kNotTestable, "not testable"}, {Outcome::kAmbiguous, "ambiguous"}}};
+    {{Outcome::kAdequate, "adequate"},
+     {Outcome::kExplained, "explained"},
+     {Outcome::kPartlyExplained, "partly explained"},
+     {Outcome::kUnexplained, "unexplained residual"},
+     {Outcome::kNotTestable, "not testable"},
+     {Outcome::kAmbiguous, "ambiguous"}}};
 
 }  // namespace
 

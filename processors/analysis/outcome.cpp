@@ -8,12 +8,14 @@
 namespace gyrocal::analysis::detail {
 
 std::string MeasurementToTest(const std::string& effect) {
-    if (effect == "temp_rate") return "temperature ramps (at least a few degC/min) recorded at rest";
+    if (effect == "temp_rate")
+        return "temperature ramps (at least a few degC/min) recorded at rest";
     if (effect == "hysteresis")
         return "ramps up and down through the same temperatures, with dwells between them";
     if (effect == "temp_cubic") return "dwells at 5 or more temperatures spread over the range";
     if (effect == "supply") return "the supply voltage recorded with every sample";
-    if (effect == "warmup") return "recording from power-on (a power record) with a dwell right after it";
+    if (effect == "warmup")
+        return "recording from power-on (a power record) with a dwell right after it";
     if (effect == "sf_asymmetry") return "turns in both directions at 3 or more temperatures";
     return "more data in which it varies";
 }
@@ -99,15 +101,16 @@ void Conclude(bool analysed, const AnalysisOptions& o, SensorResult& res) {
     std::vector<std::string> added;
     for (const AddedEffect& a : res.added) added.push_back(a.effect);
     const std::string tail = above ? "; " + Where(res) + "; " + Correlates(res) : "";
-    const std::string of = std::to_string(res.untested.size()) + " of " + std::to_string(candidates);
+    const std::string of =
+        std::to_string(res.untested.size()) + " of " + std::to_string(candidates);
     const bool untestable = static_cast<double>(res.untested.size()) >
                             o.max_untested_fraction * static_cast<double>(candidates);
     std::string h;
     if (!analysed || !known || untestable) {
         res.outcome = Outcome::kNotTestable;
         h = (analysed ? "not testable: " : "not analysed: not testable: ") + of +
-            " candidates could not be tested (" + List(res.untested) + "); to test them: " +
-            List(res.to_test);
+            " candidates could not be tested (" + List(res.untested) +
+            "); to test them: " + List(res.to_test);
         if (!analysed) h += "; too few still bins (" + std::to_string(res.n_bins) + ")";
         if (known) h += "; " + Residual(res) + tail;
     } else if (!res.ambiguities.empty()) {
@@ -126,7 +129,8 @@ void Conclude(bool analysed, const AnalysisOptions& o, SensorResult& res) {
     if (res.outcome != Outcome::kNotTestable && !res.untested.empty())
         h += "; not tested: " + List(res.untested);
     if (!res.not_attributed.empty()) h += "; not attributed: " + List(res.not_attributed);
-    if (!res.unconfirmed.empty()) h += "; not confirmed on the held-out data: " + List(res.unconfirmed);
+    if (!res.unconfirmed.empty())
+        h += "; not confirmed on the held-out data: " + List(res.unconfirmed);
     res.headline = h;
     res.verdict = h;
 }

@@ -86,14 +86,14 @@ nlohmann::json ToJson(const SensorResult& r) {
                            {"z", JsonNumber(w.z)},
                            {"bins", w.n}});
     j["windows_above"] = windows;
-    j["thresholds_from_run"] = {{"slow_noise_k", JsonNumber(r.slow_noise_k)},
-                                {"slow_noise_measured", r.slow_noise_measured},
-                                {"noise", r.noise_note},
-                                {"surrogates", r.n_surrogates},
-                                {"feature_null_threshold", JsonNumber(r.feature_null_threshold)},
-                                {"window_null_threshold", JsonNumber(r.window_null_threshold)},
-                                {"claimed_false_positive_rate",
-                                 JsonNumber(r.claimed_false_positive_rate)}};
+    j["thresholds_from_run"] = {
+        {"slow_noise_k", JsonNumber(r.slow_noise_k)},
+        {"slow_noise_measured", r.slow_noise_measured},
+        {"noise", r.noise_note},
+        {"surrogates", r.n_surrogates},
+        {"feature_null_threshold", JsonNumber(r.feature_null_threshold)},
+        {"window_null_threshold", JsonNumber(r.window_null_threshold)},
+        {"claimed_false_positive_rate", JsonNumber(r.claimed_false_positive_rate)}};
     const nlohmann::json b = Beyond(r);
     j["features"] = b["features"];
     j["residual"] = b["residual"];
@@ -186,12 +186,11 @@ std::string FormatBeyond(const SensorResult& r) {
                             "corr", "heldout_z", "null_z", "after_v", "explains held-out");
     }
     for (const FeatureResult& f : r.features) {
-        out += text::Printf("  %-20s %-20s %7s %8s %8s %11s  %s  (%s)\n", f.feature.c_str(),
-                            f.channel.c_str(), text::SigOrDash(f.corr, 2).c_str(),
-                            text::SigOrDash(f.heldout_z, 3).c_str(),
-                            text::SigOrDash(f.null_z, 3).c_str(),
-                            text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
-                            f.explains_heldout ? "yes" : "no", f.detail.c_str());
+        out += text::Printf(
+            "  %-20s %-20s %7s %8s %8s %11s  %s  (%s)\n", f.feature.c_str(), f.channel.c_str(),
+            text::SigOrDash(f.corr, 2).c_str(), text::SigOrDash(f.heldout_z, 3).c_str(),
+            text::SigOrDash(f.null_z, 3).c_str(), text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
+            f.explains_heldout ? "yes" : "no", f.detail.c_str());
     }
     const ResidualDiagnostics& d = r.residual;
     if (std::isfinite(d.rms_v)) {

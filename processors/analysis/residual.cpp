@@ -102,16 +102,24 @@ void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& 
     for (Index i = 0; i < n; ++i) t_on[i] = bins[static_cast<size_t>(i)].time_since_power_s;
     if (t_on.allFinite()) {
         const double lo = std::max(o.warmup_tau_min_s, o.warmup_max_tau_fraction * span);
-        out.push_back(Searched(
-            LogSpace(lo, std::max(3.0 * span, 2.0 * lo), 12),
-            [&](double tau) { return MatrixXd((-t_on.array() / tau).exp().matrix()); },
-            {"slow transient", "time since power-on", "exp(-t_on/tau), tau ", " s", "tau", {}, {}, true}));
+        out.push_back(
+            Searched(LogSpace(lo, std::max(3.0 * span, 2.0 * lo), 12),
+                     [&](double tau) { return MatrixXd((-t_on.array() / tau).exp().matrix()); },
+                     {"slow transient",
+                      "time since power-on",
+                      "exp(-t_on/tau), tau ",
+                      " s",
+                      "tau",
+                      {},
+                      {},
+                      true}));
     }
     std::vector<double> at;
     for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
     if (at.size() >= 2)
         out.push_back(Searched(
-            at, [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
+            at,
+            [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
             {"step", "time", "offset step at ", " s from the start", "step time", {}, {}, true}));
     // At least 4 cycles in the run: a longer "period" is a trend or a transient, which the other
     // features name.
@@ -130,20 +138,24 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
         dt[i] = bins[static_cast<size_t>(i)].temp_c - train.t0;
         supply[i] = bins[static_cast<size_t>(i)].supply_v;
     }
-    out.push_back(Fixed("temperature^3", "temperature", "(T - T0)^3", dt.array().cube().matrix(), false));
-    out.push_back(Fixed("temperature^4", "temperature", "(T - T0)^4", dt.array().square().square().matrix(), false));
+    out.push_back(
+        Fixed("temperature^3", "temperature", "(T - T0)^3", dt.array().cube().matrix(), false));
+    out.push_back(Fixed("temperature^4", "temperature", "(T - T0)^4",
+                        dt.array().square().square().matrix(), false));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
     for (double w : {60.0, 300.0, 1200.0}) {
         const VectorXd r = Rate(temp, t, 0.5 * w);
         if (r.allFinite())
-            out.push_back(Fixed("dT/dt over " + text::Sig(w, 3) + " s", "temperature", "degC/s", r, false));
+            out.push_back(
+                Fixed("dT/dt over " + text::Sig(w, 3) + " s", "temperature", "degC/s", r, false));
     }
     const VectorXd r300 = Rate(temp, t, 150.0);
     if (r300.allFinite())
         out.push_back(Fixed("|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false));
     if (supply.allFinite()) {
-        out.push_back(Fixed("supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false));
+        out.push_back(
+            Fixed("supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false));
         VectorXd rate = VectorXd::Zero(n);
         for (Index i = 1; i + 1 < n; ++i)
             rate[i] = (supply[i + 1] - supply[i - 1]) / std::max(1e-9, t[i + 1] - t[i - 1]);
@@ -183,10 +195,12 @@ void AirFeatures(const BinnedRun& b, double t0, const VectorXd& t, std::vector<F
     // Air minus sensor first: with a dT term in the model the air level explains exactly what
     // the difference does, and a tie goes to the earlier (the physical reading: a gradient).
     const VectorXd diff = air - (dt.array() + t0).matrix();
-    out.push_back(Fixed("air - sensor", "chamber air - sensor temperature", "air_c - temp_c", diff, false));
+    out.push_back(
+        Fixed("air - sensor", "chamber air - sensor temperature", "air_c - temp_c", diff, false));
     out.push_back(Fixed("(air - sensor) x dT", "chamber air - sensor temperature",
-                   "(air_c - temp_c)(T - T0)", diff.cwiseProduct(dt), false));
-    out.push_back(Fixed("air temperature", "chamber air", "air_c - T0", (air.array() - t0).matrix(), false));
+                        "(air_c - temp_c)(T - T0)", diff.cwiseProduct(dt), false));
+    out.push_back(
+        Fixed("air temperature", "chamber air", "air_c - T0", (air.array() - t0).matrix(), false));
     const VectorXd rate = Rate(air, t, 150.0);
     if (rate.allFinite())
         out.push_back(Fixed("air rate over 300 s", "chamber air", "degC/s", rate, false));
@@ -214,11 +228,12 @@ void TableFeatures(const BinnedRun& b, double t0, std::vector<Family>& out,
         dir[i] = x.last_turn_dir;
         rate[i] = x.last_turn_rate_dps;
     }
-    out.push_back(Fixed("table angle", "encoder: table angle", "sin, cos of the angle", angle, false));
-    out.push_back(Fixed("table angle x dT", "encoder: table angle", "sin, cos of the angle x (T - T0)",
-                   angle_t, false));
+    out.push_back(
+        Fixed("table angle", "encoder: table angle", "sin, cos of the angle", angle, false));
+    out.push_back(Fixed("table angle x dT", "encoder: table angle",
+                        "sin, cos of the angle x (T - T0)", angle_t, false));
     out.push_back(Fixed("last turn direction", "encoder: last turn direction",
-                   "+1 / -1, 0 before any turn", dir, false));
+                        "+1 / -1, 0 before any turn", dir, false));
     double lo = INFINITY, hi = -INFINITY;
     for (Index i = 0; i < n; ++i)
         if (std::isfinite(rate[i])) lo = std::min(lo, rate[i]), hi = std::max(hi, rate[i]);
@@ -322,7 +337,8 @@ VectorXd HeldResidual(const BinnedRun& b, const Context& train, const Split& spl
     VectorXd r(static_cast<Index>(split.held.size()));
     for (size_t k = 0; k < split.held.size(); ++k) {
         const Index i = split.held[k];
-        r[static_cast<Index>(k)] = b.bins()[static_cast<size_t>(i)].gyro_v - all.row(i).dot(f.coeffs);
+        r[static_cast<Index>(k)] =
+            b.bins()[static_cast<size_t>(i)].gyro_v - all.row(i).dot(f.coeffs);
     }
     return r;
 }
@@ -408,9 +424,12 @@ void Windows(const VectorXd& key, const VectorXd& r, int n_windows, std::vector<
     const double w = (hi - lo) / n_windows;
     out.assign(static_cast<size_t>(n_windows), WindowRms{});
     std::vector<double> ss(static_cast<size_t>(n_windows), 0.0);
-    for (int k = 0; k < n_windows; ++k) out[static_cast<size_t>(k)].lo = lo + k * w, out[static_cast<size_t>(k)].hi = lo + (k + 1) * w;
+    for (int k = 0; k < n_windows; ++k)
+        out[static_cast<size_t>(k)].lo = lo + k * w,
+        out[static_cast<size_t>(k)].hi = lo + (k + 1) * w;
     for (Index i = 0; i < key.size(); ++i) {
-        const auto k = static_cast<size_t>(std::min(n_windows - 1, static_cast<int>((key[i] - lo) / w)));
+        const auto k =
+            static_cast<size_t>(std::min(n_windows - 1, static_cast<int>((key[i] - lo) / w)));
         ss[k] += r[i] * r[i];
         ++out[k].n;
     }
@@ -435,7 +454,8 @@ void Periodogram(const VectorXd& t, const VectorXd& r, double bin_s, ResidualDia
         if (pw > best) best = pw, d.period_s = p, d.period_amplitude_v = c.norm();
     }
     std::vector<double> sorted = power;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                     sorted.end());
     const double median = sorted[sorted.size() / 2];
     d.period_power_ratio = median > 0 ? best / median : kNan;
 }
@@ -466,7 +486,8 @@ std::vector<CurvePoint> Autocorrelation(const std::vector<Bin>& bins, const Vect
 
 }  // namespace
 
-ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double, const AnalysisOptions&) {
+ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double,
+                             const AnalysisOptions&) {
     ResidualDiagnostics d;
     const std::vector<Bin>& bins = b.bins();
     if (r.size() < 3 || static_cast<size_t>(r.size()) != bins.size() || !r.allFinite()) return d;
@@ -475,7 +496,8 @@ ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double, cons
     double c0 = 0, c1 = 0;
     for (Index i = 0; i < n; ++i) {
         c0 += r[i] * r[i];
-        if (i > 0 && bins[static_cast<size_t>(i)].segment == bins[static_cast<size_t>(i - 1)].segment)
+        if (i > 0 &&
+            bins[static_cast<size_t>(i)].segment == bins[static_cast<size_t>(i - 1)].segment)
             c1 += r[i] * r[i - 1];
     }
     d.lag1_autocorr = c0 > 0 ? c1 / c0 : kNan;

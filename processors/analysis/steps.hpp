@@ -42,6 +42,9 @@ void JointPairFates(Selection& sel, bool confirmed, SensorResult& res);
 void AngleConfound(SensorResult& res);
 void Edges(const BinnedRun& binned, const AnalysisOptions& o, SensorResult& res);
 
+// The measurement that tells a candidate (effect) from a time-shaped generic feature.
+std::string SeparationFromTime(const std::string& effect, const std::string& feature);
+
 // The number a searched term names: "warmup(312)" -> 312; NaN when it names none.
 double ParamOf(const std::string& term);
 

@@ -134,12 +134,18 @@ void Warmup(const std::vector<RunFigures>& runs) {
 
 void Clean(const std::vector<RunFigures>& runs) {
     int n = 0, fp = 0;
+    std::map<std::string, int> why;
     for (const RunFigures& f : runs) {
         if (f.group != "clean") continue;
         ++n;
-        fp += !(f.category == "adequate" || f.category == "named right alone");
+        if (f.category == "adequate" || f.category == "named right alone") continue;
+        ++fp;
+        ++why[f.category + " (" + f.evidence + ")"];
     }
-    std::printf("clean runs: %d of %d not adequate (%.1f %%)\n", fp, n, n ? 100.0 * fp / n : NAN);
+    std::printf("clean runs: %d of %d not adequate (%.1f %%); the thresholds claim %.1f %%\n", fp,
+                n, n ? 100.0 * fp / n : NAN,
+                100.0 * analysis::AnalysisOptions::Defaults().ClaimedFalsePositiveRate());
+    for (const auto& [w, k] : why) std::printf("  %d: %s\n", k, w.c_str());
 }
 
 }  // namespace

@@ -158,6 +158,11 @@ void Judge(Simulator sim, const Draw& d, const Made& m, const analysis::SensorRe
     f.warm_v = d.warmup_v != 0 ? d.warmup_v : NAN;
     f.warm_tau_s = d.warmup_v != 0 ? d.warmup_tau_s : NAN;
     f.outcome = analysis::ToString(r.outcome);
+    if (r.excess_ratio > 1.0) f.evidence += "bound ";
+    for (const analysis::FeatureResult& x : r.features)
+        if (x.explains_heldout) f.evidence += "feature:" + x.feature + " ";
+    if (!r.windows_above.empty()) f.evidence += "window:" + r.windows_above[0].where + " ";
+    if (!r.ambiguities.empty()) f.evidence += "ambiguous ";
     f.headline = r.headline;
     f.flagged =
         r.outcome != analysis::Outcome::kAdequate && r.outcome != analysis::Outcome::kExplained;
@@ -176,12 +181,31 @@ RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
     const Made m = Simulate(sim, d, seed, 0);
     const analysis::SensorResult r = analysis::Analyze(m.run);
     Judge(sim, d, m, r, f);
+    if (std::getenv("VERDICT_DUMP") && f.category != "adequate" && r.extended_offset) {
+        const analysis::BinnedRun b(m.run, analysis::BinOptions::Defaults());
+        const Eigen::VectorXd v = b.Values(*r.extended_offset);
+        const double t0 = b.bins().front().mid_utime;
+        for (size_t i = 0; i < b.size(); ++i) {
+            const double res = b.bins()[i].gyro_v - v[static_cast<Eigen::Index>(i)];
+            if (std::fabs(res) < 3.5 * r.floor_offset_rms_v) continue;
+            double near = 1e9;
+            for (const auto& mv : m.run.moves)
+                near = std::min(
+                    near, std::fabs(b.bins()[i].mid_utime - 0.5 * (mv.start_utime + mv.end_utime)) *
+                              1e-6);
+            std::printf(
+                "  dump seed %llu bin t %.0f s T %.1f res %.2f floors, nearest move %.0f s\n",
+                static_cast<unsigned long long>(seed), (b.bins()[i].mid_utime - t0) * 1e-6,
+                b.bins()[i].temp_c, res / r.floor_offset_rms_v, near);
+        }
+    }
     HeldOut(sim, d, seed, r, f);
     f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (std::getenv("VERDICT_VERBOSE"))
-        std::printf("%s %s seed %llu: %s | added %zu | held-out %.2fx | %s\n", Name(sim),
+        std::printf("%s %s seed %llu: %s | added %zu | held-out %.2fx | %s| %s\n", Name(sim),
                     scenario.name.c_str(), static_cast<unsigned long long>(seed),
-                    f.category.c_str(), f.added.size(), f.heldout_ratio, f.headline.c_str());
+                    f.category.c_str(), f.added.size(), f.heldout_ratio, f.evidence.c_str(),
+                    f.headline.c_str());
     return f;
 }
 

@@ -17,6 +17,7 @@ struct EffectSize {
 
 struct RunFigures {
     std::string scenario, group, outcome, headline, category;
+    std::string evidence;  // what made the outcome flag something: bound, feature, window
     std::vector<EffectSize> listed;
     double outside_ratio = 0;  // the outside effects' size over the floor
     std::vector<std::string> added;

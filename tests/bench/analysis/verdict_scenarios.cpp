@@ -70,7 +70,7 @@ Draw Out(std::mt19937_64& r, void (*set)(PostHoc&, std::mt19937_64&)) {
 }
 
 void AbsRate(PostHoc& p, std::mt19937_64& r) { p.abs_rate_v_per_c_per_s = LogU(r, 0.005, 0.08); }
-void Accel(PostHoc& p, std::mt19937_64& r) { p.accel_v_per_c_per_s2 = LogU(r, 1.0, 40.0); }
+void Accel(PostHoc& p, std::mt19937_64& r) { p.accel_v_per_c_per_s2 = LogU(r, 0.3, 10.0); }
 void Steps(PostHoc& p, std::mt19937_64& r) {
     for (int k = 0; k < 3; ++k) p.steps.push_back({U(r, 300.0, 4500.0), LogU(r, 2e-4, 2e-3)});
 }
