@@ -44,6 +44,11 @@
 //    whole (the verdict keeps "ambiguous: a vs b (both kept ...)": the data say the pair predicts
 //    unseen data, not which of the two carries the effect; the backward re-test keeps it as a
 //    pair); otherwise neither is added.
+//    The warm-up is not chosen this way: its effect is confined to the start of each power
+//    cycle, where no block of the cross-validation can predict what it does not contain. It has
+//    a check of its own on its support (localized.hpp: interleaved short blocks held out inside
+//    the first 3 x tau_max after power-on, the statistic compared with surrogates of the run's
+//    noise at warmup_fpr), then (a) and (c) on all bins; it needs no other confirmation.
 //    sf_asymmetry is judged on the sensitivity points (known standard errors, inflated by
 //    chi2/dof when above 1; leave-one-temperature-out cross-validation, its held-out test).
 // 5. Held-out confirmation: the declared and the chosen terms, both fitted on the training bins,
@@ -61,31 +66,36 @@
 // 8. Beyond the list (residual.hpp): generic features of every channel the bins carry (time since
 //    start, a slow transient, a step, a periodic term, temperature shape and rate at other time
 //    scales, supply and its rate, chamber air and air minus sensor, table angle and the last
-//    turn), each judged on the held-out bins like the candidates. They are
-//    never added to the model; they say what the residual correlates with. A named term is
-//    refused ("not attributed") when a time-shaped feature (drift, slow transient, step, periodic)
-//    encompasses it on the held-out bins: with both in the model the term no longer improves the
-//    held-out error beyond its noise while the feature still explains held-out data; it only
-//    mimicked the feature. (A real effect survives its mimic; each judged alone, a feature that
-//    also takes in noise or a second effect would refuse it.)
-// 9. The outcome, from what is left on the held-out bins compared with the floor bound
+//    turn), each judged on the held-out bins against a null built from surrogates of the run's
+//    own noise (evidence.hpp, null.hpp: family-wise false-positive rate feature_fpr). They are
+//    never added to the model; they say what the residual correlates with. Joint search: when a
+//    time-shaped feature explains held-out data, the candidates are tested again with it
+//    accounted for (nuisance columns, never kept): what that pass names was masked by it, what
+//    only the first pass named mimicked it (not attributed). Each added term meets every
+//    time-shaped feature on the held-out bins (displace.cpp): one the feature encompasses is not
+//    attributed, one that ties with it (each explains the held-out data, neither adds to the
+//    other) is ambiguous, both named with the measurement that would separate them.
+// 9. The outcome, from every piece of evidence: the held-out residual against the floor bound
 //      bound^2 = floor^2 (1 + 9 k^2) + 9 prediction^2
 //    floor: the white bin scatter (step 7); prediction: what white noise at the floor puts into
-//    the held-out prediction of coefficients fitted on the training bins (floor x sqrt(mean
-//    leverage x'(X'X)^-1 x over the held-out bins)); k = slow_noise_floor_ratio: the correlated
-//    (slow) noise a perfect model also leaves in 10 s bin means, as a multiple of the floor (a MEMS
-//    gyro's flicker level is about its 10 s white scatter); it and the coefficients' prediction
-//    error are each nearly one shape over a held-out stretch, one degree of freedom, so 9x their
-//    variance is a 3-sigma allowance. Outcomes:
-//      adequate             nothing added, held-out residual within the bound and no generic
-//                           feature explains held-out data (its shape is noise's, not a trend's)
-//      explained            terms added and confirmed, residual after within the bound
-//      partly explained     terms added, residual after still above the bound or explained in part
-//                           by a generic feature on held-out data
-//      unexplained residual nothing added, residual above the bound or a generic feature explains
-//                           it on held-out data
-//      not testable         too few bins, or most candidates (more than half) could not be tested
-//    Above the bound the result says by how much, where in the run, and what it correlates with.
+//    the held-out prediction of coefficients fitted on the training bins; k: the slow noise a
+//    perfect model also leaves in a bin, over the floor, MEASURED from the run (noise_model.hpp:
+//    the Allan terms of the residual) unless slow_noise_floor_ratio sets it; 9x: 3 sigma on one
+//    degree of freedom. Then the generic features (step 8) and the time windows and temperature
+//    bands whose residual mean exceeds what the run's noise leaves in a window of that size
+//    (evidence.hpp, window_fpr). Outcomes:
+//      adequate             nothing added, held-out residual within the bound, no feature and no
+//                           window above its null
+//      explained            terms added and confirmed, and nothing left above
+//      partly explained     terms added, something left above (bound, feature or window)
+//      unexplained residual nothing added, something above
+//      ambiguous            a candidate and another shape explain the data equally well: both
+//                           named, with the measurement that would separate them
+//      not testable         too few bins, or more than max_untested_fraction of the candidates
+//                           could not be tested
+//    Above the bound the result says by how much, where in the run (the windows above their
+//    null first), and what it correlates with. The rate of "not adequate" the thresholds claim on
+//    a run with no missing effect: ClaimedFalsePositiveRate().
 // Whatever cannot be tested says why (could_not_test); nothing is ever invented to fill a gap.
 #include <optional>
 #include <string>

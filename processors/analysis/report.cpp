@@ -60,6 +60,27 @@ nlohmann::json Beyond(const SensorResult& r) {
               {"by_temp_c", Windows(d.by_temp)}}}};
 }
 
+// What the run itself gave: the windows far from the floor and the thresholds (analyze.hpp).
+void FromRun(const SensorResult& r, nlohmann::json& j) {
+    using nlohmann::json;
+    json windows = json::array();
+    for (const WindowExcess& w : r.windows_above)
+        windows.push_back({{"where", w.where},
+                           {"rms_v", JsonNumber(w.rms_v)},
+                           {"expected_rms_v", JsonNumber(w.expected_rms_v)},
+                           {"z", JsonNumber(w.z)},
+                           {"bins", w.n}});
+    j["windows_above"] = windows;
+    j["thresholds_from_run"] = {
+        {"slow_noise_k", JsonNumber(r.slow_noise_k)},
+        {"slow_noise_measured", r.slow_noise_measured},
+        {"noise", r.noise_note},
+        {"surrogates", r.n_surrogates},
+        {"feature_null_threshold", JsonNumber(r.feature_null_threshold)},
+        {"window_null_threshold", JsonNumber(r.window_null_threshold)},
+        {"claimed_false_positive_rate", JsonNumber(r.claimed_false_positive_rate)}};
+}
+
 }  // namespace
 
 nlohmann::json ToJson(const SensorResult& r) {
@@ -78,22 +99,7 @@ nlohmann::json ToJson(const SensorResult& r) {
     j["absent_channels"] = r.absent_channels;
     j["edges"] = r.edges;
     j["ambiguities"] = r.ambiguities;
-    json windows = json::array();
-    for (const WindowExcess& w : r.windows_above)
-        windows.push_back({{"where", w.where},
-                           {"rms_v", JsonNumber(w.rms_v)},
-                           {"expected_rms_v", JsonNumber(w.expected_rms_v)},
-                           {"z", JsonNumber(w.z)},
-                           {"bins", w.n}});
-    j["windows_above"] = windows;
-    j["thresholds_from_run"] = {
-        {"slow_noise_k", JsonNumber(r.slow_noise_k)},
-        {"slow_noise_measured", r.slow_noise_measured},
-        {"noise", r.noise_note},
-        {"surrogates", r.n_surrogates},
-        {"feature_null_threshold", JsonNumber(r.feature_null_threshold)},
-        {"window_null_threshold", JsonNumber(r.window_null_threshold)},
-        {"claimed_false_positive_rate", JsonNumber(r.claimed_false_positive_rate)}};
+    FromRun(r, j);
     const nlohmann::json b = Beyond(r);
     j["features"] = b["features"];
     j["residual"] = b["residual"];
