@@ -13,11 +13,14 @@
 // projecting out the declared quadratic (what the analysis can possibly see), over the run's
 // floor (the analysis' 10 s-bin Allan deviation of its residual).
 // Usage: gyrocal_bench_verdict [runs per scenario] [clean runs] [threads] [rig|othersim|both]
-// (defaults 10, 60, 2, both).
+// (defaults 10, 60, 2, both). Environment (development aids): VERDICT_VERBOSE=1 prints a line per
+// run, VERDICT_DUMP=1 the residual bins beyond 3.5x the floor of every run not adequate,
+// VERDICT_SCENARIO=text runs only the scenarios whose name holds it.
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <map>
 #include <string>
@@ -44,6 +47,9 @@ std::vector<Job> Jobs(int per_scenario, int clean, const std::string& which) {
     for (Simulator s : {Simulator::kRig, Simulator::kOthersim}) {
         if (which != "both" && which != Name(s)) continue;
         for (size_t k = 0; k < Scenarios().size(); ++k) {
+            // VERDICT_SCENARIO=text: only the scenarios whose name holds it (a development aid).
+            const char* only = std::getenv("VERDICT_SCENARIO");
+            if (only && Scenarios()[k].name.find(only) == std::string::npos) continue;
             const int n = Scenarios()[k].group == "clean" ? clean : per_scenario;
             for (int i = 0; i < n; ++i)
                 jobs.push_back({s, k, static_cast<uint64_t>(5000 + 1000 * k + i)});

@@ -12,7 +12,8 @@
 //     there), never "adequate" nor "explained";
 //   - the generic feature that explains the held-out data first is the right one (channel time;
 //     for the periodic one the period within the grid's resolution and the noise: 15 %).
-// Clean runs: "adequate", the false-positive rate measured over 40 seeds and bounded at 2/40.
+// Clean runs: "adequate", the false-positive rate measured over 40 seeds and bounded at 2/40 (the
+// thresholds claim 4.3 %: AnalysisOptions::ClaimedFalsePositiveRate).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -131,9 +132,11 @@ TEST(Verdict, CleanRunsAreAdequate) {
     std::printf("[ verdict ] clean runs: %d/%d not adequate (%.1f %%)\n", not_adequate, seeds,
                 100.0 * not_adequate / seeds);
     std::printf(
-        "[ verdict ] clean runs: largest held-out fraction removed by a feature %.3f (%s), "
-        "threshold %.2f\n",
-        max_drop, max_drop_feature.c_str(), AnalysisOptions::Defaults().min_feature_drop);
+        "[ verdict ] clean runs: largest held-out fraction removed by a feature %.3f (%s); the "
+        "null of the run's own noise decides (claimed false-positive rate %.1f %%)\n",
+        max_drop, max_drop_feature.c_str(),
+        100.0 * AnalysisOptions::Defaults().ClaimedFalsePositiveRate());
+    // The thresholds claim 4.3 % (ClaimedFalsePositiveRate): 1.7 expected in 40; 2 allowed.
     EXPECT_LE(not_adequate, 2);
 }
 

@@ -99,9 +99,10 @@ TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
 // The same unit and effect over the monotonic "five" setpoints (-40, -10, 25, 55, 85 degC): time
 // and temperature rise together, the quadratic in temperature absorbs most of the drift, and
 // what is left near the start looks like a warm-up.
-// Before the rule that a warm-up at the upper end of its tau grid gives way to a time-shaped
-// feature predicting its held-out residual at least as well, this named warmup(320) (-2.53 mV,
-// "explained"). The truth is an ageing null and nothing else, so the verdict must name no
+// Before the rules against time-shaped mimics this named warmup(320) (-2.53 mV, "explained");
+// now the joint search (the candidates tested again with the drift accounted for) leaves a
+// warm-up named only without it "not attributed". The truth is an ageing null and nothing else,
+// so the verdict must name no
 // candidate as the cause and say that something is left, traced to time: "unexplained residual"
 // correlating with a time shape, or "ambiguous" between a candidate and a time shape (the joint
 // search: a warm-up named only while the drift is not accounted for), with nothing stored as
