@@ -18,7 +18,8 @@
 //   plateaus, turns      ids the set lists;
 //   unexplained residual the newest analysis' outcome (analyses.outcome), never its headline's
 //                        wording: adequate / explained pass; partly explained / unexplained
-//                        residual fail (the headline is the note); not testable is not evaluated
+//                        residual and ambiguous fail (the headline is the note); not testable is
+//                        not evaluated
 //                        (with what to measure); no analysis, an analysis stored before outcomes
 //                        existed, or an outcome this version does not know: not evaluated, named.
 #include <cmath>
