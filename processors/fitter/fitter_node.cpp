@@ -158,7 +158,18 @@ void FitterNode::Apply(const fitter::CoreOutput& out) {
         int64_t final_utime = -1;
         for (const fit_report_t& r : out.reports)
             if (r.is_final) final_utime = std::max(final_utime, r.utime);
-        if (final_utime >= 0) loop_channel_->Submit(loop_->FinishJobs(final_utime));
+        if (final_utime >= 0) {
+            std::vector<fitter::FitJob> jobs = loop_->FinishJobs(final_utime);
+            const auto summaries = core_.Summaries();
+            for (fitter::FitJob& j : jobs) {
+                const auto it = summaries.find(j.sensor_id);
+                if (it == summaries.end() || !it->second.complete)
+                    j.withhold = "the plateau set is not complete (" +
+                                 (it == summaries.end() ? std::string("no plateau") : it->second.text) +
+                                 "): the temperatures do not support a temperature model";
+            }
+            loop_channel_->Submit(std::move(jobs));
+        }
     }
     UpdateStatus();
 }

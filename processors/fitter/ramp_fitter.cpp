@@ -170,6 +170,10 @@ RampFitResult RampFitter::Run(const FitJob& job) const {
     res.residual = analysis::ResidualTable(binned, r);
     std::optional<model::CoeffSet> set =
         analysis::ExtendedCoeffSet(r, job.run_id, options_.method, job.utime);
+    if (!job.withhold.empty()) {
+        res.report.reason = "no set: " + job.withhold;
+        return res;
+    }
     if (!set) {
         std::string why = r.verdict;
         for (const std::string& c : r.could_not_test) why += "; " + c;

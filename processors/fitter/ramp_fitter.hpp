@@ -64,6 +64,10 @@ struct FitJob {
     int64_t utime = 0;  // [us] of the set: the newest sample, or the stop event's (final)
     bool is_final = false;
     analysis::BinSnapshot bins;
+    // Not "": the analysis runs and is published, but no set, for this reason (the plateau mode's
+    // closed loop when the unit's plateau set is partial: its temperatures do not support a
+    // temperature model, and a fit on every still sample of them would only extrapolate).
+    std::string withhold;
 };
 
 struct RampFitResult {

@@ -24,6 +24,7 @@
 #include "runtime/status.hpp"
 #include "coeff_table.hpp"
 #include "final_verdict.hpp"
+#include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
@@ -36,6 +37,7 @@
 #include "paths.hpp"
 #include "progress.hpp"
 #include "csv/file_digest.hpp"
+#include "model/convert.hpp"
 #include "procedure.hpp"
 
 namespace gyrocal::cli {
@@ -141,10 +143,19 @@ void Calibration::Subscribe() {
                                         });
     bus_.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
                                  [this](const fit_report_t& r, const std::string&) {
-                                     if (r.is_final) final_reports_[r.sensor_id] = r;
+                                     if (!r.is_final) return;
+                                     if (r.source == model::kClosedLoopSource)
+                                         loop_reports_[r.sensor_id] = r;
+                                     else
+                                         final_reports_[r.sensor_id] = r;
                                  });
+    bus_.Subscribe<analysis_t>(channels::AllSensors(channels::kAnalysisPrefix),
+                               [this](const analysis_t& a, const std::string&) {
+                                   if (a.is_final) loop_analyses_[a.sensor_id] = a;
+                               });
     bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
                                 [this](const coeff_set_t& c, const std::string&) {
+                                    if (c.source == model::kFitterSource) plateau_sets_[c.sensor_id] = c;
                                     coeffs_[c.sensor_id] = c;
                                     if (stop_seen_) final_coeffs_.insert(c.sensor_id);
                                     if (progress_) progress_->OnCoeffs(c);
@@ -189,6 +200,8 @@ bool Calibration::StartConsumers() {
             fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
                                          std::to_string(o_.simulated.nominal_sensitivity_v_per_dps)});
         if (IsRamp()) fitter.insert(fitter.end(), {"--mode", "ramp"});
+        // The seed's 3-point procedure keeps its own method: no closed loop beside it.
+        if (!IsRamp() && !ClosedLoop()) fitter.insert(fitter.end(), {"--closed-loop", "false"});
         start("gyrocal-fitter", fitter, o_.fitter_args);
         start("gyrocal-compensator", {}, o_.compensator_args);
     } catch (const std::exception& e) {
@@ -381,10 +394,26 @@ std::set<std::string> Calibration::Sensors() const {
 bool Calibration::HaveFinalCoeffs() const {
     const auto sensors = Sensors();
     if (sensors.empty()) return false;
-    // The fitter's final report follows each final set (and says "none" when there is no set).
-    for (const auto& s : sensors)
+    // The fitter's final report follows each final set (and says "none" when there is no set);
+    // the closed loop's comes after it.
+    for (const auto& s : sensors) {
         if (!final_reports_.count(s)) return false;
+        if (ClosedLoop() && !loop_reports_.count(s)) return false;
+    }
     return true;
+}
+
+bool Calibration::ClosedLoop() const {
+    if (IsRamp() || o_.profile == "seed3") return false;
+    // The last word of the fitter's own arguments (--fitter-arg=--closed-loop=false) wins.
+    bool on = true;
+    for (size_t i = 0; i < o_.fitter_args.size(); ++i) {
+        const std::string& a = o_.fitter_args[i];
+        if (a.rfind("--closed-loop=", 0) == 0) on = a.substr(14) != "false" && a.substr(14) != "0";
+        if (a == "--closed-loop" && i + 1 < o_.fitter_args.size())
+            on = o_.fitter_args[i + 1] != "false" && o_.fitter_args[i + 1] != "0";
+    }
+    return on;
 }
 
 FinalVerdict Calibration::Verdict() const {
@@ -479,6 +508,11 @@ int Calibration::Finish(int code) {
     if (progress_) std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops): " << progress_->drops() << "\n";
     if (!coeffs_.empty()) {
         std::cout << "\n" << FormatCoeffTable(coeffs_, Verdict().Labels());
+        if (ClosedLoop() && !plateau_sets_.empty())
+            std::cout << "\nplateau sets (plateau means only; stored beside the final sets, source "
+                      << model::kFitterSource << ")\n"
+                      << FormatCoeffTable(plateau_sets_);
+        if (!loop_analyses_.empty() || !loop_reports_.empty()) std::cout << "\n" << ClosedLoopLines();
         std::ifstream truth(o_.truth_out);
         if (truth && source_kind_ == Source::kSim) {
             try {
