@@ -477,8 +477,11 @@ int Calibration::Watch() {
             // Give the end event a moment to arrive (a source's own end is seen before its event).
             if (!run_ended_ && SecondsSince(*ended_at_) < 2) continue;
             if (!WaitsForCoeffs() || HaveFinalCoeffs()) break;
-            if (SecondsSince(*ended_at_) > o_.final_coeffs_wait_s) {
-                std::cerr << "\ngyrocal calibrate: no final coefficient set within " << o_.final_coeffs_wait_s
+            // The closed loop fits each unit on every still bin after the plateau sets (seconds
+            // per unit on a busy machine): its wait grows with the units.
+            const double wait_s = o_.final_coeffs_wait_s + (ClosedLoop() ? 60.0 * std::max<size_t>(1, Sensors().size()) : 0.0);
+            if (SecondsSince(*ended_at_) > wait_s) {
+                std::cerr << "\ngyrocal calibrate: no final coefficient set within " << wait_s
                           << " s from every sensor\n";
                 break;
             }
