@@ -16,7 +16,9 @@ constexpr int kGridPoints = 201;
 // A unit at rest at temp_c, warmed up, at nominal supply, on neither branch: what "the model at T"
 // means for a set whose terms also read dT/dt, the branch, the supply or the warm-up (a final set
 // fitted on every still sample); a polynomial reads temp_c alone.
-model::ModelInputs At(const model::Model& m, double temp_c) { return model::SteadyStateInputs(m, temp_c); }
+model::ModelInputs At(const model::Model& m, double temp_c) {
+    return model::SteadyStateInputs(m, temp_c);
+}
 
 // The temperatures of the grid over a model's valid range; empty when the range is not finite.
 std::vector<double> Grid(const model::Model& m) {
@@ -113,17 +115,24 @@ Measure ResidualOverFloor(const UnitEvidence& u) {
     const model::Model& offset = u.plateau_offset.term_names.empty() ? u.offset : u.plateau_offset;
     const model::Model& sensitivity =
         u.plateau_sensitivity.term_names.empty() ? u.sensitivity : u.plateau_sensitivity;
-    const int dof = static_cast<int>(u.plateaus.size()) - static_cast<int>(offset.term_names.size());
+    const int dof =
+        static_cast<int>(u.plateaus.size()) - static_cast<int>(offset.term_names.size());
     if (dof < 1)
-        return {NAN, std::to_string(u.plateaus.size()) + " plateaus for " + std::to_string(offset.term_names.size()) +
-                         " offset terms leave no degree of freedom: the residual cannot show a wrong model"};
+        return {
+            NAN,
+            std::to_string(u.plateaus.size()) + " plateaus for " +
+                std::to_string(offset.term_names.size()) +
+                " offset terms leave no degree of freedom: the residual cannot show a wrong model"};
     try {
         const model::Evaluator off(offset), sens(sensitivity);
         double chi2 = 0;
         for (const PlateauPoint& p : u.plateaus) {
-            const double slow_v = u.plateau_slow_noise_dps * std::abs(sens.Value(At(sensitivity, p.temp_c), model::RangePolicy::kClip));
+            const double slow_v =
+                u.plateau_slow_noise_dps *
+                std::abs(sens.Value(At(sensitivity, p.temp_c), model::RangePolicy::kClip));
             const double sigma = std::hypot(p.gyro_sem_v, slow_v);
-            const double r = p.gyro_mean_v - off.Value(At(offset, p.temp_c), model::RangePolicy::kExtrapolate);
+            const double r =
+                p.gyro_mean_v - off.Value(At(offset, p.temp_c), model::RangePolicy::kExtrapolate);
             if (!(sigma > 0) || !std::isfinite(r)) return {NAN, "a plateau without a usable value or standard error"};
             chi2 += (r / sigma) * (r / sigma);
         }
@@ -144,8 +153,8 @@ Measure OffsetChangeDps(const model::Model& offset, const model::Model& sensitiv
             lo = std::min(lo, v);
             hi = std::max(hi, v);
         }
-        const double s_mid = std::abs(
-            sens.Value(At(sensitivity, 0.5 * (grid.front() + grid.back())), model::RangePolicy::kClip));
+        const double s_mid = std::abs(sens.Value(
+            At(sensitivity, 0.5 * (grid.front() + grid.back())), model::RangePolicy::kClip));
         if (!(s_mid > 0) || !std::isfinite(hi - lo)) return {NAN, "offset or sensitivity not finite over the range"};
         return {(hi - lo) / s_mid, ""};
     } catch (const model::ModelError& e) {
@@ -160,7 +169,8 @@ Measure MaxSensitivityRelUncertaintyPct(const model::Model& sensitivity) {
         const model::Evaluator sens(sensitivity);
         double worst = 0;
         for (double t : grid) {
-            const model::Evaluation e = sens.Evaluate(At(sensitivity, t), model::RangePolicy::kClip);
+            const model::Evaluation e =
+                sens.Evaluate(At(sensitivity, t), model::RangePolicy::kClip);
             const double rel = 100.0 * std::sqrt(e.variance) / std::abs(e.value);
             if (!std::isfinite(rel))
                 return {NAN, "sensitivity uncertainty unknown (method " + sensitivity.method +

@@ -10,9 +10,10 @@
 // plateau run with the closed loop, the set fitted on every still sample; the plateau set stays
 // beside it) and, for what is about the plateaus, on its plateau set:
 //   residual over floor  sqrt(chi2 / dof) of the plateau set, chi2 = sum ((y_i - offset(T_i)) /
-//                        sigma_i)^2 over the plateaus that set was fitted on, sigma_i = the plateau's standard error
-//                        combined in quadrature with the run's plateau slow noise
-//                        (slow_noise_dps x the fitted sensitivity at T_i), dof = plateaus - terms;
+//                        sigma_i)^2 over the plateaus that set was fitted on, sigma_i = the
+//                        plateau's standard error combined in quadrature with the run's plateau
+//                        slow noise (slow_noise_dps x the fitted sensitivity at T_i), dof =
+//                        plateaus - terms;
 //   offset change        (max - min of offset(T)) / |S(T_mid)| over [temp_min_c, temp_max_c] of the
 //                        offset model, on a grid of 201 temperatures;
 //   sensitivity uncert.  max over the sensitivity model's range of 100 sqrt(var S(T)) / |S(T)|,

@@ -426,7 +426,8 @@ SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
     return AnalyzeBinned(run, BinnedRun(run, o.bins), o);
 }
 
-SensorResult AnalyzeBinned(const SensorRun& run, const BinnedRun& binned, const AnalysisOptions& o) {
+SensorResult AnalyzeBinned(const SensorRun& run, const BinnedRun& binned,
+                           const AnalysisOptions& o) {
     if (const std::string p = o.Problem(); !p.empty())
         throw std::invalid_argument("analysis options: " + p);
     if (binned.bin_s() != o.bins.bin_s)

@@ -106,7 +106,7 @@ private:
     double bin_s_;
     std::vector<Bin> bins_;
     std::vector<int> bin_of_sample_;  // -1 = not in a kept bin
-    std::shared_ptr<const TrackedInputSource> inputs_;  // set: binned elsewhere
+    std::shared_ptr<const TrackedInputSource> inputs_;                    // set: binned elsewhere
     mutable std::map<std::pair<double, double>, TrackedInputs> tracked_;  // by (tau, width)
 };
 

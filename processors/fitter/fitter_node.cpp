@@ -87,28 +87,26 @@ FitterNode::FitterNode(const FitterOptions& o)
         loop_.emplace(ClosedLoopOptions(o));
         loop_channel_.emplace(bus_, status_, *loop_);
     }
-    bus_.Subscribe<plateau_t>(channels::AllSensors(channels::kPlateauPrefix),
-                              [this](const plateau_t& m, const std::string& ch) {
-                                  status_.Guarded([&] {
-                                      const std::string id =
-                                          channels::SensorOf(channels::kPlateauPrefix, ch).value();
-                                      if (loop_ && m.sensor_id == id)
-                                          loop_->AddPlateau(id, {m.plateau_id, m.start_utime,
-                                                                 m.end_utime, m.temp_mean_c,
-                                                                 m.temp_sem_c, m.gyro_mean_v,
-                                                                 m.gyro_sem_v, m.n_samples});
-                                      Apply(core_.OnPlateau(m, id));
-                                  });
-                              });
+    bus_.Subscribe<plateau_t>(
+        channels::AllSensors(channels::kPlateauPrefix),
+        [this](const plateau_t& m, const std::string& ch) {
+            status_.Guarded([&] {
+                const std::string id = channels::SensorOf(channels::kPlateauPrefix, ch).value();
+                if (loop_ && m.sensor_id == id)
+                    loop_->AddPlateau(id, {m.plateau_id, m.start_utime, m.end_utime, m.temp_mean_c,
+                                           m.temp_sem_c, m.gyro_mean_v, m.gyro_sem_v, m.n_samples});
+                Apply(core_.OnPlateau(m, id));
+            });
+        });
     bus_.Subscribe<sensitivity_point_t>(
         channels::AllSensors(channels::kSensitivityPrefix),
         [this](const sensitivity_point_t& m, const std::string& ch) {
             status_.Guarded([&] {
                 const std::string id = channels::SensorOf(channels::kSensitivityPrefix, ch).value();
                 if (loop_ && m.sensor_id == id)
-                    loop_->AddSensitivity(id, {m.rotation_id, m.utime, m.temp_c, m.direction,
-                                               m.sensitivity_v_per_dps,
-                                               m.sensitivity_stderr_v_per_dps, m.accepted != 0});
+                    loop_->AddSensitivity(
+                        id, {m.rotation_id, m.utime, m.temp_c, m.direction, m.sensitivity_v_per_dps,
+                             m.sensitivity_stderr_v_per_dps, m.accepted != 0});
                 Apply(core_.OnSensitivity(m, id));
             });
         });
@@ -119,16 +117,16 @@ FitterNode::FitterNode(const FitterOptions& o)
                                         m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
                                 });
                             });
-    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
-                                [this](const run_event_t& m, const std::string&) {
-                                    status_.Guarded([&] {
-                                        // The loop's run follows the core's (a new run's start).
-                                        if (loop_ && m.event == "start" && m.run_id != loop_->run_id())
-                                            loop_->StartRun(m.run_id);
-                                        Apply(core_.OnRunEvent(m));
-                                    });
-                                    if (m.event == "stop" || m.event == "start") status_.PublishNow();
-                                });
+    bus_.Subscribe<run_event_t>(
+        std::string(channels::kRunEvent), [this](const run_event_t& m, const std::string&) {
+            status_.Guarded([&] {
+                // The loop's run follows the core's (a new run's start).
+                if (loop_ && m.event == "start" && m.run_id != loop_->run_id())
+                    loop_->StartRun(m.run_id);
+                Apply(core_.OnRunEvent(m));
+            });
+            if (m.event == "stop" || m.event == "start") status_.PublishNow();
+        });
     status_.set_state("waiting");
 }
 
@@ -164,9 +162,10 @@ void FitterNode::Apply(const fitter::CoreOutput& out) {
             for (fitter::FitJob& j : jobs) {
                 const auto it = summaries.find(j.sensor_id);
                 if (it == summaries.end() || !it->second.complete)
-                    j.withhold = "the plateau set is not complete (" +
-                                 (it == summaries.end() ? std::string("no plateau") : it->second.text) +
-                                 "): the temperatures do not support a temperature model";
+                    j.withhold =
+                        "the plateau set is not complete (" +
+                        (it == summaries.end() ? std::string("no plateau") : it->second.text) +
+                        "): the temperatures do not support a temperature model";
             }
             loop_channel_->Submit(std::move(jobs));
         }

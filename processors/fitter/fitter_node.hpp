@@ -14,10 +14,10 @@
 #include <string>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "fit_worker.hpp"
 #include "fitter_core.hpp"
 #include "ramp_fitter.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 
@@ -85,7 +85,7 @@ class RampFitterNode {
 public:
     explicit RampFitterNode(const FitterOptions& o);  // throws BusError when LCM cannot open
     void Run();
-    Bus& bus() { return bus_; }  // tests publish into it over memq://
+    Bus& bus() { return bus_; }      // tests publish into it over memq://
     void HandleFor(int timeout_ms);  // one dispatch round and the fits done (tests)
     StillFitChannel& channel() { return *channel_; }
 

@@ -68,8 +68,10 @@ size_t StillFitChannel::Publish() {
             ++sets_published_;
         }
         bus_.Publish(channels::Fit(r.sensor_id), r.report);
-        if (const auto a = fitter::AnalysisMessage(r, r.report.run_id, fitter_.options().source))
-            bus_.Publish(channels::Analysis(r.sensor_id), *a);
+        // The analysis of a final fit (one per unit and run: the store keeps each one it hears).
+        if (r.report.is_final)
+            if (const auto a = fitter::AnalysisMessage(r, r.report.run_id, fitter_.options().source))
+                bus_.Publish(channels::Analysis(r.sensor_id), *a);
         status_.SetExtra(r.sensor_id + "." + fitter_.options().source + ".fitted",
                          r.set ? 1.0 : 0.0);
         max_fit_s_ = std::max(max_fit_s_, r.fit_wall_s);

@@ -261,7 +261,8 @@ static void AnalysesText(std::ostream& out, const RunDetail& d) {
     out << "\nAnalyses (" << d.analyses.size() << ")\n";
     if (!d.analyses.empty()) {
         Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "OUTCOME", "VERDICT", "ADDED",
-                 "OFFSET_RMS_V", "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS", "COEFF_ROW_ID"});
+                 "OFFSET_RMS_V", "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS",
+                 "COEFF_ROW_ID"});
         for (const auto& a : d.analyses) {
             t.Add({std::to_string(a.analysis_id), a.sensor_id, UtcText(a.created_wall_utime),
                    a.outcome.value_or("-"), a.verdict, AddedEffects(a.added_json),
@@ -443,12 +444,14 @@ static nlohmann::json AnalysesJson(const RunDetail& d) {
              {"outcome", a.outcome ? nlohmann::json(*a.outcome) : nlohmann::json(nullptr)},
              {"candidates", ParsedOrText(a.candidates_json)},
              {"added", ParsedOrText(a.added_json)},
-             {"error_before", {{"offset_rms_v", Finite(a.offset_rms_v_before)},
-                               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
-                               {"drift_dph", Finite(a.drift_dph_before)}}},
-             {"error_after", {{"offset_rms_v", Finite(a.offset_rms_v_after)},
-                              {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
-                              {"drift_dph", Finite(a.drift_dph_after)}}},
+             {"error_before",
+              {{"offset_rms_v", Finite(a.offset_rms_v_before)},
+               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
+               {"drift_dph", Finite(a.drift_dph_before)}}},
+             {"error_after",
+              {{"offset_rms_v", Finite(a.offset_rms_v_after)},
+               {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
+               {"drift_dph", Finite(a.drift_dph_after)}}},
              {"floor_rate_rms_dps", Finite(a.floor_rate_rms_dps)},
              {"result", ParsedOrText(a.result_json)},
              {"coeff_row_id", OptJson(a.coeff_row_id)},

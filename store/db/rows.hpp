@@ -222,9 +222,9 @@ struct LossDelta {
     }
 };
 
-using Row = std::variant<GyroRow, EncoderRow, ChamberStateRow, ChamberCmdRow, TurntableCmdRow,
-                         PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow,
-                         StatusRow, RunEventRow, RawEventRow, PowerStateRow, NoiseRow,
-                         FitReportRow, ClosedLoopRow>;
+using Row =
+    std::variant<GyroRow, EncoderRow, ChamberStateRow, ChamberCmdRow, TurntableCmdRow,
+                 PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow, StatusRow,
+                 RunEventRow, RawEventRow, PowerStateRow, NoiseRow, FitReportRow, ClosedLoopRow>;
 
 }  // namespace gyrocal::store

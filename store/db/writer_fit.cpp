@@ -1,10 +1,9 @@
 // StoreWriter: the fitter's reports and the units' noise estimates (schema v5). Few rows per run,
 // so the statements are prepared per call (no effect on the sample path's rate).
-#include "writer.hpp"
+#include <limits>
 
 #include "analyses.hpp"
-
-#include <limits>
+#include "writer.hpp"
 
 namespace gyrocal::store {
 

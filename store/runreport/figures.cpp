@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <tuple>
 
 #include "model/inputs.hpp"
@@ -128,12 +128,18 @@ void OffsetFigures(const UnitData& u, const std::string& stem, double slow_dps, 
     if (fit.off) {
         const plot::Table c = Curve(*fit.off, stem + "_offset_fit", 1.0, false);
         AddSeries(fo, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
-        AddSeries(fo, c, {"", plot::Style::kLines, {1, 2},
-                          fit.plateau_off ? "final set (every still sample)" : "fitted offset", "#1f77b4"});
+        AddSeries(fo, c,
+                  {"",
+                   plot::Style::kLines,
+                   {1, 2},
+                   fit.plateau_off ? "final set (every still sample)" : "fitted offset",
+                   "#1f77b4"});
     }
     if (fit.plateau_off) {
         const plot::Table c = Curve(*fit.plateau_off, stem + "_offset_plateau_fit", 1.0, false);
-        AddSeries(fo, c, {"", plot::Style::kLines, {1, 2}, "plateau set (plateau means only)", "#ff7f0e", 2});
+        AddSeries(
+            fo, c,
+            {"", plot::Style::kLines, {1, 2}, "plateau set (plateau means only)", "#ff7f0e", 2});
     }
     AddSeries(fo, pts, {"", plot::Style::kErrorBars, {1, 2, 3}, "plateau means", "#d62728"});
     if (!fo.series.empty()) figures.push_back(fo);
@@ -197,12 +203,16 @@ void SensitivityFigures(const UnitData& u, const std::string& stem, const Fits& 
 // The still bins' offset residual before (declared model) and after (the final set) from the
 // analysis that made the final set ("residual_bins" of its JSON: time_h, temp_c, resid_before_mv,
 // resid_after_mv), against time and temperature.
-void ClosedLoopFigures(const UnitData& u, const std::string& stem, std::vector<plot::Figure>& figures) {
+void ClosedLoopFigures(const UnitData& u, const std::string& stem,
+                       std::vector<plot::Figure>& figures) {
     if (!u.final_analysis) return;
     const auto j = nlohmann::json::parse(u.final_analysis->result_json, nullptr, false);
-    if (!j.is_object() || !j.contains("residual_bins") || !j["residual_bins"].contains("rows")) return;
-    plot::Table t{stem + "_loop_resid", "still bins: residual of the declared model and of the final set",
-                  {"time_h", "temp_c", "resid_before_mv", "resid_after_mv"}, {}};
+    if (!j.is_object() || !j.contains("residual_bins") || !j["residual_bins"].contains("rows"))
+        return;
+    plot::Table t{stem + "_loop_resid",
+                  "still bins: residual of the declared model and of the final set",
+                  {"time_h", "temp_c", "resid_before_mv", "resid_after_mv"},
+                  {}};
     for (const auto& row : j["residual_bins"]["rows"]) {
         if (!row.is_array() || row.size() != 4) continue;
         std::vector<double> r;
@@ -213,8 +223,9 @@ void ClosedLoopFigures(const UnitData& u, const std::string& stem, std::vector<p
     for (const auto& [suffix, x, xlabel] :
          {std::tuple{"_loop_resid_time", 1, "time since the first sample [h]"},
           std::tuple{"_loop_resid_temp", 2, "temperature [degC]"}}) {
-        plot::Figure f = Base(stem + suffix, id + ": still-bin residual before and after the closed loop",
-                              xlabel, "bin mean - model [mV]");
+        plot::Figure f =
+            Base(stem + suffix, id + ": still-bin residual before and after the closed loop",
+                 xlabel, "bin mean - model [mV]");
         AddSeries(f, t, {"", plot::Style::kPoints, {x, 3}, "declared model (before)", "#7f7f7f"});
         AddSeries(f, t, {"", plot::Style::kPoints, {x, 4}, "final set (after)", "#1f77b4"});
         if (!f.series.empty()) figures.push_back(f);

@@ -195,7 +195,8 @@ Section Analysis(const UnitContext& c) {
         return s;
     }
     // The analysis that made the final set (the calibration's closed loop), else the newest.
-    const store::AnalysisRow& a = c.unit.final_analysis ? *c.unit.final_analysis : c.unit.analyses.back();
+    const store::AnalysisRow& a =
+        c.unit.final_analysis ? *c.unit.final_analysis : c.unit.analyses.back();
     const auto j = nlohmann::json::parse(a.result_json, nullptr, false);
     const auto expected = [&](const char* key) -> double {
         if (!j.is_object() || !j.contains("expected_after") || !j["expected_after"].contains(key)) return NAN;

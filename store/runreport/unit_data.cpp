@@ -112,12 +112,14 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
     if (u.final_analysis) {
         e.final_heldout_rate_rms_dps = u.final_analysis->rate_rms_dps_after;
         e.final_heldout_drift_dph = u.final_analysis->drift_dph_after;
-        if (!std::isfinite(e.final_heldout_rate_rms_dps) || !std::isfinite(e.final_heldout_drift_dph))
+        if (!std::isfinite(e.final_heldout_rate_rms_dps) ||
+            !std::isfinite(e.final_heldout_drift_dph))
             e.final_heldout_note = "the analysis behind the final set has no held-out figure (" +
                                    u.final_analysis->verdict + ")";
     } else {
-        e.final_heldout_note = "no analysis made the final set (a plateau set without the closed "
-                               "loop): its held-out error is not known";
+        e.final_heldout_note =
+            "no analysis made the final set (a plateau set without the closed "
+            "loop): its held-out error is not known";
     }
     if (!u.analyses.empty()) {
         const store::AnalysisRow& a = u.analyses.back();

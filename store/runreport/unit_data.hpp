@@ -24,10 +24,10 @@ struct UnitData {
     std::string sensor_id;
     std::vector<store::PlateauRow> plateaus;      // every plateau of the unit in the run
     std::vector<store::SensitivityRow> turns;     // every turn, accepted or not
-    std::optional<store::CoeffSetInfo> calibration;   // the final set
-    std::optional<store::CoeffSetInfo> plateau_set;   // the newest set of source "fitter", when
-                                                      // the final set is another (closed loop)
-    std::vector<store::CoeffSetInfo> other_sets;  // every other set (older ones, analyses)
+    std::optional<store::CoeffSetInfo> calibration;  // the final set
+    std::optional<store::CoeffSetInfo> plateau_set;  // the newest set of source "fitter", when
+                                                     // the final set is another (closed loop)
+    std::vector<store::CoeffSetInfo> other_sets;     // every other set (older ones, analyses)
     // The analysis that made the final set (closed loop, ramp fit), when stored.
     std::optional<store::AnalysisRow> final_analysis;
     std::vector<store::AnalysisRow> analyses;     // oldest first

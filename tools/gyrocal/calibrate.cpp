@@ -1,14 +1,12 @@
 #include "calibrate.hpp"
-#include "calibration.hpp"
 
 #include <unistd.h>
 
-#include <csignal>
-
 #include <chrono>
 #include <cmath>
-#include <deque>
+#include <csignal>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -20,9 +18,9 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
-#include "runtime/status.hpp"
+#include "calibration.hpp"
 #include "coeff_table.hpp"
+#include "csv/file_digest.hpp"
 #include "final_verdict.hpp"
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
@@ -34,11 +32,12 @@
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/version.hpp"
 #include "launch/child_process.hpp"
-#include "paths.hpp"
-#include "progress.hpp"
-#include "csv/file_digest.hpp"
 #include "model/convert.hpp"
+#include "paths.hpp"
 #include "procedure.hpp"
+#include "progress.hpp"
+#include "runtime/shutdown.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal::cli {
 
@@ -155,7 +154,8 @@ void Calibration::Subscribe() {
                                });
     bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
                                 [this](const coeff_set_t& c, const std::string&) {
-                                    if (c.source == model::kFitterSource) plateau_sets_[c.sensor_id] = c;
+                                    if (c.source == model::kFitterSource)
+                                        plateau_sets_[c.sensor_id] = c;
                                     coeffs_[c.sensor_id] = c;
                                     if (stop_seen_) final_coeffs_.insert(c.sensor_id);
                                     if (progress_) progress_->OnCoeffs(c);
@@ -479,7 +479,9 @@ int Calibration::Watch() {
             if (!WaitsForCoeffs() || HaveFinalCoeffs()) break;
             // The closed loop fits each unit on every still bin after the plateau sets (seconds
             // per unit on a busy machine): its wait grows with the units.
-            const double wait_s = o_.final_coeffs_wait_s + (ClosedLoop() ? 60.0 * std::max<size_t>(1, Sensors().size()) : 0.0);
+            const double wait_s =
+                o_.final_coeffs_wait_s +
+                (ClosedLoop() ? 60.0 * std::max<size_t>(1, Sensors().size()) : 0.0);
             if (SecondsSince(*ended_at_) > wait_s) {
                 std::cerr << "\ngyrocal calibrate: no final coefficient set within " << wait_s
                           << " s from every sensor\n";
@@ -515,7 +517,8 @@ int Calibration::Finish(int code) {
             std::cout << "\nplateau sets (plateau means only; stored beside the final sets, source "
                       << model::kFitterSource << ")\n"
                       << FormatCoeffTable(plateau_sets_);
-        if (!loop_analyses_.empty() || !loop_reports_.empty()) std::cout << "\n" << ClosedLoopLines();
+        if (!loop_analyses_.empty() || !loop_reports_.empty())
+            std::cout << "\n" << ClosedLoopLines();
         std::ifstream truth(o_.truth_out);
         if (truth && source_kind_ == Source::kSim) {
             try {

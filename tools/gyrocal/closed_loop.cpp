@@ -27,10 +27,11 @@ std::string BeforeAfter(double before, double after) {
 }  // namespace
 
 std::string Calibration::ClosedLoopLines() const {
-    std::string out =
-        "final sets (source " + std::string(model::kClosedLoopSource) +
-        ": fitted on every still sample with the terms the data confirm; the plateau sets, source " +
-        model::kFitterSource + ", are stored beside them). Held-out error, declared model -> final set:\n";
+    std::string out = "final sets (source " + std::string(model::kClosedLoopSource) +
+                      ": fitted on every still sample with the terms the data confirm; the plateau "
+                      "sets, source " +
+                      model::kFitterSource +
+                      ", are stored beside them). Held-out error, declared model -> final set:\n";
     for (const auto& [id, a] : loop_analyses_) {
         out += id + ": " + a.outcome + ": " + a.headline + "\n";
         out += "    held-out rate RMS " + BeforeAfter(a.rate_rms_dps_before, a.rate_rms_dps_after) +
@@ -47,10 +48,12 @@ std::string Calibration::ClosedLoopLines() const {
             out += "; offset terms " + Terms(set->second.offset);
         out += "\n";
         if (a.outcome == "partly explained" || a.outcome == "unexplained residual")
-            out += "    not explained: what is left is above the floor bound (the headline says "
-                   "where and what it correlates with)\n";
+            out +=
+                "    not explained: what is left is above the floor bound (the headline says "
+                "where and what it correlates with)\n";
         const nlohmann::json j = nlohmann::json::parse(a.result_json, nullptr, false);
-        if (j.is_object() && j.contains("to_test") && j["to_test"].is_array() && !j["to_test"].empty()) {
+        if (j.is_object() && j.contains("to_test") && j["to_test"].is_array() &&
+            !j["to_test"].empty()) {
             std::string t;
             for (const auto& x : j["to_test"]) t += (t.empty() ? "" : "; ") + x.get<std::string>();
             out += "    could not test: " + t + "\n";

@@ -87,9 +87,9 @@ analysis::RunBinner LoadBinnedRun(store::Db& db, const st::RunDetail& detail,
                                        p.temp_sem_c, p.gyro_mean_v, p.gyro_sem_v, p.n_samples});
     for (const st::SensitivityRow& s : detail.sensitivity_points)
         if (wanted.count(s.sensor_id) && b.unit(s.sensor_id))
-            b.AddSensitivity(s.sensor_id, {s.rotation_id, s.utime, s.temp_c, s.direction,
-                                           s.sensitivity_v_per_dps, s.sensitivity_stderr_v_per_dps,
-                                           s.accepted});
+            b.AddSensitivity(s.sensor_id,
+                             {s.rotation_id, s.utime, s.temp_c, s.direction,
+                              s.sensitivity_v_per_dps, s.sensitivity_stderr_v_per_dps, s.accepted});
     return b;
 }
 

@@ -1,15 +1,15 @@
 // The fit on every still window off the receive path (issue 29): what it costs to keep, and how
 // long a sample waits while a refit runs. Not a test: it prints figures and the machine.
 //
-//   gyrocal_bench_fitter [HOURS_MEMORY] [MSGS_PER_S]
+//   gyrocal_bench_fitter [HOURS_MEMORY] [MSGS_PER_S] [UNITS]
 //
 // 1. Memory per unit-hour, one unit at 100 Hz with the encoder at 100 Hz (HOURS_MEMORY of a
 //    triangle 25 -> -15 -> 55 -> 25 degC ramp, default 1): the heap the ramp fitter held before
 //    this change (every raw sample and encoder reading in vectors: exactly its containers) and
 //    the incremental bins now (RampFitter), both measured as the growth of the allocator's bytes in
 //    use (mallinfo2) while the run is fed in.
-// 2. Receive latency while refits run: a publisher thread sends one unit's run (10 Hz, 2.3 h of
-//    data, encoder at 1 Hz) over LCM udpm (port 7940, TTL 0; run it inside a network namespace:
+// 2. Receive latency while refits run: a publisher thread sends UNITS units' run (default 4; 10 Hz,
+//    2.3 h of data, encoder at 1 Hz) over LCM udpm (port 7940, TTL 0; run it inside a network namespace:
 //    /work/bin/nsrun NAME ...) at MSGS_PER_S (default 2000: ~200x real time); the receiving thread
 //    runs the ramp fitter (refit every 600 s of data once 1200 s are in) either with the fit in
 //    the sample's handler (as the ramp fitter did before this change) or on the fit worker
@@ -118,25 +118,27 @@ double Percentile(std::vector<double> v, double p) {
     return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
 }
 
-// One pass of the run through the bus with the fit in the handler (`inline_fit`) or on the worker.
-Latency Pass(const std::vector<Sample>& run, double msgs_per_s, bool inline_fit) {
+// One pass of the run through the bus, for `units` units (the same data under each id), with the
+// fit in the handler (`inline_fit`) or on the worker.
+Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool inline_fit) {
     Bus bus(BusOptions{kUrl});
     StatusReporter status(bus, "bench-fitter");
     fitter::RampFitter f(fitter::RampFitterOptions::Defaults());
     std::optional<StillFitChannel> channel;
     Latency out;
     int64_t now = 0;
+    auto unit_of = [](const std::string& ch) { return channels::SensorOf(channels::kGyroPrefix, ch).value(); };
     if (inline_fit) {
-        bus.Subscribe<gyro_sample_t>(
-            channels::Gyro("U1"), [&](const gyro_sample_t& m, const std::string&) {
-                f.AddGyro("U1", {m.utime, m.seq, m.temp_c, m.gyro_v, m.supply_v});
-                if (m.utime <= now) return;
-                now = m.utime;
-                for (const auto& r : f.OnTime(m.utime)) {  // the fit, here, in the handler
-                    if (r.set) bus.Publish(channels::Coeffs("U1"), *r.set);
-                    ++out.fits;
-                }
-            });
+        bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
+                                     [&](const gyro_sample_t& m, const std::string& ch) {
+                                         f.AddGyro(unit_of(ch), {m.utime, m.seq, m.temp_c, m.gyro_v, m.supply_v});
+                                         if (m.utime <= now) return;
+                                         now = m.utime;
+                                         for (const auto& r : f.OnTime(m.utime)) {  // the fit, here
+                                             if (r.set) bus.Publish(channels::Coeffs(r.sensor_id), *r.set);
+                                             ++out.fits;
+                                         }
+                                     });
         bus.Subscribe<encoder_sample_t>(std::string(channels::kEncoder),
                                         [&](const encoder_sample_t& m, const std::string&) {
                                             f.AddEncoder({m.utime, m.counts, m.counts_per_rev});
@@ -144,14 +146,17 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, bool inline_fit)
     } else {
         channel.emplace(bus, status, f);
     }
-    std::vector<std::atomic<int64_t>> sent(run.size());  // [ns] of the steady clock, per seq
+    const size_t total = run.size() * static_cast<size_t>(units);
+    std::vector<std::atomic<int64_t>> sent(total);  // [ns] of the steady clock, per message
     std::atomic<bool> done{false};
-    bus.Subscribe<gyro_sample_t>(channels::Gyro("U1"), [&](const gyro_sample_t& m,
-                                                           const std::string&) {
-        if (m.seq >= 0 && static_cast<size_t>(m.seq) < sent.size())
-            out.ms.push_back(1e-6 * static_cast<double>(Clock::now().time_since_epoch().count() -
-                                                        sent[static_cast<size_t>(m.seq)].load()));
-    });
+    bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
+                                 [&](const gyro_sample_t& m, const std::string&) {
+                                     const auto k = static_cast<size_t>(m.seq);
+                                     if (k < total)
+                                         out.ms.push_back(1e-6 * static_cast<double>(
+                                                                     Clock::now().time_since_epoch().count() -
+                                                                     sent[k].load()));
+                                 });
     f.StartRun("bench");
     std::thread pub([&] {
         Bus p(BusOptions{kUrl});
@@ -159,23 +164,25 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, bool inline_fit)
         int64_t k = 0;
         for (size_t i = 0; i < run.size(); ++i) {
             const Sample& s = run[i];
-            std::this_thread::sleep_until(start + std::chrono::duration<double>(k / msgs_per_s));
             if (s.encoder) {
+                std::this_thread::sleep_until(start + std::chrono::duration<double>(k++ / msgs_per_s));
                 encoder_sample_t e{};
-                e.utime = s.g.utime, e.encoder_id = "TABLE", e.seq = ++k, e.counts = 0,
-                e.counts_per_rev = 20000;
+                e.utime = s.g.utime, e.encoder_id = "TABLE", e.seq = k, e.counts = 0, e.counts_per_rev = 20000;
                 p.Publish(std::string(channels::kEncoder), e);
             }
-            gyro_sample_t g{};
-            g.utime = s.g.utime, g.sensor_id = "U1", g.seq = s.g.seq, g.temp_c = s.g.temp_c;
-            g.gyro_v = s.g.gyro_v, g.supply_v = s.g.supply_v;
-            sent[i] = Clock::now().time_since_epoch().count();
-            p.Publish(channels::Gyro("U1"), g);
-            ++k;
+            for (int u = 0; u < units; ++u) {
+                std::this_thread::sleep_until(start + std::chrono::duration<double>(k++ / msgs_per_s));
+                const std::string id = "U" + std::to_string(u + 1);
+                gyro_sample_t g{};
+                g.utime = s.g.utime, g.sensor_id = id, g.seq = s.g.seq * units + u, g.temp_c = s.g.temp_c;
+                g.gyro_v = s.g.gyro_v, g.supply_v = s.g.supply_v;
+                sent[static_cast<size_t>(g.seq)] = Clock::now().time_since_epoch().count();
+                p.Publish(channels::Gyro(id), g);
+            }
         }
         done = true;
     });
-    while (!done || out.ms.size() < run.size()) {
+    while (!done || out.ms.size() < total) {
         if (!bus.Handle(std::chrono::milliseconds(20)) && done) break;
         if (channel) out.fits += static_cast<int>(channel->Publish());
     }
@@ -187,16 +194,16 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, bool inline_fit)
     return out;
 }
 
-void Receive(double msgs_per_s) {
+void Receive(double msgs_per_s, int units) {
     const std::vector<Sample> run = Triangle(10.0, 1.0, 1e9);
     std::printf(
-        "\nreceive latency, 1 unit at 10 Hz + encoder at 1 Hz, %.2f h of data at %.0f messages/s "
+        "\nreceive latency, %d units at 10 Hz + encoder at 1 Hz, %.2f h of data at %.0f messages/s "
         "(refit every 600 s of data):\n",
-        1e-6 * static_cast<double>(run.back().g.utime) / 3600.0, msgs_per_s);
+        units, 1e-6 * static_cast<double>(run.back().g.utime) / 3600.0, msgs_per_s);
     std::printf("  %-34s %6s %9s %9s %9s %9s %9s\n", "fit", "fits", "p50 ms", "p99 ms", "p99.9 ms",
                 "max ms", "samples");
     for (const bool inline_fit : {true, false}) {
-        const Latency l = Pass(run, msgs_per_s, inline_fit);
+        const Latency l = Pass(run, msgs_per_s, units, inline_fit);
         std::printf("  %-34s %6d %9.3f %9.3f %9.3f %9.1f %9zu\n",
                     inline_fit ? "in the handler (before)" : "on the fit worker (after)", l.fits,
                     Percentile(l.ms, 0.5), Percentile(l.ms, 0.99), Percentile(l.ms, 0.999),
@@ -210,11 +217,12 @@ void Receive(double msgs_per_s) {
 int main(int argc, char** argv) {
     const int hours = gyrocal::bench::IntArg(argc, argv, 1, 1);
     const int rate = gyrocal::bench::IntArg(argc, argv, 2, 2000);
-    if (hours < 1 || hours > 48 || rate < 100 || rate > 100000)
-        return gyrocal::bench::Usage(argv, "[HOURS_MEMORY 1..48] [MSGS_PER_S 100..100000]");
+    const int units = gyrocal::bench::IntArg(argc, argv, 3, 4);
+    if (hours < 1 || hours > 48 || rate < 100 || rate > 100000 || units < 1 || units > 16)
+        return gyrocal::bench::Usage(argv, "[HOURS_MEMORY 1..48] [MSGS_PER_S 100..100000] [UNITS 1..16]");
     std::printf("gyrocal_bench_fitter: %s, %u cores, load %s\n", gyrocal::bench::CpuModel().c_str(),
                 gyrocal::bench::Nproc(), gyrocal::bench::LoadAverage().c_str());
     gyrocal::Memory(hours);
-    gyrocal::Receive(rate);
+    gyrocal::Receive(rate, units);
     return 0;
 }

@@ -72,11 +72,12 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
     Sets s;
     const std::string csv = dir + "/cal.csv", db_path = dir + "/cal.db";
     othersim::WriteRun(o, csv, dir + "/cal.truth.json");
-    ChildProcess cal({GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv, "--db", db_path,
-                      "--lcm-url", "udpm://239.255.76.67:7960?ttl=0&recv_buf_size=4194304", "--log-dir",
-                      dir + "/logs", "--quiet", "--source-arg=--max", "--source-arg=--max-rate-hz=20000",
-                      "--wall-timeout-s", "1500"},
-                     dir + "/calibrate.out", dir + "/calibrate.out");
+    ChildProcess cal(
+        {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv, "--db", db_path,
+         "--lcm-url", "udpm://239.255.76.67:7960?ttl=0&recv_buf_size=4194304", "--log-dir",
+         dir + "/logs", "--quiet", "--source-arg=--max", "--source-arg=--max-rate-hz=20000",
+         "--wall-timeout-s", "1500"},
+        dir + "/calibrate.out", dir + "/calibrate.out");
     const auto end = cal.Wait(1600s);
     s.ok = end && end->code == 0;
     auto db = store::OpenForQuery(db_path);
@@ -93,7 +94,8 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
     for (const auto& [id, run_data] : cli::LoadSensorRuns(*db, detail, ids)) {
         model::CoeffSet px4 = s.plateau.at(id);
         px4.source = "px4";
-        px4.offset = bench::Px4Cubic(analysis::BinnedRun(run_data, analysis::BinOptions::Defaults()));
+        px4.offset =
+            bench::Px4Cubic(analysis::BinnedRun(run_data, analysis::BinOptions::Defaults()));
         s.px4[id] = px4;
     }
     s.ok = s.ok && s.final.size() == s.plateau.size() && !s.plateau.empty();
@@ -105,7 +107,8 @@ struct Series {
     std::vector<double> bins;
     double angle_deg = 0;
 };
-void AddSample(Series& s, double& acc, int& n, int64_t& start, int64_t utime, double rate, double dt_s) {
+void AddSample(Series& s, double& acc, int& n, int64_t& start, int64_t utime, double rate,
+               double dt_s) {
     if (utime - start >= 10'000'000) {
         if (n > 0) s.bins.push_back(acc / n);
         acc = 0, n = 0, start = utime;
@@ -121,13 +124,15 @@ std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
     o.profile.ramp_c_per_min = 1.0;
     std::stringstream text;
     const othersim::Generated g = othersim::Generate(o, text);
-    const csv::CsvFile f = csv::ReadCsv(text, "held.csv", sensor::TempTransfer{}, csv::OnError::kStop);
+    const csv::CsvFile f =
+        csv::ReadCsv(text, "held.csv", sensor::TempTransfer{}, csv::OnError::kStop);
     std::vector<Row> rows(4);
     for (const othersim::UnitTruth& u : g.units) {
         if (!sets.final.count(u.sensor_id)) continue;
         std::vector<compensate::SensorCompensator> comps;
         comps.reserve(3);
-        const std::map<std::string, model::CoeffSet>* by[] = {&sets.plateau, &sets.final, &sets.px4};
+        const std::map<std::string, model::CoeffSet>* by[] = {&sets.plateau, &sets.final,
+                                                              &sets.px4};
         for (size_t m = 0; m < 3; ++m) {
             comps.emplace_back(compensate::CompensatorOptions{model::RangePolicy::kClip});
             comps[m].SetCoefficients(by[m]->at(u.sensor_id));
@@ -143,7 +148,8 @@ std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
             if (first < 0) first = utime, std::fill(start.begin(), start.end(), utime);
             const double dt_s = last < 0 ? 0.0 : 1e-6 * static_cast<double>(utime - last);
             last = utime;
-            const compensate::Sample s{utime, 0, r.gyro_v, r.temp_c, r.supply_v ? *r.supply_v : NAN};
+            const compensate::Sample s{utime, 0, r.gyro_v, r.temp_c,
+                                       r.supply_v ? *r.supply_v : NAN};
             for (size_t m = 0; m < 3; ++m) {
                 const auto a = comps[m].Apply(s);
                 AddSample(series[m], acc[m], n[m], start[m], utime,
@@ -151,9 +157,11 @@ std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
             }
             const double die = u.DieFromMeasuredC(r.temp_c);
             const double t = r.time_s;
-            const double offset = u.OffsetV(die) + o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
+            const double offset = u.OffsetV(die) +
+                                  o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
                                   o.effects.supply_v_per_v * (s.supply_v - o.supply.nominal_v);
-            AddSample(series[3], acc[3], n[3], start[3], utime, (r.gyro_v - offset) / u.SensitivityVPerDps(die), dt_s);
+            AddSample(series[3], acc[3], n[3], start[3], utime,
+                      (r.gyro_v - offset) / u.SensitivityVPerDps(die), dt_s);
         }
         const double duration_s = 1e-6 * static_cast<double>(last - first);
         for (size_t m = 0; m < 4; ++m) rows[m].Add(series[m].bins, series[m].angle_deg, duration_s);
@@ -171,19 +179,25 @@ int main(int argc, char** argv) {
     if (seeds < 1 || seeds > 100 || units < 1 || units > 8 || first < 1)
         return bench::Usage(argv, "[SEEDS 1..100] [UNITS 1..8] [FIRST_SEED >= 1]");
     const auto wall0 = std::chrono::steady_clock::now();
-    const std::string base = std::filesystem::temp_directory_path() / ("gyrocal_bench_cl_" + std::to_string(getpid()));
-    std::printf("gyrocal_bench_closed_loop_othersim: othersim, return-to-start profile, %d seeds (%d..) x %d "
-                "units through gyrocal calibrate --source csv; held-out 25 -> -10 -> 70 -> 25 degC at 1 "
-                "degC/min, fresh noise, unit still, 10 s bins\n",
-                seeds, first, units);
+    const std::string base =
+        std::filesystem::temp_directory_path() / ("gyrocal_bench_cl_" + std::to_string(getpid()));
+    std::printf(
+        "gyrocal_bench_closed_loop_othersim: othersim, return-to-start profile, %d seeds (%d..) x "
+        "%d "
+        "units through gyrocal calibrate --source csv; held-out 25 -> -10 -> 70 -> 25 degC at 1 "
+        "degC/min, fresh noise, unit still, 10 s bins\n",
+        seeds, first, units);
     int failures = 0;
     for (const double supply : {0.0, 0.1}) {
         std::vector<Row> total(4);
         int met = 0, named = 0;
-        std::printf("\ncase %s\n  seed: drift plateau / final / PX4 / truth [deg/h]; RMS the same [deg/s]; final offset terms\n",
-                    supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
+        std::printf(
+            "\ncase %s\n  seed: drift plateau / final / PX4 / truth [deg/h]; RMS the same [deg/s]; "
+            "final offset terms\n",
+            supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
         for (int seed = first; seed < first + seeds; ++seed) {
-            const std::string dir = base + "/s" + std::to_string(seed) + (supply == 0.0 ? "_clean" : "_supply");
+            const std::string dir =
+                base + "/s" + std::to_string(seed) + (supply == 0.0 ? "_clean" : "_supply");
             std::filesystem::create_directories(dir);
             const othersim::Options o = Scaled(static_cast<uint64_t>(seed), units, supply);
             const Sets sets = Calibrate(dir, o);
@@ -205,30 +219,36 @@ int main(int argc, char** argv) {
                 terms += (terms.empty() ? "" : " ") + id + "{" + t + "}";
                 has_supply = has_supply && t.find("supply") != std::string::npos;
             }
-            std::printf("  %4d: %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %s\n", seed, rows[0].Drift(),
-                        rows[1].Drift(), rows[2].Drift(), rows[3].Drift(), rows[0].Rms(), rows[1].Rms(), rows[2].Rms(),
-                        rows[3].Rms(), terms.c_str());
+            std::printf("  %4d: %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %s\n", seed,
+                        rows[0].Drift(), rows[1].Drift(), rows[2].Drift(), rows[3].Drift(),
+                        rows[0].Rms(), rows[1].Rms(), rows[2].Rms(), rows[3].Rms(), terms.c_str());
             if (supply == 0.0) {
-                met += rows[1].Drift() <= rows[2].Drift() && rows[1].Drift() <= 2.0 * rows[3].Drift();
+                met +=
+                    rows[1].Drift() <= rows[2].Drift() && rows[1].Drift() <= 2.0 * rows[3].Drift();
             } else if (has_supply) {
                 ++named;
                 met += rows[1].Rms() <= 1.2 * rows[3].Rms();
             }
             std::fflush(stdout);
         }
-        std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth", "drift/truth");
+        std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth",
+                    "drift/truth");
         for (size_t m = 0; m < 4; ++m)
-            std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(), total[m].Drift(),
-                        total[m].Rms() / total[3].Rms(), total[m].Drift() / total[3].Drift());
+            std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(),
+                        total[m].Drift(), total[m].Rms() / total[3].Rms(),
+                        total[m].Drift() / total[3].Drift());
         if (supply == 0.0)
-            std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met, seeds);
+            std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met,
+                        seeds);
         else
-            std::printf("  seeds whose final sets carry supply: %d of %d; of those, final RMS <= 1.2x truth's: %d\n",
-                        named, seeds, met);
+            std::printf(
+                "  seeds whose final sets carry supply: %d of %d; of those, final RMS <= 1.2x "
+                "truth's: %d\n",
+                named, seeds, met);
     }
     std::filesystem::remove_all(base);
-    std::printf("machine: %s, %u cores, load %s; wall time %.0f s\n", bench::CpuModel().c_str(), bench::Nproc(),
-                bench::LoadAverage().c_str(),
+    std::printf("machine: %s, %u cores, load %s; wall time %.0f s\n", bench::CpuModel().c_str(),
+                bench::Nproc(), bench::LoadAverage().c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     return failures == 0 ? 0 : 1;
 }

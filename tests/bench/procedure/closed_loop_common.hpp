@@ -25,7 +25,8 @@ inline model::Model Px4Cubic(const analysis::BinnedRun& b) {
     m.method = "px4-cubic";
     const auto n = static_cast<Eigen::Index>(b.size());
     double lo = INFINITY, hi = -INFINITY;
-    for (const analysis::Bin& x : b.bins()) lo = std::min(lo, x.temp_c), hi = std::max(hi, x.temp_c);
+    for (const analysis::Bin& x : b.bins())
+        lo = std::min(lo, x.temp_c), hi = std::max(hi, x.temp_c);
     m.t0_c = 5.0 * std::round(0.5 * (lo + hi) / 5.0);
     Eigen::MatrixXd x(n, 4);
     Eigen::VectorXd y(n);

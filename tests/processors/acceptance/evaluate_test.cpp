@@ -237,7 +237,8 @@ TEST(Evaluate, HeldOutLimitsJudgeTheFinalSetsAnalysisAndAreNotEvaluatedWithoutOn
     EXPECT_EQ(v.checks[0].key, "max_heldout_rate_rms_dps");
     EXPECT_EQ(v.checks[0].outcome, Outcome::kPass);
     EXPECT_EQ(v.checks[1].outcome, Outcome::kFail);
-    EXPECT_NE(Summary(v).find("max_heldout_drift_dph 80 > 60 deg/h"), std::string::npos) << Summary(v);
+    EXPECT_NE(Summary(v).find("max_heldout_drift_dph 80 > 60 deg/h"), std::string::npos)
+        << Summary(v);
     // AND a final set no analysis made is not evaluated, with the reason (never a silent pass)
     UnitEvidence plain = Unit({0, 0, 0, 0, 0}, 0.0);
     plain.final_heldout_note = "no analysis made the final set";

@@ -62,7 +62,9 @@ TEST(Limits, WrongTypesAndInvalidValuesNameTheKeyAndWhatIsValid) {
     e = ErrorOf(R"({"no_unexplained_residual": "yes"})");
     EXPECT_NE(e.find("key 'no_unexplained_residual': expected true or false, got string"), std::string::npos) << e;
     e = ErrorOf(R"({"max_heldout_drift_dph": -2})");
-    EXPECT_NE(e.find("key 'max_heldout_drift_dph': -2 is not valid; expected a number >= 0"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'max_heldout_drift_dph': -2 is not valid; expected a number >= 0"),
+              std::string::npos)
+        << e;
     e = ErrorOf(R"({"description": 3, "min_turns": 1})");
     EXPECT_NE(e.find("key 'description': expected a string"), std::string::npos) << e;
 }

@@ -244,7 +244,8 @@ TEST(Analyses, TheFittersClosedLoopIsStoredAsAnAnalysisLinkedToTheSetItMade) {
     const std::string path = FreshDbPath("closed_loop.db");
     StoreWriter w(path, {"recorder-v1", "h", 1});
     ClosedLoopRow a;
-    a.run_id = "R1", a.sensor_id = "S01", a.source = "closed-loop", a.utime = 88, a.coeff_set_id = 88;
+    a.run_id = "R1", a.sensor_id = "S01", a.source = "closed-loop", a.utime = 88,
+    a.coeff_set_id = 88;
     a.is_final = true, a.outcome = "explained", a.headline = "missing effect: supply, explained";
     a.candidates_json = "[]", a.added_json = R"([{"effect":"supply"}])", a.result_json = "{}";
     a.offset_rms_v_before = 1e-3, a.offset_rms_v_after = 2e-4, a.rate_rms_dps_before = 0.2;
@@ -260,9 +261,11 @@ TEST(Analyses, TheFittersClosedLoopIsStoredAsAnAnalysisLinkedToTheSetItMade) {
     EXPECT_EQ(rows[0].software_version, "recorder-v1");
     EXPECT_DOUBLE_EQ(rows[0].rate_rms_dps_after, 0.03);
     ASSERT_TRUE(rows[0].coeff_row_id.has_value());
-    EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM coeff_sets WHERE source = 'closed-loop' AND coeff_row_id = " +
-                                std::to_string(*rows[0].coeff_row_id)),
-              1);
+    EXPECT_EQ(
+        Count(w.db(),
+              "SELECT count(*) FROM coeff_sets WHERE source = 'closed-loop' AND coeff_row_id = " +
+                  std::to_string(*rows[0].coeff_row_id)),
+        1);
     // AND an analysis that made no set links none
     a.coeff_set_id = -1;
     w.Write({a}, {});

@@ -1,12 +1,11 @@
 // RecordMapper without sockets: encoded messages in, rows out.
 #include "record_mapper.hpp"
 
+#include <gtest/gtest.h>
+
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
-
-#include <gtest/gtest.h>
-
 #include "message_builders.hpp"
 
 namespace gyrocal::record {

@@ -86,11 +86,13 @@ TEST(UnitData, TheClosedLoopsFinalSetIsTheCalibrationAndThePlateauSetStaysBeside
     auto set = [](int64_t row, const std::string& source, std::vector<int64_t> plateaus) {
         store::CoeffSetInfo c;
         c.coeff_row_id = row;
-        c.set.sensor_id = "S01", c.set.run_id = "R1", c.set.coeff_set_id = 50, c.set.source = source;
+        c.set.sensor_id = "S01", c.set.run_id = "R1", c.set.coeff_set_id = 50,
+        c.set.source = source;
         c.set.plateau_ids = std::move(plateaus);
         c.set.rotation_ids = {1, 2, 3};
         for (store::ModelRow* m : {&c.set.offset, &c.set.sensitivity}) {
-            m->term_names = {"1"}, m->coeffs = {source == "fitter" ? 2.5 : 2.6}, m->covariance = {{1e-10}};
+            m->term_names = {"1"}, m->coeffs = {source == "fitter" ? 2.5 : 2.6},
+            m->covariance = {{1e-10}};
             m->temp_min_c = 0, m->temp_max_c = 50, m->t0_c = 25;
         }
         return c;

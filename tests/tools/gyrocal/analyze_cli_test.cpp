@@ -110,7 +110,8 @@ TEST_F(AnalyzeCli, TheRunBinnedAsItIsReadGivesTheSameAnalysis) {
     ASSERT_TRUE(a.extended_offset && b.extended_offset);
     const BinnedRun bins(whole.at("S01"), BinOptions::Defaults());
     const Eigen::VectorXd d = bins.Values(*a.extended_offset) - bins.Values(*b.extended_offset);
-    EXPECT_LT(std::sqrt(d.squaredNorm() / static_cast<double>(d.size())), 0.25 * a.floor_offset_rms_v);
+    EXPECT_LT(std::sqrt(d.squaredNorm() / static_cast<double>(d.size())),
+              0.25 * a.floor_offset_rms_v);
     EXPECT_EQ(a.n_bins, b.n_bins);
 }
 

@@ -19,8 +19,8 @@
 
 #include <algorithm>
 #include <array>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -31,17 +31,17 @@
 #include "bus/channels.hpp"
 #include "bus_wait.hpp"
 #include "compensator/compensate.hpp"
+#include "e2e_support.hpp"
 #include "generator.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "model/convert.hpp"
 #include "launch/child_process.hpp"
+#include "model/convert.hpp"
 #include "model/model.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
-#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -311,9 +311,10 @@ TEST(OthersimCalibration, DataThatCannotCarryATemperatureModelEndWithExit3Naming
     EXPECT_NE(lab.show.find("PARTIAL"), std::string::npos) << lab.show;
     // AND the closed loop publishes no set on temperatures that cannot carry a model (it says why)
     EXPECT_TRUE(SetsOf(lab, "closed-loop").empty());
-    EXPECT_NE(out.find("no final set (the plateau set stays in force): no set: the plateau set is not "
-                       "complete"),
-              std::string::npos)
+    EXPECT_NE(
+        out.find("no final set (the plateau set stays in force): no set: the plateau set is not "
+                 "complete"),
+        std::string::npos)
         << out;
 }
 
@@ -326,12 +327,13 @@ std::array<double, 3> HeldOutRateRms(const std::string& out, const std::string& 
     const size_t line = at == std::string::npos ? at : out.find("held-out rate RMS ", at);
     std::array<double, 3> v{NAN, NAN, NAN};
     if (line != std::string::npos)
-        std::sscanf(out.c_str() + line, "held-out rate RMS %lf -> %lf deg/s (floor %lf)", &v[0], &v[1], &v[2]);
+        std::sscanf(out.c_str() + line, "held-out rate RMS %lf -> %lf deg/s (floor %lf)", &v[0],
+                    &v[1], &v[2]);
     return v;
 }
 
-// The rates a real gyrocal-compensator publishes for the samples of `csv` (a real gyrocal-csv-source)
-// once `set` has been published to it, and those samples as it received them.
+// The rates a real gyrocal-compensator publishes for the samples of `csv` (a real
+// gyrocal-csv-source) once `set` has been published to it, and those samples as it received them.
 struct Compensated {
     std::vector<rate_t> rates;
     std::vector<gyro_sample_t> samples;
@@ -344,11 +346,13 @@ Compensated CompensateLive(const std::string& dir, const std::string& csv, const
     int64_t applied = -1;
     testing::CollectInto(bus, channels::Rate("U1"), c.rates);
     testing::CollectInto(bus, channels::Gyro("U1"), c.samples);
-    bus.Subscribe<status_t>(std::string(channels::kStatus), [&](const status_t& s, const std::string&) {
-        if (s.process != "gyrocal-compensator") return;
-        for (size_t i = 0; i < s.extra_names.size(); ++i)
-            if (s.extra_names[i] == "U1.coeff_set_id") applied = std::llround(s.extra_values[i]);
-    });
+    bus.Subscribe<status_t>(std::string(channels::kStatus),
+                            [&](const status_t& s, const std::string&) {
+                                if (s.process != "gyrocal-compensator") return;
+                                for (size_t i = 0; i < s.extra_names.size(); ++i)
+                                    if (s.extra_names[i] == "U1.coeff_set_id")
+                                        applied = std::llround(s.extra_values[i]);
+                            });
     ChildProcess comp({GYROCAL_BIN "/gyrocal-compensator", "--lcm-url", url}, dir + "/comp.log",
                       dir + "/comp.log");
     // The set, again every second until the compensator's STATUS says it is in force.
@@ -368,7 +372,8 @@ Compensated CompensateLive(const std::string& dir, const std::string& csv, const
                       "--max-rate-hz", "20000"},
                      dir + "/src.log", dir + "/src.log");
     while (!src.Poll()) bus.Handle(20ms);
-    testing::HandleUntil(bus, [&] { return c.rates.size() >= c.samples.size(); }, 20s);
+    testing::HandleUntil(
+        bus, [&] { return c.rates.size() >= c.samples.size(); }, 20s);
     for (int i = 0; i < 20; ++i) bus.Handle(10ms);
     comp.Signal(SIGTERM);
     comp.Wait(10s);
@@ -390,10 +395,12 @@ double BinRms(const std::vector<double>& rate, const std::vector<int64_t>& utime
     return bins > 0 ? std::sqrt(sum2 / bins) : NAN;
 }
 
-TEST(OthersimCalibration, TheFinalSetIsFittedOnEveryStillSampleWithTheSupplyEffectAndTheCompensatorUsesIt) {
+TEST(OthersimCalibration,
+     TheFinalSetIsFittedOnEveryStillSampleWithTheSupplyEffectAndTheCompensatorUsesIt) {
     // GIVEN othersim with a supply sensitivity of 0.1 V/V (its supply wanders ~20 mV: ~2 mV, some
     // 0.3 deg/s, of offset no temperature model can follow)
-    const Lab lab = RunLab("loop", {"--units", "1", "--seed", "6", "--supply-v-per-v", "0.1"}, 7896);
+    const Lab lab =
+        RunLab("loop", {"--units", "1", "--seed", "6", "--supply-v-per-v", "0.1"}, 7896);
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1"});
     // THEN the run's final published set is the closed loop's and carries the supply term, within
@@ -417,7 +424,8 @@ TEST(OthersimCalibration, TheFinalSetIsFittedOnEveryStillSampleWithTheSupplyEffe
     const std::string out = ReadLog(lab.out);
     const size_t line = out.find("\nU1: ", out.find("final sets (source closed-loop"));
     ASSERT_NE(line, std::string::npos) << out;
-    EXPECT_NE(out.substr(line, out.find('\n', line + 1) - line).find("supply"), std::string::npos) << out;
+    EXPECT_NE(out.substr(line, out.find('\n', line + 1) - line).find("supply"), std::string::npos)
+        << out;
     const auto [before, after, floor] = HeldOutRateRms(out, "U1");
     EXPECT_LT(after, 0.5 * before) << out;
     EXPECT_LT(after, 3.0 * floor) << out;
@@ -425,9 +433,20 @@ TEST(OthersimCalibration, TheFinalSetIsFittedOnEveryStillSampleWithTheSupplyEffe
     // (fresh noise, ramps the run never made): every rate carries its id, equals the library's
     // compensation with it bit for bit, and is closer to the true 0 than with the plateau set
     const std::string held = lab.dir + "/held.csv";
-    std::vector<std::string> gen = {GYROCAL_BIN "/gyrocal-othersim", "--out", held, "--units", "1",
-                                    "--seed", "6", "--noise-seed", "66", "--supply-v-per-v", "0.1",
-                                    "--ramp-only", "--setpoints-c", "25,-5,60,25"};
+    std::vector<std::string> gen = {GYROCAL_BIN "/gyrocal-othersim",
+                                    "--out",
+                                    held,
+                                    "--units",
+                                    "1",
+                                    "--seed",
+                                    "6",
+                                    "--noise-seed",
+                                    "66",
+                                    "--supply-v-per-v",
+                                    "0.1",
+                                    "--ramp-only",
+                                    "--setpoints-c",
+                                    "25,-5,60,25"};
     gen.insert(gen.end(), kScale.begin(), kScale.end());
     ChildProcess g(gen, lab.dir + "/held.log", lab.dir + "/held.log");
     ASSERT_TRUE(g.Wait(120s).has_value());
@@ -436,12 +455,11 @@ TEST(OthersimCalibration, TheFinalSetIsFittedOnEveryStillSampleWithTheSupplyEffe
     ASSERT_EQ(live.rates.size(), live.samples.size());
     compensate::SensorCompensator with_final, with_plateau;
     ASSERT_EQ(with_final.SetCoefficients(final_set).outcome, compensate::SetOutcome::kApplied);
-    const model::CoeffSet plateau_set = store::ToCoeffSet(
-        [&] {
-            for (const auto& c : store::RunFinalCoeffs(*db, lab.run_id))
-                if (c.set.source == "fitter") return c.set;
-            throw std::runtime_error("no plateau set");
-        }());
+    const model::CoeffSet plateau_set = store::ToCoeffSet([&] {
+        for (const auto& c : store::RunFinalCoeffs(*db, lab.run_id))
+            if (c.set.source == "fitter") return c.set;
+        throw std::runtime_error("no plateau set");
+    }());
     ASSERT_EQ(with_plateau.SetCoefficients(plateau_set).outcome, compensate::SetOutcome::kApplied);
     std::vector<double> final_rate, plateau_rate;
     std::vector<int64_t> utime;
@@ -450,15 +468,18 @@ TEST(OthersimCalibration, TheFinalSetIsFittedOnEveryStillSampleWithTheSupplyEffe
         const auto s = compensate::SampleOf(live.samples[i]);
         const auto f = with_final.Apply(s), p = with_plateau.Apply(s);
         EXPECT_EQ(live.rates[i].coeff_set_id, final_set.coeff_set_id);
-        differ += f.status != compensate::ApplyStatus::kOk || f.out.rate_dps != live.rates[i].rate_dps;
+        differ +=
+            f.status != compensate::ApplyStatus::kOk || f.out.rate_dps != live.rates[i].rate_dps;
         final_rate.push_back(live.rates[i].rate_dps);
         plateau_rate.push_back(p.out.rate_dps);
         utime.push_back(s.utime);
     }
     EXPECT_EQ(differ, 0) << "rates that differ from the library's with the final set";
     const double rms_final = BinRms(final_rate, utime), rms_plateau = BinRms(plateau_rate, utime);
-    std::printf("[ closed loop ] held-out record, 10 s bins: final set %.4f deg/s, plateau set %.4f deg/s\n",
-                rms_final, rms_plateau);
+    std::printf(
+        "[ closed loop ] held-out record, 10 s bins: final set %.4f deg/s, plateau set %.4f "
+        "deg/s\n",
+        rms_final, rms_plateau);
     EXPECT_LT(rms_final, 0.5 * rms_plateau);
 }
 
