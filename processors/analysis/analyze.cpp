@@ -182,15 +182,26 @@ void JointSearch(const BinnedRun& binned, const Split& split, double t0, const A
 
 }  // namespace
 
+// ---- hook (issue 29, loop): the analysis of bins made elsewhere (bins_incremental.hpp) ----
 SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
     if (const std::string p = o.Problem(); !p.empty())
         throw std::invalid_argument("analysis options: " + p);
+    return AnalyzeBinned(run, BinnedRun(run, o.bins), o);
+}
+
+SensorResult AnalyzeBinned(const SensorRun& run, const BinnedRun& binned,
+                           const AnalysisOptions& o) {
+    if (const std::string p = o.Problem(); !p.empty())
+        throw std::invalid_argument("analysis options: " + p);
+    if (binned.bin_s() != o.bins.bin_s)
+        throw std::invalid_argument("analysis options: bins of " + text::Sig(binned.bin_s(), 3) +
+                                    " s given, bin_s is " + text::Sig(o.bins.bin_s, 3) + " s");
+    // ---- end of hook ----
     SensorResult res;
     res.sensor_id = run.sensor_id;
     res.bin_s = o.bins.bin_s;
     res.n_plateaus = static_cast<int>(run.plateaus.size());
     res.claimed_false_positive_rate = o.ClaimedFalsePositiveRate();
-    const BinnedRun binned(run, o.bins);
     res.n_bins = static_cast<int>(binned.size());
     Notes(run, binned, res);
     const SensitivityOutcome so = Sensitivity(run, o, res);

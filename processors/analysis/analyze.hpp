@@ -333,6 +333,11 @@ struct SensorResult {
 // options (Problem()).
 SensorResult Analyze(const SensorRun& run,
                      const AnalysisOptions& options = AnalysisOptions::Defaults());
+// The same on bins made elsewhere (bins_incremental.hpp: as the samples came, without keeping
+// them): `run` describes the run (its samples may be empty), `binned` holds its bins, with bin_s
+// equal to options.bins.bin_s. Throws std::invalid_argument on bad options or another bin length.
+SensorResult AnalyzeBinned(const SensorRun& run, const BinnedRun& binned,
+                           const AnalysisOptions& options = AnalysisOptions::Defaults());
 
 // The extended model as a coefficient set (source "analysis:<analysis_id>"); nullopt when the
 // result has no usable extended offset and sensitivity model.

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "format_util.hpp"
+#include "model/convert.hpp"
 #include "report_fit.hpp"
 #include "text/number.hpp"
 
@@ -218,12 +219,23 @@ static void SensitivityPointsText(std::ostream& out, const RunDetail& d) {
     }
 }
 
+// Which set a plateau run's closed loop made and which it keeps beside it (model/convert.hpp).
+static std::string SetRole(const RunDetail& d, const CoeffSetInfo& c) {
+    if (c.set.source == model::kClosedLoopSource)
+        return "  final set: every still sample, the terms the data confirm";
+    if (c.set.source != model::kFitterSource) return "";
+    for (const auto& o : d.coeff_sets)
+        if (o.set.sensor_id == c.set.sensor_id && o.set.source == model::kClosedLoopSource)
+            return "  plateau set: plateau means only (the final set is the closed loop's)";
+    return "";
+}
+
 // The final set of each sensor and source, with what it came from.
 static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
     out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
     for (const auto& c : d.coeff_sets) {
         out << "  " << Printable(c.set.sensor_id) << "  set " << c.set.coeff_set_id << " ("
-            << Printable(c.set.source) << ")" << SetStatusLabel(d, c) << "\n";
+            << Printable(c.set.source) << ")" << SetRole(d, c) << SetStatusLabel(d, c) << "\n";
         for (const auto* m : {&c.set.offset, &c.set.sensitivity}) {
             out << "    " << Printable(m->quantity) << ": " << Printable(Terms(*m))
                 << "  T0=" << text::SigOrDash(m->t0_c) << " C, valid "
@@ -248,19 +260,22 @@ static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vect
 static void AnalysesText(std::ostream& out, const RunDetail& d) {
     out << "\nAnalyses (" << d.analyses.size() << ")\n";
     if (!d.analyses.empty()) {
-        Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "VERDICT", "ADDED", "OFFSET_RMS_V",
-                 "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS", "COEFF_ROW_ID"});
+        Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "OUTCOME", "VERDICT", "ADDED",
+                 "OFFSET_RMS_V", "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS",
+                 "COEFF_ROW_ID"});
         for (const auto& a : d.analyses) {
             t.Add({std::to_string(a.analysis_id), a.sensor_id, UtcText(a.created_wall_utime),
-                   a.verdict, AddedEffects(a.added_json),
+                   a.outcome.value_or("-"), a.verdict, AddedEffects(a.added_json),
                    BeforeAfter(a.offset_rms_v_before, a.offset_rms_v_after, 3),
                    BeforeAfter(a.rate_rms_dps_before, a.rate_rms_dps_after, 3),
                    BeforeAfter(a.drift_dph_before, a.drift_dph_after, 3),
                    text::SigOrDash(a.floor_rate_rms_dps, 3), Opt(a.coeff_row_id)});
         }
         out << t.str();
-        out << "  (before -> after: the run's declared model -> the extended model; an extended "
-               "set is stored with source analysis:<ANALYSIS_ID>)\n";
+        out << "  (before -> after, on held-out still data: the run's declared model -> the "
+               "extended model; gyrocal analyze stores its set with source analysis:<ANALYSIS_ID>, "
+               "the calibration's closed loop (gyrocal-fitter) its final set with source "
+            << model::kClosedLoopSource << ")\n";
     }
 }
 
@@ -406,6 +421,15 @@ static nlohmann::json ProcessesJson(const RunDetail& d) {
     return procs;
 }
 
+// The source of the set an analysis made: the stored set's (the closed loop's), else the one
+// gyrocal analyze gives it.
+static nlohmann::json CoeffSourceJson(const RunDetail& d, const AnalysisRow& a) {
+    if (!a.coeff_row_id) return nullptr;
+    for (const auto& c : d.coeff_sets)
+        if (c.coeff_row_id == *a.coeff_row_id) return c.set.source;
+    return AnalysisSource(a.analysis_id);
+}
+
 // The stored analyses with their before/after errors.
 static nlohmann::json AnalysesJson(const RunDetail& d) {
     nlohmann::json analyses = nlohmann::json::array();
@@ -417,19 +441,21 @@ static nlohmann::json AnalysesJson(const RunDetail& d) {
              {"software_version", a.software_version},
              {"command_line", a.command_line},
              {"verdict", a.verdict},
+             {"outcome", a.outcome ? nlohmann::json(*a.outcome) : nlohmann::json(nullptr)},
              {"candidates", ParsedOrText(a.candidates_json)},
              {"added", ParsedOrText(a.added_json)},
-             {"error_before", {{"offset_rms_v", Finite(a.offset_rms_v_before)},
-                               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
-                               {"drift_dph", Finite(a.drift_dph_before)}}},
-             {"error_after", {{"offset_rms_v", Finite(a.offset_rms_v_after)},
-                              {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
-                              {"drift_dph", Finite(a.drift_dph_after)}}},
+             {"error_before",
+              {{"offset_rms_v", Finite(a.offset_rms_v_before)},
+               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
+               {"drift_dph", Finite(a.drift_dph_before)}}},
+             {"error_after",
+              {{"offset_rms_v", Finite(a.offset_rms_v_after)},
+               {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
+               {"drift_dph", Finite(a.drift_dph_after)}}},
              {"floor_rate_rms_dps", Finite(a.floor_rate_rms_dps)},
              {"result", ParsedOrText(a.result_json)},
              {"coeff_row_id", OptJson(a.coeff_row_id)},
-             {"coeff_source", a.coeff_row_id ? nlohmann::json(AnalysisSource(a.analysis_id))
-                                             : nlohmann::json(nullptr)}});
+             {"coeff_source", CoeffSourceJson(d, a)}});
     }
     return analyses;
 }

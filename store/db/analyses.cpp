@@ -37,6 +37,8 @@ void InsertModel(Db& db, int64_t coeff_row_id, const char* role, const ModelRow&
     }
 }
 
+}  // namespace
+
 int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
     if (r.sensor_id.empty()) throw StoreError("analysis: sensor_id is empty");
     RequireRun(db, r.run_id, " (an analysis is stored with a recorded run)");
@@ -54,8 +56,6 @@ int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
     s.Run();
     return db.LastInsertRowId();
 }
-
-}  // namespace
 
 std::string AnalysisSource(int64_t analysis_id) {
     return "analysis:" + std::to_string(analysis_id);

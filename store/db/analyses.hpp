@@ -56,6 +56,9 @@ std::string AnalysisSource(int64_t analysis_id);
 // not a gyrocal database, or newer than this software.
 std::unique_ptr<Db> OpenForUpdate(const std::string& path);
 
+// The insert alone, inside a transaction the caller holds (the recorder's batch).
+int64_t InsertAnalysisRow(Db& db, const AnalysisRow& row);
+
 // Inserts the analysis row and returns its analysis_id. Throws NotFound when the run is not in
 // the database, StoreError on an empty sensor id or a write failure.
 int64_t InsertAnalysis(Db& db, const AnalysisRow& row);

@@ -269,7 +269,8 @@ template <class R>
 constexpr bool kRegistersSensor =
     std::is_same_v<R, GyroRow> || std::is_same_v<R, PlateauRow> ||
     std::is_same_v<R, SensitivityRow> || std::is_same_v<R, CoeffSetRow> ||
-    std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow>;
+    std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow> ||
+    std::is_same_v<R, ClosedLoopRow>;
 
 // One INSERT per row type, bound in the column order of the statements prepared above.
 void Insert(Stmt& s, const EncoderRow& e) {
@@ -377,6 +378,7 @@ void StoreWriter::WriteOne(const Row& row) {
         [this](const RunEventRow& ev) { WriteRunEvent(ev); },
         [this](const NoiseRow& n) { WriteNoise(n); },
         [this](const FitReportRow& f) { WriteFitReport(f); },
+        [this](const ClosedLoopRow& a) { WriteClosedLoop(a); },
         [this](const PlateauRow& p) { Insert(st_->plateau, p); },
         [this](const SensitivityRow& sp) { Insert(st_->sensitivity, sp); },
         [this](const EncoderRow& e) { Insert(st_->encoder, e); },

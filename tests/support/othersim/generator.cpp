@@ -158,6 +158,8 @@ Generated Generate(const Options& o, std::ostream& csv) {
     const double dt = 1.0 / o.sample_rate_hz;
     const double alpha = 1.0 - std::exp(-2.0 * kPi * o.noise.lpf_hz * dt);
     const Adc adc(o.adc);
+    // The noise (and the chamber's wander, the supply's, the encoder's phase) from noise_seed when
+    // given: the same units with fresh noise, for a held-out record.
     const uint64_t noise_seed = o.noise_seed != 0 ? o.noise_seed : o.seed;
     Chamber chamber(o.thermal, o.profile.start_c, Stream(noise_seed, 1));
     std::vector<UnitState> units;
