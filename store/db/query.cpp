@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "central_db.hpp"
+#include "central_url.hpp"
 #include "schema.hpp"
 
 namespace gyrocal::store {
@@ -14,7 +16,7 @@ SELECT r.run_id, r.outcome, r.reason, r.software_version, r.config_json, r.comma
   r.recorder_version, r.recorder_host, r.started_utime, r.stopped_utime, r.first_recv_utime,
   (SELECT json_group_array(sensor_id) FROM (SELECT sensor_id FROM run_sensors s
      WHERE s.run_id = r.run_id UNION SELECT DISTINCT sensor_id FROM coeff_sets c
-     WHERE c.run_id = r.run_id ORDER BY 1)),
+     WHERE c.run_id = r.run_id ORDER BY 1) AS ids),
   (SELECT coalesce(sum(n_samples), 0) FROM gyro_blocks b WHERE b.run_id = r.run_id),
   (SELECT count(*) FROM encoder_samples e WHERE e.run_id = r.run_id),
   (SELECT count(*) FROM chamber_states c WHERE c.run_id = r.run_id),
@@ -160,6 +162,7 @@ RunEventRow ReadRunEvent(const Stmt& s, int first) {
 }
 
 std::unique_ptr<Db> OpenForQuery(const std::string& path) {
+    if (IsCentralUrl(path)) return OpenCentralForQuery(path);
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
         throw StoreError("database '" + path + "' does not exist (use --db FILE)");
@@ -195,12 +198,12 @@ std::unique_ptr<Db> OpenForQuery(const std::string& path) {
 
 std::vector<RunInfo> ListRuns(Db& db, const RunFilter& f) {
     std::string sql = std::string(kRunColumns) + R"sql(
-WHERE (?1 IS NULL OR EXISTS (SELECT 1 FROM run_sensors s WHERE s.run_id = r.run_id AND s.sensor_id = ?1)
+WHERE (CAST(?1 AS TEXT) IS NULL OR EXISTS (SELECT 1 FROM run_sensors s WHERE s.run_id = r.run_id AND s.sensor_id = ?1)
        OR EXISTS (SELECT 1 FROM gyro_blocks b WHERE b.run_id = r.run_id AND b.sensor_id = ?1)
        OR EXISTS (SELECT 1 FROM coeff_sets c WHERE c.run_id = r.run_id AND c.sensor_id = ?1))
-  AND (?2 IS NULL OR r.first_recv_utime >= ?2)
-  AND (?3 IS NULL OR r.first_recv_utime < ?3)
-  AND (?4 IS NULL OR r.outcome = ?4)
+  AND (CAST(?2 AS BIGINT) IS NULL OR r.first_recv_utime >= ?2)
+  AND (CAST(?3 AS BIGINT) IS NULL OR r.first_recv_utime < ?3)
+  AND (CAST(?4 AS TEXT) IS NULL OR r.outcome = ?4)
 ORDER BY (r.run_id = '') ASC, r.first_recv_utime DESC, r.rowid DESC)sql";
     Stmt s(db, sql);
     if (f.sensor_id) s.Bind(1, *f.sensor_id);
