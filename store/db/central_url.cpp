@@ -61,8 +61,12 @@ std::vector<std::string> Passwords(const std::string& url) {
     return out;
 }
 
+// Passwords shorter than this are not searched for in messages: masking every "y" of a message
+// would make it unreadable, and such a password is not one (the URL itself is always masked).
+constexpr size_t kShortestRedacted = 4;
+
 void ReplaceAll(std::string& text, const std::string& what) {
-    if (what.empty()) return;
+    if (what.size() < kShortestRedacted) return;
     for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at)) {
         text.replace(at, what.size(), kMask);
         at += std::string(kMask).size();

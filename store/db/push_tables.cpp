@@ -232,8 +232,20 @@ void ResolveAnyRun(const Table& t, RunCopy& run, Mapper& m) {
             m.any_run[id] = id + m.Offset();
             continue;
         }
-        const pqxx::result k =
-            run.tx.exec_params("SELECT run_key FROM run_origins WHERE run_id = $1", owner);
+        // That run at the centre, if it is the same run (start, first reception, host).
+        Stmt who(run.station,
+                 "SELECT coalesce(started_utime, ''), coalesce(first_recv_utime, ''), host FROM "
+                 "runs WHERE run_id = ?1");
+        who.Bind(1, owner);
+        if (!who.Step()) {
+            m.any_run[id] = std::nullopt;
+            continue;
+        }
+        const pqxx::result k = run.tx.exec_params(
+            "SELECT o.run_key FROM run_origins o JOIN runs r ON r.run_id = o.run_id WHERE "
+            "o.run_id = $1 AND coalesce(r.started_utime::text, '') = $2 AND "
+            "coalesce(r.first_recv_utime::text, '') = $3 AND r.host = $4",
+            owner, who.Text(0), who.Text(1), who.Text(2));
         m.any_run[id] = k.empty()
                             ? std::nullopt
                             : std::optional<int64_t>(id + k[0][0].as<int64_t>() * kRunKeyScale);
@@ -388,6 +400,8 @@ std::vector<Table> StationTables(Db& db) {
         }
         t.id_is_key = keys == 1 && !key.empty();
         t.id_column = t.id_is_key ? key : "rowid";
+        for (Column& c : t.columns)  // the row's own id moves with the run like the others
+            if (t.id_is_key && c.name == key) c.map = Map::kSameRun;
         out.push_back(std::move(t));
     }
     return out;

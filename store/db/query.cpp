@@ -26,7 +26,9 @@ SELECT r.run_id, r.outcome, r.reason, r.software_version, r.config_json, r.comma
   (SELECT count(*) FROM raw_events x WHERE x.run_id = r.run_id),
   (SELECT coalesce(sum(seq_gaps), 0) FROM losses l WHERE l.run_id = r.run_id),
   (SELECT coalesce(sum(decode_errors), 0) FROM losses l WHERE l.run_id = r.run_id),
-  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id)
+  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id),
+  coalesce((SELECT o.station_host || ':' || o.station_db FROM run_origins o
+            WHERE o.run_id = r.run_id), '')
 FROM runs r )sql";
 
 RunInfo ReadRun(const Stmt& s) {
@@ -42,7 +44,7 @@ RunInfo ReadRun(const Stmt& s) {
     }
     s.Read(13, r.gyro_samples, r.encoder_samples, r.chamber_states, r.plateaus,
            r.sensitivity_points, r.coeff_sets, r.raw_events, r.seq_gaps, r.decode_errors,
-           r.queue_drops);
+           r.queue_drops, r.station);
     return r;
 }
 
@@ -108,11 +110,11 @@ ModelRow ReadModel(Db& db, int64_t coeff_row_id, const char* role) {
 }
 
 CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
-    // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime
+    // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime, station
     CoeffSetInfo info;
     CoeffSetRow& c = info.set;
     s.Read(0, info.coeff_row_id, c.run_id, c.sensor_id, c.coeff_set_id, c.source, c.utime,
-           c.recv_utime);
+           c.recv_utime, info.station);
     c.offset = ReadModel(db, info.coeff_row_id, "offset");
     c.sensitivity = ReadModel(db, info.coeff_row_id, "sensitivity");
     const auto first_int = [](const Stmt& row) { return row.Int(0); };
@@ -126,8 +128,9 @@ CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
 }
 
 constexpr const char* kCoeffColumns =
-    "SELECT coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime "
-    "FROM coeff_sets c ";
+    "SELECT coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime, "
+    "coalesce((SELECT o.station_host || ':' || o.station_db FROM run_origins o "
+    "WHERE o.run_id = c.run_id), '') FROM coeff_sets c ";
 // Keeps the newest row of each (run, sensor, source): the set in force at the end of a run.
 constexpr const char* kFinalOnly =
     " AND c.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets d WHERE d.run_id = c.run_id "

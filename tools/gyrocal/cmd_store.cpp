@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "central_url.hpp"
 #include "query.hpp"
 #include "report.hpp"
 #include "samples_csv.hpp"
@@ -76,7 +77,10 @@ struct Common {
 };
 
 void AddDb(CLI::App* sub, Common& c) {
-    sub->add_option("--db", c.db, "SQLite database the recorder wrote")->capture_default_str();
+    sub->add_option("--db", c.db,
+                    "SQLite database the recorder wrote, or the lab's central database "
+                    "(postgresql://[user@]host[:port]/db)")
+        ->capture_default_str();
 }
 
 std::vector<rep::ProvenanceSummary> Provenance(st::Db& db, const std::vector<st::CoeffSetInfo>& sets) {
@@ -112,7 +116,8 @@ void AddRuns(CLI::App& app, std::function<int()>& action) {
                 const auto runs = st::ListRuns(*db, f);
                 if (c->json) return Emit("runs", rep::RunsJson(runs).dump(2) + "\n", "");
                 if (runs.empty()) {
-                    std::cout << "no runs match in " << rep::Printable(c->db) << "\n";
+                    std::cout << "no runs match in " << rep::Printable(st::WithoutCredentials(c->db))
+                              << "\n";
                     return 0;
                 }
                 return Emit("runs", rep::RunsTable(runs), "");
@@ -235,15 +240,15 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
                 std::string origin;
                 if (is_run) {
                     sets = st::RunNewestCoeffs(*db, *id);
-                    origin = "run '" + *id + "' of " + c->db;
+                    origin = "run '" + *id + "' of " + st::WithoutCredentials(c->db);
                 } else {
                     if (*kind == "auto" && !st::SensorExists(*db, *id)) {
                         throw st::NotFound("'" + *id + "' is neither a run nor a sensor in '" +
-                                           c->db + "' (see gyrocal runs)");
+                                           st::WithoutCredentials(c->db) + "' (see gyrocal runs)");
                     }
                     auto all = st::SensorHistory(*db, *id, true);
                     if (!all.empty()) sets.push_back(all.back());
-                    origin = "sensor '" + *id + "' (newest set) of " + c->db;
+                    origin = "sensor '" + *id + "' (newest set) of " + st::WithoutCredentials(c->db);
                 }
                 if (sets.empty()) {
                     throw st::NotFound(std::string(is_run ? "run '" : "sensor '") + *id +
