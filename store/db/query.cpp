@@ -338,6 +338,17 @@ std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id) {
                           run_id);
 }
 
+std::vector<CoeffSetInfo> NewestSetOfEachSensor(Db& db) {
+    // Newest = latest recv_utime, ties by insertion (SensorHistory's order); sets outside any run
+    // (the run '') are not calibrations.
+    return QueryCoeffSets(db,
+                          "WHERE c.run_id != ?1 AND c.coeff_row_id = (SELECT d.coeff_row_id FROM "
+                          "coeff_sets d WHERE d.sensor_id = c.sensor_id AND d.run_id != ?1 "
+                          "ORDER BY d.recv_utime DESC, d.coeff_row_id DESC LIMIT 1) "
+                          "ORDER BY c.sensor_id",
+                          "");
+}
+
 std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {
     Stmt s(db,
            "SELECT v.kind, v.item_id, v.item_found, v.start_utime, v.end_utime, v.n_samples, "

@@ -90,6 +90,10 @@ std::vector<CoeffSetInfo> RunFinalCoeffs(Db& db, const std::string& run_id);
 // the run gives: an analysis' extended model stored after the fitter's set wins). Throws NotFound.
 std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id);
 
+// The newest coefficient set of every sensor recorded in a run, whatever its source (as an export
+// of the sensor gives), by sensor: the fleet view's units.
+std::vector<CoeffSetInfo> NewestSetOfEachSensor(Db& db);
+
 // Provenance of a coefficient set: each plateau/rotation and how many raw samples it covers.
 struct ProvenanceItem {
     std::string kind;  // "plateau" or "rotation"

@@ -66,7 +66,7 @@ int RunAsServerUser(const std::string& command) {
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
 }
 
-std::unique_ptr<PgServer> PgServer::Start(const std::string& dir) {
+std::unique_ptr<PgServer> PgServer::Start(const std::string& dir, bool durable) {
     std::error_code ec;
     fs::remove_all(dir, ec);
     fs::create_directories(dir);
@@ -80,6 +80,7 @@ std::unique_ptr<PgServer> PgServer::Start(const std::string& dir) {
         throw std::runtime_error("initdb failed: " + FileText(fs::path(dir) / "initdb.log"));
     std::unique_ptr<PgServer> s(new PgServer(dir));
     s->owned_ = true;
+    s->durable_ = durable;
     s->StartExisting();
     return s;
 }
@@ -92,7 +93,8 @@ std::unique_ptr<PgServer> PgServer::Attach(const std::string& dir) {
 
 void PgServer::StartExisting() {
     const std::string opts = "-k " + dir_ + " -c listen_addresses='' -p " + std::to_string(kPort) +
-                             " -c fsync=off -c full_page_writes=off -c max_connections=200";
+                             (durable_ ? "" : " -c fsync=off -c full_page_writes=off") +
+                             " -c max_connections=200";
     const std::string cmd = BinDir() + "/pg_ctl -D " + dir_ + "/data -l " + dir_ +
                             "/server.log -w -t 60 -o " + Quoted(opts) + " start > " + dir_ +
                             "/pg_ctl.log 2>&1";

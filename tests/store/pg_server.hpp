@@ -17,8 +17,8 @@ namespace gyrocal::testing {
 class PgServer {
 public:
     // A new server in `dir` (created, or emptied). Throws std::runtime_error with the server's
-    // log when it does not start.
-    static std::unique_ptr<PgServer> Start(const std::string& dir);
+    // log when it does not start. `durable`: fsync on, as a real server (benchmarks).
+    static std::unique_ptr<PgServer> Start(const std::string& dir, bool durable = false);
     // The server another process started in `dir`, if it is running; nullptr otherwise.
     static std::unique_ptr<PgServer> Attach(const std::string& dir);
     ~PgServer();  // stops the server when this object started it (unless Detach())
@@ -49,7 +49,7 @@ private:
     explicit PgServer(std::string dir) : dir_(std::move(dir)) {}
     void StartExisting();
     std::string dir_;
-    bool owned_ = false;
+    bool owned_ = false, durable_ = false;
 };
 
 // The server of this test process: the CTest fixture's, or one started for it.

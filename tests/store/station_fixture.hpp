@@ -228,7 +228,7 @@ inline void AnalyseStationRun(store::Db& db, const StationSpec& spec, int k, int
     ext.sensor_id = spec.sensors[0];
     ext.coeff_set_id = 3;
     ext.utime = 9'900'000;
-    ext.offset = StationModel("offset_v", {2.5, 1e-3, -2e-6});
+    ext.offset = StationModel("offset_v", {2.5 + spec.station_offset_v, 1e-3, -2e-6});
     ext.offset.term_names.push_back("dTdt");
     ext.offset.coeffs.push_back(0.02);
     ext.offset.covariance.assign(4, std::vector<double>(4, 0.0));

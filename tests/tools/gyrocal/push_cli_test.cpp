@@ -1,0 +1,300 @@
+// `gyrocal push`, `gyrocal central` and the store commands with --db postgresql://..., through the
+// real `gyrocal` executable on a real PostgreSQL server (tests/store/pg_server.hpp):
+//   - the centre gives the same answers as the station's file: runs, show, history, export (json,
+//     csv, c-header, samples), analyze and validate (not stored), and the report page, compared
+//     after the differences that must be there are taken out (ids: + run_key * 10^12 at the
+//     centre; the database's name; the time the report was written; the station column);
+//   - a push killed (SIGKILL) at random points and resumed ends with exactly the station's rows;
+//   - the server restarted in the middle of a push: one line, exit 1, no half run; pushed again;
+//   - bad input: one line, exit 1 (2 for bad options), the password never in what is printed.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "central_db.hpp"
+#include "central_url.hpp"
+#include "launch/child_process.hpp"
+#include "pg_server.hpp"
+#include "query.hpp"
+#include "run_db.hpp"
+#include "scratch_db.hpp"
+#include "station_fixture.hpp"
+#include "table_digest.hpp"
+
+namespace gyrocal::testing {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+namespace st = gyrocal::store;
+namespace fs = std::filesystem;
+
+struct Cli {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string Dir() {
+    static const std::string d = [] {
+        const std::string p = ::testing::TempDir() + "gyrocal_push_cli_" + std::to_string(getpid());
+        fs::remove_all(p);
+        fs::create_directories(p);
+        return p;
+    }();
+    return d;
+}
+
+Cli Gyrocal(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {GYROCAL_CLI};
+    argv.insert(argv.end(), args.begin(), args.end());
+    ChildProcess p(argv, Dir() + "/cli.out", Dir() + "/cli.err");
+    const auto s = p.Wait(240s);
+    return {s ? s->code : -1, ReadLog(Dir() + "/cli.out"), ReadLog(Dir() + "/cli.err")};
+}
+
+// A central id (run_key * 10^12 + station id: 13 digits, zeros after the first) as the station's.
+std::string StationIds(const std::string& text) {
+    static const std::regex id(R"(\b[1-9]0{6}0*([1-9][0-9]{0,5}|0)\b)");
+    std::string out;
+    std::sregex_iterator it(text.begin(), text.end(), id), end;
+    size_t pos = 0;
+    for (; it != end; ++it) {
+        if (it->length(0) != 13) continue;
+        out.append(text, pos, static_cast<size_t>(it->position(0)) - pos);
+        out += (*it)[1].str();
+        pos = static_cast<size_t>(it->position(0) + it->length(0));
+    }
+    return out + text.substr(pos);
+}
+
+// What must differ between the centre's answer and the station's taken out: ids, the database's
+// name, "station" keys.
+std::string Normalized(std::string text, const std::vector<std::string>& names) {
+    for (const std::string& n : names) {
+        for (size_t at = text.find(n); at != std::string::npos; at = text.find(n, at))
+            text.replace(at, n.size(), "<DB>");
+    }
+    text = std::regex_replace(text, std::regex(R"(\n *"station": "[^"]*",?)"), "");
+    return StationIds(text);
+}
+
+class PushCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        server_ = &SharedPgServer();
+        db_name_ = new std::string(server_->NewDatabase("cli"));
+        server_->EnsureRole("cli_pusher", "cli-pusher-pw9");
+        server_->EnsureRole("cli_reader", "cli-reader-pw9");
+        admin_ = new std::string(server_->Url(*db_name_));
+        push_url_ = new std::string(server_->Url(*db_name_, "cli_pusher", "cli-pusher-pw9"));
+        read_url_ = new std::string(server_->Url(*db_name_, "cli_reader", "cli-reader-pw9"));
+        // A station of two simulated runs of one unit (the analysis tests' runs), R1 analysed.
+        station_ = new std::string(Dir() + "/station.db");
+        analysis::testing::SimRunOptions o;
+        o.seed = 601;
+        analysis::testing::WriteSimRun(*station_, "R1", analysis::testing::MakeSimRun(o, true));
+        o.noise_seed = 1601;
+        o.start_utime = analysis::testing::MakeSimRun(o).config.start_utime + 86'400'000'000LL;
+        analysis::testing::WriteSimRun(*station_, "R2", analysis::testing::MakeSimRun(o, true));
+        ASSERT_EQ(Gyrocal({"analyze", "R1", "--db", *station_}).code, 0);
+    }
+    static void TearDownTestSuite() { fs::remove_all(Dir()); }
+
+    static PgServer* server_;
+    static std::string *db_name_, *admin_, *push_url_, *read_url_, *station_;
+};
+PgServer* PushCli::server_ = nullptr;
+std::string *PushCli::db_name_, *PushCli::admin_, *PushCli::push_url_, *PushCli::read_url_,
+    *PushCli::station_;
+
+TEST_F(PushCli, TheCentreAnswersAsTheStationsFileDoes) {
+    // GIVEN a central database made by its owner, a role that pushes and one that reads
+    const Cli init = Gyrocal({"central", "init", "--db", *admin_, "--grant-push", "cli_pusher",
+                              "--grant-read", "cli_reader"});
+    ASSERT_EQ(init.code, 0) << init.err;
+    EXPECT_EQ(init.out.find(PgServer::kAdminPassword), std::string::npos) << init.out;
+    // WHEN the station pushes what is new (as the pushing role)
+    const Cli push = Gyrocal({"push", "--to", *push_url_, "--db", *station_});
+    ASSERT_EQ(push.code, 0) << push.err;
+    EXPECT_NE(push.out.find("2 of 2 runs pushed"), std::string::npos) << push.out;
+    EXPECT_EQ((push.out + push.err).find("cli-pusher-pw9"), std::string::npos);
+    EXPECT_EQ(Gyrocal({"push", "--to", *push_url_, "--db", *station_}).out,
+              "nothing new to push to " + st::WithoutCredentials(*push_url_) + "\n");
+    // THEN every command gives the same answer from the centre (as the reading role)
+    const std::vector<std::string> names = {*station_, st::WithoutCredentials(*read_url_)};
+    const std::vector<std::vector<std::string>> commands = {
+        {"runs", "--json"},
+        {"show", "R1", "--json"},
+        {"show", "R2"},
+        {"history", "S01", "--json"},
+        {"history", "S01", "--all", "--json"},
+        {"export", "R1", "--format", "json"},
+        {"export", "R1", "--format", "csv"},
+        {"export", "R1", "--format", "c-header"},
+        {"export", "S01", "--format", "json"},
+        {"export", "R2", "--format", "samples"},
+        {"analyze", "R2", "--no-store", "--json"},
+        {"validate", "R2", "--model-run", "R1", "--no-store", "--json"},
+    };
+    for (const auto& c : commands) {
+        std::vector<std::string> here = c, there = c;
+        here.insert(here.end(), {"--db", *station_});
+        there.insert(there.end(), {"--db", *read_url_});
+        const Cli a = Gyrocal(here), b = Gyrocal(there);
+        ASSERT_EQ(a.code, 0) << c[0] << ": " << a.err;
+        ASSERT_EQ(b.code, 0) << c[0] << ": " << b.err;
+        EXPECT_EQ(Normalized(b.out, names), Normalized(a.out, names)) << c[0] << " " << c[1];
+        EXPECT_EQ((b.out + b.err).find("cli-reader-pw9"), std::string::npos);
+    }
+    // AND the report page is the same page (but the time it was written and the database named)
+    const std::string out_a = Dir() + "/rep_station", out_b = Dir() + "/rep_centre";
+    ASSERT_EQ(Gyrocal({"report", "R1", "--db", *station_, "--out", out_a}).code, 0);
+    const Cli rb = Gyrocal({"report", "R1", "--db", *read_url_, "--out", out_b});
+    ASSERT_EQ(rb.code, 0) << rb.err;
+    const std::regex written(R"(Written by gyrocal report (.*?) on [0-9-]+ [0-9:]+ UTC)");
+    auto page = [&](const std::string& dir) {
+        std::ifstream f(dir + "/report-R1.html");
+        std::stringstream s;
+        s << f.rdbuf();
+        return Normalized(std::regex_replace(s.str(), written, "Written on <T>"), names);
+    };
+    const std::string pa = page(out_a), pb = page(out_b);
+    EXPECT_GT(pa.size(), 10000u);
+    EXPECT_EQ(pb, pa);
+    // AND `analyze` at the centre without --no-store says where results are stored
+    const Cli stored = Gyrocal({"analyze", "R2", "--db", *read_url_});
+    EXPECT_EQ(stored.code, 1);
+    EXPECT_NE(stored.err.find("written only by gyrocal push"), std::string::npos) << stored.err;
+}
+
+TEST_F(PushCli, APushKilledAtRandomPointsAndResumedEndsWithExactlyTheStationsRows) {
+    const std::string db = server_->NewDatabase("killed");
+    const std::string url = server_->Url(db);
+    ASSERT_EQ(Gyrocal({"central", "init", "--db", url}).code, 0);
+    const std::string station = Dir() + "/big.db";
+    WriteStation(station, {.prefix = "K", .runs = 3, .samples_per_sensor = 20000});
+    // Kills spread over a push (a run takes about a second here); seeded, so a failure repeats.
+    std::mt19937 rng(25);
+    std::uniform_int_distribution<int> delay_ms(20, 2500);
+    int killed = 0;
+    for (int i = 0; i < 8; ++i) {
+        ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station}, Dir() + "/kill.out",
+                       Dir() + "/kill.err");
+        std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+        p.Signal(SIGKILL);
+        const auto s = p.Wait(30s);
+        ASSERT_TRUE(s.has_value());
+        killed += s->code != 0 ? 1 : 0;
+        // Between kills, every run at the centre is whole: its samples are all there or none.
+        auto c = st::OpenForQuery(url);
+        auto s_db = st::OpenForQuery(station);
+        for (const auto& r : st::ListRuns(*c, {})) {
+            if (r.run_id.empty()) continue;
+            EXPECT_EQ(r.gyro_samples, st::GetRun(*s_db, r.run_id).gyro_samples) << r.run_id;
+        }
+    }
+    EXPECT_GT(killed, 0) << "no push was cut off: the kills came too late";
+    const Cli last = Gyrocal({"push", "--to", url, "--db", station});
+    ASSERT_EQ(last.code, 0) << last.err;
+    auto c = st::OpenForQuery(url);
+    auto s = st::OpenForQuery(station);
+    for (const char* run : {"K-R1", "K-R2", "K-R3"}) {
+        EXPECT_EQ(RunDigests(*c, *s, run), RunDigests(*s, *s, run)) << run;
+    }
+}
+
+TEST_F(PushCli, AServerRestartedInTheMiddleOfAPushLosesNothing) {
+    // A server of this test's own (the shared one serves other tests meanwhile).
+    char tmpl[] = "/tmp/gyrocal-pg-restart-XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    auto own = PgServer::Start(tmpl);
+    const std::string url = own->Url("postgres");
+    ASSERT_EQ(Gyrocal({"central", "init", "--db", url}).code, 0);
+    const std::string station = Dir() + "/restart.db";
+    WriteStation(station, {.prefix = "Z", .runs = 3, .samples_per_sensor = 20000});
+    ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station}, Dir() + "/restart.out",
+                   Dir() + "/restart.err");
+    std::this_thread::sleep_for(1200ms);
+    own->Restart();
+    const auto s = p.Wait(60s);
+    ASSERT_TRUE(s.has_value());
+    const std::string err = ReadLog(Dir() + "/restart.err");
+    if (s->code == 0) {
+        GTEST_SKIP() << "the push ended before the restart (machine faster than planned)";
+    }
+    EXPECT_EQ(s->code, 1);
+    EXPECT_NE(err.find("gyrocal push: error: central database"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    auto s_db = st::OpenForQuery(station);
+    {
+        auto c = st::OpenForQuery(url);
+        for (const auto& r : st::ListRuns(*c, {})) {
+            if (r.run_id.empty()) continue;
+            EXPECT_EQ(r.gyro_samples, st::GetRun(*s_db, r.run_id).gyro_samples) << r.run_id;
+        }
+    }
+    const Cli again = Gyrocal({"push", "--to", url, "--db", station});
+    ASSERT_EQ(again.code, 0) << again.err;
+    auto c = st::OpenForQuery(url);
+    for (const char* run : {"Z-R1", "Z-R2", "Z-R3"})
+        EXPECT_EQ(RunDigests(*c, *s_db, run), RunDigests(*s_db, *s_db, run)) << run;
+}
+
+TEST_F(PushCli, BadInputIsOneLineAndExitOneAndThePasswordIsNeverPrinted) {
+    const std::string secret = "s3cret-never-shown";
+    const std::string wrong = server_->Url(*db_name_, PgServer::kAdmin, secret);
+    struct Case {
+        std::vector<std::string> args;
+        int code;
+        std::string says;
+    };
+    const std::string nowhere = "postgresql://u:" + secret + "@/db?host=/nonexistent";
+    const std::vector<Case> cases = {
+        {{"push", "--to", wrong, "--db", *station_}, 1, "password authentication failed"},
+        {{"push", "--to", nowhere, "--db", *station_}, 1, "cannot connect to central database"},
+        {{"push", "--to", *admin_, "--db", *station_, "NOPE"}, 1, "no run 'NOPE'"},
+        {{"push", "--db", *station_}, 1, "no central database: give --to"},
+        {{"push", "--to", *admin_, "--db", Dir() + "/missing.db"}, 1, "does not exist"},
+        {{"runs", "--db", wrong}, 1, "password authentication failed"},
+        {{"show", "NOPE", "--db", *admin_}, 1, "no run 'NOPE'"},
+        {{"history", "S01", "--db", nowhere}, 1, "cannot connect"},
+        {{"central", "status", "--db", wrong}, 1, "password authentication failed"},
+        {{"push", "--to", *admin_, "--bogus"}, 2, "--bogus"},
+    };
+    for (const Case& c : cases) {
+        const Cli r = Gyrocal(c.args);
+        EXPECT_EQ(r.code, c.code) << c.args[0] << " " << r.err;
+        EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+        if (c.code == 1) {
+            EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        }
+        EXPECT_EQ((r.out + r.err).find(secret), std::string::npos) << r.out << r.err;
+    }
+}
+
+TEST_F(PushCli, APasswordFileServesAUrlWithoutPassword) {
+    const std::string pgpass = Dir() + "/pgpass";
+    {
+        std::ofstream f(pgpass);
+        f << "*:*:*:cli_reader:cli-reader-pw9\n";
+    }
+    fs::permissions(pgpass, fs::perms::owner_read | fs::perms::owner_write);
+    ::setenv("PGPASSFILE", pgpass.c_str(), 1);
+    const Cli r = Gyrocal({"central", "status", "--db", server_->Url(*db_name_, "cli_reader", "")});
+    ::unsetenv("PGPASSFILE");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("gyrocal schema version"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace gyrocal::testing
