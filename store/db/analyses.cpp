@@ -49,9 +49,10 @@ int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
            "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     s.BindAll(r.run_id, r.sensor_id,
               r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow(), r.software_version,
-              r.command_line, r.verdict, r.candidates_json, r.added_json, r.offset_rms_v_before,
-              r.offset_rms_v_after, r.rate_rms_dps_before, r.rate_rms_dps_after, r.drift_dph_before,
-              r.drift_dph_after, r.floor_rate_rms_dps, r.result_json, r.coeff_row_id, r.outcome);
+              WithoutCredentialsIn(r.command_line), r.verdict, r.candidates_json, r.added_json,
+              r.offset_rms_v_before, r.offset_rms_v_after, r.rate_rms_dps_before,
+              r.rate_rms_dps_after, r.drift_dph_before, r.drift_dph_after, r.floor_rate_rms_dps,
+              r.result_json, r.coeff_row_id, r.outcome);
     s.Run();
     return db.LastInsertRowId();
 }

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <thread>
 
 #include "central_url.hpp"
 #include "pg_connection.hpp"
@@ -188,6 +189,20 @@ void CheckNamedRuns(Db& station, const PushOptions& o) {
 }
 
 }  // namespace
+
+bool WaitUntilEnded(const std::string& station_db, const std::string& run_id, double timeout_s) {
+    const auto give_up =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    for (;;) {
+        {
+            auto db = OpenForQuery(station_db);
+            const std::string outcome = Outcome(*db, run_id);
+            if (!outcome.empty() && outcome != "running") return true;
+        }
+        if (std::chrono::steady_clock::now() >= give_up) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+}
 
 std::vector<std::string> RunsToPush(const std::string& station_db, const std::string& central_url,
                                     bool include_open) {

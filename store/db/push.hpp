@@ -67,6 +67,10 @@ struct PushReport {
 // with ok false, and the others go on.
 PushReport Push(const PushOptions& options);
 
+// Waits (polling the station file every 200 ms) until run `run_id` has ended there, i.e. its stop
+// or abort is committed; false when it has not after `timeout_s` (or the run never appears).
+bool WaitUntilEnded(const std::string& station_db, const std::string& run_id, double timeout_s);
+
 // The runs `gyrocal push` with no run would send from `station_db` to `central_url`, in order.
 std::vector<std::string> RunsToPush(const std::string& station_db, const std::string& central_url,
                                     bool include_open);

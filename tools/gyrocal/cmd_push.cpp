@@ -34,6 +34,8 @@ struct PushCli {
     std::string to, db = "gyrocal.db";
     std::vector<std::string> runs;
     bool include_open = false, dry_run = false, json = false;
+    std::string wait_ended;  // push once this run has ended in the station file
+    double wait_s = 60;
 };
 
 nlohmann::json ReportJson(const st::PushReport& r) {
@@ -57,6 +59,11 @@ int RunPush(const PushCli& o, std::ostream& out, std::ostream& err) {
     po.run_ids = o.runs;
     po.include_open = o.include_open;
     po.software_version = kSoftwareVersion;
+    if (!o.wait_ended.empty() && !st::WaitUntilEnded(o.db, o.wait_ended, o.wait_s)) {
+        throw std::runtime_error("run '" + o.wait_ended + "' has not ended in '" + o.db +
+                                 "' after " + std::to_string(static_cast<int>(o.wait_s)) +
+                                 " s: nothing pushed");
+    }
     if (o.dry_run) {
         for (const std::string& id : st::RunsToPush(o.db, po.central_url, o.include_open))
             out << id << "\n";
@@ -94,6 +101,12 @@ void AddPush(CLI::App& app, std::function<int()>& action) {
                   "also runs still being recorded, up to what is committed (a later push sends "
                   "the rest; needs UPDATE on runs and losses at the centre)");
     sub->add_flag("--dry-run", o->dry_run, "list the runs that would be pushed, send nothing");
+    sub->add_option("--wait-ended", o->wait_ended,
+                    "first wait until this run has ended in the station file (its stop "
+                    "committed), then push what is new (how gyrocal-recorder --push-to calls it)");
+    sub->add_option("--wait-s", o->wait_s, "[s] how long --wait-ended waits")
+        ->check(CLI::Range(0.0, 86400.0))
+        ->capture_default_str();
     sub->add_flag("--json", o->json, "print the result as JSON");
     sub->footer(
         "Exit codes: 0 every run pushed (or nothing new), 1 a failure (station file, centre "
