@@ -13,9 +13,11 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -88,50 +90,54 @@ std::string Normalized(std::string text, const std::vector<std::string>& names) 
     return StationIds(text);
 }
 
+// The server and the roles are shared (CTest runs each test in a process of its own); each test
+// makes its own central database and station files.
 class PushCli : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() {
+    void SetUp() override {
         server_ = &SharedPgServer();
-        db_name_ = new std::string(server_->NewDatabase("cli"));
         server_->EnsureRole("cli_pusher", "cli-pusher-pw9");
         server_->EnsureRole("cli_reader", "cli-reader-pw9");
-        admin_ = new std::string(server_->Url(*db_name_));
-        push_url_ = new std::string(server_->Url(*db_name_, "cli_pusher", "cli-pusher-pw9"));
-        read_url_ = new std::string(server_->Url(*db_name_, "cli_reader", "cli-reader-pw9"));
-        // A station of two simulated runs of one unit (the analysis tests' runs), R1 analysed.
-        station_ = new std::string(Dir() + "/station.db");
-        analysis::testing::SimRunOptions o;
-        o.seed = 601;
-        analysis::testing::WriteSimRun(*station_, "R1", analysis::testing::MakeSimRun(o, true));
-        o.noise_seed = 1601;
-        o.start_utime = analysis::testing::MakeSimRun(o).config.start_utime + 86'400'000'000LL;
-        analysis::testing::WriteSimRun(*station_, "R2", analysis::testing::MakeSimRun(o, true));
-        ASSERT_EQ(Gyrocal({"analyze", "R1", "--db", *station_}).code, 0);
+        db_name_ = server_->NewDatabase("cli");
+        admin_ = server_->Url(db_name_);
+        push_url_ = server_->Url(db_name_, "cli_pusher", "cli-pusher-pw9");
+        read_url_ = server_->Url(db_name_, "cli_reader", "cli-reader-pw9");
     }
     static void TearDownTestSuite() { fs::remove_all(Dir()); }
 
-    static PgServer* server_;
-    static std::string *db_name_, *admin_, *push_url_, *read_url_, *station_;
+    // A station of two simulated runs of one unit (the analysis tests' runs), R1 analysed.
+    std::string SimStation() {
+        const std::string path = Dir() + "/station.db";
+        analysis::testing::SimRunOptions o;
+        o.seed = 601;
+        analysis::testing::WriteSimRun(path, "R1", analysis::testing::MakeSimRun(o, true));
+        o.noise_seed = 1601;
+        o.start_utime = analysis::testing::MakeSimRun(o).config.start_utime + 86'400'000'000LL;
+        analysis::testing::WriteSimRun(path, "R2", analysis::testing::MakeSimRun(o, true));
+        EXPECT_EQ(Gyrocal({"analyze", "R1", "--db", path}).code, 0);
+        return path;
+    }
+
+    PgServer* server_ = nullptr;
+    std::string db_name_, admin_, push_url_, read_url_;
 };
-PgServer* PushCli::server_ = nullptr;
-std::string *PushCli::db_name_, *PushCli::admin_, *PushCli::push_url_, *PushCli::read_url_,
-    *PushCli::station_;
 
 TEST_F(PushCli, TheCentreAnswersAsTheStationsFileDoes) {
+    const std::string station = SimStation();
     // GIVEN a central database made by its owner, a role that pushes and one that reads
-    const Cli init = Gyrocal({"central", "init", "--db", *admin_, "--grant-push", "cli_pusher",
+    const Cli init = Gyrocal({"central", "init", "--db", admin_, "--grant-push", "cli_pusher",
                               "--grant-read", "cli_reader"});
     ASSERT_EQ(init.code, 0) << init.err;
     EXPECT_EQ(init.out.find(PgServer::kAdminPassword), std::string::npos) << init.out;
     // WHEN the station pushes what is new (as the pushing role)
-    const Cli push = Gyrocal({"push", "--to", *push_url_, "--db", *station_});
+    const Cli push = Gyrocal({"push", "--to", push_url_, "--db", station});
     ASSERT_EQ(push.code, 0) << push.err;
     EXPECT_NE(push.out.find("2 of 2 runs pushed"), std::string::npos) << push.out;
     EXPECT_EQ((push.out + push.err).find("cli-pusher-pw9"), std::string::npos);
-    EXPECT_EQ(Gyrocal({"push", "--to", *push_url_, "--db", *station_}).out,
-              "nothing new to push to " + st::WithoutCredentials(*push_url_) + "\n");
+    EXPECT_EQ(Gyrocal({"push", "--to", push_url_, "--db", station}).out,
+              "nothing new to push to " + st::WithoutCredentials(push_url_) + "\n");
     // THEN every command gives the same answer from the centre (as the reading role)
-    const std::vector<std::string> names = {*station_, st::WithoutCredentials(*read_url_)};
+    const std::vector<std::string> names = {station, st::WithoutCredentials(read_url_)};
     const std::vector<std::vector<std::string>> commands = {
         {"runs", "--json"},
         {"show", "R1", "--json"},
@@ -148,8 +154,8 @@ TEST_F(PushCli, TheCentreAnswersAsTheStationsFileDoes) {
     };
     for (const auto& c : commands) {
         std::vector<std::string> here = c, there = c;
-        here.insert(here.end(), {"--db", *station_});
-        there.insert(there.end(), {"--db", *read_url_});
+        here.insert(here.end(), {"--db", station});
+        there.insert(there.end(), {"--db", read_url_});
         const Cli a = Gyrocal(here), b = Gyrocal(there);
         ASSERT_EQ(a.code, 0) << c[0] << ": " << a.err;
         ASSERT_EQ(b.code, 0) << c[0] << ": " << b.err;
@@ -158,8 +164,8 @@ TEST_F(PushCli, TheCentreAnswersAsTheStationsFileDoes) {
     }
     // AND the report page is the same page (but the time it was written and the database named)
     const std::string out_a = Dir() + "/rep_station", out_b = Dir() + "/rep_centre";
-    ASSERT_EQ(Gyrocal({"report", "R1", "--db", *station_, "--out", out_a}).code, 0);
-    const Cli rb = Gyrocal({"report", "R1", "--db", *read_url_, "--out", out_b});
+    ASSERT_EQ(Gyrocal({"report", "R1", "--db", station, "--out", out_a}).code, 0);
+    const Cli rb = Gyrocal({"report", "R1", "--db", read_url_, "--out", out_b});
     ASSERT_EQ(rb.code, 0) << rb.err;
     const std::regex written(R"(Written by gyrocal report (.*?) on [0-9-]+ [0-9:]+ UTC)");
     auto page = [&](const std::string& dir) {
@@ -172,7 +178,7 @@ TEST_F(PushCli, TheCentreAnswersAsTheStationsFileDoes) {
     EXPECT_GT(pa.size(), 10000u);
     EXPECT_EQ(pb, pa);
     // AND `analyze` at the centre without --no-store says where results are stored
-    const Cli stored = Gyrocal({"analyze", "R2", "--db", *read_url_});
+    const Cli stored = Gyrocal({"analyze", "R2", "--db", read_url_});
     EXPECT_EQ(stored.code, 1);
     EXPECT_NE(stored.err.find("written only by gyrocal push"), std::string::npos) << stored.err;
 }
@@ -251,8 +257,11 @@ TEST_F(PushCli, AServerRestartedInTheMiddleOfAPushLosesNothing) {
 }
 
 TEST_F(PushCli, BadInputIsOneLineAndExitOneAndThePasswordIsNeverPrinted) {
+    const std::string station = Dir() + "/bad_input.db";
+    WriteStation(station, {.prefix = "E", .runs = 1, .samples_per_sensor = 50});
+    ASSERT_EQ(Gyrocal({"central", "init", "--db", admin_}).code, 0);
     const std::string secret = "s3cret-never-shown";
-    const std::string wrong = server_->Url(*db_name_, PgServer::kAdmin, secret);
+    const std::string wrong = server_->Url(db_name_, PgServer::kAdmin, secret);
     struct Case {
         std::vector<std::string> args;
         int code;
@@ -260,16 +269,16 @@ TEST_F(PushCli, BadInputIsOneLineAndExitOneAndThePasswordIsNeverPrinted) {
     };
     const std::string nowhere = "postgresql://u:" + secret + "@/db?host=/nonexistent";
     const std::vector<Case> cases = {
-        {{"push", "--to", wrong, "--db", *station_}, 1, "password authentication failed"},
-        {{"push", "--to", nowhere, "--db", *station_}, 1, "cannot connect to central database"},
-        {{"push", "--to", *admin_, "--db", *station_, "NOPE"}, 1, "no run 'NOPE'"},
-        {{"push", "--db", *station_}, 1, "no central database: give --to"},
-        {{"push", "--to", *admin_, "--db", Dir() + "/missing.db"}, 1, "does not exist"},
+        {{"push", "--to", wrong, "--db", station}, 1, "password authentication failed"},
+        {{"push", "--to", nowhere, "--db", station}, 1, "cannot connect to central database"},
+        {{"push", "--to", admin_, "--db", station, "NOPE"}, 1, "no run 'NOPE'"},
+        {{"push", "--db", station}, 1, "no central database: give --to"},
+        {{"push", "--to", admin_, "--db", Dir() + "/missing.db"}, 1, "does not exist"},
         {{"runs", "--db", wrong}, 1, "password authentication failed"},
-        {{"show", "NOPE", "--db", *admin_}, 1, "no run 'NOPE'"},
-        {{"history", "S01", "--db", nowhere}, 1, "cannot connect"},
+        {{"show", "NOPE", "--db", admin_}, 1, "no run 'NOPE'"},
+        {{"history", "U01", "--db", nowhere}, 1, "cannot connect"},
         {{"central", "status", "--db", wrong}, 1, "password authentication failed"},
-        {{"push", "--to", *admin_, "--bogus"}, 2, "--bogus"},
+        {{"push", "--to", admin_, "--bogus"}, 2, "--bogus"},
     };
     for (const Case& c : cases) {
         const Cli r = Gyrocal(c.args);
@@ -290,10 +299,58 @@ TEST_F(PushCli, APasswordFileServesAUrlWithoutPassword) {
     }
     fs::permissions(pgpass, fs::perms::owner_read | fs::perms::owner_write);
     ::setenv("PGPASSFILE", pgpass.c_str(), 1);
-    const Cli r = Gyrocal({"central", "status", "--db", server_->Url(*db_name_, "cli_reader", "")});
+    const Cli r = Gyrocal({"central", "status", "--db", server_->Url(db_name_, "cli_reader", "")});
     ::unsetenv("PGPASSFILE");
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("gyrocal schema version"), std::string::npos) << r.out;
+}
+
+TEST_F(PushCli, TheFleetAcrossStationsNamesTheOddUnitAndAStationApartAndDrawsThem) {
+    // Four stations of one unit model: A and B alike, C's units 4 mV higher (a station bias),
+    // D's one unit 50 mV off (an odd unit). Unit i sits i mV above its station's first.
+    ASSERT_EQ(Gyrocal({"central", "init", "--db", admin_}).code, 0);
+    struct S {
+        const char* prefix;
+        int units;
+        double offset_v;
+    };
+    for (const S& s : {S{"A", 4, 0}, S{"B", 4, 0}, S{"C", 4, 0.004}, S{"D", 1, 0.05}}) {
+        StationSpec spec{.prefix = s.prefix,
+                         .runs = 1,
+                         .samples_per_sensor = 20,
+                         .station_offset_v = s.offset_v,
+                         .unit_offset_v = 0.001};
+        spec.sensors.clear();
+        for (int i = 1; i <= s.units; ++i) spec.sensors.push_back(s.prefix + std::to_string(i));
+        const std::string path = Dir() + "/fleet_" + s.prefix + ".db";
+        WriteStation(path, spec);
+        ASSERT_EQ(Gyrocal({"push", "--to", admin_, "--db", path}).code, 0);
+    }
+    const std::string plots = Dir() + "/fleet_plots";
+    const Cli text = Gyrocal({"fleet", "--db", admin_, "--plot", plots});
+    ASSERT_EQ(text.code, 0) << text.err;
+    EXPECT_NE(text.out.find("model myGyro610EB: 13 units from 4 stations"), std::string::npos)
+        << text.out;
+    const Cli j = Gyrocal({"fleet", "--db", admin_, "--json"});
+    ASSERT_EQ(j.code, 0) << j.err;
+    const json g = json::parse(j.out).at(0);
+    // The odd unit is outside; none of A's, B's or C's (C's shift is within the lot's spread).
+    std::set<std::string> outside;
+    for (const auto& d : g["outside"]) outside.insert(d["sensor_id"].get<std::string>());
+    EXPECT_EQ(outside, std::set<std::string>{"D1"}) << j.out;
+    // C sits above the lot: the highest station median z of A, B and C.
+    ASSERT_EQ(g["stations"].size(), 4u);
+    for (const auto& png : {"fleet_myGyro610EB_offset.png", "fleet_myGyro610EB_sensitivity.png"})
+        EXPECT_TRUE(fs::exists(fs::path(plots) / png)) << png;
+    double c_z = 0, ab_z = 0;
+    for (const auto& st : g["stations"]) {
+        const std::string name = st["station"];
+        const double v = st["offset_median_z"];
+        if (name.find("fleet_C") != std::string::npos) c_z = v;
+        if (name.find("fleet_A") != std::string::npos || name.find("fleet_B") != std::string::npos)
+            ab_z = std::max(ab_z, v);
+    }
+    EXPECT_GT(c_z, ab_z + 1.0) << j.out;
 }
 
 }  // namespace
