@@ -1,7 +1,8 @@
 // The central schema: the station schema's steps (schema.cpp), each translated to PostgreSQL
 // when it runs, so that the two cannot drift apart. What the translation does:
 //   - types: INTEGER -> BIGINT (SQLite's integers are 64-bit), REAL -> DOUBLE PRECISION,
-//     BLOB -> BYTEA; an INTEGER PRIMARY KEY (SQLite's row id) becomes an identity column;
+//     BLOB -> BYTEA, TEXT -> TEXT COLLATE "C" (sorted byte by byte, as SQLite sorts); an INTEGER
+//     PRIMARY KEY (SQLite's row id) becomes an identity column;
 //   - every table gets the `rowid` column SQLite gives it implicitly (the query code orders by
 //     it, and gyro_blocks points into gyro_samples by it): an identity column, indexed, or for a
 //     table with an INTEGER PRIMARY KEY a generated copy of that key;
@@ -172,6 +173,9 @@ std::string CentralStep(int from_version) {
     sql = std::regex_replace(sql, std::regex(R"(\bINTEGER\b)"), "BIGINT");
     sql = std::regex_replace(sql, std::regex(R"(\bREAL\b)"), "DOUBLE PRECISION");
     sql = std::regex_replace(sql, std::regex(R"(\bBLOB\b)"), "BYTEA");
+    // Text compares and sorts byte by byte, as SQLite's BINARY does, whatever the database's
+    // default collation (a lab's server may well be created with en_US.UTF-8).
+    sql = std::regex_replace(sql, std::regex(R"(\bTEXT\b)"), "TEXT COLLATE \"C\"");
     sql = WithRowids(sql);
     return from_version == 0 ? std::string(kCompat) + sql : sql;
 }
