@@ -1,6 +1,9 @@
 #include "pg_server.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <pwd.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -66,6 +69,39 @@ int RunAsServerUser(const std::string& command) {
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
 }
 
+// A TCP port nothing listens on now (the kernel's choice).
+int FreePort() {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0)
+        throw std::runtime_error("no free TCP port on 127.0.0.1");
+    const int port = ntohs(a.sin_port);
+    close(fd);
+    return port;
+}
+
+std::unique_ptr<PgServer> PgServer::StartWithTls(const std::string& dir) {
+    auto s = Start(dir);
+    s->Stop();
+    const std::string tls = dir + "/tls";
+    fs::create_directories(tls);
+    GiveToServerUser(tls);
+    if (RunAsServerUser("openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=localhost "
+                        "-keyout " +
+                        tls + "/server.key -out " + tls + "/server.crt > " + tls +
+                        "/openssl.log 2>&1 && chmod 600 " + tls + "/server.key") != 0)
+        throw std::runtime_error("openssl could not make a certificate: " +
+                                 FileText(fs::path(tls) / "openssl.log"));
+    s->tcp_port_ = FreePort();
+    s->tls_dir_ = tls;
+    s->StartExisting();
+    return s;
+}
+
 std::unique_ptr<PgServer> PgServer::Start(const std::string& dir, bool durable) {
     std::error_code ec;
     fs::remove_all(dir, ec);
@@ -92,9 +128,14 @@ std::unique_ptr<PgServer> PgServer::Attach(const std::string& dir) {
 }
 
 void PgServer::StartExisting() {
-    const std::string opts = "-k " + dir_ + " -c listen_addresses='' -p " + std::to_string(kPort) +
-                             (durable_ ? "" : " -c fsync=off -c full_page_writes=off") +
-                             " -c max_connections=200";
+    std::string opts = "-k " + dir_ + " -c listen_addresses='' -p " + std::to_string(kPort) +
+                       (durable_ ? "" : " -c fsync=off -c full_page_writes=off") +
+                       " -c max_connections=200";
+    if (tcp_port_ > 0) {  // also on 127.0.0.1 with TLS (the socket file is named by the port)
+        opts = "-k " + dir_ + " -c listen_addresses=127.0.0.1 -p " + std::to_string(tcp_port_) +
+               " -c fsync=off -c ssl=on -c ssl_cert_file=" + tls_dir_ + "/server.crt" +
+               " -c ssl_key_file=" + tls_dir_ + "/server.key";
+    }
     const std::string cmd = BinDir() + "/pg_ctl -D " + dir_ + "/data -l " + dir_ +
                             "/server.log -w -t 60 -o " + Quoted(opts) + " start > " + dir_ +
                             "/pg_ctl.log 2>&1";
@@ -106,7 +147,7 @@ void PgServer::StartExisting() {
 bool PgServer::Running() const {
     if (!fs::exists(fs::path(dir_) / "data" / "postmaster.pid")) return false;
     const std::string cmd = BinDir() + "/pg_isready -q -h " + dir_ + " -p " +
-                            std::to_string(kPort) + " > /dev/null 2>&1";
+                            std::to_string(tcp_port_ ? tcp_port_ : kPort) + " > /dev/null 2>&1";
     return std::system(cmd.c_str()) == 0;
 }
 
@@ -130,7 +171,7 @@ PgServer::~PgServer() {
 std::string PgServer::Url(const std::string& db, const std::string& user,
                           const std::string& password) const {
     return "postgresql://" + user + (password.empty() ? "" : ":" + password) + "@/" + db +
-           "?host=" + dir_ + "&port=" + std::to_string(kPort);
+           "?host=" + dir_ + "&port=" + std::to_string(tcp_port_ ? tcp_port_ : kPort);
 }
 
 std::string PgServer::NewDatabase(const std::string& prefix) const {

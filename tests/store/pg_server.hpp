@@ -19,6 +19,10 @@ public:
     // A new server in `dir` (created, or emptied). Throws std::runtime_error with the server's
     // log when it does not start. `durable`: fsync on, as a real server (benchmarks).
     static std::unique_ptr<PgServer> Start(const std::string& dir, bool durable = false);
+    // The same, also listening on 127.0.0.1:<a free port> with TLS on (a self-signed certificate
+    // made with openssl in `dir`), for the tests of encryption.
+    static std::unique_ptr<PgServer> StartWithTls(const std::string& dir);
+    int tcp_port() const { return tcp_port_; }  // 0: Unix socket only
     // The server another process started in `dir`, if it is running; nullptr otherwise.
     static std::unique_ptr<PgServer> Attach(const std::string& dir);
     ~PgServer();  // stops the server when this object started it (unless Detach())
@@ -29,7 +33,7 @@ public:
     bool Running() const;
 
     const std::string& dir() const { return dir_; }
-    // postgresql://USER:PASSWORD@/DB?host=DIR&port=PORT
+    // postgresql://USER:PASSWORD@/DB?host=DIR&port=PORT (the Unix socket, also with TLS on)
     std::string Url(const std::string& db, const std::string& user = kAdmin,
                     const std::string& password = kAdminPassword) const;
     // A fresh database (a unique name from `prefix`), owned by the admin role; returns its name.
@@ -50,6 +54,8 @@ private:
     void StartExisting();
     std::string dir_;
     bool owned_ = false, durable_ = false;
+    int tcp_port_ = 0;
+    std::string tls_dir_;
 };
 
 // The server of this test process: the CTest fixture's, or one started for it.

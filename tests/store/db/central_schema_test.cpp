@@ -23,11 +23,12 @@ namespace st = gyrocal::store;
 // name -> its columns, in order (tables and views), from either engine through the query layer.
 std::map<std::string, std::vector<std::string>> Columns(st::Db& db, bool central) {
     std::map<std::string, std::vector<std::string>> out;
-    st::Stmt s(db, central ? "SELECT table_name, column_name FROM information_schema.columns "
-                             "WHERE table_schema = current_schema() ORDER BY table_name, "
-                             "ordinal_position"
-                           : "SELECT m.name, p.name FROM sqlite_master m, pragma_table_info(m.name) p "
-                             "WHERE m.type IN ('table', 'view') ORDER BY m.name, p.cid");
+    st::Stmt s(db, central
+                       ? "SELECT table_name, column_name FROM information_schema.columns "
+                         "WHERE table_schema = current_schema() ORDER BY table_name, "
+                         "ordinal_position"
+                       : "SELECT m.name, p.name FROM sqlite_master m, pragma_table_info(m.name) p "
+                         "WHERE m.type IN ('table', 'view') ORDER BY m.name, p.cid");
     while (s.Step()) out[s.Text(0)].push_back(s.Text(1));
     return out;
 }
@@ -66,16 +67,21 @@ TEST(CentralSchema, TheViewsAnswerAsOnTheStationsFile) {
     auto centre = st::OpenForQuery(url);
     // Each view's rows as text, ids as the station's (modulo 10^12), in a fixed order.
     const std::vector<std::pair<std::string, std::string>> views = {
-        {"v_run_summary", "SELECT run_id, outcome, gyro_samples, plateaus, sensitivity_points, "
-                          "coeff_sets, seq_gaps, queue_drops FROM v_run_summary ORDER BY run_id"},
-        {"v_latest_coeffs", "SELECT sensor_id, run_id, coeff_set_id, source, offset_terms, "
-                            "offset_t0_c, sensitivity_terms FROM v_latest_coeffs ORDER BY 1"},
-        {"v_coeff_provenance", "SELECT coeff_row_id % 1000000000000, kind, item_id, n_samples, "
-                               "item_found FROM v_coeff_provenance ORDER BY 1, 2, 3"},
+        {"v_run_summary",
+         "SELECT run_id, outcome, gyro_samples, plateaus, sensitivity_points, "
+         "coeff_sets, seq_gaps, queue_drops FROM v_run_summary ORDER BY run_id"},
+        {"v_latest_coeffs",
+         "SELECT sensor_id, run_id, coeff_set_id, source, offset_terms, "
+         "offset_t0_c, sensitivity_terms FROM v_latest_coeffs ORDER BY 1"},
+        {"v_coeff_provenance",
+         "SELECT coeff_row_id % 1000000000000, kind, item_id, n_samples, "
+         "item_found FROM v_coeff_provenance ORDER BY 1, 2, 3"},
         {"v_coeff_samples", "SELECT count(*), sum(seq) FROM v_coeff_samples"},
-        {"v_analyses", "SELECT analysis_id % 1000000000000, outcome, added_effects, created_utc "
-                       "FROM v_analyses ORDER BY 1"},
-        {"v_fit_final", "SELECT run_id, sensor_id, status, excluded FROM v_fit_final ORDER BY 1, 2"},
+        {"v_analyses",
+         "SELECT analysis_id % 1000000000000, outcome, added_effects, created_utc "
+         "FROM v_analyses ORDER BY 1"},
+        {"v_fit_final",
+         "SELECT run_id, sensor_id, status, excluded FROM v_fit_final ORDER BY 1, 2"},
         {"v_noise", "SELECT run_id, sensor_id, arw_dps_rthz FROM v_noise ORDER BY 1, 2"},
         {"v_repeatability", "SELECT run_id, sensor_id, verdict FROM v_repeatability ORDER BY 1, 2"},
     };
@@ -89,13 +95,14 @@ TEST(CentralSchema, TheViewsAnswerAsOnTheStationsFile) {
                     // Numbers compared by value (engines print reals differently), text as is;
                     // a boolean (PostgreSQL) as the 0/1 SQLite gives.
                     std::string t = s.Text(i);
-                    const bool number = !t.empty() && t.find_first_not_of("0123456789.-+eE") ==
-                                                          std::string::npos;
+                    const bool number =
+                        !t.empty() && t.find_first_not_of("0123456789.-+eE") == std::string::npos;
                     if (t.rfind("analysis:", 0) == 0)  // an id: the station's is the last digits
-                        t = "analysis:" + std::to_string(std::stoll(t.substr(9)) % st::kRunKeyScale);
+                        t = "analysis:" +
+                            std::to_string(std::stoll(t.substr(9)) % st::kRunKeyScale);
                     line += (t == "t" || t == "f") ? std::to_string(static_cast<double>(s.Int(i)))
-                            : number              ? std::to_string(s.Real(i))
-                                                  : t;
+                            : number               ? std::to_string(s.Real(i))
+                                                   : t;
                     line += "|";
                 }
                 out.push_back(line);
@@ -131,7 +138,8 @@ TEST(CentralSchema, ADatabaseWithOtherTablesIsRefusedAndLeftAlone) {
     } catch (const st::StoreError& e) {
         EXPECT_NE(std::string(e.what()).find("is not a gyrocal database"), std::string::npos);
     }
-    EXPECT_EQ(server.Query(name, "SELECT count(*) FROM pg_tables WHERE schemaname = 'public'"), "1");
+    EXPECT_EQ(server.Query(name, "SELECT count(*) FROM pg_tables WHERE schemaname = 'public'"),
+              "1");
 }
 
 TEST(CentralSchema, TwoInitsAtOnceMakeOneSchema) {

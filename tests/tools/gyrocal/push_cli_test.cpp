@@ -353,5 +353,25 @@ TEST_F(PushCli, TheFleetAcrossStationsNamesTheOddUnitAndAStationApartAndDrawsThe
     EXPECT_GT(c_z, ab_z + 1.0) << j.out;
 }
 
+TEST_F(PushCli, ConnectionsAreEncryptedWhenTheServerOffersTls) {
+    // A server of its own on 127.0.0.1 with TLS on (self-signed); libpq's default sslmode=prefer.
+    char tmpl[] = "/tmp/gyrocal-pg-tls-XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    auto tls = PgServer::StartWithTls(tmpl);
+    const std::string url = "postgresql://" + std::string(PgServer::kAdmin) + ":" +
+                            PgServer::kAdminPassword +
+                            "@127.0.0.1:" + std::to_string(tls->tcp_port()) + "/postgres";
+    ASSERT_EQ(Gyrocal({"central", "init", "--db", url}).code, 0);
+    const Cli on = Gyrocal({"central", "status", "--db", url});
+    EXPECT_NE(on.out.find("connection encrypted (TLS)"), std::string::npos) << on.out << on.err;
+    const Cli off = Gyrocal({"central", "status", "--db", url + "?sslmode=disable"});
+    EXPECT_NE(off.out.find("not encrypted"), std::string::npos) << off.out << off.err;
+    const std::string station = Dir() + "/tls.db";
+    WriteStation(station, {.prefix = "T", .runs = 1, .samples_per_sensor = 100});
+    const Cli push = Gyrocal({"push", "--to", url + "?sslmode=require", "--db", station});
+    EXPECT_EQ(push.code, 0) << push.err;
+    EXPECT_EQ((on.out + push.out + push.err).find(PgServer::kAdminPassword), std::string::npos);
+}
+
 }  // namespace
 }  // namespace gyrocal::testing
