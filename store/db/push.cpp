@@ -150,7 +150,8 @@ RunPush PushOne(Db& station, const std::vector<push::Table>& tables, CentralConn
         pqxx::work tx(c.conn());
         // One push of a run at a time (two shells, or the recorder's push and a manual one).
         tx.exec_params("SELECT pg_advisory_xact_lock(hashtext($1))", "gyrocal push " + run_id);
-        push::RunCopy copy{station, tx, run_id, RunKey(tx, station, run_id, o, host)};
+        push::RunCopy copy{station, tx, run_id, RunKey(tx, station, run_id, o, host), 0, 0, 0, {}};
+        push::LoadWatermarks(tables, copy);
         for (const push::Table& t : tables) push::CopyTable(t, copy);
         tx.commit();
         r.rows_added = copy.rows_added;

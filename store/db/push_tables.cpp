@@ -206,6 +206,8 @@ std::vector<std::string> CentralColumns(const Table& t) {
 
 // The highest station id of `t` already at the centre for this run (0: none).
 int64_t Watermark(const Table& t, RunCopy& run) {
+    const auto it = run.watermarks.find(t.name);
+    if (it != run.watermarks.end()) return it->second;
     const int64_t lo = run.run_key * kRunKeyScale;
     const pqxx::result r =
         run.tx.exec_params("SELECT max(" + t.id_column + ") FROM " + t.name + " WHERE " +
@@ -405,6 +407,27 @@ std::vector<Table> StationTables(Db& db) {
         out.push_back(std::move(t));
     }
     return out;
+}
+
+void LoadWatermarks(const std::vector<Table>& tables, RunCopy& run) {
+    std::string sql;
+    std::vector<const Table*> copied;
+    for (const Table& t : tables) {
+        if (t.scope == Scope::kLocal || t.scope == Scope::kRunRow || t.scope == Scope::kLosses ||
+            t.scope == Scope::kSensors)
+            continue;
+        sql += std::string(sql.empty() ? "SELECT " : ", ") + "(SELECT max(" + t.id_column +
+               ") - $1 FROM " + t.name + " WHERE " + t.id_column + " >= $1 AND " + t.id_column +
+               " < $2)";
+        copied.push_back(&t);
+    }
+    if (copied.empty()) return;
+    const int64_t lo = run.run_key * kRunKeyScale;
+    const pqxx::result r = run.tx.exec_params(sql, lo, lo + kRunKeyScale);
+    for (size_t i = 0; i < copied.size(); ++i) {
+        const pqxx::field f = r[0][static_cast<int>(i)];
+        run.watermarks[copied[i]->name] = f.is_null() ? 0 : f.as<int64_t>();
+    }
 }
 
 void CopyTable(const Table& t, RunCopy& run) {

@@ -3,6 +3,7 @@
 // hold ids that move with the run to the centre (+ run_key * 10^12), and how the rows are sent.
 // Internal to push.cpp and its test; includes libpqxx.
 #include <cstdint>
+#include <map>
 #include <pqxx/pqxx>
 #include <pqxx/tablewriter>
 #include <string>
@@ -61,7 +62,12 @@ struct RunCopy {
     std::string run_id;
     int64_t run_key = 0;
     int64_t rows_added = 0, rows_updated = 0, samples_added = 0;
+    // Per table: the highest station id already at the centre for this run (LoadWatermarks).
+    std::map<std::string, int64_t> watermarks;
 };
+
+// Reads every table's watermark for the run in one query (one round trip, not one per table).
+void LoadWatermarks(const std::vector<Table>& tables, RunCopy& run);
 
 // Sends the run's rows of `t` that the centre does not have yet.
 void CopyTable(const Table& t, RunCopy& run);
