@@ -1,6 +1,6 @@
-// The central database behind a Db: a libpqxx connection with one transaction at a time, and
-// statements read through server-side cursors (a run's millions of samples never sit in memory
-// at once). Readers work in one read-only REPEATABLE READ snapshot for the life of the Db, so a
+// The central database behind a Db: a libpqxx connection with one transaction at a time;
+// statements over sample tables are read through server-side cursors (a run's millions of
+// samples never sit in memory at once), the others in one round trip. Readers work in one read-only REPEATABLE READ snapshot for the life of the Db, so a
 // push that commits meanwhile does not change the answer half-way.
 #include <charconv>
 #include <cmath>
@@ -27,7 +27,19 @@ std::string Snippet(const std::string& sql) {
     return out;
 }
 
-// True for a statement that returns rows (read through a cursor).
+// True for a statement that may return a run's worth of rows: it reads a table of samples (the
+// replay reader, the sample export, the analysis' loader). It is read through a server-side
+// cursor, 20 000 rows at a time; any other statement in one round trip (a history over a
+// thousand runs is a few thousand statements: three round trips each would triple its time).
+bool ReadsSamples(const std::string& sql) {
+    for (const char* table : {"gyro_samples", "encoder_samples", "chamber_states", "rates",
+                              "power_states", "plateau_states", "raw_events", "status"}) {
+        if (sql.find(std::string("FROM ") + table) != std::string::npos) return true;
+    }
+    return false;
+}
+
+// True for a statement that returns rows.
 bool IsQuery(const std::string& sql) {
     size_t i = sql.find_first_not_of(" \t\r\n(");
     if (i == std::string::npos) return false;
@@ -199,7 +211,7 @@ void PgStmt::Start() {
     const auto params = pqxx::prepare::make_dynamic_params(values);
     try {
         pqxx::transaction_base& tx = be_.Tx();
-        if (!query_) {
+        if (!query_ || !ReadsSamples(sql_)) {
             rows_ = tx.exec_params(sql_, params);
             done_ = true;
         } else {

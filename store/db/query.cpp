@@ -1,6 +1,8 @@
 #include "query.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "central_db.hpp"
@@ -77,53 +79,98 @@ SensitivityRow ReadSensitivity(const Stmt& s) {
     return p;
 }
 
-ModelRow ReadModel(Db& db, int64_t coeff_row_id, const char* role) {
-    ModelRow m;
-    Stmt s(db,
-           "SELECT quantity, t0_c, temp_min_c, temp_max_c, residual_rms, n_points, "
-           "condition_number, method FROM coeff_models WHERE coeff_row_id = ? AND role = ?");
-    s.Bind(1, coeff_row_id).Bind(2, role);
-    if (s.Step()) {
-        s.Read(0, m.quantity, m.t0_c, m.temp_min_c, m.temp_max_c, m.residual_rms, m.n_points,
-               m.condition_number, m.method);
-    }
-    Stmt t(db,
-           "SELECT term_name, coeff FROM coeff_terms WHERE coeff_row_id = ? AND role = ? "
-           "ORDER BY term_index");
-    t.Bind(1, coeff_row_id).Bind(2, role);
-    while (t.Step()) {
-        m.term_names.push_back(t.Text(0));
-        m.coeffs.push_back(t.Real(1));
-    }
-    const size_t n = m.term_names.size();
-    m.covariance.assign(n, std::vector<double>(n, 0.0));
-    Stmt c(db,
-           "SELECT row_index, col_index, value FROM coeff_covariance WHERE coeff_row_id = ? "
-           "AND role = ?");
-    c.Bind(1, coeff_row_id).Bind(2, role);
-    while (c.Step()) {
-        const auto i = static_cast<size_t>(c.Int(0));
-        const auto j = static_cast<size_t>(c.Int(1));
-        if (i < n && j < n) m.covariance[i][j] = c.Real(2);
-    }
-    return m;
+// The set's model of `role` ("offset", "sensitivity"); nullptr for another role.
+ModelRow* RoleModel(CoeffSetRow& c, const std::string& role) {
+    if (role == "offset") return &c.offset;
+    if (role == "sensitivity") return &c.sensitivity;
+    return nullptr;
 }
 
-CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
+// The sets of one chunk, by coeff_row_id, and the statement's "(?,?,...)" for them.
+struct SetChunk {
+    std::map<int64_t, CoeffSetRow*> by_id;
+    std::string in;
+    void Bind(Stmt& s) const {
+        int i = 1;
+        for (const auto& [id, set] : by_id) s.Bind(i++, id);
+    }
+};
+
+void ReadModels(Db& db, const SetChunk& k) {
+    Stmt m(db,
+           "SELECT coeff_row_id, role, quantity, t0_c, temp_min_c, temp_max_c, residual_rms, "
+           "n_points, condition_number, method FROM coeff_models WHERE coeff_row_id IN " +
+               k.in);
+    k.Bind(m);
+    while (m.Step()) {
+        if (ModelRow* r = RoleModel(*k.by_id.at(m.Int(0)), m.Text(1)))
+            m.Read(2, r->quantity, r->t0_c, r->temp_min_c, r->temp_max_c, r->residual_rms,
+                   r->n_points, r->condition_number, r->method);
+    }
+    Stmt t(db,
+           "SELECT coeff_row_id, role, term_name, coeff FROM coeff_terms WHERE coeff_row_id IN " +
+               k.in + " ORDER BY coeff_row_id, role, term_index");
+    k.Bind(t);
+    while (t.Step()) {
+        if (ModelRow* r = RoleModel(*k.by_id.at(t.Int(0)), t.Text(1))) {
+            r->term_names.push_back(t.Text(2));
+            r->coeffs.push_back(t.Real(3));
+        }
+    }
+    for (auto& [id, set] : k.by_id) {
+        for (ModelRow* r : {&set->offset, &set->sensitivity}) {
+            const size_t n = r->term_names.size();
+            r->covariance.assign(n, std::vector<double>(n, 0.0));
+        }
+    }
+    Stmt c(db,
+           "SELECT coeff_row_id, role, row_index, col_index, value FROM coeff_covariance "
+           "WHERE coeff_row_id IN " +
+               k.in);
+    k.Bind(c);
+    while (c.Step()) {
+        ModelRow* r = RoleModel(*k.by_id.at(c.Int(0)), c.Text(1));
+        const auto i = static_cast<size_t>(c.Int(2));
+        const auto j = static_cast<size_t>(c.Int(3));
+        if (r && i < r->covariance.size() && j < r->covariance.size())
+            r->covariance[i][j] = c.Real(4);
+    }
+}
+
+void ReadLinks(Db& db, const SetChunk& k) {
+    Stmt p(db, "SELECT coeff_row_id, plateau_id FROM coeff_set_plateaus WHERE coeff_row_id IN " +
+                   k.in + " ORDER BY rowid");
+    k.Bind(p);
+    while (p.Step()) k.by_id.at(p.Int(0))->plateau_ids.push_back(p.Int(1));
+    Stmt r(db, "SELECT coeff_row_id, rotation_id FROM coeff_set_rotations WHERE coeff_row_id IN " +
+                   k.in + " ORDER BY rowid");
+    k.Bind(r);
+    while (r.Step()) k.by_id.at(r.Int(0))->rotation_ids.push_back(r.Int(1));
+}
+
+// The models and links of every set, read for many sets at once (a few statements per 500
+// sets, not eight per set: a history over hundreds of runs at a central database is hundreds of
+// round trips less), in the order one set at a time would give them.
+void ReadSetDetails(Db& db, std::vector<CoeffSetInfo>& sets) {
+    constexpr size_t kChunk = 500;
+    for (size_t first = 0; first < sets.size(); first += kChunk) {
+        SetChunk k;
+        const size_t n = std::min(kChunk, sets.size() - first);
+        for (size_t i = 0; i < n; ++i) k.by_id[sets[first + i].coeff_row_id] = &sets[first + i].set;
+        k.in = "(";
+        for (size_t i = 0; i < k.by_id.size(); ++i) k.in += i ? ",?" : "?";
+        k.in += ")";
+        ReadModels(db, k);
+        ReadLinks(db, k);
+    }
+}
+
+CoeffSetInfo ReadCoeffSet(const Stmt& s) {
     // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime, station
     CoeffSetInfo info;
     CoeffSetRow& c = info.set;
     s.Read(0, info.coeff_row_id, c.run_id, c.sensor_id, c.coeff_set_id, c.source, c.utime,
            c.recv_utime, info.station);
-    c.offset = ReadModel(db, info.coeff_row_id, "offset");
-    c.sensitivity = ReadModel(db, info.coeff_row_id, "sensitivity");
-    const auto first_int = [](const Stmt& row) { return row.Int(0); };
-    c.plateau_ids = SelectAll(
-        db, "SELECT plateau_id FROM coeff_set_plateaus WHERE coeff_row_id = ? ORDER BY rowid",
-        info.coeff_row_id, first_int);
-    c.rotation_ids = SelectAll(
-        db, "SELECT rotation_id FROM coeff_set_rotations WHERE coeff_row_id = ? ORDER BY rowid",
-        info.coeff_row_id, first_int);
     return info;
 }
 
@@ -139,8 +186,10 @@ constexpr const char* kFinalOnly =
 // The coefficient sets (with their models and links) that kCoeffColumns + `where`, its one
 // parameter bound to `key`, selects, in its order.
 std::vector<CoeffSetInfo> QueryCoeffSets(Db& db, const std::string& where, const std::string& key) {
-    return SelectAll(db, std::string(kCoeffColumns) + where, key,
-                     [&db](const Stmt& s) { return ReadCoeffSet(db, s); });
+    std::vector<CoeffSetInfo> sets =
+        SelectAll(db, std::string(kCoeffColumns) + where, key, ReadCoeffSet);
+    ReadSetDetails(db, sets);
+    return sets;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -165,7 +166,7 @@ void PartB(tg::PgServer& server, int runs, int units) {
     std::printf("| gyrocal history U42 (final sets: %zu) | median of 5 [ms] |\n|---|---|\n", sets);
     std::printf("| central PostgreSQL | %.1f |\n| station SQLite file | %.1f |\n", centre * 1e3,
                 file * 1e3);
-    std::filesystem::remove(station);
+    if (!std::getenv("GYROCAL_BENCH_KEEP")) std::filesystem::remove(station);
 }
 
 }  // namespace
