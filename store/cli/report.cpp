@@ -77,14 +77,23 @@ std::optional<std::vector<double>> ParseTemps(const std::string& text) {
 }
 
 std::string RunsTable(const std::vector<RunInfo>& runs) {
-    Table t({"RUN", "OUTCOME", "FIRST SEEN (UTC)", "SENSORS", "GYRO SAMPLES", "PLATEAUS",
-             "SENS PTS", "COEFF SETS", "SEQ GAPS", "DECODE ERR", "QUEUE DROPS", "VERSION"});
+    // The station column only where runs came from stations (a central database).
+    bool stations = false;
+    for (const auto& r : runs) stations = stations || !r.station.empty();
+    std::vector<std::string> head = {"RUN", "OUTCOME", "FIRST SEEN (UTC)", "SENSORS",
+                                     "GYRO SAMPLES", "PLATEAUS", "SENS PTS", "COEFF SETS",
+                                     "SEQ GAPS", "DECODE ERR", "QUEUE DROPS", "VERSION"};
+    if (stations) head.push_back("STATION");
+    Table t(head);
     for (const auto& r : runs) {
-        t.Add({RunLabel(r.run_id), r.outcome, UtcText(r.first_recv_utime), Join(r.sensor_ids, ","),
-               std::to_string(r.gyro_samples), std::to_string(r.plateaus),
-               std::to_string(r.sensitivity_points), std::to_string(r.coeff_sets),
-               std::to_string(r.seq_gaps), std::to_string(r.decode_errors),
-               std::to_string(r.queue_drops), r.software_version});
+        std::vector<std::string> row = {
+            RunLabel(r.run_id), r.outcome, UtcText(r.first_recv_utime), Join(r.sensor_ids, ","),
+            std::to_string(r.gyro_samples), std::to_string(r.plateaus),
+            std::to_string(r.sensitivity_points), std::to_string(r.coeff_sets),
+            std::to_string(r.seq_gaps), std::to_string(r.decode_errors),
+            std::to_string(r.queue_drops), r.software_version};
+        if (stations) row.push_back(r.station);
+        t.Add(row);
     }
     return t.str();
 }
@@ -103,6 +112,7 @@ static nlohmann::json RunJson(const RunInfo& r) {
     j["recorder_version"] = r.recorder_version;
     j["recorder_host"] = r.recorder_host;
     j["sensor_ids"] = r.sensor_ids;
+    if (!r.station.empty()) j["station"] = r.station;
     j["counts"] = {{"gyro_samples", r.gyro_samples},     {"encoder_samples", r.encoder_samples},
                    {"chamber_states", r.chamber_states}, {"plateaus", r.plateaus},
                    {"sensitivity_points", r.sensitivity_points},
@@ -481,8 +491,15 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
     out << "Sensor " << Printable(sensor_id) << ": " << sets.size() << " coefficient set"
         << (sets.size() == 1 ? "" : "s")
         << "; change is against the previous set at the same temperature\n";
-    Table t({"RECORDED (UTC)", "RUN", "COEFF_SET_ID", "SOURCE", "TEMP_C", "OFFSET_V",
-             "D_OFFSET_MV", "SENSITIVITY_V_PER_DPS", "D_SENSITIVITY_PCT"});
+    // Across stations (a central database): which station each set came from.
+    bool stations = false;
+    for (const auto& s : sets) stations = stations || !s.station.empty();
+    std::vector<std::string> head = {"RECORDED (UTC)", "RUN"};
+    if (stations) head.push_back("STATION");
+    for (const char* h : {"COEFF_SET_ID", "SOURCE", "TEMP_C", "OFFSET_V", "D_OFFSET_MV",
+                          "SENSITIVITY_V_PER_DPS", "D_SENSITIVITY_PCT"})
+        head.push_back(h);
+    Table t(head);
     for (size_t k = 0; k < sets.size(); ++k) {
         const CoeffSetRow& c = sets[k].set;
         for (double temp : ref_temps_c) {
@@ -496,9 +513,14 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
                 if (sens && p_sens && *p_sens != 0)
                     d_sens = text::SigOrDash((*sens / *p_sens - 1) * 100, 4);
             }
-            t.Add({UtcText(c.recv_utime), RunLabel(c.run_id), std::to_string(c.coeff_set_id),
-                   c.source, text::SigOrDash(temp, 4), off ? text::SigOrDash(*off, 8) : "n/a",
-                   d_off, sens ? text::SigOrDash(*sens, 8) : "n/a", d_sens});
+            std::vector<std::string> row = {UtcText(c.recv_utime), RunLabel(c.run_id)};
+            if (stations) row.push_back(sets[k].station);
+            for (std::string v : {std::to_string(c.coeff_set_id), c.source,
+                                  text::SigOrDash(temp, 4),
+                                  off ? text::SigOrDash(*off, 8) : std::string("n/a"), d_off,
+                                  sens ? text::SigOrDash(*sens, 8) : std::string("n/a"), d_sens})
+                row.push_back(v);
+            t.Add(row);
         }
     }
     out << t.str();
@@ -516,6 +538,7 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& s : sets) {
         nlohmann::json e = CoeffSetJson(s);
+        if (!s.station.empty()) e["station"] = s.station;
         nlohmann::json at = nlohmann::json::array();
         for (double temp : ref_temps_c) {
             const auto off = Eval(s.set.offset, temp);

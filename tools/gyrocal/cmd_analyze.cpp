@@ -268,7 +268,7 @@ int AnalyzeRun(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
     if (o.json) {
         out << an::ToJson(a.results).dump(2) << "\n";
     } else {
-        out << "run " << o.run_id << " (" << o.db << ")\n";
+        out << "run " << o.run_id << " (" << db->path() << ")\n";
         for (const an::SensorResult& r : a.results) out << an::FormatReport(r);
     }
     return out ? 0 : 1;
