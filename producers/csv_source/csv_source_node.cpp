@@ -89,6 +89,7 @@ std::string CsvSourceOptions::Validate() const {
     if (!(drain_s >= 0.0 && drain_s <= 60.0)) {
         return "--drain-s " + text::Sig(drain_s) + " is out of range; valid: 0 to 60 s";
     }
+    if (std::string e = flow.Validate(); !e.empty()) return e;
     return conversion.Validate();
 }
 
@@ -97,7 +98,11 @@ CsvSourceNode::CsvSourceNode(const CsvSourceOptions& options, csv::CsvFile file)
       file_(std::move(file)),
       bus_(BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-csv-source"),
-      builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)) {
+      builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)),
+      batcher_(bus_, options.flow.batch_samples) {
+    if (options_.max)
+        flow_ = std::make_unique<flow::FlowSource>(bus_, "gyrocal-csv-source",
+                                                   options_.flow.Window());
     status_.SetExtra("rows_total", static_cast<double>(file_.rows.size()));
     status_.SetExtra("rows_skipped_bad", static_cast<double>(file_.skipped));
 }
@@ -111,12 +116,68 @@ void CsvSourceNode::PublishRow(const csv::CsvRow& row) {
     const int64_t utime = csv::StreamUtime(options_.conversion.start_utime, row.time_s);
     const csv::RowMessages m = builder_.Build(row, utime);
     // Encoder and chamber first: a recorder then already knows the table angle and air
-    // temperature in force when the gyro sample of the same time arrives.
-    if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
+    // temperature in force when the gyro sample of the same time arrives. Unbatched messages go
+    // out after what the batcher holds, so no channel overtakes another.
+    if (m.encoder) batcher_.AddEncoder(std::string(channels::kEncoder), *m.encoder);
+    if (m.chamber || m.power) batcher_.Flush();
     if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
     if (m.power) bus_.Publish(channels::Power(m.power->sensor_id), *m.power);
-    bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
+    batcher_.Add(channels::Gyro(row.sensor_id), m.gyro);
+    if (batcher_.full()) batcher_.Flush();
+    last_utime_ = utime;
     messages_ += 1 + (m.encoder ? 1 : 0) + (m.chamber ? 1 : 0) + (m.power ? 1 : 0);
+}
+
+void CsvSourceNode::PaceByData(double elapsed_s, double* wait_s) {
+    while (next_ < file_.rows.size() && DueSeconds(next_) <= elapsed_s) {
+        PublishRow(file_.rows[next_++]);
+    }
+    batcher_.Flush();
+    if (next_ < file_.rows.size()) {
+        *wait_s = std::clamp(DueSeconds(next_) - elapsed_s, 0.0, 0.02);
+    }
+}
+
+void CsvSourceNode::PaceByRateCap(Clock::time_point now, double* wait_s) {
+    // Token bucket at --max-rate-hz holding at most 4 ms of messages: publish what it allows (a
+    // batch of about 2 ms), then sleep 2 ms so that receivers on this host get the cores. A
+    // late turn never turns into a burst bigger than the cap. Small batches matter: lcm-logger
+    // 1.3.1 queues only 30 messages per subscription.
+    const double dt_s = std::chrono::duration<double>(now - last_turn_).count();
+    last_turn_ = now;
+    tokens_ = std::min(tokens_ + dt_s * options_.max_rate_hz,
+                       std::max(1.0, 0.004 * options_.max_rate_hz));
+    while (next_ < file_.rows.size() && tokens_ >= 1.0) {
+        const int64_t before = messages_;
+        PublishRow(file_.rows[next_++]);
+        tokens_ -= static_cast<double>(messages_ - before);
+    }
+    batcher_.Flush();
+    *wait_s = 0.002;
+}
+
+void CsvSourceNode::PaceByConsumers(Clock::time_point now, double* wait_s) {
+    // As much as the slowest consumer has room for (flow_window.hpp), for at most 20 ms of
+    // publishing before the loop serves STATUS and signals again.
+    flow_->Sync(last_utime_);
+    std::optional<int64_t> credit = flow_->Credit();
+    if (!credit) return PaceByRateCap(now, wait_s);  // nobody answers: the cap of old
+    last_turn_ = now;
+    if (*credit <= 0) {
+        flow_->WaitForCredit(std::chrono::milliseconds(20));
+        return;
+    }
+    const auto until = now + std::chrono::milliseconds(20);
+    while (next_ < file_.rows.size() && credit && *credit > 0 && Clock::now() < until) {
+        PublishRow(file_.rows[next_++]);
+        if (batcher_.held() > 0) continue;  // nothing went out yet
+        flow_->Sync(last_utime_);
+        credit = flow_->Credit();
+    }
+    batcher_.Flush();
+    flow_->Sync(last_utime_);
+    for (const std::string& line : flow_->TakeReports())
+        std::cerr << "gyrocal-csv-source: flow: " << line << "\n";
 }
 
 bool CsvSourceNode::Step() {
@@ -126,34 +187,19 @@ bool CsvSourceNode::Step() {
         start_ = now;
         last_turn_ = now;
         status_.set_state("replaying");
+        if (flow_) flow_->Discover();
     }
     if (next_ < file_.rows.size()) {
         const double elapsed_s = std::chrono::duration<double>(now - start_).count();
         double wait_s = 0.0;
-        if (options_.max) {
-            // Token bucket at --max-rate-hz holding at most 4 ms of messages: publish what it
-            // allows (a batch of about 2 ms), then sleep 2 ms so that receivers on this host get
-            // the cores. A late turn never turns into a burst bigger than the cap. Small batches
-            // matter: lcm-logger 1.3.1 queues only 30 messages per subscription.
-            const double dt_s = std::chrono::duration<double>(now - last_turn_).count();
-            last_turn_ = now;
-            tokens_ = std::min(tokens_ + dt_s * options_.max_rate_hz,
-                               std::max(1.0, 0.004 * options_.max_rate_hz));
-            while (next_ < file_.rows.size() && tokens_ >= 1.0) {
-                const int64_t before = messages_;
-                PublishRow(file_.rows[next_++]);
-                tokens_ -= static_cast<double>(messages_ - before);
-            }
-            wait_s = 0.002;
+        if (flow_) {
+            PaceByConsumers(now, &wait_s);
         } else {
-            while (next_ < file_.rows.size() && DueSeconds(next_) <= elapsed_s) {
-                PublishRow(file_.rows[next_++]);
-            }
-            if (next_ < file_.rows.size()) {
-                wait_s = std::clamp(DueSeconds(next_) - elapsed_s, 0.0, 0.02);
-            }
+            PaceByData(elapsed_s, &wait_s);
         }
         status_.SetExtra("rows_published", static_cast<double>(next_));
+        if (flow_)
+            for (const auto& [name, value] : flow_->Extras()) status_.SetExtra(name, value);
         if (next_ == file_.rows.size()) {
             finished_ = Clock::now();
             status_.set_state("draining");
@@ -162,7 +208,16 @@ bool CsvSourceNode::Step() {
         if (wait_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
         return false;
     }
-    // Drain: let receivers empty their sockets before the final STATUS and exit.
+    // Drain: every consumer answers the last mark (so it has every row), or, without flow
+    // control, the receivers get --drain-s to empty their sockets before the final STATUS.
+    if (flow_ && flow_->paced_consumers() > 0) {
+        const bool all = flow_->Drain(last_utime_);
+        for (const auto& [name, value] : flow_->Extras()) status_.SetExtra(name, value);
+        for (const std::string& line : flow_->TakeReports())
+            std::cerr << "gyrocal-csv-source: flow: " << line << "\n";
+        if (!all) std::cerr << "gyrocal-csv-source: flow: not every consumer answered the end\n";
+        return true;
+    }
     if (Clock::now() - finished_ >= std::chrono::duration<double>(options_.drain_s)) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     return false;

@@ -1,16 +1,23 @@
 #pragma once
 // The CSV replay process: rows already read and validated (csv/csv_file.hpp) are published in
-// file order, paced by data time (--speed) or by a message-rate cap (--max).
+// file order, paced by data time (--speed) or as fast as every consumer keeps up (--max: flow
+// control, lcmtypes/flow; with no consumer answering, a message-rate cap).
 //
 // Threads: one. Run() is RunLoop with a zero poll; each loop turn publishes the rows that are
-// due, then sleeps until the next is due (at most 20 ms, so STATUS and SIGINT stay responsive).
-// It stops after the last row plus a short drain, or on SIGINT/SIGTERM.
+// due (or that the consumers have room for), then sleeps until the next is due or waits for
+// the consumers' answers (at most 20 ms, so STATUS and SIGINT stay responsive). It stops after
+// the last row once every consumer has answered the last mark (--max), or after a short drain.
 #include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include <memory>
+
 #include "bus/bus.hpp"
+#include "bus/sample_batcher.hpp"
+#include "flow/flow_source.hpp"
+#include "runtime/flow_options.hpp"
 #include "runtime/status.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/csv_file.hpp"
@@ -28,7 +35,8 @@ struct CsvSourceOptions {
     std::string lcm_url;
     double speed = 1.0;                      // [data s / wall s]
     bool max = false;                        // pace by max_rate_hz instead of data time
-    double max_rate_hz = kDefaultMaxRateHz;  // [msg/s] cap of --max
+    double max_rate_hz = kDefaultMaxRateHz;  // [msg/s] cap of --max when no consumer answers
+    SourceFlowOptions flow = SourceFlowOptions::Defaults();
     csv::OnError on_error = csv::OnError::kStop;
     double drain_s = 0.5;  // [s] wait after the last row before exiting
     csv::ConversionOptions conversion = csv::ConversionOptions::Defaults();
@@ -53,6 +61,9 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     bool Step();  // true when finished
+    void PaceByData(double elapsed_s, double* wait_s);
+    void PaceByConsumers(Clock::time_point now, double* wait_s);
+    void PaceByRateCap(Clock::time_point now, double* wait_s);
     void PublishRow(const csv::CsvRow& row);
     double DueSeconds(size_t i) const;  // [wall s after start] when row i is due (--speed)
 
@@ -61,6 +72,9 @@ private:
     Bus bus_;
     StatusReporter status_;
     csv::MessageBuilder builder_;
+    SampleBatcher batcher_;
+    std::unique_ptr<flow::FlowSource> flow_;  // --max only
+    int64_t last_utime_ = 0;  // [us] data time of the newest row published
     size_t next_ = 0;
     int64_t messages_ = 0;
     bool started_ = false;
