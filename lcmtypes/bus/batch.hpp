@@ -65,7 +65,9 @@ struct BatchTraits<rate_t> {
 };
 
 template <class Msg>
-concept HasBatch = requires { typename BatchTraits<Msg>::Batch; };
+concept HasBatch = requires {
+    typename BatchTraits<Msg>::Batch;
+};
 
 // True when the payload starts with Msg's type hash (LCM writes it big-endian).
 template <class Msg>

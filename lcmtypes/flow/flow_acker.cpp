@@ -46,8 +46,7 @@ void FlowAcker::Leave() {
     for (const auto& [source, mark_seq] : sources) Ack(source, mark_seq, true);
 }
 
-void FlowAcker::Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq,
-                    bool leaving) {
+void FlowAcker::Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq, bool leaving) {
     flow_ack_t a;
     a.utime = std::chrono::duration_cast<std::chrono::microseconds>(
                   std::chrono::system_clock::now().time_since_epoch())

@@ -53,6 +53,7 @@ public:
 
 private:
     void PublishMark(int64_t data_utime);
+    void ForgetEndedProcesses();  // consumers on this host whose process is gone
 
     Bus& bus_;
     std::string process_;
@@ -65,6 +66,7 @@ private:
     int64_t data_utime_ = 0;
     double waited_s_ = 0;  // [s] wall time spent waiting for credit
     std::chrono::steady_clock::time_point last_new_consumer_{};
+    std::chrono::steady_clock::time_point last_alive_check_{};
     bool any_ack_ = false;
     bool discovered_ = false;
     std::vector<std::string> reports_;

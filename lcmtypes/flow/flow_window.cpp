@@ -89,6 +89,27 @@ void FlowWindow::OnHeartbeat(const ConsumerId& id, const std::string& process, T
 
 void FlowWindow::OnLeave(const ConsumerId& id) { consumers_[id].left = true; }
 
+void FlowWindow::OnGone(const ConsumerId& id) {
+    Consumer& c = consumers_[id];
+    if (c.left) return;
+    c.left = true;
+    events_.push_back({FlowEvent::Kind::kGone, c.process, id,
+                       Who(c.process, id) + " has ended (no such process) owing " +
+                           std::to_string(sent_bytes_ - c.acked_bytes) +
+                           " B: no longer waited for"});
+}
+
+std::vector<ConsumerId> FlowWindow::Behind() const {
+    std::vector<std::pair<int64_t, ConsumerId>> behind;
+    for (const auto& [id, c] : consumers_)
+        if (!c.dropped && !c.left && c.acked_bytes < sent_bytes_) behind.push_back({c.acked_bytes, id});
+    std::sort(behind.begin(), behind.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<ConsumerId> out;
+    for (const auto& [bytes, id] : behind) out.push_back(id);
+    return out;
+}
+
 void FlowWindow::Expire(Time now) {
     for (auto& [id, c] : consumers_) {
         if (c.dropped || c.left || c.acked_bytes >= sent_bytes_) continue;
@@ -97,9 +118,8 @@ void FlowWindow::Expire(Time now) {
         c.dropped = true;
         ++dropped_total_;
         const bool never = !c.acking;
-        const std::string why =
-            never ? " heartbeats on STATUS but has not answered a flow mark"
-                  : " has not acknowledged data";
+        const std::string why = never ? " heartbeats on STATUS but has not answered a flow mark"
+                                      : " has not acknowledged data";
         events_.push_back({never ? FlowEvent::Kind::kNotAcking : FlowEvent::Kind::kDropped,
                            c.process, id,
                            Who(c.process, id) + why + " for " +
@@ -155,9 +175,9 @@ std::string FlowWindow::Slowest() const {
 }
 
 size_t FlowWindow::paced_consumers() const {
-    return static_cast<size_t>(std::count_if(consumers_.begin(), consumers_.end(), [](const auto& kv) {
-        return !kv.second.dropped && !kv.second.left;
-    }));
+    return static_cast<size_t>(
+        std::count_if(consumers_.begin(), consumers_.end(),
+                      [](const auto& kv) { return !kv.second.dropped && !kv.second.left; }));
 }
 
 }  // namespace gyrocal::flow

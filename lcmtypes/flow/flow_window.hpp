@@ -62,7 +62,7 @@ struct ConsumerId {
 
 // Something the source should say (stderr, STATUS): a consumer dropped or admitted again.
 struct FlowEvent {
-    enum class Kind { kDropped, kReadmitted, kNotAcking } kind;
+    enum class Kind { kDropped, kReadmitted, kNotAcking, kGone } kind;
     std::string process;
     ConsumerId id;
     std::string text;  // one line, e.g. "gyrocal-fitter (pid 12 on h) ..."
@@ -93,6 +93,11 @@ public:
     // The consumer stops (its last ack says so): not waited for any more, and a heartbeat of the
     // same process does not bring it back.
     void OnLeave(const ConsumerId& id);
+    // The consumer's process is gone (the source found no such process on its own host, e.g.
+    // killed by a signal): as OnLeave, and reported.
+    void OnGone(const ConsumerId& id);
+    // The paced consumers that have not answered everything sent, slowest first.
+    std::vector<ConsumerId> Behind() const;
 
     // [B] what may be published now without any consumer holding more than the window
     // unacknowledged; <= 0: wait. nullopt when there is no consumer to pace on. Drops consumers
@@ -117,7 +122,7 @@ private:
         bool acking = false;      // has answered at least one mark
         bool dropped = false;
         bool left = false;
-        Time last_progress{};     // when acked_bytes last moved (or when it was first heard)
+        Time last_progress{};  // when acked_bytes last moved (or when it was first heard)
     };
     int64_t SentAtMark(int64_t mark_seq) const;  // -1 when the mark is unknown (too old or new)
     void Expire(Time now);
@@ -127,8 +132,8 @@ private:
     int64_t next_mark_seq_ = 1;
     int64_t last_mark_bytes_ = -1;
     Time last_mark_time_{};
-    bool waiting_ = false;     // the last Credit() was <= 0
-    std::deque<Mark> marks_;   // issued marks not yet acked by every consumer (bounded)
+    bool waiting_ = false;    // the last Credit() was <= 0
+    std::deque<Mark> marks_;  // issued marks not yet acked by every consumer (bounded)
     std::map<ConsumerId, Consumer> consumers_;
     std::vector<FlowEvent> events_;
     int64_t dropped_total_ = 0;

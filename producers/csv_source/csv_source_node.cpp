@@ -13,14 +13,18 @@
 #include "text/number.hpp"
 
 namespace gyrocal {
-namespace {
-// As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
-}  // namespace
 
 namespace {
 
-// Reads the whole file; nullopt (with the exit code in `exit_code`) when it cannot be used.
-std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_code) {
+// The temperature transfer of the options, validated by main.
+sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
+    std::string err;
+    return *conversion.Transfer(&err);
+}
+
+// The first pass: every row checked, none kept; nullopt (with the exit code in `exit_code`)
+// when the file cannot be used.
+std::optional<CsvCheck> CheckWholeFile(const CsvSourceOptions& o, int* exit_code) {
     std::ifstream in(o.file);
     if (!in) {
         std::cerr << "gyrocal-csv-source: --file '" << o.file
@@ -29,10 +33,14 @@ std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_c
         *exit_code = 2;
         return std::nullopt;
     }
-    std::string err;
-    const sensor::TempTransfer transfer = *o.conversion.Transfer(&err);
     try {
-        return csv::ReadCsv(in, o.file, transfer, o.on_error);
+        csv::CsvReader reader(in, o.file, TransferOf(o.conversion), o.on_error);
+        CsvCheck c;
+        while (reader.Next()) ++c.rows;
+        c.unknown = reader.unknown();
+        c.errors = reader.errors();
+        c.skipped = reader.skipped();
+        return c;
     } catch (const csv::CsvError& e) {
         std::cerr << "gyrocal-csv-source: error: " << e.what()
                   << "\ngyrocal-csv-source: nothing published (--on-error stop; use --on-error "
@@ -43,7 +51,7 @@ std::optional<csv::CsvFile> ReadWholeFile(const CsvSourceOptions& o, int* exit_c
 }
 
 // Unknown columns once, and the first skipped rows (--on-error skip) with a count of the rest.
-void ReportReadProblems(const CsvSourceOptions& o, const csv::CsvFile& file) {
+void ReportReadProblems(const CsvSourceOptions& o, const CsvCheck& file) {
     if (!file.unknown.empty()) {
         std::string names;
         for (const auto& n : file.unknown) names += (names.empty() ? "" : ", ") + n;
@@ -54,8 +62,8 @@ void ReportReadProblems(const CsvSourceOptions& o, const csv::CsvFile& file) {
     for (size_t i = 0; i < file.errors.size() && i < kShown; ++i) {
         std::cerr << "gyrocal-csv-source: skipped: " << file.errors[i] << "\n";
     }
-    if (file.errors.size() > kShown) {
-        std::cerr << "gyrocal-csv-source: ... and " << file.errors.size() - kShown
+    if (file.skipped > static_cast<long>(kShown)) {
+        std::cerr << "gyrocal-csv-source: ... and " << file.skipped - static_cast<long>(kShown)
                   << " more bad rows skipped\n";
     }
 }
@@ -64,12 +72,12 @@ void ReportReadProblems(const CsvSourceOptions& o, const csv::CsvFile& file) {
 
 int ReplayCsvFile(const CsvSourceOptions& o) {
     int exit_code = 0;
-    std::optional<csv::CsvFile> file = ReadWholeFile(o, &exit_code);
-    if (!file) return exit_code;
-    ReportReadProblems(o, *file);
+    std::optional<CsvCheck> check = CheckWholeFile(o, &exit_code);
+    if (!check) return exit_code;
+    ReportReadProblems(o, *check);
     InstallStopHandlers();
     try {
-        CsvSourceNode node(o, std::move(*file));
+        CsvSourceNode node(o, std::move(*check));
         return node.Run();
     } catch (const std::exception& e) {
         std::cerr << "gyrocal-csv-source: error: " << e.what() << "\n";
@@ -93,23 +101,36 @@ std::string CsvSourceOptions::Validate() const {
     return conversion.Validate();
 }
 
-CsvSourceNode::CsvSourceNode(const CsvSourceOptions& options, csv::CsvFile file)
+CsvSourceNode::CsvSourceNode(const CsvSourceOptions& options, CsvCheck check)
     : options_(options),
-      file_(std::move(file)),
+      check_(std::move(check)),
+      in_(options.file),
+      reader_(in_, options.file, TransferOf(options.conversion), options.on_error),
       bus_(BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-csv-source"),
       builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)),
       batcher_(bus_, options.flow.batch_samples) {
     if (options_.max)
-        flow_ = std::make_unique<flow::FlowSource>(bus_, "gyrocal-csv-source",
-                                                   options_.flow.Window());
-    status_.SetExtra("rows_total", static_cast<double>(file_.rows.size()));
-    status_.SetExtra("rows_skipped_bad", static_cast<double>(file_.skipped));
+        flow_ =
+            std::make_unique<flow::FlowSource>(bus_, "gyrocal-csv-source", options_.flow.Window());
+    // The file was checked whole a moment ago; one that changed since is an error, not data.
+    if (!in_) throw std::runtime_error("--file '" + options.file + "' cannot be read again");
+    next_row_ = reader_.Next();
+    if (next_row_) first_time_s_ = next_row_->time_s;
+    status_.SetExtra("rows_total", static_cast<double>(check_.rows));
+    status_.SetExtra("rows_skipped_bad", static_cast<double>(check_.skipped));
 }
 
-double CsvSourceNode::DueSeconds(size_t i) const {
+csv::CsvRow CsvSourceNode::TakeRow() {
+    csv::CsvRow row = std::move(*next_row_);
+    next_row_ = reader_.Next();
+    ++next_;
+    return row;
+}
+
+double CsvSourceNode::DueSeconds() const {
     // [wall s after start] by data time since the first row (--speed only).
-    return (file_.rows[i].time_s - file_.rows.front().time_s) / options_.speed;
+    return (next_row_->time_s - first_time_s_) / options_.speed;
 }
 
 void CsvSourceNode::PublishRow(const csv::CsvRow& row) {
@@ -129,13 +150,9 @@ void CsvSourceNode::PublishRow(const csv::CsvRow& row) {
 }
 
 void CsvSourceNode::PaceByData(double elapsed_s, double* wait_s) {
-    while (next_ < file_.rows.size() && DueSeconds(next_) <= elapsed_s) {
-        PublishRow(file_.rows[next_++]);
-    }
+    while (More() && DueSeconds() <= elapsed_s) PublishRow(TakeRow());
     batcher_.Flush();
-    if (next_ < file_.rows.size()) {
-        *wait_s = std::clamp(DueSeconds(next_) - elapsed_s, 0.0, 0.02);
-    }
+    if (More()) *wait_s = std::clamp(DueSeconds() - elapsed_s, 0.0, 0.02);
 }
 
 void CsvSourceNode::PaceByRateCap(Clock::time_point now, double* wait_s) {
@@ -147,9 +164,9 @@ void CsvSourceNode::PaceByRateCap(Clock::time_point now, double* wait_s) {
     last_turn_ = now;
     tokens_ = std::min(tokens_ + dt_s * options_.max_rate_hz,
                        std::max(1.0, 0.004 * options_.max_rate_hz));
-    while (next_ < file_.rows.size() && tokens_ >= 1.0) {
+    while (More() && tokens_ >= 1.0) {
         const int64_t before = messages_;
-        PublishRow(file_.rows[next_++]);
+        PublishRow(TakeRow());
         tokens_ -= static_cast<double>(messages_ - before);
     }
     batcher_.Flush();
@@ -168,8 +185,8 @@ void CsvSourceNode::PaceByConsumers(Clock::time_point now, double* wait_s) {
         return;
     }
     const auto until = now + std::chrono::milliseconds(20);
-    while (next_ < file_.rows.size() && credit && *credit > 0 && Clock::now() < until) {
-        PublishRow(file_.rows[next_++]);
+    while (More() && credit && *credit > 0 && Clock::now() < until) {
+        PublishRow(TakeRow());
         if (batcher_.held() > 0) continue;  // nothing went out yet
         flow_->Sync(last_utime_);
         credit = flow_->Credit();
@@ -189,7 +206,7 @@ bool CsvSourceNode::Step() {
         status_.set_state("replaying");
         if (flow_) flow_->Discover();
     }
-    if (next_ < file_.rows.size()) {
+    if (More()) {
         const double elapsed_s = std::chrono::duration<double>(now - start_).count();
         double wait_s = 0.0;
         if (flow_) {
@@ -200,7 +217,7 @@ bool CsvSourceNode::Step() {
         status_.SetExtra("rows_published", static_cast<double>(next_));
         if (flow_)
             for (const auto& [name, value] : flow_->Extras()) status_.SetExtra(name, value);
-        if (next_ == file_.rows.size()) {
+        if (!More()) {
             finished_ = Clock::now();
             status_.set_state("draining");
             return false;
@@ -224,14 +241,14 @@ bool CsvSourceNode::Step() {
 }
 
 int CsvSourceNode::Run() {
-    if (file_.rows.empty()) finished_ = Clock::now();
+    if (!More()) finished_ = Clock::now();
     RunLoop(
         bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
     const BusCounters& c = bus_.counters();
-    std::cerr << "gyrocal-csv-source: published " << next_ << " of " << file_.rows.size()
-              << " rows (" << messages_ << " messages) from " << options_.file;
-    if (file_.skipped > 0) std::cerr << "; skipped " << file_.skipped << " bad rows";
-    if (StopRequested() && next_ < file_.rows.size()) std::cerr << "; stopped by signal";
+    std::cerr << "gyrocal-csv-source: published " << next_ << " of " << check_.rows << " rows ("
+              << messages_ << " messages) from " << options_.file;
+    if (check_.skipped > 0) std::cerr << "; skipped " << check_.skipped << " bad rows";
+    if (StopRequested() && More()) std::cerr << "; stopped by signal";
     std::cerr << "\n";
     if (c.publish_errors > 0) {
         std::cerr << "gyrocal-csv-source: error: " << c.publish_errors

@@ -13,6 +13,7 @@
 #include "bus/bus.hpp"
 #include "calibrate.hpp"
 #include "final_verdict.hpp"
+#include "flow/flow_acker.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -50,6 +51,7 @@ private:
     bool StartConsumers();
     bool StartProducers();
     void StartSim();
+    std::vector<std::string> SimPace() const;
     void StartMeasured();
     int Watch();
     bool DetectEnd();  // true once the run has ended (this role's view)
@@ -85,6 +87,9 @@ private:
     Source source_kind_;
     Role role_;
     Bus bus_;
+    // This launcher receives everything on the bus too (coefficient sets, fit reports): it
+    // answers the sources' flow marks like every process, so they pace on it as well.
+    flow::FlowAcker acker_;
     std::string url_;
     std::deque<Child> children_;  // deque: Start() hands out references that must stay valid
     Child* sequencer_ = nullptr;

@@ -32,7 +32,8 @@ const std::string kUrl = "udpm://239.255.76.67:7703?ttl=0&recv_buf_size=4194304"
 
 // A CSV of one unit at 100 Hz with its table angle: `rows` gyro rows, one encoder message each.
 std::string WriteCsv(const std::string& name, int rows) {
-    const auto dir = std::filesystem::temp_directory_path() / ("gyrocal_flow_" + std::to_string(getpid()));
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("gyrocal_flow_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
     const std::string path = (dir / name).string();
     std::ofstream f(path);
@@ -49,8 +50,9 @@ std::string WriteCsv(const std::string& name, int rows) {
 struct Heard {
     std::map<int32_t, status_t> by_pid;
     explicit Heard(Bus& bus) {
-        bus.Subscribe<status_t>(std::string(channels::kStatus),
-                                [this](const status_t& s, const std::string&) { by_pid[s.pid] = s; });
+        bus.Subscribe<status_t>(
+            std::string(channels::kStatus),
+            [this](const status_t& s, const std::string&) { by_pid[s.pid] = s; });
     }
     double Extra(int32_t pid, const std::string& name) const {
         const auto it = by_pid.find(pid);
@@ -92,13 +94,15 @@ TEST(FlowProcess, TheSourceGoesAtTheSlowestConsumersPaceAndNothingIsLostUnderLoa
                          kUrl, "--start-utime", "1000000"},
                         log, log);
     std::optional<ExitStatus> done;
-    testing::HandleUntil(bus, [&] { return (done = source.Poll()).has_value(); }, 120s);
+    testing::HandleUntil(
+        bus, [&] { return (done = source.Poll()).has_value(); }, 120s);
     const double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     hogs.clear();
     ASSERT_TRUE(done && done->exited && done->code == 0) << ReadLog(log);
     // THEN when the source ended, the slow consumer had every sample already (it answered the
     // last mark), so the source took at least the slow consumer's work: 20000 x 200 us = 4 s
-    testing::HandleUntil(bus, [&] { return heard.Extra(slow.pid(), "samples") >= kRows; }, 5s);
+    testing::HandleUntil(
+        bus, [&] { return heard.Extra(slow.pid(), "samples") >= kRows; }, 5s);
     EXPECT_GE(wall_s, kRows * kWorkUs * 1e-6) << "the source did not wait for the slow consumer";
     for (const ChildProcess* p : {&fast, &slow}) {
         EXPECT_EQ(heard.Extra(p->pid(), "samples"), kRows) << "pid " << p->pid();
@@ -132,19 +136,20 @@ TEST(FlowProcess, AConsumerThatStopsAnsweringIsWaitedForNoLongerThanItsTimeout) 
         bus, [&] { return heard.Extra(stuck.pid(), "samples") >= 2000; }, 30s, 5ms));
     ASSERT_EQ(kill(stuck.pid(), SIGSTOP), 0);
     std::optional<ExitStatus> done;
-    testing::HandleUntil(bus, [&] { return (done = source.Poll()).has_value(); }, 60s);
+    testing::HandleUntil(
+        bus, [&] { return (done = source.Poll()).has_value(); }, 60s);
     const double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     kill(stuck.pid(), SIGCONT);
     // THEN the source ended on its own, well within 60 s, saying whom it stopped waiting for
     ASSERT_TRUE(done && done->exited && done->code == 0) << ReadLog(log);
     const std::string text = ReadLog(log);
-    EXPECT_NE(text.find("gyrocal-bus-probe (pid " + std::to_string(stuck.pid())),
-              std::string::npos)
+    EXPECT_NE(text.find("gyrocal-bus-probe (pid " + std::to_string(stuck.pid())), std::string::npos)
         << text;
     EXPECT_NE(text.find("no longer waited for"), std::string::npos) << text;
     EXPECT_LT(wall_s, 30.0);
     // AND the consumer that kept answering lost nothing
-    testing::HandleUntil(bus, [&] { return heard.Extra(alive.pid(), "samples") >= kRows; }, 5s);
+    testing::HandleUntil(
+        bus, [&] { return heard.Extra(alive.pid(), "samples") >= kRows; }, 5s);
     EXPECT_EQ(heard.Extra(alive.pid(), "samples"), kRows);
     EXPECT_EQ(heard.by_pid[alive.pid()].seq_gaps, 0);
 }

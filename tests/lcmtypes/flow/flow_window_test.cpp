@@ -1,9 +1,9 @@
 // FlowWindow (lcmtypes/flow/flow_window.hpp): the credit a source gets from its consumers'
 // answers, exactly, on a clock the test drives. Byte counts are chosen so that every expected
 // credit is a sum the test states: each datagram costs its payload plus kDatagramOverheadBytes.
-#include <gtest/gtest.h>
-
 #include "flow/flow_window.hpp"
+
+#include <gtest/gtest.h>
 
 namespace gyrocal::flow {
 namespace {
@@ -153,6 +153,28 @@ TEST(FlowWindow, AConsumerThatLeavesIsNoLongerWaitedFor) {
     w.OnHeartbeat(kB, "b", t0);  // its last heartbeat, after its last answer: still gone
     EXPECT_EQ(w.paced_consumers(), 1u);
     EXPECT_EQ(w.dropped_total(), 0);
+}
+
+TEST(FlowWindow, AConsumerWhoseProcessIsGoneIsLeftAtOnceAndSaidSo) {
+    FlowWindow w(Options());
+    const Time t0{};
+    const Mark m1 = w.IssueMark(t0);
+    w.OnAck(kA, "a", m1.mark_seq, t0);
+    w.OnAck(kB, "b", m1.mark_seq, t0);
+    w.OnPublished(10, 10000);
+    w.IssueMark(t0);
+    w.OnAck(kA, "a", m1.mark_seq + 1, t0);
+    // Behind: only B owes data.
+    ASSERT_EQ(w.Behind(), std::vector<ConsumerId>{kB});
+    w.OnGone(kB);
+    EXPECT_EQ(w.Credit(t0), 10 * kDatagram);
+    const auto events = w.TakeEvents();
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, FlowEvent::Kind::kGone);
+    EXPECT_NE(events[0].text.find("b (pid 2 on h) has ended (no such process) owing 20240 B"),
+              std::string::npos)
+        << events[0].text;
+    EXPECT_TRUE(w.Behind().empty());
 }
 
 TEST(FlowWindow, OptionsOutOfRangeAreNamed) {
