@@ -119,6 +119,7 @@ bool Bus::PublishRaw(const std::string& channel, const void* data, int size) {
         return false;
     }
     ++counters_.published;
+    counters_.published_bytes += size + static_cast<int64_t>(channel.size());
     return true;
 }
 

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "batch.hpp"
 #include "decode.hpp"
 #include "seq_tracker.hpp"
 
@@ -61,8 +62,10 @@ public:
 struct BusCounters {
     int64_t received = 0;       // decoded and handed to a handler
     int64_t published = 0;
+    int64_t published_bytes = 0;  // [B] payloads and channel names of what was published
     int64_t publish_errors = 0;
     int64_t decode_errors = 0;  // payload did not decode as the subscribed type
+    int64_t batches = 0;        // batch messages unpacked (their samples count in received)
     int64_t seq_gaps = 0;       // samples missing per seq, all channels
     int64_t seq_backwards = 0;  // reordered, duplicated or restarted streams
     std::string last_decode_error;  // channel and type of the latest failure
@@ -78,7 +81,10 @@ public:
     ~Bus();
 
     // Subscribes a typed handler to every channel matching `channel_regex`. Messages that do not
-    // decode as Msg are counted (decode_errors) and never reach the handler.
+    // decode as Msg are counted (decode_errors) and never reach the handler. For a sample type
+    // with a batch form (batch.hpp: gyro, encoder, rate), a batch on the channel is unpacked and
+    // the handler called once per sample, in order, each counted and seq-tracked as if it had
+    // come alone.
     template <class Msg>
     void Subscribe(const std::string& channel_regex,
                    std::function<void(const Msg&, const std::string& channel)> handler);
@@ -89,6 +95,10 @@ public:
     // Encodes and publishes; counts failures (LCM returns non-zero when the send fails).
     template <class Msg>
     bool Publish(const std::string& channel, const Msg& msg);
+    // Publishes samples of one channel: one Msg when there is one, else their batch form
+    // (batch.hpp). Nothing when empty.
+    template <class Msg>
+    bool PublishSamples(const std::string& channel, std::vector<Msg> samples);
     bool PublishRaw(const std::string& channel, const void* data, int size);
 
     // Dispatches messages for up to `timeout`; returns true when at least one was handled.
@@ -107,6 +117,8 @@ private:
     };
     void AddSubscription(const std::string& channel_regex, RawHandler fn);
     void NoteSeq(const std::string& channel, int64_t seq);
+    template <class Msg, class Handler>
+    void Deliver(const Msg& msg, const std::string& channel, const Handler& handler);
 
     std::string url_;
     std::unique_ptr<lcm::LCM> lcm_;
@@ -116,21 +128,43 @@ private:
     std::exception_ptr pending_;
 };
 
+template <class Msg, class Handler>
+void Bus::Deliver(const Msg& msg, const std::string& channel, const Handler& handler) {
+    ++counters_.received;
+    if constexpr (requires { msg.seq; }) NoteSeq(channel, msg.seq);
+    handler(msg, channel);
+}
+
 template <class Msg>
 void Bus::Subscribe(const std::string& channel_regex,
                     std::function<void(const Msg&, const std::string& channel)> handler) {
     AddSubscription(channel_regex, [this, handler = std::move(handler)](
                                        const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+        const int size = static_cast<int>(rbuf.data_size);
+        if constexpr (HasBatch<Msg>) {
+            using Batch = typename BatchTraits<Msg>::Batch;
+            if (IsOfType<Batch>(rbuf.data, size)) {
+                Batch batch;
+                if (!DecodeMessage(batch, rbuf.data, size)) {
+                    ++counters_.decode_errors;
+                    counters_.last_decode_error = "channel " + channel +
+                                                  ": payload is not a valid " +
+                                                  Batch::getTypeName();
+                    return;
+                }
+                ++counters_.batches;
+                for (const Msg& msg : batch.samples) Deliver(msg, channel, handler);
+                return;
+            }
+        }
         Msg msg;
-        if (!DecodeMessage(msg, rbuf.data, static_cast<int>(rbuf.data_size))) {
+        if (!DecodeMessage(msg, rbuf.data, size)) {
             ++counters_.decode_errors;
             counters_.last_decode_error =
                 "channel " + channel + ": payload is not a valid " + Msg::getTypeName();
             return;
         }
-        ++counters_.received;
-        if constexpr (requires { msg.seq; }) NoteSeq(channel, msg.seq);
-        handler(msg, channel);
+        Deliver(msg, channel, handler);
     });
 }
 
@@ -143,6 +177,13 @@ bool Bus::Publish(const std::string& channel, const Msg& msg) {
                                channel + " (array length field does not match its array?)");
     }
     return PublishRaw(channel, buf.data(), size);
+}
+
+template <class Msg>
+bool Bus::PublishSamples(const std::string& channel, std::vector<Msg> samples) {
+    if (samples.empty()) return true;
+    if (samples.size() == 1) return Publish(channel, samples.front());
+    return Publish(channel, BatchTraits<Msg>::Make(std::move(samples)));
 }
 
 }  // namespace gyrocal

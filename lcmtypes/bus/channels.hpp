@@ -25,6 +25,9 @@ inline constexpr std::string_view kChamberState = "CHAMBER_STATE";
 inline constexpr std::string_view kTurntableCmd = "TURNTABLE_CMD";
 inline constexpr std::string_view kRunEvent = "RUN_EVENT";
 inline constexpr std::string_view kStatus = "STATUS";
+// Flow control of non-real-time sources (lcmtypes/flow): flow_mark_t and flow_ack_t.
+inline constexpr std::string_view kFlowMark = "FLOW_MARK";
+inline constexpr std::string_view kFlowAck = "FLOW_ACK";
 
 // A sensor id is what follows the prefix of a per-sensor channel: letters, digits, '-' and '_'
 // only (LCM subscribes by regular expression; anything else would need escaping), 1..32 chars.

@@ -24,14 +24,15 @@ void RateLimitedLog::Warn(const std::string& key, const std::string& text) {
     e.suppressed = 0;
 }
 
-std::string HostName() {
-    char buf[256] = {0};
-    if (gethostname(buf, sizeof buf - 1) != 0) return "unknown";
-    return buf;
-}
+std::string HostName() { return flow::ThisHost(); }
 
 StatusReporter::StatusReporter(Bus& bus, std::string process, std::chrono::milliseconds period)
-    : bus_(bus), process_(std::move(process)), host_(HostName()), period_(period), log_(process_) {}
+    : bus_(bus),
+      process_(std::move(process)),
+      host_(HostName()),
+      period_(period),
+      log_(process_),
+      acker_(bus, process_) {}
 
 void StatusReporter::Reject(const std::string& reason_key, const std::string& detail) {
     ++rejected_;
@@ -40,6 +41,7 @@ void StatusReporter::Reject(const std::string& reason_key, const std::string& de
 }
 
 void StatusReporter::Tick() {
+    acker_.Poll();
     if (std::chrono::steady_clock::now() - last_ >= period_) PublishNow();
 }
 
@@ -81,6 +83,7 @@ void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done
         status.Tick();
     }
     status.PublishNow();
+    status.acker().Leave();
 }
 
 }  // namespace gyrocal

@@ -1,6 +1,8 @@
 #pragma once
 // The STATUS heartbeat every process publishes once a second (wall clock: it is about the
-// process, not the data), and the rate-limited stderr warnings that go with refusals.
+// process, not the data), and the rate-limited stderr warnings that go with refusals. Every
+// process with a heartbeat also answers the flow marks of non-real-time sources (flow/), so a
+// source paces on it: the heartbeat says it is there, the answers say how far it has come.
 #include <chrono>
 #include <cstdint>
 #include <exception>
@@ -9,6 +11,7 @@
 #include <string>
 
 #include "bus/bus.hpp"
+#include "flow/flow_acker.hpp"
 
 namespace gyrocal {
 
@@ -53,8 +56,11 @@ public:
     void AddDecodeErrors(int64_t n) { decode_errors_ += n; }
     void SetExtra(const std::string& name, double value) { extra_[name] = value; }
     int64_t rejected() const { return rejected_; }
+    // The flow-mark answers of this process (a node whose handling ends later than its handler
+    // sets a gate on it: the recorder).
+    flow::FlowAcker& acker() { return acker_; }
 
-    void Tick();        // publishes when the period has elapsed
+    void Tick();        // publishes when the period has elapsed; answers held flow marks
     void PublishNow();  // e.g. on state changes and just before exit
 
 private:
@@ -71,9 +77,11 @@ private:
     std::string last_reject_;
     std::map<std::string, double> extra_;
     RateLimitedLog log_;
+    flow::FlowAcker acker_;
 };
 
-// The loop every node runs: dispatch messages, heartbeat, until SIGINT/SIGTERM or done().
+// The loop every node runs: dispatch messages, heartbeat, until SIGINT/SIGTERM or done(); at
+// the end, the last heartbeat and the last flow answers (no source waits for it any more).
 void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done = {},
              std::chrono::milliseconds poll = std::chrono::milliseconds(50));
 

@@ -30,6 +30,7 @@ CompensatorNode::CompensatorNode(const CompensatorNodeOptions& o)
 void CompensatorNode::Run() {
     // The loop's done() hook refreshes the STATUS counters between dispatches (never stops it).
     RunLoop(bus_, status_, [this] {
+        FlushRates();
         UpdateStatus();
         return false;
     });
@@ -37,7 +38,16 @@ void CompensatorNode::Run() {
 
 void CompensatorNode::HandleFor(int timeout_ms) {
     bus_.Handle(std::chrono::milliseconds(timeout_ms));
+    FlushRates();
     UpdateStatus();
+}
+
+void CompensatorNode::FlushRates() {
+    for (auto& [channel, rates] : pending_rates_) {
+        if (rates.empty()) continue;
+        bus_.PublishSamples(channel, std::move(rates));
+        rates.clear();
+    }
 }
 
 bool CompensatorNode::Accept(std::string_view prefix, const std::string& channel,
@@ -104,7 +114,7 @@ void CompensatorNode::OnGyro(const gyro_sample_t& m, const std::string& channel)
         out.coeff_set_id = r.out.coeff_set_id;
         out.range_flag = static_cast<int8_t>(r.out.range);
         if (r.out.range != model::RangeFlag::kInRange) ++out_of_range_;
-        bus_.Publish(channels::Rate(id), out);
+        pending_rates_[channels::Rate(id)].push_back(out);
         ++compensated_;
     });
 }

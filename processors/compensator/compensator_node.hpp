@@ -10,11 +10,12 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "compensator/compensate.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
+#include "gyrocal/rate_t.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 
@@ -44,12 +45,16 @@ private:
     compensate::SensorCompensator& Comp(const std::string& id);
     void Rejected(const std::string& key, const std::string& detail);
     void UpdateStatus();
+    // Publishes the rates of the message just handled: one rate_t for a single sample, one
+    // rate_batch_t for a gyro_batch_t (a batch in, a batch out: bus/batch.hpp).
+    void FlushRates();
 
     CompensatorNodeOptions options_;
     Bus bus_;
     StatusReporter status_;
     std::set<std::string> only_;
     std::map<std::string, compensate::SensorCompensator> comps_;
+    std::map<std::string, std::vector<rate_t>> pending_rates_;  // channel -> rates not yet sent
     int64_t uncompensated_ = 0, compensated_ = 0, out_of_range_ = 0, sets_applied_ = 0,
             sets_rejected_ = 0;
 };

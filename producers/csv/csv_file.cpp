@@ -1,43 +1,54 @@
 #include "csv_file.hpp"
 
-#include <optional>
-
 #include "fields.hpp"
 
 namespace gyrocal::csv {
 
-CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTransfer& transfer,
-                OnError policy, long max_rows) {
-    CsvFile out;
-    std::optional<RowParser> parser;
-    std::string line;
-    long line_no = 0;
-    long data_rows = 0;
-    while (std::getline(in, line)) {
-        ++line_no;
-        if (IsBlankOrComment(line)) continue;
-        if (!parser) {
-            Header h = ParseHeader(line, file, line_no);
-            out.unknown = h.unknown;
-            parser.emplace(std::move(h), file, transfer);
+CsvReader::CsvReader(std::istream& in, std::string file, sensor::TempTransfer transfer,
+                     OnError policy, long max_rows)
+    : in_(in),
+      file_(std::move(file)),
+      transfer_(transfer),
+      policy_(policy),
+      max_rows_(max_rows) {}
+
+std::optional<CsvRow> CsvReader::Next() {
+    while (std::getline(in_, line_)) {
+        ++line_no_;
+        if (IsBlankOrComment(line_)) continue;
+        if (!parser_) {
+            Header h = ParseHeader(line_, file_, line_no_);
+            unknown_ = h.unknown;
+            parser_.emplace(std::move(h), file_, transfer_);
             continue;
         }
-        if (max_rows >= 0 && data_rows >= max_rows) break;
-        ++data_rows;
+        if (max_rows_ >= 0 && data_rows_ >= max_rows_) break;
+        ++data_rows_;
         try {
-            out.rows.push_back(parser->Parse(line, line_no));
+            return parser_->Parse(line_, line_no_);
         } catch (const CsvError& e) {
-            if (policy == OnError::kStop) throw;
-            out.errors.push_back(e.what());
-            ++out.skipped;
+            if (policy_ == OnError::kStop) throw;
+            if (errors_.size() < kKeptErrors) errors_.push_back(e.what());
+            ++skipped_;
         }
     }
-    if (!parser) {
-        throw CsvError(file, line_no + 1, "time_s",
+    if (!parser_) {
+        throw CsvError(file_, line_no_ + 1, "time_s",
                        std::string("no header row: the file is empty; the first line must name "
                                    "the columns, required ") +
                            kRequiredColumns);
     }
+    return std::nullopt;
+}
+
+CsvFile ReadCsv(std::istream& in, const std::string& file, const sensor::TempTransfer& transfer,
+                OnError policy, long max_rows) {
+    CsvFile out;
+    CsvReader reader(in, file, transfer, policy, max_rows);
+    while (std::optional<CsvRow> row = reader.Next()) out.rows.push_back(std::move(*row));
+    out.unknown = reader.unknown();
+    out.errors = reader.errors();
+    out.skipped = reader.skipped();
     return out;
 }
 

@@ -1,20 +1,29 @@
 #pragma once
-// The CSV replay process: rows already read and validated (csv/csv_file.hpp) are published in
-// file order, paced by data time (--speed) or by a message-rate cap (--max).
+// The CSV replay process: a file checked whole in a first pass (csv/csv_file.hpp; nothing is
+// kept but counts and the first messages, so a day of data fits in bounded memory) is read again
+// and published row by row in file order, paced by data time (--speed) or as fast as every consumer
+// keeps up (--max: flow control, lcmtypes/flow; with no consumer answering, a message-rate cap).
 //
 // Threads: one. Run() is RunLoop with a zero poll; each loop turn publishes the rows that are
-// due, then sleeps until the next is due (at most 20 ms, so STATUS and SIGINT stay responsive).
-// It stops after the last row plus a short drain, or on SIGINT/SIGTERM.
+// due (or that the consumers have room for), then sleeps until the next is due or waits for
+// the consumers' answers (at most 20 ms, so STATUS and SIGINT stay responsive). It stops after
+// the last row once every consumer has answered the last mark (--max), or after a short drain.
 #include <chrono>
 #include <cstdint>
+#include <fstream>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
+#include "bus/sample_batcher.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/csv_file.hpp"
 #include "csv/row_messages.hpp"
+#include "flow/flow_source.hpp"
+#include "runtime/flow_options.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 
@@ -29,13 +38,23 @@ struct CsvSourceOptions {
     std::string lcm_url;
     double speed = 1.0;                      // [data s / wall s]
     bool max = false;                        // pace by max_rate_hz instead of data time
-    double max_rate_hz = kDefaultMaxRateHz;  // [msg/s] cap of --max
+    double max_rate_hz = kDefaultMaxRateHz;  // [msg/s] cap of --max when no consumer answers
+    SourceFlowOptions flow = SourceFlowOptions::Defaults();
     csv::OnError on_error = csv::OnError::kStop;
     double drain_s = 0.5;  // [s] wait after the last row before exiting
     long check_rows = -1;  // >= 0: check the header and this many rows, publish nothing
     csv::ConversionOptions conversion = csv::ConversionOptions::Defaults();
     static CsvSourceOptions Defaults() { return {}; }
     std::string Validate() const;  // "" or one line naming the option and the valid range
+};
+
+// What the first pass over a file found: how many rows are valid, the columns it ignores, the
+// rows it skips (the first messages and the count).
+struct CsvCheck {
+    long rows = 0;
+    std::vector<std::string> unknown;
+    std::vector<std::string> errors;
+    long skipped = 0;
 };
 
 // The whole gyrocal-csv-source after option parsing: reads and checks the whole file (bad rows
@@ -48,7 +67,8 @@ int ReplayCsvFile(const CsvSourceOptions& o);
 
 class CsvSourceNode {
 public:
-    CsvSourceNode(const CsvSourceOptions& options, csv::CsvFile file);
+    // Opens options.file again for the second pass; `check` is the first pass's.
+    CsvSourceNode(const CsvSourceOptions& options, CsvCheck check);
     // Returns the exit code: 0 done or stopped, 1 when publishing failed.
     int Run();
     // The node's bus: tests subscribe to it over memq://.
@@ -57,14 +77,26 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     bool Step();  // true when finished
+    bool More() const { return next_row_.has_value(); }
+    csv::CsvRow TakeRow();  // the next row (More() first); reads the one after it
+    void PaceByData(double elapsed_s, double* wait_s);
+    void PaceByConsumers(Clock::time_point now, double* wait_s);
+    void PaceByRateCap(Clock::time_point now, double* wait_s);
     void PublishRow(const csv::CsvRow& row);
-    double DueSeconds(size_t i) const;  // [wall s after start] when row i is due (--speed)
+    double DueSeconds() const;  // [wall s after start] when the next row is due (--speed)
 
     CsvSourceOptions options_;
-    csv::CsvFile file_;
+    CsvCheck check_;
+    std::ifstream in_;
+    csv::CsvReader reader_;
+    std::optional<csv::CsvRow> next_row_;
+    double first_time_s_ = 0;
     Bus bus_;
     StatusReporter status_;
     csv::MessageBuilder builder_;
+    SampleBatcher batcher_;
+    std::unique_ptr<flow::FlowSource> flow_;  // --max only
+    int64_t last_utime_ = 0;                  // [us] data time of the newest row published
     size_t next_ = 0;
     int64_t messages_ = 0;
     bool started_ = false;

@@ -29,11 +29,14 @@ encoder_sample_t on ENCODER (one per distinct time, counts = angle * counts-per-
 chamber_c -> chamber_state_t on CHAMBER_STATE at most once per second of data time (setpoint_c
 NaN: a file has no setpoint). Encoder/chamber are published before the gyro sample of a row.
 
-Pacing: --speed X replays X data seconds per wall second. --max publishes as fast as receivers
-on this host keep up without loss: 2 ms batches at --max-rate-hz messages/s (default 20000,
-below the rates our receivers kept up with: producers/csv_source/README.md has the measured
-table). Raise it only after checking the receivers' STATUS seq_gaps. lcm-logger 1.3.1 drops
-beyond a 30-message queue: when it records, use --max-rate-hz 2000 or --speed.
+Pacing: --speed X replays X data seconds per wall second. --max publishes as fast as every
+consumer keeps up (flow control: each gyrocal process answers the source's FLOW_MARK messages
+once it has handled them, and the source keeps at most --flow-window-kb unanswered per consumer,
+so none can overflow its socket buffer; a consumer silent for --flow-timeout-s is no longer
+waited for, and said so). When no process answers, --max falls back to --max-rate-hz messages/s
+(default 20000) in 2 ms batches. lcm-logger and lcm-spy do not answer: lcm-logger 1.3.1 drops
+beyond a 30-message queue, so when it records, use --speed. --batch-samples N sends N samples
+of a channel per message (gyro_batch_t, encoder_batch_t); every gyrocal process unpacks them.
 
 Exit codes: 0 file done (after --drain-s) or stopped by SIGINT/SIGTERM; 1 malformed file
 (stop policy) or publish failure; 2 bad options (unknown option, out-of-range value, missing
@@ -50,10 +53,12 @@ int main(int argc, char** argv) {
     csv::AddLcmUrlOption(app, o.lcm_url);
     auto* speed = app.add_option("--speed", o.speed,
                                  "data seconds per wall second, > 0 (default 1 = real time)");
-    app.add_flag("--max", o.max, "as fast as receivers keep up (see --max-rate-hz)")
+    app.add_flag("--max", o.max, "as fast as every consumer keeps up (flow control)")
         ->excludes(speed);
     app.add_option("--max-rate-hz", o.max_rate_hz,
-                   "message-rate cap of --max [msg/s], 1..1e7 (default 20000)");
+                   "--max when no consumer answers: message-rate cap [msg/s], 1..1e7 "
+                   "(default 20000)");
+    AddSourceFlowOptions(app, o.flow);
     std::string on_error = "stop";
     app.add_option("--on-error", on_error, "stop|skip: what a bad row does (default stop)");
     csv::AddConversionOptions(app, o.conversion,

@@ -23,6 +23,10 @@ std::string LineSourceOptions::Validate() const {
     if (!(drain_s >= 0.0 && drain_s <= 60.0)) {
         return "--drain-s " + text::Sig(drain_s) + " is out of range; valid: 0 to 60 s";
     }
+    if (std::string e = flow_options.Validate(); !e.empty()) return e;
+    if (flow && time == TimeSource::kWall)
+        return "--flow holds the input back, which --time wall (a live stream) must not be; "
+               "use --time stream with --flow";
     return conversion.Validate();
 }
 
@@ -32,7 +36,11 @@ LineSourceNode::LineSourceNode(const LineSourceOptions& options, std::unique_ptr
       bus_(BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-line-source"),
       stream_(input_->name(), TransferOf(options.conversion)),
-      builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)) {
+      builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)),
+      batcher_(bus_, options.flow_options.batch_samples) {
+    if (options_.flow)
+        flow_ = std::make_unique<flow::FlowSource>(bus_, "gyrocal-line-source",
+                                                   options_.flow_options.Window());
     status_.set_state("waiting_header");
 }
 
@@ -70,32 +78,58 @@ void LineSourceNode::HandleLine(const InputLine& line) {
         case LineOutcome::Kind::kRow: break;
     }
     const csv::CsvRow& row = *o.row;
-    const csv::RowMessages m = builder_.Build(row, Utime(row));
-    if (m.encoder) bus_.Publish(std::string(channels::kEncoder), *m.encoder);
+    last_utime_ = Utime(row);
+    const csv::RowMessages m = builder_.Build(row, last_utime_);
+    if (m.encoder) batcher_.AddEncoder(std::string(channels::kEncoder), *m.encoder);
+    if (m.chamber || m.power) batcher_.Flush();  // no channel overtakes another
     if (m.chamber) bus_.Publish(std::string(channels::kChamberState), *m.chamber);
     if (m.power) bus_.Publish(channels::Power(m.power->sensor_id), *m.power);
-    bus_.Publish(channels::Gyro(row.sensor_id), m.gyro);
+    batcher_.Add(channels::Gyro(row.sensor_id), m.gyro);
+    if (batcher_.full()) batcher_.Flush();
     ++published_rows_;
 }
 
 bool LineSourceNode::Step() {
     if (!fatal_.empty()) return true;
     if (eof_) return true;
+    if (flow_) {
+        if (!flow_->discovered()) flow_->Discover();
+        flow_->Sync(last_utime_);
+        const std::optional<int64_t> credit = flow_->Credit();
+        if (credit && *credit <= 0) {
+            flow_->WaitForCredit(std::chrono::milliseconds(20));  // the pipe holds the writer
+            return false;
+        }
+    }
     std::vector<InputLine> lines;
     const bool more = input_->Read(50, &lines);
     for (const InputLine& l : lines) {
         HandleLine(l);
         if (!fatal_.empty()) return true;
     }
+    batcher_.Flush();
     status_.SetExtra("rows_published", static_cast<double>(published_rows_));
     status_.SetExtra("lines_bad", static_cast<double>(bad_lines_));
-    if (!more) {
-        eof_ = true;
-        status_.set_state("draining");
-        std::this_thread::sleep_for(std::chrono::duration<double>(options_.drain_s));
+    if (flow_) {
+        flow_->Sync(last_utime_);
+        for (const auto& [name, value] : flow_->Extras()) status_.SetExtra(name, value);
+        for (const std::string& line : flow_->TakeReports())
+            std::cerr << "gyrocal-line-source: flow: " << line << "\n";
+    }
+    if (!more) return AtEnd();
+    return false;
+}
+
+bool LineSourceNode::AtEnd() {
+    eof_ = true;
+    status_.set_state("draining");
+    if (flow_ && flow_->paced_consumers() > 0) {
+        if (!flow_->Drain(last_utime_))
+            std::cerr << "gyrocal-line-source: flow: not every consumer answered the end\n";
         return true;
     }
-    return false;
+    std::this_thread::sleep_for(std::chrono::duration<double>(options_.drain_s));
+    return true;
 }
 
 int LineSourceNode::Run() {

@@ -6,17 +6,24 @@
 //
 // Threads: one. Run() is RunLoop with a zero poll; each turn waits up to 50 ms for input
 // (poll on the fd) and publishes the complete lines. End of input ends it (exit 0).
+//
+// --flow (a stream that is not live: a file or a pipe from another program): input is read only
+// while every consumer on the bus has room (flow control, lcmtypes/flow), so a fast writer is
+// held back by its pipe instead of flooding the bus. A live DAQ is never held back: no --flow.
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
+#include "bus/sample_batcher.hpp"
 #include "csv/conversion_options.hpp"
 #include "csv/row_messages.hpp"
+#include "flow/flow_source.hpp"
 #include "line_input.hpp"
 #include "line_stream.hpp"
+#include "runtime/flow_options.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 
@@ -26,7 +33,9 @@ struct LineSourceOptions {
     std::string device;  // "" = stdin
     std::string lcm_url;
     TimeSource time = TimeSource::kStream;
-    double drain_s = 0.2;  // [s] after end of input
+    double drain_s = 0.2;  // [s] after end of input (without consumers answering)
+    bool flow = false;     // read only while the consumers keep up (not for live streams)
+    SourceFlowOptions flow_options = SourceFlowOptions::Defaults();
     csv::ConversionOptions conversion = csv::ConversionOptions::Defaults();
     static LineSourceOptions Defaults() { return {}; }
     std::string Validate() const;
@@ -40,6 +49,7 @@ public:
 
 private:
     bool Step();
+    bool AtEnd();  // end of input: the last answers (--flow) or --drain-s
     void HandleLine(const InputLine& line);
     int64_t Utime(const csv::CsvRow& row);
 
@@ -49,6 +59,9 @@ private:
     StatusReporter status_;
     LineStream stream_;
     csv::MessageBuilder builder_;
+    SampleBatcher batcher_;
+    std::unique_ptr<flow::FlowSource> flow_;  // --flow
+    int64_t last_utime_ = 0;
     int64_t published_rows_ = 0;
     int64_t bad_lines_ = 0;
     int64_t last_wall_utime_ = 0;

@@ -7,10 +7,11 @@
 #include <cstring>
 #include <iostream>
 
+#include "line_source_node.hpp"
+#include "producer_cli/producer_cli.hpp"
+#include "runtime/flow_options.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
-#include "producer_cli/producer_cli.hpp"
-#include "line_source_node.hpp"
 
 namespace {
 constexpr const char* kFooter = R"(
@@ -30,6 +31,10 @@ second (with the count suppressed); the count is in STATUS (rejected, lines_bad)
 --time wall:   utime = wall clock at reception [us since 1970] (live DAQs; time_s is still
                checked but only orders the data).
 
+--flow (a file or a pipe, not a live DAQ): lines are read only while every gyrocal process on the
+bus keeps up (each answers the source's FLOW_MARK messages once handled; --flow-window-kb
+unanswered at most per consumer; one silent for --flow-timeout-s is no longer waited for).
+
 Exit codes: 0 end of input or SIGINT/SIGTERM; 1 read error or a stream whose first line is
 not a valid header; 2 bad options (out-of-range value, unknown preset, unopenable --device).)";
 }  // namespace
@@ -46,6 +51,10 @@ int main(int argc, char** argv) {
     csv::AddConversionOptions(
         app, o.conversion, "utime [us] of time_s = 0 with --time stream (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after end of input before exit [s] (default 0.2)");
+    app.add_flag("--flow", o.flow,
+                 "not a live stream: read only as fast as every consumer keeps up (flow control; "
+                 "a fast writer is held back by its pipe); needs --time stream");
+    AddSourceFlowOptions(app, o.flow_options);
     const auto validate = [&] {
         const std::string err = csv::Choose(
             "--time", time, {{"stream", TimeSource::kStream}, {"wall", TimeSource::kWall}}, o.time);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/flow_options.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/renamed_option.hpp"
 #include "sim/builtin_profile.hpp"
@@ -21,6 +22,10 @@ Exit codes: 0 normal stop (SIGINT/SIGTERM, --duration-s reached, built-in profil
 
 Time: utime is the simulated clock (us), starting at --start-utime; the wall clock only paces
 publication: --speed simulated seconds per wall second, published in batches every --tick-ms.
+--speed 0: no fixed speed; the simulation runs as fast as every consumer keeps up (flow control:
+each gyrocal process answers the rig's FLOW_MARK messages once handled, and the rig keeps at most
+--flow-window-kb unanswered per consumer; one silent for --flow-timeout-s is no longer waited
+for). --batch-samples N sends N samples per GYRO_<id> and ENCODER message (any speed).
 Speed limit: 4 units at 100 Hz plus the encoder at 100 Hz are 500 messages per simulated second.
 UDP multicast has no flow control, so publication is capped at --max-msgs-per-s: with more
 subscribers or a busier host, lower it; past the cap the simulation just runs slower (STATUS
@@ -80,12 +85,15 @@ void AddRunOptions(CLI::App& app, SimRigOptions& o, RawOptions& raw) {
                    "LCM provider URL (default $GYROCAL_LCM_URL or LCM's udpm default)");
     AddShown(app, "--mode", o.mode,
              "commanded (obey CHAMBER_CMD/TURNTABLE_CMD) or builtin (run --profile)");
-    AddShown(app, "--speed", o.speed, "simulated seconds per wall second, > 0 and <= 100000");
+    AddShown(app, "--speed", o.speed,
+             "simulated seconds per wall second, <= 100000; 0 = as fast as every consumer "
+             "keeps up (flow control)");
     AddShown(app, "--duration-s", o.duration_s, "simulated seconds to run, 0 = until stopped");
     AddShown(app, "--tick-ms", o.tick_ms, "wall milliseconds between publication batches, 1..100");
     AddShown(app, "--max-msgs-per-s", o.max_msgs_per_s,
              "publication cap in messages per wall second (0 = none); past it the simulation "
              "slows down rather than flood subscribers");
+    AddSourceFlowOptions(app, o.flow);
     app.add_option("--truth-out", o.truth_out, "write the truth sidecar JSON to this file");
     AddShown(app, "--seed", raw.seed, "random seed: same seed, same output");
     AddShown(app, "--noise-seed", raw.noise_seed,
@@ -192,12 +200,14 @@ void CheckRunOptions(const SimRigOptions& o) {
     if (o.mode != "commanded" && o.mode != "builtin") {
         throw ConfigError("--mode '" + o.mode + "' is unknown; valid: commanded, builtin");
     }
-    if (!std::isfinite(o.speed) || o.speed <= 0.0 || o.speed > 100000.0) {
+    if (!std::isfinite(o.speed) || o.speed < 0.0 || o.speed > 100000.0) {
         std::ostringstream v;
         v << o.speed;
         throw ConfigError("--speed " + v.str() +
-                          " is out of range; valid: > 0 and <= 100000 (simulated s per wall s)");
+                          " is out of range; valid: 0 (as fast as the consumers keep up) or > 0 "
+                          "and <= 100000 (simulated s per wall s)");
     }
+    if (std::string e = o.flow.Validate(); !e.empty()) throw ConfigError(e);
     if (!std::isfinite(o.duration_s) || o.duration_s < 0.0) {
         throw ConfigError("--duration-s must be >= 0 (0 = until stopped)");
     }

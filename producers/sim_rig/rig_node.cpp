@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "bus/channels.hpp"
 #include "gyrocal/chamber_state_t.hpp"
@@ -26,7 +27,10 @@ SimRigNode::SimRigNode(const SimRigOptions& options)
     : options_(options),
       bus_(BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
-      rig_(options.rig) {
+      rig_(options.rig),
+      batcher_(bus_, options.flow.batch_samples) {
+    if (options_.speed <= 0.0)
+        flow_ = std::make_unique<flow::FlowSource>(bus_, kProcess, options_.flow.Window());
     for (const auto& id : rig_.sensor_ids()) gyro_channels_.push_back(channels::Gyro(id));
     if (options_.duration_s > 0.0) {
         end_utime_ = options_.rig.start_utime +
@@ -65,6 +69,7 @@ void SimRigNode::OnTurntableCmd(const turntable_cmd_t& cmd) {
 }
 
 void SimRigNode::PublishPower(int64_t utime) {
+    batcher_.Flush();  // no channel overtakes another
     // Every unit of the rig is powered when the rig starts (its simulated power-on).
     for (const std::string& id : rig_.sensor_ids()) {
         power_state_t p;
@@ -93,7 +98,7 @@ void SimRigNode::OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) {
     m.gyro_counts = r.gyro_counts;
     m.temp_counts = r.temp_counts;
     m.supply_counts = r.supply_counts;
-    bus_.Publish(gyro_channels_[static_cast<size_t>(r.unit_index)], m);
+    batcher_.Add(gyro_channels_[static_cast<size_t>(r.unit_index)], m);
 }
 
 void SimRigNode::OnEncoder(const sim::EncoderReading& r) {
@@ -104,7 +109,7 @@ void SimRigNode::OnEncoder(const sim::EncoderReading& r) {
     m.counts = r.counts;
     m.counts_per_rev = r.counts_per_rev;
     m.angle_deg = r.angle_deg;
-    bus_.Publish(std::string(channels::kEncoder), m);
+    batcher_.AddEncoder(std::string(channels::kEncoder), m);
 }
 
 void SimRigNode::OnChamber(const sim::ChamberReading& r) {
@@ -122,10 +127,12 @@ void SimRigNode::OnChamber(const sim::ChamberReading& r) {
     m.air_c = r.air_c;
     m.at_setpoint = r.at_setpoint;
     m.fault = r.fault;
+    batcher_.Flush();  // the samples before this state go first
     bus_.Publish(std::string(channels::kChamberState), m);
 }
 
 bool SimRigNode::Advance() {
+    if (flow_) return AdvanceByConsumers();
     // Publish everything due up to the paced target. When behind, keep going for up to one
     // budget of wall time, serving queued commands between capped batches (Handle(0) never
     // blocks), instead of idling in RunLoop's poll while late.
@@ -140,18 +147,59 @@ bool SimRigNode::Advance() {
         target = options_.rig.start_utime + static_cast<int64_t>(wall_s * options_.speed * 1e6);
         if (end_utime_ > 0) target = std::min(target, end_utime_);
         rig_.RunUntil(std::min(target, rig_.now_utime() + cap_us), *this);
+        batcher_.Flush();
         if (rig_.next_event_utime() > target) break;  // caught up
         if (std::chrono::steady_clock::now() - call_start > kBusyBudget) break;
         if (OverMessageBudget()) break;
         bus_.Handle(std::chrono::milliseconds(0));
         if (profile_ && profile_->done()) break;
     }
+    UpdateProgress(target);
+    return finished_;
+}
+
+bool SimRigNode::AdvanceByConsumers() {
+    // One batch period at a time (every unit's batch and the encoder's), as long as every
+    // consumer has room (flow_window.hpp) and for at most one budget of wall time; commands are
+    // served between steps. With nobody answering, only the message cap paces.
+    const auto call_start = std::chrono::steady_clock::now();
+    const int64_t step_us = static_cast<int64_t>(std::max(1, options_.flow.batch_samples) * 1e6 /
+                                                 options_.rig.sample_rate_hz);
+    for (;;) {
+        flow_->Sync(rig_.now_utime());
+        const std::optional<int64_t> credit = flow_->Credit();
+        if (credit && *credit <= 0) {
+            flow_->WaitForCredit(
+                std::chrono::milliseconds(std::max<int64_t>(1, std::llround(options_.tick_ms))));
+            break;
+        }
+        if (OverMessageBudget()) break;
+        int64_t target = rig_.now_utime() + step_us;
+        if (end_utime_ > 0) target = std::min(target, end_utime_);
+        rig_.RunUntil(target, *this);
+        batcher_.Flush();
+        if (end_utime_ > 0 && rig_.next_event_utime() > end_utime_) break;
+        if (profile_ && profile_->done()) break;
+        if (std::chrono::steady_clock::now() - call_start > kBusyBudget) break;
+        bus_.Handle(std::chrono::milliseconds(0));
+    }
+    flow_->Sync(rig_.now_utime());
+    for (const auto& [name, value] : flow_->Extras()) status_.SetExtra(name, value);
+    for (const std::string& line : flow_->TakeReports())
+        std::cerr << kProcess << ": flow: " << line << "\n";
+    UpdateProgress(rig_.now_utime());
+    return finished_;
+}
+
+void SimRigNode::UpdateProgress(int64_t target) {
     const double lag_s = std::max<int64_t>(0, target - rig_.now_utime()) * 1e-6;
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
     status_.SetExtra("sim_time_s", rig_.sim_seconds());
     status_.SetExtra("lag_s", lag_s);
+    if (wall_s > 0) status_.SetExtra("speed_achieved", rig_.sim_seconds() / wall_s);
     if (end_utime_ > 0 && rig_.next_event_utime() > end_utime_) finished_ = true;
     if (profile_ && profile_->done()) finished_ = true;
-    return finished_;
 }
 
 bool SimRigNode::OverMessageBudget() const {
@@ -164,12 +212,16 @@ bool SimRigNode::OverMessageBudget() const {
 }
 
 int SimRigNode::Run() {
+    if (flow_) flow_->Discover();
     wall_start_ = std::chrono::steady_clock::now();
     status_.set_state(profile_ ? "builtin" : "commanded");
     const auto poll =
         std::chrono::milliseconds(std::max<int64_t>(1, std::llround(options_.tick_ms)));
     RunLoop(
         bus_, status_, [this] { return Advance(); }, poll);
+    batcher_.Flush();
+    // Finished on its own: every consumer has everything before the process goes.
+    if (flow_ && finished_) flow_->Drain(rig_.now_utime());
     status_.set_state(finished_ ? "finished" : "stopped");
     status_.PublishNow();
     return 0;

@@ -7,7 +7,9 @@
 // that batch. Publication is also capped at --max-msgs-per-s (wall clock): a sender faster than
 // the subscribers on the same host can drain only makes them lose samples, so past the cap the
 // simulation slows down instead. When behind, batches are capped (commands are still served)
-// and the lag is reported in STATUS (extra "lag_s"). It stops on SIGINT/SIGTERM, at
+// and the lag is reported in STATUS (extra "lag_s"). With --speed 0 there is no speed: the
+// simulation runs as fast as every consumer on the bus keeps up (flow control, lcmtypes/flow),
+// batch by batch (--batch-samples per gyro and encoder message). It stops on SIGINT/SIGTERM, at
 // --duration-s of simulated time, or when the built-in profile is done.
 #include <chrono>
 #include <cstdint>
@@ -17,9 +19,12 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
+#include "bus/sample_batcher.hpp"
+#include "flow/flow_source.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
+#include "runtime/flow_options.hpp"
+#include "runtime/status.hpp"
 #include "sim/builtin_profile.hpp"
 #include "sim/rig.hpp"
 
@@ -28,11 +33,12 @@ namespace gyrocal {
 struct SimRigOptions {
     std::string lcm_url;              // "" = $GYROCAL_LCM_URL or the default
     std::string mode = "commanded";   // "commanded" or "builtin"
-    double speed = 1.0;               // [sim s / wall s]
+    double speed = 1.0;               // [sim s / wall s]; 0 = as fast as the consumers keep up
     double duration_s = 0.0;          // [s] simulated; 0 = until stopped (or profile done)
     std::string truth_out;            // truth sidecar JSON; "" = none
     double tick_ms = 5.0;             // [ms] wall time between publication batches
     double max_msgs_per_s = 30000.0;  // [1/s] wall-clock publication cap; 0 = none
+    SourceFlowOptions flow = SourceFlowOptions::Defaults();  // --speed 0; batching always
     sim::RigConfig rig = sim::RigConfig::Defaults();
     sim::ProfileConfig profile = sim::ProfileConfig::Defaults();
     static SimRigOptions Defaults() { return {}; }
@@ -52,6 +58,8 @@ private:
     void OnChamberCmd(const chamber_cmd_t& cmd);
     void OnTurntableCmd(const turntable_cmd_t& cmd);
     bool Advance();  // pacing step; true when finished
+    bool AdvanceByConsumers();  // --speed 0: as far as the consumers have room for
+    void UpdateProgress(int64_t target);
     bool OverMessageBudget() const;
     void OnGyro(const sim::GyroReading& r, const sim::GyroTruth& truth) override;
     void OnEncoder(const sim::EncoderReading& r) override;
@@ -65,6 +73,8 @@ private:
     sim::Rig rig_;
     std::optional<sim::BuiltinProfile> profile_;
     std::vector<std::string> gyro_channels_;
+    SampleBatcher batcher_;
+    std::unique_ptr<flow::FlowSource> flow_;  // --speed 0
     int64_t power_seq_ = 0;
     int64_t next_power_utime_ = 0;  // [us] sim time of the next POWER_<id> repeat
     std::chrono::steady_clock::time_point wall_start_;

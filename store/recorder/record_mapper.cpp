@@ -5,6 +5,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/decode.hpp"
+#include "gyrocal/encoder_batch_t.hpp"
+#include "gyrocal/flow_ack_t.hpp"
+#include "gyrocal/flow_mark_t.hpp"
+#include "gyrocal/gyro_batch_t.hpp"
+#include "gyrocal/rate_batch_t.hpp"
 #include "message_fields.hpp"
 #include "model/convert.hpp"
 #include "text/number.hpp"
@@ -91,6 +96,44 @@ std::string FingerprintHex(const void* data, int size) {
 RecordMapper::RecordMapper(MapperOptions options, std::string initial_run_id)
     : options_(options), run_id_(std::move(initial_run_id)) {}
 
+// One decoded message into `out` (its row, run, loss); a rate with rates off gives no row.
+template <class Msg, class R>
+void RecordMapper::MapDecoded(const Msg& msg, R row, const std::string& channel, int64_t recv_utime,
+                              Mapped& out) {
+    if constexpr (std::is_same_v<Msg, run_event_t>) {
+        // The event belongs to its own run; then the run in force changes.
+        out.run_id = msg.run_id;
+        out.essential = true;
+        if (msg.event == "stop" || msg.event == "abort") {
+            run_id_.clear();
+        } else {
+            run_id_ = msg.run_id;
+        }
+    } else {
+        out.run_id = run_id_;
+    }
+    if constexpr (requires { msg.seq; }) {
+        const SeqReport rep = seq_.Observe(channel, msg.seq);
+        out.loss.seq_gaps += rep.missing;
+        out.loss.seq_backwards += rep.backwards ? 1 : 0;
+    }
+    if constexpr (std::is_same_v<Msg, rate_t>) {
+        if (!options_.store_rates) return;
+    }
+    CopyFields(row, msg);
+    CopyRecordedOnly(row, msg);
+    StampRun(row, run_id_);
+    row.recv_utime = recv_utime;
+    if constexpr (std::is_same_v<Msg, coeff_set_t> || std::is_same_v<Msg, fit_report_t> ||
+                  std::is_same_v<Msg, noise_t> || std::is_same_v<Msg, analysis_t>)
+        out.essential = true;
+    if (!out.row) {
+        out.row = std::move(row);
+    } else {
+        out.more.push_back(std::move(row));
+    }
+}
+
 Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
                          int64_t recv_utime) {
     Mapped out;
@@ -110,43 +153,35 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         out.run_id = run_id_;
         out.row = std::move(r);
     };
-
     // Decodes as Msg when the fingerprint is Msg's; true when this type claimed the message.
-    auto try_type = [&]<class Msg, class R>(Msg msg, R row) -> bool {
+    auto decoded = [&]<class Msg>(Msg& msg) -> bool {
         if (!fp || *fp != static_cast<uint64_t>(Msg::getHash())) return false;
-        if (!DecodeMessage(msg, data, size)) {
-            raw("decode_error");
-            out.loss.decode_errors = 1;
-            return true;
-        }
-        if constexpr (std::is_same_v<Msg, run_event_t>) {
-            // The event belongs to its own run; then the run in force changes.
-            out.run_id = msg.run_id;
-            out.essential = true;
-            if (msg.event == "stop" || msg.event == "abort") {
-                run_id_.clear();
-            } else {
-                run_id_ = msg.run_id;
-            }
-        } else {
-            out.run_id = run_id_;
-        }
-        if constexpr (requires { msg.seq; }) {
-            const SeqReport rep = seq_.Observe(channel, msg.seq);
-            out.loss.seq_gaps = rep.missing;
-            out.loss.seq_backwards = rep.backwards ? 1 : 0;
-        }
-        if constexpr (std::is_same_v<Msg, rate_t>) {
-            if (!options_.store_rates) return true;
-        }
-        CopyFields(row, msg);
-        CopyRecordedOnly(row, msg);
-        StampRun(row, run_id_);
-        row.recv_utime = recv_utime;
-        if constexpr (std::is_same_v<Msg, coeff_set_t> || std::is_same_v<Msg, fit_report_t> ||
-                      std::is_same_v<Msg, noise_t> || std::is_same_v<Msg, analysis_t>)
-            out.essential = true;
-        out.row = std::move(row);
+        if (DecodeMessage(msg, data, size)) return true;
+        raw("decode_error");
+        out.loss.decode_errors = 1;
+        return false;
+    };
+    auto claims = [&]<class Msg>(const Msg&) {
+        return fp && *fp == static_cast<uint64_t>(Msg::getHash());
+    };
+    auto try_type = [&]<class Msg, class R>(Msg msg, R row) -> bool {
+        if (!claims(msg)) return false;
+        if (decoded(msg)) MapDecoded(msg, std::move(row), channel, recv_utime, out);
+        return true;
+    };
+    // A batch: each sample as its own row, as it would have been alone.
+    auto try_batch = [&]<class Batch, class R>(Batch batch, R) -> bool {
+        if (!claims(batch)) return false;
+        if (!decoded(batch)) return true;
+        out.run_id = run_id_;
+        out.control = batch.samples.empty();
+        for (const auto& sample : batch.samples) MapDecoded(sample, R{}, channel, recv_utime, out);
+        return true;
+    };
+    auto try_control = [&]<class Msg>(Msg msg) -> bool {
+        if (!claims(msg)) return false;
+        out.run_id = run_id_;
+        out.control = true;
         return true;
     };
 
@@ -161,7 +196,10 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         try_type(turntable_cmd_t{}, TurntableCmdRow{}) ||
         try_type(plateau_state_t{}, PlateauStateRow{}) ||
         try_type(power_state_t{}, PowerStateRow{}) || try_type(noise_t{}, NoiseRow{}) ||
-        try_type(fit_report_t{}, FitReportRow{}) || try_type(analysis_t{}, ClosedLoopRow{});
+        try_type(fit_report_t{}, FitReportRow{}) || try_type(analysis_t{}, ClosedLoopRow{}) ||
+        try_batch(gyro_batch_t{}, GyroRow{}) || try_batch(encoder_batch_t{}, EncoderRow{}) ||
+        try_batch(rate_batch_t{}, RateRow{}) || try_control(flow_mark_t{}) ||
+        try_control(flow_ack_t{});
     if (!known) raw("unknown_type");
     return out;
 }

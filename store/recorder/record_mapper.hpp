@@ -14,9 +14,14 @@
 //
 // Loss: sample types with a seq (gyro, encoder, chamber state, rate) feed a SeqTracker per
 // channel; gaps and backward steps are returned as loss deltas of the run in force.
+//
+// Batches (gyro_batch_t, encoder_batch_t, rate_batch_t) become one row per sample, exactly the
+// rows their samples would have made alone (seq tracked per sample). Flow marks and acks are
+// transport control: handled, not stored.
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bus/seq_tracker.hpp"
 #include "rows.hpp"
@@ -29,10 +34,14 @@ struct MapperOptions {
 };
 
 struct Mapped {
-    std::optional<store::Row> row;  // nothing for skipped messages (rates when off)
+    std::optional<store::Row> row;  // nothing for skipped messages (rates when off, flow control)
+    std::vector<store::Row> more;   // a batch's samples after the first, in order
     bool essential = false;         // run events, coefficient sets, fit reports, noise: never dropped
     std::string run_id;             // run the loss below belongs to
     store::LossDelta loss;          // seq gaps / decode errors this message revealed
+    // Flow control (flow_mark_t, flow_ack_t) or an empty batch: handled, nothing to store. The
+    // pacing a source did is recorded through its STATUS (flow_* counters).
+    bool control = false;
 };
 
 class RecordMapper {
@@ -48,6 +57,10 @@ public:
     void SeedSeq(const std::string& channel, int64_t last_seq) { seq_.Observe(channel, last_seq); }
 
 private:
+    template <class Msg, class R>
+    void MapDecoded(const Msg& msg, R row, const std::string& channel, int64_t recv_utime,
+                    Mapped& out);
+
     MapperOptions options_;
     std::string run_id_;
     SeqTracker seq_;

@@ -61,6 +61,12 @@ RecorderNode::RecorderNode(const RecorderOptions& o, std::unique_ptr<store::Stor
     bus_.SubscribeRaw(o.channels, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
         OnMessage(rbuf, channel);
     });
+    // A row is handled once its writer has it, but "has it" must not outrun the disk: a source
+    // is answered only while the write queue is at most half full, so a slow disk slows the
+    // source instead of filling the queue to its drop bound.
+    const size_t half = o.queue_rows / 2;
+    status_.acker().SetGate(
+        [this, half] { return static_cast<size_t>(writer_.stats().held_rows) <= half; });
 }
 
 int RecorderNode::Run() {
@@ -121,6 +127,9 @@ void RecorderNode::OnMessage(const lcm::ReceiveBuffer& rbuf, const std::string& 
     }
     if (m.row && !writer_.Push(std::move(*m.row), channel, m.essential)) {
         status_.AddQueueDrops(1);
+    }
+    for (store::Row& row : m.more) {
+        if (!writer_.Push(std::move(row), channel, m.essential)) status_.AddQueueDrops(1);
     }
 }
 

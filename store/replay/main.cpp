@@ -4,9 +4,10 @@
 #include <iostream>
 #include <string>
 
+#include "replay_node.hpp"
+#include "runtime/flow_options.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
-#include "replay_node.hpp"
 
 int main(int argc, char** argv) {
     using gyrocal::record::kReplayProcess;
@@ -26,8 +27,14 @@ int main(int argc, char** argv) {
                    "into the same database apart from the original)");
     auto* speed = app.add_option("--speed", o.speed, "recorded seconds per wall second")
                       ->check(CLI::Range(1e-3, 1e6));
-    app.add_flag("--max", o.max, "publish as fast as possible (no timing)")->excludes(speed);
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess))
+    app.add_flag("--max", o.max,
+                 "as fast as every consumer keeps up (flow control: each gyrocal process answers "
+                 "the replay's FLOW_MARK messages; with none answering, no timing at all)")
+        ->excludes(speed);
+    gyrocal::AddSourceFlowOptions(app, o.flow);
+    app.remove_option(app.get_option("--batch-samples"));  // stored rows go out one by one
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess,
+                                                   [&] { return o.flow.Validate(); }))
         return *exit_code;
     try {
         gyrocal::record::ReplayNode node(o);

@@ -24,7 +24,20 @@ ReplayNode::ReplayNode(const ReplayOptions& o)
     : options_(o),
       db_(store::OpenForQuery(o.db_path)),
       reader_(*db_, o.run_id),
-      bus_(BusOptions{o.lcm_url}) {}
+      bus_(BusOptions{o.lcm_url}) {
+    if (o.max) flow_ = std::make_unique<flow::FlowSource>(bus_, kReplayProcess, o.flow.Window());
+}
+
+void ReplayNode::WaitForRoom(int64_t recv_utime) {
+    while (!StopRequested()) {
+        flow_->Sync(recv_utime);
+        const std::optional<int64_t> credit = flow_->Credit();
+        if (!credit || *credit > 0) break;  // room, or nobody to wait for
+        flow_->WaitForCredit(std::chrono::milliseconds(20));
+    }
+    for (const std::string& line : flow_->TakeReports())
+        std::cerr << kReplayProcess << ": flow: " << line << "\n";
+}
 
 void ReplayNode::WaitUntilDue(int64_t recv_utime) {
     if (recv0_ < 0) recv0_ = recv_utime;
@@ -39,11 +52,18 @@ void ReplayNode::WaitUntilDue(int64_t recv_utime) {
 }
 
 int ReplayNode::Run() {
+    if (flow_) flow_->Discover();
     wall0_ = std::chrono::steady_clock::now();
+    int64_t last_recv = 0;
     while (!StopRequested()) {
         std::optional<store::Row> row = reader_.Next();
         if (!row) break;
-        WaitUntilDue(RecvUtimeOf(*row));
+        last_recv = RecvUtimeOf(*row);
+        if (flow_) {
+            WaitForRoom(last_recv);
+        } else {
+            WaitUntilDue(last_recv);
+        }
         if (auto* ev = std::get_if<store::RunEventRow>(&*row); ev && !options_.as_run.empty()) {
             ev->run_id = options_.as_run;
         }
@@ -53,6 +73,8 @@ int ReplayNode::Run() {
             ++published_;
         }
     }
+    if (flow_ && !StopRequested() && flow_->paced_consumers() > 0 && !flow_->Drain(last_recv))
+        std::cerr << kReplayProcess << ": flow: not every consumer answered the end\n";
     std::cerr << kReplayProcess << ": published " << published_ << " messages of run '"
               << options_.run_id << "' (" << bus_.counters().publish_errors
               << " publish errors)\n";

@@ -1,15 +1,20 @@
 #pragma once
 // gyrocal-replay's node: publishes a stored run back onto LCM (gyro, encoder and chamber samples
-// and the run events) with its original timing, `speed` times faster, or as fast as possible
-// (`max`), so that processors can run again on historic data.
+// and the run events) with its original timing, `speed` times faster, or as fast as every
+// consumer keeps up (`max`: flow control, lcmtypes/flow; with no consumer answering, with no
+// timing at all), so that processors can run again on historic data.
 // Threads: one. Run() reads the next row (merged across tables by reception time), waits until
-// its time (in short steps, so SIGINT/SIGTERM is honoured during long gaps), publishes it.
+// its time (in short steps, so SIGINT/SIGTERM is honoured during long gaps) or until the
+// consumers have room, publishes it. With `max` it ends once every consumer has answered the
+// last mark.
 #include <cstdint>
 #include <memory>
 #include <string>
 
 #include "bus/bus.hpp"
+#include "flow/flow_source.hpp"
 #include "replay_reader.hpp"
+#include "runtime/flow_options.hpp"
 #include "sqlite_db.hpp"
 
 namespace gyrocal::record {
@@ -22,7 +27,8 @@ struct ReplayOptions {
     std::string lcm_url;  // "" = $GYROCAL_LCM_URL or the default
     std::string as_run;   // "" = the stored run id
     double speed = 1.0;   // [1] recorded seconds per wall second
-    bool max = false;     // no waiting at all
+    bool max = false;     // as fast as the consumers keep up (flow control)
+    SourceFlowOptions flow = SourceFlowOptions::Defaults();  // with max
     static ReplayOptions Defaults() { return {}; }
 };
 
@@ -39,11 +45,13 @@ public:
 
 private:
     void WaitUntilDue(int64_t recv_utime);
+    void WaitForRoom(int64_t recv_utime);  // max: until the consumers have room (flow control)
 
     ReplayOptions options_;
     std::unique_ptr<store::Db> db_;
     store::ReplayReader reader_;
     Bus bus_;
+    std::unique_ptr<flow::FlowSource> flow_;  // max
     std::chrono::steady_clock::time_point wall0_{};
     int64_t recv0_ = -1;
     int64_t published_ = 0;

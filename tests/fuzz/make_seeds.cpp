@@ -58,6 +58,12 @@ void MessageSeeds() {
     PutMsg("stop", RunEvent("R1", "stop", {}));
     PutMsg("typical", Coeffs("S01", "R1", 99, {10, 11, 12}, {30}));
     PutMsg("empty_arrays", Coeffs("S01", "R1", 99, {}, {}));
+    PutMsg("typical", GyroBatch("S01", 0, 16));
+    PutMsg("empty", GyroBatch("S01", 0, 0));
+    PutMsg("typical", EncoderBatch(0, 16));
+    PutMsg("typical", RateBatch("S01", 0, 16));
+    PutMsg("typical", FlowMark(1));
+    PutMsg("typical", FlowAck(1));
 }
 
 // Records of [channel index][length, 2 bytes big-endian][payload] (recorder_map_fuzz.cpp).
@@ -78,6 +84,10 @@ void MapperSeed() {
     add(10, EncodeMsg(Noise("S01")));
     add(11, EncodeMsg(FitReport("S01")));
     add(8, {1, 2, 3, 4, 5, 6, 7, 8, 9});
+    add(0, EncodeMsg(GyroBatch("S01", 6, 4)));
+    add(1, EncodeMsg(EncoderBatch(1, 3)));
+    add(7, EncodeMsg(RateBatch("S01", 0, 2)));
+    add(8, EncodeMsg(FlowMark(1)));
     add(3, EncodeMsg(RunEvent("R1", "stop", {})));
     Put("recorder_map", "run", out);
 }

@@ -3,8 +3,9 @@
 // decode, run in force, seq gaps).
 // Input: records of [channel: 1 byte, an index into kChannels][length: 2 bytes, big-endian]
 // [payload: length bytes]; a record cut short by the end of the input takes what is left.
-// Contract: Map never throws; every message becomes a row; a message that is unknown or does not
-// decode is kept whole as a raw event, and a decode error is counted exactly for a known
+// Contract: Map never throws; every message becomes a row (a batch one per sample; flow control
+// and an empty batch none, said by `control`); a message that is unknown or does not decode is
+// kept whole as a raw event, and a decode error is counted exactly for a known
 // fingerprint that does not decode; only a run event changes the run in force.
 #include <cstdint>
 #include <string>
@@ -37,7 +38,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const std::string run_before = mapper.current_run();
         const record::Mapped m =
             mapper.Map(channel, payload, static_cast<int>(len), recv_utime++);
+        if (m.control) {
+            FUZZ_CHECK(!m.row && m.more.empty() && m.loss.decode_errors == 0,
+                       "flow control or an empty batch became rows");
+            FUZZ_CHECK(mapper.current_run() == run_before, "run changed without a run event");
+            continue;
+        }
         FUZZ_CHECK(m.row.has_value(), "a message became no row (rates are stored here)");
+        for (const store::Row& r : m.more)
+            FUZZ_CHECK(r.index() == m.row->index(), "a batch's rows are of different types");
         const auto* raw = std::get_if<store::RawEventRow>(&*m.row);
         if (m.loss.decode_errors > 0) {
             FUZZ_CHECK(raw && raw->reason == "decode_error", "decode error without its raw event");

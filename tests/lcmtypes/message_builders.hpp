@@ -9,13 +9,18 @@
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
+#include "gyrocal/encoder_batch_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/flow_ack_t.hpp"
+#include "gyrocal/flow_mark_t.hpp"
+#include "gyrocal/gyro_batch_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/noise_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/power_state_t.hpp"
+#include "gyrocal/rate_batch_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
@@ -287,6 +292,58 @@ inline fit_report_t FitReport(const std::string& id) {
     r.repeats = {rep};
     r.num_repeats = 1;
     return r;
+}
+
+// Samples seq first..first+n-1 of one unit in one message (bus/batch.hpp's batch forms).
+inline gyro_batch_t GyroBatch(const std::string& id, int64_t first, int n) {
+    gyro_batch_t b{};
+    for (int i = 0; i < n; ++i) b.samples.push_back(Gyro(id, first + i));
+    b.num_samples = n;
+    b.sensor_id = id;
+    b.utime = n > 0 ? b.samples.back().utime : 0;
+    return b;
+}
+
+inline encoder_batch_t EncoderBatch(int64_t first, int n) {
+    encoder_batch_t b{};
+    for (int i = 0; i < n; ++i) b.samples.push_back(Encoder(first + i));
+    b.num_samples = n;
+    b.utime = n > 0 ? b.samples.back().utime : 0;
+    return b;
+}
+
+inline rate_batch_t RateBatch(const std::string& id, int64_t first, int n) {
+    rate_batch_t b{};
+    for (int i = 0; i < n; ++i) b.samples.push_back(Rate(id, first + i));
+    b.num_samples = n;
+    b.sensor_id = id;
+    b.utime = n > 0 ? b.samples.back().utime : 0;
+    return b;
+}
+
+inline flow_mark_t FlowMark(int64_t mark_seq) {
+    flow_mark_t m{};
+    m.utime = 1;
+    m.source = "gyrocal-csv-source";
+    m.host = "h";
+    m.pid = 4243;
+    m.mark_seq = mark_seq;
+    m.published = 100 * mark_seq;
+    m.data_utime = SampleUtime(mark_seq);
+    return m;
+}
+
+inline flow_ack_t FlowAck(int64_t mark_seq) {
+    flow_ack_t m{};
+    m.utime = 2;
+    m.process = "gyrocal-recorder";
+    m.host = "h";
+    m.pid = 4242;
+    m.source_host = "h";
+    m.source_pid = 4243;
+    m.mark_seq = mark_seq;
+    m.leaving = false;
+    return m;
 }
 
 // Throws std::logic_error when the encoding is not the size the message announced.

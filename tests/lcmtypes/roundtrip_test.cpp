@@ -17,7 +17,8 @@ namespace {
 
 // Each type's examples: the builders' messages, and a second one where a field has another
 // meaning to carry (ADC codes at their extremes, a chamber fault, motion and a gap in a plateau, a
-// refused rotation, a full covariance, empty arrays, a stop event, an extrapolated rate).
+// refused rotation, a full covariance, empty arrays, a stop event, an extrapolated rate, an empty
+// batch, a leaving flow answer).
 auto Examples() {
     using namespace testing;
     gyro_sample_t adc = Gyro("S07", 987654321);
@@ -50,6 +51,8 @@ auto Examples() {
     rate_t outside = Rate("S01", 5);
     outside.temp_c = 70.0;
     outside.range_flag = 2;  // extrapolated
+    flow_ack_t leaving = FlowAck(7);
+    leaving.leaving = true;
     return std::make_tuple(
         std::vector{Gyro("S01", 7), adc}, std::vector{Encoder(-5000), Encoder(3)},
         std::vector{Chamber(2), faulted}, std::vector{ChamberCmd("R1")},
@@ -61,7 +64,9 @@ auto Examples() {
         std::vector{analysis, Coeffs("S01", "R1", 99, {}, {})},
         std::vector{Rate("S01", 5), outside}, std::vector{Status("gyrocal-fitter")},
         std::vector{Power("S01")}, std::vector{Noise("S01")}, std::vector{FitReport("S01")},
-        std::vector{loop});
+        std::vector{loop}, std::vector{GyroBatch("S01", 10, 16), GyroBatch("S01", 0, 0)},
+        std::vector{EncoderBatch(3, 16)}, std::vector{RateBatch("S01", 5, 16)},
+        std::vector{FlowMark(1)}, std::vector{leaving});
 }
 
 // The message types of Examples(), as gtest's type list, named by their LCM type names.

@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "bus/batch.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "calibration.hpp"
@@ -37,7 +38,6 @@
 #include "child_errors.hpp"
 #include "input_check.hpp"
 #include "runtime/process_main.hpp"
-#include "csv/file_digest.hpp"
 #include "procedure.hpp"
 #include "progress.hpp"
 #include "runtime/shutdown.hpp"
@@ -98,6 +98,14 @@ namespace {
 
 using namespace std::chrono_literals;
 
+// True when the source's own arguments already set its pace (--speed, --max or a batch size).
+bool PaceGiven(const std::vector<std::string>& args) {
+    for (const std::string& a : args)
+        for (const char* opt : {"--speed", "--max", "--batch-samples"})
+            if (a == opt || a.rfind(std::string(opt) + "=", 0) == 0) return true;
+    return false;
+}
+
 // The consumers the producers must hear before publishing anything, so that no sample is missed.
 const std::set<std::string> kConsumers = {"gyrocal-recorder", "gyrocal-plateau", "gyrocal-rotation",
                                           "gyrocal-fitter", "gyrocal-compensator"};
@@ -111,7 +119,12 @@ std::string Join(const std::vector<std::string>& v, const char* sep) {
 }  // namespace
 
 Calibration::Calibration(CalibrateOptions o)
-    : o_(std::move(o)), source_kind_(ParseSource(o_.source)), role_(*ParseRole(o_.role)), bus_(BusOptions{o_.lcm_url}), budget_(o_.max_restarts) {
+    : o_(std::move(o)),
+      source_kind_(ParseSource(o_.source)),
+      role_(*ParseRole(o_.role)),
+      bus_(BusOptions{o_.lcm_url}),
+      acker_(bus_, "gyrocal calibrate"),
+      budget_(o_.max_restarts) {
     url_ = bus_.url();
     if (o_.log_dir.empty()) {
         const char* tmp = std::getenv("TMPDIR");
@@ -235,11 +248,21 @@ bool Calibration::StartProducers() {
     return source_kind_ != Source::kSim || AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "");
 }
 
+// How a non-real-time source is paced: auto (--speed 0) batches the samples and lets the graph
+// set the pace (flow control); a given --speed is the rig's fixed speed, samples alone.
+std::vector<std::string> Calibration::SimPace() const {
+    if (o_.speed > 0) return {"--speed", std::to_string(o_.speed)};
+    return {"--speed", "0", "--batch-samples", std::to_string(kDefaultBatchSamples)};
+}
+
 void Calibration::StartSim() {
-    const double speed = o_.speed > 0 ? o_.speed : kAutoRigMessagesPerS / (100.0 * (o_.sensors + 1));
-    std::vector<std::string> rig = {"--units", std::to_string(o_.sensors), "--preset", o_.preset,
-                                    "--seed", std::to_string(o_.seed), "--noise-seed", std::to_string(o_.noise_seed),
-                                    "--speed", std::to_string(speed), "--truth-out", o_.truth_out};
+    std::vector<std::string> rig = {"--units",      std::to_string(o_.sensors),
+                                    "--preset",     o_.preset,
+                                    "--seed",       std::to_string(o_.seed),
+                                    "--noise-seed", std::to_string(o_.noise_seed),
+                                    "--truth-out",  o_.truth_out};
+    const std::vector<std::string> pace = SimPace();
+    rig.insert(rig.end(), pace.begin(), pace.end());
     for (const auto& e : o_.effects) rig.insert(rig.end(), {"--effect", e});
     std::vector<std::string> setpoints;
     for (double t : o_.setpoints_c) setpoints.push_back(std::to_string(t));
@@ -280,10 +303,11 @@ void Calibration::StartMeasured() {
     AnnounceRun("start", "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
     switch (source_kind_) {
         case Source::kCsv: {
-            // A file is replayed as fast as the pipeline keeps up (the source's own lossless cap)
-            // unless the caller chose a pace.
+            // A file is replayed as fast as every process of the graph keeps up (flow control),
+            // its samples batched, unless the caller chose a pace.
             std::vector<std::string> pace;
-            if (o_.source_args.empty()) pace = {"--max"};
+            if (!PaceGiven(o_.source_args))
+                pace = {"--max", "--batch-samples", std::to_string(kDefaultBatchSamples)};
             pace.insert(pace.begin(), o_.input);
             pace.insert(pace.end(), o_.source_args.begin(), o_.source_args.end());
             source_ = &Start(SiblingExecutable("gyrocal-csv-source"), pace);
@@ -292,11 +316,11 @@ void Calibration::StartMeasured() {
         case Source::kLines:
             source_ = &Start(SiblingExecutable("gyrocal-line-source"), o_.source_args);
             break;
-        case Source::kLog: {  // lcm-logplayer takes the URL its own way
-            std::vector<std::string> a = {"--lcm-url=" + url_};
+        case Source::kLog: {  // like a CSV file: as fast as the graph keeps up unless paced
+            std::vector<std::string> a = {o_.input};
+            if (!PaceGiven(o_.source_args)) a.push_back("--max");
             a.insert(a.end(), o_.source_args.begin(), o_.source_args.end());
-            a.push_back(o_.input);
-            source_ = &Start("lcm-logplayer", a);
+            source_ = &Start(SiblingExecutable("gyrocal-log-source"), a);
             break;
         }
         case Source::kSim:
@@ -519,6 +543,7 @@ int Calibration::Watch() {
 }
 
 int Calibration::Finish(int code) {
+    acker_.Leave();  // no source waits for this launcher while it stops the graph
     StopAll();
     std::cout << "\nrun " << (run_id_.empty() ? "(none)" : run_id_) << ": "
               << (run_outcome_.empty() ? "not finished" : run_outcome_) << "\n";

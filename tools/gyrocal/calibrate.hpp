@@ -25,8 +25,6 @@
 
 namespace gyrocal::cli {
 
-inline constexpr double kAutoRigMessagesPerS = 15000.0;
-
 // What the simulated gyro type tells the fitter for --source sim (the command fills it from the
 // rig's side, producers/sim_rig/gyro_facts.hpp, so that running a calibration needs no simulator).
 struct SimulatedGyros {
@@ -68,9 +66,9 @@ struct CalibrateOptions {
     // own Allan deviation (the fitter's default, NOISE_<id>).
     double plateau_slow_noise_dps = -1.0;
     SimulatedGyros simulated;     // --source sim: the fitter's options for the simulated type
-    // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
-    // messages per simulated second, and auto keeps it at 15000 messages/s, the fastest the
-    // whole graph kept without loss (measured: README.md, Benchmarks).
+    // Simulated seconds per wall second; 0 = auto: no fixed speed: the simulated rig (--speed 0)
+    // and a CSV file (--max) run as fast as every process of the graph keeps up (flow control,
+    // lcmtypes/flow), with samples batched kDefaultBatchSamples per message (bus/batch.hpp).
     double speed = 0.0;
     std::string profile = "six";  // sequencer::kDefaultProfile
     std::vector<double> setpoints_c;

@@ -14,6 +14,7 @@
 #include "calibrate.hpp"
 #include "final_verdict.hpp"
 #include "gyrocal/analysis_t.hpp"
+#include "flow/flow_acker.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -52,6 +53,7 @@ private:
     bool StartConsumers();
     bool StartProducers();
     void StartSim();
+    std::vector<std::string> SimPace() const;
     void StartMeasured();
     int Watch();
     bool DetectEnd();  // true once the run has ended (this role's view)
@@ -92,6 +94,9 @@ private:
     Source source_kind_;
     Role role_;
     Bus bus_;
+    // This launcher receives everything on the bus too (coefficient sets, fit reports): it
+    // answers the sources' flow marks like every process, so they pace on it as well.
+    flow::FlowAcker acker_;
     std::string url_;
     std::deque<Child> children_;  // deque: Start() hands out references that must stay valid
     Child* sequencer_ = nullptr;

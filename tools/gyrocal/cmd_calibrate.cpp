@@ -119,9 +119,9 @@ void AddRigOptions(CLI::App* cmd, CalibrateOptions* o) {
         ->check(CLI::Range(0.0, 10.0));
     cmd->add_option(
            "--speed", o->speed,
-           "simulated seconds per wall second; 0 = auto: 15000 rig messages/s (speed 30 for 4 "
-           "units, 75 for 1), the fastest the whole graph ran without loss (README.md, "
-           "Benchmarks)")
+           "simulated seconds per wall second; 0 = auto: no fixed speed, the source (the "
+           "simulated rig, a CSV file) runs as fast as every process of the graph keeps up "
+           "(flow control; samples batched 16 per message; README.md, Benchmarks)")
         ->check(CLI::Range(0.0, 2000.0))
         ->capture_default_str();
     cmd->add_option("--profile", o->profile, sequencer::ProfilesHelp())

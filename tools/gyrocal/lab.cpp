@@ -11,7 +11,7 @@ namespace {
 
 constexpr std::array<std::string_view, 5> kProducers = {"gyrocal-sim-rig", "gyrocal-sequencer",
                                                         "gyrocal-csv-source", "gyrocal-line-source",
-                                                        "lcm-logplayer"};
+                                                        "gyrocal-log-source"};
 constexpr std::array<std::string_view, 4> kProcessors = {"gyrocal-plateau", "gyrocal-rotation",
                                                          "gyrocal-fitter", "gyrocal-compensator"};
 

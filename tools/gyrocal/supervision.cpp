@@ -34,7 +34,7 @@ Calibration::Child& Calibration::Start(const std::string& exe, std::vector<std::
     Child c;
     c.name = std::filesystem::path(exe).filename().string();
     c.log = o_.log_dir + "/" + c.name + ".log";
-    if (c.name != "lcm-logplayer") args.insert(args.begin(), {"--lcm-url", url_});
+    args.insert(args.begin(), {"--lcm-url", url_});
     args.insert(args.begin(), exe);
     c.argv = args;
     c.proc = std::make_unique<ChildProcess>(args, c.log, c.log);

@@ -42,12 +42,22 @@ struct ProcStats {
     int64_t rss_kb = 0;   // [KiB] resident set
 };
 
+// The whole text of a /proc file, "" when it cannot be read: a process may end between finding it
+// and reading it (libstdc++ then throws from the read, "No such process").
+inline std::string ReadProcFile(const std::string& path) {
+    try {
+        std::ifstream f(path);
+        return std::string((std::istreambuf_iterator<char>(f)), {});
+    } catch (const std::exception&) {
+        return "";
+    }
+}
+
 // From /proc/<pid>/stat (utime, stime: fields 14 and 15, after the parenthesised command name,
 // which may itself hold spaces) and /proc/<pid>/status (VmHWM, VmRSS).
 inline ProcStats ReadProcStats(pid_t pid) {
     ProcStats s;
-    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-    const std::string text((std::istreambuf_iterator<char>(stat)), {});
+    const std::string text = ReadProcFile("/proc/" + std::to_string(pid) + "/stat");
     const auto close = text.rfind(')');
     if (close != std::string::npos && close + 2 < text.size()) {
         std::istringstream in(text.substr(close + 2));
@@ -58,7 +68,7 @@ inline ProcStats ReadProcStats(pid_t pid) {
             s.cpu_s = (std::stod(fields[11]) + std::stod(fields[12])) /
                       static_cast<double>(sysconf(_SC_CLK_TCK));
     }
-    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::istringstream status(ReadProcFile("/proc/" + std::to_string(pid) + "/status"));
     for (std::string line; std::getline(status, line);) {
         if (line.rfind("VmHWM:", 0) == 0) s.hwm_kb = std::stoll(line.substr(6));
         if (line.rfind("VmRSS:", 0) == 0) s.rss_kb = std::stoll(line.substr(6));

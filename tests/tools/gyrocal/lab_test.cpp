@@ -10,7 +10,7 @@ namespace {
 
 const std::vector<std::string> kAll = {
     "gyrocal-sim-rig",     "gyrocal-sequencer", "gyrocal-csv-source", "gyrocal-line-source",
-    "lcm-logplayer",       "gyrocal-plateau",   "gyrocal-rotation",   "gyrocal-fitter",
+    "gyrocal-log-source",  "gyrocal-plateau",   "gyrocal-rotation",   "gyrocal-fitter",
     "gyrocal-compensator", "gyrocal-recorder"};
 
 TEST(Lab, EveryProcessRunsOnExactlyOneRoleAndAllRunsEverything) {
@@ -32,8 +32,8 @@ TEST(Lab, EveryProcessRunsOnExactlyOneRoleAndAllRunsEverything) {
 }
 
 TEST(Lab, SourcesAbortTheRunEverythingElseIsRestartedWithItsRecovery) {
-    for (const char* p :
-         {"gyrocal-sim-rig", "gyrocal-csv-source", "gyrocal-line-source", "lcm-logplayer", "other"})
+    for (const char* p : {"gyrocal-sim-rig", "gyrocal-csv-source", "gyrocal-line-source",
+                          "gyrocal-log-source", "other"})
         EXPECT_EQ(CrashPolicy(p), OnCrash::kAbortRun) << p;
     for (const char* p : {"gyrocal-sequencer", "gyrocal-plateau", "gyrocal-rotation",
                           "gyrocal-fitter", "gyrocal-compensator", "gyrocal-recorder"})
