@@ -9,6 +9,9 @@
 # gyrocal_apps); test and setup build everything.
 #   tools/run.sh sanitize [asan|tsan|fast]               the tests under sanitizers (below)
 #   tools/run.sh fuzz [--seconds N] [HARNESS...]         run the fuzz harnesses (tests/fuzz/run.sh)
+#   tools/run.sh format-check [REPO]                     every C++ line changed since the commit in
+#                                                        .clang-format-since is as clang-format
+#                                                        makes it (.ci/run; exit 1 names the lines)
 # Set-up installs what is missing with apt-get (needs root or sudo) and is quick when all is there.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -24,12 +27,13 @@ packages=(build-essential cmake pkg-config git
           libgtest-dev libgmock-dev libbenchmark-dev
           default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2
           libssl-dev chromium clang libclang-rt-14-dev e2fsprogs ccache
-          postgresql libpqxx-dev)
+          postgresql libpqxx-dev clang-format)
 # libssl-dev: SHA-256 of CSV/log inputs. chromium: the report's browser test. clang,
 # libclang-rt-14-dev: libFuzzer for tools/run.sh fuzz. e2fsprogs: mkfs.ext4 and chattr for the
 # read-only database test (tests/store/recorder/storage_fault_test.cpp). ccache: a second build
 # of the same sources (CI's clean clone of a commit already built on this machine) compiles
 # nothing again; the cache is keyed relative to the clone (base dir, no cwd), so clones share it.
+# clang-format: tools/run.sh format-check (git clang-format, the committed .clang-format).
 # postgresql, libpqxx-dev: the lab's central database (gyrocal push; store/README.md); the tests
 # start a throwaway server of their own (initdb + pg_ctl in a temporary folder, as the
 # unprivileged user 'postgres' the package creates).
@@ -151,6 +155,29 @@ sanitize() {
     esac
 }
 
+# The house format, enforced on what changes: every C++ line added or changed since the commit
+# named in .clang-format-since must be as clang-format (the committed .clang-format) makes it.
+# Lines older than that commit are checked when they next change: reformatting every file at once
+# would rebuild everything without a ccache hit and collide with every open branch.
+format_check() {
+    local repo="${1:-$here}" base
+    base="$(tr -d ' \n' <"$repo/.clang-format-since" 2>/dev/null)" ||
+        die "format-check: $repo/.clang-format-since is missing; it must hold a commit hash"
+    git -C "$repo" rev-parse -q --verify "$base^{commit}" >/dev/null ||
+        die "format-check: .clang-format-since names '$base', not a commit of $repo; give a commit hash"
+    command -v git-clang-format >/dev/null || die "format-check: git-clang-format not found: apt-get install clang-format"
+    local out
+    out="$(cd "$repo" && git clang-format --diff --extensions cpp,hpp,h,cc "$base" -- 2>&1)" ||
+        die "format-check: git clang-format failed: $out"
+    if printf '%s\n' "$out" | grep -q '^diff --git'; then
+        printf '%s\n' "$out" | grep '^+++ b/' | sed 's|^+++ b/|run.sh: format-check: not formatted: |' >&2
+        printf '%s\n' "$out" >&2
+        echo "run.sh: format-check: lines changed since $base are not formatted as .clang-format says; run: git clang-format $base" >&2
+        return 1
+    fi
+    echo "run.sh: format-check: every C++ line changed since $base is formatted"
+}
+
 cmd="${1:-}"
 [ $# -gt 0 ] && shift
 case "$cmd" in
@@ -165,6 +192,7 @@ case "$cmd" in
                cd "$build" && exec ctest --output-on-failure -j "$jobs" "$@" ;;
     sanitize)  install_missing; check_multicast; sanitize "$@" ;;
     fuzz)      install_missing; exec "$here/tests/fuzz/run.sh" "$@" ;;
+    format-check) install_missing; format_check "$@" ;;
     *) echo "usage: tools/run.sh calibrate [options] | test [ctest options] | setup |" \
-            "sanitize [asan|tsan|fast] | fuzz [--seconds N] [HARNESS...]" >&2; exit 2 ;;
+            "sanitize [asan|tsan|fast] | fuzz [--seconds N] [HARNESS...] | format-check [REPO]" >&2; exit 2 ;;
 esac

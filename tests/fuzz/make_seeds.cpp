@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "gyrocal/analysis_t.hpp"
 #include "message_builders.hpp"
 #include "model/convert.hpp"
 #include "model/json.hpp"
@@ -33,6 +34,19 @@ void Put(const std::string& harness, const std::string& name, const std::vector<
 
 void PutText(const std::string& harness, const std::string& name, const std::string& text) {
     Put(harness, name, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+// The fitter's closed-loop analysis of one unit (ANALYSIS_<id>), as roundtrip_test.cpp's.
+analysis_t ClosedLoopAnalysis() {
+    analysis_t a{};
+    a.utime = 1234, a.sensor_id = "S01", a.run_id = "R1", a.coeff_set_id = 1234;
+    a.source = "closed-loop", a.is_final = true, a.outcome = "explained";
+    a.headline = "missing effect: supply, explained";
+    a.offset_rms_v_before = 1e-3, a.offset_rms_v_after = 1e-4, a.rate_rms_dps_before = 0.2;
+    a.rate_rms_dps_after = 0.02, a.drift_dph_before = 80, a.drift_dph_after = 8;
+    a.floor_rate_rms_dps = 0.01, a.floor_drift_dph = 5, a.candidates_json = "[]";
+    a.added_json = "[]", a.result_json = "{\"residual_bins\": {}}";
+    return a;
 }
 
 template <class Msg>
@@ -64,6 +78,7 @@ void MessageSeeds() {
     PutMsg("typical", RateBatch("S01", 0, 16));
     PutMsg("typical", FlowMark(1));
     PutMsg("typical", FlowAck(1));
+    PutMsg("typical", ClosedLoopAnalysis());
 }
 
 // Records of [channel index][length, 2 bytes big-endian][payload] (recorder_map_fuzz.cpp).
