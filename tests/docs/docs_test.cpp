@@ -1,0 +1,173 @@
+// The docs cannot drift from the code: every link of every Markdown file resolves (file and
+// heading), every reference to a Markdown file from the sources resolves (comments, --help texts;
+// a section is named by its anchor, file.md#anchor, never by a title in prose), and every example
+// command of the guide and the README (```sh blocks) is accepted by the real command line:
+// each runs with GYROCAL_CHECK_ONLY=1, which parses and checks it as usual and runs nothing
+// (runtime/process_main.hpp), so an option that was renamed or a value out of range fails here.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "markdown.hpp"
+
+namespace gyrocal::docs {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kRoot = GYROCAL_SOURCE_DIR;
+
+std::string Read(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// Files under the source tree with one of `extensions` (build folders and .git skipped).
+std::vector<fs::path> SourceFiles(const std::set<std::string>& extensions,
+                                  const std::set<std::string>& names = {}) {
+    std::vector<fs::path> out;
+    for (auto it = fs::recursive_directory_iterator(kRoot); it != fs::recursive_directory_iterator();
+         ++it) {
+        const std::string name = it->path().filename().string();
+        if (it->is_directory() && (name.rfind("build", 0) == 0 || name[0] == '.' ||
+                                   name == "Testing" || name == "reports")) {
+            it.disable_recursion_pending();
+            continue;
+        }
+        if (it->is_regular_file() &&
+            (extensions.count(it->path().extension().string()) || names.count(name)))
+            out.push_back(it->path());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// "" when `target` (relative to `from_dir`, or to the root) names an existing file and, after
+// '#', one of its headings; else what is wrong.
+std::string Resolve(const fs::path& from_dir, const std::string& target) {
+    const size_t hash = target.find('#');
+    const std::string file = target.substr(0, hash);
+    const std::string anchor = hash == std::string::npos ? "" : target.substr(hash + 1);
+    fs::path path = file.empty() ? fs::path() : from_dir / file;
+    if (!file.empty() && !fs::exists(path)) path = kRoot / file;
+    if (!file.empty() && !fs::exists(path)) return "no file " + file;
+    if (anchor.empty()) return "";
+    if (path.extension() != ".md") return "";
+    const std::vector<std::string> anchors = Anchors(Read(path));
+    if (std::find(anchors.begin(), anchors.end(), anchor) == anchors.end())
+        return "no heading with anchor #" + anchor + " in " + fs::relative(path, kRoot).string();
+    return "";
+}
+
+TEST(Markdown, AnchorsLinksAndCommandsAsGitHubAndShReadThem) {
+    const std::string md =
+        "# A title: with (punctuation) and `code`\n## Twice\n## Twice\n"
+        "See [x](other.md#a-b) and `[not](a link)`.\n"
+        "```sh\n# comment\nP=\"--a 1\"\nbuild/bin/gyrocal calibrate $P \\\n    --db x.db\n```\n"
+        "```text\nbuild/bin/gyrocal not a command\n```\n";
+    EXPECT_THAT(Anchors(md), ::testing::ElementsAre("a-title-with-punctuation-and-code", "twice",
+                                                    "twice-1"));
+    const auto links = Links(md);
+    ASSERT_EQ(links.size(), 1u);
+    EXPECT_EQ(links[0].target, "other.md#a-b");
+    EXPECT_EQ(links[0].line, 4);
+    const auto commands = ShellCommands(md);
+    ASSERT_EQ(commands.size(), 2u);
+    EXPECT_EQ(commands[0].text, "P=\"--a 1\"");
+    EXPECT_EQ(commands[1].text, "build/bin/gyrocal calibrate $P  --db x.db");
+    EXPECT_EQ(commands[1].line, 8);
+}
+
+TEST(Docs, EveryLinkOfEveryMarkdownFileResolves) {
+    const auto files = SourceFiles({".md"});
+    ASSERT_GT(files.size(), 10u) << "the README and the folders' READMEs at least";
+    int checked = 0;
+    for (const fs::path& f : files) {
+        for (const Link& l : Links(Read(f))) {
+            if (l.target.rfind("http", 0) == 0 || l.target.rfind("mailto:", 0) == 0) continue;
+            ++checked;
+            EXPECT_EQ(Resolve(f.parent_path(), l.target), "")
+                << fs::relative(f, kRoot).string() << ":" << l.line << ": (" << l.target << ")";
+        }
+    }
+    EXPECT_GT(checked, 20) << "the README links to the guide";
+}
+
+TEST(Docs, EveryReferenceFromTheSourcesToAMarkdownFileResolves) {
+    static const std::regex kRef(R"(([A-Za-z0-9_./-]*[A-Za-z0-9_-]\.md)(#[a-z0-9_-]+)?)");
+    // A section named in prose instead of by its anchor moves silently when the text does.
+    static const std::regex kProse(R"(README(?!\.md)|\.md,? ")");
+    const auto files = SourceFiles({".cpp", ".hpp", ".h", ".sh", ".cmake", ".lcm", ".py"},
+                                   {"CMakeLists.txt"});
+    int checked = 0;
+    for (const fs::path& f : files) {
+        if (f.filename() == "docs_test.cpp") continue;
+        std::istringstream in(Read(f));
+        int n = 0;
+        for (std::string line; std::getline(in, line);) {
+            ++n;
+            const std::string where = fs::relative(f, kRoot).string() + ":" + std::to_string(n);
+            EXPECT_FALSE(std::regex_search(line, kProse))
+                << where << ": name the document by its path and the section by its anchor "
+                << "(docs/x.md#section): " << line;
+            for (auto it = std::sregex_iterator(line.begin(), line.end(), kRef);
+                 it != std::sregex_iterator(); ++it) {
+                ++checked;
+                EXPECT_EQ(Resolve(f.parent_path(), (*it)[0].str()), "") << where << ": " << line;
+            }
+        }
+    }
+    EXPECT_GT(checked, 10);
+}
+
+TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
+    std::vector<fs::path> pages = {kRoot / "README.md"};
+    if (fs::exists(kRoot / "docs"))
+        for (const auto& e : fs::directory_iterator(kRoot / "docs"))
+            if (e.path().extension() == ".md") pages.push_back(e.path());
+    const fs::path bin = GYROCAL_BIN;
+    const fs::path scratch = fs::temp_directory_path() / ("gyrocal_docs_" + std::to_string(getpid()));
+    fs::create_directories(scratch);
+    static const std::regex kAssignment(R"(^[A-Z_][A-Z0-9_]*=)");
+    static const std::regex kOurs(R"(^(build/bin/|tools/run\.sh\b))");
+    int commands = 0;
+    for (const fs::path& page : pages) {
+        // One shell per page, in a scratch folder: its assignments hold for its later commands.
+        std::string script = "export GYROCAL_CHECK_ONLY=1 GYROCAL_BUILD_DIR='" +
+                             bin.parent_path().string() + "'\ncd '" + scratch.string() + "'\n";
+        for (const Command& c : ShellCommands(Read(page))) {
+            const std::string where = fs::relative(page, kRoot).string() + ":" + std::to_string(c.line);
+            if (std::regex_search(c.text, kAssignment)) {
+                script += c.text + "\n";
+                continue;
+            }
+            ASSERT_TRUE(std::regex_search(c.text, kOurs))
+                << where << ": a ```sh block holds gyrocal's own commands (build/bin/..., "
+                << "tools/run.sh) and NAME=value lines only; put others in ```text: " << c.text;
+            std::string line = std::regex_replace(c.text, std::regex("^build/bin/"), bin.string() + "/");
+            line = std::regex_replace(line, std::regex("^tools/run\\.sh"), (kRoot / "tools/run.sh").string());
+            script += line + " >/dev/null 2>\"$HOME_ERR\" || { echo '" + where + ": " +
+                      std::regex_replace(c.text, std::regex("'"), "'\\''") +
+                      "'; cat \"$HOME_ERR\"; exit 1; }\n";
+            ++commands;
+        }
+        const fs::path sh = scratch / "page.sh", out = scratch / "page.out";
+        std::ofstream(sh) << "HOME_ERR='" << (scratch / "err.txt").string() << "'\n" << script;
+        const int rc = std::system(("sh '" + sh.string() + "' > '" + out.string() + "' 2>&1").c_str());
+        EXPECT_EQ(rc, 0) << Read(out);
+    }
+    EXPECT_GE(commands, 30) << "the guide's examples";
+    fs::remove_all(scratch);
+}
+
+}  // namespace
+}  // namespace gyrocal::docs
