@@ -23,12 +23,16 @@ packages=(build-essential cmake pkg-config git
           libeigen3-dev libsqlite3-dev sqlite3 libcli11-dev nlohmann-json3-dev
           libgtest-dev libgmock-dev libbenchmark-dev
           default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2
-          libssl-dev chromium clang libclang-rt-14-dev e2fsprogs ccache)
+          libssl-dev chromium clang libclang-rt-14-dev e2fsprogs ccache
+          postgresql libpqxx-dev)
 # libssl-dev: SHA-256 of CSV/log inputs. chromium: the report's browser test. clang,
 # libclang-rt-14-dev: libFuzzer for tools/run.sh fuzz. e2fsprogs: mkfs.ext4 and chattr for the
 # read-only database test (tests/store/recorder/storage_fault_test.cpp). ccache: a second build
 # of the same sources (CI's clean clone of a commit already built on this machine) compiles
 # nothing again; the cache is keyed relative to the clone (base dir, no cwd), so clones share it.
+# postgresql, libpqxx-dev: the lab's central database (gyrocal push; store/README.md); the tests
+# start a throwaway server of their own (initdb + pg_ctl in a temporary folder, as the
+# unprivileged user 'postgres' the package creates).
 
 install_missing() {
     local missing=()

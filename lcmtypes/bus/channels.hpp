@@ -17,6 +17,7 @@ inline constexpr std::string_view kRatePrefix = "RATE_";
 inline constexpr std::string_view kNoisePrefix = "NOISE_";  // noise_t (Allan deviation)
 inline constexpr std::string_view kFitPrefix = "FIT_";      // fit_report_t
 inline constexpr std::string_view kPowerPrefix = "POWER_";  // power_state_t
+inline constexpr std::string_view kAnalysisPrefix = "ANALYSIS_";  // analysis_t (closed loop)
 
 inline constexpr std::string_view kEncoder = "ENCODER";
 inline constexpr std::string_view kChamberCmd = "CHAMBER_CMD";
@@ -43,6 +44,7 @@ inline std::string Rate(std::string_view id) { return PerSensor(kRatePrefix, id)
 inline std::string Noise(std::string_view id) { return PerSensor(kNoisePrefix, id); }
 inline std::string Fit(std::string_view id) { return PerSensor(kFitPrefix, id); }
 inline std::string Power(std::string_view id) { return PerSensor(kPowerPrefix, id); }
+inline std::string Analysis(std::string_view id) { return PerSensor(kAnalysisPrefix, id); }
 
 // Regex matching every sensor's channel of a prefix, e.g. "GYRO_[A-Za-z0-9_-]+". No prefix is a
 // prefix of another, so these never overlap.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "model/inputs.hpp"
 #include "text/names.hpp"
 #include "text/number.hpp"
 
@@ -12,10 +13,11 @@ namespace {
 
 constexpr int kGridPoints = 201;
 
-model::ModelInputs At(double temp_c) {
-    model::ModelInputs in;
-    in.temp_c = temp_c;
-    return in;
+// A unit at rest at temp_c, warmed up, at nominal supply, on neither branch: what "the model at T"
+// means for a set whose terms also read dT/dt, the branch, the supply or the warm-up (a final set
+// fitted on every still sample); a polynomial reads temp_c alone.
+model::ModelInputs At(const model::Model& m, double temp_c) {
+    return model::SteadyStateInputs(m, temp_c);
 }
 
 // The temperatures of the grid over a model's valid range; empty when the range is not finite.
@@ -87,6 +89,12 @@ Check Verdict(const UnitEvidence& u) {
     } else if (o == "partly explained" || o == "unexplained residual") {
         c.outcome = Outcome::kFail;
         c.note = "the analysis leaves a residual above the floor: " + headline;
+    } else if (o == "ambiguous") {
+        // The data cannot say which of two shapes carries the effect: a compensation that carries
+        // the wrong one fails wherever the two differ, so the unit is not served until the
+        // measurement the headline names separates them.
+        c.outcome = Outcome::kFail;
+        c.note = "the analysis cannot tell two shapes apart: " + headline;
     } else if (o == "not testable") {
         c.note = "the analysis could not test this unit" +
                  (u.analysis_to_test.empty() ? std::string()
@@ -95,7 +103,7 @@ Check Verdict(const UnitEvidence& u) {
         c.measured_text = "outcome '" + o + "'";
         c.note = "the stored analysis outcome '" + o +
                  "' is not one this version reads (adequate, explained, partly explained, "
-                 "unexplained residual, not testable)";
+                 "unexplained residual, ambiguous, not testable)";
     }
     return c;
 }
@@ -109,17 +117,28 @@ const char* ToString(Outcome o) { return text::NameOf(kOutcomeNames, o); }
 
 Measure ResidualOverFloor(const UnitEvidence& u) {
     if (!u.has_calibration) return {NAN, "no coefficient set for this unit"};
-    const int dof = static_cast<int>(u.plateaus.size()) - static_cast<int>(u.offset.term_names.size());
+    // The plateau set, when the final set is not it.
+    const model::Model& offset = u.plateau_offset.term_names.empty() ? u.offset : u.plateau_offset;
+    const model::Model& sensitivity =
+        u.plateau_sensitivity.term_names.empty() ? u.sensitivity : u.plateau_sensitivity;
+    const int dof =
+        static_cast<int>(u.plateaus.size()) - static_cast<int>(offset.term_names.size());
     if (dof < 1)
-        return {NAN, std::to_string(u.plateaus.size()) + " plateaus for " + std::to_string(u.offset.term_names.size()) +
-                         " offset terms leave no degree of freedom: the residual cannot show a wrong model"};
+        return {
+            NAN,
+            std::to_string(u.plateaus.size()) + " plateaus for " +
+                std::to_string(offset.term_names.size()) +
+                " offset terms leave no degree of freedom: the residual cannot show a wrong model"};
     try {
-        const model::Evaluator off(u.offset), sens(u.sensitivity);
+        const model::Evaluator off(offset), sens(sensitivity);
         double chi2 = 0;
         for (const PlateauPoint& p : u.plateaus) {
-            const double slow_v = u.plateau_slow_noise_dps * std::abs(sens.Value(At(p.temp_c), model::RangePolicy::kClip));
+            const double slow_v =
+                u.plateau_slow_noise_dps *
+                std::abs(sens.Value(At(sensitivity, p.temp_c), model::RangePolicy::kClip));
             const double sigma = std::hypot(p.gyro_sem_v, slow_v);
-            const double r = p.gyro_mean_v - off.Value(At(p.temp_c), model::RangePolicy::kExtrapolate);
+            const double r =
+                p.gyro_mean_v - off.Value(At(offset, p.temp_c), model::RangePolicy::kExtrapolate);
             if (!(sigma > 0) || !std::isfinite(r)) return {NAN, "a plateau without a usable value or standard error"};
             chi2 += (r / sigma) * (r / sigma);
         }
@@ -136,11 +155,12 @@ Measure OffsetChangeDps(const model::Model& offset, const model::Model& sensitiv
         const model::Evaluator off(offset), sens(sensitivity);
         double lo = INFINITY, hi = -INFINITY;
         for (double t : grid) {
-            const double v = off.Value(At(t), model::RangePolicy::kClip);
+            const double v = off.Value(At(offset, t), model::RangePolicy::kClip);
             lo = std::min(lo, v);
             hi = std::max(hi, v);
         }
-        const double s_mid = std::abs(sens.Value(At(0.5 * (grid.front() + grid.back())), model::RangePolicy::kClip));
+        const double s_mid = std::abs(sens.Value(
+            At(sensitivity, 0.5 * (grid.front() + grid.back())), model::RangePolicy::kClip));
         if (!(s_mid > 0) || !std::isfinite(hi - lo)) return {NAN, "offset or sensitivity not finite over the range"};
         return {(hi - lo) / s_mid, ""};
     } catch (const model::ModelError& e) {
@@ -155,7 +175,8 @@ Measure MaxSensitivityRelUncertaintyPct(const model::Model& sensitivity) {
         const model::Evaluator sens(sensitivity);
         double worst = 0;
         for (double t : grid) {
-            const model::Evaluation e = sens.Evaluate(At(t), model::RangePolicy::kClip);
+            const model::Evaluation e =
+                sens.Evaluate(At(sensitivity, t), model::RangePolicy::kClip);
             const double rel = 100.0 * std::sqrt(e.variance) / std::abs(e.value);
             if (!std::isfinite(rel))
                 return {NAN, "sensitivity uncertainty unknown (method " + sensitivity.method +
@@ -199,6 +220,19 @@ UnitVerdict Evaluate(const Limits& l, const UnitEvidence& u) {
         v.checks.push_back(c);
     }
     if (l.no_unexplained_residual) v.checks.push_back(Verdict(u));
+    const std::string why = u.has_calibration ? u.final_heldout_note : none.note;
+    if (l.max_heldout_rate_rms_dps) {
+        Check c = Start("max_heldout_rate_rms_dps", *l.max_heldout_rate_rms_dps);
+        Compare(c, {u.final_heldout_rate_rms_dps, why},
+                u.has_calibration ? Outcome::kNotEvaluated : Outcome::kFail);
+        v.checks.push_back(c);
+    }
+    if (l.max_heldout_drift_dph) {
+        Check c = Start("max_heldout_drift_dph", *l.max_heldout_drift_dph);
+        Compare(c, {u.final_heldout_drift_dph, why},
+                u.has_calibration ? Outcome::kNotEvaluated : Outcome::kFail);
+        v.checks.push_back(c);
+    }
     const auto any = [&](Outcome o) {
         return std::any_of(v.checks.begin(), v.checks.end(), [o](const Check& c) { return c.outcome == o; });
     };

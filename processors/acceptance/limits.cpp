@@ -48,27 +48,50 @@ int Count(const json& v, const std::string& origin, const std::string& key) {
 }  // namespace
 
 bool Limits::Empty() const {
-    return !max_residual_rms_over_floor && !max_offset_change_dps && !max_sensitivity_rel_uncertainty_pct &&
-           !min_plateaus && !min_turns && !no_unexplained_residual;
+    return !max_residual_rms_over_floor && !max_offset_change_dps &&
+           !max_sensitivity_rel_uncertainty_pct && !min_plateaus && !min_turns &&
+           !no_unexplained_residual && !max_heldout_rate_rms_dps && !max_heldout_drift_dph;
 }
 
 const std::vector<LimitDef>& LimitDefs() {
     static const std::vector<LimitDef> defs = {
         {"max_residual_rms_over_floor", "1", "max",
-         "offset residual of the fitted model at the plateaus, RMS in units of each plateau's noise floor (its "
-         "standard error combined with the plateau slow noise the run declared), corrected for the fitted terms: "
+         "offset residual of the plateau set (plateau means only) at its plateaus, RMS in units of "
+         "each plateau's noise floor (its "
+         "standard error combined with the plateau slow noise the run declared), corrected for the "
+         "fitted terms: "
          "sqrt(chi2/dof), about 1 when the model is right; needs more plateaus than offset terms"},
         {"max_offset_change_dps", "deg/s", "max",
-         "largest minus smallest fitted offset over the calibrated temperature range, divided by the fitted "
+         "largest minus smallest fitted offset over the calibrated temperature range, divided by "
+         "the fitted "
          "sensitivity at mid-range"},
         {"max_sensitivity_rel_uncertainty_pct", "%", "max",
-         "largest 1-sigma uncertainty of the fitted sensitivity over the calibrated temperature range (from the "
-         "coefficient covariance), relative to the sensitivity; unknown (a fail) for a nominal sensitivity"},
-        {"min_plateaus", "count", "min", "plateaus (offset points) the unit's calibration was fitted on"},
-        {"min_turns", "count", "min", "accepted turns (sensitivity points) the unit's calibration was fitted on"},
+         "largest 1-sigma uncertainty of the fitted sensitivity over the calibrated temperature "
+         "range (from the "
+         "coefficient covariance), relative to the sensitivity; unknown (a fail) for a nominal "
+         "sensitivity"},
+        {"min_plateaus", "count", "min",
+         "plateaus (offset points) the unit's plateau set was fitted on (the final set of a "
+         "plateau run is "
+         "fitted on every still sample, plateaus included)"},
+        {"min_turns", "count", "min",
+         "accepted turns (sensitivity points) the unit's calibration was fitted on"},
         {"no_unexplained_residual", "-", "require",
-         "the newest analysis of the unit (gyrocal analyze) found no effect the declared model lacks and nothing "
-         "ambiguous; not evaluated while the run has no analysis"},
+         "the newest analysis of the unit (the calibration's closed loop, or a later gyrocal "
+         "analyze) left "
+         "nothing above the floor unexplained: outcome adequate, or explained with its terms in a "
+         "stored set; "
+         "not evaluated while the run has no analysis"},
+        {"max_heldout_rate_rms_dps", "deg/s", "max",
+         "the final set's error on held-out still data: RMS of the 10 s bins' rate error (the "
+         "closed-loop "
+         "analysis behind the set, fitted without those bins); not evaluated for a set without one "
+         "(a plateau "
+         "run without the closed loop: run gyrocal analyze)"},
+        {"max_heldout_drift_dph", "deg/h", "max",
+         "the final set's integrated rate error over a held-out block divided by its length, RMS "
+         "over the "
+         "blocks (the same analysis)"},
     };
     return defs;
 }
@@ -93,6 +116,10 @@ Limits FromJson(const json& j, const std::string& origin) {
             l.min_plateaus = Count(v, origin, key);
         } else if (key == "min_turns") {
             l.min_turns = Count(v, origin, key);
+        } else if (key == "max_heldout_rate_rms_dps") {
+            l.max_heldout_rate_rms_dps = NonNegative(v, origin, key);
+        } else if (key == "max_heldout_drift_dph") {
+            l.max_heldout_drift_dph = NonNegative(v, origin, key);
         } else if (key == "no_unexplained_residual") {
             if (!v.is_boolean())
                 throw LimitsError(origin + ": key 'no_unexplained_residual': expected true or false, got " +
@@ -137,6 +164,8 @@ json ToJson(const Limits& l) {
     if (l.min_plateaus) j["min_plateaus"] = *l.min_plateaus;
     if (l.min_turns) j["min_turns"] = *l.min_turns;
     if (l.no_unexplained_residual) j["no_unexplained_residual"] = true;
+    if (l.max_heldout_rate_rms_dps) j["max_heldout_rate_rms_dps"] = *l.max_heldout_rate_rms_dps;
+    if (l.max_heldout_drift_dph) j["max_heldout_drift_dph"] = *l.max_heldout_drift_dph;
     return j;
 }
 

@@ -8,7 +8,9 @@
 //     "max_sensitivity_rel_uncertainty_pct": 0.5,
 //     "min_plateaus": 5,
 //     "min_turns": 10,
-//     "no_unexplained_residual": true
+//     "no_unexplained_residual": true,
+//     "max_heldout_rate_rms_dps": 0.05,
+//     "max_heldout_drift_dph": 60
 //   }
 //
 // Every key is optional (a limit not given is not checked) but at least one limit must be there.
@@ -39,6 +41,8 @@ struct Limits {
     std::optional<int> min_plateaus;                             // [count]
     std::optional<int> min_turns;                                // [count]
     bool no_unexplained_residual = false;                        // checked when true
+    std::optional<double> max_heldout_rate_rms_dps;              // [deg/s] the final set's
+    std::optional<double> max_heldout_drift_dph;                 // [deg/h] the final set's
 
     bool Empty() const;
 };

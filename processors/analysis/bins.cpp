@@ -6,7 +6,7 @@
 namespace gyrocal::analysis {
 
 double SamplePeriodS(const SensorRun& run) {
-    if (run.samples.size() < 2) return 0.0;
+    if (run.samples.size() < 2) return run.samples.empty() ? run.sample_period_s : 0.0;
     std::vector<int64_t> d;
     d.reserve(run.samples.size() - 1);
     for (size_t i = 1; i < run.samples.size(); ++i)
@@ -55,8 +55,10 @@ double AirAt(const std::vector<AirSample>& air, double t, double tolerance_us, s
     return kNan;
 }
 
+}  // namespace
+
 // The table's state at rest in every bin: the last move that ended before it.
-void TableState(const SensorRun& run, std::vector<Bin>& bins) {
+void AddTableState(const SensorRun& run, std::vector<Bin>& bins) {
     if (!run.has_encoder || run.counts_per_rev <= 0) return;
     size_t m = 0;
     for (Bin& b : bins) {
@@ -75,7 +77,17 @@ void TableState(const SensorRun& run, std::vector<Bin>& bins) {
     }
 }
 
-}  // namespace
+void AddPlateaus(const SensorRun& run, std::vector<Bin>& bins) {
+    for (size_t p = 0; p < run.plateaus.size(); ++p)
+        for (Bin& b : bins)
+            if (b.start_utime >= run.plateaus[p].start_utime &&
+                b.end_utime <= run.plateaus[p].end_utime)
+                b.plateau = static_cast<int>(p);
+}
+
+BinnedRun::BinnedRun(const SensorRun& run, double bin_s, std::vector<Bin> bins,
+                     std::shared_ptr<const TrackedInputSource> inputs)
+    : run_(run), bin_s_(bin_s), bins_(std::move(bins)), inputs_(std::move(inputs)) {}
 
 BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin_s_(o.bin_s) {
     bin_of_sample_.assign(run.samples.size(), -1);
@@ -136,18 +148,15 @@ BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin
     size_t next_air = 0;
     for (Bin& b : bins_)
         b.air_c = AirAt(run.air, b.mid_utime, static_cast<double>(bin_us), next_air);
-    TableState(run, bins_);
-    for (size_t p = 0; p < run.plateaus.size(); ++p)
-        for (Bin& b : bins_)
-            if (b.start_utime >= run.plateaus[p].start_utime &&
-                b.end_utime <= run.plateaus[p].end_utime)
-                b.plateau = static_cast<int>(p);
+    AddTableState(run, bins_);
+    AddPlateaus(run, bins_);
 }
 
-const BinnedRun::Tracked& BinnedRun::Track(const gyrocal_tracker_config_t& c) const {
+const TrackedInputs& BinnedRun::Track(const gyrocal_tracker_config_t& c) const {
     const auto key = std::make_pair(c.rate_tau_s, c.branch_width_c);
     if (auto it = tracked_.find(key); it != tracked_.end()) return it->second;
-    Tracked t;
+    if (inputs_) return tracked_.emplace(key, inputs_->Track(c)).first->second;
+    TrackedInputs t;
     t.rate.assign(bins_.size(), 0.0);
     t.branch.assign(bins_.size(), 0.0);
     t.heating.assign(bins_.size(), 0.0);
@@ -172,7 +181,7 @@ const BinnedRun::Tracked& BinnedRun::Track(const gyrocal_tracker_config_t& c) co
 }
 
 model::ModelInputs BinnedRun::Inputs(size_t i, const gyrocal_tracker_config_t& c) const {
-    const Tracked& t = Track(c);
+    const TrackedInputs& t = Track(c);
     const Bin& b = bins_[i];
     model::ModelInputs in;
     in.temp_c = b.temp_c;

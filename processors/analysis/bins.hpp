@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -57,13 +58,32 @@ struct BinOptions {
     static BinOptions Defaults() { return {}; }
 };
 
-// The run's nominal sample period [s] (median of sample spacings), 0 when < 2 samples.
+// The run's nominal sample period [s] (median of sample spacings), 0 when < 2 samples; for a run
+// without its samples (binned elsewhere: bins_incremental.hpp), its sample_period_s.
 double SamplePeriodS(const SensorRun& run);
+
+// The bin means of the tracked inputs for one tracker configuration, one value per bin.
+struct TrackedInputs {
+    std::vector<double> rate, branch, heating;
+};
+
+// Where a run binned elsewhere gets its tracked inputs (bins_incremental.hpp), since its samples
+// are not there to track them again.
+class TrackedInputSource {
+public:
+    virtual ~TrackedInputSource() = default;
+    virtual TrackedInputs Track(const gyrocal_tracker_config_t& config) const = 0;
+};
 
 class BinnedRun {
 public:
     // Keeps a reference to `run`: it must outlive this object.
     BinnedRun(const SensorRun& run, const BinOptions& options);
+    // Bins made elsewhere (bins_incremental.hpp) from the samples `run` describes (its samples
+    // may be empty): `bins` complete (segments, power, air, table, plateau), their tracked inputs
+    // from `inputs`. Keeps a reference to `run`.
+    BinnedRun(const SensorRun& run, double bin_s, std::vector<Bin> bins,
+              std::shared_ptr<const TrackedInputSource> inputs);
 
     const std::vector<Bin>& bins() const { return bins_; }
     size_t size() const { return bins_.size(); }
@@ -80,17 +100,20 @@ public:
     Eigen::VectorXd Values(const model::Model& model) const;
 
 private:
-    struct Tracked {
-        std::vector<double> rate, branch, heating;  // bin means
-    };
-    const Tracked& Track(const gyrocal_tracker_config_t& config) const;
+    const TrackedInputs& Track(const gyrocal_tracker_config_t& config) const;
 
     const SensorRun& run_;
     double bin_s_;
     std::vector<Bin> bins_;
     std::vector<int> bin_of_sample_;  // -1 = not in a kept bin
-    mutable std::map<std::pair<double, double>, Tracked> tracked_;  // by (tau, width)
+    std::shared_ptr<const TrackedInputSource> inputs_;                    // set: binned elsewhere
+    mutable std::map<std::pair<double, double>, TrackedInputs> tracked_;  // by (tau, width)
 };
+
+// The table's state at rest in every bin (Bin::table_deg, last_turn_*) from run.moves, and the
+// plateau each bin lies in (Bin::plateau): shared by both ways of binning.
+void AddTableState(const SensorRun& run, std::vector<Bin>& bins);
+void AddPlateaus(const SensorRun& run, std::vector<Bin>& bins);
 
 // Noise floor of a per-bin series (residuals of a model): the Allan deviation at the bin length,
 // sqrt(sum (v[i+1] - v[i])^2 / (2 m)) over the m pairs of consecutive bins in one segment. A model

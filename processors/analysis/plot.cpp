@@ -22,7 +22,8 @@ std::optional<model::Evaluator> EvaluatorOf(const std::optional<model::Model>& m
     }
 }
 
-// The residual of each bin, before and after: one table for the time and temperature figures.
+}  // namespace
+
 plot::Table ResidualTable(const BinnedRun& binned, const SensorResult& r) {
     const std::optional<model::Evaluator> before = EvaluatorOf(r.declared_offset);
     const std::optional<model::Evaluator> after = EvaluatorOf(r.extended_offset);
@@ -44,6 +45,8 @@ plot::Table ResidualTable(const BinnedRun& binned, const SensorResult& r) {
     }
     return t;
 }
+
+namespace {
 
 // Each added offset effect against its regressor, with the fitted effect over it.
 std::optional<plot::Figure> EffectFigure(const BinnedRun& binned, const SensorResult& r,

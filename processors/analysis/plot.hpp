@@ -25,10 +25,15 @@
 #include <vector>
 
 #include "analyze.hpp"
+#include "bins.hpp"
 #include "plot/figure.hpp"
 #include "run_data.hpp"
 
 namespace gyrocal::analysis {
+
+// The residual of each bin before and after (the <id>_residual table above), on the bins
+// `result` was computed from.
+plot::Table ResidualTable(const BinnedRun& binned, const SensorResult& result);
 
 // `run` and `options` must be those `result` was computed from (the bins are rebuilt here).
 std::vector<plot::Figure> MakePlots(const SensorRun& run, const SensorResult& result,

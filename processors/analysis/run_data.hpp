@@ -94,6 +94,9 @@ struct SensorRun {
     int32_t counts_per_rev = 0;  // [count/rev] of that reading; 0 without encoder
     std::vector<AirSample> air;  // chamber air, time-ordered, finite; empty: not recorded
     int64_t n_bad_air = 0;       // air readings excluded (non-finite, repeated time)
+    // [s] the median sample spacing, for a run whose samples are not kept (binned as they came:
+    // bins_incremental.hpp); 0 when the samples are here (SamplePeriodS computes it from them).
+    double sample_period_s = 0.0;
     int64_t n_still() const { return static_cast<int64_t>(samples.size()) - n_moving_samples; }
 };
 

@@ -1,5 +1,7 @@
 #include "fitter_node.hpp"
 
+#include <algorithm>
+
 #include "bus/channels.hpp"
 #include "runtime/process_main.hpp"
 
@@ -52,6 +54,10 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
                    "--mode ramp: [s] data time between fits during the run, 10..86400");
     app.add_option("--min-span-s", o.ramp.min_span_s,
                    "--mode ramp: [s] of a unit's data before its first fit, 0..86400");
+    app.add_option("--closed-loop", o.closed_loop,
+                   "--mode plateau: at the stop, also fit each unit on every still sample with the "
+                   "terms the data confirm and publish it as the run's final set (source "
+                   "closed-loop) after the plateau set; false for the seed's 3-point method");
     app.footer(kNodeExitCodes);
     return [&o]() -> std::string {
         if (o.mode != "plateau" && o.mode != "ramp")
@@ -64,21 +70,44 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
     };
 }
 
+namespace {
+
+fitter::RampFitterOptions ClosedLoopOptions(const FitterOptions& o) {
+    fitter::RampFitterOptions c = fitter::RampFitterOptions::ClosedLoop();
+    c.analysis = o.ramp.analysis;
+    c.build = o.ramp.build;
+    return c;
+}
+
+}  // namespace
+
 FitterNode::FitterNode(const FitterOptions& o)
     : bus_(BusOptions{o.lcm_url}), status_(bus_, kProcess), core_(o.core) {
-    bus_.Subscribe<plateau_t>(channels::AllSensors(channels::kPlateauPrefix),
-                              [this](const plateau_t& m, const std::string& ch) {
-                                  status_.Guarded([&] {
-                                      Apply(core_.OnPlateau(
-                                          m, channels::SensorOf(channels::kPlateauPrefix, ch).value()));
-                                  });
-                              });
+    if (o.closed_loop) {
+        loop_.emplace(ClosedLoopOptions(o));
+        loop_channel_.emplace(bus_, status_, *loop_);
+    }
+    bus_.Subscribe<plateau_t>(
+        channels::AllSensors(channels::kPlateauPrefix),
+        [this](const plateau_t& m, const std::string& ch) {
+            status_.Guarded([&] {
+                const std::string id = channels::SensorOf(channels::kPlateauPrefix, ch).value();
+                if (loop_ && m.sensor_id == id)
+                    loop_->AddPlateau(id, {m.plateau_id, m.start_utime, m.end_utime, m.temp_mean_c,
+                                           m.temp_sem_c, m.gyro_mean_v, m.gyro_sem_v, m.n_samples});
+                Apply(core_.OnPlateau(m, id));
+            });
+        });
     bus_.Subscribe<sensitivity_point_t>(
         channels::AllSensors(channels::kSensitivityPrefix),
         [this](const sensitivity_point_t& m, const std::string& ch) {
             status_.Guarded([&] {
-                Apply(core_.OnSensitivity(
-                    m, channels::SensorOf(channels::kSensitivityPrefix, ch).value()));
+                const std::string id = channels::SensorOf(channels::kSensitivityPrefix, ch).value();
+                if (loop_ && m.sensor_id == id)
+                    loop_->AddSensitivity(
+                        id, {m.rotation_id, m.utime, m.temp_c, m.direction, m.sensitivity_v_per_dps,
+                             m.sensitivity_stderr_v_per_dps, m.accepted != 0});
+                Apply(core_.OnSensitivity(m, id));
             });
         });
     bus_.Subscribe<noise_t>(channels::AllSensors(channels::kNoisePrefix),
@@ -88,21 +117,59 @@ FitterNode::FitterNode(const FitterOptions& o)
                                         m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
                                 });
                             });
-    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
-                                [this](const run_event_t& m, const std::string&) {
-                                    status_.Guarded([&] { Apply(core_.OnRunEvent(m)); });
-                                    if (m.event == "stop" || m.event == "start") status_.PublishNow();
-                                });
+    bus_.Subscribe<run_event_t>(
+        std::string(channels::kRunEvent), [this](const run_event_t& m, const std::string&) {
+            status_.Guarded([&] {
+                // The loop's run follows the core's (a new run's start).
+                if (loop_ && m.event == "start" && m.run_id != loop_->run_id())
+                    loop_->StartRun(m.run_id);
+                Apply(core_.OnRunEvent(m));
+            });
+            if (m.event == "stop" || m.event == "start") status_.PublishNow();
+        });
     status_.set_state("waiting");
 }
 
-void FitterNode::Run() { RunLoop(bus_, status_); }
+void FitterNode::Run() {
+    RunLoop(bus_, status_, [this] {
+        if (loop_channel_) loop_channel_->Publish();
+        return false;
+    });
+}
+
+void FitterNode::HandleFor(int timeout_ms) {
+    bus_.Handle(std::chrono::milliseconds(timeout_ms));
+    if (loop_channel_) loop_channel_->Publish();
+}
 
 void FitterNode::Apply(const fitter::CoreOutput& out) {
     for (const fitter::Rejection& r : out.rejections) status_.Reject(r.key, r.detail);
     // A set before its report, so that a listener that has the report has the set.
     for (const coeff_set_t& set : out.publish) bus_.Publish(channels::Coeffs(set.sensor_id), set);
     for (const fit_report_t& r : out.reports) bus_.Publish(channels::Fit(r.sensor_id), r);
+    // The run's final plateau sets (at its stop, or made again by a late point): the closed loop's
+    // final sets follow them, fitted on every still sample, so that the newest set of a unit, the
+    // one the compensator applies, is the closed loop's.
+    if (loop_ && !core_.run_id().empty()) {
+        // A run adopted from its points (no start heard) is the loop's too.
+        if (loop_->run_id() != core_.run_id()) loop_->StartRun(core_.run_id());
+        int64_t final_utime = -1;
+        for (const fit_report_t& r : out.reports)
+            if (r.is_final) final_utime = std::max(final_utime, r.utime);
+        if (final_utime >= 0) {
+            std::vector<fitter::FitJob> jobs = loop_->FinishJobs(final_utime);
+            const auto summaries = core_.Summaries();
+            for (fitter::FitJob& j : jobs) {
+                const auto it = summaries.find(j.sensor_id);
+                if (it == summaries.end() || !it->second.complete)
+                    j.withhold =
+                        "the plateau set is not complete (" +
+                        (it == summaries.end() ? std::string("no plateau") : it->second.text) +
+                        "): the temperatures do not support a temperature model";
+            }
+            loop_channel_->Submit(std::move(jobs));
+        }
+    }
     UpdateStatus();
 }
 

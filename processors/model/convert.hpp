@@ -13,13 +13,23 @@
 
 namespace gyrocal::model {
 
+// Where a coefficient set came from (CoeffSet::source, coeff_set_t.source), written once:
+//   "fitter"        the fitter's: on a plateau run the plateau set (plateau means only, the
+//                   seed's method and its N-point extension); on a ramp run the fit on every
+//                   still bin
+//   "closed-loop"   a plateau run's final set: every still sample, the terms the data confirm
+//                   (gyrocal-fitter's closed loop, processors/fitter/ramp_fitter.hpp)
+//   "analysis:<id>" the extended model of `gyrocal analyze` (analysis <id> in the database)
+inline constexpr const char* kFitterSource = "fitter";
+inline constexpr const char* kClosedLoopSource = "closed-loop";
+
 // A calibration of one unit: what the compensator applies.
 struct CoeffSet {
     int64_t utime = 0;  // [us] newest input used
     std::string sensor_id;
     std::string run_id;
     int64_t coeff_set_id = 0;  // [us] = utime of the newest input
-    std::string source;        // "fitter", "analysis:<id>"
+    std::string source;        // kFitterSource, kClosedLoopSource, "analysis:<id>" (above)
     Model offset;              // quantity offset_v
     Model sensitivity;         // quantity sensitivity_v_per_dps
     std::vector<int64_t> plateau_ids;

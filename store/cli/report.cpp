@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "format_util.hpp"
+#include "model/convert.hpp"
 #include "report_fit.hpp"
 #include "text/number.hpp"
 
@@ -76,14 +77,23 @@ std::optional<std::vector<double>> ParseTemps(const std::string& text) {
 }
 
 std::string RunsTable(const std::vector<RunInfo>& runs) {
-    Table t({"RUN", "OUTCOME", "FIRST SEEN (UTC)", "SENSORS", "GYRO SAMPLES", "PLATEAUS",
-             "SENS PTS", "COEFF SETS", "SEQ GAPS", "DECODE ERR", "QUEUE DROPS", "VERSION"});
+    // The station column only where runs came from stations (a central database).
+    bool stations = false;
+    for (const auto& r : runs) stations = stations || !r.station.empty();
+    std::vector<std::string> head = {"RUN", "OUTCOME", "FIRST SEEN (UTC)", "SENSORS",
+                                     "GYRO SAMPLES", "PLATEAUS", "SENS PTS", "COEFF SETS",
+                                     "SEQ GAPS", "DECODE ERR", "QUEUE DROPS", "VERSION"};
+    if (stations) head.push_back("STATION");
+    Table t(head);
     for (const auto& r : runs) {
-        t.Add({RunLabel(r.run_id), r.outcome, UtcText(r.first_recv_utime), Join(r.sensor_ids, ","),
-               std::to_string(r.gyro_samples), std::to_string(r.plateaus),
-               std::to_string(r.sensitivity_points), std::to_string(r.coeff_sets),
-               std::to_string(r.seq_gaps), std::to_string(r.decode_errors),
-               std::to_string(r.queue_drops), r.software_version});
+        std::vector<std::string> row = {
+            RunLabel(r.run_id), r.outcome, UtcText(r.first_recv_utime), Join(r.sensor_ids, ","),
+            std::to_string(r.gyro_samples), std::to_string(r.plateaus),
+            std::to_string(r.sensitivity_points), std::to_string(r.coeff_sets),
+            std::to_string(r.seq_gaps), std::to_string(r.decode_errors),
+            std::to_string(r.queue_drops), r.software_version};
+        if (stations) row.push_back(r.station);
+        t.Add(row);
     }
     return t.str();
 }
@@ -102,6 +112,7 @@ static nlohmann::json RunJson(const RunInfo& r) {
     j["recorder_version"] = r.recorder_version;
     j["recorder_host"] = r.recorder_host;
     j["sensor_ids"] = r.sensor_ids;
+    if (!r.station.empty()) j["station"] = r.station;
     j["counts"] = {{"gyro_samples", r.gyro_samples},     {"encoder_samples", r.encoder_samples},
                    {"chamber_states", r.chamber_states}, {"plateaus", r.plateaus},
                    {"sensitivity_points", r.sensitivity_points},
@@ -218,12 +229,23 @@ static void SensitivityPointsText(std::ostream& out, const RunDetail& d) {
     }
 }
 
+// Which set a plateau run's closed loop made and which it keeps beside it (model/convert.hpp).
+static std::string SetRole(const RunDetail& d, const CoeffSetInfo& c) {
+    if (c.set.source == model::kClosedLoopSource)
+        return "  final set: every still sample, the terms the data confirm";
+    if (c.set.source != model::kFitterSource) return "";
+    for (const auto& o : d.coeff_sets)
+        if (o.set.sensor_id == c.set.sensor_id && o.set.source == model::kClosedLoopSource)
+            return "  plateau set: plateau means only (the final set is the closed loop's)";
+    return "";
+}
+
 // The final set of each sensor and source, with what it came from.
 static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
     out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
     for (const auto& c : d.coeff_sets) {
         out << "  " << Printable(c.set.sensor_id) << "  set " << c.set.coeff_set_id << " ("
-            << Printable(c.set.source) << ")" << SetStatusLabel(d, c) << "\n";
+            << Printable(c.set.source) << ")" << SetRole(d, c) << SetStatusLabel(d, c) << "\n";
         for (const auto* m : {&c.set.offset, &c.set.sensitivity}) {
             out << "    " << Printable(m->quantity) << ": " << Printable(Terms(*m))
                 << "  T0=" << text::SigOrDash(m->t0_c) << " C, valid "
@@ -248,19 +270,22 @@ static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vect
 static void AnalysesText(std::ostream& out, const RunDetail& d) {
     out << "\nAnalyses (" << d.analyses.size() << ")\n";
     if (!d.analyses.empty()) {
-        Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "VERDICT", "ADDED", "OFFSET_RMS_V",
-                 "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS", "COEFF_ROW_ID"});
+        Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "OUTCOME", "VERDICT", "ADDED",
+                 "OFFSET_RMS_V", "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS",
+                 "COEFF_ROW_ID"});
         for (const auto& a : d.analyses) {
             t.Add({std::to_string(a.analysis_id), a.sensor_id, UtcText(a.created_wall_utime),
-                   a.verdict, AddedEffects(a.added_json),
+                   a.outcome.value_or("-"), a.verdict, AddedEffects(a.added_json),
                    BeforeAfter(a.offset_rms_v_before, a.offset_rms_v_after, 3),
                    BeforeAfter(a.rate_rms_dps_before, a.rate_rms_dps_after, 3),
                    BeforeAfter(a.drift_dph_before, a.drift_dph_after, 3),
                    text::SigOrDash(a.floor_rate_rms_dps, 3), Opt(a.coeff_row_id)});
         }
         out << t.str();
-        out << "  (before -> after: the run's declared model -> the extended model; an extended "
-               "set is stored with source analysis:<ANALYSIS_ID>)\n";
+        out << "  (before -> after, on held-out still data: the run's declared model -> the "
+               "extended model; gyrocal analyze stores its set with source analysis:<ANALYSIS_ID>, "
+               "the calibration's closed loop (gyrocal-fitter) its final set with source "
+            << model::kClosedLoopSource << ")\n";
     }
 }
 
@@ -406,6 +431,15 @@ static nlohmann::json ProcessesJson(const RunDetail& d) {
     return procs;
 }
 
+// The source of the set an analysis made: the stored set's (the closed loop's), else the one
+// gyrocal analyze gives it.
+static nlohmann::json CoeffSourceJson(const RunDetail& d, const AnalysisRow& a) {
+    if (!a.coeff_row_id) return nullptr;
+    for (const auto& c : d.coeff_sets)
+        if (c.coeff_row_id == *a.coeff_row_id) return c.set.source;
+    return AnalysisSource(a.analysis_id);
+}
+
 // The stored analyses with their before/after errors.
 static nlohmann::json AnalysesJson(const RunDetail& d) {
     nlohmann::json analyses = nlohmann::json::array();
@@ -417,19 +451,21 @@ static nlohmann::json AnalysesJson(const RunDetail& d) {
              {"software_version", a.software_version},
              {"command_line", a.command_line},
              {"verdict", a.verdict},
+             {"outcome", a.outcome ? nlohmann::json(*a.outcome) : nlohmann::json(nullptr)},
              {"candidates", ParsedOrText(a.candidates_json)},
              {"added", ParsedOrText(a.added_json)},
-             {"error_before", {{"offset_rms_v", Finite(a.offset_rms_v_before)},
-                               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
-                               {"drift_dph", Finite(a.drift_dph_before)}}},
-             {"error_after", {{"offset_rms_v", Finite(a.offset_rms_v_after)},
-                              {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
-                              {"drift_dph", Finite(a.drift_dph_after)}}},
+             {"error_before",
+              {{"offset_rms_v", Finite(a.offset_rms_v_before)},
+               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
+               {"drift_dph", Finite(a.drift_dph_before)}}},
+             {"error_after",
+              {{"offset_rms_v", Finite(a.offset_rms_v_after)},
+               {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
+               {"drift_dph", Finite(a.drift_dph_after)}}},
              {"floor_rate_rms_dps", Finite(a.floor_rate_rms_dps)},
              {"result", ParsedOrText(a.result_json)},
              {"coeff_row_id", OptJson(a.coeff_row_id)},
-             {"coeff_source", a.coeff_row_id ? nlohmann::json(AnalysisSource(a.analysis_id))
-                                             : nlohmann::json(nullptr)}});
+             {"coeff_source", CoeffSourceJson(d, a)}});
     }
     return analyses;
 }
@@ -455,8 +491,15 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
     out << "Sensor " << Printable(sensor_id) << ": " << sets.size() << " coefficient set"
         << (sets.size() == 1 ? "" : "s")
         << "; change is against the previous set at the same temperature\n";
-    Table t({"RECORDED (UTC)", "RUN", "COEFF_SET_ID", "SOURCE", "TEMP_C", "OFFSET_V",
-             "D_OFFSET_MV", "SENSITIVITY_V_PER_DPS", "D_SENSITIVITY_PCT"});
+    // Across stations (a central database): which station each set came from.
+    bool stations = false;
+    for (const auto& s : sets) stations = stations || !s.station.empty();
+    std::vector<std::string> head = {"RECORDED (UTC)", "RUN"};
+    if (stations) head.push_back("STATION");
+    for (const char* h : {"COEFF_SET_ID", "SOURCE", "TEMP_C", "OFFSET_V", "D_OFFSET_MV",
+                          "SENSITIVITY_V_PER_DPS", "D_SENSITIVITY_PCT"})
+        head.push_back(h);
+    Table t(head);
     for (size_t k = 0; k < sets.size(); ++k) {
         const CoeffSetRow& c = sets[k].set;
         for (double temp : ref_temps_c) {
@@ -470,9 +513,14 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
                 if (sens && p_sens && *p_sens != 0)
                     d_sens = text::SigOrDash((*sens / *p_sens - 1) * 100, 4);
             }
-            t.Add({UtcText(c.recv_utime), RunLabel(c.run_id), std::to_string(c.coeff_set_id),
-                   c.source, text::SigOrDash(temp, 4), off ? text::SigOrDash(*off, 8) : "n/a",
-                   d_off, sens ? text::SigOrDash(*sens, 8) : "n/a", d_sens});
+            std::vector<std::string> row = {UtcText(c.recv_utime), RunLabel(c.run_id)};
+            if (stations) row.push_back(sets[k].station);
+            for (std::string v : {std::to_string(c.coeff_set_id), c.source,
+                                  text::SigOrDash(temp, 4),
+                                  off ? text::SigOrDash(*off, 8) : std::string("n/a"), d_off,
+                                  sens ? text::SigOrDash(*sens, 8) : std::string("n/a"), d_sens})
+                row.push_back(v);
+            t.Add(row);
         }
     }
     out << t.str();
@@ -490,6 +538,7 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
     nlohmann::json arr = nlohmann::json::array();
     for (const auto& s : sets) {
         nlohmann::json e = CoeffSetJson(s);
+        if (!s.station.empty()) e["station"] = s.station;
         nlohmann::json at = nlohmann::json::array();
         for (double temp : ref_temps_c) {
             const auto off = Eval(s.set.offset, temp);

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "central_url.hpp"
 #include "query.hpp"
 #include "schema.hpp"
 #include "utc_text.hpp"
@@ -37,6 +38,8 @@ void InsertModel(Db& db, int64_t coeff_row_id, const char* role, const ModelRow&
     }
 }
 
+}  // namespace
+
 int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
     if (r.sensor_id.empty()) throw StoreError("analysis: sensor_id is empty");
     RequireRun(db, r.run_id, " (an analysis is stored with a recorded run)");
@@ -48,20 +51,24 @@ int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
            "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     s.BindAll(r.run_id, r.sensor_id,
               r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow(), r.software_version,
-              r.command_line, r.verdict, r.candidates_json, r.added_json, r.offset_rms_v_before,
-              r.offset_rms_v_after, r.rate_rms_dps_before, r.rate_rms_dps_after, r.drift_dph_before,
-              r.drift_dph_after, r.floor_rate_rms_dps, r.result_json, r.coeff_row_id, r.outcome);
+              WithoutCredentialsIn(r.command_line), r.verdict, r.candidates_json, r.added_json,
+              r.offset_rms_v_before, r.offset_rms_v_after, r.rate_rms_dps_before,
+              r.rate_rms_dps_after, r.drift_dph_before, r.drift_dph_after, r.floor_rate_rms_dps,
+              r.result_json, r.coeff_row_id, r.outcome);
     s.Run();
     return db.LastInsertRowId();
 }
-
-}  // namespace
 
 std::string AnalysisSource(int64_t analysis_id) {
     return "analysis:" + std::to_string(analysis_id);
 }
 
 std::unique_ptr<Db> OpenForUpdate(const std::string& path) {
+    if (IsCentralUrl(path)) {
+        throw StoreError("the central database '" + WithoutCredentials(path) +
+                         "' is written only by gyrocal push: store results on the station (--db "
+                         "FILE) and push them, or do not store them here (--no-store)");
+    }
     if (!std::filesystem::exists(path)) {
         throw StoreError("database '" + path + "' does not exist (record a run first)");
     }
@@ -153,7 +160,8 @@ std::vector<AnalysisRow> ListAnalyses(Db& db, const std::string& run_id,
            "command_line, verdict, candidates_json, added_json, offset_rms_v_before, "
            "offset_rms_v_after, rate_rms_dps_before, rate_rms_dps_after, drift_dph_before, "
            "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id, outcome FROM analyses "
-           "WHERE run_id = ?1 AND (?2 IS NULL OR sensor_id = ?2) ORDER BY analysis_id");
+           "WHERE run_id = ?1 AND (CAST(?2 AS TEXT) IS NULL OR sensor_id = ?2) "
+           "ORDER BY analysis_id");
     s.Bind(1, run_id);
     if (sensor_id) {
         s.Bind(2, *sensor_id);

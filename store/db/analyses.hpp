@@ -27,8 +27,8 @@ struct AnalysisRow {
     int64_t created_wall_utime = 0;  // [us] wall clock; <= 0 on insert = now
     std::string software_version, command_line;
     std::string verdict;                 // e.g. "no missing effect", "added temp_rate"
-    // adequate, explained, partly explained, unexplained residual, not testable; nullopt for an
-    // analysis stored before outcomes existed (NULL in the column).
+    // adequate, explained, partly explained, unexplained residual, ambiguous, not testable;
+    // nullopt for an analysis stored before outcomes existed (NULL in the column).
     std::optional<std::string> outcome;
     std::string candidates_json = "[]";  // what was tested: [{effect, statistic, decision}]
     std::string added_json = "[]";       // what was added: [{effect, term, coefficient, ...}]
@@ -55,6 +55,9 @@ std::string AnalysisSource(int64_t analysis_id);
 // migrating it to the current schema. Throws StoreError naming the file when it is missing,
 // not a gyrocal database, or newer than this software.
 std::unique_ptr<Db> OpenForUpdate(const std::string& path);
+
+// The insert alone, inside a transaction the caller holds (the recorder's batch).
+int64_t InsertAnalysisRow(Db& db, const AnalysisRow& row);
 
 // Inserts the analysis row and returns its analysis_id. Throws NotFound when the run is not in
 // the database, StoreError on an empty sensor id or a write failure.

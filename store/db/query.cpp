@@ -1,8 +1,12 @@
 #include "query.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 
+#include "central_db.hpp"
+#include "central_url.hpp"
 #include "schema.hpp"
 
 namespace gyrocal::store {
@@ -14,7 +18,7 @@ SELECT r.run_id, r.outcome, r.reason, r.software_version, r.config_json, r.comma
   r.recorder_version, r.recorder_host, r.started_utime, r.stopped_utime, r.first_recv_utime,
   (SELECT json_group_array(sensor_id) FROM (SELECT sensor_id FROM run_sensors s
      WHERE s.run_id = r.run_id UNION SELECT DISTINCT sensor_id FROM coeff_sets c
-     WHERE c.run_id = r.run_id ORDER BY 1)),
+     WHERE c.run_id = r.run_id ORDER BY 1) AS ids),
   (SELECT coalesce(sum(n_samples), 0) FROM gyro_blocks b WHERE b.run_id = r.run_id),
   (SELECT count(*) FROM encoder_samples e WHERE e.run_id = r.run_id),
   (SELECT count(*) FROM chamber_states c WHERE c.run_id = r.run_id),
@@ -24,7 +28,9 @@ SELECT r.run_id, r.outcome, r.reason, r.software_version, r.config_json, r.comma
   (SELECT count(*) FROM raw_events x WHERE x.run_id = r.run_id),
   (SELECT coalesce(sum(seq_gaps), 0) FROM losses l WHERE l.run_id = r.run_id),
   (SELECT coalesce(sum(decode_errors), 0) FROM losses l WHERE l.run_id = r.run_id),
-  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id)
+  (SELECT coalesce(sum(queue_drops), 0) FROM losses l WHERE l.run_id = r.run_id),
+  coalesce((SELECT o.station_host || ':' || o.station_db FROM run_origins o
+            WHERE o.run_id = r.run_id), '')
 FROM runs r )sql";
 
 RunInfo ReadRun(const Stmt& s) {
@@ -40,7 +46,7 @@ RunInfo ReadRun(const Stmt& s) {
     }
     s.Read(13, r.gyro_samples, r.encoder_samples, r.chamber_states, r.plateaus,
            r.sensitivity_points, r.coeff_sets, r.raw_events, r.seq_gaps, r.decode_errors,
-           r.queue_drops);
+           r.queue_drops, r.station);
     return r;
 }
 
@@ -73,59 +79,105 @@ SensitivityRow ReadSensitivity(const Stmt& s) {
     return p;
 }
 
-ModelRow ReadModel(Db& db, int64_t coeff_row_id, const char* role) {
-    ModelRow m;
-    Stmt s(db,
-           "SELECT quantity, t0_c, temp_min_c, temp_max_c, residual_rms, n_points, "
-           "condition_number, method FROM coeff_models WHERE coeff_row_id = ? AND role = ?");
-    s.Bind(1, coeff_row_id).Bind(2, role);
-    if (s.Step()) {
-        s.Read(0, m.quantity, m.t0_c, m.temp_min_c, m.temp_max_c, m.residual_rms, m.n_points,
-               m.condition_number, m.method);
-    }
-    Stmt t(db,
-           "SELECT term_name, coeff FROM coeff_terms WHERE coeff_row_id = ? AND role = ? "
-           "ORDER BY term_index");
-    t.Bind(1, coeff_row_id).Bind(2, role);
-    while (t.Step()) {
-        m.term_names.push_back(t.Text(0));
-        m.coeffs.push_back(t.Real(1));
-    }
-    const size_t n = m.term_names.size();
-    m.covariance.assign(n, std::vector<double>(n, 0.0));
-    Stmt c(db,
-           "SELECT row_index, col_index, value FROM coeff_covariance WHERE coeff_row_id = ? "
-           "AND role = ?");
-    c.Bind(1, coeff_row_id).Bind(2, role);
-    while (c.Step()) {
-        const auto i = static_cast<size_t>(c.Int(0));
-        const auto j = static_cast<size_t>(c.Int(1));
-        if (i < n && j < n) m.covariance[i][j] = c.Real(2);
-    }
-    return m;
+// The set's model of `role` ("offset", "sensitivity"); nullptr for another role.
+ModelRow* RoleModel(CoeffSetRow& c, const std::string& role) {
+    if (role == "offset") return &c.offset;
+    if (role == "sensitivity") return &c.sensitivity;
+    return nullptr;
 }
 
-CoeffSetInfo ReadCoeffSet(Db& db, const Stmt& s) {
-    // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime
+// The sets of one chunk, by coeff_row_id, and the statement's "(?,?,...)" for them.
+struct SetChunk {
+    std::map<int64_t, CoeffSetRow*> by_id;
+    std::string in;
+    void Bind(Stmt& s) const {
+        int i = 1;
+        for (const auto& [id, set] : by_id) s.Bind(i++, id);
+    }
+};
+
+void ReadModels(Db& db, const SetChunk& k) {
+    Stmt m(db,
+           "SELECT coeff_row_id, role, quantity, t0_c, temp_min_c, temp_max_c, residual_rms, "
+           "n_points, condition_number, method FROM coeff_models WHERE coeff_row_id IN " +
+               k.in);
+    k.Bind(m);
+    while (m.Step()) {
+        if (ModelRow* r = RoleModel(*k.by_id.at(m.Int(0)), m.Text(1)))
+            m.Read(2, r->quantity, r->t0_c, r->temp_min_c, r->temp_max_c, r->residual_rms,
+                   r->n_points, r->condition_number, r->method);
+    }
+    Stmt t(db,
+           "SELECT coeff_row_id, role, term_name, coeff FROM coeff_terms WHERE coeff_row_id IN " +
+               k.in + " ORDER BY coeff_row_id, role, term_index");
+    k.Bind(t);
+    while (t.Step()) {
+        if (ModelRow* r = RoleModel(*k.by_id.at(t.Int(0)), t.Text(1))) {
+            r->term_names.push_back(t.Text(2));
+            r->coeffs.push_back(t.Real(3));
+        }
+    }
+    for (auto& [id, set] : k.by_id) {
+        for (ModelRow* r : {&set->offset, &set->sensitivity}) {
+            const size_t n = r->term_names.size();
+            r->covariance.assign(n, std::vector<double>(n, 0.0));
+        }
+    }
+    Stmt c(db,
+           "SELECT coeff_row_id, role, row_index, col_index, value FROM coeff_covariance "
+           "WHERE coeff_row_id IN " +
+               k.in);
+    k.Bind(c);
+    while (c.Step()) {
+        ModelRow* r = RoleModel(*k.by_id.at(c.Int(0)), c.Text(1));
+        const auto i = static_cast<size_t>(c.Int(2));
+        const auto j = static_cast<size_t>(c.Int(3));
+        if (r && i < r->covariance.size() && j < r->covariance.size())
+            r->covariance[i][j] = c.Real(4);
+    }
+}
+
+void ReadLinks(Db& db, const SetChunk& k) {
+    Stmt p(db, "SELECT coeff_row_id, plateau_id FROM coeff_set_plateaus WHERE coeff_row_id IN " +
+                   k.in + " ORDER BY rowid");
+    k.Bind(p);
+    while (p.Step()) k.by_id.at(p.Int(0))->plateau_ids.push_back(p.Int(1));
+    Stmt r(db, "SELECT coeff_row_id, rotation_id FROM coeff_set_rotations WHERE coeff_row_id IN " +
+                   k.in + " ORDER BY rowid");
+    k.Bind(r);
+    while (r.Step()) k.by_id.at(r.Int(0))->rotation_ids.push_back(r.Int(1));
+}
+
+// The models and links of every set, read for many sets at once (a few statements per 500
+// sets, not eight per set: a history over hundreds of runs at a central database is hundreds of
+// round trips less), in the order one set at a time would give them.
+void ReadSetDetails(Db& db, std::vector<CoeffSetInfo>& sets) {
+    constexpr size_t kChunk = 500;
+    for (size_t first = 0; first < sets.size(); first += kChunk) {
+        SetChunk k;
+        const size_t n = std::min(kChunk, sets.size() - first);
+        for (size_t i = 0; i < n; ++i) k.by_id[sets[first + i].coeff_row_id] = &sets[first + i].set;
+        k.in = "(";
+        for (size_t i = 0; i < k.by_id.size(); ++i) k.in += i ? ",?" : "?";
+        k.in += ")";
+        ReadModels(db, k);
+        ReadLinks(db, k);
+    }
+}
+
+CoeffSetInfo ReadCoeffSet(const Stmt& s) {
+    // Columns: coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime, station
     CoeffSetInfo info;
     CoeffSetRow& c = info.set;
     s.Read(0, info.coeff_row_id, c.run_id, c.sensor_id, c.coeff_set_id, c.source, c.utime,
-           c.recv_utime);
-    c.offset = ReadModel(db, info.coeff_row_id, "offset");
-    c.sensitivity = ReadModel(db, info.coeff_row_id, "sensitivity");
-    const auto first_int = [](const Stmt& row) { return row.Int(0); };
-    c.plateau_ids = SelectAll(
-        db, "SELECT plateau_id FROM coeff_set_plateaus WHERE coeff_row_id = ? ORDER BY rowid",
-        info.coeff_row_id, first_int);
-    c.rotation_ids = SelectAll(
-        db, "SELECT rotation_id FROM coeff_set_rotations WHERE coeff_row_id = ? ORDER BY rowid",
-        info.coeff_row_id, first_int);
+           c.recv_utime, info.station);
     return info;
 }
 
 constexpr const char* kCoeffColumns =
-    "SELECT coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime "
-    "FROM coeff_sets c ";
+    "SELECT coeff_row_id, run_id, sensor_id, coeff_set_id, source, utime, recv_utime, "
+    "coalesce((SELECT o.station_host || ':' || o.station_db FROM run_origins o "
+    "WHERE o.run_id = c.run_id), '') FROM coeff_sets c ";
 // Keeps the newest row of each (run, sensor, source): the set in force at the end of a run.
 constexpr const char* kFinalOnly =
     " AND c.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets d WHERE d.run_id = c.run_id "
@@ -134,8 +186,10 @@ constexpr const char* kFinalOnly =
 // The coefficient sets (with their models and links) that kCoeffColumns + `where`, its one
 // parameter bound to `key`, selects, in its order.
 std::vector<CoeffSetInfo> QueryCoeffSets(Db& db, const std::string& where, const std::string& key) {
-    return SelectAll(db, std::string(kCoeffColumns) + where, key,
-                     [&db](const Stmt& s) { return ReadCoeffSet(db, s); });
+    std::vector<CoeffSetInfo> sets =
+        SelectAll(db, std::string(kCoeffColumns) + where, key, ReadCoeffSet);
+    ReadSetDetails(db, sets);
+    return sets;
 }
 
 }  // namespace
@@ -160,6 +214,7 @@ RunEventRow ReadRunEvent(const Stmt& s, int first) {
 }
 
 std::unique_ptr<Db> OpenForQuery(const std::string& path) {
+    if (IsCentralUrl(path)) return OpenCentralForQuery(path);
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
         throw StoreError("database '" + path + "' does not exist (use --db FILE)");
@@ -195,12 +250,12 @@ std::unique_ptr<Db> OpenForQuery(const std::string& path) {
 
 std::vector<RunInfo> ListRuns(Db& db, const RunFilter& f) {
     std::string sql = std::string(kRunColumns) + R"sql(
-WHERE (?1 IS NULL OR EXISTS (SELECT 1 FROM run_sensors s WHERE s.run_id = r.run_id AND s.sensor_id = ?1)
+WHERE (CAST(?1 AS TEXT) IS NULL OR EXISTS (SELECT 1 FROM run_sensors s WHERE s.run_id = r.run_id AND s.sensor_id = ?1)
        OR EXISTS (SELECT 1 FROM gyro_blocks b WHERE b.run_id = r.run_id AND b.sensor_id = ?1)
        OR EXISTS (SELECT 1 FROM coeff_sets c WHERE c.run_id = r.run_id AND c.sensor_id = ?1))
-  AND (?2 IS NULL OR r.first_recv_utime >= ?2)
-  AND (?3 IS NULL OR r.first_recv_utime < ?3)
-  AND (?4 IS NULL OR r.outcome = ?4)
+  AND (CAST(?2 AS BIGINT) IS NULL OR r.first_recv_utime >= ?2)
+  AND (CAST(?3 AS BIGINT) IS NULL OR r.first_recv_utime < ?3)
+  AND (CAST(?4 AS TEXT) IS NULL OR r.outcome = ?4)
 ORDER BY (r.run_id = '') ASC, r.first_recv_utime DESC, r.rowid DESC)sql";
     Stmt s(db, sql);
     if (f.sensor_id) s.Bind(1, *f.sensor_id);
@@ -330,6 +385,17 @@ std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id) {
                           "ORDER BY d.recv_utime DESC, d.coeff_row_id DESC LIMIT 1) "
                           "ORDER BY c.sensor_id",
                           run_id);
+}
+
+std::vector<CoeffSetInfo> NewestSetOfEachSensor(Db& db) {
+    // Newest = latest recv_utime, ties by insertion (SensorHistory's order); sets outside any run
+    // (the run '') are not calibrations.
+    return QueryCoeffSets(db,
+                          "WHERE c.run_id != ?1 AND c.coeff_row_id = (SELECT d.coeff_row_id FROM "
+                          "coeff_sets d WHERE d.sensor_id = c.sensor_id AND d.run_id != ?1 "
+                          "ORDER BY d.recv_utime DESC, d.coeff_row_id DESC LIMIT 1) "
+                          "ORDER BY c.sensor_id",
+                          "");
 }
 
 std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {

@@ -40,6 +40,9 @@ struct RunInfo {
     int64_t gyro_samples = 0, encoder_samples = 0, chamber_states = 0, plateaus = 0,
             sensitivity_points = 0, coeff_sets = 0, raw_events = 0;
     int64_t seq_gaps = 0, decode_errors = 0, queue_drops = 0;
+    // At a central database: the station the run was pushed from ("host:file", run_origins);
+    // "" in a station's own file.
+    std::string station;
 };
 
 struct LossInfo {
@@ -49,7 +52,8 @@ struct LossInfo {
 
 struct CoeffSetInfo {
     int64_t coeff_row_id = 0;
-    CoeffSetRow set;  // models, links, ids
+    CoeffSetRow set;      // models, links, ids
+    std::string station;  // at a central database: the run's station ("host:file"); else ""
 };
 
 struct RunDetail {
@@ -85,6 +89,10 @@ std::vector<CoeffSetInfo> RunFinalCoeffs(Db& db, const std::string& run_id);
 // The newest coefficient set of each sensor of a run, whatever its source (what an export of
 // the run gives: an analysis' extended model stored after the fitter's set wins). Throws NotFound.
 std::vector<CoeffSetInfo> RunNewestCoeffs(Db& db, const std::string& run_id);
+
+// The newest coefficient set of every sensor recorded in a run, whatever its source (as an export
+// of the sensor gives), by sensor: the fleet view's units.
+std::vector<CoeffSetInfo> NewestSetOfEachSensor(Db& db);
 
 // Provenance of a coefficient set: each plateau/rotation and how many raw samples it covers.
 struct ProvenanceItem {

@@ -194,6 +194,19 @@ struct FitReportRow {
     int64_t recv_utime = 0;
 };
 
+// ANALYSIS_<id>: the fitter's closed loop on every still sample (stored in `analyses`, linked to
+// the coefficient set it made: (run_id, sensor_id, coeff_set_id, source)).
+struct ClosedLoopRow {
+    std::string run_id, sensor_id, source;
+    int64_t utime = 0, coeff_set_id = -1;
+    bool is_final = false;
+    std::string outcome, headline, candidates_json, added_json, result_json;
+    double offset_rms_v_before = 0, offset_rms_v_after = 0, rate_rms_dps_before = 0,
+           rate_rms_dps_after = 0, drift_dph_before = 0, drift_dph_after = 0,
+           floor_rate_rms_dps = 0, floor_drift_dph = 0;
+    int64_t recv_utime = 0;
+};
+
 // Loss counts to ADD to losses(run_id, channel); never dropped by the queue.
 struct LossDelta {
     int64_t seq_gaps = 0, seq_backwards = 0, decode_errors = 0, queue_drops = 0;
@@ -209,9 +222,9 @@ struct LossDelta {
     }
 };
 
-using Row = std::variant<GyroRow, EncoderRow, ChamberStateRow, ChamberCmdRow, TurntableCmdRow,
-                         PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow,
-                         StatusRow, RunEventRow, RawEventRow, PowerStateRow, NoiseRow,
-                         FitReportRow>;
+using Row =
+    std::variant<GyroRow, EncoderRow, ChamberStateRow, ChamberCmdRow, TurntableCmdRow,
+                 PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow, StatusRow,
+                 RunEventRow, RawEventRow, PowerStateRow, NoiseRow, FitReportRow, ClosedLoopRow>;
 
 }  // namespace gyrocal::store

@@ -428,7 +428,36 @@ SELECT a.analysis_id, a.run_id, a.sensor_id, a.created_wall_utime,
 FROM analyses a LEFT JOIN coeff_sets c ON c.coeff_row_id = a.coeff_row_id;
 )sql";
 
-constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5, kV6, kV7, kV8};
+// v8 -> v9: a lab's central database (store/db/central_db.hpp). A station records each push of a
+// run in `pushes` (so that `gyrocal push` with no run knows what is new); the centre records in
+// `run_origins` where each run came from and the run_key its rows' ids are offset by. Both tables
+// are in every database (the central schema is this one): each side fills its own.
+constexpr std::string_view kV9 = R"sql(
+CREATE TABLE pushes (
+  push_id INTEGER PRIMARY KEY,
+  run_id TEXT NOT NULL,
+  central TEXT NOT NULL,              -- the central database's URL, without credentials
+  pushed_wall_utime INTEGER NOT NULL, -- [us] wall clock when the centre committed
+  run_outcome TEXT NOT NULL,          -- the run's outcome then ('running': pushed while open)
+  run_mark TEXT NOT NULL,             -- what the run held then (outcome, newest ids); a run
+                                      -- whose mark changed since has something new to push
+  rows_added INTEGER NOT NULL,        -- [count] rows this push added at the centre
+  rows_updated INTEGER NOT NULL);     -- [count] rows it changed there (runs, losses of an open run)
+CREATE INDEX pushes_run ON pushes(central, run_id);
+
+CREATE TABLE run_origins (
+  run_key INTEGER PRIMARY KEY,        -- the run's number at the centre: each of its rows' ids is
+                                      -- run_key * 10^12 + the station's row id
+  run_id TEXT NOT NULL UNIQUE,
+  station_host TEXT NOT NULL,         -- host name of the station that pushed it
+  station_db TEXT NOT NULL,           -- the station's database file (absolute path)
+  station_software_version TEXT NOT NULL,
+  station_schema_version INTEGER NOT NULL,
+  first_pushed_wall_utime INTEGER NOT NULL);  -- [us] wall clock of its first push
+)sql";
+
+constexpr std::array<std::string_view, kSchemaVersion> kSteps = {kV1, kV2, kV3, kV4, kV5,
+                                                                 kV6, kV7, kV8, kV9};
 
 bool IsGyrocalDb(Db& db) {
     Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE name = 'gyrocal_meta'");
@@ -470,6 +499,13 @@ FileState ReadFileState(Db& db) {
 }
 
 }  // namespace
+
+std::string_view SchemaStep(int from_version) {
+    if (from_version < 0 || from_version >= kSchemaVersion) {
+        throw StoreError("no schema step from version " + std::to_string(from_version));
+    }
+    return kSteps[static_cast<size_t>(from_version)];
+}
 
 void ConfigureConnection(Db& db) {
     // A new file's switch to WAL needs an exclusive lock, and SQLite returns "locked" at once

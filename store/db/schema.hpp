@@ -14,17 +14,25 @@
 //   v4: analyses (+ v_analyses), coeff_sets_key (one row per run/sensor/coeff_set_id/source);
 //       no per-row index on rates (it would halve the insert rate of the recorder's mix)
 //   v7: analyses.outcome (backfilled from result_json), v_analyses shows it
+//   v9: pushes (a station's record of what it pushed to a central database) and run_origins (the
+//       centre's record of where each run came from); the central database runs these same steps
+//       translated to PostgreSQL (central_schema.cpp)
 #include <string>
+#include <string_view>
 
 #include "sqlite_db.hpp"
 
 namespace gyrocal::store {
 
-inline constexpr int kSchemaVersion = 8;
+inline constexpr int kSchemaVersion = 9;
 
 // Brings `db` to `target_version` (default: current). Throws StoreError naming the file when the
 // file is not a gyrocal database, is newer than this software, or a step fails.
 void Migrate(Db& db, int target_version = kSchemaVersion);
+
+// The SQL of the step from `from_version` to from_version + 1, as SQLite runs it (the central
+// schema translates the same text). Throws StoreError outside 0..kSchemaVersion-1.
+std::string_view SchemaStep(int from_version);
 
 // Sets WAL journal, NORMAL sync (a committed transaction survives a process crash; only an OS
 // crash or power loss may lose the last commits) and foreign keys off (the recorder never

@@ -2,9 +2,16 @@
 // A thin RAII layer over the SQLite C API: one connection (Db) and prepared statements (Stmt)
 // with bound parameters only. Every failure throws StoreError whose what() names the database
 // file and the SQL that failed, so callers can print one clear line.
+//
+// The same Db and Stmt also run the store's queries on a central PostgreSQL database (a Db made
+// by ConnectCentral, central_db.hpp): the query code is written once, in the SQL both engines
+// agree on (bound parameters as ?N, CAST(? AS TEXT) where a parameter is only tested for NULL,
+// an alias on every subquery in FROM), and the engine behind a Db is a DbBackend (db_backend.hpp).
+// A Db opened on a file has no backend object: SQLite is called directly, as before.
 #include <sqlite3.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -41,23 +48,31 @@ std::string StorageFaultName(int sqlite_code, int os_errno = 0);
 std::string StorageFaultName(const StoreError& e);
 
 class Stmt;
+class DbBackend;
+class StmtBackend;
 
 class Db {
 public:
     enum class Mode { kReadWriteCreate, kReadWrite, kReadOnly };
     // Opens `path`; throws StoreError naming the path when it cannot.
     Db(const std::string& path, Mode mode);
+    // A connection through another engine (the central PostgreSQL database); `name` is what
+    // messages call it (a URL without its credentials).
+    Db(std::string name, std::unique_ptr<DbBackend> backend);
     Db(const Db&) = delete;
     Db& operator=(const Db&) = delete;
     ~Db();
 
     void Exec(std::string_view sql);  // one or more statements, no parameters
     Stmt Prepare(std::string_view sql);
-    int64_t LastInsertRowId() const;
+    int64_t LastInsertRowId() const;  // SQLite only
     int UserVersion();
-    void SetUserVersion(int version);
+    void SetUserVersion(int version);  // SQLite only
+    // The file, or for a central database its URL without credentials (safe to print).
     const std::string& path() const { return path_; }
-    sqlite3* raw() const { return db_; }
+    sqlite3* raw() const { return db_; }  // nullptr for a central database
+    // The engine behind a central database; nullptr for an SQLite file.
+    DbBackend* backend() const { return backend_.get(); }
     // Throws StoreError: "database 'PATH': WHAT: SQLite's message" with the extended code, and the
     // OS error behind an I/O, disk-full or open failure.
     [[noreturn]] void Fail(std::string_view what) const;
@@ -69,6 +84,7 @@ public:
 private:
     std::string path_;
     sqlite3* db_ = nullptr;
+    std::unique_ptr<DbBackend> backend_;
 };
 
 // A prepared statement. Bind indexes are 1-based as in SQLite. Step() returns true while rows
@@ -135,6 +151,7 @@ private:
     Db* db_;
     sqlite3_stmt* stmt_ = nullptr;
     std::string sql_;
+    std::unique_ptr<StmtBackend> be_;  // set for a central database, instead of stmt_
 };
 
 // The rows `sql` selects with `key` bound to ?1, each made by read_row(stmt), in order.
@@ -147,7 +164,8 @@ auto SelectAll(Db& db, std::string_view sql, const Key& key, ReadRow read_row) {
     return out;
 }
 
-// BEGIN IMMEDIATE ... COMMIT, rolled back when destroyed without Commit().
+// BEGIN IMMEDIATE ... COMMIT, rolled back when destroyed without Commit() (on a central database:
+// BEGIN ... COMMIT).
 class Transaction {
 public:
     explicit Transaction(Db& db);

@@ -11,6 +11,7 @@
 #include <variant>
 
 #include "analyses.hpp"
+#include "central_url.hpp"
 #include "schema.hpp"
 
 namespace gyrocal::store {
@@ -269,7 +270,8 @@ template <class R>
 constexpr bool kRegistersSensor =
     std::is_same_v<R, GyroRow> || std::is_same_v<R, PlateauRow> ||
     std::is_same_v<R, SensitivityRow> || std::is_same_v<R, CoeffSetRow> ||
-    std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow>;
+    std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow> ||
+    std::is_same_v<R, ClosedLoopRow>;
 
 // One INSERT per row type, bound in the column order of the statements prepared above.
 void Insert(Stmt& s, const EncoderRow& e) {
@@ -377,6 +379,7 @@ void StoreWriter::WriteOne(const Row& row) {
         [this](const RunEventRow& ev) { WriteRunEvent(ev); },
         [this](const NoiseRow& n) { WriteNoise(n); },
         [this](const FitReportRow& f) { WriteFitReport(f); },
+        [this](const ClosedLoopRow& a) { WriteClosedLoop(a); },
         [this](const PlateauRow& p) { Insert(st_->plateau, p); },
         [this](const SensitivityRow& sp) { Insert(st_->sensitivity, sp); },
         [this](const EncoderRow& e) { Insert(st_->encoder, e); },
@@ -406,16 +409,20 @@ void StoreWriter::NoteBlock(const GyroRow& g, int64_t rowid) {
 }
 
 void StoreWriter::WriteRunEvent(const RunEventRow& r) {
+    // A central database URL in a run's configuration or command line (e.g. a recorder told to
+    // push) is stored without its password.
+    const std::string config = WithoutCredentialsIn(r.config_json);
+    const std::string command = WithoutCredentialsIn(r.command_line);
     Stmt& s = st_->run_event;
     s.Bind(1, r.run_id).Bind(2, r.utime).Bind(3, r.event).Bind(4, r.reason);
     s.Bind(5, r.setpoint_index).Bind(6, r.setpoint_c);
     s.Bind(7, nlohmann::json(r.sensor_ids).dump()).Bind(8, r.software_version);
-    s.Bind(9, r.config_json).Bind(10, r.command_line).Bind(11, r.host).Bind(12, r.recv_utime);
+    s.Bind(9, config).Bind(10, command).Bind(11, r.host).Bind(12, r.recv_utime);
     s.Run();
     if (r.event == "start") {
         Stmt& u = st_->run_start;
-        u.Bind(1, r.run_id).Bind(2, r.utime).Bind(3, r.software_version).Bind(4, r.config_json);
-        u.Bind(5, r.command_line).Bind(6, r.host).Bind(7, info_.recorder_version);
+        u.Bind(1, r.run_id).Bind(2, r.utime).Bind(3, r.software_version).Bind(4, config);
+        u.Bind(5, command).Bind(6, r.host).Bind(7, info_.recorder_version);
         u.Bind(8, info_.host).Bind(9, r.recv_utime).Run();
         for (const auto& id : r.sensor_ids) st_->run_sensor.Bind(1, r.run_id).Bind(2, id).Run();
     } else if (r.event == "stop" || r.event == "abort") {

@@ -79,6 +79,7 @@ private:
     void WriteCoeffSet(const CoeffSetRow& r);
     void WriteNoise(const NoiseRow& r);          // writer_fit.cpp
     void WriteFitReport(const FitReportRow& r);  // writer_fit.cpp
+    void WriteClosedLoop(const ClosedLoopRow& r);  // writer_fit.cpp
 
     std::string path_;
     WriterInfo info_;

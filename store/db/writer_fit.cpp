@@ -1,8 +1,9 @@
 // StoreWriter: the fitter's reports and the units' noise estimates (schema v5). Few rows per run,
 // so the statements are prepared per call (no effect on the sample path's rate).
-#include "writer.hpp"
-
 #include <limits>
+
+#include "analyses.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::store {
 
@@ -58,6 +59,42 @@ void StoreWriter::WriteFitReport(const FitReportRow& r) {
         q.Bind(11, e.offset_diff_v).Bind(12, e.offset_diff_stderr_v).Bind(13, e.offset_diff_dps);
         q.Bind(14, e.offset_diff_stderr_dps).Bind(15, e.z).Bind(16, e.verdict).Run();
     }
+}
+
+}  // namespace gyrocal::store
+
+namespace gyrocal::store {
+
+// The fitter's closed loop: one analyses row per message, linked to the set it made when that set
+// is stored (the fitter publishes the set first, so it is in this batch or an earlier one).
+void StoreWriter::WriteClosedLoop(const ClosedLoopRow& r) {
+    AnalysisRow a;
+    a.run_id = r.run_id;
+    a.sensor_id = r.sensor_id;
+    a.created_wall_utime = r.recv_utime;
+    a.software_version = info_.recorder_version;
+    a.command_line = "gyrocal-fitter closed loop (sets of source " + r.source + ", " +
+                     (r.is_final ? "final" : "during the run") + ")";
+    a.verdict = r.headline;
+    a.outcome = r.outcome;
+    a.candidates_json = r.candidates_json;
+    a.added_json = r.added_json;
+    a.offset_rms_v_before = r.offset_rms_v_before;
+    a.offset_rms_v_after = r.offset_rms_v_after;
+    a.rate_rms_dps_before = r.rate_rms_dps_before;
+    a.rate_rms_dps_after = r.rate_rms_dps_after;
+    a.drift_dph_before = r.drift_dph_before;
+    a.drift_dph_after = r.drift_dph_after;
+    a.floor_rate_rms_dps = r.floor_rate_rms_dps;
+    a.result_json = r.result_json;
+    if (r.coeff_set_id >= 0) {
+        Stmt find(*db_,
+                  "SELECT coeff_row_id FROM coeff_sets WHERE run_id = ? AND sensor_id = ? AND "
+                  "coeff_set_id = ? AND source = ? ORDER BY coeff_row_id LIMIT 1");
+        find.Bind(1, r.run_id).Bind(2, r.sensor_id).Bind(3, r.coeff_set_id).Bind(4, r.source);
+        if (find.Step()) a.coeff_row_id = find.Int(0);
+    }
+    InsertAnalysisRow(*db_, a);
 }
 
 }  // namespace gyrocal::store

@@ -30,6 +30,10 @@ int main(int argc, char** argv) {
             "REGEX"))
         ->capture_default_str();
     app.add_flag("--no-rates", o.no_rates, "do not store RATE_* (compensated rate) messages");
+    app.add_option("--push-to", o.push_to,
+                   "central database postgresql://...: when a run ends, push it there in the "
+                   "background (gyrocal push; recording never waits on it; password from "
+                   "PGPASSFILE rather than the URL)");
     app.add_option("--queue-rows", o.queue_rows,
                    "rows held in memory (queued, or waiting for a blocked database) before dropping")
         ->check(CLI::Range(size_t{1000}, size_t{100000000}))->capture_default_str();

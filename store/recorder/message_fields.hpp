@@ -11,6 +11,7 @@
 // store/db stays free of LCM: this header is the recorder's.
 #include <concepts>
 
+#include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
@@ -168,6 +169,30 @@ void CopyFields(To& to, const From& from) {
     to.sensitivity_stderr_v_per_dps = from.sensitivity_stderr_v_per_dps;
     to.accepted = from.accepted;
     to.reject_reason = from.reject_reason;
+}
+
+template <class To, class From>
+requires RowAndMessage<To, From, store::ClosedLoopRow, analysis_t>
+void CopyFields(To& to, const From& from) {
+    to.utime = from.utime;
+    to.sensor_id = from.sensor_id;
+    to.run_id = from.run_id;
+    to.coeff_set_id = from.coeff_set_id;
+    to.source = from.source;
+    to.is_final = from.is_final;
+    to.outcome = from.outcome;
+    to.headline = from.headline;
+    to.offset_rms_v_before = from.offset_rms_v_before;
+    to.offset_rms_v_after = from.offset_rms_v_after;
+    to.rate_rms_dps_before = from.rate_rms_dps_before;
+    to.rate_rms_dps_after = from.rate_rms_dps_after;
+    to.drift_dph_before = from.drift_dph_before;
+    to.drift_dph_after = from.drift_dph_after;
+    to.floor_rate_rms_dps = from.floor_rate_rms_dps;
+    to.floor_drift_dph = from.floor_drift_dph;
+    to.candidates_json = from.candidates_json;
+    to.added_json = from.added_json;
+    to.result_json = from.result_json;
 }
 
 // The models are the conversion's own (a row's ModelRow, a message's model_t with length fields).

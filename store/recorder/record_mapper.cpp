@@ -63,7 +63,8 @@ template <class R>
 void StampRun(R& r, const std::string& run_id) {
     if constexpr (std::is_same_v<R, PlateauRow> || std::is_same_v<R, SensitivityRow> ||
                   std::is_same_v<R, CoeffSetRow> || std::is_same_v<R, RunEventRow> ||
-                  std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow>) {
+                  std::is_same_v<R, NoiseRow> || std::is_same_v<R, FitReportRow> ||
+                  std::is_same_v<R, ClosedLoopRow>) {
         (void)r;
         (void)run_id;
     } else {
@@ -143,7 +144,7 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         StampRun(row, run_id_);
         row.recv_utime = recv_utime;
         if constexpr (std::is_same_v<Msg, coeff_set_t> || std::is_same_v<Msg, fit_report_t> ||
-                      std::is_same_v<Msg, noise_t>)
+                      std::is_same_v<Msg, noise_t> || std::is_same_v<Msg, analysis_t>)
             out.essential = true;
         out.row = std::move(row);
         return true;
@@ -160,7 +161,7 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
         try_type(turntable_cmd_t{}, TurntableCmdRow{}) ||
         try_type(plateau_state_t{}, PlateauStateRow{}) ||
         try_type(power_state_t{}, PowerStateRow{}) || try_type(noise_t{}, NoiseRow{}) ||
-        try_type(fit_report_t{}, FitReportRow{});
+        try_type(fit_report_t{}, FitReportRow{}) || try_type(analysis_t{}, ClosedLoopRow{});
     if (!known) raw("unknown_type");
     return out;
 }

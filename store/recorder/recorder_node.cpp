@@ -4,11 +4,12 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <variant>
 
 #include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
 #include "gyrocal/version.hpp"
 #include "open_run.hpp"
+#include "runtime/shutdown.hpp"
 
 namespace gyrocal::record {
 
@@ -49,7 +50,8 @@ RecorderNode::RecorderNode(const RecorderOptions& o, std::unique_ptr<store::Stor
       mapper_(MapperOptions{!o.no_rates}, OpenRunOnBus(store_->db(), bus_.url())),
       writer_(*store_, store::AsyncWriterOptions{o.queue_rows, o.batch_rows,
                                                  std::chrono::milliseconds(o.batch_ms)}),
-      watch_(o.queue_rows) {
+      watch_(o.queue_rows),
+      push_(o.push_to, o.db_path) {
     store_->BeginSession(WallUtime(), mapper_.current_run());
     if (!mapper_.current_run().empty()) {
         SeedSeqs(mapper_.current_run());
@@ -73,6 +75,7 @@ int RecorderNode::Finish() {
            bus_.Handle(std::chrono::milliseconds(0))) {
     }
     writer_.Stop();
+    for (const auto& line : push_.Poll()) std::cerr << kRecorderProcess << ": " << line << "\n";
     Publish();
     if (writer_.failed()) {
         const store::AsyncWriterStats s = writer_.stats();
@@ -111,6 +114,11 @@ void RecorderNode::OnMessage(const lcm::ReceiveBuffer& rbuf, const std::string& 
         status_.Reject("decode_error", "channel " + channel + ": known fingerprint " +
                                            "that does not decode; kept in raw_events");
     }
+    if (push_.enabled() && m.row) {  // a run's end: pushed once its stop is committed
+        if (const auto* e = std::get_if<store::RunEventRow>(&*m.row);
+            e && (e->event == "stop" || e->event == "abort"))
+            push_.RunEnded(e->run_id);
+    }
     if (m.row && !writer_.Push(std::move(*m.row), channel, m.essential)) {
         status_.AddQueueDrops(1);
     }
@@ -123,6 +131,7 @@ bool RecorderNode::Poll() {
     if (now - last_poll_ > std::chrono::milliseconds(250)) {
         last_poll_ = now;
         Publish();
+        for (const auto& line : push_.Poll()) std::cerr << kRecorderProcess << ": " << line << "\n";
     }
     return writer_.failed();
 }

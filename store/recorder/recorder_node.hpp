@@ -7,7 +7,8 @@
 // the AsyncWriter's bounded queue; the writer thread commits batches (every batch_rows rows or
 // batch_ms ms, whichever first). On SIGINT/SIGTERM RunLoop returns and Finish() dispatches the
 // messages LCM already received (up to 2 s), the writer commits everything queued and the
-// session is closed.
+// session is closed. With --push-to, a run's end starts a `gyrocal push` process that the
+// recorder never waits on (background_push.hpp).
 // Crash loss bound: a SIGKILL loses at most what arrived in the last batch_ms plus one commit;
 // committed data and the file's integrity survive (WAL).
 #include <chrono>
@@ -16,9 +17,10 @@
 #include <string>
 
 #include "async_writer.hpp"
+#include "background_push.hpp"
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "record_mapper.hpp"
+#include "runtime/status.hpp"
 #include "writer.hpp"
 #include "writer_watch.hpp"
 
@@ -34,6 +36,7 @@ struct RecorderOptions {
     size_t queue_rows = 100000;  // rows held in memory (544 bytes per held row)
     size_t batch_rows = 1000;
     int batch_ms = 200;
+    std::string push_to;  // central database URL: push each run when it ends ("" = never)
     static RecorderOptions Defaults() { return {}; }
 };
 
@@ -71,6 +74,7 @@ private:
     RecordMapper mapper_;
     store::AsyncWriter writer_;
     WriterWatch watch_;
+    BackgroundPush push_;
     std::chrono::steady_clock::time_point last_poll_{};
 };
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "central_url.hpp"
 #include "figures.hpp"
 #include "html.hpp"
 #include "utc_text.hpp"
@@ -48,7 +49,7 @@ ReportResult WriteReport(const ReportOptions& o) {
     result.figures = static_cast<int>(figures.size());
 
     in.software_version = o.software_version;
-    in.database = o.db;
+    in.database = store::WithoutCredentials(o.db);
     const int64_t now_us = std::chrono::duration_cast<std::chrono::microseconds>(
                                std::chrono::system_clock::now().time_since_epoch())
                                .count();

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <tuple>
 
 #include "model/inputs.hpp"
 #include "model_rows.hpp"
@@ -97,9 +99,10 @@ int64_t TimeOrigin(const store::RunDetail& d) {
 
 namespace {
 
-// The unit's calibration, evaluable (either may be missing or unusable).
+// The unit's calibration, evaluable (either may be missing or unusable), and the plateau set
+// beside a final set fitted on every still sample.
 struct Fits {
-    std::optional<model::Evaluator> off, sens;
+    std::optional<model::Evaluator> off, sens, plateau_off;
     std::vector<int64_t> used_plateaus;
 };
 
@@ -125,7 +128,18 @@ void OffsetFigures(const UnitData& u, const std::string& stem, double slow_dps, 
     if (fit.off) {
         const plot::Table c = Curve(*fit.off, stem + "_offset_fit", 1.0, false);
         AddSeries(fo, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
-        AddSeries(fo, c, {"", plot::Style::kLines, {1, 2}, "fitted offset", "#1f77b4"});
+        AddSeries(fo, c,
+                  {"",
+                   plot::Style::kLines,
+                   {1, 2},
+                   fit.plateau_off ? "final set (every still sample)" : "fitted offset",
+                   "#1f77b4"});
+    }
+    if (fit.plateau_off) {
+        const plot::Table c = Curve(*fit.plateau_off, stem + "_offset_plateau_fit", 1.0, false);
+        AddSeries(
+            fo, c,
+            {"", plot::Style::kLines, {1, 2}, "plateau set (plateau means only)", "#ff7f0e", 2});
     }
     AddSeries(fo, pts, {"", plot::Style::kErrorBars, {1, 2, 3}, "plateau means", "#d62728"});
     if (!fo.series.empty()) figures.push_back(fo);
@@ -186,6 +200,38 @@ void SensitivityFigures(const UnitData& u, const std::string& stem, const Fits& 
     figures.push_back(fr);
 }
 
+// The still bins' offset residual before (declared model) and after (the final set) from the
+// analysis that made the final set ("residual_bins" of its JSON: time_h, temp_c, resid_before_mv,
+// resid_after_mv), against time and temperature.
+void ClosedLoopFigures(const UnitData& u, const std::string& stem,
+                       std::vector<plot::Figure>& figures) {
+    if (!u.final_analysis) return;
+    const auto j = nlohmann::json::parse(u.final_analysis->result_json, nullptr, false);
+    if (!j.is_object() || !j.contains("residual_bins") || !j["residual_bins"].contains("rows"))
+        return;
+    plot::Table t{stem + "_loop_resid",
+                  "still bins: residual of the declared model and of the final set",
+                  {"time_h", "temp_c", "resid_before_mv", "resid_after_mv"},
+                  {}};
+    for (const auto& row : j["residual_bins"]["rows"]) {
+        if (!row.is_array() || row.size() != 4) continue;
+        std::vector<double> r;
+        for (const auto& v : row) r.push_back(v.is_number() ? v.get<double>() : NAN);
+        t.rows.push_back(r);
+    }
+    const std::string& id = u.sensor_id;
+    for (const auto& [suffix, x, xlabel] :
+         {std::tuple{"_loop_resid_time", 1, "time since the first sample [h]"},
+          std::tuple{"_loop_resid_temp", 2, "temperature [degC]"}}) {
+        plot::Figure f =
+            Base(stem + suffix, id + ": still-bin residual before and after the closed loop",
+                 xlabel, "bin mean - model [mV]");
+        AddSeries(f, t, {"", plot::Style::kPoints, {x, 3}, "declared model (before)", "#7f7f7f"});
+        AddSeries(f, t, {"", plot::Style::kPoints, {x, 4}, "final set (after)", "#1f77b4"});
+        if (!f.series.empty()) figures.push_back(f);
+    }
+}
+
 }  // namespace
 
 std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0) {
@@ -195,9 +241,14 @@ std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem
         fit.sens = EvaluatorOf(u.calibration->set.sensitivity);
         fit.used_plateaus = u.calibration->set.plateau_ids;
     }
+    if (u.plateau_set) {
+        fit.plateau_off = EvaluatorOf(u.plateau_set->set.offset);
+        fit.used_plateaus = u.plateau_set->set.plateau_ids;
+    }
     std::vector<plot::Figure> figures;
     OffsetFigures(u, stem, slow_dps, t0, fit, figures);
     SensitivityFigures(u, stem, fit, figures);
+    ClosedLoopFigures(u, stem, figures);
     return figures;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "html.hpp"
+#include "model/convert.hpp"
 #include "model/terms.hpp"
 #include "text/number.hpp"
 #include "utc_text.hpp"
@@ -93,17 +94,33 @@ std::string SetHtml(const store::CoeffSetInfo& set, const std::string& role) {
            ModelTable(set.set.sensitivity) + "</div>\n";
 }
 
+// What a set is, for people (model/convert.hpp names the sources).
+std::string Role(const UnitContext& c, const store::CoeffSetInfo& set) {
+    const bool final = c.unit.calibration && set.coeff_row_id == c.unit.calibration->coeff_row_id;
+    if (set.set.source == model::kClosedLoopSource)
+        return final ? "Final set (closed loop: every still sample, the terms the data confirm)"
+                     : "Closed-loop set (not the final one)";
+    if (c.unit.plateau_set && set.coeff_row_id == c.unit.plateau_set->coeff_row_id)
+        return "Plateau set (plateau means only; the final set is fitted on every still sample)";
+    return final ? "Calibration" : "Also stored";
+}
+
 Section Coefficients(const UnitContext& c) {
     Section s{"coefficients", "Coefficients", ""};
-    if (c.unit.calibration) s.html += SetHtml(*c.unit.calibration, "Calibration");
-    for (const auto& other : c.unit.other_sets) s.html += SetHtml(other, "Also stored");
+    if (c.unit.calibration) s.html += SetHtml(*c.unit.calibration, Role(c, *c.unit.calibration));
+    if (c.unit.plateau_set) s.html += SetHtml(*c.unit.plateau_set, Role(c, *c.unit.plateau_set));
+    for (const auto& other : c.unit.other_sets)
+        if (!c.unit.plateau_set || other.coeff_row_id != c.unit.plateau_set->coeff_row_id)
+            s.html += SetHtml(other, Role(c, other));
     if (s.html.empty()) s.html = html::NotMeasured("no coefficient set was stored for this unit");
     return s;
 }
 
+// In the plateau set (the calibration itself when there is no other).
 bool InSet(const UnitContext& c, int64_t plateau_id) {
-    if (!c.unit.calibration) return false;
-    const auto& ids = c.unit.calibration->set.plateau_ids;
+    const auto& set = c.unit.plateau_set ? c.unit.plateau_set : c.unit.calibration;
+    if (!set) return false;
+    const auto& ids = set->set.plateau_ids;
     return std::find(ids.begin(), ids.end(), plateau_id) != ids.end();
 }
 
@@ -149,7 +166,7 @@ Section Refusals(const UnitContext& c) {
         if (c.unit.calibration && !InSet(c, p.plateau_id))
             items += "<li>plateau " + std::to_string(p.plateau_id) + " at " +
                      text::PrintfOrDash("%.2f", p.temp_mean_c) +
-                     " degC is not in the final coefficient set</li>\n";
+                     " degC is not in the plateau set</li>\n";
     if (!c.unit.analyses.empty()) {
         const auto j = nlohmann::json::parse(c.unit.analyses.back().result_json, nullptr, false);
         if (j.is_object() && j.contains("could_not_test") && j["could_not_test"].is_array())
@@ -177,7 +194,9 @@ Section Analysis(const UnitContext& c) {
         s.html = html::NotMeasured("no analysis: gyrocal analyze " + c.run.run.run_id);
         return s;
     }
-    const store::AnalysisRow& a = c.unit.analyses.back();
+    // The analysis that made the final set (the calibration's closed loop), else the newest.
+    const store::AnalysisRow& a =
+        c.unit.final_analysis ? *c.unit.final_analysis : c.unit.analyses.back();
     const auto j = nlohmann::json::parse(a.result_json, nullptr, false);
     const auto expected = [&](const char* key) -> double {
         if (!j.is_object() || !j.contains("expected_after") || !j["expected_after"].contains(key)) return NAN;
@@ -199,8 +218,12 @@ Section Analysis(const UnitContext& c) {
            html::Number(expected("rate_rms_dps"), "%.4g")});
     t.Row({html::Text("drift [deg/h]"), html::Number(a.drift_dph_before, "%.4g"), html::Number(a.drift_dph_after, "%.4g"),
            html::Text(""), html::Text("")});
-    s.html += t.str() + "<p class=\"note\">On the held-out last part of the run; floor: the white scatter of 10 s bins "
-                        "inside plateaus.</p>\n";
+    s.html += t.str() +
+              "<p class=\"note\">On held-out still data (blocks of the run the fit did not see): "
+              "before = the declared model, after = with the terms the data confirmed" +
+              (c.unit.final_analysis ? std::string(" (the final set)") : std::string()) +
+              "; floor: the white scatter of a 10 s bin, what a perfect model also leaves.</p>\n" +
+              Figures(c, {"_loop_resid_time", "_loop_resid_temp"});
     const auto added = nlohmann::json::parse(a.added_json, nullptr, false);
     if (added.is_array() && !added.empty()) {
         html::Table e({"effect", "term", "coefficient", "standard uncertainty", "unit"}, "added");

@@ -1,8 +1,10 @@
 #include "unit_data.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
+#include "model/convert.hpp"
 #include "model_rows.hpp"
 
 namespace gyrocal::runreport {
@@ -45,6 +47,15 @@ std::vector<UnitData> Units(const store::RunDetail& d) {
         }
         for (const auto& a : d.analyses)
             if (a.sensor_id == id) u.analyses.push_back(a);
+        if (u.calibration && u.calibration->set.source != model::kFitterSource)
+            for (const auto& c : u.other_sets)
+                if (c.set.source == model::kFitterSource &&
+                    (!u.plateau_set || c.coeff_row_id > u.plateau_set->coeff_row_id))
+                    u.plateau_set = c;
+        if (u.calibration)
+            for (const auto& a : u.analyses)
+                if (a.coeff_row_id && *a.coeff_row_id == u.calibration->coeff_row_id)
+                    u.final_analysis = a;
         units.push_back(std::move(u));
     }
     return units;
@@ -84,15 +95,31 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
         e.has_calibration = true;
         e.offset = store::ToModel(set.offset);
         e.sensitivity = store::ToModel(set.sensitivity);
-        e.n_plateaus = static_cast<int>(set.plateau_ids.size());
         e.n_turns = static_cast<int>(set.rotation_ids.size());
-        for (int64_t id : set.plateau_ids) {
+        // What is about the plateaus is judged on the plateau set (header).
+        const store::CoeffSetRow& plateau = u.plateau_set ? u.plateau_set->set : set;
+        e.plateau_offset = store::ToModel(plateau.offset);
+        e.plateau_sensitivity = store::ToModel(plateau.sensitivity);
+        e.n_plateaus = static_cast<int>(plateau.plateau_ids.size());
+        for (int64_t id : plateau.plateau_ids) {
             // A re-published plateau id keeps its newest row (the fitter keeps the newest too).
             const store::PlateauRow* found = nullptr;
             for (const auto& p : u.plateaus)
                 if (p.plateau_id == id) found = &p;
             if (found) e.plateaus.push_back({found->temp_mean_c, found->gyro_mean_v, found->gyro_sem_v});
         }
+    }
+    if (u.final_analysis) {
+        e.final_heldout_rate_rms_dps = u.final_analysis->rate_rms_dps_after;
+        e.final_heldout_drift_dph = u.final_analysis->drift_dph_after;
+        if (!std::isfinite(e.final_heldout_rate_rms_dps) ||
+            !std::isfinite(e.final_heldout_drift_dph))
+            e.final_heldout_note = "the analysis behind the final set has no held-out figure (" +
+                                   u.final_analysis->verdict + ")";
+    } else {
+        e.final_heldout_note =
+            "no analysis made the final set (a plateau set without the closed "
+            "loop): its held-out error is not known";
     }
     if (!u.analyses.empty()) {
         const store::AnalysisRow& a = u.analyses.back();

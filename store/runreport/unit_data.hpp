@@ -3,10 +3,13 @@
 // about it (plateaus, turns, the calibration, other coefficient sets, analyses), taken from
 // store::RunDetail (the query library: ShowRun). Pure: structs in, structs out.
 //
-// The calibration judged is the unit's final coefficient set from the fitter (the newest final
-// set whose source is not "analysis:<id>"): the model a temperature alone evaluates. An analysis'
-// extended set needs inputs a temperature does not give (dT/dt, branch ...); it is shown beside it
-// and judged through the analysis' verdict (no_unexplained_residual).
+// The calibration judged is the unit's final coefficient set from the fitter (the newest set whose
+// source is not "analysis:<id>"): on a plateau run with the closed loop, the set fitted on every
+// still sample (source "closed-loop"), with the plateau set (source "fitter", plateau means only)
+// beside it; what is about the plateaus (their residual, their count) is judged on the plateau
+// set. A `gyrocal analyze` set is shown beside them and judged through the analysis' verdict
+// (no_unexplained_residual). The final set's held-out error comes from the analysis that made it
+// (the analyses row linked to the set).
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,8 +24,12 @@ struct UnitData {
     std::string sensor_id;
     std::vector<store::PlateauRow> plateaus;      // every plateau of the unit in the run
     std::vector<store::SensitivityRow> turns;     // every turn, accepted or not
-    std::optional<store::CoeffSetInfo> calibration;
-    std::vector<store::CoeffSetInfo> other_sets;  // final sets of other sources (analyses)
+    std::optional<store::CoeffSetInfo> calibration;  // the final set
+    std::optional<store::CoeffSetInfo> plateau_set;  // the newest set of source "fitter", when
+                                                     // the final set is another (closed loop)
+    std::vector<store::CoeffSetInfo> other_sets;     // every other set (older ones, analyses)
+    // The analysis that made the final set (closed loop, ramp fit), when stored.
+    std::optional<store::AnalysisRow> final_analysis;
     std::vector<store::AnalysisRow> analyses;     // oldest first
 };
 

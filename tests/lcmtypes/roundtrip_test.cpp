@@ -9,6 +9,7 @@
 #include <tuple>
 #include <vector>
 
+#include "gyrocal/analysis_t.hpp"
 #include "message_builders.hpp"
 
 namespace gyrocal {
@@ -38,6 +39,14 @@ auto Examples() {
     coeff_set_t analysis = Coeffs("S01", "R1", 1234, {10, 20, 30}, {11, 12});
     analysis.source = "analysis:7";
     analysis.offset.covariance = {{1e-10, 1e-12, 0}, {1e-12, 1e-12, -1e-15}, {0, -1e-15, 1e-16}};
+    analysis_t loop{};  // the fitter's closed loop (ANALYSIS_<id>)
+    loop.utime = 1234, loop.sensor_id = "S01", loop.run_id = "R1", loop.coeff_set_id = 1234;
+    loop.source = "closed-loop", loop.is_final = true, loop.outcome = "explained";
+    loop.headline = "missing effect: supply, explained";
+    loop.offset_rms_v_before = 1e-3, loop.offset_rms_v_after = 1e-4, loop.rate_rms_dps_before = 0.2;
+    loop.rate_rms_dps_after = 0.02, loop.drift_dph_before = 80, loop.drift_dph_after = NAN;
+    loop.floor_rate_rms_dps = 0.01, loop.floor_drift_dph = 5, loop.candidates_json = "[]";
+    loop.added_json = "[]", loop.result_json = "{\"residual_bins\": {}}";
     rate_t outside = Rate("S01", 5);
     outside.temp_c = 70.0;
     outside.range_flag = 2;  // extrapolated
@@ -51,7 +60,8 @@ auto Examples() {
         std::vector{Model("offset_v", {2.5, 1e-3, -2e-5})},
         std::vector{analysis, Coeffs("S01", "R1", 99, {}, {})},
         std::vector{Rate("S01", 5), outside}, std::vector{Status("gyrocal-fitter")},
-        std::vector{Power("S01")}, std::vector{Noise("S01")}, std::vector{FitReport("S01")});
+        std::vector{Power("S01")}, std::vector{Noise("S01")}, std::vector{FitReport("S01")},
+        std::vector{loop});
 }
 
 // The message types of Examples(), as gtest's type list, named by their LCM type names.

@@ -1,14 +1,12 @@
 #include "calibrate.hpp"
-#include "calibration.hpp"
 
 #include <unistd.h>
 
-#include <csignal>
-
 #include <chrono>
 #include <cmath>
-#include <deque>
+#include <csignal>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -20,10 +18,11 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
-#include "runtime/status.hpp"
+#include "calibration.hpp"
 #include "coeff_table.hpp"
+#include "csv/file_digest.hpp"
 #include "final_verdict.hpp"
+#include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
@@ -33,13 +32,16 @@
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/version.hpp"
 #include "launch/child_process.hpp"
+#include "model/convert.hpp"
 #include "paths.hpp"
-#include "progress.hpp"
 #include "child_errors.hpp"
 #include "input_check.hpp"
 #include "runtime/process_main.hpp"
 #include "csv/file_digest.hpp"
 #include "procedure.hpp"
+#include "progress.hpp"
+#include "runtime/shutdown.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal::cli {
 
@@ -144,10 +146,20 @@ void Calibration::Subscribe() {
                                         });
     bus_.Subscribe<fit_report_t>(channels::AllSensors(channels::kFitPrefix),
                                  [this](const fit_report_t& r, const std::string&) {
-                                     if (r.is_final) final_reports_[r.sensor_id] = r;
+                                     if (!r.is_final) return;
+                                     if (r.source == model::kClosedLoopSource)
+                                         loop_reports_[r.sensor_id] = r;
+                                     else
+                                         final_reports_[r.sensor_id] = r;
                                  });
+    bus_.Subscribe<analysis_t>(channels::AllSensors(channels::kAnalysisPrefix),
+                               [this](const analysis_t& a, const std::string&) {
+                                   if (a.is_final) loop_analyses_[a.sensor_id] = a;
+                               });
     bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
                                 [this](const coeff_set_t& c, const std::string&) {
+                                    if (c.source == model::kFitterSource)
+                                        plateau_sets_[c.sensor_id] = c;
                                     coeffs_[c.sensor_id] = c;
                                     if (stop_seen_) final_coeffs_.insert(c.sensor_id);
                                     if (progress_) progress_->OnCoeffs(c);
@@ -192,6 +204,8 @@ bool Calibration::StartConsumers() {
             fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
                                          std::to_string(o_.simulated.nominal_sensitivity_v_per_dps)});
         if (IsRamp()) fitter.insert(fitter.end(), {"--mode", "ramp"});
+        // The seed's 3-point procedure keeps its own method: no closed loop beside it.
+        if (!IsRamp() && !ClosedLoop()) fitter.insert(fitter.end(), {"--closed-loop", "false"});
         start("gyrocal-fitter", fitter, o_.fitter_args);
         start("gyrocal-compensator", {}, o_.compensator_args);
     } catch (const std::exception& e) {
@@ -384,10 +398,26 @@ std::set<std::string> Calibration::Sensors() const {
 bool Calibration::HaveFinalCoeffs() const {
     const auto sensors = Sensors();
     if (sensors.empty()) return false;
-    // The fitter's final report follows each final set (and says "none" when there is no set).
-    for (const auto& s : sensors)
+    // The fitter's final report follows each final set (and says "none" when there is no set);
+    // the closed loop's comes after it.
+    for (const auto& s : sensors) {
         if (!final_reports_.count(s)) return false;
+        if (ClosedLoop() && !loop_reports_.count(s)) return false;
+    }
     return true;
+}
+
+bool Calibration::ClosedLoop() const {
+    if (IsRamp() || o_.profile == "seed3") return false;
+    // The last word of the fitter's own arguments (--fitter-arg=--closed-loop=false) wins.
+    bool on = true;
+    for (size_t i = 0; i < o_.fitter_args.size(); ++i) {
+        const std::string& a = o_.fitter_args[i];
+        if (a.rfind("--closed-loop=", 0) == 0) on = a.substr(14) != "false" && a.substr(14) != "0";
+        if (a == "--closed-loop" && i + 1 < o_.fitter_args.size())
+            on = o_.fitter_args[i + 1] != "false" && o_.fitter_args[i + 1] != "0";
+    }
+    return on;
 }
 
 FinalVerdict Calibration::Verdict() const {
@@ -459,8 +489,13 @@ int Calibration::Watch() {
             // Give the end event a moment to arrive (a source's own end is seen before its event).
             if (!run_ended_ && SecondsSince(*ended_at_) < 2) continue;
             if (!WaitsForCoeffs() || HaveFinalCoeffs()) break;
-            if (SecondsSince(*ended_at_) > o_.final_coeffs_wait_s) {
-                std::cerr << "\ngyrocal calibrate: no final coefficient set within " << o_.final_coeffs_wait_s
+            // The closed loop fits each unit on every still bin after the plateau sets (seconds
+            // per unit on a busy machine): its wait grows with the units.
+            const double wait_s =
+                o_.final_coeffs_wait_s +
+                (ClosedLoop() ? 60.0 * std::max<size_t>(1, Sensors().size()) : 0.0);
+            if (SecondsSince(*ended_at_) > wait_s) {
+                std::cerr << "\ngyrocal calibrate: no final coefficient set within " << wait_s
                           << " s from every sensor\n";
                 break;
             }
@@ -490,6 +525,12 @@ int Calibration::Finish(int code) {
     if (progress_) std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops): " << progress_->drops() << "\n";
     if (!coeffs_.empty()) {
         std::cout << "\n" << FormatCoeffTable(coeffs_, Verdict().Labels());
+        if (ClosedLoop() && !plateau_sets_.empty())
+            std::cout << "\nplateau sets (plateau means only; stored beside the final sets, source "
+                      << model::kFitterSource << ")\n"
+                      << FormatCoeffTable(plateau_sets_);
+        if (!loop_analyses_.empty() || !loop_reports_.empty())
+            std::cout << "\n" << ClosedLoopLines();
         std::ifstream truth(o_.truth_out);
         if (truth && source_kind_ == Source::kSim) {
             try {

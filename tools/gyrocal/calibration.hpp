@@ -13,6 +13,7 @@
 #include "bus/bus.hpp"
 #include "calibrate.hpp"
 #include "final_verdict.hpp"
+#include "gyrocal/analysis_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -61,6 +62,8 @@ private:
     void ShowProgress(bool force);
     std::set<std::string> Sensors() const;
     bool HaveFinalCoeffs() const;
+    bool ClosedLoop() const;  // the fitter makes each unit's final set on every still sample
+    std::string ClosedLoopLines() const;  // per unit: outcome, error before/after (closed_loop.cpp)
     FinalVerdict Verdict() const;  // per unit: complete, partial or none, from the final reports
     int Finish(int code);
 
@@ -101,6 +104,11 @@ private:
     std::map<std::string, coeff_set_t> coeffs_;  // newest per sensor
     std::set<std::string> final_coeffs_;         // sensors with a set after the stop
     std::map<std::string, fit_report_t> final_reports_;  // the fitter's verdict at the stop
+    // The closed loop (plateau runs): each unit's final report and analysis of source
+    // closed-loop, and the newest plateau set (source fitter) beside it.
+    std::map<std::string, fit_report_t> loop_reports_;
+    std::map<std::string, analysis_t> loop_analyses_;
+    std::map<std::string, coeff_set_t> plateau_sets_;
     std::vector<PendingRecovery> recoveries_;
     bool stop_seen_ = false;
     bool run_ended_ = false;

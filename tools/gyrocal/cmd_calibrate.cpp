@@ -168,8 +168,11 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option("--log-dir", o->log_dir, "folder for the child processes' logs (default: a new one in $TMPDIR)");
     cmd->add_option("--wall-timeout-s", o->wall_timeout_s, "abort after this many wall seconds (0 = none)")
         ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--final-coeffs-wait-s", o->final_coeffs_wait_s, "wall seconds to wait for final coefficients")
-        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd->add_option(
+           "--final-coeffs-wait-s", o->final_coeffs_wait_s,
+           "wall seconds to wait for final coefficients (the closed loop's get 60 s more per unit)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     cmd->add_option("--truth-out", o->truth_out, "where the rig writes its truth sidecar (default: in --log-dir)");
     cmd->add_option("--rig-arg", o->rig_args, "extra argument for gyrocal-sim-rig (repeatable)")->allow_extra_args(false);
     cmd->add_option("--plateau-arg", o->plateau_args, "extra argument for gyrocal-plateau")->allow_extra_args(false);

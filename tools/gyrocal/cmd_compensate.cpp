@@ -40,32 +40,33 @@ std::map<std::string, model::CoeffSet> LoadCoeffSets(const CoeffSource& o, std::
         return sets;
     }
     std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
+    const std::string name = db->path();  // a central URL without its credentials
     std::vector<st::CoeffSetInfo> infos;
     if (o.coeff_set_row) {
         st::Stmt q(*db, "SELECT sensor_id FROM coeff_sets WHERE coeff_row_id = ?");
         q.Bind(1, *o.coeff_set_row);
         if (!q.Step())
             throw st::NotFound("--coeff-set-row " + std::to_string(*o.coeff_set_row) +
-                               ": no such coefficient set in '" + o.db +
+                               ": no such coefficient set in '" + name +
                                "' (see gyrocal history SENSOR)");
         const std::string sensor = q.Text(0);
         for (const st::CoeffSetInfo& c : st::SensorHistory(*db, sensor, false))
             if (c.coeff_row_id == *o.coeff_set_row) infos.push_back(c);
-        *origin = o.db + " coefficient set row " + std::to_string(*o.coeff_set_row);
+        *origin = name + " coefficient set row " + std::to_string(*o.coeff_set_row);
     } else if (!o.run_id.empty()) {
         for (const st::CoeffSetInfo& c : st::RunNewestCoeffs(*db, o.run_id))
             if (o.sensor_id.empty() || c.set.sensor_id == o.sensor_id) infos.push_back(c);
-        *origin = o.db + " run '" + o.run_id + "' (newest sets)";
+        *origin = name + " run '" + o.run_id + "' (newest sets)";
         if (infos.empty())
-            throw st::NotFound("run '" + o.run_id + "' of '" + o.db + "' has no coefficient set" +
+            throw st::NotFound("run '" + o.run_id + "' of '" + name + "' has no coefficient set" +
                                (o.sensor_id.empty() ? "" : " for sensor '" + o.sensor_id + "'"));
     } else {
         const auto all = st::SensorHistory(*db, o.sensor_id, false);
         if (all.empty())
-            throw st::NotFound("sensor '" + o.sensor_id + "' has no coefficient set in '" + o.db +
+            throw st::NotFound("sensor '" + o.sensor_id + "' has no coefficient set in '" + name +
                                "'");
         infos.push_back(all.back());
-        *origin = o.db + " sensor '" + o.sensor_id + "' (newest set)";
+        *origin = name + " sensor '" + o.sensor_id + "' (newest set)";
     }
     for (const st::CoeffSetInfo& c : infos) {
         model::CoeffSet set = st::ToCoeffSet(c.set);

@@ -27,7 +27,7 @@ std::string LatestRun(const std::string& db_path) {
     auto db = st::OpenForQuery(db_path);
     for (const st::RunInfo& r : st::ListRuns(*db, {}))
         if (!r.run_id.empty()) return r.run_id;
-    throw st::NotFound("no run in database '" + db_path + "'");
+    throw st::NotFound("no run in database '" + db->path() + "'");
 }
 
 // "" when DIR can hold the report (created when its parent exists); else what is wrong.

@@ -1,17 +1,22 @@
-// `gyrocal runs|show|history|export|replay`: thin CLI over the query library (store/db) and
+// `gyrocal runs|show|history|export|fleet|replay`: thin CLI over the query library (store/db) and
 // the formatters (store/cli/report). Errors are one line on stderr naming the command.
 #include "cmd_store.hpp"
 
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "central_url.hpp"
+#include "fleet.hpp"
+#include "plot/gnuplot.hpp"
 #include "query.hpp"
 #include "report.hpp"
 #include "samples_csv.hpp"
@@ -76,7 +81,10 @@ struct Common {
 };
 
 void AddDb(CLI::App* sub, Common& c) {
-    sub->add_option("--db", c.db, "SQLite database the recorder wrote")->capture_default_str();
+    sub->add_option("--db", c.db,
+                    "SQLite database the recorder wrote, or the lab's central database "
+                    "(postgresql://[user@]host[:port]/db)")
+        ->capture_default_str();
 }
 
 std::vector<rep::ProvenanceSummary> Provenance(st::Db& db, const std::vector<st::CoeffSetInfo>& sets) {
@@ -112,7 +120,8 @@ void AddRuns(CLI::App& app, std::function<int()>& action) {
                 const auto runs = st::ListRuns(*db, f);
                 if (c->json) return Emit("runs", rep::RunsJson(runs).dump(2) + "\n", "");
                 if (runs.empty()) {
-                    std::cout << "no runs match in " << rep::Printable(c->db) << "\n";
+                    std::cout << "no runs match in " << rep::Printable(st::WithoutCredentials(c->db))
+                              << "\n";
                     return 0;
                 }
                 return Emit("runs", rep::RunsTable(runs), "");
@@ -235,15 +244,15 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
                 std::string origin;
                 if (is_run) {
                     sets = st::RunNewestCoeffs(*db, *id);
-                    origin = "run '" + *id + "' of " + c->db;
+                    origin = "run '" + *id + "' of " + st::WithoutCredentials(c->db);
                 } else {
                     if (*kind == "auto" && !st::SensorExists(*db, *id)) {
                         throw st::NotFound("'" + *id + "' is neither a run nor a sensor in '" +
-                                           c->db + "' (see gyrocal runs)");
+                                           st::WithoutCredentials(c->db) + "' (see gyrocal runs)");
                     }
                     auto all = st::SensorHistory(*db, *id, true);
                     if (!all.empty()) sets.push_back(all.back());
-                    origin = "sensor '" + *id + "' (newest set) of " + c->db;
+                    origin = "sensor '" + *id + "' (newest set) of " + st::WithoutCredentials(c->db);
                 }
                 if (sets.empty()) {
                     throw st::NotFound(std::string(is_run ? "run '" : "sensor '") + *id +
@@ -262,6 +271,86 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
                     text = j.dump(2) + "\n";
                 }
                 return Emit("export", text, *out);
+            });
+        };
+    });
+}
+
+// The units of the fleet view: each sensor's newest set, its run's model and station.
+std::vector<rep::FleetUnit> FleetUnits(st::Db& db, const std::string& model) {
+    std::map<std::string, std::string> configs;
+    for (const st::RunInfo& r : st::ListRuns(db, {})) configs[r.run_id] = r.config_json;
+    std::vector<rep::FleetUnit> units;
+    for (st::CoeffSetInfo& c : st::NewestSetOfEachSensor(db)) {
+        rep::FleetUnit u{c.set.sensor_id, rep::UnitModelOf(configs[c.set.run_id], c.set.sensor_id),
+                         c.station,       c.set.run_id,
+                         c.coeff_row_id,  std::move(c.set)};
+        if (model.empty() || u.model == model) units.push_back(std::move(u));
+    }
+    return units;
+}
+
+int DrawFleet(const std::vector<rep::FleetGroup>& groups, const rep::FleetOptions& o,
+              const std::string& dir) {
+    const std::string gnuplot = gyrocal::plot::FindOnPath("gnuplot");
+    if (gnuplot.empty())
+        throw std::runtime_error(std::string("--plot ") + gyrocal::plot::kGnuplotMissing);
+    std::error_code ec;
+    std::filesystem::create_directory(dir, ec);
+    if (ec) throw std::runtime_error("--plot " + dir + ": " + ec.message());
+    const auto images =
+        gyrocal::plot::DrawInto(gnuplot, dir, rep::FleetFigures(groups, o),
+                                {gyrocal::plot::Terminal::kPng, gyrocal::plot::Terminal::kSvg});
+    std::cerr << "gyrocal fleet: wrote " << images.size() << " pictures to " << dir << "\n";
+    return 0;
+}
+
+void AddFleet(CLI::App& app, std::function<int()>& action) {
+    auto c = std::make_shared<Common>();
+    auto o = std::make_shared<rep::FleetOptions>();
+    auto model = std::make_shared<std::string>();
+    auto temps = std::make_shared<std::string>();
+    auto plot_dir = std::make_shared<std::string>();
+    CLI::App* sub = app.add_subcommand(
+        "fleet",
+        "per unit model: the spread of the units' offset and sensitivity curves across units and\n"
+        "stations (median and 1.4826 MAD at each temperature), the units outside it, and each\n"
+        "station's median deviation; best on the lab's central database");
+    sub->footer(
+        "Exit codes: 0 success (whatever the units' deviations), 1 database or plot "
+        "failure, 2 bad options.");
+    AddDb(sub, *c);
+    sub->add_option("--model", *model, "only this unit model (as `gyrocal fleet` names it)");
+    sub->add_option("--temps-c", *temps,
+                    "temperature grid [degC], comma separated "
+                    "(default -40 to 85 in steps of 5)")
+        ->check(CLI::Validator(
+            [](std::string& s) -> std::string {
+                return rep::ParseTemps(s) ? ""
+                                          : "'" + s + "' is not a list of numbers like 0,25,50";
+            },
+            "LIST"));
+    sub->add_option("--k", o->k, "a unit is outside when |z| > K")
+        ->check(CLI::Range(0.5, 100.0))
+        ->capture_default_str();
+    sub->add_option("--min-units", o->min_units, "units needed at a temperature for a spread")
+        ->check(CLI::Range(3, 100000))
+        ->capture_default_str();
+    sub->add_option("--plot", *plot_dir, "directory for the pictures (PNG + SVG, gnuplot)");
+    sub->add_flag("--json", c->json, "JSON instead of tables");
+    sub->callback([&action, c, o, model, temps, plot_dir] {
+        action = [c, o, model, temps, plot_dir] {
+            return Guarded("fleet", [&] {
+                if (!temps->empty()) o->temps_c = *rep::ParseTemps(*temps);
+                auto db = st::OpenForQuery(c->db);
+                const auto groups = rep::FleetSpread(FleetUnits(*db, *model), *o);
+                if (groups.empty())
+                    throw st::NotFound("no unit " +
+                                       (model->empty() ? "" : "of model '" + *model + "' ") +
+                                       "has a coefficient set in '" + db->path() + "'");
+                if (!plot_dir->empty()) DrawFleet(groups, *o, *plot_dir);
+                if (c->json) return Emit("fleet", rep::FleetJson(groups, *o).dump(2) + "\n", "");
+                return Emit("fleet", rep::FleetText(groups, *o), "");
             });
         };
     });
@@ -320,5 +409,6 @@ void AddStoreCommands(CLI::App& app, std::function<int()>& action) {
     AddShow(app, action);
     AddHistory(app, action);
     AddExport(app, action);
+    AddFleet(app, action);
     AddReplay(app, action);
 }

@@ -10,6 +10,7 @@
 #include "cmd_analyze.hpp"
 #include "cmd_calibrate.hpp"
 #include "cmd_compensate.hpp"
+#include "cmd_push.hpp"
 #include "cmd_report.hpp"
 #include "cmd_spy.hpp"
 #include "cmd_store.hpp"
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     gyrocal::cli::AddCalibrateCommand(app, action);
     gyrocal::cli::AddSpyCommand(app, action);
     AddStoreCommands(app, action);
+    gyrocal::cli::AddPushCommands(app, action);
     gyrocal::cli::AddAnalyzeCommand(app, action);
     gyrocal::cli::AddValidateCommand(app, action);
     gyrocal::cli::AddCompensateCommand(app, action);

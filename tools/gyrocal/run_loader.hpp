@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/bins_incremental.hpp"
 #include "analysis/run_data.hpp"
 #include "query.hpp"
 
@@ -17,5 +18,13 @@ namespace gyrocal::cli {
 std::map<std::string, analysis::SensorRun> LoadSensorRuns(store::Db& db,
                                                           const store::RunDetail& detail,
                                                           const std::vector<std::string>& sensors);
+
+// The same run binned as it is read (analysis/bins_incremental.hpp): memory per bin, not per
+// sample (~0.25 MB per unit-hour), for runs too long to hold (a day of many units). The rows come
+// in reception order, as the live fitter received them. Snapshot(id).Analyze(options) is then
+// the analysis of `gyrocal analyze` (the header says what is exact and what is approximated).
+analysis::RunBinner LoadBinnedRun(store::Db& db, const store::RunDetail& detail,
+                                  const std::vector<std::string>& sensors,
+                                  const analysis::IncrementalOptions& options);
 
 }  // namespace gyrocal::cli

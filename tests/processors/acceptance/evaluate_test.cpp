@@ -143,6 +143,11 @@ TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisOutcomeAndIsNeverASilentPass
         {"unexplained residual", "no missing effect", Outcome::kFail},
         {"not testable", "not testable: 4 of 6 candidates could not be tested",
          Outcome::kNotEvaluated},
+        // Two shapes the data cannot tell apart: a set carrying the wrong one fails wherever
+        // they differ, so the unit fails until the named measurement separates them.
+        {"ambiguous", "ambiguous: hysteresis vs step [time]: to separate: a setpoint approached "
+                      "from above before and after the event",
+         Outcome::kFail},
     };
     u.analysis_stored_set = true;  // an analysis that added terms stored its extended set
     for (const Case& c : cases) {
@@ -220,6 +225,53 @@ TEST(Evaluate, AUnitWithoutCalibrationFailsAndUnjudgeableLimitsAreNotEvaluated) 
     EXPECT_EQ(w.outcome, Outcome::kNotEvaluated);
     EXPECT_NE(Summary(w).find("S01: not evaluated: max_residual_rms_over_floor not evaluated"), std::string::npos)
         << Summary(w);
+}
+
+TEST(Evaluate, HeldOutLimitsJudgeTheFinalSetsAnalysisAndAreNotEvaluatedWithoutOne) {
+    // GIVEN limits on the final set's held-out error
+    Limits l;
+    l.max_heldout_rate_rms_dps = 0.05;
+    l.max_heldout_drift_dph = 60;
+    // WHEN the closed loop's analysis behind the final set measured 0.03 deg/s and 80 deg/h
+    UnitEvidence u = Unit({0, 0, 0, 0, 0}, 0.0);
+    u.final_heldout_rate_rms_dps = 0.03;
+    u.final_heldout_drift_dph = 80;
+    const UnitVerdict v = Evaluate(l, u);
+    // THEN the rate passes, the drift fails, each with its measure
+    ASSERT_EQ(v.checks.size(), 2u);
+    EXPECT_EQ(v.checks[0].key, "max_heldout_rate_rms_dps");
+    EXPECT_EQ(v.checks[0].outcome, Outcome::kPass);
+    EXPECT_EQ(v.checks[1].outcome, Outcome::kFail);
+    EXPECT_NE(Summary(v).find("max_heldout_drift_dph 80 > 60 deg/h"), std::string::npos)
+        << Summary(v);
+    // AND a final set no analysis made is not evaluated, with the reason (never a silent pass)
+    UnitEvidence plain = Unit({0, 0, 0, 0, 0}, 0.0);
+    plain.final_heldout_note = "no analysis made the final set";
+    const UnitVerdict w = Evaluate(l, plain);
+    EXPECT_EQ(w.outcome, Outcome::kNotEvaluated);
+    EXPECT_NE(Summary(w).find("no analysis made the final set"), std::string::npos) << Summary(w);
+}
+
+TEST(Evaluate, ThePlateauChecksReadThePlateauSetWhenTheFinalSetIsAnother) {
+    // GIVEN a final set with a supply term (no plateau ids: fitted on every still bin) and the
+    // plateau set beside it, whose plateaus sit 4 sigma off a wrong curve
+    UnitEvidence u = Unit({4, -4, 4, -4, 4}, 0.0);
+    u.plateau_offset = u.offset;
+    u.plateau_sensitivity = u.sensitivity;
+    u.offset.term_names.push_back("supply");
+    u.offset.coeffs.conservativeResize(4);
+    u.offset.coeffs[3] = 0.05;
+    u.offset.covariance = Eigen::Matrix4d::Identity() * 1e-12;
+    Limits l;
+    l.max_residual_rms_over_floor = 3;
+    l.max_offset_change_dps = 10;
+    const UnitVerdict v = Evaluate(l, u);
+    // THEN the residual is the plateau set's (sqrt(5 x 16 / 2) = 6.3 sigma: a fail) and the change
+    // the final set's at steady state (nominal supply: the supply term adds nothing): 8.1 deg/s
+    EXPECT_NEAR(v.checks[0].measured, std::sqrt(5 * 16.0 / 2), 1e-9);
+    EXPECT_EQ(v.checks[0].outcome, Outcome::kFail);
+    EXPECT_NEAR(v.checks[1].measured, 0.0405 / 0.005, 1e-3);
+    EXPECT_EQ(v.checks[1].outcome, Outcome::kPass);
 }
 
 }  // namespace

@@ -23,8 +23,11 @@ std::string ErrorOf(const std::string& text) {
 TEST(Limits, AValidFileGivesEveryLimitAndRoundTrips) {
     const Limits l = ParseLimits(R"({"description": "prod", "max_residual_rms_over_floor": 2,
         "max_offset_change_dps": 3.5, "max_sensitivity_rel_uncertainty_pct": 0.5, "min_plateaus": 5,
-        "min_turns": 10, "no_unexplained_residual": true})",
+        "min_turns": 10, "no_unexplained_residual": true, "max_heldout_rate_rms_dps": 0.05,
+        "max_heldout_drift_dph": 60})",
                                  "lim.json");
+    EXPECT_EQ(*l.max_heldout_rate_rms_dps, 0.05);
+    EXPECT_EQ(*l.max_heldout_drift_dph, 60.0);
     EXPECT_EQ(l.description, "prod");
     EXPECT_EQ(*l.max_residual_rms_over_floor, 2.0);
     EXPECT_EQ(*l.max_offset_change_dps, 3.5);
@@ -58,6 +61,10 @@ TEST(Limits, WrongTypesAndInvalidValuesNameTheKeyAndWhatIsValid) {
     EXPECT_NE(e.find("key 'min_turns': 0 is not valid; expected a whole number from 1"), std::string::npos) << e;
     e = ErrorOf(R"({"no_unexplained_residual": "yes"})");
     EXPECT_NE(e.find("key 'no_unexplained_residual': expected true or false, got string"), std::string::npos) << e;
+    e = ErrorOf(R"({"max_heldout_drift_dph": -2})");
+    EXPECT_NE(e.find("key 'max_heldout_drift_dph': -2 is not valid; expected a number >= 0"),
+              std::string::npos)
+        << e;
     e = ErrorOf(R"({"description": 3, "min_turns": 1})");
     EXPECT_NE(e.find("key 'description': expected a string"), std::string::npos) << e;
 }

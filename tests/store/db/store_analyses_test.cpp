@@ -239,6 +239,39 @@ TEST(Analyses, StoredWithTheirRunAndExtendedSetInOneGo) {
     EXPECT_EQ(ListAnalyses(db, "R1", std::string("S02")).size(), 0u);
 }
 
+TEST(Analyses, TheFittersClosedLoopIsStoredAsAnAnalysisLinkedToTheSetItMade) {
+    // GIVEN the fitter's closed-loop final set and its ANALYSIS_ message, recorded in one batch
+    const std::string path = FreshDbPath("closed_loop.db");
+    StoreWriter w(path, {"recorder-v1", "h", 1});
+    ClosedLoopRow a;
+    a.run_id = "R1", a.sensor_id = "S01", a.source = "closed-loop", a.utime = 88,
+    a.coeff_set_id = 88;
+    a.is_final = true, a.outcome = "explained", a.headline = "missing effect: supply, explained";
+    a.candidates_json = "[]", a.added_json = R"([{"effect":"supply"}])", a.result_json = "{}";
+    a.offset_rms_v_before = 1e-3, a.offset_rms_v_after = 2e-4, a.rate_rms_dps_before = 0.2;
+    a.rate_rms_dps_after = 0.03, a.drift_dph_before = 90, a.drift_dph_after = 20;
+    a.floor_rate_rms_dps = 0.01, a.recv_utime = 7000;
+    w.Write({Start("R1"), Set("R1", 88, "fitter", 300), Set("R1", 88, "closed-loop", 301), a}, {});
+    // THEN it is an analysis of the run, its verdict the headline, linked to the closed loop's set
+    // (not the plateau set of the same id), with the recorder's version
+    const auto rows = ListAnalyses(w.db(), "R1");
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].verdict, a.headline);
+    EXPECT_EQ(*rows[0].outcome, "explained");
+    EXPECT_EQ(rows[0].software_version, "recorder-v1");
+    EXPECT_DOUBLE_EQ(rows[0].rate_rms_dps_after, 0.03);
+    ASSERT_TRUE(rows[0].coeff_row_id.has_value());
+    EXPECT_EQ(
+        Count(w.db(),
+              "SELECT count(*) FROM coeff_sets WHERE source = 'closed-loop' AND coeff_row_id = " +
+                  std::to_string(*rows[0].coeff_row_id)),
+        1);
+    // AND an analysis that made no set links none
+    a.coeff_set_id = -1;
+    w.Write({a}, {});
+    EXPECT_FALSE(ListAnalyses(w.db(), "R1").back().coeff_row_id.has_value());
+}
+
 TEST(Analyses, RefusalsWriteNothing) {
     const std::string path = FreshDbPath("analyses_bad.db");
     StoreWriter w(path, {"test", "h", 1});

@@ -1,11 +1,11 @@
 // RecordMapper without sockets: encoded messages in, rows out.
 #include "record_mapper.hpp"
 
-#include "gyrocal/fit_report_t.hpp"
-#include "gyrocal/noise_t.hpp"
-
 #include <gtest/gtest.h>
 
+#include "gyrocal/analysis_t.hpp"
+#include "gyrocal/fit_report_t.hpp"
+#include "gyrocal/noise_t.hpp"
 #include "message_builders.hpp"
 
 namespace gyrocal::record {
@@ -172,6 +172,26 @@ Mapped MapV5(RecordMapper& m, const std::string& channel, const Msg& msg) {
 }
 
 // NOISE_<id> and FIT_<id> keep the run they carry and are never dropped by the queue.
+TEST(RecordMapper, TheClosedLoopsAnalysisKeepsItsRunAndIsEssential) {
+    // GIVEN the run in force R9 and an ANALYSIS_ message of run R1 (sent after R1's stop)
+    RecordMapper m(MapperOptions::Defaults(), "R9");
+    analysis_t a{};
+    a.sensor_id = "U1", a.run_id = "R1", a.coeff_set_id = 42, a.source = "closed-loop";
+    a.is_final = true, a.outcome = "explained", a.headline = "missing effect: supply, explained";
+    a.rate_rms_dps_before = 0.2, a.rate_rms_dps_after = 0.02, a.result_json = "{}";
+    const Mapped out = MapMsg(m, "ANALYSIS_U1", a);
+    // THEN it is a ClosedLoopRow of R1, every field kept, never dropped by the queue
+    ASSERT_TRUE(out.row);
+    const auto& r = std::get<store::ClosedLoopRow>(*out.row);
+    EXPECT_EQ(r.run_id, "R1");
+    EXPECT_EQ(r.coeff_set_id, 42);
+    EXPECT_EQ(r.source, "closed-loop");
+    EXPECT_EQ(r.headline, a.headline);
+    EXPECT_DOUBLE_EQ(r.rate_rms_dps_after, 0.02);
+    EXPECT_EQ(r.recv_utime, 7);
+    EXPECT_TRUE(out.essential);
+}
+
 TEST(RecordMapper, NoiseEstimatesAndFitReportsKeepTheirRunAndAreEssential) {
     RecordMapper m(MapperOptions::Defaults(), "R9");
     noise_t n{};

@@ -76,6 +76,53 @@ TEST_F(Report, UnitsTakeTheFittersSetAsTheCalibrationAndKeepTheAnalysisSetBeside
     EXPECT_DOUBLE_EQ(PlateauSlowNoiseDps(Detail().run), testing::kSlowNoiseDps);
 }
 
+// A plateau run with the closed loop: the final set (source closed-loop, no plateau ids) is the
+// calibration, the plateau set (source fitter) stays beside it and the plateau checks read it,
+// and the analysis linked to the final set gives its held-out error.
+TEST(UnitData, TheClosedLoopsFinalSetIsTheCalibrationAndThePlateauSetStaysBeside) {
+    store::RunDetail d;
+    d.run.run_id = "R1";
+    d.run.sensor_ids = {"S01"};
+    auto set = [](int64_t row, const std::string& source, std::vector<int64_t> plateaus) {
+        store::CoeffSetInfo c;
+        c.coeff_row_id = row;
+        c.set.sensor_id = "S01", c.set.run_id = "R1", c.set.coeff_set_id = 50,
+        c.set.source = source;
+        c.set.plateau_ids = std::move(plateaus);
+        c.set.rotation_ids = {1, 2, 3};
+        for (store::ModelRow* m : {&c.set.offset, &c.set.sensitivity}) {
+            m->term_names = {"1"}, m->coeffs = {source == "fitter" ? 2.5 : 2.6},
+            m->covariance = {{1e-10}};
+            m->temp_min_c = 0, m->temp_max_c = 50, m->t0_c = 25;
+        }
+        return c;
+    };
+    d.coeff_sets = {set(10, "fitter", {7, 8, 9, 11, 12}), set(11, "closed-loop", {})};
+    store::AnalysisRow a;
+    a.sensor_id = "S01", a.run_id = "R1", a.coeff_row_id = 11, a.outcome = "explained";
+    a.rate_rms_dps_after = 0.03, a.drift_dph_after = 12;
+    d.analyses = {a};
+    const std::vector<UnitData> units = Units(d);
+    ASSERT_EQ(units.size(), 1u);
+    ASSERT_TRUE(units[0].calibration && units[0].plateau_set && units[0].final_analysis);
+    EXPECT_EQ(units[0].calibration->set.source, "closed-loop");
+    EXPECT_EQ(units[0].plateau_set->set.source, "fitter");
+    const acceptance::UnitEvidence e = Evidence(units[0], 0.0);
+    EXPECT_EQ(e.n_plateaus, 5);
+    EXPECT_EQ(e.n_turns, 3);
+    EXPECT_DOUBLE_EQ(e.offset.coeffs[0], 2.6);          // the final set
+    EXPECT_DOUBLE_EQ(e.plateau_offset.coeffs[0], 2.5);  // the plateau set
+    EXPECT_DOUBLE_EQ(e.final_heldout_rate_rms_dps, 0.03);
+    EXPECT_DOUBLE_EQ(e.final_heldout_drift_dph, 12.0);
+    // Without the closed loop the calibration is the plateau set itself and its held-out error is
+    // not known (said so)
+    d.coeff_sets.pop_back();
+    d.analyses.clear();
+    const acceptance::UnitEvidence p = Evidence(Units(d)[0], 0.0);
+    EXPECT_TRUE(std::isnan(p.final_heldout_rate_rms_dps));
+    EXPECT_NE(p.final_heldout_note.find("no analysis made the final set"), std::string::npos);
+}
+
 TEST_F(Report, AcceptanceUsesTheLimitsStoredWithTheRun) {
     const RunAcceptance a = AcceptRun(Detail());
     ASSERT_TRUE(a.limits.limits.has_value()) << a.limits.problem;

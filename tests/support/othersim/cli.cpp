@@ -64,6 +64,9 @@ void AddOptions(CLI::App& app, Options& o, CliValues& v) {
     app.add_option("--out", v.out, "CSV file to write (the project's import format)")->required();
     app.add_option("--truth-out", v.truth_out, "truth JSON (default: OUT with .truth.json)");
     app.add_option("--seed", o.seed, "draws the units and the noise");
+    app.add_option("--noise-seed", o.noise_seed,
+                   "the noise alone (0: --seed): the same units with fresh noise, e.g. a held-out "
+                   "record");
     app.add_option("--units", o.units, "units U1..Un, 1..64");
     app.add_option("--id-prefix", o.id_prefix, "sensor id prefix");
     app.add_option("--setpoints-c", v.setpoints, "[degC] chamber setpoints, comma-separated");

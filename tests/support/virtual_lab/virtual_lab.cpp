@@ -44,6 +44,11 @@ public:
           rotation_moves_(c.move),
           fitter_(c.fitter) {
         if (c.procedure.profile.continuous) ramp_.emplace(c.ramp_fitter);
+        if (!c.procedure.profile.continuous && c.closed_loop) {
+            fitter::RampFitterOptions o = fitter::RampFitterOptions::ClosedLoop();
+            o.analysis = c.ramp_fitter.analysis;
+            loop_.emplace(o);
+        }
         for (const std::string& id : rig.sensor_ids()) {
             sensors_.push_back(std::make_unique<Sensor>(id, c));
             sensors_.back()->detector.SetChamberSetpoint(std::numeric_limits<double>::quiet_NaN());
@@ -58,6 +63,7 @@ public:
         AdvanceTime(r.utime);
         Sensor& s = *sensors_[static_cast<size_t>(r.unit_index)];
         if (ramp_) ramp_->AddGyro(s.id, {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
+        if (loop_) loop_->AddGyro(s.id, {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
         // gyrocal-plateau: queue until the table's motion around the sample is known.
         s.pending.push_back(plateau::SampleOf(r));
         s.newest_utime = r.utime;
@@ -70,6 +76,7 @@ public:
     void OnEncoder(const sim::EncoderReading& r) override {
         const motion::EncoderReading e{r.utime, r.counts, r.counts_per_rev};
         if (ramp_) ramp_->AddEncoder({r.utime, r.counts, r.counts_per_rev});
+        if (loop_) loop_->AddEncoder({r.utime, r.counts, r.counts_per_rev});
         // gyrocal-plateau's table motion, then its queued samples.
         motion_.Feed(e);
         int64_t oldest = std::numeric_limits<int64_t>::max();
@@ -89,6 +96,7 @@ public:
 
     void OnChamber(const sim::ChamberReading& r) override {
         for (auto& s : sensors_) s->detector.SetChamberSetpoint(r.setpoint_c);
+        if (loop_) loop_->AddAir({r.utime, r.air_c});
         AdvanceTime(r.utime);
         if (!procedure_->done()) Execute(procedure_->OnChamber(r.utime, r.air_c));
     }
@@ -145,6 +153,10 @@ private:
                     ramp_->AddSensitivity(s.id, {m.rotation_id, m.utime, m.temp_c, m.direction,
                                                  m.sensitivity_v_per_dps,
                                                  m.sensitivity_stderr_v_per_dps, m.accepted != 0});
+                if (loop_)
+                    loop_->AddSensitivity(s.id, {m.rotation_id, m.utime, m.temp_c, m.direction,
+                                                 m.sensitivity_v_per_dps,
+                                                 m.sensitivity_stderr_v_per_dps, m.accepted != 0});
                 Collect(fitter_.OnSensitivity(m, s.id));
                 Execute(procedure_->OnSensitivity(s.id, m.utime));
             }
@@ -160,6 +172,9 @@ private:
         out_.plateaus.push_back(ToMessage(id, p));
         const gyrocal::plateau_t& m = out_.plateaus.back();
         if (procedure_->done()) return;  // after the run's stop: a process would refuse it too
+        if (loop_)
+            loop_->AddPlateau(id, {m.plateau_id, m.start_utime, m.end_utime, m.temp_mean_c,
+                                   m.temp_sem_c, m.gyro_mean_v, m.gyro_sem_v, m.n_samples});
         if (!ramp_) Collect(fitter_.OnPlateau(m, id));
         Execute(procedure_->OnPlateau(id, m.utime, m.setpoint_c));
     }
@@ -227,6 +242,12 @@ private:
             for (auto& s : sensors_) s->noise.Reset();
             for (auto& s : sensors_) s->detector.StartRun(run_id_);
             if (ramp_) ramp_->StartRun(run_id_);
+            if (loop_) {
+                loop_->StartRun(run_id_);
+                // The rig announces its start as every unit's power-on (POWER_<id>).
+                for (auto& s : sensors_)
+                    loop_->AddPower(s->id, {rig_.now_utime(), c_.rig.start_utime, "rig"});
+            }
         } else if (r.event == "setpoint") {
             for (auto& s : sensors_) s->detector.OnSetpointEvent(r.setpoint_c);
         } else if (r.event == "stop" || r.event == "abort") {
@@ -239,6 +260,13 @@ private:
             CollectRamp(ramp_->Finish(rig_.now_utime()));
         else if (!ramp_)
             Collect(fitter_.OnRunEvent(msg));
+        if (loop_ && (r.event == "stop" || r.event == "abort"))
+            for (const fitter::FitJob& job : loop_->FinishJobs(rig_.now_utime())) {
+                const fitter::RampFitResult res = loop_->Run(job);
+                out_.closed_loop_bins[res.sensor_id] = job.bins;
+                if (res.analysis) out_.closed_loop_results[res.sensor_id] = *res.analysis;
+                if (res.set) out_.closed_loop_sets[res.sensor_id] = model::FromMsg(*res.set);
+            }
         if (r.event == "stop" || r.event == "abort") rig_.StopAfterCurrentEvent();
     }
 
@@ -250,6 +278,7 @@ private:
     motion::MoveDetector rotation_moves_;  // gyrocal-rotation's
     fitter::FitterCore fitter_;
     std::optional<fitter::RampFitter> ramp_;  // continuous profiles: the ramp fitter instead
+    std::optional<fitter::RampFitter> loop_;  // plateau profiles: the closed loop beside it
     std::vector<std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;
     int64_t procedure_now_utime_ = std::numeric_limits<int64_t>::min();

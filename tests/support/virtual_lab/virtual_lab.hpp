@@ -56,6 +56,11 @@ struct LabConfig {
     fitter::CoreOptions fitter = fitter::CoreOptions::Defaults();
     // Continuous (ramp) profiles: the ramp fitter replaces the plateau fitter core.
     fitter::RampFitterOptions ramp_fitter = fitter::RampFitterOptions::Defaults();
+    // Plateau profiles: also the fitter's closed loop (gyrocal-fitter --closed-loop, on in the
+    // process): at the stop each unit's final set fitted on every still sample, kept in
+    // RunResult::closed_loop_sets. Off here by default: the lab's benchmarks compare the plateau
+    // methods, whose sets stay in final_sets either way.
+    bool closed_loop = false;
     std::string run_id = "virtual-lab";
     double max_sim_s = 24 * 3600.0;  // [s] simulated-time cap: the run is cut (outcome "cut")
 
@@ -74,7 +79,12 @@ struct RunResult {
     std::vector<gyrocal::coeff_set_t> published;  // every set the fitter core emitted, in order
     std::vector<gyrocal::fit_report_t> reports;   // every report, in order
     std::map<std::string, gyrocal::noise_t> noise;  // the last NOISE of each sensor
-    std::map<std::string, model::CoeffSet> final_sets;  // the newest set of each sensor
+    std::map<std::string, model::CoeffSet> final_sets;  // the newest set of each sensor (the
+                                                        // fitter core's or the ramp fitter's)
+    // LabConfig::closed_loop: each unit's final set of the closed loop and the analysis behind it.
+    std::map<std::string, model::CoeffSet> closed_loop_sets;
+    std::map<std::string, analysis::SensorResult> closed_loop_results;
+    std::map<std::string, analysis::BinSnapshot> closed_loop_bins;  // the still bins it fitted
     std::vector<fitter::Rejection> fitter_rejections;
     std::vector<sim::UnitTruth> truths;  // the rig's units (evaluation only)
     int64_t start_utime = 0;             // [us] first order of the procedure (run start)

@@ -2,6 +2,7 @@
 // the store's writer (as the recorder would), then analysed through the command body.
 #include <gtest/gtest.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -17,6 +19,7 @@
 #include "cmd_analyze.hpp"
 #include "query.hpp"
 #include "run_db.hpp"
+#include "run_loader.hpp"
 #include "sim_run.hpp"
 #include "writer.hpp"
 
@@ -43,6 +46,38 @@ protected:
     static std::string* path_;
 };
 std::string* AnalyzeCli::path_ = nullptr;
+
+// Every threshold of the verdict is an option, its default in --help; a bad value is refused
+// with its name, exit 2, and nothing is stored.
+TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
+    CLI::App app;
+    std::function<int()> action;
+    cli::AddAnalyzeCommand(app, action);
+    const std::string help = app.get_subcommand("analyze")->help();
+    for (const char* opt : {"--min-z2", "--min-cv-gain", "--max-collinearity", "--min-pair-member-z2",
+                            "--min-effect-floor-ratio", "--gate-min-z", "--max-untested-fraction",
+                            "--slow-noise-floor-ratio", "--feature-fpr", "--window-fpr",
+                            "--warmup-fpr", "--min-feature-drop", "--surrogates",
+                            "--surrogate-seed"})
+        EXPECT_NE(help.find(opt), std::string::npos) << opt << "\n" << help;
+    EXPECT_NE(help.find("0.02"), std::string::npos) << help;  // --feature-fpr's default
+    struct Bad {
+        const char* says;
+        void (*set)(cli::AnalyzeOptions&);
+    };
+    for (const Bad& b : {Bad{"feature_fpr", [](cli::AnalyzeOptions& o) { o.feature_fpr = 0.7; }},
+                         Bad{"window_fpr", [](cli::AnalyzeOptions& o) { o.window_fpr = 0.0; }},
+                         Bad{"warmup_fpr", [](cli::AnalyzeOptions& o) { o.warmup_fpr = -1; }},
+                         Bad{"surrogates", [](cli::AnalyzeOptions& o) { o.surrogates = 5; }},
+                         Bad{"max_untested_fraction",
+                             [](cli::AnalyzeOptions& o) { o.max_untested_fraction = 2; }}}) {
+        cli::AnalyzeOptions o = Options();
+        b.set(o);
+        std::ostringstream out, err;
+        EXPECT_EQ(cli::RunAnalyze(o, out, err), 2) << b.says;
+        EXPECT_NE(err.str().find(b.says), std::string::npos) << err.str();
+    }
+}
 
 TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
     cli::AnalyzeOptions o = Options();
@@ -87,6 +122,31 @@ TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
     EXPECT_NE(std::find_if(names.begin(), names.end(),
                            [](const std::string& t) { return t.rfind("heating(", 0) == 0; }),
               names.end());
+}
+
+// The run read back binned as it comes (run_loader.hpp: LoadBinnedRun, what a day-long run needs)
+// gives the analysis of the samples held whole: the same effects, the same outcome, the same
+// extended model to far below the noise floor (bins_incremental.hpp: only the branch of an
+// untracked width is interpolated; a quarter of the floor is far below what the held-out
+// figures resolve).
+TEST_F(AnalyzeCli, TheRunBinnedAsItIsReadGivesTheSameAnalysis) {
+    auto db = st::OpenForQuery(*path_);
+    const st::RunDetail detail = st::ShowRun(*db, "R1");
+    const auto whole = cli::LoadSensorRuns(*db, detail, {"S01"});
+    const analysis::RunBinner binned =
+        cli::LoadBinnedRun(*db, detail, {"S01"}, analysis::IncrementalOptions::Defaults());
+    const SensorResult a = Analyze(whole.at("S01"));
+    const SensorResult b = binned.Snapshot("S01").Analyze(AnalysisOptions::Defaults());
+    EXPECT_EQ(a.headline, b.headline);
+    EXPECT_EQ(a.outcome, b.outcome);
+    ASSERT_EQ(a.added.size(), b.added.size());
+    for (size_t i = 0; i < a.added.size(); ++i) EXPECT_EQ(a.added[i].effect, b.added[i].effect);
+    ASSERT_TRUE(a.extended_offset && b.extended_offset);
+    const BinnedRun bins(whole.at("S01"), BinOptions::Defaults());
+    const Eigen::VectorXd d = bins.Values(*a.extended_offset) - bins.Values(*b.extended_offset);
+    EXPECT_LT(std::sqrt(d.squaredNorm() / static_cast<double>(d.size())),
+              0.25 * a.floor_offset_rms_v);
+    EXPECT_EQ(a.n_bins, b.n_bins);
 }
 
 TEST(AnalyzeCliOutside, AnUnexplainedResidualIsStoredWithoutAModel) {

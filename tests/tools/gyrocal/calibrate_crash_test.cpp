@@ -212,10 +212,12 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
             .at(0)
             .at(0);
     for (const std::string id : {"S01", "S02"}) {
-        const std::string row = sql.Rows("SELECT coeff_row_id FROM coeff_sets WHERE sensor_id = '" +
-                                         id + "' ORDER BY recv_utime DESC LIMIT 1")
-                                    .at(0)
-                                    .at(0);
+        // The plateau set (the closed loop's final set is fitted on the bins it received).
+        const std::string row =
+            sql.Rows("SELECT coeff_row_id FROM coeff_sets WHERE sensor_id = '" + id +
+                     "' AND source = 'fitter' ORDER BY recv_utime DESC LIMIT 1")
+                .at(0)
+                .at(0);
         const std::string used =
             " FROM coeff_set_plateaus l JOIN plateaus p ON p.plateau_id = l.plateau_id AND "
             "p.sensor_id = '" +

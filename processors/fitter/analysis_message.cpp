@@ -1,0 +1,53 @@
+#include "analysis_message.hpp"
+
+#include <cmath>
+
+#include "analysis/report.hpp"
+
+namespace gyrocal::fitter {
+
+namespace {
+
+nlohmann::json ResidualJson(const plot::Table& t) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& row : t.rows) {
+        nlohmann::json r = nlohmann::json::array();
+        for (double v : row)
+            r.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+        rows.push_back(std::move(r));
+    }
+    return {{"columns", t.columns}, {"rows", rows}};
+}
+
+}  // namespace
+
+std::optional<analysis_t> AnalysisMessage(const RampFitResult& res, const std::string& run_id,
+                                          const std::string& source) {
+    if (!res.analysis) return std::nullopt;
+    const analysis::SensorResult& r = *res.analysis;
+    analysis_t m;
+    m.utime = res.report.utime;
+    m.sensor_id = res.sensor_id;
+    m.run_id = run_id;
+    m.coeff_set_id = res.set ? res.set->coeff_set_id : -1;
+    m.source = source;
+    m.is_final = res.report.is_final;
+    m.outcome = analysis::ToString(r.outcome);
+    m.headline = r.headline;
+    m.offset_rms_v_before = r.error_before.offset_rms_v;
+    m.offset_rms_v_after = r.error_after.offset_rms_v;
+    m.rate_rms_dps_before = r.error_before.rate_rms_dps;
+    m.rate_rms_dps_after = r.error_after.rate_rms_dps;
+    m.drift_dph_before = r.error_before.drift_dph;
+    m.drift_dph_after = r.error_after.drift_dph;
+    m.floor_rate_rms_dps = r.floor_rate_rms_dps;
+    m.floor_drift_dph = r.floor_drift_dph;
+    nlohmann::json j = analysis::ToJson(r);
+    m.candidates_json = j["candidates"].dump();
+    m.added_json = j["added"].dump();
+    if (res.residual) j["residual_bins"] = ResidualJson(*res.residual);
+    m.result_json = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return m;
+}
+
+}  // namespace gyrocal::fitter

@@ -1,0 +1,76 @@
+#include "fit_worker.hpp"
+
+#include <exception>
+
+namespace gyrocal::fitter {
+
+FitWorker::FitWorker(Runner run) : run_(std::move(run)), thread_([this] { Loop(); }) {}
+
+FitWorker::~FitWorker() {
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        stop_ = true;
+        jobs_.clear();
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void FitWorker::Submit(std::vector<FitJob> jobs) {
+    if (jobs.empty()) return;
+    {
+        std::lock_guard<std::mutex> lock(mu_);
+        for (FitJob& j : jobs) jobs_.push_back(std::move(j));
+    }
+    wake_.notify_one();
+}
+
+std::vector<RampFitResult> FitWorker::Take() {
+    std::lock_guard<std::mutex> lock(mu_);
+    std::vector<RampFitResult> out;
+    out.swap(done_);
+    return out;
+}
+
+size_t FitWorker::outstanding() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return jobs_.size() + running_ + done_.size();
+}
+
+bool FitWorker::WaitIdle(std::chrono::milliseconds limit) {
+    std::unique_lock<std::mutex> lock(mu_);
+    return idle_.wait_for(lock, limit, [this] { return jobs_.empty() && running_ == 0; });
+}
+
+void FitWorker::Loop() {
+    std::unique_lock<std::mutex> lock(mu_);
+    while (true) {
+        wake_.wait(lock, [this] { return stop_ || !jobs_.empty(); });
+        if (stop_) return;
+        FitJob job = std::move(jobs_.front());
+        jobs_.pop_front();
+        ++running_;
+        lock.unlock();
+        const auto t0 = std::chrono::steady_clock::now();
+        RampFitResult r;
+        try {
+            r = run_(job);
+        } catch (const std::exception& e) {
+            r.sensor_id = job.sensor_id;
+            r.report.sensor_id = job.sensor_id;
+            r.report.run_id = job.run_id;
+            r.report.utime = job.utime;
+            r.report.coeff_set_id = -1;
+            r.report.is_final = job.is_final;
+            r.report.status = "none";
+            r.report.reason = std::string("internal error in the fit: ") + e.what();
+        }
+        r.fit_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        lock.lock();
+        --running_;
+        done_.push_back(std::move(r));
+        if (jobs_.empty() && running_ == 0) idle_.notify_all();
+    }
+}
+
+}  // namespace gyrocal::fitter

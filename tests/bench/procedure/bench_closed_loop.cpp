@@ -1,0 +1,191 @@
+// Benchmark (not a test), issue 23: the set a plateau calibration ends with, on a held-out record
+// of the same units. Methods, per seed, on the same simulated units and run:
+//   plateau set   the fitter's fit of the plateau means (wls, order on evidence): the set runs
+//                 ended with before the closed loop, still stored beside the final set
+//   final set     the closed loop: every still sample, the analysis' term selection (what
+//                 gyrocal-fitter publishes at the stop)
+//   PX4 cubic     the offset a cubic of the temperature fitted on every still bin of the run (PX4's
+//                 temperature calibration), with the plateau set's sensitivity
+//   truth @ T     the rig's true model (effects included) at the measured temperature: what any
+//                 model of the measured temperature can at best do
+// In-process (tests/support/virtual_lab: the libraries the processes run, on the simulated
+// clock; real processes take ~5 min per run). Profile six (the default), rig thermal lags at their
+// defaults (the 15 s temperature-sensor lag is itself a dT/dt effect the rig does not declare).
+// Cases: the rig's defaults, then each --effect NAME=VALUE (undeclared, the rig's own list).
+// Held-out: one record per seed (same units, fresh noise after a lead-in longer than the
+// calibration): 25 -> -40 -> 85 -> 25 degC at 0.5 degC/min, unit still, 10 s bins, each set applied
+// by the compensator's library (clip). Figures: rate RMS of the 10 s bin means over every unit;
+// drift = RMS over units of the integrated error / the record's duration.
+// The issue's criteria, per seed (units pooled): defaults: final drift <= the PX4 cubic's and
+// <= 2x the truth's; with an effect: final RMS <= 1.2x the truth's where the analysis named the
+// effect (added it).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "closed_loop_common.hpp"
+#include "held_out.hpp"
+#include "machine.hpp"
+#include "text/number.hpp"
+#include "virtual_lab.hpp"
+
+namespace {
+
+using namespace gyrocal;
+using bench::Row;
+
+const char* kMethods[] = {"plateau set", "final set", "PX4 cubic", "truth @ T_meas"};
+
+struct Case {
+    std::string name, effect;  // effect: "" for the rig's defaults
+    double value = 0.0;
+};
+
+// One seed of one case: the three sets, the held-out rows, what the closed loop added.
+struct SeedResult {
+    std::vector<Row> rows = std::vector<Row>(4);
+    std::vector<std::string> added;  // per unit, the effects the final set's analysis added
+    bool ok = true;
+};
+
+SeedResult RunSeed(const Case& k, int seed, int units) {
+    SeedResult out;
+    sim::RigConfig rig = sim::RigConfig::Defaults();
+    rig.seed = static_cast<uint64_t>(seed);
+    rig.num_units = units;
+    if (!k.effect.empty()) sim::SetEffect(rig.effects, k.effect, k.value);
+    virtual_lab::LabConfig c = virtual_lab::LabConfig::For("six", fit::Method::kAuto);
+    c.rig = rig;
+    c.closed_loop = true;
+    const virtual_lab::RunResult r = virtual_lab::Run(c);
+    std::vector<virtual_lab::Candidate> candidates(3);
+    for (const auto& [id, plateau] : r.final_sets) {
+        if (!r.closed_loop_sets.count(id) || !r.closed_loop_bins.count(id)) continue;
+        candidates[0][id] = plateau;
+        candidates[1][id] = r.closed_loop_sets.at(id);
+        model::CoeffSet px4 = plateau;
+        px4.source = "px4";
+        px4.offset =
+            bench::Px4Cubic(r.closed_loop_bins.at(id).Binned(analysis::BinOptions::Defaults()));
+        candidates[2][id] = px4;
+        std::string added;
+        for (const auto& a : r.closed_loop_results.at(id).added)
+            added += (added.empty() ? "" : "+") + a.effect;
+        out.added.push_back(added.empty() ? "-" : added);
+    }
+    out.ok = r.outcome == "completed" && static_cast<int>(candidates[1].size()) == units;
+    virtual_lab::HeldOutProfile profile;
+    profile.lead_in_s = 1e-6 * static_cast<double>(r.end_utime - rig.start_utime) + 600.0;
+    const auto h = virtual_lab::EvaluateHeldOut(rig, profile, candidates);
+    for (const auto& s : h.sensors) {
+        for (size_t m = 0; m < 3; ++m)
+            if (candidates[m].count(s.sensor_id))
+                out.rows[m].Add(s.err_dps[m], s.angle_deg[m], h.duration_s);
+        out.rows[3].Add(s.floor_meas_dps, s.floor_meas_angle_deg, h.duration_s);
+    }
+    return out;
+}
+
+bool Named(const SeedResult& s, const std::string& effect) {
+    for (const std::string& a : s.added)
+        if (a.find(effect) == std::string::npos) return false;
+    return !s.added.empty();
+}
+
+// One case over the seeds: per-seed lines, the table, the issue's criterion; returns the failures.
+int RunCase(const Case& k, int seeds, int first_seed, int units) {
+    int failures = 0;
+    std::vector<Row> total(4);
+    int met = 0, named = 0, counted = 0;
+    std::printf(
+        "\ncase %s\n  seed: drift plateau / final / PX4 / truth [deg/h]; RMS the same [deg/s]; "
+        "added\n",
+        k.name.c_str());
+    for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
+        const SeedResult s = RunSeed(k, seed, units);
+        failures += s.ok ? 0 : 1;
+        for (size_t m = 0; m < 4; ++m) {
+            total[m].sum2 += s.rows[m].sum2, total[m].n += s.rows[m].n;
+            total[m].sum2_drift += s.rows[m].sum2_drift, total[m].units += s.rows[m].units;
+        }
+        std::string added;
+        for (const std::string& a : s.added) added += (added.empty() ? "" : ", ") + a;
+        std::printf("  %4d: %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %s\n", seed,
+                    s.rows[0].Drift(), s.rows[1].Drift(), s.rows[2].Drift(), s.rows[3].Drift(),
+                    s.rows[0].Rms(), s.rows[1].Rms(), s.rows[2].Rms(), s.rows[3].Rms(),
+                    added.c_str());
+        if (k.effect.empty()) {
+            met += s.rows[1].Drift() <= s.rows[2].Drift() &&
+                   s.rows[1].Drift() <= 2.0 * s.rows[3].Drift();
+            ++counted;
+        } else if (Named(s, k.effect)) {
+            ++named;
+            met += s.rows[1].Rms() <= 1.2 * s.rows[3].Rms();
+        }
+    }
+    std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth",
+                "drift/truth");
+    for (size_t m = 0; m < 4; ++m)
+        std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(),
+                    total[m].Drift(), total[m].Rms() / total[3].Rms(),
+                    total[m].Drift() / total[3].Drift());
+    if (k.effect.empty())
+        std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met,
+                    counted);
+    else
+        std::printf(
+            "  seeds where the final sets name %s: %d of %d; of those, final RMS <= 1.2x "
+            "truth's: %d\n",
+            k.effect.c_str(), named, seeds, met);
+    return failures;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int seeds = 10, first_seed = 1, units = 2;
+    std::vector<std::string> effects = {"supply=0.05"};
+    CLI::App app{
+        "gyrocal_bench_closed_loop: the plateau set, the closed loop's final set, a PX4-style "
+        "cubic on all still data and the true model on a held-out record (the simulated rig).\n"
+        "Exit codes: 0 done, 1 a run failed, 2 bad options."};
+    app.add_option("--seeds", seeds, "rig seeds")->check(CLI::Range(1, 100))->capture_default_str();
+    app.add_option("--first-seed", first_seed, "first rig seed")->check(CLI::Range(1, 1000000));
+    app.add_option("--units", units, "units per seed")
+        ->check(CLI::Range(1, 16))
+        ->capture_default_str();
+    app.add_option("--effect", effects, "NAME=VALUE: a case with this undeclared rig effect");
+    std::vector<Case> cases = {{"defaults", "", 0.0}};
+    try {
+        app.parse(argc, argv);
+        for (const std::string& e : effects) {
+            const auto eq = e.find('=');
+            if (eq == std::string::npos)
+                throw CLI::ValidationError("--effect", e + ": expected NAME=VALUE");
+            Case k{e, e.substr(0, eq), std::stod(e.substr(eq + 1))};
+            sim::RigConfig probe = sim::RigConfig::Defaults();
+            sim::SetEffect(probe.effects, k.effect, k.value);  // throws on an unknown name
+            cases.push_back(k);
+        }
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    } catch (const std::exception& e) {
+        std::cerr << "gyrocal_bench_closed_loop: " << e.what() << "\n";
+        return 2;
+    }
+    const auto wall0 = std::chrono::steady_clock::now();
+    int failures = 0;
+    std::printf(
+        "gyrocal_bench_closed_loop: the simulated rig, profile six, %d seeds (%d..) x %d units; "
+        "held-out 25 -> -40 -> 85 -> 25 degC at 0.5 degC/min, unit still, 10 s bins\n",
+        seeds, first_seed, units);
+    for (const Case& k : cases) failures += RunCase(k, seeds, first_seed, units);
+    std::printf("machine: %s, %u cores, load %s; wall time %.0f s\n", bench::CpuModel().c_str(),
+                bench::Nproc(), bench::LoadAverage().c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,254 @@
+// Benchmark (not a test), issue 23, on data the project did not make: othersim (tests/support/
+// othersim, another rig design: its own thermal path, non-polynomial curves, flicker noise, ADC)
+// calibrated by the real process graph (`gyrocal calibrate --source csv`, UDP multicast on port
+// 7960: run it inside a network namespace, /work/bin/nsrun NAME ...), then the sets applied to a
+// held-out record of the same units. Methods, as bench_closed_loop.cpp (the rig, in-process):
+//   plateau set   the fitter's fit of the plateau means (source fitter)
+//   final set     the closed loop's (source closed-loop): every still bin, the confirmed terms
+//   PX4 cubic     a cubic of the temperature on every still bin of the stored run (the samples
+//                 read back from the database as `gyrocal analyze` reads them), with the plateau
+//                 set's sensitivity
+//   truth @ T     othersim's truth at the die temperature behind the measured one, with its
+//                 effects (warm-up, supply) from the measured supply: what a model of the
+//                 measured temperature can at best do
+// Calibration: the return-to-start profile 25, -10, 10, 30, 50, 70, 25 degC at the e2e tests'
+// fast thermal scale (40 Hz, board 40 s, die 8 s, dwell 540 s, ramps 5 degC/min), UNITS units.
+// Held-out: the same units (same seed), fresh noise (--noise-seed), ramps only 25 -> -10 -> 70 ->
+// 25 degC at 1 degC/min, table still (true rate 0); 10 s bins; compensator library, clip.
+// Cases: othersim's defaults (its own 0.3 mV warm-up, the 1 s temperature-line lag), and with a
+// supply sensitivity of 0.1 V/V. Criteria per seed as bench_closed_loop.cpp.
+//
+//   gyrocal_bench_closed_loop_othersim [SEEDS] [UNITS] [FIRST_SEED]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "analysis/bins.hpp"
+#include "bench_args.hpp"
+#include "closed_loop_common.hpp"
+#include "compensator/compensate.hpp"
+#include "csv/csv_file.hpp"
+#include "generator.hpp"
+#include "launch/child_process.hpp"
+#include "machine.hpp"
+#include "model_rows.hpp"
+#include "physics.hpp"
+#include "query.hpp"
+#include "run_loader.hpp"
+
+namespace gyrocal {
+namespace {
+
+using namespace std::chrono_literals;
+using bench::Row;
+const char* kMethods[] = {"plateau set", "final set", "PX4 cubic", "truth @ T_meas"};
+
+othersim::Options Scaled(uint64_t seed, int units, double supply_v_per_v) {
+    othersim::Options o = othersim::Options::ReturnToStart(540.0);
+    o.seed = seed;
+    o.units = units;
+    o.sample_rate_hz = 40.0;
+    o.noise.lpf_hz = 15.0;
+    o.thermal.board_tau_s = 40.0;
+    o.thermal.die_tau_s = 8.0;
+    o.thermal.chamber_period_s = 100.0;
+    o.profile.ramp_c_per_min = 5.0;
+    o.effects.supply_v_per_v = supply_v_per_v;
+    return o;
+}
+
+struct Sets {
+    std::map<std::string, model::CoeffSet> plateau, final, px4;
+    bool ok = false;
+};
+
+// `gyrocal calibrate` on the CSV, then the sets and the PX4 cubic from the database.
+Sets Calibrate(const std::string& dir, const othersim::Options& o) {
+    Sets s;
+    const std::string csv = dir + "/cal.csv", db_path = dir + "/cal.db";
+    othersim::WriteRun(o, csv, dir + "/cal.truth.json");
+    ChildProcess cal(
+        {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv, "--db", db_path,
+         "--lcm-url", "udpm://239.255.76.67:7960?ttl=0&recv_buf_size=4194304", "--log-dir",
+         dir + "/logs", "--quiet", "--source-arg=--max", "--source-arg=--max-rate-hz=20000",
+         "--wall-timeout-s", "1500"},
+        dir + "/calibrate.out", dir + "/calibrate.out");
+    const auto end = cal.Wait(1600s);
+    s.ok = end && end->code == 0;
+    auto db = store::OpenForQuery(db_path);
+    std::string run;
+    for (const store::RunInfo& r : store::ListRuns(*db, {}))
+        if (!r.run_id.empty()) run = r.run_id;
+    const store::RunDetail detail = store::ShowRun(*db, run);
+    std::vector<std::string> ids;
+    for (const store::CoeffSetInfo& c : store::RunFinalCoeffs(*db, run)) {
+        const model::CoeffSet set = store::ToCoeffSet(c.set);
+        if (set.source == "fitter") s.plateau[set.sensor_id] = set, ids.push_back(set.sensor_id);
+        if (set.source == "closed-loop") s.final[set.sensor_id] = set;
+    }
+    for (const auto& [id, run_data] : cli::LoadSensorRuns(*db, detail, ids)) {
+        model::CoeffSet px4 = s.plateau.at(id);
+        px4.source = "px4";
+        px4.offset =
+            bench::Px4Cubic(analysis::BinnedRun(run_data, analysis::BinOptions::Defaults()));
+        s.px4[id] = px4;
+    }
+    s.ok = s.ok && s.final.size() == s.plateau.size() && !s.plateau.empty();
+    return s;
+}
+
+// 10 s bin means of a rate series [deg/s] and its integral [deg].
+struct Series {
+    std::vector<double> bins;
+    double angle_deg = 0;
+};
+void AddSample(Series& s, double& acc, int& n, int64_t& start, int64_t utime, double rate,
+               double dt_s) {
+    if (utime - start >= 10'000'000) {
+        if (n > 0) s.bins.push_back(acc / n);
+        acc = 0, n = 0, start = utime;
+    }
+    if (std::isfinite(rate)) acc += rate, ++n, s.angle_deg += rate * dt_s;
+}
+
+// The held-out record of one seed's units, compensated by every method; rows per method.
+std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
+    othersim::Options o = cal;
+    o.noise_seed = cal.seed * 7919 + 1;
+    o.profile.steps = othersim::ParseSetpoints("25,-10,70,25", 0.0, false);
+    o.profile.ramp_c_per_min = 1.0;
+    std::stringstream text;
+    const othersim::Generated g = othersim::Generate(o, text);
+    const csv::CsvFile f =
+        csv::ReadCsv(text, "held.csv", sensor::TempTransfer{}, csv::OnError::kStop);
+    std::vector<Row> rows(4);
+    for (const othersim::UnitTruth& u : g.units) {
+        if (!sets.final.count(u.sensor_id)) continue;
+        std::vector<compensate::SensorCompensator> comps;
+        comps.reserve(3);
+        const std::map<std::string, model::CoeffSet>* by[] = {&sets.plateau, &sets.final,
+                                                              &sets.px4};
+        for (size_t m = 0; m < 3; ++m) {
+            comps.emplace_back(compensate::CompensatorOptions{model::RangePolicy::kClip});
+            comps[m].SetCoefficients(by[m]->at(u.sensor_id));
+        }
+        std::vector<Series> series(4);
+        std::vector<double> acc(4, 0.0);
+        std::vector<int> n(4, 0);
+        std::vector<int64_t> start(4, 0);
+        int64_t last = -1, first = -1;
+        for (const csv::CsvRow& r : f.rows) {
+            if (r.sensor_id != u.sensor_id) continue;
+            const int64_t utime = csv::TimeUs(r.time_s);
+            if (first < 0) first = utime, std::fill(start.begin(), start.end(), utime);
+            const double dt_s = last < 0 ? 0.0 : 1e-6 * static_cast<double>(utime - last);
+            last = utime;
+            const compensate::Sample s{utime, 0, r.gyro_v, r.temp_c,
+                                       r.supply_v ? *r.supply_v : NAN};
+            for (size_t m = 0; m < 3; ++m) {
+                const auto a = comps[m].Apply(s);
+                AddSample(series[m], acc[m], n[m], start[m], utime,
+                          a.status == compensate::ApplyStatus::kOk ? a.out.rate_dps : NAN, dt_s);
+            }
+            const double die = u.DieFromMeasuredC(r.temp_c);
+            const double t = r.time_s;
+            const double offset = u.OffsetV(die) +
+                                  o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
+                                  o.effects.supply_v_per_v * (s.supply_v - o.supply.nominal_v);
+            AddSample(series[3], acc[3], n[3], start[3], utime,
+                      (r.gyro_v - offset) / u.SensitivityVPerDps(die), dt_s);
+        }
+        const double duration_s = 1e-6 * static_cast<double>(last - first);
+        for (size_t m = 0; m < 4; ++m) rows[m].Add(series[m].bins, series[m].angle_deg, duration_s);
+    }
+    return rows;
+}
+
+}  // namespace
+}  // namespace gyrocal
+
+int main(int argc, char** argv) {
+    using namespace gyrocal;
+    const int seeds = bench::IntArg(argc, argv, 1, 10), units = bench::IntArg(argc, argv, 2, 1);
+    const int first = bench::IntArg(argc, argv, 3, 1);
+    if (seeds < 1 || seeds > 100 || units < 1 || units > 8 || first < 1)
+        return bench::Usage(argv, "[SEEDS 1..100] [UNITS 1..8] [FIRST_SEED >= 1]");
+    const auto wall0 = std::chrono::steady_clock::now();
+    const std::string base =
+        std::filesystem::temp_directory_path() / ("gyrocal_bench_cl_" + std::to_string(getpid()));
+    std::printf(
+        "gyrocal_bench_closed_loop_othersim: othersim, return-to-start profile, %d seeds (%d..) x "
+        "%d "
+        "units through gyrocal calibrate --source csv; held-out 25 -> -10 -> 70 -> 25 degC at 1 "
+        "degC/min, fresh noise, unit still, 10 s bins\n",
+        seeds, first, units);
+    int failures = 0;
+    for (const double supply : {0.0, 0.1}) {
+        std::vector<Row> total(4);
+        int met = 0, named = 0;
+        std::printf(
+            "\ncase %s\n  seed: drift plateau / final / PX4 / truth [deg/h]; RMS the same [deg/s]; "
+            "final offset terms\n",
+            supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
+        for (int seed = first; seed < first + seeds; ++seed) {
+            const std::string dir =
+                base + "/s" + std::to_string(seed) + (supply == 0.0 ? "_clean" : "_supply");
+            std::filesystem::create_directories(dir);
+            const othersim::Options o = Scaled(static_cast<uint64_t>(seed), units, supply);
+            const Sets sets = Calibrate(dir, o);
+            if (!sets.ok) {
+                ++failures;
+                std::printf("  %4d: calibration failed (%s/calibrate.out)\n", seed, dir.c_str());
+                continue;
+            }
+            const std::vector<Row> rows = HeldOut(o, sets);
+            for (size_t m = 0; m < 4; ++m) {
+                total[m].sum2 += rows[m].sum2, total[m].n += rows[m].n;
+                total[m].sum2_drift += rows[m].sum2_drift, total[m].units += rows[m].units;
+            }
+            std::string terms;
+            bool has_supply = true;
+            for (const auto& [id, set] : sets.final) {
+                std::string t;
+                for (const std::string& n : set.offset.term_names) t += (t.empty() ? "" : ",") + n;
+                terms += (terms.empty() ? "" : " ") + id + "{" + t + "}";
+                has_supply = has_supply && t.find("supply") != std::string::npos;
+            }
+            std::printf("  %4d: %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %s\n", seed,
+                        rows[0].Drift(), rows[1].Drift(), rows[2].Drift(), rows[3].Drift(),
+                        rows[0].Rms(), rows[1].Rms(), rows[2].Rms(), rows[3].Rms(), terms.c_str());
+            if (supply == 0.0) {
+                met +=
+                    rows[1].Drift() <= rows[2].Drift() && rows[1].Drift() <= 2.0 * rows[3].Drift();
+            } else if (has_supply) {
+                ++named;
+                met += rows[1].Rms() <= 1.2 * rows[3].Rms();
+            }
+            std::fflush(stdout);
+        }
+        std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth",
+                    "drift/truth");
+        for (size_t m = 0; m < 4; ++m)
+            std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(),
+                        total[m].Drift(), total[m].Rms() / total[3].Rms(),
+                        total[m].Drift() / total[3].Drift());
+        if (supply == 0.0)
+            std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met,
+                        seeds);
+        else
+            std::printf(
+                "  seeds whose final sets carry supply: %d of %d; of those, final RMS <= 1.2x "
+                "truth's: %d\n",
+                named, seeds, met);
+    }
+    std::filesystem::remove_all(base);
+    std::printf("machine: %s, %u cores, load %s; wall time %.0f s\n", bench::CpuModel().c_str(),
+                bench::Nproc(), bench::LoadAverage().c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,86 @@
+// gyrocal-recorder --push-to (store/recorder/background_push.hpp): the real recorder process on
+// its own multicast port (7765) and a real PostgreSQL server (tests/store/pg_server.hpp). When a
+// run ends on the bus the recorder starts `gyrocal push` in the background and goes on recording:
+// the ended run arrives at the centre whole (every table equal to the station's) while the next
+// run's samples, published meanwhile, are all stored; the URL's password is nowhere in the
+// station file.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "bus/channels.hpp"
+#include "central_db.hpp"
+#include "message_builders.hpp"
+#include "pg_server.hpp"
+#include "query.hpp"
+#include "recorder_harness.hpp"
+#include "table_digest.hpp"
+
+namespace gyrocal::testing {
+namespace {
+
+using namespace std::chrono_literals;
+namespace st = gyrocal::store;
+
+// Publishes `n` samples of each unit, pausing so the kernel's socket buffer never overflows.
+void PublishSamples(Bus& bus, const std::vector<std::string>& units, int64_t first, int64_t n) {
+    int k = 0;
+    for (int64_t s = first; s < first + n; ++s) {
+        for (const auto& u : units) ASSERT_TRUE(bus.Publish(channels::Gyro(u), Gyro(u, s)));
+        if (++k % 10 == 0) std::this_thread::sleep_for(1ms);
+    }
+}
+
+TEST(RecorderBackgroundPush, ARunEndingIsPushedWhileTheRecorderGoesOnRecording) {
+    PgServer& server = SharedPgServer();
+    server.EnsureRole("bg_pusher", "bg-pusher-pw-42");
+    const std::string db_name = server.NewDatabase("bgpush");
+    st::InitCentral(server.Url(db_name));
+    st::GrantCentral(server.Url(db_name), "bg_pusher", false, false);
+    const std::string url = server.Url(db_name, "bg_pusher", "bg-pusher-pw-42");
+    const std::string station = FreshDbPath("background_push.db");
+    RecorderOnBus r(station, UrlForPort(7765), {"--push-to", url});
+    ASSERT_TRUE(r.Listening());
+    const std::vector<std::string> units = {"B1", "B2"};
+    // WHEN run BG1 ends, and BG2 starts and records at once
+    ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG1", "start", units)));
+    PublishSamples(r.bus, units, 0, 2000);
+    ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG1", "stop", units)));
+    ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG2", "start", units)));
+    PublishSamples(r.bus, units, 2000, 3000);
+    // THEN BG1 reaches the centre (bounded wait: the push waits for the stop's commit, 200 ms)
+    const auto give_up = std::chrono::steady_clock::now() + 60s;
+    std::string outcome;
+    while (std::chrono::steady_clock::now() < give_up) {
+        outcome = server.Query(db_name, "SELECT outcome FROM runs WHERE run_id = 'BG1'");
+        if (outcome == "stop") break;
+        std::this_thread::sleep_for(200ms);
+    }
+    ASSERT_EQ(outcome, "stop") << ReadLog(station + ".recorder.err");
+    r.rec.Signal(SIGTERM);
+    const auto exit = r.rec.Wait(20s);
+    ASSERT_TRUE(exit.has_value());
+    EXPECT_EQ(exit->code, 0);
+    // ... whole, and the recorder lost nothing of BG2 meanwhile
+    auto s = st::OpenForQuery(station);
+    auto c = st::OpenForQuery(server.Url(db_name));
+    EXPECT_EQ(RunDigests(*c, *s, "BG1"), RunDigests(*s, *s, "BG1"));
+    EXPECT_EQ(st::GetRun(*s, "BG1").gyro_samples, 2 * 2000);
+    EXPECT_EQ(st::GetRun(*s, "BG2").gyro_samples, 2 * 3000);
+    EXPECT_EQ(st::GetRun(*c, "BG1").gyro_samples, 2 * 2000);
+    // BG2 is open: not pushed (its own end would push it)
+    EXPECT_EQ(server.Query(db_name, "SELECT count(*) FROM runs WHERE run_id = 'BG2'"), "0");
+    const std::string log = ReadLog(station + ".recorder.err");
+    EXPECT_NE(log.find("pushing it in the background"), std::string::npos) << log;
+    EXPECT_EQ(log.find("bg-pusher-pw-42"), std::string::npos) << log;
+    std::ifstream f(station, std::ios::binary);
+    std::stringstream bytes;
+    bytes << f.rdbuf();
+    EXPECT_EQ(bytes.str().find("bg-pusher-pw-42"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gyrocal::testing
