@@ -72,7 +72,7 @@ TEST(Markdown, AnchorsLinksAndCommandsAsGitHubAndShReadThem) {
     const std::string md =
         "# A title: with (punctuation) and `code`\n## Twice\n## Twice\n"
         "See [x](other.md#a-b) and `[not](a link)`.\n"
-        "```sh\n# comment\nP=\"--a 1\"\nbuild/bin/gyrocal calibrate $P \\\n    --db x.db\n```\n"
+        "```sh\n# comment\nP=\"--a 1 #2\"\nbuild/bin/gyrocal calibrate $P \\\n    --db x.db   # a comment\n```\n"
         "```text\nbuild/bin/gyrocal not a command\n```\n";
     EXPECT_THAT(Anchors(md), ::testing::ElementsAre("a-title-with-punctuation-and-code", "twice",
                                                     "twice-1"));
@@ -82,7 +82,7 @@ TEST(Markdown, AnchorsLinksAndCommandsAsGitHubAndShReadThem) {
     EXPECT_EQ(links[0].line, 4);
     const auto commands = ShellCommands(md);
     ASSERT_EQ(commands.size(), 2u);
-    EXPECT_EQ(commands[0].text, "P=\"--a 1\"");
+    EXPECT_EQ(commands[0].text, "P=\"--a 1 #2\"");
     EXPECT_EQ(commands[1].text, "build/bin/gyrocal calibrate $P  --db x.db");
     EXPECT_EQ(commands[1].line, 8);
 }
@@ -121,6 +121,10 @@ TEST(Docs, EveryReferenceFromTheSourcesToAMarkdownFileResolves) {
                 << "(docs/x.md#section): " << line;
             for (auto it = std::sregex_iterator(line.begin(), line.end(), kRef);
                  it != std::sregex_iterator(); ++it) {
+                // The team's and the seed's notes (/work/shared: STYLE.md, DESIGN.md, METHOD.md)
+                // are outside this repository; nothing here can check them.
+                const std::string name = fs::path((*it)[1].str()).filename().string();
+                if (name == "STYLE.md" || name == "DESIGN.md" || name == "METHOD.md") continue;
                 ++checked;
                 EXPECT_EQ(Resolve(f.parent_path(), (*it)[0].str()), "") << where << ": " << line;
             }
@@ -137,6 +141,10 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
     const fs::path bin = GYROCAL_BIN;
     const fs::path scratch = fs::temp_directory_path() / ("gyrocal_docs_" + std::to_string(getpid()));
     fs::create_directories(scratch);
+    // The examples are written from the checkout's root (tools/acceptance/limits.json, ...);
+    // what they write goes to the scratch folder.
+    fs::create_directory_symlink(kRoot / "tools", scratch / "tools");
+    static const std::regex kInput(R"(--input[ =]([^ ]+))");
     static const std::regex kAssignment(R"(^[A-Z_][A-Z0-9_]*=)");
     static const std::regex kOurs(R"(^(build/bin/|tools/run\.sh\b))");
     int commands = 0;
@@ -158,6 +166,12 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
             script += line + " >/dev/null 2>\"$HOME_ERR\" || { echo '" + where + ": " +
                       std::regex_replace(c.text, std::regex("'"), "'\\''") +
                       "'; cat \"$HOME_ERR\"; exit 1; }\n";
+            // An --input file is written by an earlier example (gyrocal-othersim --out, which
+            // check-only does not run) or is the reader's own data: an empty one stands in, as
+            // check-only reads no data.
+            for (auto it = std::sregex_iterator(c.text.begin(), c.text.end(), kInput);
+                 it != std::sregex_iterator(); ++it)
+                std::ofstream(scratch / (*it)[1].str());
             ++commands;
         }
         const fs::path sh = scratch / "page.sh", out = scratch / "page.out";

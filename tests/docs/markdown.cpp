@@ -17,6 +17,24 @@ std::vector<std::string> LinesOf(const std::string& text) {
 
 bool IsFence(const std::string& line) { return line.rfind("```", 0) == 0; }
 
+// `line` without a trailing "# comment" (a '#' after a blank, outside quotes), as sh reads it;
+// the test appends redirections to each command, which a comment would swallow.
+std::string WithoutComment(const std::string& line) {
+    char quote = 0;
+    for (size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quote) {
+            if (c == quote) quote = 0;
+        } else if (c == '\'' || c == '"') {
+            quote = c;
+        } else if (c == '#' && i > 0 && (line[i - 1] == ' ' || line[i - 1] == '\t')) {
+            const size_t end = line.find_last_not_of(" \t", i - 1);
+            return end == std::string::npos ? "" : line.substr(0, end + 1);
+        }
+    }
+    return line;
+}
+
 }  // namespace
 
 std::string Slug(const std::string& heading) {
@@ -84,7 +102,7 @@ std::vector<Command> ShellCommands(const std::string& markdown) {
         if (!sh) continue;
         const size_t start = line.find_first_not_of(' ');
         if (!continued && (start == std::string::npos || line[start] == '#')) continue;
-        std::string part = start == std::string::npos ? "" : line.substr(start);
+        std::string part = start == std::string::npos ? "" : WithoutComment(line.substr(start));
         const bool more = !part.empty() && part.back() == '\\';
         if (more) part.pop_back();
         if (continued) {

@@ -25,7 +25,8 @@ struct Command {
     int line = 0;      // of its first line
     std::string text;  // continuation lines ("\" at the end) joined
 };
-// The lines of every ```sh block: commands, variable assignments (NAME=...), no comments.
+// The lines of every ```sh block: commands, variable assignments (NAME=...), no comments (whole
+// lines or trailing "# ...").
 std::vector<Command> ShellCommands(const std::string& markdown);
 
 }  // namespace gyrocal::docs
