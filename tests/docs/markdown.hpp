@@ -16,7 +16,7 @@ std::vector<std::string> Anchors(const std::string& markdown);
 
 struct Link {
     int line = 0;
-    std::string target;  // as written: "docs/x.md#a", "#a", "https://..."
+    std::string target;  // as written: "path", "path#anchor", "#anchor", "https://..."
 };
 // Every inline link [text](target) outside code blocks and code spans.
 std::vector<Link> Links(const std::string& markdown);
