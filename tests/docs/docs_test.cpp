@@ -35,8 +35,8 @@ std::string Read(const fs::path& p) {
 std::vector<fs::path> SourceFiles(const std::set<std::string>& extensions,
                                   const std::set<std::string>& names = {}) {
     std::vector<fs::path> out;
-    for (auto it = fs::recursive_directory_iterator(kRoot); it != fs::recursive_directory_iterator();
-         ++it) {
+    for (auto it = fs::recursive_directory_iterator(kRoot);
+         it != fs::recursive_directory_iterator(); ++it) {
         const std::string name = it->path().filename().string();
         if (it->is_directory() && (name.rfind("build", 0) == 0 || name[0] == '.' ||
                                    name == "Testing" || name == "reports")) {
@@ -72,10 +72,11 @@ TEST(Markdown, AnchorsLinksAndCommandsAsGitHubAndShReadThem) {
     const std::string md =
         "# A title: with (punctuation) and `code`\n## Twice\n## Twice\n"
         "See [x](other.md#a-b) and `[not](a link)`.\n"
-        "```sh\n# comment\nP=\"--a 1 #2\"\nbuild/bin/gyrocal calibrate $P \\\n    --db x.db   # a comment\n```\n"
+        "```sh\n# comment\nP=\"--a 1 #2\"\nbuild/bin/gyrocal calibrate $P \\\n    --db x.db   # a "
+        "comment\n```\n"
         "```text\nbuild/bin/gyrocal not a command\n```\n";
-    EXPECT_THAT(Anchors(md), ::testing::ElementsAre("a-title-with-punctuation-and-code", "twice",
-                                                    "twice-1"));
+    EXPECT_THAT(Anchors(md),
+                ::testing::ElementsAre("a-title-with-punctuation-and-code", "twice", "twice-1"));
     const auto links = Links(md);
     ASSERT_EQ(links.size(), 1u);
     EXPECT_EQ(links[0].target, "other.md#a-b");
@@ -106,8 +107,8 @@ TEST(Docs, EveryReferenceFromTheSourcesToAMarkdownFileResolves) {
     static const std::regex kRef(R"(([A-Za-z0-9_./-]*[A-Za-z0-9_-]\.md)(#[a-z0-9_-]+)?)");
     // A section named in prose instead of by its anchor moves silently when the text does.
     static const std::regex kProse(R"(README(?!\.md)|\.md,? ")");
-    const auto files = SourceFiles({".cpp", ".hpp", ".h", ".sh", ".cmake", ".lcm", ".py"},
-                                   {"CMakeLists.txt"});
+    const auto files =
+        SourceFiles({".cpp", ".hpp", ".h", ".sh", ".cmake", ".lcm", ".py"}, {"CMakeLists.txt"});
     int checked = 0;
     for (const fs::path& f : files) {
         if (f.filename() == "docs_test.cpp") continue;
@@ -139,7 +140,8 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
         for (const auto& e : fs::directory_iterator(kRoot / "docs"))
             if (e.path().extension() == ".md") pages.push_back(e.path());
     const fs::path bin = GYROCAL_BIN;
-    const fs::path scratch = fs::temp_directory_path() / ("gyrocal_docs_" + std::to_string(getpid()));
+    const fs::path scratch =
+        fs::temp_directory_path() / ("gyrocal_docs_" + std::to_string(getpid()));
     fs::create_directories(scratch);
     // The examples are written from the checkout's root (tools/acceptance/limits.json, ...);
     // what they write goes to the scratch folder.
@@ -153,7 +155,8 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
         std::string script = "export GYROCAL_CHECK_ONLY=1 GYROCAL_BUILD_DIR='" +
                              bin.parent_path().string() + "'\ncd '" + scratch.string() + "'\n";
         for (const Command& c : ShellCommands(Read(page))) {
-            const std::string where = fs::relative(page, kRoot).string() + ":" + std::to_string(c.line);
+            const std::string where =
+                fs::relative(page, kRoot).string() + ":" + std::to_string(c.line);
             if (std::regex_search(c.text, kAssignment)) {
                 script += c.text + "\n";
                 continue;
@@ -161,8 +164,10 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
             ASSERT_TRUE(std::regex_search(c.text, kOurs))
                 << where << ": a ```sh block holds gyrocal's own commands (build/bin/..., "
                 << "tools/run.sh) and NAME=value lines only; put others in ```text: " << c.text;
-            std::string line = std::regex_replace(c.text, std::regex("^build/bin/"), bin.string() + "/");
-            line = std::regex_replace(line, std::regex("^tools/run\\.sh"), (kRoot / "tools/run.sh").string());
+            std::string line =
+                std::regex_replace(c.text, std::regex("^build/bin/"), bin.string() + "/");
+            line = std::regex_replace(line, std::regex("^tools/run\\.sh"),
+                                      (kRoot / "tools/run.sh").string());
             script += line + " >/dev/null 2>\"$HOME_ERR\" || { echo '" + where + ": " +
                       std::regex_replace(c.text, std::regex("'"), "'\\''") +
                       "'; cat \"$HOME_ERR\"; exit 1; }\n";
@@ -176,7 +181,8 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
         }
         const fs::path sh = scratch / "page.sh", out = scratch / "page.out";
         std::ofstream(sh) << "HOME_ERR='" << (scratch / "err.txt").string() << "'\n" << script;
-        const int rc = std::system(("sh '" + sh.string() + "' > '" + out.string() + "' 2>&1").c_str());
+        const int rc =
+            std::system(("sh '" + sh.string() + "' > '" + out.string() + "' 2>&1").c_str());
         EXPECT_EQ(rc, 0) << Read(out);
     }
     EXPECT_GE(commands, 30) << "the guide's examples";

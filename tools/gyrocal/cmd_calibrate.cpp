@@ -31,7 +31,7 @@ void CheckWritableDb(const std::string& db) {
 // What gyrocal calibrate does after the run (cmd_report.hpp: AfterCalibration).
 void AddAfterRunOptions(CLI::App* cmd, CalibrateOptions& o) {
     cmd->add_option("--limits", o.limits_file,
-                    "acceptance limits (JSON; see docs/report.md): checked before anything starts, recorded with "
+                    "acceptance limits (JSON; docs/report.md): checked before anything starts, recorded with "
                     "the run, each unit judged at the end");
     cmd->add_option("--report", o.report_dir,
                     "write the run's calibration report (gyrocal report) into this directory at the end "
