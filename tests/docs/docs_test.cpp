@@ -51,17 +51,18 @@ std::vector<fs::path> SourceFiles(const std::set<std::string>& extensions,
     return out;
 }
 
-// "" when `target` (relative to `from_dir`, or to the root) names an existing file and, after
-// '#', one of its headings; else what is wrong.
-std::string Resolve(const fs::path& from_dir, const std::string& target) {
+// "" when `target`, written in the file `from`, names an existing file and, after '#', one of
+// its headings ("#anchor" alone: a heading of `from`); else what is wrong. A Markdown link is
+// relative to its file's folder, as GitHub reads it; a reference from a source file may also be
+// relative to the checkout's root (a comment names "processors/analysis/README.md#...").
+std::string Resolve(const fs::path& from, const std::string& target, bool from_root_too) {
     const size_t hash = target.find('#');
     const std::string file = target.substr(0, hash);
     const std::string anchor = hash == std::string::npos ? "" : target.substr(hash + 1);
-    fs::path path = file.empty() ? fs::path() : from_dir / file;
-    if (!file.empty() && !fs::exists(path)) path = kRoot / file;
-    if (!file.empty() && !fs::exists(path)) return "no file " + file;
-    if (anchor.empty()) return "";
-    if (path.extension() != ".md") return "";
+    fs::path path = file.empty() ? from : from.parent_path() / file;
+    if (from_root_too && !fs::exists(path)) path = kRoot / file;
+    if (!fs::exists(path)) return "no file " + file;
+    if (anchor.empty() || path.extension() != ".md") return "";
     const std::vector<std::string> anchors = Anchors(Read(path));
     if (std::find(anchors.begin(), anchors.end(), anchor) == anchors.end())
         return "no heading with anchor #" + anchor + " in " + fs::relative(path, kRoot).string();
@@ -96,7 +97,7 @@ TEST(Docs, EveryLinkOfEveryMarkdownFileResolves) {
         for (const Link& l : Links(Read(f))) {
             if (l.target.rfind("http", 0) == 0 || l.target.rfind("mailto:", 0) == 0) continue;
             ++checked;
-            EXPECT_EQ(Resolve(f.parent_path(), l.target), "")
+            EXPECT_EQ(Resolve(f, l.target, false), "")
                 << fs::relative(f, kRoot).string() << ":" << l.line << ": (" << l.target << ")";
         }
     }
@@ -127,7 +128,7 @@ TEST(Docs, EveryReferenceFromTheSourcesToAMarkdownFileResolves) {
                 const std::string name = fs::path((*it)[1].str()).filename().string();
                 if (name == "STYLE.md" || name == "DESIGN.md" || name == "METHOD.md") continue;
                 ++checked;
-                EXPECT_EQ(Resolve(f.parent_path(), (*it)[0].str()), "") << where << ": " << line;
+                EXPECT_EQ(Resolve(f, (*it)[0].str(), true), "") << where << ": " << line;
             }
         }
     }
