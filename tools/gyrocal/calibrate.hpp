@@ -70,8 +70,7 @@ struct CalibrateOptions {
     SimulatedGyros simulated;     // --source sim: the fitter's options for the simulated type
     // Simulated seconds per wall second; 0 = auto: the rig publishes (units + 1 encoder) x 100
     // messages per simulated second, and auto keeps it at 15000 messages/s, the fastest the
-    // whole graph kept without loss (measured:
-    // producers/sim_rig/README.md#benchmark-the-simulated-rig-and-the-bus).
+    // whole graph kept without loss (measured: README.md, Benchmarks).
     double speed = 0.0;
     std::string profile = "six";  // sequencer::kDefaultProfile
     std::vector<double> setpoints_c;

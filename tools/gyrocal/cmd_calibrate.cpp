@@ -120,8 +120,8 @@ void AddRigOptions(CLI::App* cmd, CalibrateOptions* o) {
     cmd->add_option(
            "--speed", o->speed,
            "simulated seconds per wall second; 0 = auto: 15000 rig messages/s (speed 30 for 4 "
-           "units, 75 for 1), the fastest the whole graph ran without loss (measured: "
-           "producers/sim_rig/README.md#benchmark-the-simulated-rig-and-the-bus)")
+           "units, 75 for 1), the fastest the whole graph ran without loss (README.md, "
+           "Benchmarks)")
         ->check(CLI::Range(0.0, 2000.0))
         ->capture_default_str();
     cmd->add_option("--profile", o->profile, sequencer::ProfilesHelp())
