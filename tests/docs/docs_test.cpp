@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -188,6 +189,8 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
             std::system(("sh '" + sh.string() + "' > '" + out.string() + "' 2>&1").c_str());
         EXPECT_EQ(rc, 0) << Read(out);
     }
+    std::printf("[ docs ] %d example commands on %zu pages accepted under GYROCAL_CHECK_ONLY=1\n",
+                commands, pages.size());
     EXPECT_GE(commands, 30) << "the guide's examples";
     fs::remove_all(scratch);
 }
