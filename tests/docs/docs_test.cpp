@@ -6,6 +6,7 @@
 // (runtime/process_main.hpp), so an option that was renamed or a value out of range fails here.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -193,6 +194,31 @@ TEST(Docs, EveryExampleCommandIsAcceptedByTheRealCommandLine) {
                 commands, pages.size());
     EXPECT_GE(commands, 30) << "the guide's examples";
     fs::remove_all(scratch);
+}
+
+// The mode the example commands run in: a valid command line exits 0 having done nothing (no
+// file written, no database created), a bad one is refused as without it (exit 2).
+TEST(CheckOnly, AValidCommandRunsNothingAndABadOneIsStillRefused) {
+    const fs::path bin = GYROCAL_BIN;
+    const fs::path dir = fs::temp_directory_path() / ("gyrocal_check_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    const auto run = [&](const std::string& args) {
+        const int rc = std::system(("cd '" + dir.string() + "' && GYROCAL_CHECK_ONLY=1 '" +
+                                    bin.string() + "/" + args + " >/dev/null 2>&1")
+                                       .c_str());
+        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    };
+    EXPECT_EQ(run("gyrocal-othersim' --out data.csv --units 1"), 0);
+    EXPECT_FALSE(fs::exists(dir / "data.csv")) << "check-only wrote the simulated data";
+    EXPECT_EQ(run("gyrocal' runs --db runs.db"), 0);
+    EXPECT_FALSE(fs::exists(dir / "runs.db")) << "check-only opened the database";
+    EXPECT_EQ(run("gyrocal' calibrate --sensors 1 --db cal.db"), 0);
+    EXPECT_FALSE(fs::exists(dir / "cal.db")) << "check-only started a calibration";
+    EXPECT_EQ(run("gyrocal' calibrate --sensors 0"), 2);
+    EXPECT_EQ(run("gyrocal' calibrate --no-such-option"), 2);
+    EXPECT_EQ(run("gyrocal-othersim' --units 1"), 2) << "--out is required";
+    EXPECT_EQ(run("gyrocal-plateau' --no-such-option"), 2);
+    fs::remove_all(dir);
 }
 
 }  // namespace
