@@ -30,8 +30,8 @@
 namespace gyrocal {
 
 // The default URL: LCM's group and port, TTL 0 (never leaves this host) and a 4 MB receive
-// buffer, so that bursts are not dropped by the kernel (its measured throughput: README.md,
-// Benchmarks).
+// buffer, so that bursts are not dropped by the kernel (its measured throughput:
+// producers/sim_rig/README.md#benchmark-the-simulated-rig-and-the-bus).
 inline constexpr const char* kDefaultLcmUrl =
     "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
 

@@ -34,6 +34,7 @@ std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,
         PrintError(process, err);
         return 2;
     }
+    if (CheckOnly()) return 0;  // the command line is valid; run nothing
     return std::nullopt;
 }
 

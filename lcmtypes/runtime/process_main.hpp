@@ -2,6 +2,7 @@
 // The frame of a process's main(): the same exit codes and messages in every process, so a script
 // or the launcher tells a bad option (2) from a failure (1), and each message names its process.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <functional>
 #include <optional>
 #include <string>
@@ -16,6 +17,15 @@ inline constexpr const char* kErrorTag = ": error: ";
 std::string ErrorLine(const std::string& process, const std::string& what);
 void PrintError(const std::string& process, const std::string& what);
 bool IsErrorLineOf(const std::string& process, const std::string& line);
+
+// GYROCAL_CHECK_ONLY=1 in the environment: every command parses and checks its command line as
+// usual, then runs nothing and exits 0 (2 for a bad option, as always). The docs test
+// (tests/docs) runs every example command of the guide this way, so the guide cannot drift from
+// the command lines.
+inline bool CheckOnly() {
+    const char* v = std::getenv("GYROCAL_CHECK_ONLY");
+    return v != nullptr && std::string(v) == "1";
+}
 
 // The --help footer of a process that runs until stopped (RunUntilStopped's exit codes).
 inline constexpr const char* kNodeExitCodes =

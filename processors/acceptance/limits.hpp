@@ -17,7 +17,7 @@
 // The file is read strictly: an unknown key, a value of the wrong type, a negative or non-finite
 // limit or a count below 1 is an error naming the key and what would be valid, so a typo never
 // becomes a limit silently not applied. The meaning of each limit is in LimitDefs() (also printed
-// by the README and the report).
+// by docs/report.md and the report).
 #include <optional>
 #include <stdexcept>
 #include <string>

@@ -307,10 +307,11 @@ struct SensorResult {
     // edge of the searched 30-300 s: the true value may be larger").
     std::vector<std::string> edges;
     ResidualDiagnostics residual;
-    // The thresholds the run itself gave (step 5 of the README's verdict): the slow noise k, from
-    // the Allan terms of the residual; the standardised thresholds of the features' and the
-    // windows' nulls over n_surrogates surrogates of that noise; the windows above theirs; the
-    // rate the thresholds claim on a run with no missing effect.
+    // The thresholds the run itself gave
+    // (docs/closing-the-loop.md#the-verdict-what-is-left-and-what-it-correlates-with): the slow
+    // noise k, from the Allan terms of the residual; the standardised thresholds of the
+    // features' and the windows' nulls over n_surrogates surrogates of that noise; the windows
+    // above theirs; the rate the thresholds claim on a run with no missing effect.
     double slow_noise_k = kNan;
     bool slow_noise_measured = false;
     std::string noise_note;

@@ -32,8 +32,9 @@
 namespace gyrocal::compensate {
 
 struct CompensatorOptions {
-    // Outside the calibrated range: extrapolate, flagged (the README's measured comparison says
-    // why). kClip is for models that must not be trusted outside their range.
+    // Outside the calibrated range: extrapolate, flagged (the one out-of-range rule is stated in
+    // processors/model/model.hpp). kClip is for models that must not be trusted outside their
+    // range.
     model::RangePolicy range_policy = model::RangePolicy::kExtrapolate;
     static CompensatorOptions Defaults() { return {}; }
 };

@@ -22,8 +22,7 @@ int main(int argc, char** argv) {
     app.add_option("--out-of-range", policy,
                    "outside a model's valid temperature range: extrapolate (continue the fitted "
                    "polynomial; default) or clip (evaluate at the nearest bound). Either way "
-                   "rate_t.range_flag marks the sample (1 clipped, 2 extrapolated); the README "
-                   "compares the two")
+                   "rate_t.range_flag marks the sample (1 clipped, 2 extrapolated)")
         ->capture_default_str();
     app.add_option("--sensor", o.sensors,
                    "compensate only these sensor ids (repeatable); default: all");

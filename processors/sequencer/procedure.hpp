@@ -47,7 +47,7 @@ struct Profile {
 //   found per unit. Chamber time stays that of "five": the first setpoint is the room temperature
 //   the units start at (no ramp, only the settling check), the ramp total is the same
 //   (25 -> -40 -> 85 °C), and there are five settled setpoints after it as in "five" (measured
-//   chamber time and order choices: README, "Why profile six").
+//   chamber time and order choices: docs/procedures.md#why-profile-six).
 // "five": -40, -10, 25, 55, 85 °C, the previous default, unchanged.
 // "seed3": the seed note's -10/30/60 °C.
 // "ramp": continuous ramps from the start temperature to -40 °C (cooling) and on to 85 °C

@@ -18,7 +18,8 @@ public:
     using std::invalid_argument::invalid_argument;
 };
 
-// Nominal datasheet figures of one gyro module type (see seed/METHOD.md, "Facts worth knowing").
+// Nominal datasheet figures of one gyro module type (the seed's METHOD.md: its facts worth
+// knowing).
 struct GyroPreset {
     std::string name;                      // "610" (myGyro610EB/ADXRS610) or "613"
     double range_dps = 300.0;              // [deg/s] measuring range; the rate saturates beyond it

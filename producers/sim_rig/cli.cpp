@@ -15,7 +15,8 @@ namespace gyrocal {
 
 namespace {
 
-// What --help says below the options. The measured speed limits live in README.md (Benchmarks).
+// What --help says below the options. The measured speed limits:
+// README.md#benchmark-the-simulated-rig-and-the-bus.
 const char* kFooter = R"(
 Exit codes: 0 normal stop (SIGINT/SIGTERM, --duration-s reached, built-in profile done),
             1 runtime failure (LCM cannot be opened or fails), 2 bad options/configuration.
@@ -30,7 +31,8 @@ Speed limit: 4 units at 100 Hz plus the encoder at 100 Hz are 500 messages per s
 UDP multicast has no flow control, so publication is capped at --max-msgs-per-s: with more
 subscribers or a busier host, lower it; past the cap the simulation just runs slower (STATUS
 extra lag_s), never skipping a sample. The rates the rig and the whole pipeline kept without
-loss are measured in README.md (Benchmarks); `gyrocal calibrate` picks its --speed from them.
+loss are measured in producers/sim_rig/README.md; `gyrocal calibrate` picks its --speed from
+them.
 
 Truth: per-unit curves (functions of the DIE temperature, about 25 degC), effects and seed go only
 to --truth-out, never on the bus.

@@ -248,7 +248,7 @@ FROM runs r;
 // v3 -> v4: closed-loop analyses stored with their run; a coefficient set is kept once per
 // (run, sensor, coeff_set_id, source) (the index makes the writer's existence check a seek).
 // No rates(run_id, sensor_id, utime) index: it costs the recorder a large share of its insert
-// rate on its gyro + rate mix (measured: store/db/README.md, "Schema versions").
+// rate on its gyro + rate mix (measured: store/db/README.md#schema-versions-pragma-user_version).
 constexpr std::string_view kV4 = R"sql(
 CREATE TABLE analyses (
   analysis_id INTEGER PRIMARY KEY,

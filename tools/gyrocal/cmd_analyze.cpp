@@ -302,8 +302,8 @@ std::string ThresholdArgs(const AnalyzeOptions& o) {
            std::to_string(o.surrogate_seed);
 }
 
-// Every threshold of the verdict, with what it means and why its default (processors/analysis
-// README, "Thresholds").
+// Every threshold of the verdict, with what it means and why its default
+// (processors/analysis/README.md#thresholds-from-the-run-itself).
 void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
     sub.add_option("--min-z2", o.min_z2,
                    "a candidate's coefficient^2 over its autocorrelation-robust variance must "

@@ -31,7 +31,7 @@ void CheckWritableDb(const std::string& db) {
 // What gyrocal calibrate does after the run (cmd_report.hpp: AfterCalibration).
 void AddAfterRunOptions(CLI::App* cmd, CalibrateOptions& o) {
     cmd->add_option("--limits", o.limits_file,
-                    "acceptance limits (JSON; see the README): checked before anything starts, recorded with "
+                    "acceptance limits (JSON; docs/report.md): checked before anything starts, recorded with "
                     "the run, each unit judged at the end");
     cmd->add_option("--report", o.report_dir,
                     "write the run's calibration report (gyrocal report) into this directory at the end "
@@ -189,7 +189,7 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
         "Extra arguments take the form --rig-arg=--package-tau-s=60 (with '=').\n"
         "Several hosts: one command per host with --role, the same --lcm-url (ttl=1) and options;\n"
         "start the recorder and processors roles first. A crashed process is restarted (its state\n"
-        "recovered) or the run is aborted with the reason: see the README's Faults table.\n"
+        "recovered) or the run is aborted with the reason: see docs/faults.md.\n"
         "Measured input (--source csv|log) is checked before any process starts: a file whose header\n"
         "or first 100 rows cannot be replayed is refused with one line (file:line, column, what is\n"
         "valid), exit 2, no run recorded. A process that ends the run later (a bad row further down,\n"

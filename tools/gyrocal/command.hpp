@@ -8,10 +8,13 @@
 #include <ostream>
 #include <string>
 
+#include "runtime/process_main.hpp"
+
 namespace gyrocal::cli {
 
 // Parses argv, where the chosen subcommand sets `action`, then runs it and returns its exit code;
 // 0 after --help or --version; 2 for a bad option or no command (CLI11's message on stderr).
+// With GYROCAL_CHECK_ONLY=1 (runtime/process_main.hpp) it stops after the checks: 0, nothing run.
 inline int ParseAndRun(CLI::App& app, int argc, char** argv, const std::function<int()>& action) {
     try {
         app.parse(argc, argv);
@@ -19,7 +22,8 @@ inline int ParseAndRun(CLI::App& app, int argc, char** argv, const std::function
         const int rc = app.exit(e);
         return rc == 0 ? 0 : 2;
     }
-    return action ? action() : 2;
+    if (!action) return 2;
+    return CheckOnly() ? 0 : action();  // GYROCAL_CHECK_ONLY=1: the command line is valid
 }
 
 // Runs a command's `body` and returns its exit code; an exception that escapes it (the database,

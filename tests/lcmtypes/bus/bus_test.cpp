@@ -108,7 +108,7 @@ TEST(Bus, HostileArrayLengthIsADecodeErrorNotACrash) {
     EXPECT_EQ(bus.counters().decode_errors, 1);
 }
 
-// Found by the fuzz harnesses (tests/fuzz, README "Fuzzing"): lcm-gen 1.3.1 computed
+// Found by the fuzz harnesses (tests/fuzz/README.md): lcm-gen 1.3.1 computed
 // (length - 1) of a string length of INT32_MIN, which wrapped into a 2 GB read past the payload:
 // a 62-byte RUN_EVENT segfaulted every process. Now a decode error, counted.
 TEST(Bus, AStringLengthOfIntMinIsADecodeErrorNotASegfault) {

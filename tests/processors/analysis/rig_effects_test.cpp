@@ -8,7 +8,8 @@
 // outcome (analyze.hpp, step 9) ~0.35 mV; each effect is made 2-10x the bound in RMS over the
 // still data, so that a missed one must show as a residual above the bound (a smaller one is, by
 // the bound's construction, indistinguishable from the slow noise). The rig's effects are
-// exaggerated against an ADXRS610's datasheet for that reason (the README says by how much).
+// exaggerated against an ADXRS610's datasheet for that reason (by how much:
+// producers/sim/README.md#what-the-analysis-makes-of-them).
 // Four seeds each (noise and unit drawn anew). What is asserted:
 //   outside effects: NO candidate is named (none is the cause; the declared model has no lag
 //     effect because the sensor lag is 0.1 s), the outcome is "unexplained residual" or "partly

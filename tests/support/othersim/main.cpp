@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "cli.hpp"
+#include "runtime/process_main.hpp"
 #include "generator.hpp"
 
 int main(int argc, char** argv) {
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gyrocal-othersim: %s (see --help)\n", problem.c_str());
         return 2;
     }
+    if (gyrocal::CheckOnly()) return 0;  // GYROCAL_CHECK_ONLY=1: the command line is valid
     try {
         const Generated g = WriteRun(o, v.out, v.truth_out);
         std::printf("gyrocal-othersim: %lld rows, %.0f s of data, %zu dwells, %zu turns -> %s, %s\n",

@@ -102,7 +102,7 @@ struct EffectOptions {
     double warmup_tau_s = 300.0;      // [s]
     double gradient_v_per_c = 0.0;    // [V/degC] offset += k * (board - die + self heating)
     double supply_v_per_v = 0.0;      // [V/V] offset += k * (supply - nominal)
-    // Outside any candidate list (README "Effects outside the list"):
+    // Outside any candidate list (README.md#effects-outside-the-list):
     double drift_v_per_h = 0.0;       // [V/h] aging: offset += k * t (package stress relaxing)
     double periodic_v = 0.0;          // [V] amplitude of an offset at periodic_s (the chamber
     double periodic_s = 600.0;        //     compressor's duty cycle coupling through the mount)

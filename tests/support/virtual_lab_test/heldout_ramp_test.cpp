@@ -31,7 +31,8 @@
 // leaves the extended model sqrt(1.2^2 - 1) = 0.66x that noise for its own coefficient error (the
 // prediction above is 0.1-0.4x of it in every case below) and for what it still lacks. Asserted
 // for every case except the listed misses (kMisses), which the analysis cannot bring within it
-// on this profile, each for a stated reason (and the README's "Held-out ramp" table); for them
+// on this profile, each for a stated reason (and the table of
+// processors/analysis/README.md#held-out-ramp-encompassing-test-the-cases-above-12x); for them
 // only the assertion above holds (within the noise bound, or the analysis said it left something
 // unexplained). A listed miss that comes within 1.2x is printed, so that the list can shrink.
 #include <gtest/gtest.h>
@@ -141,7 +142,7 @@ Outcome OneSeed(const char* effect, double value, uint64_t seed) {
 }
 
 // The cases still above 1.2x the true model, and why (measured on this profile and these seeds;
-// the README's "Held-out ramp" gives the figures):
+// the figures: processors/analysis/README.md#held-out-ramp-encompassing-test-the-cases-above-12x):
 //   hysteresis 202: hysteresis added and confirmed, just above 1.2x. Two causes, neither one a
 //                   term the analysis could honestly choose: (1) `five` reverses the temperature
 //                   once, so the training bins do not resolve the branch width (their residual

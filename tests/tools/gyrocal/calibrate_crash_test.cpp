@@ -1,5 +1,5 @@
 // SIGKILL each kind of process of a running calibration and check what `gyrocal calibrate`, the
-// supervisor, promises for it (lab.hpp, README "Faults"): plateau, rotation, fitter, compensator,
+// supervisor, promises for it (lab.hpp, docs/faults.md): plateau, rotation, fitter, compensator,
 // recorder and sequencer are restarted with their state recovered and the run completes; the
 // rig takes its simulated chamber with it, so the run is aborted with that reason. Nothing
 // committed is lost, the file stays intact, and what was missed shows as gaps.

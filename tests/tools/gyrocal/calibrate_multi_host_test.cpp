@@ -63,7 +63,7 @@ struct Roles {
     std::string dir;
 };
 
-// Starts the three roles on h3, h2, h1 (consumers first, as the README says).
+// Starts the three roles on h3, h2, h1 (consumers first: docs/lab.md#a-lab-on-several-hosts).
 Roles StartLab(const NetnsLab& lab, const std::string& dir, const std::string& url,
                const std::vector<std::string>& common) {
     Roles r;

@@ -163,7 +163,7 @@ double BeyondQuadraticRms(const std::function<double(double)>& f) {
 // truth lacks is never added, and a departure from the quadratic of more than 3x the run's floor
 // (the truth's cubic and bend together, over the run's range) is never called adequate: a
 // quadratic fitted over the run leaves that much in the bins, and the verdict's tests are built
-// to see 3x the floor (processors/analysis README).
+// to see 3x the floor (processors/analysis/README.md).
 void ExpectVerdictAgainstTruth(const Lab& lab) {
     ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store",
                      "--json"},
