@@ -36,10 +36,11 @@ void CompensatorNode::Run() {
     });
 }
 
-void CompensatorNode::HandleFor(int timeout_ms) {
-    bus_.Handle(std::chrono::milliseconds(timeout_ms));
+bool CompensatorNode::HandleFor(int timeout_ms) {
+    const bool handled = bus_.Handle(std::chrono::milliseconds(timeout_ms));
     FlushRates();
     UpdateStatus();
+    return handled;
 }
 
 void CompensatorNode::FlushRates() {

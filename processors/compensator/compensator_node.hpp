@@ -31,7 +31,8 @@ public:
     // Throws BusError when LCM cannot be opened.
     explicit CompensatorNode(const CompensatorNodeOptions& options);
     void Run();                              // until SIGINT/SIGTERM
-    void HandleFor(int timeout_ms);          // one dispatch round (tests)
+    // One dispatch round (tests): at most one message handled, its rates published; whether one was.
+    bool HandleFor(int timeout_ms);
     const StatusReporter& status() const { return status_; }
     Bus& bus() { return bus_; }              // tests publish into it over memq://
 

@@ -121,7 +121,7 @@ void AddRigOptions(CLI::App* cmd, CalibrateOptions* o) {
            "--speed", o->speed,
            "simulated seconds per wall second; 0 = auto: no fixed speed, the source (the "
            "simulated rig, a CSV file) runs as fast as every process of the graph keeps up "
-           "(flow control; samples batched 16 per message; README.md, Benchmarks)")
+           "(flow control; samples batched 16 per message; lcmtypes/flow/README.md)")
         ->check(CLI::Range(0.0, 2000.0))
         ->capture_default_str();
     cmd->add_option("--profile", o->profile, sequencer::ProfilesHelp())

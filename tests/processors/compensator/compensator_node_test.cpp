@@ -40,11 +40,11 @@ struct MemqCompensator {
     explicit MemqCompensator(CompensatorNodeOptions o) : node((o.lcm_url = "memq://", o)) {
         testing::CollectInto(node.bus(), channels::AllSensors(channels::kRatePrefix), rates);
     }
-    // Dispatches until the queue is empty (what a handler publishes is dispatched too).
+    // Dispatches until the queue is empty (what a handler publishes is dispatched too), the
+    // node's rates flushed after each message as its run loop does.
     void Drain() {
-        for (int i = 0; i < 100000 && node.bus().Handle(0ms); ++i) {
+        for (int i = 0; i < 100000 && node.HandleFor(0); ++i) {
         }
-        node.HandleFor(0);
     }
 };
 

@@ -90,7 +90,7 @@ TEST_P(MigrateFrom, EveryEarlierVersionToTheCurrentOne) {
     StoreWriter w(path, {"test", "h", 1});
     Db& db = w.db();
     EXPECT_EQ(db.UserVersion(), kSchemaVersion);
-    EXPECT_EQ(kSchemaVersion, 8);
+    EXPECT_EQ(kSchemaVersion, 9);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);  // history is never rewritten
     EXPECT_EQ(Count(db, "SELECT count(*) FROM rates"), 1);
     EXPECT_EQ(Count(db,
