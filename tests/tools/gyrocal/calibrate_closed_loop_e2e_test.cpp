@@ -93,11 +93,24 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     EXPECT_LT(s.at("error_after").at("drift_dph").get<double>(), s.at("error_before").at("drift_dph").get<double>());
 
     // Kept with the run: the analysis row and the extended coefficient set, linked by provenance.
-    EXPECT_EQ(Sql(db).Text("SELECT count(*) FROM analyses WHERE run_id='" + run + "'"), "1");
-    EXPECT_EQ(Sql(db).Text("SELECT c.source FROM analyses a JOIN coeff_sets c USING(coeff_row_id)"), "analysis:1");
-    EXPECT_EQ(Sql(db).Text("SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM coeff_terms t JOIN analyses a "
-                          "USING(coeff_row_id) WHERE t.role='offset' ORDER BY term_index)"),
-              "1,dT,dT^2,supply");
+    // The run holds two: the fitter's closed loop at the end of the calibration (its final set,
+    // source closed-loop) and this `gyrocal analyze` (source analysis:N); both name the supply.
+    EXPECT_EQ(Sql(db).Text("SELECT count(*) FROM analyses WHERE run_id='" + run + "'"), "2");
+    for (const char* source : {"closed-loop", "analysis:%"}) {
+        EXPECT_EQ(
+            Sql(db).Text("SELECT count(*) FROM analyses a JOIN coeff_sets c USING(coeff_row_id) "
+                         "WHERE c.source LIKE '" +
+                         std::string(source) + "'"),
+            "1")
+            << source;
+        EXPECT_EQ(
+            Sql(db).Text("SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM "
+                         "coeff_terms t JOIN analyses a USING(coeff_row_id) JOIN coeff_sets c "
+                         "USING(coeff_row_id) WHERE t.role='offset' AND c.source LIKE '" +
+                         std::string(source) + "' ORDER BY term_index)"),
+            "1,dT,dT^2,supply")
+            << source;
+    }
 }
 
 }  // namespace
