@@ -28,8 +28,7 @@
 // exceeds the floor, AND it removes more than min_feature_drop of the held-out squared residual:
 // with a dozen features, searched parameters and slow noise, z alone passes on clean runs (z up
 // to 8.7 on 40 clean seeds of the rig), while the largest fraction any feature removed there stays
-// below min_feature_drop (analysis_verdict_tests and gyrocal_bench_clean_runs print it:
-// processors/analysis/README.md#channels-tests-false-positives-timing).
+// below min_feature_drop (processors/analysis/README.md#channels-tests-false-positives-timing).
 // A feature is never added to the model: it is reported ("correlates with"), because nothing
 // downstream can evaluate it (the compensators know no run start).
 // Diagnostics of the final residual on all bins: lag-1 autocorrelation, trend against time,
