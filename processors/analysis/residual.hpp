@@ -5,14 +5,14 @@
 //   time since start            linear drift / aging                     channel: time
 //   slow transient              exp(-t_on/tau), tau from the warm-up search's upper end to 3x
 //                               the still span (a warm-up slower than the candidate's grid)
-//                                                                         channel: time since power-on
+//                                                      channel: time since power-on
 //   step                        0 before, 1 after a time searched over the run   channel: time
 //   periodic                    sin and cos of 2 pi t / P, P searched on a log grid from 4 bins
 //                               to a quarter of the span (4 cycles at least; longer is a trend)
 //                                                                                  channel: time
-//   temperature^3, ^4           shape in temperature beyond the declared model  channel: temperature
-//   dT/dt over 60/300/1200 s    the temperature's rate at other time scales     channel: temperature
-//   |dT/dt| over 300 s          rate magnitude (direction-free)                 channel: temperature
+//   temperature^3, ^4           shape in temperature beyond the declared model  (temperature)
+//   dT/dt over 60/300/1200 s    the temperature's rate at other time scales     (temperature)
+//   |dT/dt| over 300 s          rate magnitude (direction-free)                 (temperature)
 //   supply, supply rate         when every bin has it                           channel: supply
 //   air - sensor, x (T - T0)    a thermal gradient the sensor's temperature does not see
 //                                          channel: chamber air - sensor temperature
