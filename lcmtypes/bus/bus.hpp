@@ -12,12 +12,11 @@
 //
 // Threads: none of its own. LCM's receive thread queues packets; Handle() dispatches them on the
 // caller's thread.
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
 #include <optional>

@@ -62,7 +62,7 @@ void StatusReporter::PublishNow() {
     s.seq_gaps = c.seq_gaps + seq_gaps_;
     s.queue_drops = queue_drops_;
     s.rejected = rejected_;
-    s.last_reject = !last_reject_.empty()          ? last_reject_
+    s.last_reject = !last_reject_.empty()            ? last_reject_
                     : !c.first_handler_error.empty() ? "handler_error: " + c.first_handler_error
                                                      : c.last_decode_error;
     std::map<std::string, double> extra = extra_;

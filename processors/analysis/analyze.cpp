@@ -42,11 +42,11 @@ void Notes(const SensorRun& run, const BinnedRun& binned, SensorResult& res) {
                             " encoder readings with a time not after the previous reading's or "
                             "no counts per revolution (excluded)");
     if (run.motion_unknown)
-        res.notes.push_back("table motion unknown (encoder readings recorded, fewer than 2 "
-                            "usable): only bins inside plateau windows kept, " +
-                            std::to_string(binned.unknown_motion().bins) + " bins holding " +
-                            std::to_string(binned.unknown_motion().samples) +
-                            " samples outside them left out");
+        res.notes.push_back(
+            "table motion unknown (encoder readings recorded, fewer than 2 "
+            "usable): only bins inside plateau windows kept, " +
+            std::to_string(binned.unknown_motion().bins) + " bins holding " +
+            std::to_string(binned.unknown_motion().samples) + " samples outside them left out");
     if (binned.underfilled().bins > 0)
         res.notes.push_back(std::to_string(binned.underfilled().bins) +
                             " bins at rest below the fill limit (gaps, the run's ends) left out, "

@@ -64,8 +64,8 @@ TEST(StatusReporter, AHeartbeatCarriesTheProcessItsStateAndEveryCount) {
     EXPECT_EQ(s.published, 1);      // the heartbeat counts itself
     // Its own extras, then the bus's handler failures, backward steps and failed publishes, by
     // name.
-    EXPECT_EQ(s.extra_names, (std::vector<std::string>{"handler_errors", "points",
-                                                       "publish_errors", "seq_backwards"}));
+    EXPECT_EQ(s.extra_names, (std::vector<std::string>{"handler_errors", "points", "publish_errors",
+                                                       "seq_backwards"}));
     EXPECT_EQ(s.extra_values, (std::vector<double>{0, 7, 0, 0}));
     EXPECT_EQ(s.num_extra, 4);
 }
@@ -75,9 +75,8 @@ TEST(StatusReporter, AHeartbeatCarriesTheProcessItsStateAndEveryCount) {
 TEST(RunLoop, AFailedHandlerIsCountedInTheLastHeartbeat) {
     Bus bus(BusOptions{"memq://"});
     Heartbeats heartbeats(bus);
-    bus.Subscribe<status_t>("BOOM", [](const status_t&, const std::string&) {
-        throw std::runtime_error("boom");
-    });
+    bus.Subscribe<status_t>(
+        "BOOM", [](const status_t&, const std::string&) { throw std::runtime_error("boom"); });
     bus.Publish("BOOM", status_t{});
     StatusReporter status(bus, "gyrocal-test", 1h);
     EXPECT_THROW(RunLoop(bus, status, {}, 1ms), std::runtime_error);

@@ -17,9 +17,8 @@ namespace gyrocal::analysis {
 namespace {
 
 bool Mentions(const std::vector<std::string>& notes, const std::string& what) {
-    return std::any_of(notes.begin(), notes.end(), [&](const std::string& n) {
-        return n.find(what) != std::string::npos;
-    });
+    return std::any_of(notes.begin(), notes.end(),
+                       [&](const std::string& n) { return n.find(what) != std::string::npos; });
 }
 
 // 100 Hz samples at rest from 0 to n / 100 s, but the ones in [skip_from, skip_to).
@@ -54,8 +53,9 @@ TEST(Drops, EncoderReadingsNotAfterThePreviousOrWithoutCprAreCounted) {
     MovesFromEncoder(enc, BuildOptions::Defaults(), &bad);
     EXPECT_EQ(bad, 12);
     std::vector<EncoderSample> in_time = enc;
-    std::stable_sort(in_time.begin(), in_time.end(),
-                     [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
+    std::stable_sort(
+        in_time.begin(), in_time.end(),
+        [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
     RunMotion motion(BuildOptions::Defaults());
     for (const EncoderSample& e : in_time) motion.Add(e);
     EXPECT_EQ(motion.bad_readings(), 12);
@@ -139,7 +139,8 @@ TEST(Drops, NoEncoderWithRotationsSaysTheTurnsAreInTheStillData) {
     EXPECT_FALSE(run.motion_unknown);
     EXPECT_EQ(run.n_still(), 40000);
     const SensorResult r = Analyze(run);
-    EXPECT_TRUE(Mentions(r.notes, "the run recorded 2 rotations: their turns are in the still data"));
+    EXPECT_TRUE(
+        Mentions(r.notes, "the run recorded 2 rotations: their turns are in the still data"));
 }
 
 }  // namespace
