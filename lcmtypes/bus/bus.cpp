@@ -88,12 +88,25 @@ Bus::~Bus() {
 }
 
 void Bus::Subscriber::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    if (bus->pending_) return;  // a failed handler stops dispatch until Handle() rethrows
+    // A failed handler does not keep the message from the other subscribers (LCM calls each of
+    // them in turn): it is counted, and the first failure is rethrown by Handle().
+    std::string what;
+    std::exception_ptr failure;
     try {
         fn(*rbuf, channel);
+        return;
+    } catch (const std::exception& e) {
+        what = e.what();
+        failure = std::current_exception();
     } catch (...) {
-        bus->pending_ = std::current_exception();
+        what = "an exception that is not a std::exception";
+        failure = std::current_exception();
     }
+    BusCounters& c = bus->counters_;
+    ++c.handler_errors;
+    ++c.handler_errors_by_channel[channel];
+    if (c.first_handler_error.empty()) c.first_handler_error = "channel " + channel + ": " + what;
+    if (!bus->pending_) bus->pending_ = failure;
 }
 
 void Bus::AddSubscription(const std::string& channel_regex, RawHandler fn) {

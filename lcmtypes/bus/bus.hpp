@@ -6,17 +6,18 @@
 // channel) only prints to stderr. Here every subscription is a raw one with an unbounded queue
 // (capacity 0 = unlimited in LCM), decoding happens in our code so failures are counted, and
 // every message type with a `seq` field feeds a per-channel SeqTracker so network loss is
-// counted. A handler's exception is never thrown through LCM's C stack: it is recorded and
-// rethrown from Handle() once LCM has returned.
+// counted. A handler's exception is never thrown through LCM's C stack: it is recorded, counted
+// per channel (handler_errors), the other subscribers of the same message still get it, and the
+// first is rethrown from Handle() once LCM has returned.
 //
 // Threads: none of its own. LCM's receive thread queues packets; Handle() dispatches them on the
 // caller's thread.
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -69,6 +70,10 @@ struct BusCounters {
     int64_t seq_gaps = 0;       // samples missing per seq, all channels
     int64_t seq_backwards = 0;  // reordered, duplicated or restarted streams
     std::string last_decode_error;  // channel and type of the latest failure
+    // A handler threw (the message was still given to the channel's other subscribers).
+    int64_t handler_errors = 0;
+    std::map<std::string, int64_t> handler_errors_by_channel;
+    std::string first_handler_error;  // channel and what() of the first
 };
 
 class Bus {
@@ -102,7 +107,8 @@ public:
     bool PublishRaw(const std::string& channel, const void* data, int size);
 
     // Dispatches messages for up to `timeout`; returns true when at least one was handled.
-    // Rethrows the first exception a handler raised (after LCM has returned).
+    // Rethrows the first exception a handler raised (after LCM has returned and every other
+    // subscriber of that message has had it); every one is counted in handler_errors.
     bool Handle(std::chrono::milliseconds timeout);
 
     const BusCounters& counters() const { return counters_; }

@@ -62,10 +62,17 @@ void StatusReporter::PublishNow() {
     s.seq_gaps = c.seq_gaps + seq_gaps_;
     s.queue_drops = queue_drops_;
     s.rejected = rejected_;
-    s.last_reject = last_reject_.empty() ? c.last_decode_error : last_reject_;
+    s.last_reject = !last_reject_.empty()            ? last_reject_
+                    : !c.first_handler_error.empty() ? "handler_error: " + c.first_handler_error
+                                                     : c.last_decode_error;
     std::map<std::string, double> extra = extra_;
     extra["seq_backwards"] = static_cast<double>(c.seq_backwards);
     extra["publish_errors"] = static_cast<double>(c.publish_errors);
+    // Messages a handler failed on (each still given to the channel's other subscribers), in
+    // all and per channel: a loss the data did not show.
+    extra["handler_errors"] = static_cast<double>(c.handler_errors);
+    for (const auto& [channel, n] : c.handler_errors_by_channel)
+        extra["handler_errors:" + channel] = static_cast<double>(n);
     for (const auto& [name, value] : extra) {
         s.extra_names.push_back(name);
         s.extra_values.push_back(value);
@@ -79,7 +86,15 @@ void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done
     if (status.state() == "starting") status.set_state("running");
     status.PublishNow();
     while (!StopRequested() && !(done && done())) {
-        bus.Handle(poll);
+        try {
+            bus.Handle(poll);
+        } catch (...) {
+            // A handler failed: the process stops with it (process_main prints it), after a last
+            // heartbeat that counts it (handler_errors) and says what it was (last_reject).
+            status.set_state("failed");
+            status.PublishNow();
+            throw;
+        }
         status.Tick();
     }
     status.PublishNow();

@@ -32,7 +32,26 @@ void Notes(const SensorRun& run, const BinnedRun& binned, SensorResult& res) {
     if (!run.has_encoder)
         res.notes.push_back(
             "no encoder readings: table motion could not be excluded, every sample counted as "
-            "still");
+            "still" +
+            (run.sensitivities.empty()
+                 ? std::string()
+                 : " (the run recorded " + std::to_string(run.sensitivities.size()) +
+                       " rotations: their turns are in the still data)"));
+    if (run.n_bad_encoder > 0)
+        res.notes.push_back(std::to_string(run.n_bad_encoder) +
+                            " encoder readings with a time not after the previous reading's or "
+                            "no counts per revolution (excluded)");
+    if (run.motion_unknown)
+        res.notes.push_back(
+            "table motion unknown (encoder readings recorded, fewer than 2 "
+            "usable): only bins inside plateau windows kept, " +
+            std::to_string(binned.unknown_motion().bins) + " bins holding " +
+            std::to_string(binned.unknown_motion().samples) + " samples outside them left out");
+    if (binned.underfilled().bins > 0)
+        res.notes.push_back(std::to_string(binned.underfilled().bins) +
+                            " bins at rest below the fill limit (gaps, the run's ends) left out, "
+                            "holding " +
+                            std::to_string(binned.underfilled().samples) + " samples");
     if (run.n_seq_gaps > 0)
         res.notes.push_back(std::to_string(run.n_seq_gaps) +
                             " samples missing by sequence number (bins with gaps dropped)");

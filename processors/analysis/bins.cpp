@@ -77,6 +77,12 @@ void AddTableState(const SensorRun& run, std::vector<Bin>& bins) {
     }
 }
 
+bool InPlateauWindow(const SensorRun& run, int64_t start_utime, int64_t end_utime) {
+    for (const PlateauInput& p : run.plateaus)
+        if (start_utime >= p.start_utime && end_utime <= p.end_utime) return true;
+    return false;
+}
+
 void AddPlateaus(const SensorRun& run, std::vector<Bin>& bins) {
     for (size_t p = 0; p < run.plateaus.size(); ++p)
         for (Bin& b : bins)
@@ -86,8 +92,14 @@ void AddPlateaus(const SensorRun& run, std::vector<Bin>& bins) {
 }
 
 BinnedRun::BinnedRun(const SensorRun& run, double bin_s, std::vector<Bin> bins,
-                     std::shared_ptr<const TrackedInputSource> inputs)
-    : run_(run), bin_s_(bin_s), bins_(std::move(bins)), inputs_(std::move(inputs)) {}
+                     std::shared_ptr<const TrackedInputSource> inputs, BinDrops underfilled,
+                     BinDrops unknown_motion)
+    : run_(run),
+      bin_s_(bin_s),
+      bins_(std::move(bins)),
+      underfilled_(underfilled),
+      unknown_motion_(unknown_motion),
+      inputs_(std::move(inputs)) {}
 
 BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin_s_(o.bin_s) {
     bin_of_sample_.assign(run.samples.size(), -1);
@@ -100,10 +112,18 @@ BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin
     int segment = -1;
     Acc a;
     auto flush = [&]() {
-        if (a.n == 0 || a.n_moving > 0 || a.n < o.min_fill * expected) return;
+        if (a.n == 0 || a.n_moving > 0) return;
+        if (a.n < o.min_fill * expected) {
+            ++underfilled_.bins, underfilled_.samples += a.n;
+            return;
+        }
         Bin b;
         b.start_utime = origin + a.cell * bin_us;
         b.end_utime = b.start_utime + bin_us;
+        if (run.motion_unknown && !InPlateauWindow(run, b.start_utime, b.end_utime)) {
+            ++unknown_motion_.bins, unknown_motion_.samples += a.n;
+            return;
+        }
         b.n = a.n;
         b.mid_utime = a.sum_utime / a.n;
         b.temp_c = a.sT / a.n;

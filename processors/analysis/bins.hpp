@@ -9,7 +9,8 @@
 // use them account for residual autocorrelation explicitly (regress.hpp).
 // Bins sit on a grid from the first sample; a bin is kept only when it is filled to min_fill of
 // its expected samples with samples at rest (no move, no gap inside). Consecutive kept bins form
-// a segment.
+// a segment. The bins dropped below the fill limit are counted (BinDrops), and so are those
+// dropped outside the plateau windows of a run whose motion is unknown (run_data.hpp).
 //
 // Model inputs of a bin: the means over its samples of the inputs the trackers of
 // model/inputs.hpp give at each sample - the very trackers the compensators run - fed with EVERY
@@ -52,6 +53,13 @@ struct Bin {
     double last_turn_rate_dps = kNan;  // [deg/s] |turn angle| / turn duration
 };
 
+// Bins of still samples left out, and the still samples they held (a bin with a move inside is
+// not counted here: its samples are the run's n_moving_samples).
+struct BinDrops {
+    int bins = 0;
+    int64_t samples = 0;
+};
+
 struct BinOptions {
     double bin_s = 10.0;     // [s]
     double min_fill = 0.8;   // [1] kept when n >= min_fill * expected
@@ -82,13 +90,20 @@ public:
     // Bins made elsewhere (bins_incremental.hpp) from the samples `run` describes (its samples
     // may be empty): `bins` complete (segments, power, air, table, plateau), their tracked inputs
     // from `inputs`. Keeps a reference to `run`.
+    // `underfilled` and `unknown_motion`: the bins it left out (as underfilled() says).
     BinnedRun(const SensorRun& run, double bin_s, std::vector<Bin> bins,
-              std::shared_ptr<const TrackedInputSource> inputs);
+              std::shared_ptr<const TrackedInputSource> inputs, BinDrops underfilled = {},
+              BinDrops unknown_motion = {});
 
     const std::vector<Bin>& bins() const { return bins_; }
     size_t size() const { return bins_.size(); }
     const SensorRun& run() const { return run_; }
     double bin_s() const { return bin_s_; }
+    // Bins at rest left out below min_fill of their expected samples (gaps, the run's ends).
+    const BinDrops& underfilled() const { return underfilled_; }
+    // Bins left out because they lie outside every plateau window of a run whose motion is
+    // unknown (SensorRun::motion_unknown).
+    const BinDrops& unknown_motion() const { return unknown_motion_; }
 
     // The inputs of bin i as trackers with `config` give them (means over its samples).
     model::ModelInputs Inputs(size_t i, const gyrocal_tracker_config_t& config) const;
@@ -105,6 +120,7 @@ private:
     const SensorRun& run_;
     double bin_s_;
     std::vector<Bin> bins_;
+    BinDrops underfilled_, unknown_motion_;
     std::vector<int> bin_of_sample_;  // -1 = not in a kept bin
     std::shared_ptr<const TrackedInputSource> inputs_;                    // set: binned elsewhere
     mutable std::map<std::pair<double, double>, TrackedInputs> tracked_;  // by (tau, width)
@@ -114,6 +130,8 @@ private:
 // plateau each bin lies in (Bin::plateau): shared by both ways of binning.
 void AddTableState(const SensorRun& run, std::vector<Bin>& bins);
 void AddPlateaus(const SensorRun& run, std::vector<Bin>& bins);
+// Whether the bin [start_utime, end_utime) lies inside a plateau window of `run`.
+bool InPlateauWindow(const SensorRun& run, int64_t start_utime, int64_t end_utime);
 
 // Noise floor of a per-bin series (residuals of a model): the Allan deviation at the bin length,
 // sqrt(sum (v[i+1] - v[i])^2 / (2 m)) over the m pairs of consecutive bins in one segment. A model

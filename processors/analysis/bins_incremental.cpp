@@ -88,7 +88,10 @@ void RunMotion::Add(const EncoderSample& e) {
         have_first_ = true;
         if (e.counts_per_rev > 0) initial_counts_ = e.counts, counts_per_rev_ = e.counts_per_rev;
     }
-    if (e.utime <= last_utime_ || e.counts_per_rev <= 0) return;  // as MovesFromEncoder
+    if (e.utime <= last_utime_ || e.counts_per_rev <= 0) {  // as MovesFromEncoder
+        ++bad_readings_;
+        return;
+    }
     last_utime_ = e.utime;
     if (auto m = detector_.Feed({e.utime, e.counts, e.counts_per_rev})) moves_.push_back(*m);
 }

@@ -89,10 +89,13 @@ struct IncrementalOptions {
 class RunMotion {
 public:
     explicit RunMotion(const BuildOptions& options);
-    // A reading not after the previous one, or without counts_per_rev, is ignored.
+    // A reading not after the previous one, or without counts_per_rev, is ignored and counted.
     void Add(const EncoderSample& e);
 
     bool has_encoder() const { return readings_ > 0; }
+    int64_t bad_readings() const { return bad_readings_; }
+    // Readings came, fewer than 2 usable: the table's motion is unknown (run_data.hpp).
+    bool motion_unknown() const { return readings_ > 0 && readings_ - bad_readings_ < 2; }
     std::optional<int64_t> watermark_utime() const { return detector_.watermark_utime(); }
     std::optional<int64_t> current_start_utime() const { return detector_.current_start_utime(); }
     const std::vector<motion::TableMove>& completed() const { return moves_; }
@@ -104,7 +107,7 @@ public:
 private:
     motion::MoveDetector detector_;
     std::vector<motion::TableMove> moves_;
-    int64_t readings_ = 0;
+    int64_t readings_ = 0, bad_readings_ = 0;
     int64_t last_utime_ = INT64_MIN;
     bool have_first_ = false;
     int64_t initial_counts_ = 0;

@@ -146,6 +146,7 @@ BinnedRun BinSnapshot::Binned(const BinOptions& o) const {
                                     text::Sig(bin_s_, 3) + " s");
     std::vector<Bin> bins;
     std::vector<CellAt> at;
+    BinDrops underfilled, unknown_motion;
     const double period_s = run_->sample_period_s;
     if (period_s > 0.0) {
         const auto bin_us = static_cast<int64_t>(std::llround(o.bin_s * 1e6));
@@ -155,10 +156,17 @@ BinnedRun BinSnapshot::Binned(const BinOptions& o) const {
         for (size_t k = 0; k < chunks_.size(); ++k) {
             for (size_t i = 0; i < chunks_[k]->cells.size(); ++i) {
                 const incremental::CellSums& c = chunks_[k]->cells[i];
-                if (c.n < o.min_fill * expected) continue;  // as BinnedRun: gaps, partial cells
+                if (c.n < o.min_fill * expected) {  // as BinnedRun: gaps, partial cells
+                    ++underfilled.bins, underfilled.samples += c.n;
+                    continue;
+                }
                 Bin b;
                 b.start_utime = run_->first_sample_utime + c.cell * bin_us;
                 b.end_utime = b.start_utime + bin_us;
+                if (run_->motion_unknown && !InPlateauWindow(*run_, b.start_utime, b.end_utime)) {
+                    ++unknown_motion.bins, unknown_motion.samples += c.n;
+                    continue;
+                }
                 b.n = c.n;
                 b.mid_utime = c.sum_utime / c.n;
                 b.temp_c = c.sum_temp / c.n;
@@ -177,7 +185,8 @@ BinnedRun BinSnapshot::Binned(const BinOptions& o) const {
     AddTableState(*run_, bins);
     AddPlateaus(*run_, bins);
     auto inputs = std::make_shared<SnapshotInputs>(chunks_, std::move(at), grid_, approximations_);
-    return BinnedRun(*run_, o.bin_s, std::move(bins), std::move(inputs));
+    return BinnedRun(*run_, o.bin_s, std::move(bins), std::move(inputs), underfilled,
+                     unknown_motion);
 }
 
 SensorResult BinSnapshot::Analyze(const AnalysisOptions& options) const {
@@ -206,6 +215,8 @@ BinSnapshot UnitBinner::Snapshot(const RunMotion& motion) const {
         BuildSensorRun(sensor_id_, {}, {}, plateaus_, sensitivities_, power_, options_.build));
     run->moves = motion.Moves();
     run->has_encoder = motion.has_encoder();
+    run->n_bad_encoder = motion.bad_readings();
+    run->motion_unknown = motion.motion_unknown();
     run->initial_counts = motion.initial_counts();
     run->counts_per_rev = motion.counts_per_rev();
     run->first_sample_utime = origin_;

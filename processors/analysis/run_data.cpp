@@ -7,17 +7,22 @@
 namespace gyrocal::analysis {
 
 std::vector<motion::TableMove> MovesFromEncoder(std::vector<EncoderSample> enc,
-                                                const BuildOptions& o) {
-    std::sort(enc.begin(), enc.end(),
-              [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
+                                                const BuildOptions& o, int64_t* n_bad) {
+    std::stable_sort(enc.begin(), enc.end(), [](const EncoderSample& a, const EncoderSample& b) {
+        return a.utime < b.utime;
+    });
     std::vector<motion::TableMove> moves;
     motion::MoveDetector detector(o.move);
-    int64_t last = INT64_MIN;
+    int64_t last = INT64_MIN, bad = 0;
     for (const EncoderSample& e : enc) {
-        if (e.utime <= last || e.counts_per_rev <= 0) continue;  // as the live node guards
+        if (e.utime <= last || e.counts_per_rev <= 0) {  // as the live node guards
+            ++bad;
+            continue;
+        }
         last = e.utime;
         if (auto m = detector.Feed({e.utime, e.counts, e.counts_per_rev})) moves.push_back(*m);
     }
+    if (n_bad) *n_bad = bad;
     // A move still under way when the readings end lasts to the last reading.
     if (const auto start = detector.current_start_utime()) {
         motion::TableMove m;
@@ -62,7 +67,10 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
     run.sensitivities = std::move(sensitivities);
     run.n_raw_samples = static_cast<int64_t>(raw.size());
     run.has_encoder = !encoder.empty();
-    run.moves = MovesFromEncoder(encoder, o);
+    run.moves = MovesFromEncoder(encoder, o, &run.n_bad_encoder);
+    // Fewer than 2 usable readings cannot show a move: motion unknown (run_data.hpp).
+    run.motion_unknown =
+        run.has_encoder && static_cast<int64_t>(encoder.size()) - run.n_bad_encoder < 2;
     const auto first = std::min_element(
         encoder.begin(), encoder.end(),
         [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });

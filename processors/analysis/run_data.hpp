@@ -5,8 +5,17 @@
 //
 // Still vs moving: the live detector's definition (motion::MoveDetector, processors/motion/
 // table_motion.hpp, with its dither threshold and settle time) run over the encoder's counts; a
-// sample within guard_s of a move (before its start or after its end: TableMove::Near) is moving. No encoder
-// readings: every sample counts as still (reported).
+// sample within guard_s of a move (before its start or after its end: TableMove::Near) is moving.
+// No encoder readings: every sample counts as still (reported). Encoder readings whose time is not
+// after the previous one's, or without counts_per_rev, are dropped and counted (n_bad_encoder).
+// Readings recorded but fewer than 2 usable: the encoder was there and failed, so the table's
+// motion is unknown, not "at rest" (motion_unknown): the run's turns (the sequencer turns the table
+// at every setpoint) would sit in the still data as rate signals hundreds of times the effects
+// sought. A lab engineer expects those turns kept out, not averaged in: the bins then keep only the
+// plateau windows, where the sequencer holds the table at rest by procedure (it turns only after a
+// window is collected), and the notes say so. No readings at all is a run recorded without an
+// encoder (a CSV without one, a lab without one): every sample counts as still, as before, and the
+// notes say so (and how many rotations the run recorded, whose turns are then in the still data).
 // Power-on: the power records of the unit (POWER_<id> on the bus, a CSV time_since_power_s
 // column); each distinct power_on_utime is a power cycle. None: the first sample is taken as the
 // power-on time and the result says it was assumed.
@@ -90,6 +99,8 @@ struct SensorRun {
     int64_t n_bad_samples = 0;       // excluded: non-finite temp_c / gyro_v, out of order
     int64_t n_seq_gaps = 0;          // missing sequence numbers
     bool has_encoder = false;
+    int64_t n_bad_encoder = 0;    // encoder readings dropped: time not after the previous, no cpr
+    bool motion_unknown = false;  // readings recorded, fewer than 2 usable (see the header)
     int64_t initial_counts = 0;  // [count] first encoder reading (the rest position before moves)
     int32_t counts_per_rev = 0;  // [count/rev] of that reading; 0 without encoder
     std::vector<AirSample> air;  // chamber air, time-ordered, finite; empty: not recorded
@@ -106,9 +117,12 @@ struct BuildOptions {
     static BuildOptions Defaults() { return {}; }
 };
 
-// The moves of the encoder readings (any order; sorted here).
+// The moves of the encoder readings (any order; sorted here, equal times in the order given).
+// A reading whose time is not after the previous one's, or without counts_per_rev, is dropped;
+// `n_bad`, when given, is set to how many were.
 std::vector<motion::TableMove> MovesFromEncoder(std::vector<EncoderSample> encoder,
-                                                const BuildOptions& options);
+                                                const BuildOptions& options,
+                                                int64_t* n_bad = nullptr);
 
 // Builds the analysis input from raw samples, encoder readings and power records (any order;
 // sorted here).

@@ -547,7 +547,10 @@ int Calibration::Finish(int code) {
     StopAll();
     std::cout << "\nrun " << (run_id_.empty() ? "(none)" : run_id_) << ": "
               << (run_outcome_.empty() ? "not finished" : run_outcome_) << "\n";
-    if (progress_) std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops): " << progress_->drops() << "\n";
+    if (progress_)
+        std::cout << "losses seen on the bus (sequence gaps + decode errors + queue drops + "
+                     "handler errors): "
+                  << progress_->drops() << "\n";
     if (!coeffs_.empty()) {
         std::cout << "\n" << FormatCoeffTable(coeffs_, Verdict().Labels());
         if (ClosedLoop() && !plateau_sets_.empty())

@@ -36,8 +36,12 @@ void Progress::OnSensitivity(const sensitivity_point_t& s) {
 }
 
 void Progress::OnStatus(const status_t& s) {
+    int64_t handler_errors = 0;  // an extra counter (bus.hpp): absent from older processes
+    for (size_t i = 0; i < s.extra_names.size() && i < s.extra_values.size(); ++i)
+        if (s.extra_names[i] == "handler_errors")
+            handler_errors = static_cast<int64_t>(s.extra_values[i]);
     losses_by_process_[s.process + "@" + s.host + ":" + std::to_string(s.pid)] =
-        s.seq_gaps + s.decode_errors + s.queue_drops;
+        s.seq_gaps + s.decode_errors + s.queue_drops + handler_errors;
 }
 
 void Progress::OnCoeffs(const coeff_set_t& c) { ++coeffs_by_sensor_[c.sensor_id]; }

@@ -36,7 +36,8 @@ public:
 
     const std::string& run_id() const { return run_id_; }
     const std::string& last_event() const { return last_event_; }
-    int64_t drops() const;  // sequence gaps + decode errors + queue drops, all processes
+    int64_t drops() const;  // sequence gaps + decode errors + queue drops + handler errors, all
+                            // processes
     int rotations_accepted() const { return rotations_accepted_; }
     int rotations_rejected() const { return rotations_rejected_; }
 

@@ -78,6 +78,39 @@ TEST(Bus, HandlerExceptionIsRethrownFromHandle) {
     EXPECT_THROW(Drain(bus), std::runtime_error);
 }
 
+// Issue 27: a handler that throws must not keep the message from the channel's later
+// subscribers; each failure is counted, in all and per channel, with the first one's text.
+TEST(Bus, AThrowingHandlerIsCountedAndTheOtherSubscribersStillRun) {
+    Bus bus(BusOptions{"memq://"});
+    bus.Subscribe<gyro_sample_t>("GYRO_A", [](const gyro_sample_t&, const std::string&) {
+        throw std::runtime_error("handler failed");
+    });
+    int second = 0;
+    CountDeliveries<gyro_sample_t>(bus, "GYRO_.*", second);
+    bus.Publish("GYRO_A", Gyro("A", 0));
+    // The first failure is still rethrown by Handle(), once every subscriber has had the message.
+    EXPECT_THROW(Drain(bus), std::runtime_error);
+    EXPECT_EQ(second, 1);
+    EXPECT_EQ(bus.counters().handler_errors, 1);
+    EXPECT_EQ(bus.counters().handler_errors_by_channel.at("GYRO_A"), 1);
+    EXPECT_EQ(bus.counters().first_handler_error, "channel GYRO_A: handler failed");
+    // Two more on the same channel and one on another (the second handler hears GYRO_B alone):
+    // counted per channel; the first text stays.
+    bus.Subscribe<gyro_sample_t>("GYRO_B", [](const gyro_sample_t&, const std::string&) {
+        throw std::logic_error("other");
+    });
+    bus.Publish("GYRO_A", Gyro("A", 1));
+    bus.Publish("GYRO_A", Gyro("A", 2));
+    bus.Publish("GYRO_B", Gyro("B", 0));
+    for (int i = 0; i < 3; ++i) EXPECT_ANY_THROW(Drain(bus));
+    EXPECT_EQ(second, 4);
+    EXPECT_EQ(bus.counters().handler_errors, 4);
+    EXPECT_EQ(bus.counters().handler_errors_by_channel.at("GYRO_A"), 3);
+    EXPECT_EQ(bus.counters().handler_errors_by_channel.at("GYRO_B"), 1);
+    EXPECT_EQ(bus.counters().first_handler_error, "channel GYRO_A: handler failed");
+    EXPECT_EQ(bus.counters().received, 8);  // 4 messages x the 2 handlers of each
+}
+
 TEST(Bus, UnopenableUrlGivesAnActionableError) {
     try {
         Bus bus(BusOptions{"nosuchprovider://x"});

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <map>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -60,11 +62,35 @@ TEST(StatusReporter, AHeartbeatCarriesTheProcessItsStateAndEveryCount) {
     EXPECT_EQ(s.seq_gaps, 3);       // the bus counted none itself
     EXPECT_EQ(s.decode_errors, 4);  // likewise
     EXPECT_EQ(s.published, 1);      // the heartbeat counts itself
-    // Its own extras, then the bus's backward steps and failed publishes, by name.
-    EXPECT_EQ(s.extra_names,
-              (std::vector<std::string>{"points", "publish_errors", "seq_backwards"}));
-    EXPECT_EQ(s.extra_values, (std::vector<double>{7, 0, 0}));
-    EXPECT_EQ(s.num_extra, 3);
+    // Its own extras, then the bus's handler failures, backward steps and failed publishes, by
+    // name.
+    EXPECT_EQ(s.extra_names, (std::vector<std::string>{"handler_errors", "points", "publish_errors",
+                                                       "seq_backwards"}));
+    EXPECT_EQ(s.extra_values, (std::vector<double>{0, 7, 0, 0}));
+    EXPECT_EQ(s.num_extra, 4);
+}
+
+// Issue 27: a handler's failure stops the node loop as before, but its last heartbeat counts it,
+// in all and per channel, and says what it was.
+TEST(RunLoop, AFailedHandlerIsCountedInTheLastHeartbeat) {
+    Bus bus(BusOptions{"memq://"});
+    Heartbeats heartbeats(bus);
+    bus.Subscribe<status_t>(
+        "BOOM", [](const status_t&, const std::string&) { throw std::runtime_error("boom"); });
+    bus.Publish("BOOM", status_t{});
+    StatusReporter status(bus, "gyrocal-test", 1h);
+    EXPECT_THROW(RunLoop(bus, status, {}, 1ms), std::runtime_error);
+    const std::vector<status_t>& seen = heartbeats.Drain();
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_EQ(seen[0].state, "running");
+    const status_t& last = seen[1];
+    EXPECT_EQ(last.state, "failed");
+    EXPECT_EQ(last.last_reject, "handler_error: channel BOOM: boom");
+    std::map<std::string, double> extra;
+    for (size_t i = 0; i < last.extra_names.size(); ++i)
+        extra[last.extra_names[i]] = last.extra_values[i];
+    EXPECT_EQ(extra["handler_errors"], 1);
+    EXPECT_EQ(extra["handler_errors:BOOM"], 1);
 }
 
 TEST(StatusReporter, TickPublishesOncePerPeriod) {

@@ -89,6 +89,9 @@ SimRun SimWith(const char* effect, double value, uint64_t seed) {
 
 void ExpectSameBins(const BinnedRun& raw, const BinnedRun& inc) {
     ASSERT_EQ(raw.size(), inc.size());
+    // The bins left out below the fill limit, and their samples, are the same too (issue 27).
+    EXPECT_EQ(raw.underfilled().bins, inc.underfilled().bins);
+    EXPECT_EQ(raw.underfilled().samples, inc.underfilled().samples);
     for (size_t i = 0; i < raw.size(); ++i) {
         const Bin& a = raw.bins()[i];
         const Bin& b = inc.bins()[i];

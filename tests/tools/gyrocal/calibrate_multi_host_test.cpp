@@ -328,7 +328,7 @@ TEST(MultiHost, CableOutDuringAPlateauAndATurnIsCountedRefusedAndTakenAgain) {
     EXPECT_NE(shown.find("GYRO_S01"), std::string::npos) << shown;
     const std::string printed = ReadLog(dir + "/recorder.out");
     const std::string said =
-        "losses seen on the bus (sequence gaps + decode errors + queue drops): ";
+        "losses seen on the bus (sequence gaps + decode errors + queue drops + handler errors): ";
     const size_t at = printed.find(said);
     ASSERT_NE(at, std::string::npos) << printed;
     EXPECT_GT(std::stoll(printed.substr(at + said.size())), 0) << printed.substr(at);

@@ -60,6 +60,12 @@ TEST(Progress, LineShowsSensorsStatesAndLosses) {
     EXPECT_NE(line.find("settling +0.21 C/min"), std::string::npos) << line;
     EXPECT_EQ(p.drops(), 5);
     EXPECT_NE(line.find("losses 5"), std::string::npos) << line;
+    // A handler's failures (the bus's extra counter) are losses too (issue 27).
+    st.num_extra = 2;
+    st.extra_names = {"publish_errors", "handler_errors"};
+    st.extra_values = {9, 2};
+    p.OnStatus(st);
+    EXPECT_EQ(p.drops(), 7);
 }
 
 }  // namespace
