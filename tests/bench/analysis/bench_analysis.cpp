@@ -29,12 +29,12 @@
 #include "analysis/analyze.hpp"
 #include "analysis/bins.hpp"
 #include "analysis/sensitivity.hpp"
-#include "model/inputs.hpp"
+#include "bench_args.hpp"
+#include "bench_context.hpp"
 #include "fit/fit.hpp"
 #include "fit/levels.hpp"
+#include "model/inputs.hpp"
 #include "sim_run.hpp"
-#include "bench_args.hpp"
-#include "machine.hpp"
 
 using namespace gyrocal;
 
@@ -136,11 +136,10 @@ void SeedPoints(const std::vector<fit::FitPoint>& off, const std::vector<fit::Fi
 int main(int argc, char** argv) {
     const int seeds = bench::IntArg(argc, argv, 1, 6);
     if (seeds < 1 || seeds > 1000) return bench::Usage(argv, "[seeds 1..1000]");
+    bench::PrintContext(argc, argv);
     std::printf(
         "gyrocal analysis benchmark: held-out stretch of simulated runs, mean over %d seeds\n",
         seeds);
-    std::printf("machine: %u cores (nproc), %s\n", gyrocal::bench::Nproc(),
-                gyrocal::bench::CpuModel().c_str());
     struct Config {
         const char* label;
         std::vector<std::pair<const char*, double>> effects;

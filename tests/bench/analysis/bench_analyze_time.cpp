@@ -1,7 +1,7 @@
 // Benchmark (not a test): wall and CPU time of Analyze() (bins, selection, held-out gate, generic
 // features beyond the list, residual diagnostics, verdict) on one long simulated run of about
 // 1.5 M samples, plus BuildSensorRun (still/moving, power-on) and the chamber air for the same
-// run. Prints the machine and its load beside the figures (tests/bench/support/machine.hpp).
+// run. Prints the date, commit, machine and its load first (tests/bench/support/bench_context.hpp).
 // Usage: gyrocal_bench_analyze_time [repeats 1..20] (default 3; the figure is the median).
 #include <algorithm>
 #include <chrono>
@@ -13,7 +13,7 @@
 #include "analysis/analyze.hpp"
 #include "sim_run.hpp"
 #include "support/bench_args.hpp"
-#include "support/machine.hpp"
+#include "support/bench_context.hpp"
 
 using namespace gyrocal;
 
@@ -26,6 +26,7 @@ double CpuS() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 int main(int argc, char** argv) {
     const int repeats = bench::IntArg(argc, argv, 1, 3);
     if (repeats < 1 || repeats > 20) return bench::Usage(argv, "[repeats 1..20]");
+    bench::PrintContext(argc, argv);
     analysis::testing::SimRunOptions o;
     o.seed = 901;
     // 11 setpoints with 900 s dwells and 6 degC/min ramps: about 1.5 M samples at 100 Hz.
@@ -53,10 +54,9 @@ int main(int argc, char** argv) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
     };
-    std::printf("gyrocal analyze timing: one simulated run, %zu samples, %d still bins, %d repeats\n",
-                sim.raw.size(), r.n_bins, repeats);
-    std::printf("machine: %s, %u cores (nproc), load %s\n", bench::CpuModel().c_str(),
-                bench::Nproc(), bench::LoadAverage().c_str());
+    std::printf(
+        "gyrocal analyze timing: one simulated run, %zu samples, %d still bins, %d repeats\n",
+        sim.raw.size(), r.n_bins, repeats);
     std::printf("%-28s %10s %10s\n", "step (median)", "wall_s", "cpu_s");
     std::printf("%-28s %10.3f %10s\n", "BuildSensorRun", median(build_s), "-");
     std::printf("%-28s %10.3f %10.3f\n", "Analyze", median(analyze_s), median(analyze_cpu_s));

@@ -14,6 +14,7 @@
 
 #include "analysis/analyze.hpp"
 #include "bench_args.hpp"
+#include "bench_context.hpp"
 #include "sim_run.hpp"
 
 using namespace gyrocal;
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
     const int first = bench::IntArg(argc, argv, 2, 1001);
     if (seeds < 1 || seeds > 1000 || first < 1)
         return bench::Usage(argv, "[seeds 1..1000] [first seed >= 1]");
+    bench::PrintContext(argc, argv);
     std::map<std::string, int> outcomes;
     std::map<std::string, GroupStats> groups;
     for (int k = 0; k < seeds; ++k) {

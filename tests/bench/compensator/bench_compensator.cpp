@@ -11,9 +11,9 @@
 
 #include <string>
 
+#include "bench_context.hpp"
 #include "bench_inputs.hpp"
 #include "compensator/compensate.hpp"
-#include "machine.hpp"
 
 namespace {
 
@@ -97,8 +97,10 @@ BENCHMARK_CAPTURE(BM_GyrocalCompensateC, extended, ModelKind::kExtended);
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::AddCustomContext("cpu_model", gyrocal::bench::CpuModel());
-    benchmark::AddCustomContext("nproc", std::to_string(gyrocal::bench::Nproc()));
+    // The header block (bench_context.hpp) as Google Benchmark's custom context: it prints it
+    // with its own header (on stderr) and writes it into --benchmark_format=json's "context".
+    for (const auto& [key, value] : gyrocal::bench::ReadContext(argc, argv))
+        benchmark::AddCustomContext(key, value);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
     benchmark::RunSpecifiedBenchmarks();

@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "runtime/process_main.hpp"
+#include "bench_context.hpp"
 #include "latency_run.hpp"
-#include "machine.hpp"
+#include "runtime/process_main.hpp"
 
 namespace {
 
@@ -91,8 +91,7 @@ void PrintCase(const gyrocal::bench::LatencyCase& c, const gyrocal::bench::Laten
 }
 
 int RunAll(const Options& o) {
-    std::printf("machine: %s, nproc %u; compensator %s; %s\n", gyrocal::bench::CpuModel().c_str(),
-                gyrocal::bench::Nproc(), GYROCAL_COMPENSATOR_EXE, o.lcm_url.c_str());
+    std::printf("compensator %s; %s\n", GYROCAL_COMPENSATOR_EXE, o.lcm_url.c_str());
     int exit_code = 0;
     for (const std::string& text : o.cases) {
         const auto [sensors, hz] = *ParseCase(text);
@@ -137,5 +136,6 @@ int main(int argc, char** argv) {
     if (auto code =
             gyrocal::ParseCommandLine(app, argc, argv, kProcess, [&] { return Problem(o); }))
         return *code;
+    gyrocal::bench::PrintContext(argc, argv);
     return RunAll(o);
 }

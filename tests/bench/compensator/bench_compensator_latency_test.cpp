@@ -76,7 +76,10 @@ TEST(BenchCompensatorLatency, ShortCaseAccountsForEverySampleAndChecksEveryRate)
         << r.out;
     for (int i = 1; i < 5; ++i) EXPECT_LE(std::stod(m[i]), std::stod(m[i + 1])) << r.out;
     EXPECT_GT(std::stod(m[1]), 0.0);  // a rate cannot arrive before its sample was sent
-    EXPECT_NE(r.out.find("nproc"), std::string::npos);
+    // The header block comes first (tests/bench/support/bench_context.hpp): date, commit, machine.
+    EXPECT_EQ(r.out.rfind("date:", 0), 0u) << r.out;
+    EXPECT_NE(r.out.find("\ncommit:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\ncpu:"), std::string::npos) << r.out;
 }
 
 }  // namespace

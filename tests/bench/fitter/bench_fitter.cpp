@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "bench_args.hpp"
+#include "bench_context.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "fitter/fitter_node.hpp"
@@ -34,7 +35,6 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "machine.hpp"
 #include "runtime/status.hpp"
 
 namespace gyrocal {
@@ -224,8 +224,7 @@ int main(int argc, char** argv) {
     const int units = gyrocal::bench::IntArg(argc, argv, 3, 4);
     if (hours < 1 || hours > 48 || rate < 100 || rate > 100000 || units < 1 || units > 16)
         return gyrocal::bench::Usage(argv, "[HOURS_MEMORY 1..48] [MSGS_PER_S 100..100000] [UNITS 1..16]");
-    std::printf("gyrocal_bench_fitter: %s, %u cores, load %s\n", gyrocal::bench::CpuModel().c_str(),
-                gyrocal::bench::Nproc(), gyrocal::bench::LoadAverage().c_str());
+    gyrocal::bench::PrintContext(argc, argv);
     gyrocal::Memory(hours);
     gyrocal::Receive(rate, units);
     return 0;

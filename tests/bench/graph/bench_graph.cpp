@@ -6,7 +6,7 @@
 // the group (every process receives every datagram) and per gyro sample, its peak memory and
 // how much its memory grew after the first --from of the run; and the capacity those costs
 // allow: nproc / (sum of CPU per sample). --load N runs N CPU-bound busy loops beside it.
-// Not a test: figures, with the machine and the date.
+// Not a test: figures, after the header block of every benchmark (date, commit, machine, load).
 //
 // Run: build/bin/gyrocal_bench_graph [--load N] [--sample-ms MS] [--from F] [--rss-out FILE]
 //          -- --source csv --input day.csv --db /tmp/bench.db
@@ -14,13 +14,13 @@
 
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bench_context.hpp"
 #include "launch/child_process.hpp"
 #include "machine.hpp"
 #include "proc_sampler.hpp"
@@ -100,13 +100,6 @@ struct Db {
     }
 };
 
-std::string Now() {
-    char buf[32];
-    const std::time_t t = std::time(nullptr);
-    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
-    return buf;
-}
-
 // Every process's datagrams published and the most sequence gaps it reported, by pid.
 struct BusFigures {
     int64_t datagrams = 0;
@@ -166,9 +159,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gyrocal_bench_graph: %s\n", e.what());
         return 2;
     }
-    std::printf(
-        "gyrocal_bench_graph, %s; %s, nproc %u, load average %s; CPU-bound jobs beside: %d\n",
-        Now().c_str(), CpuModel().c_str(), Nproc(), LoadAverage().c_str(), a.load);
+    PrintContext(argc, argv);
+    std::printf("CPU-bound jobs beside: %d\n", a.load);
     std::vector<std::string> cmd = {GYROCAL_CLI_EXE, "calibrate"};
     cmd.insert(cmd.end(), a.calibrate.begin(), a.calibrate.end());
     std::string shown;

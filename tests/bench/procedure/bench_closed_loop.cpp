@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "bench_context.hpp"
 #include "closed_loop_common.hpp"
 #include "held_out.hpp"
-#include "machine.hpp"
 #include "text/number.hpp"
 #include "virtual_lab.hpp"
 
@@ -177,6 +177,7 @@ int main(int argc, char** argv) {
         std::cerr << "gyrocal_bench_closed_loop: " << e.what() << "\n";
         return 2;
     }
+    bench::PrintContext(argc, argv);
     const auto wall0 = std::chrono::steady_clock::now();
     int failures = 0;
     std::printf(
@@ -184,8 +185,7 @@ int main(int argc, char** argv) {
         "held-out 25 -> -40 -> 85 -> 25 degC at 0.5 degC/min, unit still, 10 s bins\n",
         seeds, first_seed, units);
     for (const Case& k : cases) failures += RunCase(k, seeds, first_seed, units);
-    std::printf("machine: %s, %u cores, load %s; wall time %.0f s\n", bench::CpuModel().c_str(),
-                bench::Nproc(), bench::LoadAverage().c_str(),
+    std::printf("wall time %.0f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     return failures == 0 ? 0 : 1;
 }

@@ -30,12 +30,12 @@
 
 #include "analysis/bins.hpp"
 #include "bench_args.hpp"
+#include "bench_context.hpp"
 #include "closed_loop_common.hpp"
 #include "compensator/compensate.hpp"
 #include "csv/csv_file.hpp"
 #include "generator.hpp"
 #include "launch/child_process.hpp"
-#include "machine.hpp"
 #include "model_rows.hpp"
 #include "physics.hpp"
 #include "query.hpp"
@@ -178,6 +178,7 @@ int main(int argc, char** argv) {
     const int first = bench::IntArg(argc, argv, 3, 1);
     if (seeds < 1 || seeds > 100 || units < 1 || units > 8 || first < 1)
         return bench::Usage(argv, "[SEEDS 1..100] [UNITS 1..8] [FIRST_SEED >= 1]");
+    bench::PrintContext(argc, argv);
     const auto wall0 = std::chrono::steady_clock::now();
     const std::string base =
         std::filesystem::temp_directory_path() / ("gyrocal_bench_cl_" + std::to_string(getpid()));
@@ -247,8 +248,7 @@ int main(int argc, char** argv) {
                 named, seeds, met);
     }
     std::filesystem::remove_all(base);
-    std::printf("machine: %s, %u cores, load %s; wall time %.0f s\n", bench::CpuModel().c_str(),
-                bench::Nproc(), bench::LoadAverage().c_str(),
+    std::printf("wall time %.0f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     return failures == 0 ? 0 : 1;
 }

@@ -27,8 +27,8 @@
 #include <thread>
 #include <vector>
 
+#include "bench_context.hpp"
 #include "held_out.hpp"
-#include "machine.hpp"
 #include "text/number.hpp"
 #include "virtual_lab.hpp"
 
@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
     floor_die.label = "floor: truth@die";
     floor_meas.label = "floor: truth@T_meas";
 
+    gyrocal::bench::PrintContext(argc, argv);
     const auto wall0 = std::chrono::steady_clock::now();
     virtual_lab::HeldOutProfile profile;
     profile.waypoints_c = {-40.0, 85.0, 25.0};
@@ -287,7 +288,6 @@ int main(int argc, char** argv) {
                         rows[k].sum_chi2 / rows[k].sum_dof, rows[k].sum_dof);
         std::printf("; incomplete runs %d\n", rows[k].incomplete);
     }
-    std::printf("machine: nproc %u, CPU %s; wall time %.1f s\n",
-                gyrocal::bench::Nproc(), gyrocal::bench::CpuModel().c_str(), wall_s);
+    std::printf("wall time %.1f s\n", wall_s);
     return failures == 0 ? 0 : 1;
 }

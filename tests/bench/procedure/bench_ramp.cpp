@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_context.hpp"
 #include "held_out.hpp"
 #include "text/number.hpp"
 #include "virtual_lab.hpp"
@@ -63,15 +64,6 @@ struct Row {
     double Rms() const { return n > 0 ? std::sqrt(sum2 / n) : NAN; }
     double Drift() const { return units > 0 ? std::sqrt(sum2_drift / units) : NAN; }
 };
-
-std::string CpuModel() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line)) {
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    }
-    return "unknown";
-}
 
 std::string TermList(const model::Model& m) {
     std::string s;
@@ -133,6 +125,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     const std::vector<Config> configs = Configs(rates, waypoints);
+    gyrocal::bench::PrintContext(argc, argv);
     const auto wall0 = std::chrono::steady_clock::now();
     int failures = 0;
     std::printf("gyrocal_bench_ramp: %d seeds (%d..) x %d units per preset; held-out 25 -> -40 -> "
@@ -215,7 +208,6 @@ int main(int argc, char** argv) {
     }
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    std::printf("machine: nproc %u, CPU %s; wall time %.1f s\n",
-                std::thread::hardware_concurrency(), CpuModel().c_str(), wall_s);
+    std::printf("wall time %.1f s\n", wall_s);
     return failures == 0 ? 0 : 1;
 }

@@ -9,8 +9,8 @@
 #include <string>
 #include <thread>
 
+#include "bench_context.hpp"
 #include "sim/rig.hpp"
-#include "machine.hpp"
 
 namespace {
 
@@ -57,8 +57,10 @@ BENCHMARK(BM_SimRig)
 }  // namespace
 
 int main(int argc, char** argv) {
-    benchmark::AddCustomContext("cpu_model", gyrocal::bench::CpuModel());
-    benchmark::AddCustomContext("nproc", std::to_string(gyrocal::bench::Nproc()));
+    // The header block (bench_context.hpp) as Google Benchmark's custom context: it prints it
+    // with its own header (on stderr) and writes it into --benchmark_format=json's "context".
+    for (const auto& [key, value] : gyrocal::bench::ReadContext(argc, argv))
+        benchmark::AddCustomContext(key, value);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

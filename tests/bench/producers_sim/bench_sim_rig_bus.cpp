@@ -10,12 +10,12 @@
 #include <thread>
 #include <vector>
 
+#include "bench_context.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "launch/child_process.hpp"
-#include "machine.hpp"
 
 namespace {
 
@@ -36,8 +36,8 @@ int main(int argc, char** argv) {
     if (!given.empty()) speeds = given;
     const std::string url = "udpm://239.255.76.67:7729?ttl=0&recv_buf_size=4194304";
     const double wall_s = 5.0;
-    std::printf("machine: %s, nproc %u; --max-msgs-per-s %s\n", gyrocal::bench::CpuModel().c_str(),
-                gyrocal::bench::Nproc(), cap.empty() ? "(default)" : cap.c_str());
+    gyrocal::bench::PrintContext(argc, argv);
+    std::printf("--max-msgs-per-s %s\n", cap.empty() ? "(default)" : cap.c_str());
     std::printf("%8s %10s %12s %12s %10s %10s\n", "speed", "sim_s", "achieved_x", "msgs/s",
                 "received", "lost");
     for (double speed : speeds) {

@@ -11,15 +11,16 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <vector>
 
 #include "bench_args.hpp"
+#include "bench_context.hpp"
 #include "central_db.hpp"
 #include "machine.hpp"
 #include "pg_server.hpp"
@@ -177,11 +178,7 @@ int main(int argc, char** argv) {
     const int units = gyrocal::bench::IntArg(argc, argv, 3, 100);
     if (samples < 4 || runs < 1 || units < 10)
         return gyrocal::bench::Usage(argv, "[SAMPLES [RUNS [UNITS]]]");
-    const std::time_t now = std::time(nullptr);
-    char date[32];
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    std::printf("push_bench %s; %s, nproc %u, load %s\n", date, gyrocal::bench::CpuModel().c_str(),
-                gyrocal::bench::Nproc(), gyrocal::bench::LoadAverage().c_str());
+    gyrocal::bench::PrintContext(argc, argv);
     char tmpl[] = "/tmp/gyrocal-pg-bench-XXXXXX";
     if (mkdtemp(tmpl) == nullptr) return 1;
     try {

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "async_writer.hpp"
+#include "bench_context.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -429,8 +430,8 @@ int main(int argc, char** argv) {
     }
     const std::string url =
         "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304";
-    std::printf("machine: %ld cores (nproc), %s; SQLite %s\n", sysconf(_SC_NPROCESSORS_ONLN),
-                gyrocal::bench::CpuModel().c_str(), sqlite3_libversion());
+    gyrocal::bench::PrintContext(argc, argv);
+    std::printf("SQLite %s\n", sqlite3_libversion());
     const std::string dir = TempDir();
     StoreAlone(dir);
     RatesIndexCost(dir);
