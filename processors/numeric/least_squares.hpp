@@ -54,6 +54,10 @@ LeastSquares SolveLeastSquares(const Eigen::MatrixXd& x, const Eigen::VectorXd& 
 // rss / (n - p); NaN when n <= p.
 double ResidualVariance(double rss, Eigen::Index n, Eigen::Index p);
 
+// 2-norm condition number of `m` (ratio of its extreme singular values, by SVD); infinity when
+// `m` has no columns or is rank-deficient (smallest singular value 0).
+double ConditionNumber(const Eigen::MatrixXd& m);
+
 // Mean over the rows of x_other of x'(X'X)^-1 x, X = x_fit (unweighted, scaled columns, the same
 // QR as above); NaN when x_fit cannot be solved or x_other is empty.
 double MeanLeverage(const Eigen::MatrixXd& x_fit, const Eigen::MatrixXd& x_other);
