@@ -28,8 +28,14 @@
 
 namespace gyrocal::numeric {
 
+// The QR's rank decision: smallest / largest |R_jj| of the scaled design at or below this, a
+// column is numerically a combination of the others. Not a condition-number limit (the fit
+// sets min_diag_ratio to 0 and refuses by condition number, fit.hpp): 1e-10 leaves a margin of
+// about 6 decades above double's epsilon (2.2e-16) for the rounding of the factorisation.
+inline constexpr double kMinRDiagonalRatio = 1e-10;
+
 struct LeastSquaresOptions {
-    double min_diag_ratio = 1e-10;     // smallest / largest |R_jj| of the scaled design
+    double min_diag_ratio = kMinRDiagonalRatio;  // smallest / largest |R_jj| of the scaled design
     bool want_condition_number = false;
 };
 
