@@ -1,12 +1,13 @@
 // Child processes as the launcher and the end-to-end tests use them.
+#include "launch/child_process.hpp"
+
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
-
-#include "launch/child_process.hpp"
 
 namespace gyrocal {
 namespace {
@@ -34,6 +35,40 @@ TEST(ChildProcess, MissingProgramIsAnErrorWithTheReason) {
         EXPECT_NE(std::string(e.what()).find("gyrocal-nothing"), std::string::npos);
         EXPECT_NE(std::string(e.what()).find("No such file"), std::string::npos) << e.what();
     }
+}
+
+TEST(ChildProcess, RunsInItsWorkingDirectoryAndWaitBlocksUntilTheEnd) {
+    // GIVEN a fresh directory; WHEN a shell started there prints its directory and exits 3
+    const std::filesystem::path dir =
+        std::filesystem::path(::testing::TempDir()) / "child_working_dir";
+    std::filesystem::create_directories(dir);
+    const std::string out = (dir / "pwd.txt").string();
+    const ExitStatus s = ChildProcess({"sh", "-c", "pwd -P; sleep 0.2; exit 3"},
+                                      ChildOptions{out, out, dir.string()})
+                             .Wait();
+    // THEN the blocking Wait reports its exit and it ran in that directory
+    EXPECT_TRUE(s.exited);
+    EXPECT_EQ(s.code, 3);
+    EXPECT_EQ(ReadLog(out), std::filesystem::canonical(dir).string() + "\n");
+}
+
+TEST(ChildProcess, AWorkingDirectoryThatCannotBeEnteredIsAnErrorWithTheReason) {
+    try {
+        ChildProcess c({"sh", "-c", "exit 0"}, ChildOptions{"", "", "/nonexistent/gyrocal-dir"});
+        FAIL() << "expected an exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/gyrocal-dir"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("No such file"), std::string::npos) << e.what();
+    }
+}
+
+TEST(FindOnPath, FindsWhatExecvpWouldStartAndNothingElse) {
+    const std::string sh = FindOnPath("sh");
+    ASSERT_FALSE(sh.empty());
+    EXPECT_EQ(sh.substr(sh.size() - 3), "/sh");
+    EXPECT_EQ(FindOnPath(sh), sh);  // a path is taken as it is
+    EXPECT_EQ(FindOnPath("gyrocal-no-such-program"), "");
+    EXPECT_EQ(FindOnPath("/nonexistent/sh"), "");
 }
 
 TEST(ChildProcess, StopEscalatesToSigkillAndReachesGrandchildren) {
