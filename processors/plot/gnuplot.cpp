@@ -40,7 +40,7 @@ void Run(const std::string& gnuplot, const std::string& dir, const std::vector<s
     args.insert(args.end(), scripts.begin(), scripts.end());
     ExitStatus status;
     try {
-        status = ChildProcess(args, ChildOptions{log, log, dir}).Wait();
+        status = ChildProcess(args, ChildOptions{log, log, dir, {}}).Wait();
     } catch (const std::runtime_error& e) {
         throw GnuplotError(e.what());
     }

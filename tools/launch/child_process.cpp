@@ -60,7 +60,7 @@ std::string FindOnPath(const std::string& program) {
 
 ChildProcess::ChildProcess(std::vector<std::string> argv, const std::string& stdout_path,
                            const std::string& stderr_path)
-    : ChildProcess(std::move(argv), ChildOptions{stdout_path, stderr_path, ""}) {}
+    : ChildProcess(std::move(argv), ChildOptions{stdout_path, stderr_path, "", {}}) {}
 
 ChildProcess::ChildProcess(std::vector<std::string> argv, const ChildOptions& options) {
     const std::string& stdout_path = options.stdout_path;
@@ -72,6 +72,8 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, const ChildOptions& op
     cargv.push_back(nullptr);
     // A close-on-exec pipe tells the parent whether exec succeeded (it closes empty) or not
     // (the child writes which step failed and its errno).
+    const int n_child_fds = static_cast<int>(options.child_fds.size());
+    std::vector<int> high_fds(options.child_fds.size(), -1);  // allocated before the fork
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot start '" + name_ + "': pipe failed");
     const pid_t pid = fork();
@@ -93,13 +95,24 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, const ChildOptions& op
             int fd = stderr_path == stdout_path ? 1 : open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
             if (fd >= 0) dup2(fd, 2);
         }
+        int report_fd = fds[1];
+        if (n_child_fds > 0) {
+            // Out of the way first (above 2 + n), so that no dup2 below lands on a source.
+            const int above = 3 + n_child_fds;
+            report_fd = fcntl(fds[1], F_DUPFD_CLOEXEC, above);
+            for (int i = 0; i < n_child_fds; ++i)
+                high_fds[i] = fcntl(options.child_fds[i], F_DUPFD, above);
+            for (int i = 0; i < n_child_fds; ++i) dup2(high_fds[i], 3 + i);
+            for (int fd = above; fd < 256; ++fd)
+                if (fd != report_fd) close(fd);
+        }
         int failure[2] = {kStepChdir, 0};
         if (options.working_dir.empty() || chdir(options.working_dir.c_str()) == 0) {
             execvp(cargv[0], cargv.data());
             failure[0] = kStepExec;
         }
         failure[1] = errno;
-        (void)!write(fds[1], failure, sizeof failure);
+        (void)!write(report_fd, failure, sizeof failure);
         _exit(127);
     }
     setpgid(pid, pid);  // also here: no race with a signal sent right after the start

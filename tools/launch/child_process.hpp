@@ -25,6 +25,10 @@ struct ChildOptions {
     std::string stdout_path;  // "" = inherit
     std::string stderr_path;  // "" = inherit; the same path as stdout_path = one combined log
     std::string working_dir;  // "" = the parent's
+    // The parent's fds that become the child's 3, 4, ... in this order (e.g. the ends of the
+    // pipes a browser's --remote-debugging-pipe talks over). When not empty, every other fd above
+    // 2 is closed in the child, so it holds nothing else of the parent's.
+    std::vector<int> child_fds;
 };
 
 class ChildProcess {
