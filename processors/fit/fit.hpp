@@ -87,6 +87,17 @@ enum class Method { kAuto, kThreePoint, kWls };
 std::optional<Method> ParseMethod(const std::string& text);  // "auto" | "3point" | "wls"
 const char* ToString(Method method);
 
+// Two limits on the condition number of the whitened, column-scaled design, refusing an
+// ill-posed fit (Refusal::kIllConditioned). Different values because the solves differ:
+// - least squares (FitWls, FitOptions::max_condition_number): the coefficients' sensitivity to
+//   the data has a cond^2 * residual term; at 1e8 ~ 1/sqrt(double's epsilon) that term reaches
+//   order 1, i.e. the points no longer separate the terms;
+// - the seed's 3-point solution (SeedThreePoint) is an exact square solve with no residual, its
+//   error grows as cond * epsilon only: 1e12 still leaves about 4 significant digits, so it
+//   refuses only temperatures that practically coincide.
+inline constexpr double kMaxLeastSquaresConditionNumber = 1e8;
+inline constexpr double kMaxThreePointConditionNumber = 1e12;
+
 struct FitOptions {
     Method method = Method::kAuto;       // auto: 3point with exactly 3 points, else wls
     double min_temp_separation_c = 5.0;  // [degC] temperatures closer than this add no capacity
@@ -95,7 +106,8 @@ struct FitOptions {
         1.0;                            // [degC] points this close are one temperature (levels.hpp)
     int max_degree = 3;                 // highest polynomial degree order selection may choose
     int fixed_degree = 0;               // 1..3: use this degree (wls); 0 = choose on evidence
-    double max_condition_number = 1e8;  // of the scaled design matrix; above: refuse
+    // Of the scaled design matrix (wls); above: refuse.
+    double max_condition_number = kMaxLeastSquaresConditionNumber;
     std::optional<double> t0_c;         // [degC] wls reference; default: midpoint rounded to 5
     // Overdispersion evidence from OTHER fits of the same kind (e.g. the run's other units): the
     // sum of their reference models' chi2 and of their dof (FitResult::reference_chi2/_dof),
@@ -155,7 +167,8 @@ FitResult SeedThreePoint(const std::vector<FitPoint>& points, const std::string&
 // Weighted least squares of any term list (the analysis tests its sensitivity terms through this;
 // its offset terms, on bins, go through numeric/least_squares.hpp directly).
 FitResult FitWls(const std::vector<FitPoint>& points, const std::vector<std::string>& term_names,
-                 double t0_c, const std::string& quantity, double max_condition_number = 1e8);
+                 double t0_c, const std::string& quantity,
+                 double max_condition_number = kMaxLeastSquaresConditionNumber);
 
 // Refusal checks, method choice and order selection. Points in acquisition order (the first one
 // is the seed's T0 for 3point).

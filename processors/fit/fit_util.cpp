@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 #include "numeric/distributions.hpp"
 #include "text/number.hpp"
@@ -18,14 +17,6 @@ FitResult Refuse(Refusal r, std::string detail) {
     out.refusal = r;
     out.detail = std::move(detail);
     return out;
-}
-
-double ConditionNumber(const MatrixXd& m) {
-    Eigen::JacobiSVD<MatrixXd> svd(m);
-    const VectorXd& sv = svd.singularValues();
-    if (sv.size() == 0 || !(sv[sv.size() - 1] > 0.0))
-        return std::numeric_limits<double>::infinity();
-    return sv[0] / sv[sv.size() - 1];
 }
 
 std::optional<FitResult> CheckFinite(const std::vector<FitPoint>& pts) {

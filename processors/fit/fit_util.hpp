@@ -9,8 +9,6 @@
 namespace gyrocal::fit::detail {
 
 FitResult Refuse(Refusal r, std::string detail);
-// Condition number of a matrix with full column rank: ratio of extreme singular values.
-double ConditionNumber(const Eigen::MatrixXd& m);
 // A refusal when a point has a non-finite value or a non-positive standard error.
 std::optional<FitResult> CheckFinite(const std::vector<FitPoint>& pts);
 // residuals, chi2, dof, chi2/dof, the 3-sigma scatter flag and the weighted residual RMS.

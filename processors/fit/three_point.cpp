@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "fit_util.hpp"
+#include "numeric/least_squares.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::fit {
@@ -25,8 +26,8 @@ FitResult SeedThreePoint(const std::vector<FitPoint>& pts, const std::string& qu
     MatrixXd A3(3, 3);
     A3 << 1, 0, 0, 1, d1, d1 * d1, 1, d2, d2 * d2;
     const VectorXd scale = A3.colwise().norm();
-    const double cond = ConditionNumber(A3 * scale.cwiseInverse().asDiagonal());
-    if (!(cond < 1e12))
+    const double cond = numeric::ConditionNumber(A3 * scale.cwiseInverse().asDiagonal());
+    if (!(cond < kMaxThreePointConditionNumber))
         return Refuse(Refusal::kIllConditioned,
                       "3-point temperatures " + text::Sig(T0, 4) + ", " + text::Sig(T0 + d1, 4) +
                           ", " + text::Sig(T0 + d2, 4) +

@@ -82,6 +82,11 @@ private:
     int64_t last_change_utime_ = 0;
 };
 
+// The default guard_s [s] of TableMotion: one value for everything that classifies samples as
+// still or moving the way gyrocal-plateau does (its --motion-guard-s, the in-process virtual lab),
+// so that what the live detector averages and what is fitted later are the same samples.
+inline constexpr double kDefaultGuardS = 1.0;
+
 class TableMotion {
 public:
     TableMotion(const MoveDetectorConfig& config, double guard_s, double stale_s);

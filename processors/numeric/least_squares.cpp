@@ -22,6 +22,14 @@ LeastSquares Refused(std::string why) {
 
 }  // namespace
 
+double ConditionNumber(const MatrixXd& m) {
+    const Eigen::JacobiSVD<MatrixXd> svd(m);
+    const VectorXd& sv = svd.singularValues();
+    if (sv.size() == 0 || !(sv[sv.size() - 1] > 0.0))
+        return std::numeric_limits<double>::infinity();
+    return sv[0] / sv[sv.size() - 1];
+}
+
 LeastSquares SolveLeastSquares(const MatrixXd& x, const VectorXd& y, const VectorXd* sigma,
                                const LeastSquaresOptions& o) {
     const Index n = x.rows(), p = x.cols();
@@ -51,12 +59,7 @@ LeastSquares SolveLeastSquares(const MatrixXd& x, const VectorXd& y, const Vecto
         }
     const MatrixXd as = a * s.cwiseInverse().asDiagonal();
     LeastSquares r;
-    if (o.want_condition_number) {
-        const Eigen::JacobiSVD<MatrixXd> svd(as);
-        const VectorXd& sv = svd.singularValues();
-        r.condition_number = sv[sv.size() - 1] > 0.0 ? sv[0] / sv[sv.size() - 1]
-                                                      : std::numeric_limits<double>::infinity();
-    }
+    if (o.want_condition_number) r.condition_number = ConditionNumber(as);
     const Eigen::ColPivHouseholderQR<MatrixXd> qr(as);
     r.rank = static_cast<int>(qr.rank());
     if (qr.rank() < p) {

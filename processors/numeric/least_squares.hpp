@@ -28,8 +28,14 @@
 
 namespace gyrocal::numeric {
 
+// The QR's rank decision: smallest / largest |R_jj| of the scaled design at or below this, a
+// column is numerically a combination of the others. Not a condition-number limit (the fit
+// sets min_diag_ratio to 0 and refuses by condition number, fit.hpp): 1e-10 leaves a margin of
+// about 6 decades above double's epsilon (2.2e-16) for the rounding of the factorisation.
+inline constexpr double kMinRDiagonalRatio = 1e-10;
+
 struct LeastSquaresOptions {
-    double min_diag_ratio = 1e-10;     // smallest / largest |R_jj| of the scaled design
+    double min_diag_ratio = kMinRDiagonalRatio;  // smallest / largest |R_jj| of the scaled design
     bool want_condition_number = false;
 };
 
@@ -53,6 +59,10 @@ LeastSquares SolveLeastSquares(const Eigen::MatrixXd& x, const Eigen::VectorXd& 
 
 // rss / (n - p); NaN when n <= p.
 double ResidualVariance(double rss, Eigen::Index n, Eigen::Index p);
+
+// 2-norm condition number of `m` (ratio of its extreme singular values, by SVD); infinity when
+// `m` has no columns or is rank-deficient (smallest singular value 0).
+double ConditionNumber(const Eigen::MatrixXd& m);
 
 // Mean over the rows of x_other of x'(X'X)^-1 x, X = x_fit (unweighted, scaled columns, the same
 // QR as above); NaN when x_fit cannot be solved or x_other is empty.

@@ -35,7 +35,8 @@ struct PlateauOptions {
     std::string encoder_id = "TABLE";  // encoder whose motion matters
     plateau::PlateauConfig detector = plateau::PlateauConfig::Defaults();
     motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
-    double motion_guard_s = 1.0;   // [s] a sample this close to table motion is "moving"
+    // [s] a sample this close to table motion is "moving"
+    double motion_guard_s = motion::kDefaultGuardS;
     double encoder_stale_s = 2.0;  // [s] decide without the encoder once a stream is this far ahead
     noise::TrackerConfig noise = noise::TrackerConfig::Defaults();
     double noise_period_s = 60.0;  // [s] of data time between NOISE_<id> messages

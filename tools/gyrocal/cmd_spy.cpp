@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bus/bus.hpp"
+#include "launch/child_process.hpp"
 #include "paths.hpp"
 
 namespace gyrocal::cli {
@@ -20,20 +21,6 @@ struct SpyOptions {
     std::string lcm_jar = "/usr/share/java/lcm.jar";
     std::string jchart_jar = "/usr/share/java/jchart2d.jar";
 };
-
-bool OnPath(const std::string& prog) {
-    if (prog.find('/') != std::string::npos) return access(prog.c_str(), X_OK) == 0;
-    const char* path = std::getenv("PATH");
-    std::string p = path ? path : "";
-    size_t start = 0;
-    while (start <= p.size()) {
-        size_t end = p.find(':', start);
-        if (end == std::string::npos) end = p.size();
-        if (access((p.substr(start, end - start) + "/" + prog).c_str(), X_OK) == 0) return true;
-        start = end + 1;
-    }
-    return false;
-}
 
 int RunSpy(const SpyOptions& o) {
     const std::string types = TypesJar();
@@ -48,7 +35,7 @@ int RunSpy(const SpyOptions& o) {
             return 1;
         }
     }
-    if (!OnPath(o.java)) {
+    if (FindOnPath(o.java).empty()) {
         std::cerr << "gyrocal spy: '" << o.java << "' not found: apt-get install default-jre\n";
         return 1;
     }

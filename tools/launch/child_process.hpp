@@ -20,6 +20,17 @@ struct ExitStatus {
     std::string Describe() const;
 };
 
+// Where a child's output goes and where it runs.
+struct ChildOptions {
+    std::string stdout_path;  // "" = inherit
+    std::string stderr_path;  // "" = inherit; the same path as stdout_path = one combined log
+    std::string working_dir;  // "" = the parent's
+    // The parent's fds that become the child's 3, 4, ... in this order (e.g. the ends of the
+    // pipes a browser's --remote-debugging-pipe talks over). When not empty, every other fd above
+    // 2 is closed in the child, so it holds nothing else of the parent's.
+    std::vector<int> child_fds;
+};
+
 class ChildProcess {
 public:
     // Starts argv[0] (searched in PATH when it has no '/'). stdout/stderr go to the given
@@ -27,6 +38,9 @@ public:
     // Throws std::runtime_error, with the reason, when it cannot start.
     explicit ChildProcess(std::vector<std::string> argv, const std::string& stdout_path = "",
                           const std::string& stderr_path = "");
+    // The same with every option; a working directory that cannot be entered is a start failure
+    // (std::runtime_error naming the directory and the reason).
+    ChildProcess(std::vector<std::string> argv, const ChildOptions& options);
     ChildProcess(const ChildProcess&) = delete;
     ChildProcess& operator=(const ChildProcess&) = delete;
     ChildProcess(ChildProcess&& other) noexcept;
@@ -39,6 +53,8 @@ public:
     std::optional<ExitStatus> Poll();
     // Waits up to `timeout`; nullopt when still running.
     std::optional<ExitStatus> Wait(std::chrono::milliseconds timeout);
+    // Waits as long as the child runs and returns how it ended.
+    ExitStatus Wait();
     // SIGTERM, wait up to `grace`, then SIGKILL; returns how it ended.
     ExitStatus Stop(std::chrono::milliseconds grace = std::chrono::milliseconds(3000));
 
@@ -47,6 +63,11 @@ private:
     std::string name_;
     std::optional<ExitStatus> status_;
 };
+
+// Full path of `program` found in $PATH (an empty entry is the current directory), or `program`
+// itself when it contains a '/'; "" when it is not there or not executable. The one PATH search
+// of the project: what execvp would start, checked before starting it.
+std::string FindOnPath(const std::string& program);
 
 // The whole text of a file, "" when it cannot be read: what a child wrote to its log.
 std::string ReadLog(const std::string& path);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "model/terms.hpp"
 #include "synth.hpp"
 
 namespace gyrocal::fit {
@@ -129,8 +130,8 @@ TEST(FitWls, UnderstatedErrorsAreReportedAndTheCovarianceScaledByTheBirgeRatio) 
 }
 
 TEST(FitWls, GeneralTermListsForTheAnalysis) {
-    // y = 1 + 0.5 supply' + 0.01 dT with supply' = supply_v - 5 V: the term registry drives the
-    // fit.
+    // y = 1 + 0.5 supply' + 0.01 dT with supply' = supply_v - the nominal: the term registry drives
+    // the fit.
     std::vector<FitPoint> pts;
     std::mt19937_64 rng(11);
     std::normal_distribution<double> n01;
@@ -139,8 +140,8 @@ TEST(FitWls, GeneralTermListsForTheAnalysis) {
         p.inputs.temp_c = -10 + 3.5 * i;
         p.inputs.supply_v = 4.9 + 0.01 * ((i * 7) % 20);
         p.sigma_y = 1e-4;
-        p.y = 1 + 0.5 * (p.inputs.supply_v - 5.0) + 0.01 * (p.inputs.temp_c - 25) +
-              p.sigma_y * n01(rng);
+        p.y = 1 + 0.5 * (p.inputs.supply_v - model::kNominalSupplyV) +
+              0.01 * (p.inputs.temp_c - 25) + p.sigma_y * n01(rng);
         pts.push_back(p);
     }
     const FitResult r = FitWls(pts, {"1", "dT", "supply"}, 25.0, "offset_v");

@@ -20,7 +20,7 @@ TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
     ModelInputs in;
     in.dtemp_dt_c_per_s = 0.02;
     in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;
-    in.supply_v = 5.1;
+    in.supply_v = kNominalSupplyV + 0.1;
     in.heating = -1;
     in.branch = -0.4;
     in.branch_width_c = GYROCAL_SIGN_BRANCH_WIDTH_C;
@@ -32,7 +32,7 @@ TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
     EXPECT_EQ(Term("dT^3", -2.0, in), -8.0);
     EXPECT_EQ(Term("dTdt", 3.0, in), 0.02);
     EXPECT_EQ(Term("dTdt(5)", 3.0, in), 0.02);  // the default time constant written out
-    EXPECT_NEAR(Term("supply", 3.0, in), 0.1, 1e-15);  // about the 5 V nominal
+    EXPECT_NEAR(Term("supply", 3.0, in), 0.1, 1e-15);   // about the nominal supply
     EXPECT_EQ(Term("heating", 3.0, in), -1.0);          // sign-only: the side last reached
     EXPECT_EQ(Term("heating(1)", 3.0, in), -0.4);       // the continuous branch of width 1
     EXPECT_EQ(Term("direction", 3.0, in), 1.0);

@@ -216,7 +216,7 @@ FlatRun FeedFlat40(Lost lost) {
     PlateauDetector det(PlateauConfig::Defaults());
     det.StartRun("run-7");
     det.SetChamberSetpoint(40);
-    for (int k = 0; k < 300 * 100; ++k) {
+    for (int64_t k = 0; k < static_cast<int64_t>(300 * testing::kRateHz); ++k) {  // 300 s
         Sample s = stream.Next();
         if (lost(s.seq)) continue;
         Step st = det.Feed(s);

@@ -49,7 +49,7 @@ struct LabConfig {
     sequencer::ProcedureOptions procedure;
     plateau::PlateauConfig plateau = plateau::PlateauConfig::Defaults();
     motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
-    double motion_guard_s = 1.0;   // [s] as gyrocal-plateau's --motion-guard-s
+    double motion_guard_s = motion::kDefaultGuardS;  // [s] as gyrocal-plateau's --motion-guard-s
     double encoder_stale_s = 2.0;  // [s] as gyrocal-plateau's --encoder-stale-s
     noise::TrackerConfig noise = noise::TrackerConfig::Defaults();  // as gyrocal-plateau's
     rotation::RotationConfig rotation = rotation::RotationConfig::Defaults();

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "launch/child_process.hpp"
 #include "plot/gnuplot.hpp"
 
 namespace gyrocal::testing {
@@ -37,26 +38,13 @@ HeadlessChromium::HeadlessChromium(const std::string& exe, const std::string& us
                                      "--remote-debugging-pipe",
                                      "--user-data-dir=" + user_data_dir,
                                      "about:blank"};
-    pid_ = ::fork();
-    if (pid_ < 0) throw std::runtime_error("fork() failed");
-    if (pid_ == 0) {
-        // fd 3: what the browser reads; fd 4: what it writes. Via high numbers first, so that a
-        // pipe end already at 3 or 4 is not closed by the other dup2.
-        const int r = ::fcntl(to[0], F_DUPFD, 10), w = ::fcntl(from[1], F_DUPFD, 10);
-        ::dup2(r, 3);
-        ::dup2(w, 4);
-        const int log = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (log >= 0) {
-            ::dup2(log, 1);
-            ::dup2(log, 2);
-        }
-        for (int fd = 5; fd < 256; ++fd) ::close(fd);
-        ::setpgid(0, 0);
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        ::execv(exe.c_str(), argv.data());
-        ::_exit(127);
+    // fd 3: what the browser reads; fd 4: what it writes.
+    const ChildOptions options{log_path, log_path, "", {to[0], from[1]}};
+    try {
+        child_ = std::make_unique<ChildProcess>(args, options);
+    } catch (...) {
+        for (int fd : {to[0], to[1], from[0], from[1]}) ::close(fd);
+        throw;
     }
     ::close(to[0]);
     ::close(from[1]);
@@ -67,18 +55,14 @@ HeadlessChromium::HeadlessChromium(const std::string& exe, const std::string& us
 
 HeadlessChromium::~HeadlessChromium() {
     try {
-        if (pid_ > 0) Call("Browser.close", nlohmann::json::object(), "", std::chrono::seconds(10));
+        if (child_) Call("Browser.close", nlohmann::json::object(), "", std::chrono::seconds(10));
     } catch (...) {
     }
     if (to_browser_ >= 0) ::close(to_browser_);
     if (from_browser_ >= 0) ::close(from_browser_);
-    if (pid_ > 0) {
-        for (int i = 0; i < 100; ++i) {  // up to 10 s to exit by itself
-            if (::waitpid(pid_, nullptr, WNOHANG) == pid_) return;
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        }
-        ::kill(-pid_, SIGKILL);
-        ::waitpid(pid_, nullptr, 0);
+    if (child_ && !child_->Wait(std::chrono::seconds(10))) {  // up to 10 s to exit by itself
+        child_->Signal(SIGKILL);
+        child_->Wait();
     }
 }
 

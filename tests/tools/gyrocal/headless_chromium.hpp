@@ -11,10 +11,12 @@
 #include <sys/types.h>
 
 #include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "launch/child_process.hpp"
 
 namespace gyrocal::testing {
 
@@ -50,7 +52,7 @@ public:
 private:
     nlohmann::json Read(std::chrono::steady_clock::time_point deadline);  // next message
 
-    pid_t pid_ = -1;
+    std::unique_ptr<ChildProcess> child_;  // its own process group, dies with the test
     int to_browser_ = -1, from_browser_ = -1;
     std::string buffer_;
     int next_id_ = 0;
