@@ -44,8 +44,10 @@ model::Model FitModel(const std::vector<std::string>& terms, double t0, const Bi
     model::Model m;
     m.quantity = model::kOffsetQuantity;
     m.term_names = terms;
-    m.coeffs = f.coeffs;
-    m.covariance = f.covariance;
+    // Nuisance columns (candidates.hpp) follow the terms' in the fit: not part of the model.
+    const auto p = static_cast<Index>(terms.size());
+    m.coeffs = f.coeffs.head(p);
+    m.covariance = f.covariance.topLeftCorner(p, p);
     m.t0_c = t0;
     m.temp_min_c = INFINITY;
     m.temp_max_c = -INFINITY;

@@ -224,9 +224,7 @@ bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k) {
         f.sel.added_effects.push_back(f.pool[i].effect);
         f.joint.push_back(f.pool[i].effect);
     }
-    MatrixXd xn(f.x.rows(), f.x.cols() + 2);
-    xn << f.x, s.scores[b].column, s.scores[k].column;
-    f.x = xn;
+    f.x = f.c.Design(f.sel.terms);  // the terms' columns, then any nuisance columns
     f.pool.erase(f.pool.begin() + static_cast<long>(std::max(b, k)));
     f.pool.erase(f.pool.begin() + static_cast<long>(std::min(b, k)));
     return true;
@@ -257,9 +255,7 @@ void AddTerm(Forward& f, const StepScores& s, size_t b) {
     f.last[f.pool[b].effect].decision = Decision::kAdded;
     f.sel.terms.push_back(s.scores[b].term);
     f.sel.added_effects.push_back(f.pool[b].effect);
-    MatrixXd xn(f.x.rows(), f.x.cols() + 1);
-    xn << f.x, s.scores[b].column;
-    f.x = xn;
+    f.x = f.c.Design(f.sel.terms);  // the terms' columns, then any nuisance columns
     f.pool.erase(f.pool.begin() + static_cast<long>(b));
 }
 
@@ -292,10 +288,7 @@ void RemoveWeakTerms(Forward& f) {
         r.note = "removed on re-test with " + others + " in the model (z2 " + text::Sig(weakest_z2, 3) + ")";
         f.sel.terms.erase(f.sel.terms.begin() + static_cast<long>(weakest));
         f.sel.added_effects.erase(f.sel.added_effects.begin() + static_cast<long>(weakest - nd));
-        MatrixXd xn(f.x.rows(), f.x.cols() - 1);
-        const auto w = static_cast<Index>(weakest);
-        xn << f.x.leftCols(w), f.x.rightCols(f.x.cols() - w - 1);
-        f.x = xn;
+        f.x = f.c.Design(f.sel.terms);
     }
 }
 

@@ -114,15 +114,36 @@ TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
 // The same unit and effect over the monotonic "five" setpoints (-40, -10, 25, 55, 85 degC): time
 // and temperature rise together, the quadratic in temperature absorbs most of the drift, and
 // what is left near the start looks like a warm-up.
-// Before the rule that a warm-up at the upper end of its tau grid gives way to a time-shaped
-// feature predicting its held-out residual at least as well, this named warmup(320) (-2.53 mV,
-// "explained"); now the warm-up is "not attributed" to the linear drift.
+// Before the rules against time-shaped mimics this named warmup(320) (-2.53 mV, "explained");
+// now the joint search (the candidates tested again with the drift accounted for) leaves a
+// warm-up named only without it "not attributed". The truth is an ageing null and nothing else,
+// so the verdict must name no
+// candidate as the cause and say that something is left, traced to time: "unexplained residual"
+// correlating with a time shape, or "ambiguous" between a candidate and a time shape (the joint
+// search: a warm-up named only while the drift is not accounted for), with nothing stored as
+// added and no extended set.
 TEST(OutsideEffectEndToEnd, AgingOnAMonotonicProfileNamesNoCandidate) {
     const std::string dir = FreshDir("gyrocal_outside_five");
     std::string run;
     const std::string printed = CalibrateAndAnalyzeAging(dir, "-40,-10,25,55,85", 8001, run);
+    ASSERT_FALSE(run.empty());
     const std::string verdict = LineStartingWith(printed, "sensor S01: ");
+    ASSERT_FALSE(verdict.empty()) << printed;
     EXPECT_EQ(verdict.find("missing effect: "), std::string::npos) << verdict;
+    Sql sql(dir + "/run.db");
+    const std::string outcome =
+        sql.Rows("SELECT outcome FROM analyses WHERE run_id='" + run + "'").at(0).at(0);
+    EXPECT_TRUE(outcome == "unexplained residual" || outcome == "ambiguous") << outcome;
+    EXPECT_EQ(sql.Rows("SELECT added_json FROM analyses WHERE run_id='" + run + "'").at(0).at(0), "[]");
+    EXPECT_EQ(sql.Int("SELECT count(*) FROM analyses WHERE run_id='" + run +
+                      "' AND coeff_row_id IS NOT NULL"),
+              0);
+    // Traced to time: a time-shaped correlate, or a tie with a time shape.
+    EXPECT_TRUE(verdict.find("correlates with time since start [time") != std::string::npos ||
+                verdict.find("[time") != std::string::npos ||
+                verdict.find(" vs time since start") != std::string::npos ||
+                verdict.find(" vs slow transient") != std::string::npos)
+        << verdict;
 }
 
 TEST(OutsideEffectEndToEnd, BadEffectIsRefusedBeforeAnyProcessStarts) {
