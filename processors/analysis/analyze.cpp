@@ -174,8 +174,15 @@ void JointSearch(const BinnedRun& binned, const Split& split, double t0, const A
             " adds nothing, and it explained held-out data with " + e +
             " in; to separate: " + SeparationFromTime(e, name.substr(0, name.find(" ["))) + ")";
         joint.not_attributed.push_back(why);
-        for (CandidateResult& c : joint.candidates)
-            if (c.effect == e) c.decision = Decision::kRejected, c.note = "not attributed: " + why;
+        // The row shows the term the first pass named (its shape parameter and edge flag), the
+        // one the verdict is about, not what the second pass made of the candidate.
+        const auto first = std::find_if(res.candidates.begin(), res.candidates.end(),
+                                        [&](const CandidateResult& c) { return c.effect == e; });
+        for (CandidateResult& c : joint.candidates) {
+            if (c.effect != e) continue;
+            if (first != res.candidates.end()) c = *first;
+            c.decision = Decision::kRejected, c.note = "not attributed: " + why;
+        }
     }
     res = std::move(joint);
 }
@@ -233,6 +240,7 @@ SensorResult AnalyzeBinned(const SensorRun& run, const BinnedRun& binned,
     if (so.candidate.decision == Decision::kNotTested && so.problem.empty())
         res.could_not_test.push_back("sf_asymmetry: " + so.candidate.note);
     if (so.added) res.added.push_back(*so.added);
+    AngleConfound(res);  // again: sf_asymmetry is added only now (Residue ran before)
     Edges(binned, o, res);
     Conclude(analysed, o, res);
     return res;

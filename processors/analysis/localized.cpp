@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "heldout.hpp"
 #include "null.hpp"
 #include "numeric/least_squares.hpp"
 #include "regress.hpp"
@@ -33,6 +34,58 @@ void SizeAndZ2(const Context& all, const MatrixXd& base, const VectorXd& col, Lo
     const VectorXd proj = numeric::ProjectOut(base, col);
     c.effect_rms_v =
         std::fabs(f.coeffs[p]) * proj.norm() / std::sqrt(static_cast<double>(proj.size()));
+}
+
+// A linear drift in time [h] on all bins.
+VectorXd DriftColumn(const BinnedRun& binned) {
+    const std::vector<Bin>& bins = binned.bins();
+    VectorXd t_h(static_cast<Index>(bins.size()));
+    for (size_t i = 0; i < bins.size(); ++i)
+        t_h[static_cast<Index>(i)] = 1e-6 * (bins[i].mid_utime - bins.front().mid_utime) / 3600.0;
+    return t_h;
+}
+
+// The held-out residuals of base (r0) and of base with col (r1), both fitted on train.
+bool HeldPair(const MatrixXd& base, const VectorXd& col, const VectorXd& y,
+              const std::vector<Index>& train, const std::vector<Index>& held, VectorXd& r0,
+              VectorXd& r1) {
+    Family f{"", "", "", "", "", {}, {}, false};
+    f.cols.push_back(col);
+    const HeldOutSearch search(base, train, held, {f});
+    if (!search.ok()) return false;
+    const FamilyFit fit = search.Evaluate(y, true).at(0);
+    if (fit.best < 0) return false;
+    r0 = fit.r0, r1 = fit.r1;
+    return true;
+}
+
+bool Improves(const Gain& g, const AnalysisOptions& o) {
+    return std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0;
+}
+
+// The drift rule (header) for the warm-up column w on the localized split.
+void DriftRule(const BinnedRun& binned, const Context& all, const MatrixXd& base, const VectorXd& w,
+               const std::vector<Index>& train, const std::vector<Index>& held,
+               const AnalysisOptions& o, LocalizedCheck& c) {
+    const VectorXd y = BinValues(binned), d = DriftColumn(binned);
+    MatrixXd with_d(base.rows(), base.cols() + 1), with_w(base.rows(), base.cols() + 1);
+    with_d << base, d;
+    with_w << base, w;
+    VectorXd r0, r_d, r_d2, r_wd, r_w, r_dw;
+    if (!HeldPair(base, d, y, train, held, r0, r_d) ||
+        !HeldPair(with_d, w, y, train, held, r_d2, r_wd) ||
+        !HeldPair(with_w, d, y, train, held, r_w, r_dw))
+        return;
+    c.drift_drop = 1.0 - r_d.squaredNorm() / r0.squaredNorm();
+    std::vector<int> block;
+    for (Index i : held)
+        block.push_back(static_cast<int>(std::floor(
+            binned.bins()[static_cast<size_t>(i)].time_since_power_s / o.early_block_s)));
+    const bool warmup_adds = Improves(HeldOutGain(r_d2, r_wd, block, all.hac_lag), o);
+    const bool drift_adds = Improves(HeldOutGain(r_w, r_dw, block, all.hac_lag), o);
+    c.drift_rule = warmup_adds  ? Decision::kAdded
+                   : drift_adds ? Decision::kRejected
+                                : Decision::kAmbiguous;
 }
 
 }  // namespace
@@ -80,6 +133,10 @@ LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
     const bool big_enough =
         !std::isfinite(s.floor_v) || c.effect_rms_v > o.min_effect_floor_ratio * s.floor_v;
     c.passes = c.p <= o.warmup_fpr && c.drop > 0.0 && c.z2 > o.min_z2 && big_enough;
+    if (c.passes && f.best + 1 == static_cast<int>(warmup.grid.size())) {
+        DriftRule(binned, all, base, fam.cols[static_cast<size_t>(f.best)], train, held, o, c);
+        c.passes = !c.drift_rule || *c.drift_rule == Decision::kAdded;
+    }
     c.note = "localized check on " + std::to_string(c.n_held) + " held-out bins in interleaved " +
              text::Sig(o.early_block_s, 3) + " s blocks of the first " + text::Sig(c.support_s, 3) +
              " s after power-on: removes " + text::Sig(100.0 * c.drop, 3) +
@@ -87,6 +144,12 @@ LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
              std::to_string(s.noise.size()) +
              " surrogates of the run's noise (need <= " + text::Sig(100.0 * o.warmup_fpr, 2) +
              " %); z2 " + text::Sig(c.z2, 3) + ", size " + text::Sig(c.effect_rms_v, 3) + " V";
+    if (std::isfinite(c.drift_drop))
+        c.note += "; tau at the grid's largest: a linear drift in time removes " +
+                  text::Sig(100.0 * c.drift_drop, 3) + " % of the same blocks' squared residual, " +
+                  (*c.drift_rule == Decision::kAdded      ? "the warm-up adds to it"
+                   : *c.drift_rule == Decision::kRejected ? "it adds to the warm-up, not back"
+                                                          : "neither adds to the other");
     return c;
 }
 

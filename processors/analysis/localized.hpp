@@ -15,6 +15,16 @@
 // prediction on surrogates of the run's own noise (evidence.hpp), and the warm-up passes when at
 // most warmup_fpr of them reach it (p <= warmup_fpr: the stated false-positive rate), together
 // with (a) z^2 above min_z2 and (c) its size above the floor, both on all bins.
+// The drift rule: a warm-up whose time constant is the grid's largest has not shown its shape (a
+// transient slower than the grid, or a drift in time over a profile that only warms or only
+// cools, would end there). It is then weighed against a linear drift in time on the same split
+// (each fitted on the training data, predicting the held-out blocks), as the named terms are
+// weighed against the time shapes elsewhere (displace.cpp): the warm-up passes when it still
+// lowers the held-out error beyond its noise with the drift in the model (gate_min_z); when the
+// drift does that with the warm-up in and not the other way round, the warm-up is not attributed
+// (the data say drift); when neither adds to the other, the two are ambiguous. Never named a
+// warm-up unless its shape shows.
+#include <optional>
 #include <string>
 
 #include "candidates.hpp"
@@ -32,6 +42,11 @@ struct LocalizedCheck {
     double effect_rms_v = kNan;  // (c) on all bins
     double support_s = kNan;     // [s] after each power-on
     int n_held = 0;
+    // The drift rule (tau at the grid's largest; NaN otherwise): the share of the held-out blocks'
+    // squared residual a linear drift in time removes, and the fate: kAdded (the warm-up adds to
+    // the drift: passes stands), kRejected (the drift encompasses it), kAmbiguous (neither adds).
+    double drift_drop = kNan;
+    std::optional<Decision> drift_rule;
     std::string note;  // what was found, or why it could not be tested
 };
 

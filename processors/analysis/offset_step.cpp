@@ -128,6 +128,26 @@ void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& 
     if (!c.tested) {
         r.decision = Decision::kNotTested;
         res.could_not_test.push_back("warmup: " + c.note);
+    } else if (c.drift_rule && *c.drift_rule != Decision::kAdded) {
+        const std::string what = " (" + c.term +
+                                 " at the upper end of its grid; on its held-out blocks a linear "
+                                 "drift in time removes " +
+                                 text::Sig(100.0 * c.drift_drop, 3) +
+                                 " % of the squared residual, the warm-up " +
+                                 text::Sig(100.0 * c.drop, 3) + " %";
+        const std::string sep = "to separate: " + SeparationFromTime("warmup", "time since start");
+        if (*c.drift_rule == Decision::kRejected) {
+            const std::string why =
+                "warmup" + what + "; with the drift in, the warm-up adds nothing; " + sep + ")";
+            r.note = "not attributed: " + why + "; " + c.note;
+            res.not_attributed.push_back(why);
+        } else {
+            const std::string why =
+                "warmup vs time since start [time]" + what + "; neither adds to the other): " + sep;
+            r.decision = Decision::kAmbiguous;
+            r.note = "ambiguous: " + why + "; " + c.note;
+            res.ambiguities.push_back(why);
+        }
     } else if (c.passes) {
         r.decision = Decision::kAdded;
         sel.terms.push_back(c.term);
@@ -239,7 +259,7 @@ double ParamStderr(const Context& all, const std::vector<std::string>& terms, si
                : name == "dTdt" ? model::RateTerm(v)
                                 : model::BranchTerm(v);
     };
-    const double h = 0.05;
+    const double h = kParamStepRel;
     const VectorXd d = (all.binned->Column(term_at(p * (1 + h)), all.t0)(all.rows) -
                         all.binned->Column(term_at(p * (1 - h)), all.t0)(all.rows)) /
                        (2.0 * h * p) * coeff;

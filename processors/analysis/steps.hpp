@@ -45,6 +45,11 @@ void Edges(const BinnedRun& binned, const AnalysisOptions& o, SensorResult& res)
 // The measurement that tells a candidate (effect) from a time-shaped generic feature.
 std::string SeparationFromTime(const std::string& effect, const std::string& feature);
 
+// The relative step of a searched parameter's derivative (its standard error, FinalModels): the
+// term is evaluated at (1 - step) and (1 + step) times the parameter, so the incremental binner
+// tracks those neighbours of every searched dT/dt time constant and branch width too.
+constexpr double kParamStepRel = 0.05;
+
 // The number a searched term names: "warmup(312)" -> 312; NaN when it names none.
 double ParamOf(const std::string& term);
 
