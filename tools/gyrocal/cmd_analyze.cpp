@@ -285,7 +285,9 @@ namespace {
 // The thresholds as options, for the stored command line.
 std::string ThresholdArgs(const AnalyzeOptions& o) {
     std::string s;
-    auto add = [&](const char* name, double v) { s += std::string(" ") + name + " " + text::Sig(v, 6); };
+    auto add = [&](const char* name, double v) {
+        s += std::string(" ") + name + " " + text::Sig(v, 6);
+    };
     add("--min-z2", o.min_z2);
     add("--min-cv-gain", o.min_cv_gain);
     add("--max-collinearity", o.max_collinearity);

@@ -145,8 +145,9 @@ TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisOutcomeAndIsNeverASilentPass
          Outcome::kNotEvaluated},
         // Two shapes the data cannot tell apart: a set carrying the wrong one fails wherever
         // they differ, so the unit fails until the named measurement separates them.
-        {"ambiguous", "ambiguous: hysteresis vs step [time]: to separate: a setpoint approached "
-                      "from above before and after the event",
+        {"ambiguous",
+         "ambiguous: hysteresis vs step [time]: to separate: a setpoint approached "
+         "from above before and after the event",
          Outcome::kFail},
     };
     u.analysis_stored_set = true;  // an analysis that added terms stored its extended set

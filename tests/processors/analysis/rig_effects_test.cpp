@@ -187,7 +187,8 @@ TEST(RigShaped, SmoothHysteresis) {
     // right after a reversal) and a width inside the searched range.
     RunShaped(
         "smooth hysteresis 3 mV travel 3 C", {"hysteresis_smooth=0.003", "hysteresis_travel_c=3"},
-        "hysteresis", [](const AddedEffect& a, const CandidateResult& c) {
+        "hysteresis",
+        [](const AddedEffect& a, const CandidateResult& c) {
             return std::fabs(std::fabs(a.coefficient) * 2.0 / 0.003 - 1.0) < 0.4 && !c.grid_edge;
         },
         3);
@@ -196,20 +197,22 @@ TEST(RigShaped, SmoothHysteresis) {
 TEST(RigShaped, WarmupWithTwoTimeConstants) {
     // 2 mV at 120 s plus 2 mV at 400 s: one exponential cannot be both. Sensible: a time constant
     // between the two (halved and doubled for the noise of the search on a ~4700 s run).
-    RunShaped("warm-up 120 s + 400 s",
-              {"warmup=0.002", "warmup_tau_s=120", "warmup2=0.002", "warmup2_tau_s=400"}, "warmup",
-              [](const AddedEffect& a, const CandidateResult&) {
-                  const double tau = TermParam(a.term);
-                  return tau > 60.0 && tau < 800.0;
-              },
-              3);
+    RunShaped(
+        "warm-up 120 s + 400 s",
+        {"warmup=0.002", "warmup_tau_s=120", "warmup2=0.002", "warmup2_tau_s=400"}, "warmup",
+        [](const AddedEffect& a, const CandidateResult&) {
+            const double tau = TermParam(a.term);
+            return tau > 60.0 && tau < 800.0;
+        },
+        3);
 }
 
 TEST(RigShaped, WarmupSlowerThanTheSearchGrid) {
     // 4 mV at tau 4000 s: beyond the grid (warmup_tau_max_s 3000 s and a tenth of the still span,
     // ~470 s). A warm-up term may only be added with its time constant flagged at the grid's edge.
-    RunShaped("warm-up tau 4000 s", {"warmup=0.004", "warmup_tau_s=4000"}, "warmup",
-              [](const AddedEffect&, const CandidateResult& c) { return c.grid_edge; }, 0);
+    RunShaped(
+        "warm-up tau 4000 s", {"warmup=0.004", "warmup_tau_s=4000"}, "warmup",
+        [](const AddedEffect&, const CandidateResult& c) { return c.grid_edge; }, 0);
 }
 
 }  // namespace

@@ -203,8 +203,8 @@ TEST(Verdict, JsonCarriesTheOutcomeAndTheDiagnostics) {
     EXPECT_TRUE(j["floor_bound_rms_v"].is_number());
     EXPECT_GT(j["excess_ratio"].get<double>(), 0.0);
     ASSERT_FALSE(j["features"].empty());
-    for (const char* k :
-         {"feature", "channel", "corr", "heldout_z", "null_z", "null_threshold", "explains_heldout"})
+    for (const char* k : {"feature", "channel", "corr", "heldout_z", "null_z", "null_threshold",
+                          "explains_heldout"})
         EXPECT_TRUE(j["features"][0].contains(k)) << k;
     for (const char* k : {"lag1_autocorr", "trend_v_per_h", "period_s", "by_time_s", "by_temp_c"})
         EXPECT_TRUE(j["residual"].contains(k)) << k;
@@ -232,7 +232,8 @@ TEST(BadInput, VerdictOptionsAreRefusedWithTheirName) {
         EXPECT_THROW(Analyze(run, o), std::invalid_argument) << name;
     };
     for (double v : {11.0, kNan})
-        refused("slow_noise_floor_ratio", [v](AnalysisOptions& o) { o.slow_noise_floor_ratio = v; });
+        refused("slow_noise_floor_ratio",
+                [v](AnalysisOptions& o) { o.slow_noise_floor_ratio = v; });
     for (double v : {-0.1, 1.0, kNan})
         refused("min_feature_drop", [v](AnalysisOptions& o) { o.min_feature_drop = v; });
     for (double v : {0.0, 0.5, kNan}) {

@@ -164,7 +164,9 @@ Generated Generate(const Options& o, std::ostream& csv) {
     Chamber chamber(o.thermal, o.profile.start_c, Stream(noise_seed, 1));
     std::vector<UnitState> units;
     for (size_t u = 0; u < g.units.size(); ++u) {
-        UnitState s{g.units[u], {}, RateNoise(o.noise, o.sample_rate_hz, Stream(noise_seed, 100 + u)),
+        UnitState s{g.units[u],
+                    {},
+                    RateNoise(o.noise, o.sample_rate_hz, Stream(noise_seed, 100 + u)),
                     std::mt19937_64(Stream(noise_seed, 200 + u))};
         s.path = ThermalPath{o.profile.start_c, o.profile.start_c, o.profile.start_c};
         s.lpf1 = s.lpf2 = s.truth.OffsetV(o.profile.start_c) + o.effects.warmup_v +

@@ -91,9 +91,9 @@ struct Outcome {
     double after = NAN, truth = NAN, prediction = NAN;
     std::string added;
     std::string report;  // the analysis' report, for a failure's message
-    bool flagged = false;  // the analysis said something is left (or two shapes tie)
-    bool named = false;    // the switched-on effect is among the added terms
-    bool named_in_tie = false;  // or named in an ambiguity (the data could not tell it apart)
+    bool flagged = false;            // the analysis said something is left (or two shapes tie)
+    bool named = false;              // the switched-on effect is among the added terms
+    bool named_in_tie = false;       // or named in an ambiguity (the data could not tell it apart)
     std::vector<std::string> wrong;  // added terms the truth does not have
 };
 

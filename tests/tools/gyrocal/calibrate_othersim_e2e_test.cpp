@@ -17,12 +17,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <Eigen/Dense>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -165,9 +165,9 @@ double BeyondQuadraticRms(const std::function<double(double)>& f) {
 // quadratic fitted over the run leaves that much in the bins, and the verdict's tests are built
 // to see 3x the floor (processors/analysis/README.md).
 void ExpectVerdictAgainstTruth(const Lab& lab) {
-    ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store",
-                     "--json"},
-                    lab.dir + "/verdict.json", lab.dir + "/verdict.err");
+    ChildProcess an(
+        {GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store", "--json"},
+        lab.dir + "/verdict.json", lab.dir + "/verdict.err");
     const auto end = an.Wait(600s);
     ASSERT_TRUE(end && end->code == 0) << ReadLog(lab.dir + "/verdict.err");
     const nlohmann::json j = nlohmann::json::parse(ReadLog(lab.dir + "/verdict.json"));
