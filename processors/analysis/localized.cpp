@@ -83,9 +83,12 @@ void DriftRule(const BinnedRun& binned, const Context& all, const MatrixXd& base
             binned.bins()[static_cast<size_t>(i)].time_since_power_s / o.early_block_s)));
     const bool warmup_adds = Improves(HeldOutGain(r_d2, r_wd, block, all.hac_lag), o);
     const bool drift_adds = Improves(HeldOutGain(r_w, r_dw, block, all.hac_lag), o);
-    c.drift_rule = warmup_adds  ? Decision::kAdded
-                   : drift_adds ? Decision::kRejected
-                                : Decision::kAmbiguous;
+    // Named only when it predicts its blocks better than the drift and still adds to it: with a
+    // profile that only warms, the declared quadratic takes part of a drift and bends the rest,
+    // which a warm-up then adds to (aging over monotonic setpoints, RigOutside).
+    c.drift_rule = warmup_adds && c.drift_drop < c.drop ? Decision::kAdded
+                   : drift_adds && !warmup_adds         ? Decision::kRejected
+                                                        : Decision::kAmbiguous;
 }
 
 }  // namespace
@@ -147,9 +150,9 @@ LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
     if (std::isfinite(c.drift_drop))
         c.note += "; tau at the grid's largest: a linear drift in time removes " +
                   text::Sig(100.0 * c.drift_drop, 3) + " % of the same blocks' squared residual, " +
-                  (*c.drift_rule == Decision::kAdded      ? "the warm-up adds to it"
+                  (*c.drift_rule == Decision::kAdded ? "the warm-up predicts better and adds to it"
                    : *c.drift_rule == Decision::kRejected ? "it adds to the warm-up, not back"
-                                                          : "neither adds to the other");
+                                                          : "neither is the better shape");
     return c;
 }
 

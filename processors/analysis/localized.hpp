@@ -19,11 +19,11 @@
 // transient slower than the grid, or a drift in time over a profile that only warms or only
 // cools, would end there). It is then weighed against a linear drift in time on the same split
 // (each fitted on the training data, predicting the held-out blocks), as the named terms are
-// weighed against the time shapes elsewhere (displace.cpp): the warm-up passes when it still
-// lowers the held-out error beyond its noise with the drift in the model (gate_min_z); when the
-// drift does that with the warm-up in and not the other way round, the warm-up is not attributed
-// (the data say drift); when neither adds to the other, the two are ambiguous. Never named a
-// warm-up unless its shape shows.
+// weighed against the time shapes elsewhere (displace.cpp): the warm-up passes when it predicts
+// the held-out blocks better than the drift and still lowers their error beyond its noise with
+// the drift in the model (gate_min_z); when the drift does that with the warm-up in and not the
+// other way round, the warm-up is not attributed (the data say drift); otherwise the two are
+// ambiguous. Never named a warm-up unless its shape shows.
 #include <optional>
 #include <string>
 

@@ -142,8 +142,8 @@ void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& 
             r.note = "not attributed: " + why + "; " + c.note;
             res.not_attributed.push_back(why);
         } else {
-            const std::string why =
-                "warmup vs time since start [time]" + what + "; neither adds to the other): " + sep;
+            const std::string why = "warmup vs time since start [time]" + what +
+                                    "; the data do not tell one from the other): " + sep;
             r.decision = Decision::kAmbiguous;
             r.note = "ambiguous: " + why + "; " + c.note;
             res.ambiguities.push_back(why);
