@@ -68,13 +68,11 @@ void DriftRule(const BinnedRun& binned, const Context& all, const MatrixXd& base
                const std::vector<Index>& train, const std::vector<Index>& held,
                const AnalysisOptions& o, LocalizedCheck& c) {
     const VectorXd y = BinValues(binned), d = DriftColumn(binned);
-    MatrixXd with_d(base.rows(), base.cols() + 1), with_w(base.rows(), base.cols() + 1);
+    MatrixXd with_d(base.rows(), base.cols() + 1);
     with_d << base, d;
-    with_w << base, w;
-    VectorXd r0, r_d, r_d2, r_wd, r_w, r_dw;
+    VectorXd r0, r_d, r_d2, r_wd;
     if (!HeldPair(base, d, y, train, held, r0, r_d) ||
-        !HeldPair(with_d, w, y, train, held, r_d2, r_wd) ||
-        !HeldPair(with_w, d, y, train, held, r_w, r_dw))
+        !HeldPair(with_d, w, y, train, held, r_d2, r_wd))
         return;
     c.drift_drop = 1.0 - r_d.squaredNorm() / r0.squaredNorm();
     std::vector<int> block;
@@ -82,13 +80,15 @@ void DriftRule(const BinnedRun& binned, const Context& all, const MatrixXd& base
         block.push_back(static_cast<int>(std::floor(
             binned.bins()[static_cast<size_t>(i)].time_since_power_s / o.early_block_s)));
     const bool warmup_adds = Improves(HeldOutGain(r_d2, r_wd, block, all.hac_lag), o);
-    const bool drift_adds = Improves(HeldOutGain(r_w, r_dw, block, all.hac_lag), o);
     // Named only when it predicts its blocks better than the drift and still adds to it: with a
     // profile that only warms, the declared quadratic takes part of a drift and bends the rest,
-    // which a warm-up then adds to (aging over monotonic setpoints, RigOutside).
-    c.drift_rule = warmup_adds && c.drift_drop < c.drop ? Decision::kAdded
-                   : drift_adds && !warmup_adds         ? Decision::kRejected
-                                                        : Decision::kAmbiguous;
+    // which a warm-up then adds to (aging over monotonic setpoints, RigOutside). Said as a drift
+    // when the drift predicts them at least as well; ambiguous when only the warm-up predicts
+    // better.
+    const bool better = c.drift_drop < c.drop;
+    c.drift_rule = better && warmup_adds ? Decision::kAdded
+                   : !better             ? Decision::kRejected
+                                         : Decision::kAmbiguous;
 }
 
 }  // namespace
@@ -151,7 +151,7 @@ LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
         c.note += "; tau at the grid's largest: a linear drift in time removes " +
                   text::Sig(100.0 * c.drift_drop, 3) + " % of the same blocks' squared residual, " +
                   (*c.drift_rule == Decision::kAdded ? "the warm-up predicts better and adds to it"
-                   : *c.drift_rule == Decision::kRejected ? "it adds to the warm-up, not back"
+                   : *c.drift_rule == Decision::kRejected ? "it predicts them at least as well"
                                                           : "neither is the better shape");
     return c;
 }

@@ -21,9 +21,9 @@
 // (each fitted on the training data, predicting the held-out blocks), as the named terms are
 // weighed against the time shapes elsewhere (displace.cpp): the warm-up passes when it predicts
 // the held-out blocks better than the drift and still lowers their error beyond its noise with
-// the drift in the model (gate_min_z); when the drift does that with the warm-up in and not the
-// other way round, the warm-up is not attributed (the data say drift); otherwise the two are
-// ambiguous. Never named a warm-up unless its shape shows.
+// the drift in the model (gate_min_z); when the drift predicts them at least as well, the
+// warm-up is not attributed (said as a drift); otherwise the two are ambiguous. Never named a
+// warm-up unless its shape shows.
 #include <optional>
 #include <string>
 
@@ -43,8 +43,9 @@ struct LocalizedCheck {
     double support_s = kNan;     // [s] after each power-on
     int n_held = 0;
     // The drift rule (tau at the grid's largest; NaN otherwise): the share of the held-out blocks'
-    // squared residual a linear drift in time removes, and the fate: kAdded (the warm-up adds to
-    // the drift: passes stands), kRejected (the drift encompasses it), kAmbiguous (neither adds).
+    // squared residual a linear drift in time removes, and the fate: kAdded (passes stands),
+    // kRejected (the drift predicts at least as well), kAmbiguous (the warm-up predicts better
+    // only).
     double drift_drop = kNan;
     std::optional<Decision> drift_rule;
     std::string note;  // what was found, or why it could not be tested

@@ -138,7 +138,7 @@ void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& 
         const std::string sep = "to separate: " + SeparationFromTime("warmup", "time since start");
         if (*c.drift_rule == Decision::kRejected) {
             const std::string why =
-                "warmup" + what + "; with the drift in, the warm-up adds nothing; " + sep + ")";
+                "warmup" + what + "; the drift predicts them at least as well; " + sep + ")";
             r.note = "not attributed: " + why + "; " + c.note;
             res.not_attributed.push_back(why);
         } else {
