@@ -72,10 +72,23 @@ void TakeOut(size_t k, Decision d, const std::string& why, Selection& sel, Senso
 }
 
 // One added term against every time-shaped family (and temp_cubic also against a temperature
-// shape beyond it, (T - T0)^4): a mimic (the term adds nothing once the feature is in, the feature
-// still explains held-out data with the term in: not attributed), a twin (neither adds to the
-// other, the feature alone explains as the term did: ambiguous), or neither (kept). Returns the
-// verdict text, empty when kept.
+// shape beyond it, (T - T0)^4), on the held-out bins, every model fitted on the training bins:
+// - kept when the term lowers the held-out error with the feature in (HeldOutGain, gate_min_z);
+// - a mimic (not attributed) when it does not and the feature still explains held-out data with
+//   the term in (the features' null);
+// - when the feature explains held-out data alone but not with the term in, the two are told
+//   apart by two statistical tests at the held-out gate's level gate_min_z (one standard for every
+//   held-out comparison, not a constant of this rule):
+//   (1) forecast encompassing: the term's held-out prediction with the feature in is regressed on
+//       what the feature leaves (HeldOutGain's slope); a slope beyond gate_min_z standard errors
+//       means the term carries held-out information the feature lacks (its size, fitted on the
+//       training bins, may still overshoot): not the same explanation, the term is kept;
+//   (2) equal predictive accuracy (Diebold-Mariano, LossDifferenceZ): the held-out squared errors
+//       of the model with the term and of the model with the feature instead. Within gate_min_z
+//       standard errors of each other: the data cannot tell them apart, a twin (ambiguous); the
+//       feature significantly better: it encompasses the term (not attributed); the term
+//       significantly better: kept.
+// Returns the verdict text, empty when kept.
 std::string Judge(const std::vector<Family>& fams, const TermVsFeatures& t,
                   const std::string& effect, const Split& split, int hac_lag,
                   const AnalysisOptions& o, Decision& d) {
@@ -86,9 +99,8 @@ std::string Judge(const std::vector<Family>& fams, const TermVsFeatures& t,
         // A feature without a time shape competes only with the candidate of its own kind: a
         // temperature shape beyond the cubic with temp_cubic.
         if (!fams[f].competes && effect != "temp_cubic") continue;
-        const bool term_given_feature =
-            Improves(HeldOutGain(wo.r1, w.r1, split.held_block, hac_lag), o);
-        if (term_given_feature) continue;
+        const Gain term_given_feature = HeldOutGain(wo.r1, w.r1, split.held_block, hac_lag);
+        if (Improves(term_given_feature, o)) continue;
         if (Significant(t.with, f)) {
             d = Decision::kRejected;
             return effect + " (" + what +
@@ -97,12 +109,22 @@ std::string Judge(const std::vector<Family>& fams, const TermVsFeatures& t,
                    text::Sig(t.with.z[f], 3) + " above " + text::Sig(t.with.threshold, 3) +
                    "; the term nothing with it in)";
         }
-        if (Significant(t.without, f)) {
+        if (!Significant(t.without, f) || term_given_feature.z > o.gate_min_z) continue;
+        // > 0: the feature alone predicts the held-out bins better than the term alone.
+        const double loss_z = LossDifferenceZ(w.r0, wo.r1, split.held_block, hac_lag);
+        if (loss_z > o.gate_min_z) {
+            d = Decision::kRejected;
+            return effect + " (" + what +
+                   " alone predicts its held-out data better than the term alone, by " +
+                   text::Sig(loss_z, 3) + " standard errors of the squared-error difference; the " +
+                   "term adds nothing with it in)";
+        }
+        if (std::fabs(loss_z) <= o.gate_min_z) {
             d = Decision::kAmbiguous;
             return effect + " vs " + what +
-                   ": either explains the held-out data as well as the "
-                   "other, neither adds to the other; to separate: " +
-                   SeparationFromTime(effect, fams[f].name);
+                   ": either explains the held-out data as well as the other (squared errors " +
+                   "within " + text::Sig(std::fabs(loss_z), 2) + " standard errors), neither " +
+                   "adds to the other; to separate: " + SeparationFromTime(effect, fams[f].name);
         }
     }
     return "";

@@ -133,6 +133,24 @@ Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vecto
     return g;
 }
 
+double LossDifferenceZ(const VectorXd& a, const VectorXd& b, const std::vector<int>& block,
+                       int hac_lag) {
+    const Index n = a.size();
+    if (n < 2 || b.size() != n || !a.allFinite() || !b.allFinite()) return kNan;
+    const VectorXd d = a.cwiseAbs2() - b.cwiseAbs2();
+    const double mean = d.mean();
+    const VectorXd u = d.array() - mean;
+    double s = u.squaredNorm();
+    for (int l = 1; l <= hac_lag; ++l) {
+        const double w = 1.0 - l / (hac_lag + 1.0);
+        for (Index i = l; i < n; ++i)
+            if (block[static_cast<size_t>(i)] == block[static_cast<size_t>(i - l)])
+                s += 2.0 * w * u[i] * u[i - l];
+    }
+    const double var = std::max(s, u.squaredNorm()) / (static_cast<double>(n) * n);
+    return var > 0.0 ? mean / std::sqrt(var) : kNan;
+}
+
 double MeanLeverage(const MatrixXd& x_train, const MatrixXd& x_held) {
     return numeric::MeanLeverage(x_train, x_held);
 }

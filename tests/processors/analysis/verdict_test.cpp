@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -182,6 +183,37 @@ TEST(Verdict, PartlyExplainedWhenACandidateAndAnOutsideEffectAreBothThere) {
     const FeatureResult* f = FirstExplaining(r);
     ASSERT_NE(f, nullptr);
     EXPECT_EQ(f->feature, "periodic");
+}
+
+// A candidate and a time shape the data cannot tell apart: the supply rises steadily, 0.2 V over
+// the run (~4700 s), and the offset follows it at 0.01 V/V (2 mV end to end, RMS ~5x the 10 s-bin
+// floor). The recorded supply is that ramp plus the rig's 0.5 mV measurement noise (~0.016 mV in
+// a 10 s bin mean), so the supply term and a linear drift in time are the same regressor to within
+// 0.02 % of its range: on the held-out bins neither adds to the other and their squared errors
+// are equal within the noise (displace.cpp's twin rule). The verdict must say so ("ambiguous:
+// supply vs time since start"), not name supply alone.
+TEST(Verdict, SupplyThatDriftsWithTimeIsAmbiguousWithADrift) {
+    for (uint64_t seed : {805u, 806u, 807u, 808u}) {
+        SimRunOptions o;
+        o.seed = seed;
+        testing::SimRun sim = MakeSimRun(o);
+        std::mt19937_64 rng(seed);
+        std::normal_distribution<double> noise_v(0.0, 0.5e-3);
+        const int64_t start_utime = sim.run.samples.front().utime;
+        for (GyroSample& g : sim.run.samples) {
+            const double rise_v = 0.2 * (g.utime - start_utime) * 1e-6 / 4700.0;
+            g.supply_v = 5.0 + rise_v + noise_v(rng);
+            g.gyro_v += 0.01 * rise_v;
+        }
+        const SensorResult r = Analyze(sim.run);
+        SCOPED_TRACE("seed " + std::to_string(seed) + "\n" + FormatReport(r));
+        std::printf("[ verdict ] supply drifting with time, seed %d: %s\n", static_cast<int>(seed),
+                    r.verdict.c_str());
+        EXPECT_EQ(r.outcome, Outcome::kAmbiguous) << ToString(r.outcome);
+        EXPECT_NE(r.verdict.find("ambiguous: supply vs time since start [time]"), std::string::npos)
+            << r.verdict;
+        EXPECT_FALSE(NamedOffsetAdded(r)) << r.verdict;
+    }
 }
 
 TEST(Verdict, JsonCarriesTheOutcomeAndTheDiagnostics) {
