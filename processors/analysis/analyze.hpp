@@ -43,7 +43,10 @@
 //    regressors differ). A pair that passes is added
 //    whole (the verdict keeps "ambiguous: a vs b (both kept ...)": the data say the pair predicts
 //    unseen data, not which of the two carries the effect; the backward re-test keeps it as a
-//    pair); otherwise neither is added.
+//    pair); otherwise neither is added. A pair that passes (a)-(c) but not the members' own z^2
+//    is accounted for while the remaining candidates are tested (its columns fitted with them,
+//    never kept): left in the residual, an effect that strong would pass for noise and hide the
+//    smaller ones.
 //    The warm-up is not chosen this way: its effect is confined to the start of each power
 //    cycle, where no block of the cross-validation can predict what it does not contain. It has
 //    a check of its own on its support (localized.hpp: interleaved short blocks held out inside
