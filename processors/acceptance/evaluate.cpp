@@ -89,6 +89,12 @@ Check Verdict(const UnitEvidence& u) {
     } else if (o == "partly explained" || o == "unexplained residual") {
         c.outcome = Outcome::kFail;
         c.note = "the analysis leaves a residual above the floor: " + headline;
+    } else if (o == "ambiguous") {
+        // The data cannot say which of two shapes carries the effect: a compensation that carries
+        // the wrong one fails wherever the two differ, so the unit is not served until the
+        // measurement the headline names separates them.
+        c.outcome = Outcome::kFail;
+        c.note = "the analysis cannot tell two shapes apart: " + headline;
     } else if (o == "not testable") {
         c.note = "the analysis could not test this unit" +
                  (u.analysis_to_test.empty() ? std::string()
@@ -97,7 +103,7 @@ Check Verdict(const UnitEvidence& u) {
         c.measured_text = "outcome '" + o + "'";
         c.note = "the stored analysis outcome '" + o +
                  "' is not one this version reads (adequate, explained, partly explained, "
-                 "unexplained residual, not testable)";
+                 "unexplained residual, ambiguous, not testable)";
     }
     return c;
 }

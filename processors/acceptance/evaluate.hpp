@@ -23,7 +23,8 @@
 //                        drift), NaN (not evaluated) for a set no analysis made;
 //   unexplained residual the newest analysis' outcome (analyses.outcome), never its headline's
 //                        wording: adequate / explained pass; partly explained / unexplained
-//                        residual fail (the headline is the note); not testable is not evaluated
+//                        residual and ambiguous fail (the headline is the note); not testable is
+//                        not evaluated
 //                        (with what to measure); no analysis, an analysis stored before outcomes
 //                        existed, or an outcome this version does not know: not evaluated, named.
 #include <cmath>

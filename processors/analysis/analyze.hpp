@@ -43,7 +43,15 @@
 //    regressors differ). A pair that passes is added
 //    whole (the verdict keeps "ambiguous: a vs b (both kept ...)": the data say the pair predicts
 //    unseen data, not which of the two carries the effect; the backward re-test keeps it as a
-//    pair); otherwise neither is added.
+//    pair); otherwise neither is added. A pair that passes (a)-(c) but not the members' own z^2
+//    is accounted for while the remaining candidates are tested (its columns fitted with them,
+//    never kept): left in the residual, an effect that strong would pass for noise and hide the
+//    smaller ones.
+//    The warm-up is not chosen this way: its effect is confined to the start of each power
+//    cycle, where no block of the cross-validation can predict what it does not contain. It has
+//    a check of its own on its support (localized.hpp: interleaved short blocks held out inside
+//    the first 3 x tau_max after power-on, the statistic compared with surrogates of the run's
+//    noise at warmup_fpr), then (a) and (c) on all bins; it needs no other confirmation.
 //    sf_asymmetry is judged on the sensitivity points (known standard errors, inflated by
 //    chi2/dof when above 1; leave-one-temperature-out cross-validation, its held-out test).
 // 5. Held-out confirmation: the declared and the chosen terms, both fitted on the training bins,
@@ -61,31 +69,36 @@
 // 8. Beyond the list (residual.hpp): generic features of every channel the bins carry (time since
 //    start, a slow transient, a step, a periodic term, temperature shape and rate at other time
 //    scales, supply and its rate, chamber air and air minus sensor, table angle and the last
-//    turn), each judged on the held-out bins like the candidates. They are
-//    never added to the model; they say what the residual correlates with. A named term is
-//    refused ("not attributed") when a time-shaped feature (drift, slow transient, step, periodic)
-//    encompasses it on the held-out bins: with both in the model the term no longer improves the
-//    held-out error beyond its noise while the feature still explains held-out data; it only
-//    mimicked the feature. (A real effect survives its mimic; each judged alone, a feature that
-//    also takes in noise or a second effect would refuse it.)
-// 9. The outcome, from what is left on the held-out bins compared with the floor bound
+//    turn), each judged on the held-out bins against a null built from surrogates of the run's
+//    own noise (evidence.hpp, null.hpp: family-wise false-positive rate feature_fpr). They are
+//    never added to the model; they say what the residual correlates with. Joint search: when a
+//    time-shaped feature explains held-out data, the candidates are tested again with it
+//    accounted for (nuisance columns, never kept): what that pass names was masked by it, what
+//    only the first pass named mimicked it (not attributed). Each added term meets every
+//    time-shaped feature on the held-out bins (displace.cpp): one the feature encompasses is not
+//    attributed, one that ties with it (each explains the held-out data, neither adds to the
+//    other) is ambiguous, both named with the measurement that would separate them.
+// 9. The outcome, from every piece of evidence: the held-out residual against the floor bound
 //      bound^2 = floor^2 (1 + 9 k^2) + 9 prediction^2
 //    floor: the white bin scatter (step 7); prediction: what white noise at the floor puts into
-//    the held-out prediction of coefficients fitted on the training bins (floor x sqrt(mean
-//    leverage x'(X'X)^-1 x over the held-out bins)); k = slow_noise_floor_ratio: the correlated (slow)
-//    noise a perfect model also leaves in 10 s bin means, as a multiple of the floor (a MEMS gyro's
-//    flicker level is about its 10 s white scatter); it and the coefficients' prediction error are
-//    each nearly one shape over a held-out stretch, one degree of freedom, so 9x their variance is
-//    a 3-sigma allowance. Outcomes:
-//      adequate             nothing added, held-out residual within the bound and no generic
-//                           feature explains held-out data (its shape is noise's, not a trend's)
-//      explained            terms added and confirmed, residual after within the bound
-//      partly explained     terms added, residual after still above the bound or explained in part
-//                           by a generic feature on held-out data
-//      unexplained residual nothing added, residual above the bound or a generic feature explains
-//                           it on held-out data
-//      not testable         too few bins, or most candidates (more than half) could not be tested
-//    Above the bound the result says by how much, where in the run, and what it correlates with.
+//    the held-out prediction of coefficients fitted on the training bins; k: the slow noise a
+//    perfect model also leaves in a bin, over the floor, MEASURED from the run (noise_model.hpp:
+//    the Allan terms of the residual) unless slow_noise_floor_ratio sets it; 9x: 3 sigma on one
+//    degree of freedom. Then the generic features (step 8) and the time windows and temperature
+//    bands whose residual mean exceeds what the run's noise leaves in a window of that size
+//    (evidence.hpp, window_fpr). Outcomes:
+//      adequate             nothing added, held-out residual within the bound, no feature and no
+//                           window above its null
+//      explained            terms added and confirmed, and nothing left above
+//      partly explained     terms added, something left above (bound, feature or window)
+//      unexplained residual nothing added, something above
+//      ambiguous            a candidate and another shape explain the data equally well: both
+//                           named, with the measurement that would separate them
+//      not testable         too few bins, or more than max_untested_fraction of the candidates
+//                           could not be tested
+//    Above the bound the result says by how much, where in the run (the windows above their
+//    null first), and what it correlates with. The rate of "not adequate" the thresholds claim on
+//    a run with no missing effect: ClaimedFalsePositiveRate().
 // Whatever cannot be tested says why (could_not_test); nothing is ever invented to fill a gap.
 #include <optional>
 #include <string>
@@ -123,16 +136,34 @@ struct AnalysisOptions {
     int min_ramp_bins = 6;                 // temp_rate needs this many ramp bins
     double rate_tau_min_s = 2.0;           // [s] search range of the dT/dt time constant
     double rate_tau_max_s = 60.0;
-    double branch_width_min_c = 0.25;      // [degC] search range of the branch width
+    double branch_width_min_c = 0.25;  // [degC] search range of the branch width
     double branch_width_max_c = 8.0;
-    double warmup_tau_min_s = 30.0;        // [s] search range of the warm-up time constant
+    double warmup_tau_min_s = 30.0;  // [s] search range of the warm-up time constant
     double warmup_tau_max_s = 3000.0;
     double warmup_max_tau_fraction = 0.1;  // [1] and at most this fraction of the still span
     double same_level_tolerance_c = 1.0;   // [degC] sensitivity points this close: one temperature
-    double slow_noise_floor_ratio = 1.0;   // [1] k of step 9
-    double min_feature_drop = 0.4;  // [1] fraction of the held-out squared residual a generic
-                                    // feature must remove to explain it (residual.hpp)
+    // [1] k of step 9; negative: measured from the run (the Allan deviation of its residual,
+    // noise_model.hpp), the default.
+    double slow_noise_floor_ratio = -1.0;
+    // The null distributions of step 8's features, the warm-up's check and the windows of step 9
+    // are built from this many surrogates of the run's own noise (noise_model.hpp), drawn from
+    // surrogate_seed (the same run gives the same verdict).
+    int surrogates = 200;
+    uint64_t surrogate_seed = 1;
+    double feature_fpr = 0.02;    // [1] family-wise false-positive rate of the generic features
+    double window_fpr = 0.01;     // [1] of the time windows and temperature bands (step 9)
+    double warmup_fpr = 0.01;     // [1] of the warm-up's localized check (step 4)
+    double early_block_s = 60.0;  // [s] the warm-up check's interleaved blocks after power-on
+    // "Not testable" when more than this fraction of the candidates could not be tested.
+    double max_untested_fraction = 0.5;
+    // [1] a generic feature must also remove this fraction of the held-out squared residual; 0:
+    // only the calibrated null decides (the default).
+    double min_feature_drop = 0.0;
     static AnalysisOptions Defaults() { return {}; }
+    // The false-positive rate the thresholds claim on a run with no missing effect, as a union
+    // bound: feature_fpr + window_fpr + warmup_fpr + what the floor bound's 3 sigma leaves
+    // (0.27 %). The candidates' z^2 at min_z2 = 25 (5 sigma) behind a held-out gate adds far less.
+    double ClaimedFalsePositiveRate() const;
     std::string Problem() const;  // "" when valid
 };
 
@@ -157,6 +188,9 @@ struct AddedEffect {
     std::string effect, term, unit;
     double coefficient = kNan;  // [unit]
     double stderr_ = kNan;      // [unit]
+    // The term's searched shape parameter (dT/dt or warm-up time constant [s], branch width
+    // [degC]) and its standard error from the fit linearised in it (NaN: the term has none).
+    double param = kNan, param_stderr = kNan;
 };
 
 struct ErrorFigures {
@@ -165,22 +199,31 @@ struct ErrorFigures {
     double drift_dph = kNan;
 };
 
-enum class Outcome { kAdequate, kExplained, kPartlyExplained, kUnexplained, kNotTestable };
+enum class Outcome {
+    kAdequate,
+    kExplained,
+    kPartlyExplained,
+    kUnexplained,
+    kNotTestable,
+    kAmbiguous  // a candidate and another shape explain the data equally well (both named)
+};
 const char* ToString(Outcome o);
 
 // A generic feature (step 8) judged on the held-out bins and correlated with the final residual.
 struct FeatureResult {
-    std::string feature;   // "time since start", "periodic", ...
-    std::string channel;   // the measured channel it is built from
-    std::string detail;    // its searched parameter, e.g. "period 600 s"
-    double corr = kNan;    // [1] correlation with the final model's residual on all bins
-    double heldout_z = kNan;      // held-out gain over the model, in standard errors
+    std::string feature;            // "time since start", "periodic", ...
+    std::string channel;            // the measured channel it is built from
+    std::string detail;             // its searched parameter, e.g. "period 600 s"
+    double corr = kNan;             // [1] correlation with the final model's residual on all bins
+    double heldout_z = kNan;        // held-out gain over the model, in standard errors
     double heldout_gain_v2 = kNan;  // [V^2] mean drop of the squared held-out residual
     double heldout_after_rms_v = kNan;  // [V] held-out residual with the feature
-    double effect_rms_v = kNan;     // [V] RMS of what it predicts on the held-out bins
-    double heldout_drop = kNan;     // [1] fraction of the held-out squared residual it removes
-    bool explains_heldout = false;  // z > gate_min_z, gain > 0, effect above the floor
-    std::string edge = {};          // its parameter ended at an end of its range (as candidates)
+    double effect_rms_v = kNan;         // [V] RMS of what it predicts on the held-out bins
+    double heldout_drop = kNan;         // [1] fraction of the held-out squared residual it removes
+    double null_z = kNan;               // its held-out statistic standardised by its null
+    double null_threshold = kNan;       // what null_z had to exceed (family-wise feature_fpr)
+    bool explains_heldout = false;      // null_z > null_threshold, gain > 0, effect above the floor
+    std::string edge = {};  // its parameter ended at an end of its range (as candidates)
 };
 
 // A point of a diagnostic curve of the residual.
@@ -194,11 +237,20 @@ struct WindowRms {
     int n = 0;
 };
 
+// A time window or temperature band whose residual exceeds what the run's noise leaves in a
+// window of its size (step 9): its RMS, the RMS the surrogates leave there on average, and its
+// statistic standardised by that null.
+struct WindowExcess {
+    std::string where;
+    double rms_v = kNan, expected_rms_v = kNan, z = kNan;
+    int n = 0;
+};
+
 // The final model's residual on all bins.
 struct ResidualDiagnostics {
     double rms_v = kNan;
-    double lag1_autocorr = kNan;  // within contiguous stretches
-    double trend_v_per_h = kNan, trend_z = kNan;  // least-squares slope against time
+    double lag1_autocorr = kNan;                        // within contiguous stretches
+    double trend_v_per_h = kNan, trend_z = kNan;        // least-squares slope against time
     double period_s = kNan, period_amplitude_v = kNan;  // periodogram peak
     double period_power_ratio = kNan;  // peak power / median power over the periods searched
     std::vector<WindowRms> by_time, by_temp;
@@ -215,12 +267,12 @@ struct SensorResult {
     std::vector<AddedEffect> added;          // confirmed and in the extended model
     std::vector<std::string> unconfirmed;    // chosen on the training bins, refused by step 5
     ErrorFigures error_before, error_after;  // on the held-out bins
-    double heldout_gain_v2 = kNan;  // [V^2] mean drop of the squared held-out residual
-    double heldout_slope = kNan;    // [1] held-out residual on the added terms' prediction
-    double heldout_gain_z = kNan;   // that slope in its standard errors (step 5)
-    double floor_offset_rms_v = kNan;  // [V] step 7, of the (extended) model on all bins
+    double heldout_gain_v2 = kNan;           // [V^2] mean drop of the squared held-out residual
+    double heldout_slope = kNan;             // [1] held-out residual on the added terms' prediction
+    double heldout_gain_z = kNan;            // that slope in its standard errors (step 5)
+    double floor_offset_rms_v = kNan;        // [V] step 7, of the (extended) model on all bins
     double floor_rate_rms_dps = kNan;
-    double floor_drift_dph = kNan;     // white-noise drift over a held-out block
+    double floor_drift_dph = kNan;  // white-noise drift over a held-out block
     // What error_after should be if the extended model is right: the training fit's residual
     // variance plus its prediction variance on the held-out bins (mean x' Cov x, robust
     // covariance).
@@ -242,14 +294,14 @@ struct SensorResult {
     // prefixes older readers parse: "no missing effect", "missing effect", "not analysed").
     Outcome outcome = Outcome::kNotTestable;
     std::string headline;
-    double heldout_residual_rms_v = kNan;  // [V] the final model's held-out residual
-    double floor_bound_rms_v = kNan;       // [V] the bound it is compared with (step 9)
-    double floor_prediction_rms_v = kNan;  // [V] its prediction part
-    double excess_ratio = kNan;            // [1] residual / bound
-    std::vector<std::string> untested;     // candidates that could not be tested
-    std::vector<std::string> to_test;      // the measurement that would test each of them
+    double heldout_residual_rms_v = kNan;     // [V] the final model's held-out residual
+    double floor_bound_rms_v = kNan;          // [V] the bound it is compared with (step 9)
+    double floor_prediction_rms_v = kNan;     // [V] its prediction part
+    double excess_ratio = kNan;               // [1] residual / bound
+    std::vector<std::string> untested;        // candidates that could not be tested
+    std::vector<std::string> to_test;         // the measurement that would test each of them
     std::vector<std::string> not_attributed;  // named terms a generic feature displaced
-    std::vector<FeatureResult> features;   // step 8, strongest first
+    std::vector<FeatureResult> features;      // step 8, strongest first
     // Channels (or features of them) that were not recorded or did not vary, and what recording
     // would add them; a feature is never made up for them.
     std::vector<std::string> absent_channels;
@@ -258,11 +310,26 @@ struct SensorResult {
     // edge of the searched 30-300 s: the true value may be larger").
     std::vector<std::string> edges;
     ResidualDiagnostics residual;
+    // The thresholds the run itself gave
+    // (docs/closing-the-loop.md#the-verdict-what-is-left-and-what-it-correlates-with): the slow
+    // noise k, from the Allan terms of the residual; the standardised thresholds of the
+    // features' and the windows' nulls over n_surrogates surrogates of that noise; the windows
+    // above theirs; the rate the thresholds claim on a run with no missing effect.
+    double slow_noise_k = kNan;
+    bool slow_noise_measured = false;
+    std::string noise_note;
+    int n_surrogates = 0;
+    double feature_null_threshold = kNan, window_null_threshold = kNan;
+    std::vector<WindowExcess> windows_above;  // strongest first
+    double claimed_false_positive_rate = kNan;
+    // A candidate and another shape (a generic feature or another candidate) that the data cannot
+    // tell apart: "a vs b: to separate: <measurement>".
+    std::vector<std::string> ambiguities;
     std::optional<model::Model> declared_offset, declared_sensitivity;  // fitted on all bins
     std::optional<model::Model> extended_offset, extended_sensitivity;  // fitted on all bins
     // The held-out split and the models the before/after figures used (fitted on the training
     // bins), so a benchmark can put other methods on exactly the same data.
-    std::vector<int> holdout_bins;    // indices into the bins
+    std::vector<int> holdout_bins;  // indices into the bins
     std::optional<model::Model> holdout_before_offset, holdout_after_offset;
 };
 

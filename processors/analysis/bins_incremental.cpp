@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "model/terms.hpp"
+#include "steps.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::analysis {
@@ -37,10 +38,16 @@ TrackerGrid TrackerGrid::For(const AnalysisOptions& o, double width_ratio) {
     for (int k = 0; k < n_tau; ++k) {
         const double tau =
             o.rate_tau_min_s * std::pow(o.rate_tau_max_s / o.rate_tau_min_s, k / double(n_tau - 1));
-        InsertSorted(g.rate_taus_s, ParamOf(model::RateTerm(tau)));
+        const double named = ParamOf(model::RateTerm(tau));
+        InsertSorted(g.rate_taus_s, named);
+        // The neighbours the added term's standard error evaluates it at (steps.hpp).
+        for (double f : {1.0 - detail::kParamStepRel, 1.0 + detail::kParamStepRel})
+            InsertSorted(g.rate_taus_s, ParamOf(model::RateTerm(named * f)));
     }
     InsertSorted(g.rate_taus_s, GYROCAL_DEFAULT_RATE_TAU_S);
-    const double lo = o.branch_width_min_c, hi = o.branch_width_max_c;
+    // The searched widths and their neighbours at (1 -+ kParamStepRel) of the range's ends.
+    const double lo = o.branch_width_min_c * (1.0 - detail::kParamStepRel),
+                 hi = o.branch_width_max_c * (1.0 + detail::kParamStepRel);
     const int n_w =
         std::max(1, static_cast<int>(std::ceil(std::log(hi / lo) / std::log(width_ratio))));
     for (int k = 0; k <= n_w; ++k) g.widths_c.push_back(lo * std::pow(hi / lo, k / double(n_w)));

@@ -20,8 +20,9 @@
 //   fill          n >= min_fill x bin_s / period, the period being the median spacing of every
 //                 clean sample so far (an exact histogram of spacings), judged at the snapshot
 //   means         temp_c, gyro_v, supply_v, sample time: sums over the bin's samples
-//   dT/dt         one tracker per time constant of TrackerGrid (the analysis' searched grid and
-//                 the default), fed every clean sample from the first: identical bin means
+//   dT/dt         one tracker per time constant of TrackerGrid (the analysis' searched grid, each
+//                 point's neighbours at -+5 % where an added term's standard error evaluates it,
+//                 and the default), fed every clean sample from the first: identical bin means
 //   branch w=1    the default tracker's branch and sign ("heating"): identical
 //   time on       mean sample time minus the power-on in force (a power record, else the first
 //                 sample): identical unless a power-on falls inside a bin
@@ -43,8 +44,8 @@
 // A dT/dt time constant outside TrackerGrid (none with the analysis' defaults: a test checks) is
 // interpolated in log tau between its neighbours and named in Approximations(); a width outside
 // the grid gives NaN (the term then cannot be fitted) and is named there too.
-// Memory per bin: ~100 bytes + 8 per time constant + 4 per grid width (~0.6 kB at the defaults:
-// ~0.2 MB per unit-hour at 10 s bins); plus the samples of the bins not yet decided (a few).
+// Memory per bin: ~100 bytes + 8 per time constant + 4 per grid width (~0.7 kB at the defaults:
+// ~0.25 MB per unit-hour at 10 s bins); plus the samples of the bins not yet decided (a few).
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -65,9 +66,10 @@ struct TrackerGrid {
     std::vector<double> rate_taus_s;  // [s] exact, ascending
     std::vector<double> widths_c;     // [degC] ascending, log-spaced
     // The dT/dt time constants the analysis with `options` names (its log grid of 6 from
-    // rate_tau_min_s to rate_tau_max_s, as the term names write them) and the default 5 s;
-    // widths from branch_width_min_c to branch_width_max_c with neighbours at most width_ratio
-    // apart. Throws std::invalid_argument when width_ratio is not in (1, 2].
+    // rate_tau_min_s to rate_tau_max_s, as the term names write them, and each one's neighbours
+    // at 1 -+ 5 %, where an added term's parameter standard error evaluates it) and the default
+    // 5 s; widths from 0.95 x branch_width_min_c to 1.05 x branch_width_max_c with neighbours at
+    // most width_ratio apart. Throws std::invalid_argument when width_ratio is not in (1, 2].
     static TrackerGrid For(const AnalysisOptions& options, double width_ratio);
 };
 

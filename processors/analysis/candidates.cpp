@@ -110,16 +110,23 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
 VectorXd Context::Column(const std::string& term) const { return binned->Column(term, t0)(rows); }
 
 MatrixXd Context::Design(const std::vector<std::string>& terms) const {
-    MatrixXd x(static_cast<Index>(rows.size()), static_cast<Index>(terms.size()));
-    for (size_t j = 0; j < terms.size(); ++j) x.col(static_cast<Index>(j)) = Column(terms[j]);
+    return AllDesign(terms)(rows, Eigen::all);
+}
+
+MatrixXd Context::AllDesign(const std::vector<std::string>& terms) const {
+    const auto p = static_cast<Index>(terms.size());
+    MatrixXd x(static_cast<Index>(binned->size()), p + nuisance_all.cols());
+    for (Index j = 0; j < p; ++j) x.col(j) = binned->Column(terms[static_cast<size_t>(j)], t0);
+    if (nuisance_all.cols() > 0) x.rightCols(nuisance_all.cols()) = nuisance_all;
     return x;
 }
 
 Context MakeContext(const BinnedRun& binned, std::vector<Index> rows, double t0,
-                    const AnalysisOptions& o) {
+                    const AnalysisOptions& o, const MatrixXd& nuisance_all) {
     Context c;
     c.binned = &binned;
     c.t0 = t0;
+    if (nuisance_all.rows() == static_cast<Index>(binned.size())) c.nuisance_all = nuisance_all;
     c.y.resize(static_cast<Index>(rows.size()));
     int seg = -1;
     for (size_t k = 0; k < rows.size(); ++k) {

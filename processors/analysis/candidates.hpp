@@ -30,6 +30,9 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& binned, const AnalysisO
 
 // The rows (bins) a fit is made on, with their segments recomputed so that a row whose
 // predecessor bin is not among the rows starts a new segment.
+// Nuisance columns (the joint search, analyze.hpp step 8: a strong time-shaped generic feature
+// accounted for while the candidates are tested) follow the terms' columns in every design: they
+// are fitted with the terms and never become a term (nothing downstream can evaluate them).
 struct Context {
     const BinnedRun* binned = nullptr;
     std::vector<Eigen::Index> rows;
@@ -37,10 +40,13 @@ struct Context {
     Eigen::VectorXd y;
     std::vector<int> segment;
     int hac_lag = 0, cv_guard = 0, cv_blocks = 10;
+    Eigen::MatrixXd nuisance_all;  // on all bins (0 columns: none)
     Eigen::VectorXd Column(const std::string& term) const;
+    // The terms' columns, then the nuisance columns, on the rows / on all bins.
     Eigen::MatrixXd Design(const std::vector<std::string>& terms) const;
+    Eigen::MatrixXd AllDesign(const std::vector<std::string>& terms) const;
 };
 Context MakeContext(const BinnedRun& binned, std::vector<Eigen::Index> rows, double t0,
-                    const AnalysisOptions& o);
+                    const AnalysisOptions& o, const Eigen::MatrixXd& nuisance_all = {});
 
 }  // namespace gyrocal::analysis::detail

@@ -44,8 +44,10 @@ model::Model FitModel(const std::vector<std::string>& terms, double t0, const Bi
     model::Model m;
     m.quantity = model::kOffsetQuantity;
     m.term_names = terms;
-    m.coeffs = f.coeffs;
-    m.covariance = f.covariance;
+    // Nuisance columns (candidates.hpp) follow the terms' in the fit: not part of the model.
+    const auto p = static_cast<Index>(terms.size());
+    m.coeffs = f.coeffs.head(p);
+    m.covariance = f.covariance.topLeftCorner(p, p);
     m.t0_c = t0;
     m.temp_min_c = INFINITY;
     m.temp_max_c = -INFINITY;
@@ -129,6 +131,24 @@ Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vecto
     const double var = std::max(s, u.squaredNorm()) / (sdd * sdd);
     g.z = g.slope / std::sqrt(var);
     return g;
+}
+
+double LossDifferenceZ(const VectorXd& a, const VectorXd& b, const std::vector<int>& block,
+                       int hac_lag) {
+    const Index n = a.size();
+    if (n < 2 || b.size() != n || !a.allFinite() || !b.allFinite()) return kNan;
+    const VectorXd d = a.cwiseAbs2() - b.cwiseAbs2();
+    const double mean = d.mean();
+    const VectorXd u = d.array() - mean;
+    double s = u.squaredNorm();
+    for (int l = 1; l <= hac_lag; ++l) {
+        const double w = 1.0 - l / (hac_lag + 1.0);
+        for (Index i = l; i < n; ++i)
+            if (block[static_cast<size_t>(i)] == block[static_cast<size_t>(i - l)])
+                s += 2.0 * w * u[i] * u[i - l];
+    }
+    const double var = std::max(s, u.squaredNorm()) / (static_cast<double>(n) * n);
+    return var > 0.0 ? mean / std::sqrt(var) : kNan;
 }
 
 double MeanLeverage(const MatrixXd& x_train, const MatrixXd& x_held) {

@@ -53,6 +53,13 @@ struct Gain {
 Gain HeldOutGain(const Eigen::VectorXd& before, const Eigen::VectorXd& after,
                  const std::vector<int>& block, int hac_lag);
 
+// Diebold-Mariano: the mean over the held-out bins of a^2 - b^2 (a, b: held-out residuals of two
+// models fitted on the training bins) over its standard error, autocorrelation-robust as in
+// HeldOutGain (Newey-West, pairs only within one held-out block; never below the white value).
+// > 0 when b predicts better. NaN when it cannot be computed.
+double LossDifferenceZ(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                       const std::vector<int>& block, int hac_lag);
+
 // Mean over the held-out rows of x'(X'X)^-1 x, X the training design (numeric::MeanLeverage, the
 // one solver's QR); NaN when X cannot be solved.
 double MeanLeverage(const Eigen::MatrixXd& x_train, const Eigen::MatrixXd& x_held);

@@ -1,6 +1,7 @@
 // AnalysisOptions validation and the decision names (analyze.hpp).
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "analyze.hpp"
 #include "text/names.hpp"
@@ -14,16 +15,23 @@ constexpr text::NameTable<Decision, 4> kDecisionNames{{{Decision::kAdded, "added
                                                        {Decision::kAmbiguous, "ambiguous"},
                                                        {Decision::kNotTested, "not_tested"}}};
 
-constexpr text::NameTable<Outcome, 5> kOutcomeNames{
-    {{Outcome::kAdequate, "adequate"}, {Outcome::kExplained, "explained"},
-     {Outcome::kPartlyExplained, "partly explained"}, {Outcome::kUnexplained, "unexplained residual"},
-     {Outcome::kNotTestable, "not testable"}}};
+constexpr text::NameTable<Outcome, 6> kOutcomeNames{
+    {{Outcome::kAdequate, "adequate"},
+     {Outcome::kExplained, "explained"},
+     {Outcome::kPartlyExplained, "partly explained"},
+     {Outcome::kUnexplained, "unexplained residual"},
+     {Outcome::kNotTestable, "not testable"},
+     {Outcome::kAmbiguous, "ambiguous"}}};
 
 }  // namespace
 
 const char* ToString(Decision d) { return text::NameOf(kDecisionNames, d); }
 
 const char* ToString(Outcome o) { return text::NameOf(kOutcomeNames, o); }
+
+double AnalysisOptions::ClaimedFalsePositiveRate() const {
+    return feature_fpr + window_fpr + warmup_fpr + 0.0027;
+}
 
 std::string AnalysisOptions::Problem() const {
     if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";
@@ -48,10 +56,19 @@ std::string AnalysisOptions::Problem() const {
     if (!(holdout_block_s >= 10.0 * bins.bin_s))
         return "holdout_block_s must be at least 10 bins long";
     if (!(gate_min_z >= 0.0)) return "gate_min_z must be >= 0";
-    if (!(slow_noise_floor_ratio >= 0.0 && slow_noise_floor_ratio <= 10.0))
-        return "slow_noise_floor_ratio must be in [0, 10]";
-    if (!(min_feature_drop > 0.0 && min_feature_drop < 1.0))
-        return "min_feature_drop must be in (0, 1)";
+    if (!(slow_noise_floor_ratio <= 10.0))
+        return "slow_noise_floor_ratio must be <= 10 (negative: measured from the run)";
+    if (!(min_feature_drop >= 0.0 && min_feature_drop < 1.0))
+        return "min_feature_drop must be in [0, 1)";
+    if (surrogates < 20 || surrogates > 10000) return "surrogates must be 20..10000";
+    for (const auto& [name, v] : {std::pair<const char*, double>{"feature_fpr", feature_fpr},
+                                  {"window_fpr", window_fpr},
+                                  {"warmup_fpr", warmup_fpr}})
+        if (!(v > 0.0 && v < 0.5)) return std::string(name) + " must be in (0, 0.5)";
+    if (!(early_block_s >= bins.bin_s)) return "early_block_s must be at least one bin long";
+    if (!(max_untested_fraction >= 0.0 && max_untested_fraction <= 1.0))
+        return "max_untested_fraction must be in [0, 1]";
+    if (!(min_effect_floor_ratio >= 0.0)) return "min_effect_floor_ratio must be >= 0";
     if (!(rate_tau_min_s > 0.0 && rate_tau_max_s > rate_tau_min_s))
         return "dT/dt time constant range must satisfy 0 < min < max";
     if (!(branch_width_min_c > 0.0 && branch_width_max_c > branch_width_min_c))

@@ -8,12 +8,14 @@
 namespace gyrocal::analysis::detail {
 
 std::string MeasurementToTest(const std::string& effect) {
-    if (effect == "temp_rate") return "temperature ramps (at least a few degC/min) recorded at rest";
+    if (effect == "temp_rate")
+        return "temperature ramps (at least a few degC/min) recorded at rest";
     if (effect == "hysteresis")
         return "ramps up and down through the same temperatures, with dwells between them";
     if (effect == "temp_cubic") return "dwells at 5 or more temperatures spread over the range";
     if (effect == "supply") return "the supply voltage recorded with every sample";
-    if (effect == "warmup") return "recording from power-on (a power record) with a dwell right after it";
+    if (effect == "warmup")
+        return "recording from power-on (a power record) with a dwell right after it";
     if (effect == "sf_asymmetry") return "turns in both directions at 3 or more temperatures";
     return "more data in which it varies";
 }
@@ -49,8 +51,17 @@ std::string Correlates(const SensorResult& r) {
 }
 
 std::string Where(const SensorResult& r) {
-    const ResidualDiagnostics& d = r.residual;
     std::string s;
+    if (!r.windows_above.empty()) {
+        // The windows above what the run's noise leaves in a window of their size, worst first.
+        for (size_t k = 0; k < r.windows_above.size() && k < 2; ++k) {
+            const WindowExcess& w = r.windows_above[k];
+            s += std::string(k ? ", " : "far from the floor at ") + w.where + " (" + Mv(w.rms_v) +
+                 " RMS where the noise leaves " + Mv(w.expected_rms_v) + ")";
+        }
+        return s;
+    }
+    const ResidualDiagnostics& d = r.residual;
     if (std::isfinite(d.worst_time.rms_v))
         s += "largest at " + text::Sig(d.worst_time.lo, 4) + "-" + text::Sig(d.worst_time.hi, 4) +
              " s from the start (" + Mv(d.worst_time.rms_v) + " RMS)";
@@ -67,33 +78,45 @@ std::string Residual(const SensorResult& r) {
 
 }  // namespace
 
-void Conclude(bool analysed, const std::vector<std::string>& ambiguous, const AnalysisOptions& o,
-              SensorResult& res) {
-    for (const CandidateResult& c : res.candidates)
-        if (c.decision == Decision::kNotTested) {
-            res.untested.push_back(c.effect);
-            res.to_test.push_back(c.effect + ": " + MeasurementToTest(c.effect));
-        }
+void Conclude(bool analysed, const AnalysisOptions& o, SensorResult& res) {
+    int candidates = 0;
+    for (const CandidateResult& c : res.candidates) {
+        ++candidates;
+        if (c.decision != Decision::kNotTested) continue;
+        res.untested.push_back(c.effect);
+        res.to_test.push_back(c.effect + ": " + MeasurementToTest(c.effect));
+    }
     res.heldout_residual_rms_v =
         res.added.empty() ? res.error_before.offset_rms_v : res.error_after.offset_rms_v;
-    res.floor_bound_rms_v =
-        FloorBound(res.floor_offset_rms_v, res.floor_prediction_rms_v, o.slow_noise_floor_ratio);
+    const double k = std::isfinite(res.slow_noise_k) ? res.slow_noise_k
+                     : o.slow_noise_floor_ratio >= 0 ? o.slow_noise_floor_ratio
+                                                     : 1.0;
+    res.floor_bound_rms_v = FloorBound(res.floor_offset_rms_v, res.floor_prediction_rms_v, k);
     res.excess_ratio = res.heldout_residual_rms_v / res.floor_bound_rms_v;
     bool traced = false;
     for (const FeatureResult& f : res.features) traced = traced || f.explains_heldout;
-    const bool above = (std::isfinite(res.excess_ratio) && res.excess_ratio > 1.0) || traced;
+    const bool above = (std::isfinite(res.excess_ratio) && res.excess_ratio > 1.0) || traced ||
+                       !res.windows_above.empty();
     const bool known = std::isfinite(res.excess_ratio);
     std::vector<std::string> added;
     for (const AddedEffect& a : res.added) added.push_back(a.effect);
     const std::string tail = above ? "; " + Where(res) + "; " + Correlates(res) : "";
+    const std::string of =
+        std::to_string(res.untested.size()) + " of " + std::to_string(candidates);
+    const bool untestable = static_cast<double>(res.untested.size()) >
+                            o.max_untested_fraction * static_cast<double>(candidates);
     std::string h;
-    if (!analysed || !known || 2 * res.untested.size() > 6) {
+    if (!analysed || !known || untestable) {
         res.outcome = Outcome::kNotTestable;
-        h = (analysed ? "not testable: " : "not analysed: not testable: ") +
-            std::to_string(res.untested.size()) + " of 6 candidates could not be tested (" +
-            List(res.untested) + "); to test them: " + List(res.to_test);
+        h = (analysed ? "not testable: " : "not analysed: not testable: ") + of +
+            " candidates could not be tested (" + List(res.untested) +
+            "); to test them: " + List(res.to_test);
         if (!analysed) h += "; too few still bins (" + std::to_string(res.n_bins) + ")";
         if (known) h += "; " + Residual(res) + tail;
+    } else if (!res.ambiguities.empty()) {
+        res.outcome = Outcome::kAmbiguous;
+        h = "ambiguous: " + List(res.ambiguities) +
+            (added.empty() ? "" : "; added: " + List(added)) + "; " + Residual(res) + tail;
     } else if (added.empty()) {
         res.outcome = above ? Outcome::kUnexplained : Outcome::kAdequate;
         h = above ? "missing effect (unexplained residual): " + Residual(res) + tail
@@ -106,8 +129,8 @@ void Conclude(bool analysed, const std::vector<std::string>& ambiguous, const An
     if (res.outcome != Outcome::kNotTestable && !res.untested.empty())
         h += "; not tested: " + List(res.untested);
     if (!res.not_attributed.empty()) h += "; not attributed: " + List(res.not_attributed);
-    if (!res.unconfirmed.empty()) h += "; not confirmed on the held-out data: " + List(res.unconfirmed);
-    if (!ambiguous.empty()) h += "; ambiguous: " + List(ambiguous);
+    if (!res.unconfirmed.empty())
+        h += "; not confirmed on the held-out data: " + List(res.unconfirmed);
     res.headline = h;
     res.verdict = h;
 }

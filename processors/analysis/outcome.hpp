@@ -16,8 +16,9 @@ std::string MeasurementToTest(const std::string& effect);
 double FloorBound(double floor_v, double prediction_v, double slow_ratio);
 
 // Fills outcome, headline, verdict, untested/to_test, heldout_residual_rms_v, floor_bound_rms_v,
-// excess_ratio. analysed: the offset candidates could be run at all.
-void Conclude(bool analysed, const std::vector<std::string>& ambiguous, const AnalysisOptions& o,
-              SensorResult& res);
+// excess_ratio, from every piece of evidence in res: the held-out residual against the floor
+// bound (k from the run unless set), the generic features and the windows judged against the
+// run's noise, the ambiguities. analysed: the offset candidates could be run at all.
+void Conclude(bool analysed, const AnalysisOptions& o, SensorResult& res);
 
 }  // namespace gyrocal::analysis::detail

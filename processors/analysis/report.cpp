@@ -41,6 +41,8 @@ nlohmann::json Beyond(const SensorResult& r) {
                      {"heldout_after_rms_v", JsonNumber(x.heldout_after_rms_v)},
                      {"effect_rms_v", JsonNumber(x.effect_rms_v)},
                      {"heldout_drop", JsonNumber(x.heldout_drop)},
+                     {"null_z", JsonNumber(x.null_z)},
+                     {"null_threshold", JsonNumber(x.null_threshold)},
                      {"explains_heldout", x.explains_heldout},
                      {"at_edge_of_search", !x.edge.empty()},
                      {"edge", x.edge}});
@@ -56,6 +58,27 @@ nlohmann::json Beyond(const SensorResult& r) {
               {"period_power_ratio", JsonNumber(d.period_power_ratio)},
               {"by_time_s", Windows(d.by_time)},
               {"by_temp_c", Windows(d.by_temp)}}}};
+}
+
+// What the run itself gave: the windows far from the floor and the thresholds (analyze.hpp).
+void FromRun(const SensorResult& r, nlohmann::json& j) {
+    using nlohmann::json;
+    json windows = json::array();
+    for (const WindowExcess& w : r.windows_above)
+        windows.push_back({{"where", w.where},
+                           {"rms_v", JsonNumber(w.rms_v)},
+                           {"expected_rms_v", JsonNumber(w.expected_rms_v)},
+                           {"z", JsonNumber(w.z)},
+                           {"bins", w.n}});
+    j["windows_above"] = windows;
+    j["thresholds_from_run"] = {
+        {"slow_noise_k", JsonNumber(r.slow_noise_k)},
+        {"slow_noise_measured", r.slow_noise_measured},
+        {"noise", r.noise_note},
+        {"surrogates", r.n_surrogates},
+        {"feature_null_threshold", JsonNumber(r.feature_null_threshold)},
+        {"window_null_threshold", JsonNumber(r.window_null_threshold)},
+        {"claimed_false_positive_rate", JsonNumber(r.claimed_false_positive_rate)}};
 }
 
 }  // namespace
@@ -75,6 +98,8 @@ nlohmann::json ToJson(const SensorResult& r) {
     j["not_attributed"] = r.not_attributed;
     j["absent_channels"] = r.absent_channels;
     j["edges"] = r.edges;
+    j["ambiguities"] = r.ambiguities;
+    FromRun(r, j);
     const nlohmann::json b = Beyond(r);
     j["features"] = b["features"];
     j["residual"] = b["residual"];
@@ -98,7 +123,9 @@ nlohmann::json ToJson(const SensorResult& r) {
                          {"term", a.term},
                          {"coefficient", JsonNumber(a.coefficient)},
                          {"stderr", JsonNumber(a.stderr_)},
-                         {"unit", a.unit}});
+                         {"unit", a.unit},
+                         {"param", JsonNumber(a.param)},
+                         {"param_stderr", JsonNumber(a.param_stderr)}});
     j["added"] = added;
     j["error_before"] = Errors(r.error_before);
     j["error_after"] = Errors(r.error_after);
@@ -147,16 +174,29 @@ std::string FormatBeyond(const SensorResult& r) {
                       text::SigOrDash(r.heldout_residual_rms_v, 3) + " V, floor bound " +
                       text::SigOrDash(r.floor_bound_rms_v, 3) + " V, ratio " +
                       text::SigOrDash(r.excess_ratio, 3) + ")\n";
+    out += "  thresholds from the run: slow noise k " + text::SigOrDash(r.slow_noise_k, 3) +
+           (r.slow_noise_measured ? " (measured: " : " (") + r.noise_note + "); over " +
+           std::to_string(r.n_surrogates) + " surrogates of that noise: features " +
+           text::SigOrDash(r.feature_null_threshold, 3) + ", windows " +
+           text::SigOrDash(r.window_null_threshold, 3) +
+           " (standardised); false-positive rate claimed " +
+           text::SigOrDash(100.0 * r.claimed_false_positive_rate, 2) + " %\n";
+    for (const WindowExcess& w : r.windows_above)
+        out += "  far from the floor: " + w.where + ": " + text::SigOrDash(w.rms_v, 3) +
+               " V RMS where the noise leaves " + text::SigOrDash(w.expected_rms_v, 3) +
+               " V (standardised " + text::SigOrDash(w.z, 3) + ", " + std::to_string(w.n) +
+               " bins)\n";
+    for (const std::string& a : r.ambiguities) out += "  ambiguous: " + a + "\n";
     if (!r.features.empty()) {
-        out += text::Printf("  %-20s %-20s %7s %8s %11s  %s\n", "beyond the list", "channel",
-                            "corr", "heldout_z", "after_v", "explains held-out");
+        out += text::Printf("  %-20s %-20s %7s %8s %8s %11s  %s\n", "beyond the list", "channel",
+                            "corr", "heldout_z", "null_z", "after_v", "explains held-out");
     }
     for (const FeatureResult& f : r.features) {
-        out += text::Printf("  %-20s %-20s %7s %8s %11s  %s  (%s)\n", f.feature.c_str(),
-                            f.channel.c_str(), text::SigOrDash(f.corr, 2).c_str(),
-                            text::SigOrDash(f.heldout_z, 3).c_str(),
-                            text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
-                            f.explains_heldout ? "yes" : "no", f.detail.c_str());
+        out += text::Printf(
+            "  %-20s %-20s %7s %8s %8s %11s  %s  (%s)\n", f.feature.c_str(), f.channel.c_str(),
+            text::SigOrDash(f.corr, 2).c_str(), text::SigOrDash(f.heldout_z, 3).c_str(),
+            text::SigOrDash(f.null_z, 3).c_str(), text::SigOrDash(f.heldout_after_rms_v, 3).c_str(),
+            f.explains_heldout ? "yes" : "no", f.detail.c_str());
     }
     const ResidualDiagnostics& d = r.residual;
     if (std::isfinite(d.rms_v)) {
@@ -197,8 +237,11 @@ std::string FormatReport(const SensorResult& r) {
         if (!c.note.empty() && c.decision != Decision::kRejected) out += "      " + c.note + "\n";
     }
     for (const AddedEffect& a : r.added) {
-        out += text::Printf("  added %-12s %-14s %12.5g +- %-10.3g %s\n", a.effect.c_str(),
+        out += text::Printf("  added %-12s %-14s %12.5g +- %-10.3g %s", a.effect.c_str(),
                             a.term.c_str(), a.coefficient, a.stderr_, a.unit.c_str());
+        out += std::isfinite(a.param) ? "  (parameter " + text::Sig(a.param, 4) + " +- " +
+                                            text::SigOrDash(a.param_stderr, 2) + ")\n"
+                                      : std::string("\n");
     }
     if (!r.unconfirmed.empty() || std::isfinite(r.heldout_gain_z)) {
         out += text::Printf(

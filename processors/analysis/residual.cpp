@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "null.hpp"
 #include "regress.hpp"
 #include "text/number.hpp"
 
@@ -62,15 +63,6 @@ MatrixXd Independent(const MatrixXd& base, const MatrixXd& x) {
     return x(Eigen::all, keep);
 }
 
-// Residual sum of squares of [base, extra] on the training rows (inf when not fitted).
-double TrainRss(const Context& train, const MatrixXd& base_all, const MatrixXd& extra_all) {
-    MatrixXd x(static_cast<Index>(train.rows.size()), base_all.cols() + extra_all.cols());
-    x << base_all(train.rows, Eigen::all), extra_all(train.rows, Eigen::all);
-    if (!x.allFinite()) return INFINITY;
-    const LsFit f = FitLs(x, train.y, train.segment, 0);
-    return f.ok ? f.rss : INFINITY;
-}
-
 MatrixXd Sinusoid(const VectorXd& t, double period_s) {
     MatrixXd c(t.size(), 2);
     c.col(0) = (t.array() * (kTwoPi / period_s)).sin().matrix();
@@ -84,59 +76,61 @@ std::vector<double> LogSpace(double lo, double hi, int n) {
     return v;
 }
 
-// The parameter of a one-parameter family with the smallest training RSS; `param` names it for
-// the edge flag ("tau", "period").
+// A one-parameter family: its columns at every value of the grid.
 template <typename Make>
-GenericFeature Search(const Context& train, const MatrixXd& base_all,
-                      const std::vector<double>& grid, Make make, GenericFeature f,
-                      const char* unit, const char* param) {
-    double best = INFINITY, best_p = kNan;
-    for (double p : grid) {
-        const double rss = TrainRss(train, base_all, make(p));
-        if (rss < best) best = rss, best_p = p;
-    }
-    if (!std::isfinite(best_p)) return f;
-    f.columns = make(best_p);
-    f.detail = f.detail + text::Sig(best_p, 3) + unit;
-    if (best_p == grid.front() || best_p == grid.back())
-        f.edge = EdgeText(param, best_p == grid.back(), grid.front(), grid.back(), unit);
+Family Searched(const std::vector<double>& grid, Make make, Family f) {
+    f.grid = grid;
+    for (double p : grid) f.cols.push_back(make(p));
     return f;
 }
 
-void TimeFeatures(const BinnedRun& b, const Context& train, const MatrixXd& base, const VectorXd& t,
-                  const AnalysisOptions& o, std::vector<GenericFeature>& out) {
+// A feature without a parameter.
+Family Fixed(std::string name, std::string channel, std::string detail, MatrixXd cols,
+             bool competes = false) {
+    Family f{std::move(name), std::move(channel), std::move(detail), "", "", {}, {}, competes};
+    f.cols.push_back(std::move(cols));
+    return f;
+}
+
+void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& o,
+                  std::vector<Family>& out) {
     const std::vector<Bin>& bins = b.bins();
     const Index n = t.size();
     const double span = t[n - 1];
-    out.push_back({"time since start", "time", "linear drift", (t / 3600.0).eval(), true});
+    out.push_back(Fixed("time since start", "time", "linear drift", (t / 3600.0).eval(), true));
     VectorXd t_on(n);
     for (Index i = 0; i < n; ++i) t_on[i] = bins[static_cast<size_t>(i)].time_since_power_s;
     if (t_on.allFinite()) {
         const double lo = std::max(o.warmup_tau_min_s, o.warmup_max_tau_fraction * span);
-        out.push_back(Search(
-            train, base, LogSpace(lo, std::max(3.0 * span, 2.0 * lo), 12),
-            [&](double tau) { return MatrixXd((-t_on.array() / tau).exp().matrix()); },
-            {"slow transient", "time since power-on", "exp(-t_on/tau), tau ", {}, true}, " s",
-            "tau"));
+        out.push_back(
+            Searched(LogSpace(lo, std::max(3.0 * span, 2.0 * lo), 12),
+                     [&](double tau) { return MatrixXd((-t_on.array() / tau).exp().matrix()); },
+                     {"slow transient",
+                      "time since power-on",
+                      "exp(-t_on/tau), tau ",
+                      " s",
+                      "tau",
+                      {},
+                      {},
+                      true}));
     }
     std::vector<double> at;
     for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
     if (at.size() >= 2)
-        out.push_back(Search(
-            train, base, at,
+        out.push_back(Searched(
+            at,
             [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
-            {"step", "time", "offset step at ", {}, true}, " s from the start", "step time"));
+            {"step", "time", "offset step at ", " s from the start", "step time", {}, {}, true}));
     // At least 4 cycles in the run: a longer "period" is a trend or a transient, which the other
     // features name.
     const double p_lo = 4.0 * b.bin_s(), p_hi = 0.25 * span;
     if (p_hi > 2.0 * p_lo)
-        out.push_back(Search(
-            train, base, LogSpace(p_lo, p_hi, 400), [&](double p) { return Sinusoid(t, p); },
-            {"periodic", "time", "period ", {}, true}, " s", "period"));
+        out.push_back(Searched(LogSpace(p_lo, p_hi, 400), [&](double p) { return Sinusoid(t, p); },
+                               {"periodic", "time", "period ", " s", "period", {}, {}, true}));
 }
 
 void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t,
-                     std::vector<GenericFeature>& out, std::vector<std::string>& absent) {
+                     std::vector<Family>& out, std::vector<std::string>& absent) {
     const std::vector<Bin>& bins = b.bins();
     const Index n = t.size();
     VectorXd dt(n), supply(n);
@@ -144,25 +138,28 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
         dt[i] = bins[static_cast<size_t>(i)].temp_c - train.t0;
         supply[i] = bins[static_cast<size_t>(i)].supply_v;
     }
-    out.push_back({"temperature^3", "temperature", "(T - T0)^3", dt.array().cube().matrix(), false});
-    out.push_back({"temperature^4", "temperature", "(T - T0)^4", dt.array().square().square().matrix(), false});
+    out.push_back(
+        Fixed("temperature^3", "temperature", "(T - T0)^3", dt.array().cube().matrix(), false));
+    out.push_back(Fixed("temperature^4", "temperature", "(T - T0)^4",
+                        dt.array().square().square().matrix(), false));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
     for (double w : {60.0, 300.0, 1200.0}) {
         const VectorXd r = Rate(temp, t, 0.5 * w);
         if (r.allFinite())
             out.push_back(
-                {"dT/dt over " + text::Sig(w, 3) + " s", "temperature", "degC/s", r, false});
+                Fixed("dT/dt over " + text::Sig(w, 3) + " s", "temperature", "degC/s", r, false));
     }
     const VectorXd r300 = Rate(temp, t, 150.0);
     if (r300.allFinite())
-        out.push_back({"|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false});
+        out.push_back(Fixed("|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false));
     if (supply.allFinite()) {
-        out.push_back({"supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false});
+        out.push_back(
+            Fixed("supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false));
         VectorXd rate = VectorXd::Zero(n);
         for (Index i = 1; i + 1 < n; ++i)
             rate[i] = (supply[i + 1] - supply[i - 1]) / std::max(1e-9, t[i + 1] - t[i - 1]);
-        out.push_back({"supply rate", "supply", "V/s", rate, false});
+        out.push_back(Fixed("supply rate", "supply", "V/s", rate, false));
     } else {
         absent.push_back(
             "supply: not recorded with every still sample (supply_v with each gyro "
@@ -173,7 +170,7 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
 // Chamber air: its level, its rate, the air-minus-sensor difference (a thermal gradient across
 // the package, which the sensor's own temperature and rate do not see) and that difference times
 // (T - T0) (a gradient effect whose size changes with temperature).
-void AirFeatures(const BinnedRun& b, double t0, const VectorXd& t, std::vector<GenericFeature>& out,
+void AirFeatures(const BinnedRun& b, double t0, const VectorXd& t, std::vector<Family>& out,
                  std::vector<std::string>& absent) {
     const std::vector<Bin>& bins = b.bins();
     const Index n = t.size();
@@ -199,19 +196,19 @@ void AirFeatures(const BinnedRun& b, double t0, const VectorXd& t, std::vector<G
     // the difference does, and a tie goes to the earlier (the physical reading: a gradient).
     const VectorXd diff = air - (dt.array() + t0).matrix();
     out.push_back(
-        {"air - sensor", "chamber air - sensor temperature", "air_c - temp_c", diff, false});
-    out.push_back({"(air - sensor) x dT", "chamber air - sensor temperature",
-                   "(air_c - temp_c)(T - T0)", diff.cwiseProduct(dt), false});
+        Fixed("air - sensor", "chamber air - sensor temperature", "air_c - temp_c", diff, false));
+    out.push_back(Fixed("(air - sensor) x dT", "chamber air - sensor temperature",
+                        "(air_c - temp_c)(T - T0)", diff.cwiseProduct(dt), false));
     out.push_back(
-        {"air temperature", "chamber air", "air_c - T0", (air.array() - t0).matrix(), false});
+        Fixed("air temperature", "chamber air", "air_c - T0", (air.array() - t0).matrix(), false));
     const VectorXd rate = Rate(air, t, 150.0);
     if (rate.allFinite())
-        out.push_back({"air rate over 300 s", "chamber air", "degC/s", rate, false});
+        out.push_back(Fixed("air rate over 300 s", "chamber air", "degC/s", rate, false));
 }
 
 // The table at rest: sin and cos of its angle (a g-sensitivity through a tilted axis repeats once
 // per revolution), the same times (T - T0), the last turn's direction and its rate.
-void TableFeatures(const BinnedRun& b, double t0, std::vector<GenericFeature>& out,
+void TableFeatures(const BinnedRun& b, double t0, std::vector<Family>& out,
                    std::vector<std::string>& absent) {
     const std::vector<Bin>& bins = b.bins();
     const auto n = static_cast<Index>(bins.size());
@@ -231,11 +228,12 @@ void TableFeatures(const BinnedRun& b, double t0, std::vector<GenericFeature>& o
         dir[i] = x.last_turn_dir;
         rate[i] = x.last_turn_rate_dps;
     }
-    out.push_back({"table angle", "encoder: table angle", "sin, cos of the angle", angle, false});
-    out.push_back({"table angle x dT", "encoder: table angle", "sin, cos of the angle x (T - T0)",
-                   angle_t, false});
-    out.push_back({"last turn direction", "encoder: last turn direction",
-                   "+1 / -1, 0 before any turn", dir, false});
+    out.push_back(
+        Fixed("table angle", "encoder: table angle", "sin, cos of the angle", angle, false));
+    out.push_back(Fixed("table angle x dT", "encoder: table angle",
+                        "sin, cos of the angle x (T - T0)", angle_t, false));
+    out.push_back(Fixed("last turn direction", "encoder: last turn direction",
+                        "+1 / -1, 0 before any turn", dir, false));
     double lo = INFINITY, hi = -INFINITY;
     for (Index i = 0; i < n; ++i)
         if (std::isfinite(rate[i])) lo = std::min(lo, rate[i]), hi = std::max(hi, rate[i]);
@@ -246,7 +244,7 @@ void TableFeatures(const BinnedRun& b, double t0, std::vector<GenericFeature>& o
                               : std::string("no turn before the still data")) +
                          ": turns at several rates would test it");
     else if (rate.allFinite())
-        out.push_back({"last turn rate", "encoder: last turn rate", "deg/s", rate, false});
+        out.push_back(Fixed("last turn rate", "encoder: last turn rate", "deg/s", rate, false));
     else
         absent.push_back(
             "encoder: last turn rate: undefined for the still data before the first "
@@ -262,22 +260,26 @@ std::string EdgeText(const std::string& param, bool upper, double lo, double hi,
            (upper ? "larger" : "smaller");
 }
 
-std::vector<GenericFeature> GenericFeatures(const BinnedRun& b, const Context& train,
-                                            const MatrixXd& base_all, const AnalysisOptions& o,
-                                            std::vector<std::string>* absent) {
-    std::vector<GenericFeature> out;
+std::vector<Family> FeatureFamilies(const BinnedRun& b, const Context& train,
+                                    const MatrixXd& base_all, const AnalysisOptions& o,
+                                    std::vector<std::string>* absent) {
+    std::vector<Family> out;
     std::vector<std::string> missing;
     if (b.size() < 3 || train.rows.empty()) return out;
     const VectorXd t = TimeS(b.bins());
-    TimeFeatures(b, train, base_all, t, o, out);
+    TimeFeatures(b, t, o, out);
     ChannelFeatures(b, train, t, out, missing);
     AirFeatures(b, train.t0, t, out, missing);
     TableFeatures(b, train.t0, out, missing);
-    std::vector<GenericFeature> kept;
-    for (GenericFeature& f : out) {
-        if (f.columns.size() == 0 || !f.columns.allFinite()) continue;
-        f.columns = Independent(base_all, f.columns);
-        if (f.columns.cols() > 0) {
+    std::vector<Family> kept;
+    for (Family& f : out) {
+        bool usable = !f.cols.empty();
+        for (const MatrixXd& c : f.cols) usable = usable && c.size() > 0 && c.allFinite();
+        if (!usable) continue;
+        // A feature without a parameter may lie (partly) in the model's span; a searched family's
+        // shapes (time) never do.
+        if (f.grid.empty()) f.cols[0] = Independent(base_all, f.cols[0]);
+        if (f.cols[0].cols() > 0) {
             kept.push_back(std::move(f));
         } else if (f.channel.rfind("encoder", 0) == 0 || f.channel.rfind("chamber", 0) == 0) {
             missing.push_back(f.channel + ": " + f.name +
@@ -287,6 +289,40 @@ std::vector<GenericFeature> GenericFeatures(const BinnedRun& b, const Context& t
     }
     if (absent) *absent = std::move(missing);
     return kept;
+}
+
+namespace {
+
+GenericFeature Chosen(const Family& f, int best) {
+    GenericFeature g{f.name, f.channel, f.detail, f.cols[static_cast<size_t>(best)], f.competes};
+    if (f.grid.empty()) return g;
+    const double p = f.grid[static_cast<size_t>(best)];
+    g.detail += text::Sig(p, 3) + f.unit;
+    if (f.grid.size() > 1 && (best == 0 || best + 1 == static_cast<int>(f.grid.size())))
+        g.edge = EdgeText(f.param, best > 0, f.grid.front(), f.grid.back(), f.unit);
+    return g;
+}
+
+}  // namespace
+
+std::vector<GenericFeature> GenericFeatures(const BinnedRun& b, const Context& train,
+                                            const MatrixXd& base_all, const AnalysisOptions& o,
+                                            std::vector<std::string>* absent) {
+    const std::vector<Family> families = FeatureFamilies(b, train, base_all, o, absent);
+    // The choice is on the training rows alone: the held-out rows are not looked at.
+    const HeldOutSearch search(base_all, train.rows, train.rows, families);
+    std::vector<GenericFeature> out;
+    if (!search.ok()) return out;
+    const std::vector<FamilyFit> fits = search.Evaluate(BinValues(b), false);
+    for (size_t f = 0; f < families.size(); ++f)
+        if (fits[f].best >= 0) out.push_back(Chosen(families[f], fits[f].best));
+    return out;
+}
+
+VectorXd BinValues(const BinnedRun& b) {
+    VectorXd y(static_cast<Index>(b.size()));
+    for (size_t i = 0; i < b.size(); ++i) y[static_cast<Index>(i)] = b.bins()[i].gyro_v;
+    return y;
 }
 
 VectorXd HeldResidual(const BinnedRun& b, const Context& train, const Split& split,
@@ -301,46 +337,69 @@ VectorXd HeldResidual(const BinnedRun& b, const Context& train, const Split& spl
     VectorXd r(static_cast<Index>(split.held.size()));
     for (size_t k = 0; k < split.held.size(); ++k) {
         const Index i = split.held[k];
-        r[static_cast<Index>(k)] = b.bins()[static_cast<size_t>(i)].gyro_v - all.row(i).dot(f.coeffs);
+        r[static_cast<Index>(k)] =
+            b.bins()[static_cast<size_t>(i)].gyro_v - all.row(i).dot(f.coeffs);
     }
     return r;
 }
 
+namespace {
+
+double Corr(const MatrixXd& cols, const VectorXd& r_all) {
+    double best = kNan;
+    for (Index j = 0; j < cols.cols(); ++j) {
+        const VectorXd c = cols.col(j).array() - cols.col(j).mean();
+        const VectorXd e = r_all.array() - r_all.mean();
+        const double den = c.norm() * e.norm();
+        const double cr = den > 0 ? c.dot(e) / den : kNan;
+        if (!std::isfinite(best) || std::fabs(cr) > std::fabs(best)) best = cr;
+    }
+    return best;
+}
+
+// One family's figures on the run, judged against the null.
+FeatureResult Judge(const Family& fam, const FamilyFit& fit, const Context& train,
+                    const Split& split, const VectorXd& r_all, double floor_v, double null_z,
+                    double threshold, const AnalysisOptions& o) {
+    const GenericFeature g = Chosen(fam, fit.best);
+    FeatureResult r{g.name, g.channel, g.detail};
+    r.edge = g.edge;
+    r.corr = Corr(g.columns, r_all);
+    const auto n = static_cast<double>(fit.r1.size());
+    const Gain gain = HeldOutGain(fit.r0, fit.r1, split.held_block, train.hac_lag);
+    r.heldout_z = gain.z;
+    r.heldout_gain_v2 = gain.mean_v2;
+    r.heldout_after_rms_v = std::sqrt(fit.r1.squaredNorm() / n);
+    r.effect_rms_v = std::sqrt(fit.predicted.squaredNorm() / n);
+    r.heldout_drop = 1.0 - fit.r1.squaredNorm() / fit.r0.squaredNorm();
+    r.null_z = null_z;
+    r.null_threshold = threshold;
+    const bool big_enough =
+        !std::isfinite(floor_v) || r.effect_rms_v > o.min_effect_floor_ratio * floor_v;
+    r.explains_heldout = std::isfinite(r.null_z) && r.null_z > threshold && gain.mean_v2 > 0.0 &&
+                         r.heldout_drop > o.min_feature_drop && big_enough;
+    return r;
+}
+
+}  // namespace
+
 std::vector<FeatureResult> JudgeFeatures(const BinnedRun& b, const Context& train,
                                          const Split& split, const MatrixXd& base_all,
                                          const VectorXd& r_all, double floor_v,
-                                         const std::vector<GenericFeature>& features,
-                                         const AnalysisOptions& o) {
+                                         const std::vector<Family>& families,
+                                         const std::vector<VectorXd>& surrogates,
+                                         const AnalysisOptions& o, double* threshold_out) {
     std::vector<FeatureResult> out;
-    const VectorXd before = HeldResidual(b, train, split, base_all, MatrixXd(base_all.rows(), 0));
-    for (const GenericFeature& f : features) {
-        FeatureResult r{f.name, f.channel, f.detail};
-        r.edge = f.edge;
-        // Correlation with the residual: the feature's first column (or the sinusoid's best
-        // phase: the larger of the two).
-        for (Index j = 0; j < f.columns.cols(); ++j) {
-            const VectorXd c = f.columns.col(j).array() - f.columns.col(j).mean();
-            const VectorXd e = r_all.array() - r_all.mean();
-            const double den = c.norm() * e.norm();
-            const double cr = den > 0 ? c.dot(e) / den : kNan;
-            if (!std::isfinite(r.corr) || std::fabs(cr) > std::fabs(r.corr)) r.corr = cr;
-        }
-        const VectorXd after = HeldResidual(b, train, split, base_all, f.columns);
-        if (before.size() > 0 && after.size() == before.size()) {
-            const Gain g = HeldOutGain(before, after, split.held_block, train.hac_lag);
-            r.heldout_z = g.z;
-            r.heldout_gain_v2 = g.mean_v2;
-            r.heldout_after_rms_v = std::sqrt(after.squaredNorm() / static_cast<double>(after.size()));
-            r.effect_rms_v = std::sqrt((before - after).squaredNorm() / static_cast<double>(after.size()));
-            const double drop = 1.0 - after.squaredNorm() / before.squaredNorm();
-            r.heldout_drop = drop;
-            r.explains_heldout = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0 &&
-                                 drop > o.min_feature_drop &&
-                                 (!std::isfinite(floor_v) || r.effect_rms_v > floor_v);
-        }
-        out.push_back(r);
-    }
-    // Strongest first: those that explain held-out data by how much they leave, then the rest by z.
+    const HeldOutSearch search(base_all, train.rows, split.held, families);
+    if (!search.ok()) return out;
+    const NullVerdict v = JudgeOnNull(search, BinValues(b), surrogates, o.feature_fpr);
+    if (threshold_out) *threshold_out = v.threshold;
+    for (size_t f = 0; f < families.size(); ++f)
+        if (v.fits[f].best >= 0 && v.fits[f].r0.size() > 0)
+            out.push_back(Judge(families[f], v.fits[f], train, split, r_all, floor_v, v.z[f],
+                                v.threshold, o));
+    // Strongest first: those that explain held-out data by how much they leave, then the rest by
+    // their standardised statistic.
     std::stable_sort(out.begin(), out.end(), [](const FeatureResult& a, const FeatureResult& c) {
         if (a.explains_heldout != c.explains_heldout) return a.explains_heldout;
         // Compared at 1 pV: features that explain exactly the same (the air level and air minus
@@ -348,8 +407,8 @@ std::vector<FeatureResult> JudgeFeatures(const BinnedRun& b, const Context& trai
         if (a.explains_heldout)
             return std::round(a.heldout_after_rms_v * 1e12) <
                    std::round(c.heldout_after_rms_v * 1e12);
-        const double za = std::isfinite(a.heldout_z) ? a.heldout_z : -INFINITY;
-        const double zc = std::isfinite(c.heldout_z) ? c.heldout_z : -INFINITY;
+        const double za = std::isfinite(a.null_z) ? a.null_z : -INFINITY;
+        const double zc = std::isfinite(c.null_z) ? c.null_z : -INFINITY;
         return za > zc;
     });
     return out;
@@ -365,9 +424,12 @@ void Windows(const VectorXd& key, const VectorXd& r, int n_windows, std::vector<
     const double w = (hi - lo) / n_windows;
     out.assign(static_cast<size_t>(n_windows), WindowRms{});
     std::vector<double> ss(static_cast<size_t>(n_windows), 0.0);
-    for (int k = 0; k < n_windows; ++k) out[static_cast<size_t>(k)].lo = lo + k * w, out[static_cast<size_t>(k)].hi = lo + (k + 1) * w;
+    for (int k = 0; k < n_windows; ++k)
+        out[static_cast<size_t>(k)].lo = lo + k * w,
+        out[static_cast<size_t>(k)].hi = lo + (k + 1) * w;
     for (Index i = 0; i < key.size(); ++i) {
-        const auto k = static_cast<size_t>(std::min(n_windows - 1, static_cast<int>((key[i] - lo) / w)));
+        const auto k =
+            static_cast<size_t>(std::min(n_windows - 1, static_cast<int>((key[i] - lo) / w)));
         ss[k] += r[i] * r[i];
         ++out[k].n;
     }
@@ -392,7 +454,8 @@ void Periodogram(const VectorXd& t, const VectorXd& r, double bin_s, ResidualDia
         if (pw > best) best = pw, d.period_s = p, d.period_amplitude_v = c.norm();
     }
     std::vector<double> sorted = power;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                     sorted.end());
     const double median = sorted[sorted.size() / 2];
     d.period_power_ratio = median > 0 ? best / median : kNan;
 }
@@ -423,7 +486,8 @@ std::vector<CurvePoint> Autocorrelation(const std::vector<Bin>& bins, const Vect
 
 }  // namespace
 
-ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double, const AnalysisOptions&) {
+ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double,
+                             const AnalysisOptions&) {
     ResidualDiagnostics d;
     const std::vector<Bin>& bins = b.bins();
     if (r.size() < 3 || static_cast<size_t>(r.size()) != bins.size() || !r.allFinite()) return d;
@@ -432,7 +496,8 @@ ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double, cons
     double c0 = 0, c1 = 0;
     for (Index i = 0; i < n; ++i) {
         c0 += r[i] * r[i];
-        if (i > 0 && bins[static_cast<size_t>(i)].segment == bins[static_cast<size_t>(i - 1)].segment)
+        if (i > 0 &&
+            bins[static_cast<size_t>(i)].segment == bins[static_cast<size_t>(i - 1)].segment)
             c1 += r[i] * r[i - 1];
     }
     d.lag1_autocorr = c0 > 0 ? c1 / c0 : kNan;

@@ -22,13 +22,15 @@
 // A channel not recorded (or without variation) gives no feature; the result names it and what
 // recording would add it.
 // Each feature's shape parameter is chosen on the training bins only (by residual sum of
-// squares); then it is judged like the candidates' held-out gate: the model plus the feature,
-// fitted on the training bins, predicts the held-out bins; it "explains held-out data" when the
-// held-out residual drops by more than gate_min_z of its standard errors (HeldOutGain), its size
-// exceeds the floor, AND it removes more than min_feature_drop of the held-out squared residual:
-// with a dozen features, searched parameters and slow noise, z alone passes on clean runs (z up
-// to 8.7 on 40 clean seeds of the rig), while the largest fraction any feature removed there stays
-// below min_feature_drop (processors/analysis/README.md#channels-tests-false-positives-timing).
+// squares); then the model plus the feature, fitted on the training bins, predicts the held-out
+// bins, and the statistic is log(|r0|^2 / |r1|^2) of the held-out residuals without and with it.
+// What that statistic reaches by chance is measured, not assumed: the same search and prediction
+// run on surrogates of the run's own noise (noise_model.hpp: its Allan deviation), and a feature
+// "explains held-out data" when its statistic, standardised by its null, exceeds the
+// (1 - feature_fpr) quantile of the surrogates' largest standardised statistic over all features
+// (null.hpp, MaxTNull: family-wise false-positive rate feature_fpr), the held-out error drops, and
+// its size exceeds min_effect_floor_ratio x the floor (and min_feature_drop of the held-out
+// squared residual, 0 by default: an optional practical floor, no longer the test).
 // A feature is never added to the model: it is reported ("correlates with"), because nothing
 // downstream can evaluate it (the compensators know no run start).
 // Diagnostics of the final residual on all bins: lag-1 autocorrelation, trend against time,
@@ -41,6 +43,7 @@
 #include "bins.hpp"
 #include "candidates.hpp"
 #include "heldout.hpp"
+#include "null.hpp"
 
 namespace gyrocal::analysis::detail {
 
@@ -56,27 +59,37 @@ struct GenericFeature {
 std::string EdgeText(const std::string& param, bool upper, double lo, double hi,
                      const std::string& unit);
 
-// The generic features on all bins; shape parameters chosen on `train` (residual of `base`).
-// Columns in the span of base_all (and of the feature's earlier columns) are dropped, a feature
-// left with none is not returned. absent (when given): the channels not recorded, or recorded but
-// without variation, and what recording would add them.
+// The generic features' families on all bins (a feature without a parameter keeps only its
+// columns outside the span of base_all; one left with none is dropped). absent (when given): the
+// channels not recorded, or recorded but without variation, and what recording would add them.
+std::vector<Family> FeatureFamilies(const BinnedRun& binned, const Context& train,
+                                    const Eigen::MatrixXd& base_all, const AnalysisOptions& o,
+                                    std::vector<std::string>* absent = nullptr);
+
+// Each family's member chosen on the training rows (residual of base_all) as a feature.
 std::vector<GenericFeature> GenericFeatures(const BinnedRun& binned, const Context& train,
                                             const Eigen::MatrixXd& base_all,
                                             const AnalysisOptions& o,
                                             std::vector<std::string>* absent = nullptr);
+
+// The bins' gyro_v [V].
+Eigen::VectorXd BinValues(const BinnedRun& binned);
 
 // Held-out residual of the model with columns base_all (+ extra_all), fitted on the training
 // rows. Empty when it cannot be fitted.
 Eigen::VectorXd HeldResidual(const BinnedRun& binned, const Context& train, const Split& split,
                              const Eigen::MatrixXd& base_all, const Eigen::MatrixXd& extra_all);
 
-// Every feature judged on the held-out bins against the model base_all and correlated with the
-// residual r_all of the final model (all bins); those that explain held-out data first (least left).
+// Every family judged on the held-out bins against the model base_all, with the null of the
+// surrogates (noise vectors on all bins), and correlated with the residual r_all of the final
+// model (all bins); those that explain held-out data first (least left). threshold_out: the
+// standardised threshold the null gave.
 std::vector<FeatureResult> JudgeFeatures(const BinnedRun& binned, const Context& train,
                                          const Split& split, const Eigen::MatrixXd& base_all,
                                          const Eigen::VectorXd& r_all, double floor_v,
-                                         const std::vector<GenericFeature>& features,
-                                         const AnalysisOptions& o);
+                                         const std::vector<Family>& families,
+                                         const std::vector<Eigen::VectorXd>& surrogates,
+                                         const AnalysisOptions& o, double* threshold_out);
 
 // Diagnostics of residual r (all bins).
 ResidualDiagnostics Diagnose(const BinnedRun& binned, const Eigen::VectorXd& r, double floor_v,

@@ -81,6 +81,13 @@ bool PairPasses(const JointScore& j, const Floor& floor, const AnalysisOptions& 
     return j.ok && j.z2 > o.min_z2 && j.cv_gain > o.min_cv_gain && big_enough && split_known;
 }
 
+// (a)-(c) for the pair, whatever the split between its members.
+bool PredictsAsPair(const JointScore& j, const Floor& floor, const AnalysisOptions& o) {
+    const bool big_enough = !std::isfinite(floor.offset_rms_v) ||
+                            j.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
+    return j.ok && j.z2 > o.min_z2 && j.cv_gain > o.min_cv_gain && big_enough;
+}
+
 std::string JointNote(const std::string& other, double r, const JointScore& j,
                       const std::string& separation) {
     return "added jointly with " + other + " (projected correlation " + text::Sig(r, 3) +
@@ -105,7 +112,17 @@ struct Forward {
     Selection sel;
     std::map<std::string, CandidateResult> last;  // latest statistics of each pool candidate
     std::vector<std::string> joint;  // effects added as a collinear pair (re-tested as a pair)
-    MatrixXd x;                      // design of sel.terms
+    // Columns (training rows) of a collinear pair dropped as ambiguous that predicts data it did
+    // not see as a pair: fitted with the terms while the other candidates are tested, never kept.
+    MatrixXd aside;
+    MatrixXd x;  // design of sel.terms, then any nuisance columns, then `aside`
+    MatrixXd Design() const {
+        const MatrixXd d = c.Design(sel.terms);
+        if (aside.cols() == 0) return d;
+        MatrixXd x2(d.rows(), d.cols() + aside.cols());
+        x2 << d, aside;
+        return x2;
+    }
 };
 
 // Every pool candidate's statistics at one forward step, with the noise they were tested against.
@@ -204,10 +221,11 @@ size_t WinnerAmongTwins(Forward& f, const StepScores& s, std::vector<size_t>& tw
     return b;
 }
 
-// One collinear pair (b and its only twin k): both added when the pair passes (a)-(c) jointly.
-bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k) {
-    const JointScore j = Joint(f.c, f.x, s.base_cv, s.scores[b].column, s.scores[k].column,
-                               s.noise(), s.noise_params);
+// One collinear pair (b and its only twin k): both added when the pair passes (a)-(c) jointly
+// and each member is determined with the other in; j: the pair's joint score, for the caller.
+bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k, JointScore& j) {
+    j = Joint(f.c, f.x, s.base_cv, s.scores[b].column, s.scores[k].column, s.noise(),
+              s.noise_params);
     if (!PairPasses(j, f.floor, f.o)) return false;
     const double r = ProjectedCorrelation(f.x, s.scores[b].column, s.scores[k].column);
     for (size_t i : {b, k}) {
@@ -224,9 +242,7 @@ bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k) {
         f.sel.added_effects.push_back(f.pool[i].effect);
         f.joint.push_back(f.pool[i].effect);
     }
-    MatrixXd xn(f.x.rows(), f.x.cols() + 2);
-    xn << f.x, s.scores[b].column, s.scores[k].column;
-    f.x = xn;
+    f.x = f.Design();
     f.pool.erase(f.pool.begin() + static_cast<long>(std::max(b, k)));
     f.pool.erase(f.pool.begin() + static_cast<long>(std::min(b, k)));
     return true;
@@ -253,13 +269,30 @@ void DropAmbiguous(Forward& f, const StepScores& s, size_t b, const std::vector<
     for (size_t k : drop) f.pool.erase(f.pool.begin() + static_cast<long>(k));
 }
 
+// A pair that passes (a)-(c) jointly but whose split between its members the data do not
+// determine (min_pair_member_z2): ambiguous, neither added, as DropAmbiguous; but the pair does
+// predict data it did not see, so its columns are accounted for while the remaining candidates
+// are tested (fitted with them, never kept: Forward::aside). Left in the residual, an effect of
+// z2 in the tens would pass for noise and hide every smaller one behind it.
+void SetAside(Forward& f, const StepScores& s, size_t b, size_t k, const JointScore& j) {
+    for (size_t i : {b, k})
+        f.last[f.pool[i].effect].note = "together with " + f.pool[i == b ? k : b].effect + " z2 " +
+                                        text::Sig(j.z2, 3) + ", cv_gain " +
+                                        text::Sig(j.cv_gain, 2) + ", each with the other in z2 " +
+                                        text::Sig(i == b ? j.z2_a : j.z2_b, 3) +
+                                        ": accounted for while the other candidates were tested";
+    MatrixXd aside(f.x.rows(), f.aside.cols() + 2);
+    aside << f.aside, s.scores[b].column, s.scores[k].column;
+    f.aside = aside;
+    DropAmbiguous(f, s, b, {k});
+    f.x = f.Design();
+}
+
 void AddTerm(Forward& f, const StepScores& s, size_t b) {
     f.last[f.pool[b].effect].decision = Decision::kAdded;
     f.sel.terms.push_back(s.scores[b].term);
     f.sel.added_effects.push_back(f.pool[b].effect);
-    MatrixXd xn(f.x.rows(), f.x.cols() + 1);
-    xn << f.x, s.scores[b].column;
-    f.x = xn;
+    f.x = f.Design();
     f.pool.erase(f.pool.begin() + static_cast<long>(b));
 }
 
@@ -292,10 +325,7 @@ void RemoveWeakTerms(Forward& f) {
         r.note = "removed on re-test with " + others + " in the model (z2 " + text::Sig(weakest_z2, 3) + ")";
         f.sel.terms.erase(f.sel.terms.begin() + static_cast<long>(weakest));
         f.sel.added_effects.erase(f.sel.added_effects.begin() + static_cast<long>(weakest - nd));
-        MatrixXd xn(f.x.rows(), f.x.cols() - 1);
-        const auto w = static_cast<Index>(weakest);
-        xn << f.x.leftCols(w), f.x.rightCols(f.x.cols() - w - 1);
-        f.x = xn;
+        f.x = f.Design();
     }
 }
 
@@ -309,15 +339,19 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
         if (s.best < 0) break;
         std::vector<size_t> twins;
         const size_t b = WinnerAmongTwins(f, s, twins);
-        if (twins.size() == 1 && AddedAsPair(f, s, b, twins[0])) continue;
-        if (twins.empty())
+        JointScore j;
+        if (twins.size() == 1 && AddedAsPair(f, s, b, twins[0], j)) continue;
+        if (twins.empty()) {
             AddTerm(f, s, b);
-        else
+        } else if (twins.size() == 1 && PredictsAsPair(j, f.floor, f.o)) {
+            SetAside(f, s, b, twins[0], j);
+        } else {
             DropAmbiguous(f, s, b, twins);
+        }
     }
     RemoveWeakTerms(f);
     for (auto& [effect, r] : f.last) f.sel.candidates.push_back(r);
-    f.sel.x = f.x;
+    f.sel.x = c.Design(f.sel.terms);
     return std::move(f.sel);
 }
 

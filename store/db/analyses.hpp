@@ -27,8 +27,8 @@ struct AnalysisRow {
     int64_t created_wall_utime = 0;  // [us] wall clock; <= 0 on insert = now
     std::string software_version, command_line;
     std::string verdict;                 // e.g. "no missing effect", "added temp_rate"
-    // adequate, explained, partly explained, unexplained residual, not testable; nullopt for an
-    // analysis stored before outcomes existed (NULL in the column).
+    // adequate, explained, partly explained, unexplained residual, ambiguous, not testable;
+    // nullopt for an analysis stored before outcomes existed (NULL in the column).
     std::optional<std::string> outcome;
     std::string candidates_json = "[]";  // what was tested: [{effect, statistic, decision}]
     std::string added_json = "[]";       // what was added: [{effect, term, coefficient, ...}]

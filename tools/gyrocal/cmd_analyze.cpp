@@ -24,6 +24,7 @@
 #include "plot/gnuplot.hpp"
 #include "query.hpp"
 #include "run_loader.hpp"
+#include "text/number.hpp"
 
 namespace gyrocal::cli {
 
@@ -79,6 +80,20 @@ std::optional<int> PrepareAnalyze(const AnalyzeOptions& o, an::AnalysisOptions& 
     ao.bins.bin_s = o.bin_s;
     ao.holdout_fraction = o.holdout_fraction;
     ao.holdout_block_s = o.holdout_block_s;
+    ao.min_z2 = o.min_z2;
+    ao.min_cv_gain = o.min_cv_gain;
+    ao.max_collinearity = o.max_collinearity;
+    ao.min_pair_member_z2 = o.min_pair_member_z2;
+    ao.min_effect_floor_ratio = o.min_effect_floor_ratio;
+    ao.gate_min_z = o.gate_min_z;
+    ao.max_untested_fraction = o.max_untested_fraction;
+    ao.slow_noise_floor_ratio = o.slow_noise_floor_ratio;
+    ao.feature_fpr = o.feature_fpr;
+    ao.window_fpr = o.window_fpr;
+    ao.warmup_fpr = o.warmup_fpr;
+    ao.min_feature_drop = o.min_feature_drop;
+    ao.surrogates = o.surrogates;
+    ao.surrogate_seed = o.surrogate_seed;
     if (const std::string p = ao.Problem(); !p.empty()) {
         err << "gyrocal analyze: " << p << "\n";
         return 2;
@@ -265,6 +280,82 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
     return FailOnThrow(err, "gyrocal analyze: ", [&] { return AnalyzeRun(o, out, err); });
 }
 
+namespace {
+
+// The thresholds as options, for the stored command line.
+std::string ThresholdArgs(const AnalyzeOptions& o) {
+    std::string s;
+    auto add = [&](const char* name, double v) {
+        s += std::string(" ") + name + " " + text::Sig(v, 6);
+    };
+    add("--min-z2", o.min_z2);
+    add("--min-cv-gain", o.min_cv_gain);
+    add("--max-collinearity", o.max_collinearity);
+    add("--min-pair-member-z2", o.min_pair_member_z2);
+    add("--min-effect-floor-ratio", o.min_effect_floor_ratio);
+    add("--gate-min-z", o.gate_min_z);
+    add("--max-untested-fraction", o.max_untested_fraction);
+    add("--slow-noise-floor-ratio", o.slow_noise_floor_ratio);
+    add("--feature-fpr", o.feature_fpr);
+    add("--window-fpr", o.window_fpr);
+    add("--warmup-fpr", o.warmup_fpr);
+    add("--min-feature-drop", o.min_feature_drop);
+    return s + " --surrogates " + std::to_string(o.surrogates) + " --surrogate-seed " +
+           std::to_string(o.surrogate_seed);
+}
+
+// Every threshold of the verdict, with what it means and why its default
+// (processors/analysis/README.md#thresholds-from-the-run-itself).
+void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
+    sub.add_option("--min-z2", o.min_z2,
+                   "a candidate's coefficient^2 over its autocorrelation-robust variance must "
+                   "exceed this (25: 5 sigma, several candidates and searched shapes per step)")
+        ->check(CLI::PositiveNumber);
+    sub.add_option("--min-cv-gain", o.min_cv_gain,
+                   "relative drop of the blocked cross-validation error a candidate must give")
+        ->check(CLI::Range(0.0, 0.99));
+    sub.add_option("--max-collinearity", o.max_collinearity,
+                   "above this |projected correlation| two candidates are ambiguous")
+        ->check(CLI::Range(0.01, 0.99));
+    sub.add_option("--min-pair-member-z2", o.min_pair_member_z2,
+                   "each member of a collinear pair kept whole needs this z^2 with the other in")
+        ->check(CLI::Range(0.0, 1e6));
+    sub.add_option("--min-effect-floor-ratio", o.min_effect_floor_ratio,
+                   "an added term's or explaining feature's size over the 10 s-bin noise floor")
+        ->check(CLI::Range(0.0, 100.0));
+    sub.add_option("--gate-min-z", o.gate_min_z,
+                   "held-out improvement the chosen terms need, in its standard errors")
+        ->check(CLI::Range(0.0, 100.0));
+    sub.add_option("--max-untested-fraction", o.max_untested_fraction,
+                   "'not testable' when more than this fraction of the candidates cannot be tested")
+        ->check(CLI::Range(0.0, 1.0));
+    sub.add_option("--slow-noise-floor-ratio", o.slow_noise_floor_ratio,
+                   "k of the floor bound (slow noise over the floor); negative: measured from the "
+                   "run's Allan deviation")
+        ->check(CLI::Range(-1.0, 10.0));
+    sub.add_option("--feature-fpr", o.feature_fpr,
+                   "family-wise false-positive rate of the generic features (null from surrogates "
+                   "of the run's noise)")
+        ->check(CLI::Range(0.001, 0.49));
+    sub.add_option("--window-fpr", o.window_fpr,
+                   "family-wise false-positive rate of the time windows and temperature bands")
+        ->check(CLI::Range(0.001, 0.49));
+    sub.add_option("--warmup-fpr", o.warmup_fpr,
+                   "false-positive rate of the warm-up's localized check")
+        ->check(CLI::Range(0.001, 0.49));
+    sub.add_option("--min-feature-drop", o.min_feature_drop,
+                   "fraction of the held-out squared residual a feature must also remove (0: the "
+                   "calibrated null alone decides)")
+        ->check(CLI::Range(0.0, 0.99));
+    sub.add_option("--surrogates", o.surrogates,
+                   "surrogates of the run's noise the nulls are built from")
+        ->check(CLI::Range(20, 10000));
+    sub.add_option("--surrogate-seed", o.surrogate_seed,
+                   "seed of the surrogates (the same run and seed give the same verdict)");
+}
+
+}  // namespace
+
 void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
     auto o = std::make_shared<AnalyzeOptions>();
     CLI::App* sub = app.add_subcommand(
@@ -286,6 +377,7 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
     sub->add_option("--holdout-block-s", o->holdout_block_s,
                     "[s] length of the held-out blocks (interleaved with the training data)")
         ->check(CLI::Range(60.0, 86400.0));
+    AddThresholdOptions(*sub, *o);
     sub->add_option("--plot", o->plot_dir,
                     "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
                     "created if its parent exists");
@@ -306,7 +398,8 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                           (o->sensor_id.empty() ? "" : " --sensor " + o->sensor_id) + " --bin-s " +
                           std::to_string(o->bin_s) + " --holdout-fraction " +
                           std::to_string(o->holdout_fraction) + " --holdout-block-s " +
-                          std::to_string(o->holdout_block_s) + (o->json ? " --json" : "") +
+                          std::to_string(o->holdout_block_s) + ThresholdArgs(*o) +
+                          (o->json ? " --json" : "") +
                           (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
                           (o->publish ? " --publish" : "");
         action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };

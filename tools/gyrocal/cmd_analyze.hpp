@@ -1,6 +1,6 @@
 #pragma once
 // `gyrocal analyze RUN [--sensor ID] [--json] [--db FILE] [--bin-s S] [--holdout-fraction F]
-//  [--no-store] [--plot DIR] [--publish [--lcm-url URL]]`:
+//  [--no-store] [--plot DIR] [--publish [--lcm-url URL]] [threshold options]`:
 // the closed-loop model discovery (processors/analysis) on a run recorded in the database.
 // Thin: reads the run's raw gyro and encoder samples, plateaus and sensitivity points through the
 // store's query library, builds the analysis input with analysis::BuildSensorRun, prints the
@@ -32,6 +32,21 @@ struct AnalyzeOptions {
     double bin_s = 10.0;  // [s]
     double holdout_fraction = 0.25;
     double holdout_block_s = 600.0;  // [s]
+    // The verdict's thresholds (analysis::AnalysisOptions; defaults there).
+    double min_z2 = 25.0;
+    double min_cv_gain = 0.02;
+    double max_collinearity = 0.9;
+    double min_pair_member_z2 = 4.0;
+    double min_effect_floor_ratio = 1.0;
+    double gate_min_z = 2.0;
+    double max_untested_fraction = 0.5;
+    double slow_noise_floor_ratio = -1.0;  // < 0: measured from the run
+    double feature_fpr = 0.02;
+    double window_fpr = 0.01;
+    double warmup_fpr = 0.01;
+    double min_feature_drop = 0.0;
+    int surrogates = 200;
+    uint64_t surrogate_seed = 1;
     bool store = true;         // keep the result in the database
     std::string plot_dir;      // "" = no pictures; else gnuplot PNG+SVG written here
     bool publish = false;      // publish each stored extended set on COEFFS_<id>

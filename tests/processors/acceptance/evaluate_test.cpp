@@ -143,6 +143,12 @@ TEST(Evaluate, NoUnexplainedResidualReadsTheAnalysisOutcomeAndIsNeverASilentPass
         {"unexplained residual", "no missing effect", Outcome::kFail},
         {"not testable", "not testable: 4 of 6 candidates could not be tested",
          Outcome::kNotEvaluated},
+        // Two shapes the data cannot tell apart: a set carrying the wrong one fails wherever
+        // they differ, so the unit fails until the named measurement separates them.
+        {"ambiguous",
+         "ambiguous: hysteresis vs step [time]: to separate: a setpoint approached "
+         "from above before and after the event",
+         Outcome::kFail},
     };
     u.analysis_stored_set = true;  // an analysis that added terms stored its extended set
     for (const Case& c : cases) {

@@ -54,8 +54,12 @@ std::string AddedNames(const SensorResult& r) {
     return s.empty() ? "none" : s;
 }
 
+// Says that something is left: above the floor (unexplained / partly explained), or two shapes
+// the data cannot tell apart (ambiguous, both named with the measurement that would separate
+// them).
 bool Honest(const SensorResult& r) {
-    return r.outcome == Outcome::kUnexplained || r.outcome == Outcome::kPartlyExplained;
+    return r.outcome == Outcome::kUnexplained || r.outcome == Outcome::kPartlyExplained ||
+           r.outcome == Outcome::kAmbiguous;
 }
 
 // One line per seed, so the figures are in the test log whatever the result.
@@ -138,9 +142,15 @@ TEST(RigOutside, GsensThroughATiltedTableIsTracedToTheTableAngle) {
 }
 
 // The candidate-shaped effects: `right` names the candidate whose term has the nearest shape;
-// `sensible` judges its fitted parameter when it is added.
+// `sensible` judges its fitted parameter when it is added. Asserted on every seed: no other
+// candidate, never "adequate" (each effect is several times the floor bound), and when the right
+// one is named its parameter is sensible; over the seeds: the right one named on at least
+// `min_named` (the effect's shape differs from the term's, so a seed may honestly end
+// "unexplained" instead; a test that passed with every seed unexplained would test nothing).
 void RunShaped(const char* name, const std::vector<std::string>& effects, const char* right,
-               const std::function<bool(const AddedEffect&, const CandidateResult&)>& sensible) {
+               const std::function<bool(const AddedEffect&, const CandidateResult&)>& sensible,
+               int min_named) {
+    int named = 0;
     for (int i = 1; i <= kSeeds; ++i) {
         SimRunOptions o;
         o.seed = 920 + i;
@@ -149,19 +159,19 @@ void RunShaped(const char* name, const std::vector<std::string>& effects, const 
         Print(name, o.seed, r);
         SCOPED_TRACE(std::string(name) + " seed " + std::to_string(o.seed) + "\n" +
                      FormatReport(r));
+        EXPECT_NE(r.outcome, Outcome::kAdequate);
         for (const AddedEffect& a : r.added) {
             EXPECT_EQ(a.effect, right) << "named a wrong candidate: " << a.effect;
             if (a.effect != right) continue;
+            ++named;
             const CandidateResult* c = testing::CandidateFor(r, right);
             ASSERT_NE(c, nullptr);
             EXPECT_TRUE(sensible(a, *c)) << a.term << " " << a.coefficient << " +- " << a.stderr_;
         }
-        if (r.added.empty()) {
-            EXPECT_TRUE(Honest(r)) << "missed, so it must be reported: " << ToString(r.outcome);
-        } else {
-            EXPECT_TRUE(r.outcome == Outcome::kExplained || Honest(r)) << ToString(r.outcome);
-        }
+        if (r.added.empty()) EXPECT_TRUE(Honest(r)) << "missed, so it must be reported";
     }
+    std::printf("[ rig effect ] %s: %s named on %d of %d seeds\n", name, right, named, kSeeds);
+    EXPECT_GE(named, min_named);
 }
 
 // The parameter in a term's name, e.g. 312 in "warmup(312)".
@@ -177,27 +187,32 @@ TEST(RigShaped, SmoothHysteresis) {
     // right after a reversal) and a width inside the searched range.
     RunShaped(
         "smooth hysteresis 3 mV travel 3 C", {"hysteresis_smooth=0.003", "hysteresis_travel_c=3"},
-        "hysteresis", [](const AddedEffect& a, const CandidateResult& c) {
+        "hysteresis",
+        [](const AddedEffect& a, const CandidateResult& c) {
             return std::fabs(std::fabs(a.coefficient) * 2.0 / 0.003 - 1.0) < 0.4 && !c.grid_edge;
-        });
+        },
+        3);
 }
 
 TEST(RigShaped, WarmupWithTwoTimeConstants) {
     // 2 mV at 120 s plus 2 mV at 400 s: one exponential cannot be both. Sensible: a time constant
     // between the two (halved and doubled for the noise of the search on a ~4700 s run).
-    RunShaped("warm-up 120 s + 400 s",
-              {"warmup=0.002", "warmup_tau_s=120", "warmup2=0.002", "warmup2_tau_s=400"}, "warmup",
-              [](const AddedEffect& a, const CandidateResult&) {
-                  const double tau = TermParam(a.term);
-                  return tau > 60.0 && tau < 800.0;
-              });
+    RunShaped(
+        "warm-up 120 s + 400 s",
+        {"warmup=0.002", "warmup_tau_s=120", "warmup2=0.002", "warmup2_tau_s=400"}, "warmup",
+        [](const AddedEffect& a, const CandidateResult&) {
+            const double tau = TermParam(a.term);
+            return tau > 60.0 && tau < 800.0;
+        },
+        3);
 }
 
 TEST(RigShaped, WarmupSlowerThanTheSearchGrid) {
     // 4 mV at tau 4000 s: beyond the grid (warmup_tau_max_s 3000 s and a tenth of the still span,
     // ~470 s). A warm-up term may only be added with its time constant flagged at the grid's edge.
-    RunShaped("warm-up tau 4000 s", {"warmup=0.004", "warmup_tau_s=4000"}, "warmup",
-              [](const AddedEffect&, const CandidateResult& c) { return c.grid_edge; });
+    RunShaped(
+        "warm-up tau 4000 s", {"warmup=0.004", "warmup_tau_s=4000"}, "warmup",
+        [](const AddedEffect&, const CandidateResult& c) { return c.grid_edge; }, 0);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ public:
     Collector(sim::Rig& rig, sim::BuiltinProfile& profile, const SimRunOptions& o,
               int64_t start_utime)
         : rig_(rig), profile_(profile), o_(o), start_utime_(start_utime) {}
-    void OnGyro(const sim::GyroReading& r, const sim::GyroTruth&) override {
+    void OnGyro(const sim::GyroReading& r, const sim::GyroTruth& truth) override {
         if (r.unit_index != 0) return;
         const double t_s = (r.utime - start_utime_) * 1e-6;
         double extra = o_.outside_v ? o_.outside_v(t_s) : 0.0;
@@ -19,6 +19,9 @@ public:
             extra += o_.outside_channels_v({t_s, r.temp_c, air_c_, table_deg_});
         gyro.push_back(
             {r.utime, r.seq, r.temp_c, r.gyro_v + extra, o_.record_supply ? r.supply_v : kNan});
+        const sim::UnitTruth& u = rig_.units()[0];
+        effect_v.push_back(truth.effect_offset_v + extra);
+        truth_v.push_back(u.OffsetV(r.temp_c - u.temp_sensor_offset_c) + effect_v.back());
     }
     void OnEncoder(const sim::EncoderReading& r) override {
         encoder.push_back({r.utime, r.counts, r.counts_per_rev});
@@ -32,6 +35,7 @@ public:
         if (o_.record_air) air.push_back({r.utime, air_c_});
     }
     std::vector<GyroSample> gyro;
+    std::vector<double> truth_v, effect_v;  // SimRun::truth_offset_v, effect_offset_v
     std::vector<EncoderSample> encoder;
     std::vector<AirSample> air;
 
@@ -174,6 +178,8 @@ SimRun MakeSimRun(const SimRunOptions& o, bool keep_raw) {
     }
     // The rig powers its units when it starts (the rig process announces it on POWER_<id>).
     out.power = {{c.start_utime, c.start_utime, "rig"}};
+    out.truth_offset_v = std::move(col.truth_v);
+    out.effect_offset_v = std::move(col.effect_v);
     out.run = BuildSensorRun(out.truth.sensor_id, std::move(col.gyro), col.encoder,
                              std::move(plateaus), std::move(sens), out.power);
     out.air = col.air;

@@ -60,6 +60,12 @@ struct SimRun {
     std::vector<EncoderSample> encoder;
     std::vector<PowerRecord> power;  // the unit's power-on (the rig's start)
     std::vector<AirSample> air;      // the chamber air as recorded (empty without record_air)
+    // [V] per gyro sample (the order of run.samples): what the unit's true model gives at the
+    // MEASURED temperature (the rig's curve at the measured temperature less the sensor's offset,
+    // plus every effect's offset and the outside offsets): the best any model of the measured
+    // temperature can do (virtual_lab's floor_meas, in volts).
+    std::vector<double> truth_offset_v;
+    std::vector<double> effect_offset_v;  // [V] the effects' and outside offsets' part of it
 };
 
 // keep_raw: also return the raw samples and encoder readings (memory: ~40 bytes per sample).

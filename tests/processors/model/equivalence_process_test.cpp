@@ -66,6 +66,48 @@ std::string WriteCsv(const std::string& path) {
     return path;
 }
 
+// The inputs of sample i of WriteCsv's run by hand (gyrocal_model.h's definitions): dT/dt by the
+// difference of exponential averages over tau = 20 s and 2 tau, the play operator of width
+// 1.5 degC, time since a power-on kPowerOnBeforeS before the first sample.
+struct HandInputs {
+    double t_s, temp_c, rate_c_per_s, branch, supply_v, gyro_v, since_power_s;
+};
+HandInputs HandInputsAt(int i) {
+    auto temp_at = [](double t) {
+        return t < 30   ? 20 + 0.4 * t
+               : t < 55 ? 32 - 0.32 * (t - 30)
+                        : 24 + (6.0 / 35.0) * (t - 55) + 0.02 * std::sin(3 * t);
+    };
+    const double tau = 20.0, half = 0.75;
+    double fast = temp_at(0), slow = fast, memory = fast;
+    for (int k = 1; k <= i; ++k) {
+        const double temp = temp_at(0.01 * k), dt = 0.01;
+        fast += dt / (tau + dt) * (temp - fast);
+        slow += dt / (2 * tau + dt) * (temp - slow);
+        memory = std::min(std::max(memory, temp - half), temp + half);
+    }
+    HandInputs in;
+    in.t_s = 0.01 * i;
+    in.temp_c = temp_at(in.t_s);
+    in.rate_c_per_s = (fast - slow) / tau;
+    in.branch = (in.temp_c - memory) / half;
+    in.supply_v = 5.0 + 0.05 * std::sin(2 * M_PI * in.t_s / 40);
+    in.since_power_s = in.t_s + kPowerOnBeforeS;
+    in.gyro_v = 2.5 + 4e-4 * (in.temp_c - 25) + 0.005 * 30 * std::sin(2 * M_PI * in.t_s / 7) +
+                3e-3 * std::exp(-in.since_power_s / 30);
+    return in;
+}
+
+// ExtendedSet's rate at those inputs, written out term by term.
+double HandRate(const HandInputs& in) {
+    const double dT = in.temp_c - 25;
+    const double offset = 2.5 + 4e-4 * dT + 3e-6 * dT * dT - 2e-8 * dT * dT * dT +
+                          0.01 * in.rate_c_per_s + 5e-4 * in.branch + 0.02 * (in.supply_v - 5.0) +
+                          3e-3 * std::exp(-in.since_power_s / 30);
+    const double direction = in.gyro_v - offset > 0 ? 1.0 : -1.0;
+    return (in.gyro_v - offset) / (0.005 + 1e-6 * dT + 2e-5 * direction);
+}
+
 model::Model Model(const char* quantity, std::vector<std::string> terms, std::vector<double> c) {
     model::Model m;
     m.quantity = quantity;
@@ -315,6 +357,20 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
     // rounding of the 2.5 V sums (1e-15 V relative through 5 mV/(deg/s)) with a wide margin.
     const double expected = -(3e-6 * 25 + 2e-8 * 125) / (0.005 - 5e-6 - 2e-5);
     EXPECT_NEAR(live.at("0.000000").rate_dps, expected, 1e-9);
+    // At t = 58 s every input is in play: 3 s after the reversal at 55 s the temperature has
+    // risen ~0.5 degC from its minimum, so the 1.5 degC branch is between its sides, dT/dt is
+    // positive and still settling, the supply is off nominal and the warm-up has decayed to 1 %.
+    // The inputs by hand from their documented definitions (an independent loop, not the model
+    // library): the rate shares every sample's arithmetic with the trackers but not its order, so
+    // it may differ in the last bits: 1e-9 deg/s is 1e-12 V through 5 mV/(deg/s), far above that
+    // rounding and far below any input computed differently (a 0.01 s error in the power-on time
+    // alone moves it by 5e-4 deg/s).
+    const HandInputs in = HandInputsAt(5800);
+    ASSERT_GT(in.branch, -1.0);
+    ASSERT_LT(in.branch, 1.0);
+    ASSERT_GT(in.rate_c_per_s, 0.0);
+    EXPECT_NEAR(live.at("58.000000").rate_dps, HandRate(in), 1e-9);
+    EXPECT_EQ(live.at("58.000000").rate_dps, off.at("58.000000").rate_dps);
 }
 
 }  // namespace

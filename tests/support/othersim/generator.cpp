@@ -164,14 +164,16 @@ Generated Generate(const Options& o, std::ostream& csv) {
     Chamber chamber(o.thermal, o.profile.start_c, Stream(noise_seed, 1));
     std::vector<UnitState> units;
     for (size_t u = 0; u < g.units.size(); ++u) {
-        UnitState s{g.units[u], {}, RateNoise(o.noise, o.sample_rate_hz, Stream(o.seed, 100 + u)),
-                    std::mt19937_64(Stream(o.seed, 200 + u))};
+        UnitState s{g.units[u],
+                    {},
+                    RateNoise(o.noise, o.sample_rate_hz, Stream(noise_seed, 100 + u)),
+                    std::mt19937_64(Stream(noise_seed, 200 + u))};
         s.path = ThermalPath{o.profile.start_c, o.profile.start_c, o.profile.start_c};
         s.lpf1 = s.lpf2 = s.truth.OffsetV(o.profile.start_c) + o.effects.warmup_v +
                           o.effects.OutsideV(0.0);
         units.push_back(std::move(s));
     }
-    std::mt19937_64 aux(Stream(o.seed, 2));
+    std::mt19937_64 aux(Stream(noise_seed, 2));
     std::normal_distribution<double> normal(0.0, 1.0);
     const double res_deg = 360.0 / o.encoder_counts_per_rev;
     const double encoder_phase = std::uniform_real_distribution<double>(0.0, 1.0)(aux);

@@ -138,7 +138,9 @@ struct FaultOptions {
 
 struct Options {
     uint64_t seed = 1;
-    uint64_t noise_seed = 0;  // 0: seed; another value: the same units with fresh noise
+    // 0: the noise, chamber wander and supply follow `seed`; another value: the same units (drawn
+    // from `seed`) with fresh noise, as a second run of the same units (a held-out run).
+    uint64_t noise_seed = 0;
     int units = 2;
     std::string id_prefix = "U";     // sensor ids U1, U2, ...
     double sample_rate_hz = 100.0;   // [Hz] every unit and the encoder, sampled together

@@ -20,7 +20,16 @@
 // The covariance is the analysis' autocorrelation-robust one, estimated from the fit's residuals,
 // so a model that misses a term gets a wider bound: the bound catches a broken model path (a
 // term evaluated with other inputs than it was fitted on: the issue's 9x), not a missed term.
-// Asserted for every case, unless the analysis itself said it left something unexplained.
+// Asserted for every case, unless the analysis itself said something is left (unexplained,
+// partly explained) or ties (ambiguous). And on every seed, against the truth: no candidate is
+// added that the truth lacks (temp_rate is in the truth: the 15 s thermometer lag), and the
+// switched-on effect is named - added, or named in a tie the verdict states - whenever the part of
+// it the analysis can see (its offset in the still bins less the declared quadratic:
+// VisibleEffectRms) is above the floor bound the analysis measured on the run (white scatter and
+// the run's own slow noise: analyze.hpp step 9), the size below which its verdict claims nothing.
+// On these seeds the effects are 2.6-3.7x the 10 s-bin floor but, except temp_cubic, 0.3-0.6x
+// the floor bound (the slow noise of this profile with a 15 s thermometer lag); the figures are
+// printed per seed.
 //
 // The acceptance figure, after <= 1.2 truth: the true model's error on these samples is itself
 // noise (white and slow gyro noise in 10 s bins, the thermometer's lag and noise: nothing a model
@@ -84,11 +93,40 @@ double PredictionRms(const model::CoeffSet& set, const virtual_lab::SensorHeldOu
     return n ? std::sqrt(ss / n) : NAN;
 }
 
+// [V] RMS over the still bins of the switched-on effect's offset (the rig's truth per sample,
+// averaged in the analysis' bins) after projecting out the declared quadratic in the measured
+// temperature: the part of it the analysis can possibly see.
+double VisibleEffectRms(const SimRun& s) {
+    const BinnedRun b(s.run, BinOptions::Defaults());
+    const auto n = static_cast<Eigen::Index>(b.size());
+    Eigen::VectorXd v(n);
+    Eigen::MatrixXd x(n, 3);
+    size_t k = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const Bin& bin = b.bins()[static_cast<size_t>(i)];
+        double sum = 0.0;
+        int m = 0;
+        while (k < s.run.samples.size() && s.run.samples[k].utime < bin.start_utime) ++k;
+        for (size_t j = k; j < s.run.samples.size() && s.run.samples[j].utime < bin.end_utime; ++j)
+            sum += s.effect_offset_v[j], ++m;
+        v[i] = m > 0 ? sum / m : 0.0;
+        const double dt = bin.temp_c - 25.0;
+        x.row(i) << 1.0, dt, dt * dt;
+    }
+    const Eigen::VectorXd r = v - x * x.colPivHouseholderQr().solve(v);
+    return n > 0 ? std::sqrt(r.squaredNorm() / static_cast<double>(n)) : NAN;
+}
+
 struct Outcome {
     double after = NAN, truth = NAN, prediction = NAN;
     std::string added;
     std::string report;  // the analysis' report, for a failure's message
-    bool flagged = false;  // the analysis said the residual is above its floor bound
+    bool flagged = false;            // the analysis said something is left (or two shapes tie)
+    bool named = false;              // the switched-on effect is among the added terms
+    bool named_in_tie = false;       // or named in an ambiguity (the data could not tell it apart)
+    std::vector<std::string> wrong;  // added terms the truth does not have
+    double size_over_bound = NAN;    // VisibleEffectRms over the analysis' floor bound
+    double size_over_floor = NAN;    // and over its floor (10 s-bin scatter)
 };
 
 Outcome OneSeed(const char* effect, double value, uint64_t seed) {
@@ -101,9 +139,19 @@ Outcome OneSeed(const char* effect, double value, uint64_t seed) {
     const SensorResult r = Analyze(s.run);
     Outcome out;
     out.report = FormatReport(r);
+    out.size_over_bound = VisibleEffectRms(s) / r.floor_bound_rms_v;
+    out.size_over_floor = VisibleEffectRms(s) / r.floor_offset_rms_v;
     out.flagged = r.outcome == analysis::Outcome::kUnexplained ||
-                  r.outcome == analysis::Outcome::kPartlyExplained;
-    for (const AddedEffect& a : r.added) out.added += (out.added.empty() ? "" : ",") + a.effect;
+                  r.outcome == analysis::Outcome::kPartlyExplained ||
+                  r.outcome == analysis::Outcome::kAmbiguous;
+    for (const AddedEffect& a : r.added) {
+        out.added += (out.added.empty() ? "" : ",") + a.effect;
+        out.named = out.named || a.effect == effect;
+        // The rig's 15 s thermometer lag is itself a temp_rate effect: the truth has it too.
+        if (a.effect != effect && a.effect != "temp_rate") out.wrong.push_back(a.effect);
+    }
+    for (const std::string& a : r.ambiguities)
+        out.named_in_tie = out.named_in_tie || a.find(effect) != std::string::npos;
     const auto ext = ExtendedCoeffSet(r, "calibration", "1", 1);
     if (!ext) {
         ADD_FAILURE() << effect << " seed " << seed << ": no extended set\n" << FormatReport(r);
@@ -158,9 +206,11 @@ void RunEffect(const char* effect, double value) {
         const double noise_bound = std::sqrt(o.truth * o.truth + 9 * o.prediction * o.prediction);
         std::printf(
             "[ held-out ] %-12s seed %llu: extended %.4f deg/s, true model %.4f deg/s "
-            "(x%.2f), prediction %.4f, noise bound %.4f; added %s\n",
+            "(x%.2f), prediction %.4f, noise bound %.4f; added %s; effect %.2fx the floor "
+            "bound, %.2fx the floor\n",
             effect, static_cast<unsigned long long>(seed), o.after, o.truth, o.after / o.truth,
-            o.prediction, noise_bound, o.added.empty() ? "nothing" : o.added.c_str());
+            o.prediction, noise_bound, o.added.empty() ? "nothing" : o.added.c_str(),
+            o.size_over_bound, o.size_over_floor);
         const bool listed = kMisses.count({effect, seed}) > 0;
         if (o.after <= 1.2 * o.truth) {
             ++within;
@@ -171,8 +221,15 @@ void RunEffect(const char* effect, double value) {
             std::printf("[ held-out ] above 1.2x the true model; the analysis said:\n%s",
                         o.report.c_str());
         }
-        // Within the noise of the true model, or the analysis did not claim it ("unexplained
-        // residual" / "partly explained": the run's own held-out residual above its floor bound).
+        // The effect is named, alone or in a tie the verdict states, when it is above the floor
+        // bound; no candidate the truth lacks.
+        if (o.size_over_bound > 1.0) {
+            EXPECT_TRUE(o.named || o.named_in_tie) << effect << " seed " << seed << "\n"
+                                                   << o.report;
+        }
+        EXPECT_TRUE(o.wrong.empty()) << effect << " seed " << seed << ": named " << o.added;
+        // Within the noise of the true model whenever the analysis claims the model is complete;
+        // beyond it only when the verdict says something is left or ties.
         EXPECT_TRUE(o.after <= noise_bound || o.flagged)
             << effect << " seed " << seed << ": extended " << o.after
             << " deg/s above the noise bound " << noise_bound << " and the analysis did not say so\n"

@@ -2,6 +2,7 @@
 // the store's writer (as the recorder would), then analysed through the command body.
 #include <gtest/gtest.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -44,6 +46,38 @@ protected:
     static std::string* path_;
 };
 std::string* AnalyzeCli::path_ = nullptr;
+
+// Every threshold of the verdict is an option, its default in --help; a bad value is refused
+// with its name, exit 2, and nothing is stored.
+TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
+    CLI::App app;
+    std::function<int()> action;
+    cli::AddAnalyzeCommand(app, action);
+    const std::string help = app.get_subcommand("analyze")->help();
+    for (const char* opt :
+         {"--min-z2", "--min-cv-gain", "--max-collinearity", "--min-pair-member-z2",
+          "--min-effect-floor-ratio", "--gate-min-z", "--max-untested-fraction",
+          "--slow-noise-floor-ratio", "--feature-fpr", "--window-fpr", "--warmup-fpr",
+          "--min-feature-drop", "--surrogates", "--surrogate-seed"})
+        EXPECT_NE(help.find(opt), std::string::npos) << opt << "\n" << help;
+    EXPECT_NE(help.find("0.02"), std::string::npos) << help;  // --feature-fpr's default
+    struct Bad {
+        const char* says;
+        void (*set)(cli::AnalyzeOptions&);
+    };
+    for (const Bad& b : {Bad{"feature_fpr", [](cli::AnalyzeOptions& o) { o.feature_fpr = 0.7; }},
+                         Bad{"window_fpr", [](cli::AnalyzeOptions& o) { o.window_fpr = 0.0; }},
+                         Bad{"warmup_fpr", [](cli::AnalyzeOptions& o) { o.warmup_fpr = -1; }},
+                         Bad{"surrogates", [](cli::AnalyzeOptions& o) { o.surrogates = 5; }},
+                         Bad{"max_untested_fraction",
+                             [](cli::AnalyzeOptions& o) { o.max_untested_fraction = 2; }}}) {
+        cli::AnalyzeOptions o = Options();
+        b.set(o);
+        std::ostringstream out, err;
+        EXPECT_EQ(cli::RunAnalyze(o, out, err), 2) << b.says;
+        EXPECT_NE(err.str().find(b.says), std::string::npos) << err.str();
+    }
+}
 
 TEST_F(AnalyzeCli, FindsTheEffectInTheRecordedRunAsJson) {
     cli::AnalyzeOptions o = Options();

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -24,6 +25,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -141,6 +143,56 @@ void ExpectCompleteAcrossTheRange(const Lab& lab, const std::vector<std::string>
     }
 }
 
+// [V] RMS over the die temperatures -10..70 degC (1 degC apart) of what the least-squares
+// quadratic leaves of f: the departure from the declared model that a unit's curve holds.
+double BeyondQuadraticRms(const std::function<double(double)>& f) {
+    Eigen::MatrixXd x(81, 3);
+    Eigen::VectorXd y(81);
+    for (int i = 0; i < 81; ++i) {
+        const double t = -10.0 + i;
+        x.row(i) << 1.0, t - 30.0, (t - 30.0) * (t - 30.0);
+        y[i] = f(t);
+    }
+    const Eigen::VectorXd r = y - x * x.colPivHouseholderQr().solve(y);
+    return std::sqrt(r.squaredNorm() / 81.0);
+}
+
+// The verdict of `gyrocal analyze --json` on each unit against othersim's truth. Its units carry
+// a cubic part (a candidate: temp_cubic), a cold-end exponential bend (no candidate), a 0.3 mV
+// warm-up with tau 300 s (a candidate) and a 1 s thermometer lag (temp_rate): a candidate the
+// truth lacks is never added, and a departure from the quadratic of more than 3x the run's floor
+// (the truth's cubic and bend together, over the run's range) is never called adequate: a
+// quadratic fitted over the run leaves that much in the bins, and the verdict's tests are built
+// to see 3x the floor (processors/analysis/README.md).
+void ExpectVerdictAgainstTruth(const Lab& lab) {
+    ChildProcess an(
+        {GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store", "--json"},
+        lab.dir + "/verdict.json", lab.dir + "/verdict.err");
+    const auto end = an.Wait(600s);
+    ASSERT_TRUE(end && end->code == 0) << ReadLog(lab.dir + "/verdict.err");
+    const nlohmann::json j = nlohmann::json::parse(ReadLog(lab.dir + "/verdict.json"));
+    for (const auto& s : j.at("sensors")) {
+        const std::string id = s.at("sensor_id");
+        othersim::UnitTruth u;
+        for (const auto& t : lab.truth.at("units")) {
+            if (t.at("sensor_id") != id) continue;
+            const auto& o = t.at("offset_v");
+            u.null_v = o.at("null_v"), u.a1 = o.at("a1"), u.a2 = o.at("a2"), u.a3 = o.at("a3");
+            u.bend_v = o.at("bend_v"), u.bend_c = o.at("bend_c");
+        }
+        const double beyond = BeyondQuadraticRms([&](double t) { return u.OffsetV(t); });
+        const double floor_v = s.at("floor_offset_rms_v");
+        std::printf("[ othersim ] %s: %s (curve beyond the quadratic %.3g V = %.1fx the floor)\n",
+                    id.c_str(), s.at("headline").get<std::string>().c_str(), beyond,
+                    beyond / floor_v);
+        for (const auto& a : s.at("added")) {
+            const std::string e = a.at("effect");
+            EXPECT_TRUE(e == "temp_cubic" || e == "warmup" || e == "temp_rate") << id << ": " << e;
+        }
+        if (beyond > 3.0 * floor_v) EXPECT_NE(s.at("outcome"), "adequate") << id;
+    }
+}
+
 TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRange) {
     // GIVEN the lab profile 25, -10, 10, 30, 50, 70, 25 degC on two units, its 30 degC
     // step at 29 so that, as in the runs (22.9/23.1 against 27.8 degC), the room
@@ -198,6 +250,8 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
                 << set.sensor_id << " at " << in.temp_c;
         }
     }
+    // AND gyrocal analyze's verdict on each unit holds against othersim's truth
+    ExpectVerdictAgainstTruth(lab);
     // AND gyrocal analyze --plot draws each unit's Allan deviation (gnuplot-nox, tools/run.sh)
     if (::access("/usr/bin/gnuplot", X_OK) != 0)
         GTEST_SKIP() << "gnuplot is not installed: the Allan plot is not checked";

@@ -1,0 +1,98 @@
+#include "evidence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "null.hpp"
+#include "text/number.hpp"
+
+namespace gyrocal::analysis::detail {
+
+using Eigen::Index;
+using Eigen::VectorXd;
+
+Surrogates MakeSurrogates(const BinnedRun& binned, const VectorXd& residual_all,
+                          const AnalysisOptions& o) {
+    Surrogates s;
+    if (residual_all.size() != static_cast<Index>(binned.size()) || binned.size() < 8) return s;
+    s.floor_v = NoiseFloor(binned.bins(), residual_all).offset_rms_v;
+    s.model = MeasureNoise(binned.bins(), residual_all, binned.bin_s(), s.floor_v);
+    const SurrogateNoise draw(s.model, binned.bins(), binned.bin_s());
+    std::mt19937_64 rng(o.surrogate_seed);
+    for (int k = 0; k < o.surrogates; ++k) s.noise.push_back(draw.Draw(rng));
+    return s;
+}
+
+namespace {
+
+std::vector<WindowSpec> Windows(const BinnedRun& b) {
+    std::vector<WindowSpec> out;
+    const std::vector<Bin>& bins = b.bins();
+    const double t_first = bins.front().mid_utime * 1e-6;
+    for (double len : {600.0, 1200.0, 2400.0}) {
+        std::vector<WindowSpec> tiles;
+        for (size_t i = 0; i < bins.size(); ++i) {
+            const auto k = static_cast<size_t>((bins[i].mid_utime * 1e-6 - t_first) / len);
+            while (tiles.size() <= k)
+                tiles.push_back({text::Sig(tiles.size() * len, 4) + "-" +
+                                     text::Sig((tiles.size() + 1) * len, 4) + " s from the start",
+                                 {}});
+            tiles[k].rows.push_back(static_cast<Index>(i));
+        }
+        for (WindowSpec& w : tiles)
+            if (w.rows.size() >= 3) out.push_back(std::move(w));
+    }
+    double lo = INFINITY, hi = -INFINITY;
+    for (const Bin& x : bins) lo = std::min(lo, x.temp_c), hi = std::max(hi, x.temp_c);
+    const int bands = 8;
+    if (!(hi > lo)) return out;
+    std::vector<WindowSpec> temp(bands);
+    for (int k = 0; k < bands; ++k)
+        temp[static_cast<size_t>(k)].where = text::Sig(lo + k * (hi - lo) / bands, 3) + ".." +
+                                             text::Sig(lo + (k + 1) * (hi - lo) / bands, 3) +
+                                             " degC";
+    for (size_t i = 0; i < bins.size(); ++i) {
+        const int k =
+            std::min(bands - 1, static_cast<int>((bins[i].temp_c - lo) / (hi - lo) * bands));
+        temp[static_cast<size_t>(k)].rows.push_back(static_cast<Index>(i));
+    }
+    for (WindowSpec& w : temp)
+        if (w.rows.size() >= 3) out.push_back(std::move(w));
+    return out;
+}
+
+}  // namespace
+
+std::vector<WindowExcess> WindowsAbove(const BinnedRun& b, const Eigen::MatrixXd& x_all,
+                                       const Surrogates& s, const AnalysisOptions& o,
+                                       double* threshold_out) {
+    std::vector<WindowExcess> out;
+    if (b.size() < 3 || s.noise.empty()) return out;
+    const WindowStats stats(x_all, Windows(b));
+    std::vector<std::vector<double>> null;
+    std::vector<double> mean(stats.windows().size(), 0.0);
+    std::vector<double> ms;
+    for (const VectorXd& u : s.noise) {
+        null.push_back(stats.Evaluate(u, &ms));
+        for (size_t w = 0; w < mean.size(); ++w) mean[w] += ms[w] / s.noise.size();
+    }
+    const MaxTNull max_t(null);
+    const double threshold = max_t.Threshold(o.window_fpr);
+    if (threshold_out) *threshold_out = threshold;
+    VectorXd y(static_cast<Index>(b.size()));
+    for (size_t i = 0; i < b.size(); ++i) y[static_cast<Index>(i)] = b.bins()[i].gyro_v;
+    const std::vector<double> run = stats.Evaluate(y, &ms);
+    for (size_t w = 0; w < run.size(); ++w) {
+        const double z = max_t.Z(w, run[w]);
+        if (!(z > threshold)) continue;
+        const WindowSpec& spec = stats.windows()[w];
+        out.push_back({spec.where, std::sqrt(ms[w]), std::sqrt(mean[w]), z,
+                       static_cast<int>(spec.rows.size())});
+    }
+    std::sort(out.begin(), out.end(),
+              [](const WindowExcess& a, const WindowExcess& c) { return a.z > c.z; });
+    return out;
+}
+
+}  // namespace gyrocal::analysis::detail

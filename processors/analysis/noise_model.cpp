@@ -1,0 +1,123 @@
+#include "noise_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "noise/allan.hpp"
+#include "text/number.hpp"
+
+namespace gyrocal::analysis::detail {
+
+namespace {
+
+// Allan variance at m bins of a unit-variance AR(1) sampled once per bin (coefficient phi):
+// (Var(S) - Cov(S1, S2)) / m^2 with S a sum of m consecutive values, S1 and S2 adjacent sums.
+double Ar1Avar(double phi, int64_t m) {
+    double var = 0.0, cov = 0.0;
+    for (int64_t l = -(m - 1); l <= m - 1; ++l) {
+        const double w = static_cast<double>(m - std::llabs(l));
+        var += w * std::pow(phi, static_cast<double>(std::llabs(l)));
+        cov += w * std::pow(phi, static_cast<double>(std::llabs(m + l)));
+    }
+    return (var - cov) / static_cast<double>(m * m);
+}
+
+std::vector<std::vector<double>> Stretches(const std::vector<Bin>& bins, const Eigen::VectorXd& r) {
+    std::vector<std::vector<double>> out;
+    for (size_t i = 0; i < bins.size(); ++i) {
+        if (i == 0 || bins[i].segment != bins[i - 1].segment) out.emplace_back();
+        out.back().push_back(r[static_cast<Eigen::Index>(i)]);
+    }
+    return out;
+}
+
+double SpanS(const std::vector<Bin>& bins) {
+    return bins.size() < 2 ? 0.0 : (bins.back().mid_utime - bins.front().mid_utime) * 1e-6;
+}
+
+}  // namespace
+
+NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& residual, double bin_s,
+                        double floor_v) {
+    NoiseModel m;
+    m.white_v2 = std::isfinite(floor_v) ? floor_v * floor_v : 0.0;
+    const std::vector<std::vector<double>> stretches = Stretches(bins, residual);
+    size_t longest = 0;
+    for (const auto& s : stretches) longest = std::max(longest, s.size());
+    const std::vector<int64_t> grid =
+        noise::TauGrid(std::max<int64_t>(1, static_cast<int64_t>(longest / 4)));
+    std::vector<noise::SegmentSums> sums;
+    for (const auto& s : stretches)
+        if (s.size() >= 8) sums.push_back(noise::SumSegment(s, bin_s, grid));
+    std::string screened;
+    const std::vector<noise::SegmentSums> kept =
+        sums.size() >= 3 ? noise::ScreenSegments(sums, bin_s, grid, 0.01, screened) : sums;
+    const noise::NoiseTerms t = noise::FitTerms(kept, bin_s, grid, bin_s);
+    if (!t.ok || !std::isfinite(floor_v) || !(floor_v > 0)) {
+        m.note = "the Allan terms of the residual could not be fitted (" +
+                 std::to_string(kept.size()) +
+                 " stretches of 8 bins or more): slow noise assumed "
+                 "as large as the floor (k = 1)";
+        return m;
+    }
+    auto sq = [](double x) { return std::isfinite(x) ? x * x : 0.0; };
+    m.measured = true;
+    m.white_v2 = sq(t.arw) / bin_s;
+    m.flicker_v = std::isfinite(t.bias) ? t.bias : 0.0;
+    m.rrw_v_rts = std::isfinite(t.rrw) ? t.rrw : 0.0;
+    m.slow_v2 = noise::SlowNoiseVariance(m.flicker_v, m.rrw_v_rts, bin_s, SpanS(bins));
+    m.k = std::sqrt(m.slow_v2) / floor_v;
+    m.note = "Allan deviation of the residual over " + std::to_string(kept.size()) + " of " +
+             std::to_string(sums.size()) + " still stretches, " + text::Sig(bin_s, 3) + "-" +
+             text::Sig(static_cast<double>(grid.back()) * bin_s, 3) + " s: N " +
+             text::Sig(t.arw, 3) + " V/rtHz, B " + text::Sig(m.flicker_v, 3) + " V, K " +
+             text::Sig(m.rrw_v_rts, 3) + " V/rts" + (screened.empty() ? "" : "; " + screened);
+    return m;
+}
+
+SurrogateNoise::SurrogateNoise(const NoiseModel& m, const std::vector<Bin>& bins, double bin_s) {
+    for (const Bin& b : bins) t_s_.push_back((b.mid_utime - bins.front().mid_utime) * 1e-6);
+    white_sd_ = std::sqrt(std::max(0.0, m.white_v2));
+    rrw_ = m.rrw_v_rts;
+    const double span = std::max(SpanS(bins), bin_s);
+    for (double tau = bin_s; tau <= 3.0 * span; tau *= 3.0) ou_tau_s_.push_back(tau);
+    if (!(m.flicker_v > 0.0) || ou_tau_s_.empty()) return;
+    // Equal-variance components scaled so that the bank's Allan variance over the tau grid
+    // matches B^2 in least squares.
+    const std::vector<int64_t> grid =
+        noise::TauGrid(std::max<int64_t>(1, static_cast<int64_t>(span / bin_s / 4)));
+    double sa = 0.0, saa = 0.0;
+    for (int64_t g : grid) {
+        double a = 0.0;
+        for (double tau : ou_tau_s_) a += Ar1Avar(std::exp(-bin_s / tau), g);
+        sa += a, saa += a * a;
+    }
+    ou_sd_ = saa > 0 ? m.flicker_v * std::sqrt(sa / saa) : 0.0;
+}
+
+Eigen::VectorXd SurrogateNoise::Draw(std::mt19937_64& rng) const {
+    std::normal_distribution<double> normal(0.0, 1.0);
+    const auto n = static_cast<Eigen::Index>(t_s_.size());
+    Eigen::VectorXd v(n);
+    std::vector<double> ou(ou_tau_s_.size());
+    for (double& x : ou) x = ou_sd_ * normal(rng);
+    double walk = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const double dt =
+            i > 0 ? t_s_[static_cast<size_t>(i)] - t_s_[static_cast<size_t>(i - 1)] : 0.0;
+        double x = white_sd_ * normal(rng);
+        for (size_t j = 0; j < ou.size(); ++j) {
+            if (i > 0) {
+                const double phi = std::exp(-dt / ou_tau_s_[j]);
+                ou[j] = phi * ou[j] + ou_sd_ * std::sqrt(1.0 - phi * phi) * normal(rng);
+            }
+            x += ou[j];
+        }
+        if (i > 0) walk += rrw_ * std::sqrt(dt) * normal(rng);
+        v[i] = x + walk;
+    }
+    return v;
+}
+
+}  // namespace gyrocal::analysis::detail

@@ -1,0 +1,313 @@
+// Steps 4-6 of the analysis (analyze.hpp, steps.hpp).
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "localized.hpp"
+#include "model/terms.hpp"
+#include "regress.hpp"
+#include "residual.hpp"
+#include "steps.hpp"
+#include "text/number.hpp"
+
+namespace gyrocal::analysis::detail {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+std::vector<Index> AllRows(size_t n) {
+    std::vector<Index> rows(n);
+    for (size_t i = 0; i < n; ++i) rows[i] = static_cast<Index>(i);
+    return rows;
+}
+
+namespace {
+
+// The floor of the declared model's residual on all bins (fitted on the training bins).
+Floor DeclaredFloor(const Context& train, const BinnedRun& binned, const AnalysisOptions& o) {
+    const LsFit f = FitLs(train.Design(o.offset_terms), train.y, train.segment, 0);
+    if (!f.ok) return {};
+    return NoiseFloor(binned.bins(),
+                      BinValues(binned) - train.AllDesign(o.offset_terms) * f.coeffs);
+}
+
+// Step 4: the candidates' choice on the training bins. The warm-up, when testable, is left to its
+// localized check (localized.hpp) and returned in `warmup`.
+Selection Choose(const Context& train, const BinnedRun& binned, const AnalysisOptions& o,
+                 SensorResult& res, Candidate& warmup) {
+    std::vector<Candidate> pool;
+    for (const Candidate& cand : OffsetCandidates(binned, o)) {
+        if (cand.why_not.empty()) {
+            if (cand.effect == "warmup")
+                warmup = cand;
+            else
+                pool.push_back(cand);
+            continue;
+        }
+        CandidateResult r;
+        r.effect = cand.effect;
+        r.note = cand.why_not;
+        res.candidates.push_back(r);
+        res.could_not_test.push_back(cand.effect + ": " + cand.why_not);
+    }
+    Selection sel = SelectOffsetTerms(train, std::move(pool), DeclaredFloor(train, binned, o), o);
+    for (const CandidateResult& r : sel.candidates) res.candidates.push_back(r);
+    return sel;
+}
+
+// One model of the held-out check, fitted on the training bins into `model` and judged on the
+// held-out bins into `errors` (its own residual: the nuisance, which no model carries, is left in
+// it). nullopt with the reason in could_not_test.
+std::optional<LsFit> FitAndJudge(const Context& train, const BinnedRun& binned, const Split& split,
+                                 const std::vector<std::string>& terms, const std::string& what,
+                                 std::optional<model::Model>& model, ErrorFigures& errors,
+                                 SensorResult& res) {
+    LsFit f = FitLs(train.Design(terms), train.y, train.segment, train.hac_lag);
+    if (!f.ok) {
+        res.could_not_test.push_back(what + " on the held-out bins: " + f.why);
+        return std::nullopt;
+    }
+    model = FitModel(terms, train.t0, binned, train.rows, f);
+    errors = ErrorsOn(binned, Residuals(binned, *model, split.held), split.held, split.held_block,
+                      res.declared_sensitivity);
+    return f;
+}
+
+// Step 5: declared and chosen terms fitted on the training bins, judged on the held-out bins. The
+// gate asks what the chosen terms add to `gate_base` (the declared terms and a warm-up its own
+// check confirmed): nothing beyond it, nothing to confirm.
+bool Confirm(const Context& train, const BinnedRun& binned, const Split& split,
+             const Selection& sel, const std::vector<std::string>& gate_base,
+             const AnalysisOptions& o, SensorResult& res) {
+    if (!FitAndJudge(train, binned, split, o.offset_terms, "error before",
+                     res.holdout_before_offset, res.error_before, res))
+        return false;
+    const std::optional<model::Model>& sens = res.declared_sensitivity;
+    const double inv_s = sens ? MeanInverseSensitivity(binned, *sens, split.held) : kNan;
+    const std::optional<LsFit> after = FitAndJudge(train, binned, split, sel.terms, "error after",
+                                                   res.holdout_after_offset, res.error_after, res);
+    if (!after) return false;
+    ExpectedAfter(*after, train.AllDesign(sel.terms)(split.held, Eigen::all), inv_s, &res);
+    res.heldout_gain_v2 = res.heldout_slope = res.heldout_gain_z = kNan;
+    if (sel.terms.size() == gate_base.size()) return true;
+    const MatrixXd none(static_cast<Index>(binned.size()), 0);
+    const VectorXd r_base = HeldResidual(binned, train, split, train.AllDesign(gate_base), none);
+    const VectorXd r_sel = HeldResidual(binned, train, split, train.AllDesign(sel.terms), none);
+    const Gain g = HeldOutGain(r_base, r_sel, split.held_block, train.hac_lag);
+    res.heldout_gain_v2 = g.mean_v2;
+    res.heldout_slope = g.slope;
+    res.heldout_gain_z = g.z;
+    // Beyond its noise (z) and never at the cost of the held-out drift.
+    const bool drift_ok = !std::isfinite(res.error_before.drift_dph) ||
+                          !std::isfinite(res.error_after.drift_dph) ||
+                          res.error_after.drift_dph <= res.error_before.drift_dph;
+    const bool gain = std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0;
+    if (gain && !drift_ok)
+        res.notes.push_back(
+            "the chosen terms lowered the held-out RMS but raised the held-out "
+            "drift (" +
+            text::Sig(res.error_before.drift_dph, 3) + " -> " +
+            text::Sig(res.error_after.drift_dph, 3) + " deg/h): not added");
+    return gain && drift_ok;
+}
+
+// The warm-up's localized check (localized.hpp) on the chosen terms; the noise measured on their
+// residual over all bins.
+void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& warmup,
+                const AnalysisOptions& o, Selection& sel, SensorResult& res) {
+    if (warmup.effect.empty()) return;
+    const Context all =
+        MakeContext(binned, AllRows(binned.size()), train.t0, o, train.nuisance_all);
+    const LsFit f = FitLs(all.Design(sel.terms), all.y, all.segment, 0);
+    if (!f.ok) return;
+    const Surrogates s = MakeSurrogates(binned, f.residuals, o);
+    const LocalizedCheck c = CheckWarmup(binned, all, sel.terms, warmup, s, o);
+    CandidateResult r{"warmup", c.term, Decision::kRejected, c.z2, kNan, 0, c.note, c.effect_rms_v};
+    r.grid_edge = c.grid_edge;
+    if (!c.tested) {
+        r.decision = Decision::kNotTested;
+        res.could_not_test.push_back("warmup: " + c.note);
+    } else if (c.drift_rule && *c.drift_rule != Decision::kAdded) {
+        const std::string what = " (" + c.term +
+                                 " at the upper end of its grid; on its held-out blocks a linear "
+                                 "drift in time removes " +
+                                 text::Sig(100.0 * c.drift_drop, 3) +
+                                 " % of the squared residual, the warm-up " +
+                                 text::Sig(100.0 * c.drop, 3) + " %";
+        const std::string sep = "to separate: " + SeparationFromTime("warmup", "time since start");
+        if (*c.drift_rule == Decision::kRejected) {
+            const std::string why =
+                "warmup" + what + "; the drift predicts them at least as well; " + sep + ")";
+            r.note = "not attributed: " + why + "; " + c.note;
+            res.not_attributed.push_back(why);
+        } else {
+            const std::string why = "warmup vs time since start [time]" + what +
+                                    "; the data do not tell one from the other): " + sep;
+            r.decision = Decision::kAmbiguous;
+            r.note = "ambiguous: " + why + "; " + c.note;
+            res.ambiguities.push_back(why);
+        }
+    } else if (c.passes) {
+        r.decision = Decision::kAdded;
+        sel.terms.push_back(c.term);
+        sel.added_effects.push_back("warmup");
+        sel.x = train.Design(sel.terms);
+    }
+    res.candidates.push_back(r);
+}
+
+std::string UnitOf(const BinnedRun& binned, const AnalysisOptions& o, const std::string& effect) {
+    for (const Candidate& c : OffsetCandidates(binned, o))
+        if (c.effect == effect) return c.unit;
+    return "";
+}
+
+// What became of the chosen terms: the warm-up stands on its localized check, the others on the
+// held-out confirmation.
+void Record(const BinnedRun& binned, const AnalysisOptions& o, bool confirmed, Selection& sel,
+            SensorResult& res) {
+    const size_t nd = o.offset_terms.size();
+    std::vector<std::string> kept = o.offset_terms, kept_effects;
+    for (size_t k = nd; k < sel.terms.size(); ++k) {
+        const std::string& effect = sel.added_effects[k - nd];
+        if (confirmed || effect == "warmup") {
+            res.added.push_back({effect, sel.terms[k], UnitOf(binned, o, effect)});
+            kept.push_back(sel.terms[k]);
+            kept_effects.push_back(effect);
+        } else {
+            res.unconfirmed.push_back(effect);
+        }
+    }
+    sel.terms = kept;
+    sel.added_effects = kept_effects;
+    for (CandidateResult& c : res.candidates)
+        if (c.decision == Decision::kAdded && !confirmed && c.effect != "warmup") {
+            c.decision = Decision::kRejected;
+            c.note =
+                "chosen on the training bins, not confirmed on the held-out bins "
+                "(prediction slope " +
+                text::Sig(res.heldout_slope, 3) + ", " + text::Sig(res.heldout_gain_z, 3) +
+                " standard errors, need " + text::Sig(o.gate_min_z, 3) + "; squared error change " +
+                text::Sig(-res.heldout_gain_v2, 3) + " V^2)";
+        }
+}
+
+std::vector<std::string> GateBase(const AnalysisOptions& o, const Selection& sel) {
+    std::vector<std::string> base = o.offset_terms;
+    for (size_t k = o.offset_terms.size(); k < sel.terms.size(); ++k)
+        if (sel.added_effects[k - o.offset_terms.size()] == "warmup") base.push_back(sel.terms[k]);
+    return base;
+}
+
+}  // namespace
+
+Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
+                     const AnalysisOptions& o, const MatrixXd& nuisance_all, SensorResult& res) {
+    const Context train = MakeContext(binned, split.train, t0, o, nuisance_all);
+    Candidate warmup;
+    Selection sel = Choose(train, binned, o, res, warmup);
+    WarmupStep(binned, train, warmup, o, sel, res);
+    bool confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);
+    if (confirmed) {
+        const Context all = MakeContext(binned, AllRows(binned.size()), t0, o, nuisance_all);
+        const LsFit f = FitLs(all.Design(sel.terms), all.y, all.segment, 0);
+        const Surrogates s = MakeSurrogates(binned, f.ok ? f.residuals : VectorXd(), o);
+        if (!Displace(train, binned, split, s, sel, o, res).empty())
+            confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);
+    }
+    Record(binned, o, confirmed, sel, res);
+    JointPairFates(sel, confirmed, res);
+    sel.x = train.Design(sel.terms);
+    return sel;
+}
+
+namespace {
+
+// The warm-up's time constant refined between its grid's neighbours (golden section on log tau,
+// residual sum of squares on all bins with every other term in): the grid's spacing is coarser
+// than the data resolve a strong transient.
+std::string RefineWarmup(const Context& all, const std::vector<std::string>& terms, size_t k) {
+    const double tau = ParamOf(terms[k]);
+    auto rss = [&](double log_tau) {
+        std::vector<std::string> t = terms;
+        t[k] = model::WarmupTerm(std::exp(log_tau));
+        const LsFit f = FitLs(all.Design(t), all.y, all.segment, 0);
+        return f.ok ? f.rss : INFINITY;
+    };
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = std::log(tau / 1.25), b = std::log(tau * 1.25);
+    for (int it = 0; it < 14; ++it) {
+        const double c = b - g * (b - a), d = a + g * (b - a);
+        if (rss(c) < rss(d))
+            b = d;
+        else
+            a = c;
+    }
+    return model::WarmupTerm(std::exp(0.5 * (a + b)));
+}
+
+// The standard error of a searched term's parameter from the fit linearised in it: the column of
+// d(term)/d(param) times its coefficient added to the model; its coefficient is the parameter's
+// correction and its standard error the parameter's (the other coefficients free).
+double ParamStderr(const Context& all, const std::vector<std::string>& terms, size_t k,
+                   double coeff) {
+    const double p = ParamOf(terms[k]);
+    const std::string name = terms[k].substr(0, terms[k].find('('));
+    auto term_at = [&](double v) {
+        return name == "warmup" ? model::WarmupTerm(v)
+               : name == "dTdt" ? model::RateTerm(v)
+                                : model::BranchTerm(v);
+    };
+    const double h = kParamStepRel;
+    const VectorXd d = (all.binned->Column(term_at(p * (1 + h)), all.t0)(all.rows) -
+                        all.binned->Column(term_at(p * (1 - h)), all.t0)(all.rows)) /
+                       (2.0 * h * p) * coeff;
+    const MatrixXd x0 = all.Design(terms);
+    MatrixXd x(x0.rows(), x0.cols() + 1);
+    x << x0, d;
+    const LsFit f = FitLs(x, all.y, all.segment, all.hac_lag);
+    return f.ok && d.allFinite() ? std::sqrt(f.covariance(x0.cols(), x0.cols())) : kNan;
+}
+
+}  // namespace
+
+void FinalModels(const BinnedRun& binned, const std::vector<std::string>& terms_in, double t0,
+                 const AnalysisOptions& o, const MatrixXd& nuisance_all, SensorResult& res) {
+    const Context all = MakeContext(binned, AllRows(binned.size()), t0, o, nuisance_all);
+    const LsFit fd = FitLs(all.Design(o.offset_terms), all.y, all.segment, all.hac_lag);
+    if (fd.ok) {
+        res.declared_offset = FitModel(o.offset_terms, t0, binned, all.rows, fd);
+        res.residual_all_rms_v = std::sqrt(fd.rss / static_cast<double>(binned.size()));
+    } else {
+        res.could_not_test.push_back("declared offset model on all bins: " + fd.why);
+    }
+    std::vector<std::string> terms = terms_in;
+    for (size_t k = o.offset_terms.size(); k < terms.size(); ++k)
+        if (terms[k].rfind("warmup(", 0) == 0) {
+            const std::string refined = RefineWarmup(all, terms, k);
+            for (AddedEffect& a : res.added)
+                if (a.term == terms[k]) a.term = refined;
+            terms[k] = refined;
+        }
+    const LsFit fe = FitLs(all.Design(terms), all.y, all.segment, all.hac_lag);
+    if (!fe.ok) {
+        res.could_not_test.push_back("extended model: " + fe.why);
+        return;
+    }
+    res.extended_offset = FitModel(terms, t0, binned, all.rows, fe);
+    res.residual_all_extended_rms_v = std::sqrt(fe.rss / static_cast<double>(binned.size()));
+    res.floor_offset_rms_v = NoiseFloor(binned.bins(), fe.residuals).offset_rms_v;
+    for (size_t k = o.offset_terms.size(); k < terms.size(); ++k) {
+        const auto i = static_cast<Index>(k);
+        for (AddedEffect& a : res.added) {
+            if (a.term != terms[k]) continue;
+            a.coefficient = fe.coeffs[i];
+            a.stderr_ = std::sqrt(fe.covariance(i, i));
+            a.param = ParamOf(terms[k]);
+            if (std::isfinite(a.param)) a.param_stderr = ParamStderr(all, terms, k, fe.coeffs[i]);
+        }
+    }
+}
+
+}  // namespace gyrocal::analysis::detail

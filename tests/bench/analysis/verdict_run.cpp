@@ -1,0 +1,212 @@
+#include "verdict_run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+
+#include "analysis/analyze.hpp"
+#include "analysis/bins.hpp"
+#include "numeric/least_squares.hpp"
+#include "othersim_run.hpp"
+#include "sim_run.hpp"
+
+namespace gyrocal::bench {
+
+namespace {
+
+using analysis::SensorRun;
+
+struct Made {
+    SensorRun run;
+    std::vector<double> truth_v;                // per sample, every effect included
+    std::vector<std::vector<double>> listed_v;  // per listed part, per sample
+    std::vector<double> outside_v;              // per sample
+};
+
+Made Simulate(Simulator sim, const Draw& d, uint64_t seed, uint64_t noise_seed) {
+    Made m;
+    std::vector<double> own;
+    if (sim == Simulator::kRig) {
+        analysis::testing::SimRunOptions o;
+        o.seed = seed;
+        o.noise_seed = noise_seed;
+        o.effects = d.sim_effects;
+        analysis::testing::SimRun s = analysis::testing::MakeSimRun(o);
+        m.run = std::move(s.run);
+        m.truth_v = std::move(s.truth_offset_v);
+        own = std::move(s.effect_offset_v);
+    } else {
+        othersim::Options o = othersim::Options::QuickReturnToStart(420.0);
+        o.seed = seed;
+        o.noise_seed = noise_seed;
+        o.spread.cubic_sd_v = 0.0;      // the declared quadratic is its curve: an effect is
+        o.spread.cold_bend_sd_v = 0.0;  // then only what the scenario adds
+        o.effects.warmup_v = 0.0;
+        analysis::testing::OthersimRun r = analysis::testing::MakeOthersimRun(o);
+        m.run = std::move(r.run);
+        m.truth_v = std::move(r.truth_offset_v);
+    }
+    m.truth_v.resize(m.run.samples.size(), NAN);
+    for (const ListedPart& p : d.listed) {
+        if (p.rig_own) {
+            m.listed_v.push_back(own);
+            continue;
+        }
+        m.listed_v.push_back(Evaluate(p.post, m.run).listed_v);
+        AddTo(m.run, m.listed_v.back());
+        for (size_t i = 0; i < m.truth_v.size(); ++i) m.truth_v[i] += m.listed_v.back()[i];
+    }
+    if (d.has_outside) {
+        PostHoc out = d.outside;
+        out.wander_seed += noise_seed;  // an exogenous process: another realisation per run
+        m.outside_v = Evaluate(out, m.run).outside_v;
+        AddTo(m.run, m.outside_v);
+        for (size_t i = 0; i < m.truth_v.size(); ++i) m.truth_v[i] += m.outside_v[i];
+    }
+    return m;
+}
+
+// Means of a per-sample series over each still bin (a kept bin holds every sample of its cell).
+Eigen::VectorXd BinMeans(const SensorRun& run, const analysis::BinnedRun& b,
+                         const std::vector<double>& v) {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(b.size()));
+    size_t k = 0;
+    for (size_t i = 0; i < b.size(); ++i) {
+        const analysis::Bin& bin = b.bins()[i];
+        while (k < run.samples.size() && run.samples[k].utime < bin.start_utime) ++k;
+        double s = 0;
+        int n = 0;
+        for (size_t j = k; j < run.samples.size() && run.samples[j].utime < bin.end_utime; ++j)
+            s += v[j], ++n;
+        out[static_cast<Eigen::Index>(i)] = n ? s / n : NAN;
+    }
+    return out;
+}
+
+double ProjectedRms(const analysis::BinnedRun& b, const Eigen::VectorXd& v) {
+    if (v.size() == 0 || !v.allFinite()) return 0.0;
+    const Eigen::MatrixXd x = b.Design({"1", "dT", "dT^2"}, 25.0);
+    const Eigen::VectorXd r = numeric::ProjectOut(x, v);
+    return std::sqrt(r.squaredNorm() / static_cast<double>(r.size()));
+}
+
+double Rms(const Eigen::VectorXd& v) {
+    return std::sqrt(v.squaredNorm() / std::max<Eigen::Index>(1, v.size()));
+}
+
+// Extended and declared models over the true model on the held-out run (offset RMS over bins).
+void HeldOut(Simulator sim, const Draw& d, uint64_t seed, const analysis::SensorResult& r,
+             RunFigures& f) {
+    const Made h = Simulate(sim, d, seed, seed * 7 + 13);
+    const analysis::BinnedRun b(h.run, analysis::BinOptions::Defaults());
+    Eigen::VectorXd g(static_cast<Eigen::Index>(b.size()));
+    for (size_t i = 0; i < b.size(); ++i) g[static_cast<Eigen::Index>(i)] = b.bins()[i].gyro_v;
+    const double truth = Rms(g - BinMeans(h.run, b, h.truth_v));
+    if (r.extended_offset) f.heldout_ratio = Rms(g - b.Values(*r.extended_offset)) / truth;
+    if (r.declared_offset) f.declared_ratio = Rms(g - b.Values(*r.declared_offset)) / truth;
+    if (!r.extended_offset) f.heldout_ratio = f.declared_ratio;
+}
+
+bool Allowed(Simulator sim, const Draw& d, const std::string& effect) {
+    // othersim's temperature line lags its die and the die its board: a real (small) temp_rate.
+    if (sim == Simulator::kOthersim && effect == "temp_rate") return true;
+    for (const ListedPart& p : d.listed)
+        if (p.effect == effect) return true;
+    return false;
+}
+
+std::string Category(const RunFigures& f) {
+    double biggest = f.outside_ratio;
+    bool listed_missed = false;
+    for (const EffectSize& e : f.listed) {
+        biggest = std::max(biggest, e.ratio);
+        listed_missed = listed_missed || (!e.named && e.ratio > 3.0);
+    }
+    if (f.wrong) return "wrong candidate";
+    if (f.outcome == "adequate") return biggest > 3.0 ? "adequate-when-not" : "adequate";
+    if (f.outcome == "ambiguous") return "ambiguous";
+    if (f.outcome == "explained")
+        return f.outside_ratio > 3.0 || listed_missed ? "explained-when-not" : "named right alone";
+    if (f.outcome == "partly explained") return "named right + flagged";
+    if (f.outcome == "unexplained residual") return "unexplained";
+    return "not testable";
+}
+
+void Judge(Simulator sim, const Draw& d, const Made& m, const analysis::SensorResult& r,
+           RunFigures& f) {
+    const analysis::BinnedRun b(m.run, analysis::BinOptions::Defaults());
+    f.floor_v = r.floor_offset_rms_v;
+    for (const analysis::AddedEffect& a : r.added) {
+        f.added.push_back(a.effect);
+        f.wrong = f.wrong || !Allowed(sim, d, a.effect);
+        if (a.effect == "warmup" && d.warmup_v != 0) {
+            f.got_v = a.coefficient, f.got_v_se = a.stderr_;
+            f.got_tau = a.param, f.got_tau_se = a.param_stderr;
+        }
+    }
+    for (size_t k = 0; k < d.listed.size(); ++k) {
+        EffectSize e{d.listed[k].effect,
+                     ProjectedRms(b, BinMeans(m.run, b, m.listed_v[k])) / f.floor_v};
+        e.named = std::find(f.added.begin(), f.added.end(), e.effect) != f.added.end();
+        f.listed.push_back(e);
+    }
+    if (d.has_outside)
+        f.outside_ratio = ProjectedRms(b, BinMeans(m.run, b, m.outside_v)) / f.floor_v;
+    f.warm_v = d.warmup_v != 0 ? d.warmup_v : NAN;
+    f.warm_tau_s = d.warmup_v != 0 ? d.warmup_tau_s : NAN;
+    f.outcome = analysis::ToString(r.outcome);
+    if (r.excess_ratio > 1.0) f.evidence += "bound ";
+    for (const analysis::FeatureResult& x : r.features)
+        if (x.explains_heldout) f.evidence += "feature:" + x.feature + " ";
+    if (!r.windows_above.empty()) f.evidence += "window:" + r.windows_above[0].where + " ";
+    if (!r.ambiguities.empty()) f.evidence += "ambiguous ";
+    f.headline = r.headline;
+    f.flagged =
+        r.outcome != analysis::Outcome::kAdequate && r.outcome != analysis::Outcome::kExplained;
+    f.category = Category(f);
+}
+
+}  // namespace
+
+RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::mt19937_64 rng(seed * 31 + (sim == Simulator::kRig ? 1 : 2));
+    const Draw d = scenario.make(sim, rng);
+    RunFigures f;
+    f.scenario = scenario.name;
+    f.group = scenario.group;
+    const Made m = Simulate(sim, d, seed, 0);
+    const analysis::SensorResult r = analysis::Analyze(m.run);
+    Judge(sim, d, m, r, f);
+    if (std::getenv("VERDICT_DUMP") && f.category != "adequate" && r.extended_offset) {
+        const analysis::BinnedRun b(m.run, analysis::BinOptions::Defaults());
+        const Eigen::VectorXd v = b.Values(*r.extended_offset);
+        const double t0 = b.bins().front().mid_utime;
+        for (size_t i = 0; i < b.size(); ++i) {
+            const double res = b.bins()[i].gyro_v - v[static_cast<Eigen::Index>(i)];
+            if (std::fabs(res) < 3.5 * r.floor_offset_rms_v) continue;
+            double near = 1e9;
+            for (const auto& mv : m.run.moves)
+                near = std::min(
+                    near, std::fabs(b.bins()[i].mid_utime - 0.5 * (mv.start_utime + mv.end_utime)) *
+                              1e-6);
+            std::printf(
+                "  dump seed %llu bin t %.0f s T %.1f res %.2f floors, nearest move %.0f s\n",
+                static_cast<unsigned long long>(seed), (b.bins()[i].mid_utime - t0) * 1e-6,
+                b.bins()[i].temp_c, res / r.floor_offset_rms_v, near);
+        }
+    }
+    HeldOut(sim, d, seed, r, f);
+    f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (std::getenv("VERDICT_VERBOSE"))
+        std::printf("%s %s seed %llu: %s | added %zu | held-out %.2fx | %s| %s\n", Name(sim),
+                    scenario.name.c_str(), static_cast<unsigned long long>(seed),
+                    f.category.c_str(), f.added.size(), f.heldout_ratio, f.evidence.c_str(),
+                    f.headline.c_str());
+    return f;
+}
+
+}  // namespace gyrocal::bench
