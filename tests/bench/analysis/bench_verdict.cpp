@@ -21,14 +21,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <map>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "bench_args.hpp"
-#include "machine.hpp"
+#include "bench_context.hpp"
 #include "verdict_run.hpp"
 
 using namespace gyrocal;
@@ -74,16 +73,6 @@ std::vector<RunFigures> RunAll(const std::vector<Job>& jobs, int threads) {
     return out;
 }
 
-void Header(int argc, char** argv) {
-    char date[64];
-    const std::time_t now = std::time(nullptr);
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    std::string cmd;
-    for (int i = 0; i < argc; ++i) cmd += (i ? " " : "") + std::string(argv[i]);
-    std::printf("gyrocal_bench_verdict: %s\n%s; %s, %u cores, load %s\n", cmd.c_str(), date,
-                CpuModel().c_str(), Nproc(), LoadAverage().c_str());
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -95,7 +84,7 @@ int main(int argc, char** argv) {
         return Usage(argv,
                      "[runs per scenario >= 0] [clean runs >= 0] [threads 1..64] "
                      "[rig|othersim|both]");
-    Header(argc, argv);
+    gyrocal::bench::PrintContext(argc, argv);
     const std::vector<Job> jobs = Jobs(per, clean, which);
     const auto t0 = std::chrono::steady_clock::now();
     const std::vector<RunFigures> figs = RunAll(jobs, threads);
