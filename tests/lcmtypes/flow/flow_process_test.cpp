@@ -28,7 +28,10 @@ namespace {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-const std::string kUrl = "udpm://239.255.76.67:7703?ttl=0&recv_buf_size=4194304";
+// One group port per test: CTest runs the two tests of this file at once, and on one port each
+// test's source would count the other's probes as its consumers (and they would hear its rows).
+const std::string kPacedUrl = "udpm://239.255.76.67:7703?ttl=0&recv_buf_size=4194304";
+const std::string kStuckUrl = "udpm://239.255.76.67:7704?ttl=0&recv_buf_size=4194304";
 
 // A CSV of one unit at 100 Hz with its table angle: `rows` gyro rows, one encoder message each.
 std::string WriteCsv(const std::string& name, int rows) {
@@ -63,8 +66,8 @@ struct Heard {
     }
 };
 
-ChildProcess Probe(double work_us) {
-    return ChildProcess({GYROCAL_BUS_PROBE, "--lcm-url", kUrl, "--channel", "GYRO_.*",
+ChildProcess Probe(const std::string& url, double work_us) {
+    return ChildProcess({GYROCAL_BUS_PROBE, "--lcm-url", url, "--channel", "GYRO_.*",
                          "--idle-exit-s", "60", "--work-us-per-sample", std::to_string(work_us)});
 }
 
@@ -80,9 +83,9 @@ TEST(FlowProcess, TheSourceGoesAtTheSlowestConsumersPaceAndNothingIsLostUnderLoa
     constexpr int kRows = 20000;
     constexpr double kWorkUs = 200;  // the slow probe takes at most 5000 samples per second
     const std::string csv = WriteCsv("paced.csv", kRows);
-    Bus bus(BusOptions{kUrl});
+    Bus bus(BusOptions{kPacedUrl});
     Heard heard(bus);
-    ChildProcess fast = Probe(0), slow = Probe(kWorkUs);
+    ChildProcess fast = Probe(kPacedUrl, 0), slow = Probe(kPacedUrl, kWorkUs);
     ASSERT_TRUE(testing::HandleUntil(
         bus, [&] { return heard.by_pid.count(fast.pid()) && heard.by_pid.count(slow.pid()); }, 10s))
         << "the probes never sent STATUS";
@@ -91,7 +94,7 @@ TEST(FlowProcess, TheSourceGoesAtTheSlowestConsumersPaceAndNothingIsLostUnderLoa
     const std::string log = csv + ".source.log";
     const auto t0 = Clock::now();
     ChildProcess source({GYROCAL_CSV_SOURCE, csv, "--max", "--batch-samples", "16", "--lcm-url",
-                         kUrl, "--start-utime", "1000000"},
+                         kPacedUrl, "--start-utime", "1000000"},
                         log, log);
     std::optional<ExitStatus> done;
     testing::HandleUntil(
@@ -120,16 +123,16 @@ TEST(FlowProcess, TheSourceGoesAtTheSlowestConsumersPaceAndNothingIsLostUnderLoa
 TEST(FlowProcess, AConsumerThatStopsAnsweringIsWaitedForNoLongerThanItsTimeout) {
     constexpr int kRows = 30000;
     const std::string csv = WriteCsv("stuck.csv", kRows);
-    Bus bus(BusOptions{kUrl});
+    Bus bus(BusOptions{kStuckUrl});
     Heard heard(bus);
-    ChildProcess alive = Probe(100), stuck = Probe(100);  // 3 s of work each
+    ChildProcess alive = Probe(kStuckUrl, 100), stuck = Probe(kStuckUrl, 100);  // 3 s of work each
     ASSERT_TRUE(testing::HandleUntil(
         bus, [&] { return heard.by_pid.count(alive.pid()) && heard.by_pid.count(stuck.pid()); },
         10s));
     const std::string log = csv + ".source.log";
     const auto t0 = Clock::now();
     ChildProcess source({GYROCAL_CSV_SOURCE, csv, "--max", "--batch-samples", "16", "--lcm-url",
-                         kUrl, "--flow-timeout-s", "1"},
+                         kStuckUrl, "--flow-timeout-s", "1"},
                         log, log);
     // GIVEN one consumer frozen once it is well into the data (it answers nothing any more)
     ASSERT_TRUE(testing::HandleUntil(

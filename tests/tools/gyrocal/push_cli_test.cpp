@@ -267,18 +267,27 @@ TEST_F(PushCli, AServerRestartedInTheMiddleOfAPushLosesNothing) {
     const std::string url = own->Url("postgres");
     ASSERT_EQ(Gyrocal({"central", "init", "--db", url}).code, 0);
     const std::string station = Dir() + "/restart.db";
-    WriteStation(station, {.prefix = "Z", .runs = 3, .samples_per_sensor = 20000});
+    WriteStation(station, {.prefix = "Z", .runs = 3, .samples_per_sensor = 100000});
     ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station}, Dir() + "/restart.out",
                    Dir() + "/restart.err");
-    std::this_thread::sleep_for(1200ms);
+    // The restart lands inside the push on any machine: the server is restarted as soon as the
+    // push's first run is visible there (each run is one central transaction), with two runs of
+    // 100k samples per sensor still to go, instead of after a fixed sleep that a fast machine
+    // outruns.
+    bool first_run_visible = false;
+    while (!first_run_visible && !p.Wait(20ms)) {
+        auto c = st::OpenForQuery(url);
+        for (const auto& r : st::ListRuns(*c, {})) first_run_visible |= !r.run_id.empty();
+    }
+    ASSERT_FALSE(p.Wait(0ms).has_value())
+        << "the push ended before the server could be restarted inside it: "
+        << ReadLog(Dir() + "/restart.out");
     own->Restart();
     const auto s = p.Wait(60s);
     ASSERT_TRUE(s.has_value());
     const std::string err = ReadLog(Dir() + "/restart.err");
-    if (s->code == 0) {
-        GTEST_SKIP() << "the push ended before the restart (machine faster than planned)";
-    }
-    EXPECT_EQ(s->code, 1);
+    EXPECT_EQ(s->code, 1) << "the push went on through the restart: "
+                          << ReadLog(Dir() + "/restart.out");
     EXPECT_NE(err.find("gyrocal push: error: central database"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     auto s_db = st::OpenForQuery(station);
