@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -34,6 +35,7 @@
 #include "bus_wait.hpp"
 #include "compensator/compensate.hpp"
 #include "e2e_support.hpp"
+#include "flow/flow_acker.hpp"
 #include "generator.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -189,7 +191,9 @@ void ExpectVerdictAgainstTruth(const Lab& lab) {
             const std::string e = a.at("effect");
             EXPECT_TRUE(e == "temp_cubic" || e == "warmup" || e == "temp_rate") << id << ": " << e;
         }
-        if (beyond > 3.0 * floor_v) EXPECT_NE(s.at("outcome"), "adequate") << id;
+        if (beyond > 3.0 * floor_v) {
+            EXPECT_NE(s.at("outcome"), "adequate") << id;
+        }
     }
 }
 
@@ -391,6 +395,9 @@ std::array<double, 3> HeldOutRateRms(const std::string& out, const std::string& 
 struct Compensated {
     std::vector<rate_t> rates;
     std::vector<gyro_sample_t> samples;
+    int64_t comp_seq_gaps = 0;  // [count] samples the compensator says it missed (its STATUS)
+    int64_t comp_rejected = 0;  // [count] samples it refused (its STATUS)
+    int64_t own_seq_gaps = 0;   // [count] samples and rates this test's socket missed
 };
 Compensated CompensateLive(const std::string& dir, const std::string& csv, const coeff_set_t& set,
                            int port) {
@@ -403,6 +410,8 @@ Compensated CompensateLive(const std::string& dir, const std::string& csv, const
     bus.Subscribe<status_t>(std::string(channels::kStatus),
                             [&](const status_t& s, const std::string&) {
                                 if (s.process != "gyrocal-compensator") return;
+                                c.comp_seq_gaps = s.seq_gaps;
+                                c.comp_rejected = s.rejected;
                                 for (size_t i = 0; i < s.extra_names.size(); ++i)
                                     if (s.extra_names[i] == "U1.coeff_set_id")
                                         applied = std::llround(s.extra_values[i]);
@@ -422,15 +431,24 @@ Compensated CompensateLive(const std::string& dir, const std::string& csv, const
         },
         30s);
     EXPECT_TRUE(in_force) << ReadLog(dir + "/comp.log");
+    // This process acks the source's flow marks like every gyrocal process, so the source paces
+    // on it too (flow_acker.hpp) and its socket is never overrun by the record.
+    flow::FlowAcker acker(bus, "calibrate_othersim_e2e_test");
     ChildProcess src({GYROCAL_BIN "/gyrocal-csv-source", csv, "--lcm-url", url, "--max",
                       "--max-rate-hz", "20000"},
                      dir + "/src.log", dir + "/src.log");
-    while (!src.Poll()) bus.Handle(20ms);
+    while (!src.Poll()) {
+        bus.Handle(20ms);
+        acker.Poll();
+    }
     testing::HandleUntil(
         bus, [&] { return c.rates.size() >= c.samples.size(); }, 20s);
-    for (int i = 0; i < 20; ++i) bus.Handle(10ms);
+    // Two STATUS periods more: the compensator's counters then include the end of the record.
+    const auto until = std::chrono::steady_clock::now() + 2500ms;
+    while (std::chrono::steady_clock::now() < until) bus.Handle(50ms);
     comp.Signal(SIGTERM);
     comp.Wait(10s);
+    c.own_seq_gaps = bus.counters().seq_gaps;
     return c;
 }
 
@@ -506,7 +524,26 @@ TEST(OthersimCalibration,
     ASSERT_TRUE(g.Wait(120s).has_value());
     const Compensated live = CompensateLive(lab.dir, held, model::ToMsg(final_set), 7897);
     ASSERT_GT(live.samples.size(), 1000u);
-    ASSERT_EQ(live.rates.size(), live.samples.size());
+    // Flow control keeps every socket from overflowing, yet a datagram can still be lost (UDP
+    // under load); a loss must never be silent: each sample this test saw without a rate is one
+    // the compensator counted missing or refused, and each rate without its sample one this
+    // test's socket counted missing (seq gaps).
+    std::map<int64_t, const gyro_sample_t*> sample_of_seq;
+    for (const auto& m : live.samples) sample_of_seq[m.seq] = &m;
+    std::vector<std::pair<const gyro_sample_t*, const rate_t*>> pairs;
+    for (const auto& r : live.rates)
+        if (auto it = sample_of_seq.find(r.seq); it != sample_of_seq.end())
+            pairs.emplace_back(it->second, &r);
+    const int64_t without_rate = static_cast<int64_t>(live.samples.size() - pairs.size());
+    const int64_t without_sample = static_cast<int64_t>(live.rates.size() - pairs.size());
+    std::printf(
+        "[ closed loop ] %zu samples, %zu rates; compensator: %lld missed, %lld refused; "
+        "this socket: %lld missed\n",
+        live.samples.size(), live.rates.size(), static_cast<long long>(live.comp_seq_gaps),
+        static_cast<long long>(live.comp_rejected), static_cast<long long>(live.own_seq_gaps));
+    EXPECT_LE(without_rate, live.comp_seq_gaps + live.comp_rejected + live.own_seq_gaps);
+    EXPECT_LE(without_sample, live.own_seq_gaps);
+    ASSERT_GT(pairs.size(), 0.99 * live.samples.size()) << "more than 1 % lost";
     compensate::SensorCompensator with_final, with_plateau;
     ASSERT_EQ(with_final.SetCoefficients(final_set).outcome, compensate::SetOutcome::kApplied);
     const model::CoeffSet plateau_set = store::ToCoeffSet([&] {
@@ -518,13 +555,14 @@ TEST(OthersimCalibration,
     std::vector<double> final_rate, plateau_rate;
     std::vector<int64_t> utime;
     int differ = 0;
-    for (size_t i = 0; i < live.samples.size(); ++i) {
-        const auto s = compensate::SampleOf(live.samples[i]);
+    // The library is given exactly the samples the compensator answered, in its order (a
+    // compensator keeps state from one sample to the next).
+    for (const auto& [sample, rate] : pairs) {
+        const auto s = compensate::SampleOf(*sample);
         const auto f = with_final.Apply(s), p = with_plateau.Apply(s);
-        EXPECT_EQ(live.rates[i].coeff_set_id, final_set.coeff_set_id);
-        differ +=
-            f.status != compensate::ApplyStatus::kOk || f.out.rate_dps != live.rates[i].rate_dps;
-        final_rate.push_back(live.rates[i].rate_dps);
+        EXPECT_EQ(rate->coeff_set_id, final_set.coeff_set_id);
+        differ += f.status != compensate::ApplyStatus::kOk || f.out.rate_dps != rate->rate_dps;
+        final_rate.push_back(rate->rate_dps);
         plateau_rate.push_back(p.out.rate_dps);
         utime.push_back(s.utime);
     }
