@@ -9,8 +9,7 @@
 # gyrocal_apps); test and setup build everything.
 #   tools/run.sh sanitize [asan|tsan|fast]               the tests under sanitizers (below)
 #   tools/run.sh fuzz [--seconds N] [HARNESS...]         run the fuzz harnesses (tests/fuzz/run.sh)
-#   tools/run.sh format-check [REPO]                     every C++ line changed since the commit in
-#                                                        .clang-format-since is as clang-format
+#   tools/run.sh format-check [REPO]                     every C++ file is as clang-format
 #                                                        makes it (.ci/run; exit 1 names the lines)
 # Set-up installs what is missing with apt-get (needs root or sudo) and is quick when all is there.
 set -euo pipefail
@@ -33,7 +32,7 @@ packages=(build-essential cmake pkg-config git
 # read-only database test (tests/store/recorder/storage_fault_test.cpp). ccache: a second build
 # of the same sources (CI's clean clone of a commit already built on this machine) compiles
 # nothing again; the cache is keyed relative to the clone (base dir, no cwd), so clones share it.
-# clang-format: tools/run.sh format-check (git clang-format, the committed .clang-format).
+# clang-format: tools/run.sh format-check (the whole tree against the committed .clang-format).
 # postgresql, libpqxx-dev: the lab's central database (gyrocal push; store/README.md); the tests
 # start a throwaway server of their own (initdb + pg_ctl in a temporary folder, as the
 # unprivileged user 'postgres' the package creates).
@@ -155,27 +154,30 @@ sanitize() {
     esac
 }
 
-# The house format, enforced on what changes: every C++ line added or changed since the commit
-# named in .clang-format-since must be as clang-format (the committed .clang-format) makes it.
-# Lines older than that commit are checked when they next change: reformatting every file at once
-# would rebuild everything without a ccache hit and collide with every open branch.
+# The house format on the whole tree: every C++ file git knows of (tracked, or new and not
+# ignored) must be as clang-format (the committed .clang-format) makes it. Each line that is not
+# is named as file:line; the fix is `clang-format -i` on the files named.
 format_check() {
-    local repo="${1:-$here}" base
-    base="$(tr -d ' \n' <"$repo/.clang-format-since" 2>/dev/null)" ||
-        die "format-check: $repo/.clang-format-since is missing; it must hold a commit hash"
-    git -C "$repo" rev-parse -q --verify "$base^{commit}" >/dev/null ||
-        die "format-check: .clang-format-since names '$base', not a commit of $repo; give a commit hash"
-    command -v git-clang-format >/dev/null || die "format-check: git-clang-format not found: apt-get install clang-format"
-    local out
-    out="$(cd "$repo" && git clang-format --diff --extensions cpp,hpp,h,cc "$base" -- 2>&1)" ||
-        die "format-check: git clang-format failed: $out"
-    if printf '%s\n' "$out" | grep -q '^diff --git'; then
-        printf '%s\n' "$out" | grep '^+++ b/' | sed 's|^+++ b/|run.sh: format-check: not formatted: |' >&2
-        printf '%s\n' "$out" >&2
-        echo "run.sh: format-check: lines changed since $base are not formatted as .clang-format says; run: git clang-format $base" >&2
+    local repo="${1:-$here}"
+    [ -f "$repo/.clang-format" ] || die "format-check: $repo/.clang-format is missing; the house format lives there"
+    command -v clang-format >/dev/null || die "format-check: clang-format not found: apt-get install clang-format"
+    local files=() f
+    while IFS= read -r -d '' f; do
+        [ -f "$repo/$f" ] && files+=("$f")
+    done < <(git -C "$repo" ls-files -z -co --exclude-standard -- '*.cpp' '*.hpp' '*.h' '*.cc')
+    [ ${#files[@]} -gt 0 ] || die "format-check: no C++ file under $repo (is it a git checkout?)"
+    local out rc=0
+    out="$(cd "$repo" && clang-format --style=file --dry-run -Werror "${files[@]}" 2>&1)" || rc=$?
+    if [ $rc -ne 0 ]; then
+        printf '%s\n' "$out" | grep -E '^[^ ]+:[0-9]+:[0-9]+: (error|warning)' |
+            sed -E 's|^([^:]+):([0-9]+):.*|run.sh: format-check: not formatted: \1:\2|' | uniq >&2
+        local bad
+        bad="$(printf '%s\n' "$out" | grep -oE '^[^ :]+:[0-9]+:[0-9]+: (error|warning)' | cut -d: -f1 | sort -u | tr '\n' ' ')"
+        [ -n "$bad" ] || { printf '%s\n' "$out" >&2; die "format-check: clang-format failed"; }
+        echo "run.sh: format-check: ${#files[@]} C++ files checked; not as .clang-format says: $bad; run: clang-format -i $bad" >&2
         return 1
     fi
-    echo "run.sh: format-check: every C++ line changed since $base is formatted"
+    echo "run.sh: format-check: all ${#files[@]} C++ files are formatted as .clang-format says"
 }
 
 cmd="${1:-}"

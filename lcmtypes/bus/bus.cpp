@@ -31,7 +31,8 @@ std::optional<UdpmAddress> ParseUdpm(const std::string& url) {
     if (a.group.empty() || inet_pton(AF_INET, a.group.c_str(), &probe) != 1) return std::nullopt;
     if (colon != std::string::npos) {
         const std::string port = hostport.substr(colon + 1);
-        if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos)
+        if (port.empty() || port.size() > 5 ||
+            port.find_first_not_of("0123456789") != std::string::npos)
             return std::nullopt;
         a.port = std::stoi(port);
         if (a.port < 1 || a.port > 65535) return std::nullopt;
@@ -40,7 +41,8 @@ std::optional<UdpmAddress> ParseUdpm(const std::string& url) {
 }
 
 std::string FormatUdpm(const UdpmAddress& a) {
-    return "udpm://" + a.group + ":" + std::to_string(a.port) + (a.options.empty() ? "" : "?" + a.options);
+    return "udpm://" + a.group + ":" + std::to_string(a.port) +
+           (a.options.empty() ? "" : "?" + a.options);
 }
 
 namespace {
@@ -67,8 +69,8 @@ void CheckMulticastRoute(const std::string& url) {
     const int err = errno;
     close(fd);
     if (rc != 0) {
-        throw BusError("no route to multicast group " + host + " for LCM URL '" + url +
-                       "' (" + std::strerror(err) + "). " + kRouteFix);
+        throw BusError("no route to multicast group " + host + " for LCM URL '" + url + "' (" +
+                       std::strerror(err) + "). " + kRouteFix);
     }
 }
 

@@ -61,14 +61,14 @@ public:
 };
 
 struct BusCounters {
-    int64_t received = 0;       // decoded and handed to a handler
+    int64_t received = 0;  // decoded and handed to a handler
     int64_t published = 0;
     int64_t published_bytes = 0;  // [B] payloads and channel names of what was published
     int64_t publish_errors = 0;
-    int64_t decode_errors = 0;  // payload did not decode as the subscribed type
-    int64_t batches = 0;        // batch messages unpacked (their samples count in received)
-    int64_t seq_gaps = 0;       // samples missing per seq, all channels
-    int64_t seq_backwards = 0;  // reordered, duplicated or restarted streams
+    int64_t decode_errors = 0;      // payload did not decode as the subscribed type
+    int64_t batches = 0;            // batch messages unpacked (their samples count in received)
+    int64_t seq_gaps = 0;           // samples missing per seq, all channels
+    int64_t seq_backwards = 0;      // reordered, duplicated or restarted streams
     std::string last_decode_error;  // channel and type of the latest failure
     // A handler threw (the message was still given to the channel's other subscribers).
     int64_t handler_errors = 0;
@@ -153,9 +153,8 @@ void Bus::Subscribe(const std::string& channel_regex,
                 Batch batch;
                 if (!DecodeMessage(batch, rbuf.data, size)) {
                     ++counters_.decode_errors;
-                    counters_.last_decode_error = "channel " + channel +
-                                                  ": payload is not a valid " +
-                                                  Batch::getTypeName();
+                    counters_.last_decode_error =
+                        "channel " + channel + ": payload is not a valid " + Batch::getTypeName();
                     return;
                 }
                 ++counters_.batches;

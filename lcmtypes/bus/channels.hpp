@@ -14,9 +14,9 @@ inline constexpr std::string_view kStabilityPrefix = "STABILITY_";  // plateau_s
 inline constexpr std::string_view kSensitivityPrefix = "SENSITIVITY_";
 inline constexpr std::string_view kCoeffsPrefix = "COEFFS_";
 inline constexpr std::string_view kRatePrefix = "RATE_";
-inline constexpr std::string_view kNoisePrefix = "NOISE_";  // noise_t (Allan deviation)
-inline constexpr std::string_view kFitPrefix = "FIT_";      // fit_report_t
-inline constexpr std::string_view kPowerPrefix = "POWER_";  // power_state_t
+inline constexpr std::string_view kNoisePrefix = "NOISE_";        // noise_t (Allan deviation)
+inline constexpr std::string_view kFitPrefix = "FIT_";            // fit_report_t
+inline constexpr std::string_view kPowerPrefix = "POWER_";        // power_state_t
 inline constexpr std::string_view kAnalysisPrefix = "ANALYSIS_";  // analysis_t (closed loop)
 
 inline constexpr std::string_view kEncoder = "ENCODER";

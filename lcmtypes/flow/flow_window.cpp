@@ -102,7 +102,8 @@ void FlowWindow::OnGone(const ConsumerId& id) {
 std::vector<ConsumerId> FlowWindow::Behind() const {
     std::vector<std::pair<int64_t, ConsumerId>> behind;
     for (const auto& [id, c] : consumers_)
-        if (!c.dropped && !c.left && c.acked_bytes < sent_bytes_) behind.push_back({c.acked_bytes, id});
+        if (!c.dropped && !c.left && c.acked_bytes < sent_bytes_)
+            behind.push_back({c.acked_bytes, id});
     std::sort(behind.begin(), behind.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<ConsumerId> out;

@@ -17,9 +17,9 @@ CLI::Option* AddOldOptionName(CLI::App& app, const CLI::Option* current,
         .add_option_function<T>(old_name,
                                 [&value, current, name, old_name](const T& parsed) {
                                     if (current->count() > 0) {
-                                        throw CLI::ValidationError(
-                                            old_name + " is the old name of " + name +
-                                            ": give one of them");
+                                        throw CLI::ValidationError(old_name +
+                                                                   " is the old name of " + name +
+                                                                   ": give one of them");
                                     }
                                     value = parsed;
                                 })

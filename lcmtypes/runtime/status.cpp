@@ -4,8 +4,8 @@
 
 #include <iostream>
 
-#include "gyrocal/status_t.hpp"
 #include "bus/channels.hpp"
+#include "gyrocal/status_t.hpp"
 #include "shutdown.hpp"
 
 namespace gyrocal {
@@ -13,7 +13,8 @@ namespace gyrocal {
 void RateLimitedLog::Warn(const std::string& key, const std::string& text) {
     auto now = std::chrono::steady_clock::now();
     Entry& e = entries_[key];
-    if (e.last != std::chrono::steady_clock::time_point{} && now - e.last < std::chrono::seconds(1)) {
+    if (e.last != std::chrono::steady_clock::time_point{} &&
+        now - e.last < std::chrono::seconds(1)) {
         ++e.suppressed;
         return;
     }

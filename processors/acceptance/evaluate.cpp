@@ -22,7 +22,8 @@ model::ModelInputs At(const model::Model& m, double temp_c) {
 
 // The temperatures of the grid over a model's valid range; empty when the range is not finite.
 std::vector<double> Grid(const model::Model& m) {
-    if (!std::isfinite(m.temp_min_c) || !std::isfinite(m.temp_max_c) || m.temp_max_c < m.temp_min_c) return {};
+    if (!std::isfinite(m.temp_min_c) || !std::isfinite(m.temp_max_c) || m.temp_max_c < m.temp_min_c)
+        return {};
     std::vector<double> t;
     for (int i = 0; i < kGridPoints; ++i)
         t.push_back(m.temp_min_c + (m.temp_max_c - m.temp_min_c) * i / (kGridPoints - 1));
@@ -84,8 +85,9 @@ Check Verdict(const UnitEvidence& u) {
         // (the fitter's set, judged above, lacks them by construction).
         c.outcome = u.analysis_stored_set ? Outcome::kPass : Outcome::kFail;
         if (!u.analysis_stored_set)
-            c.note = "the analysis explains the residual with terms no stored set carries: run "
-                     "gyrocal analyze RUN again to store the extended set";
+            c.note =
+                "the analysis explains the residual with terms no stored set carries: run "
+                "gyrocal analyze RUN again to store the extended set";
     } else if (o == "partly explained" || o == "unexplained residual") {
         c.outcome = Outcome::kFail;
         c.note = "the analysis leaves a residual above the floor: " + headline;
@@ -108,8 +110,9 @@ Check Verdict(const UnitEvidence& u) {
     return c;
 }
 
-constexpr text::NameTable<Outcome, 3> kOutcomeNames{
-    {{Outcome::kPass, "pass"}, {Outcome::kFail, "FAIL"}, {Outcome::kNotEvaluated, "not evaluated"}}};
+constexpr text::NameTable<Outcome, 3> kOutcomeNames{{{Outcome::kPass, "pass"},
+                                                     {Outcome::kFail, "FAIL"},
+                                                     {Outcome::kNotEvaluated, "not evaluated"}}};
 
 }  // namespace
 
@@ -139,7 +142,8 @@ Measure ResidualOverFloor(const UnitEvidence& u) {
             const double sigma = std::hypot(p.gyro_sem_v, slow_v);
             const double r =
                 p.gyro_mean_v - off.Value(At(offset, p.temp_c), model::RangePolicy::kExtrapolate);
-            if (!(sigma > 0) || !std::isfinite(r)) return {NAN, "a plateau without a usable value or standard error"};
+            if (!(sigma > 0) || !std::isfinite(r))
+                return {NAN, "a plateau without a usable value or standard error"};
             chi2 += (r / sigma) * (r / sigma);
         }
         return {std::sqrt(chi2 / dof), ""};
@@ -161,7 +165,8 @@ Measure OffsetChangeDps(const model::Model& offset, const model::Model& sensitiv
         }
         const double s_mid = std::abs(sens.Value(
             At(sensitivity, 0.5 * (grid.front() + grid.back())), model::RangePolicy::kClip));
-        if (!(s_mid > 0) || !std::isfinite(hi - lo)) return {NAN, "offset or sensitivity not finite over the range"};
+        if (!(s_mid > 0) || !std::isfinite(hi - lo))
+            return {NAN, "offset or sensitivity not finite over the range"};
         return {(hi - lo) / s_mid, ""};
     } catch (const model::ModelError& e) {
         return {NAN, std::string("the coefficient set is not usable: ") + e.what()};
@@ -196,17 +201,21 @@ UnitVerdict Evaluate(const Limits& l, const UnitEvidence& u) {
     if (l.max_residual_rms_over_floor) {
         Check c = Start("max_residual_rms_over_floor", *l.max_residual_rms_over_floor);
         // Without a calibration the unit fails; without a degree of freedom it cannot be judged.
-        Compare(c, ResidualOverFloor(u), u.has_calibration ? Outcome::kNotEvaluated : Outcome::kFail);
+        Compare(c, ResidualOverFloor(u),
+                u.has_calibration ? Outcome::kNotEvaluated : Outcome::kFail);
         v.checks.push_back(c);
     }
     if (l.max_offset_change_dps) {
         Check c = Start("max_offset_change_dps", *l.max_offset_change_dps);
-        Compare(c, u.has_calibration ? OffsetChangeDps(u.offset, u.sensitivity) : none, Outcome::kFail);
+        Compare(c, u.has_calibration ? OffsetChangeDps(u.offset, u.sensitivity) : none,
+                Outcome::kFail);
         v.checks.push_back(c);
     }
     if (l.max_sensitivity_rel_uncertainty_pct) {
-        Check c = Start("max_sensitivity_rel_uncertainty_pct", *l.max_sensitivity_rel_uncertainty_pct);
-        Compare(c, u.has_calibration ? MaxSensitivityRelUncertaintyPct(u.sensitivity) : none, Outcome::kFail);
+        Check c =
+            Start("max_sensitivity_rel_uncertainty_pct", *l.max_sensitivity_rel_uncertainty_pct);
+        Compare(c, u.has_calibration ? MaxSensitivityRelUncertaintyPct(u.sensitivity) : none,
+                Outcome::kFail);
         v.checks.push_back(c);
     }
     if (l.min_plateaus) {
@@ -234,9 +243,12 @@ UnitVerdict Evaluate(const Limits& l, const UnitEvidence& u) {
         v.checks.push_back(c);
     }
     const auto any = [&](Outcome o) {
-        return std::any_of(v.checks.begin(), v.checks.end(), [o](const Check& c) { return c.outcome == o; });
+        return std::any_of(v.checks.begin(), v.checks.end(),
+                           [o](const Check& c) { return c.outcome == o; });
     };
-    v.outcome = any(Outcome::kFail) ? Outcome::kFail : any(Outcome::kNotEvaluated) ? Outcome::kNotEvaluated : Outcome::kPass;
+    v.outcome = any(Outcome::kFail)           ? Outcome::kFail
+                : any(Outcome::kNotEvaluated) ? Outcome::kNotEvaluated
+                                              : Outcome::kPass;
     return v;
 }
 
@@ -246,7 +258,8 @@ std::string Summary(const UnitVerdict& v) {
         if (c.outcome == Outcome::kPass) continue;
         std::string item = c.key + " ";
         if (c.kind == "require")
-            item += c.outcome == Outcome::kFail ? "failed (" + c.measured_text + ")" : "not evaluated (" + c.note + ")";
+            item += c.outcome == Outcome::kFail ? "failed (" + c.measured_text + ")"
+                                                : "not evaluated (" + c.note + ")";
         else if (c.outcome == Outcome::kFail && !std::isnan(c.measured))
             item += c.measured_text + (c.kind == "min" ? " < " : " > ") + text::Sig(c.limit, 3) +
                     " " + c.unit;
@@ -254,7 +267,8 @@ std::string Summary(const UnitVerdict& v) {
             item += (c.outcome == Outcome::kFail ? "failed (" : "not evaluated (") + c.note + ")";
         out += (out.empty() ? "" : "; ") + item;
     }
-    return v.sensor_id + ": " + (out.empty() ? std::string("pass") : std::string(ToString(v.outcome)) + ": " + out);
+    return v.sensor_id + ": " +
+           (out.empty() ? std::string("pass") : std::string(ToString(v.outcome)) + ": " + out);
 }
 
 }  // namespace gyrocal::acceptance

@@ -45,19 +45,19 @@ struct PlateauPoint {
 
 struct UnitEvidence {
     std::string sensor_id;
-    bool has_calibration = false;  // false: no coefficient set for the unit in this run
+    bool has_calibration = false;      // false: no coefficient set for the unit in this run
     model::Model offset, sensitivity;  // the final set
     // The plateau set (the final set itself on a run without the closed loop): what the
     // plateau checks judge.
     model::Model plateau_offset, plateau_sensitivity;
-    std::vector<PlateauPoint> plateaus;  // those the plateau set was fitted on
-    int n_plateaus = 0;                  // plateau ids the plateau set lists
-    int n_turns = 0;                     // rotation ids the set lists
-    double plateau_slow_noise_dps = 0;   // [deg/s] as the run declared it (0 = none)
+    std::vector<PlateauPoint> plateaus;           // those the plateau set was fitted on
+    int n_plateaus = 0;                           // plateau ids the plateau set lists
+    int n_turns = 0;                              // rotation ids the set lists
+    double plateau_slow_noise_dps = 0;            // [deg/s] as the run declared it (0 = none)
     std::optional<std::string> analysis_verdict;  // newest analysis of the unit, if any: headline
     std::optional<std::string> analysis_outcome;  // its outcome; nullopt: none stored (older)
     std::vector<std::string> analysis_to_test;    // not testable: what measurement would test it
-    bool analysis_stored_set = false;  // the analysis stored its extended model as a set
+    bool analysis_stored_set = false;             // the analysis stored its extended model as a set
     // [deg/s], [deg/h] the final set's held-out error from the analysis that made it; NaN: none.
     double final_heldout_rate_rms_dps = NAN;
     double final_heldout_drift_dph = NAN;
@@ -82,12 +82,12 @@ struct Check {
     double measured = NAN;        // NaN when not measured
     std::string measured_text;    // what was measured, for people (e.g. the verdict)
     Outcome outcome = Outcome::kNotEvaluated;
-    std::string note;             // why not evaluated / why it failed, when useful
+    std::string note;  // why not evaluated / why it failed, when useful
 };
 
 struct UnitVerdict {
     std::string sensor_id;
-    std::vector<Check> checks;  // in LimitDefs() order, only the limits given
+    std::vector<Check> checks;                 // in LimitDefs() order, only the limits given
     Outcome outcome = Outcome::kNotEvaluated;  // FAIL if any fails, else not evaluated if any is
 };
 

@@ -25,11 +25,12 @@ std::string ValidKeys() { return "description, " + LimitKeys(); }
 
 double NonNegative(const json& v, const std::string& origin, const std::string& key) {
     if (!v.is_number())
-        throw LimitsError(origin + ": key '" + key + "': expected a number >= 0, got " + TypeName(v) + " (" +
-                          v.dump() + ")");
+        throw LimitsError(origin + ": key '" + key + "': expected a number >= 0, got " +
+                          TypeName(v) + " (" + v.dump() + ")");
     const double x = v.get<double>();
     if (!std::isfinite(x) || x < 0)
-        throw LimitsError(origin + ": key '" + key + "': " + v.dump() + " is not valid; expected a number >= 0");
+        throw LimitsError(origin + ": key '" + key + "': " + v.dump() +
+                          " is not valid; expected a number >= 0");
     return x;
 }
 
@@ -37,11 +38,12 @@ int Count(const json& v, const std::string& origin, const std::string& key) {
     const bool whole = v.is_number_integer() || v.is_number_unsigned() ||
                        (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>());
     if (!whole)
-        throw LimitsError(origin + ": key '" + key + "': expected a whole number >= 1, got " + TypeName(v) + " (" +
-                          v.dump() + ")");
+        throw LimitsError(origin + ": key '" + key + "': expected a whole number >= 1, got " +
+                          TypeName(v) + " (" + v.dump() + ")");
     const double x = v.get<double>();
     if (x < 1 || x > 1e6)
-        throw LimitsError(origin + ": key '" + key + "': " + v.dump() + " is not valid; expected a whole number from 1 to 1000000");
+        throw LimitsError(origin + ": key '" + key + "': " + v.dump() +
+                          " is not valid; expected a whole number from 1 to 1000000");
     return static_cast<int>(x);
 }
 
@@ -98,13 +100,15 @@ const std::vector<LimitDef>& LimitDefs() {
 
 Limits FromJson(const json& j, const std::string& origin) {
     if (!j.is_object())
-        throw LimitsError(origin + ": expected a JSON object of limits {\"key\": value, ...}, got " + TypeName(j) +
-                          " (valid keys: " + ValidKeys() + ")");
+        throw LimitsError(origin +
+                          ": expected a JSON object of limits {\"key\": value, ...}, got " +
+                          TypeName(j) + " (valid keys: " + ValidKeys() + ")");
     Limits l;
     for (const auto& [key, v] : j.items()) {
         if (key == "description") {
             if (!v.is_string())
-                throw LimitsError(origin + ": key 'description': expected a string, got " + TypeName(v));
+                throw LimitsError(origin + ": key 'description': expected a string, got " +
+                                  TypeName(v));
             l.description = v.get<std::string>();
         } else if (key == "max_residual_rms_over_floor") {
             l.max_residual_rms_over_floor = NonNegative(v, origin, key);
@@ -122,11 +126,13 @@ Limits FromJson(const json& j, const std::string& origin) {
             l.max_heldout_drift_dph = NonNegative(v, origin, key);
         } else if (key == "no_unexplained_residual") {
             if (!v.is_boolean())
-                throw LimitsError(origin + ": key 'no_unexplained_residual': expected true or false, got " +
+                throw LimitsError(origin +
+                                  ": key 'no_unexplained_residual': expected true or false, got " +
                                   TypeName(v) + " (" + v.dump() + ")");
             l.no_unexplained_residual = v.get<bool>();
         } else {
-            throw LimitsError(origin + ": unknown key '" + key + "' (valid keys: " + ValidKeys() + ")");
+            throw LimitsError(origin + ": unknown key '" + key + "' (valid keys: " + ValidKeys() +
+                              ")");
         }
     }
     if (l.Empty())
@@ -140,7 +146,8 @@ Limits ParseLimits(const std::string& text, const std::string& origin) {
         j = json::parse(text);
     } catch (const json::parse_error& e) {
         std::string what = e.what();
-        if (const size_t at = what.find("] "); what.rfind("[json.exception", 0) == 0 && at != std::string::npos)
+        if (const size_t at = what.find("] ");
+            what.rfind("[json.exception", 0) == 0 && at != std::string::npos)
             what = what.substr(at + 2);
         throw LimitsError(origin + ": not valid JSON: " + what);
     }
@@ -149,7 +156,8 @@ Limits ParseLimits(const std::string& text, const std::string& origin) {
 
 Limits LoadLimitsFile(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
-    if (!f) throw LimitsError(path + ": cannot be read (a JSON file of acceptance limits is expected)");
+    if (!f)
+        throw LimitsError(path + ": cannot be read (a JSON file of acceptance limits is expected)");
     const std::string text{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
     return ParseLimits(text, path);
 }
@@ -157,7 +165,8 @@ Limits LoadLimitsFile(const std::string& path) {
 json ToJson(const Limits& l) {
     json j = json::object();
     if (!l.description.empty()) j["description"] = l.description;
-    if (l.max_residual_rms_over_floor) j["max_residual_rms_over_floor"] = *l.max_residual_rms_over_floor;
+    if (l.max_residual_rms_over_floor)
+        j["max_residual_rms_over_floor"] = *l.max_residual_rms_over_floor;
     if (l.max_offset_change_dps) j["max_offset_change_dps"] = *l.max_offset_change_dps;
     if (l.max_sensitivity_rel_uncertainty_pct)
         j["max_sensitivity_rel_uncertainty_pct"] = *l.max_sensitivity_rel_uncertainty_pct;

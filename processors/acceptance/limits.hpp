@@ -18,13 +18,12 @@
 // limit or a count below 1 is an error naming the key and what would be valid, so a typo never
 // becomes a limit silently not applied. The meaning of each limit is in LimitDefs() (also printed
 // by docs/report.md and the report).
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace gyrocal::acceptance {
 
@@ -36,13 +35,13 @@ public:
 struct Limits {
     std::string description;
     std::optional<double> max_residual_rms_over_floor;          // [1]
-    std::optional<double> max_offset_change_dps;                 // [deg/s]
+    std::optional<double> max_offset_change_dps;                // [deg/s]
     std::optional<double> max_sensitivity_rel_uncertainty_pct;  // [%]
-    std::optional<int> min_plateaus;                             // [count]
-    std::optional<int> min_turns;                                // [count]
-    bool no_unexplained_residual = false;                        // checked when true
-    std::optional<double> max_heldout_rate_rms_dps;              // [deg/s] the final set's
-    std::optional<double> max_heldout_drift_dph;                 // [deg/h] the final set's
+    std::optional<int> min_plateaus;                            // [count]
+    std::optional<int> min_turns;                               // [count]
+    bool no_unexplained_residual = false;                       // checked when true
+    std::optional<double> max_heldout_rate_rms_dps;             // [deg/s] the final set's
+    std::optional<double> max_heldout_drift_dph;                // [deg/h] the final set's
 
     bool Empty() const;
 };

@@ -162,7 +162,8 @@ BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin
     for (size_t k = 0; k < run.samples.size(); ++k) {
         power.At(run.samples[k].utime, t);
         const model::ModelInputs in = t.Update(run.samples[k].utime, run.samples[k].temp_c, kNan);
-        if (bin_of_sample_[k] >= 0) since[static_cast<size_t>(bin_of_sample_[k])] += in.time_since_power_s;
+        if (bin_of_sample_[k] >= 0)
+            since[static_cast<size_t>(bin_of_sample_[k])] += in.time_since_power_s;
     }
     for (size_t i = 0; i < bins_.size(); ++i) bins_[i].time_since_power_s = since[i] / bins_[i].n;
     size_t next_air = 0;
@@ -230,8 +231,10 @@ Eigen::VectorXd BinnedRun::Column(const std::string& term, double t0_c) const {
 }
 
 Eigen::MatrixXd BinnedRun::Design(const std::vector<std::string>& terms, double t0_c) const {
-    Eigen::MatrixXd x(static_cast<Eigen::Index>(bins_.size()), static_cast<Eigen::Index>(terms.size()));
-    for (size_t j = 0; j < terms.size(); ++j) x.col(static_cast<Eigen::Index>(j)) = Column(terms[j], t0_c);
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(bins_.size()),
+                      static_cast<Eigen::Index>(terms.size()));
+    for (size_t j = 0; j < terms.size(); ++j)
+        x.col(static_cast<Eigen::Index>(j)) = Column(terms[j], t0_c);
     return x;
 }
 
@@ -249,7 +252,8 @@ Floor NoiseFloor(const std::vector<Bin>& bins, const Eigen::VectorXd& values) {
     double ss = 0.0;
     for (size_t i = 1; i < bins.size(); ++i) {
         if (bins[i].segment != bins[i - 1].segment) continue;
-        const double d = values[static_cast<Eigen::Index>(i)] - values[static_cast<Eigen::Index>(i - 1)];
+        const double d =
+            values[static_cast<Eigen::Index>(i)] - values[static_cast<Eigen::Index>(i - 1)];
         if (!std::isfinite(d)) continue;
         ss += d * d;
         ++f.pairs;

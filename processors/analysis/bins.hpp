@@ -61,8 +61,8 @@ struct BinDrops {
 };
 
 struct BinOptions {
-    double bin_s = 10.0;     // [s]
-    double min_fill = 0.8;   // [1] kept when n >= min_fill * expected
+    double bin_s = 10.0;    // [s]
+    double min_fill = 0.8;  // [1] kept when n >= min_fill * expected
     static BinOptions Defaults() { return {}; }
 };
 
@@ -121,7 +121,7 @@ private:
     double bin_s_;
     std::vector<Bin> bins_;
     BinDrops underfilled_, unknown_motion_;
-    std::vector<int> bin_of_sample_;  // -1 = not in a kept bin
+    std::vector<int> bin_of_sample_;                                      // -1 = not in a kept bin
     std::shared_ptr<const TrackedInputSource> inputs_;                    // set: binned elsewhere
     mutable std::map<std::pair<double, double>, TrackedInputs> tracked_;  // by (tau, width)
 };

@@ -53,7 +53,8 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
     const std::vector<Bin>& bins = b.bins();
     double lo = INFINITY, hi = -INFINITY;
     for (const Bin& x : bins) lo = std::min(lo, x.temp_c), hi = std::max(hi, x.temp_c);
-    const double span_s = bins.empty() ? 0.0 : (bins.back().mid_utime - bins.front().mid_utime) * 1e-6;
+    const double span_s =
+        bins.empty() ? 0.0 : (bins.back().mid_utime - bins.front().mid_utime) * 1e-6;
     // Shape parameters: rate time constants from fast to a few minutes; branch widths up to a
     // third of the temperature range (a wider branch never completes a transition); warm-up up
     // to a tenth of the still span (a slower "transient" cannot be told from the sensor's own
@@ -61,12 +62,14 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
     const double w_max = std::min(o.branch_width_max_c, std::max(0.5, (hi - lo) / 3.0));
     const double tau_max = std::min(o.warmup_tau_max_s, o.warmup_max_tau_fraction * span_s);
     std::vector<Candidate> c = {
-        {"temp_rate", "V/(degC/s)", LogGrid(o.rate_tau_min_s, o.rate_tau_max_s, 6, model::RateTerm), ""},
+        {"temp_rate", "V/(degC/s)", LogGrid(o.rate_tau_min_s, o.rate_tau_max_s, 6, model::RateTerm),
+         ""},
         {"hysteresis", "V", LogGrid(o.branch_width_min_c, w_max, 12, model::BranchTerm), ""},
         {"temp_cubic", "V/degC^3", {"dT^3"}, ""},
         {"supply", "V/V", {"supply"}, ""},
-        {"warmup", "V", LogGrid(o.warmup_tau_min_s, std::max(tau_max, o.warmup_tau_min_s), 25,
-                                model::WarmupTerm), ""}};
+        {"warmup", "V",
+         LogGrid(o.warmup_tau_min_s, std::max(tau_max, o.warmup_tau_min_s), 25, model::WarmupTerm),
+         ""}};
     int ramp = 0, heat = 0, cool = 0, supply = 0;
     std::set<long> levels;
     const gyrocal_tracker_config_t def = gyrocal_tracker_config_default();

@@ -18,7 +18,9 @@ Split MakeSplit(const std::vector<Bin>& bins, const AnalysisOptions& o) {
     if (bins.empty()) return s;
     const int every = std::max(2, static_cast<int>(std::lround(1.0 / o.holdout_fraction)));
     const double t_first = bins.front().start_utime * 1e-6;
-    auto block_of = [&](double t_s) { return static_cast<long>(std::floor((t_s - t_first) / o.holdout_block_s)); };
+    auto block_of = [&](double t_s) {
+        return static_cast<long>(std::floor((t_s - t_first) / o.holdout_block_s));
+    };
     auto held_block = [&](long b) { return b % every == 1; };
     std::map<long, int> blocks;
     for (size_t i = 0; i < bins.size(); ++i) {
@@ -27,7 +29,8 @@ Split MakeSplit(const std::vector<Bin>& bins, const AnalysisOptions& o) {
         const long k = block_of(start_s);
         if (held_block(k) && block_of(end_s - 1e-6) == k) {
             s.held.push_back(static_cast<Index>(i));
-            s.held_block.push_back(blocks.emplace(k, static_cast<int>(blocks.size())).first->second);
+            s.held_block.push_back(
+                blocks.emplace(k, static_cast<int>(blocks.size())).first->second);
             continue;
         }
         // Training bins keep cv_guard_s away from every held-out block.
@@ -61,7 +64,8 @@ model::Model FitModel(const std::vector<std::string>& terms, double t0, const Bi
     return m;
 }
 
-VectorXd Residuals(const BinnedRun& binned, const model::Model& offset, const std::vector<Index>& rows) {
+VectorXd Residuals(const BinnedRun& binned, const model::Model& offset,
+                   const std::vector<Index>& rows) {
     const VectorXd v = binned.Values(offset);
     VectorXd r(static_cast<Index>(rows.size()));
     for (size_t k = 0; k < rows.size(); ++k)
@@ -71,7 +75,8 @@ VectorXd Residuals(const BinnedRun& binned, const model::Model& offset, const st
 
 namespace {
 // Sensitivity at each bin (at rest), NaN where it cannot be evaluated.
-VectorXd SensitivityAt(const BinnedRun& binned, const model::Model& sens, const std::vector<Index>& rows) {
+VectorXd SensitivityAt(const BinnedRun& binned, const model::Model& sens,
+                       const std::vector<Index>& rows) {
     const VectorXd all = binned.Values(sens);
     return all(rows);
 }

@@ -85,12 +85,12 @@ struct SensitivityInput {
 
 struct SensorRun {
     std::string sensor_id;
-    std::vector<GyroSample> samples;        // every usable sample, time-ordered
-    std::vector<uint8_t> still;             // per sample: 1 when the table was at rest
-    std::vector<motion::TableMove> moves;   // table moves seen on the encoder
-    std::vector<int64_t> power_on_utimes;   // [us] distinct power-on times, ascending
-    std::string power_on_source;            // where they came from (or the assumption)
-    bool power_on_assumed = false;          // no record: the first sample is the power-on
+    std::vector<GyroSample> samples;       // every usable sample, time-ordered
+    std::vector<uint8_t> still;            // per sample: 1 when the table was at rest
+    std::vector<motion::TableMove> moves;  // table moves seen on the encoder
+    std::vector<int64_t> power_on_utimes;  // [us] distinct power-on times, ascending
+    std::string power_on_source;           // where they came from (or the assumption)
+    bool power_on_assumed = false;         // no record: the first sample is the power-on
     std::vector<PlateauInput> plateaus;
     std::vector<SensitivityInput> sensitivities;
     int64_t first_sample_utime = 0;  // [us]
@@ -101,10 +101,10 @@ struct SensorRun {
     bool has_encoder = false;
     int64_t n_bad_encoder = 0;    // encoder readings dropped: time not after the previous, no cpr
     bool motion_unknown = false;  // readings recorded, fewer than 2 usable (see the header)
-    int64_t initial_counts = 0;  // [count] first encoder reading (the rest position before moves)
-    int32_t counts_per_rev = 0;  // [count/rev] of that reading; 0 without encoder
-    std::vector<AirSample> air;  // chamber air, time-ordered, finite; empty: not recorded
-    int64_t n_bad_air = 0;       // air readings excluded (non-finite, repeated time)
+    int64_t initial_counts = 0;   // [count] first encoder reading (the rest position before moves)
+    int32_t counts_per_rev = 0;   // [count/rev] of that reading; 0 without encoder
+    std::vector<AirSample> air;   // chamber air, time-ordered, finite; empty: not recorded
+    int64_t n_bad_air = 0;        // air readings excluded (non-finite, repeated time)
     // [s] the median sample spacing, for a run whose samples are not kept (binned as they came:
     // bins_incremental.hpp); 0 when the samples are here (SamplePeriodS computes it from them).
     double sample_period_s = 0.0;

@@ -1,9 +1,9 @@
 #pragma once
 // Internal to gyrocal_analysis: one candidate's statistics at one selection step (analyze.hpp,
-// step 4) on the training rows: (a) z^2 of its coefficient with the autocorrelation-robust covariance (optionally with
-// a larger model's residuals as the noise), (b) the relative drop of the blocked-CV error, (c) its
-// size after projecting out the model. A shape parameter (dT/dt time constant, branch width, warm-up time constant) is found
-// by a 1-D search of its grid first.
+// step 4) on the training rows: (a) z^2 of its coefficient with the autocorrelation-robust
+// covariance (optionally with a larger model's residuals as the noise), (b) the relative drop of
+// the blocked-CV error, (c) its size after projecting out the model. A shape parameter (dT/dt time
+// constant, branch width, warm-up time constant) is found by a 1-D search of its grid first.
 #include <Eigen/Dense>
 #include <cmath>
 #include <string>

@@ -147,8 +147,8 @@ bool Passes(const StepScore& s, const Candidate& cand, int step, const Floor& fl
                             s.effect_rms_v > o.min_effect_floor_ratio * floor.offset_rms_v;
     if (s.ok && !big_enough)
         r.note = "effect RMS " + text::Sig(s.effect_rms_v, 3) + " V is below " +
-                 text::Sig(o.min_effect_floor_ratio, 3) + "x the noise floor " + text::Sig(floor.offset_rms_v, 3) +
-                 " V";
+                 text::Sig(o.min_effect_floor_ratio, 3) + "x the noise floor " +
+                 text::Sig(floor.offset_rms_v, 3) + " V";
     return s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && big_enough;
 }
 
@@ -322,7 +322,8 @@ void RemoveWeakTerms(Forward& f) {
         CandidateResult& r = f.last[effect];
         r.decision = Decision::kRejected;
         r.z2 = weakest_z2;
-        r.note = "removed on re-test with " + others + " in the model (z2 " + text::Sig(weakest_z2, 3) + ")";
+        r.note = "removed on re-test with " + others + " in the model (z2 " +
+                 text::Sig(weakest_z2, 3) + ")";
         f.sel.terms.erase(f.sel.terms.begin() + static_cast<long>(weakest));
         f.sel.added_effects.erase(f.sel.added_effects.begin() + static_cast<long>(weakest - nd));
         f.x = f.Design();

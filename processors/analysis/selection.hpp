@@ -14,9 +14,9 @@
 namespace gyrocal::analysis::detail {
 
 struct Selection {
-    std::vector<std::string> terms;           // declared terms + the added ones
-    std::vector<std::string> added_effects;   // effect of each added term, in order
-    std::vector<std::string> ambiguous;       // "a vs b"
+    std::vector<std::string> terms;          // declared terms + the added ones
+    std::vector<std::string> added_effects;  // effect of each added term, in order
+    std::vector<std::string> ambiguous;      // "a vs b"
     // Collinear pairs added whole (a, b, index of their "a vs b" in `ambiguous`): the caller says
     // in that entry what became of them (both kept, one not attributed, not confirmed).
     struct JointPair {

@@ -7,10 +7,9 @@
 // stretch of still data and RMS over the stretches), against the run's own floor (the Allan
 // deviation at the bin length of the residual: what white noise leaves in one bin).
 // Pure: no SQLite, no LCM, no clock.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "bins.hpp"
 #include "model/convert.hpp"
@@ -22,16 +21,16 @@ struct ValidationResult {
     std::string model_origin;
     int n_bins = 0;
     int n_stretches = 0;
-    int n_bins_outside_range = 0;       // bins outside the model's valid temperature range
+    int n_bins_outside_range = 0;  // bins outside the model's valid temperature range
     double temp_min_c = kNan, temp_max_c = kNan;  // [degC] of the validated bins
-    double offset_rms_v = kNan;         // [V]
-    double rate_rms_dps = kNan;         // [deg/s]
-    double drift_dph = kNan;            // [deg/h]
-    double floor_offset_rms_v = kNan;   // [V]
-    double floor_rate_rms_dps = kNan;   // [deg/s]
-    double floor_drift_dph = kNan;      // [deg/h] white-noise drift of one stretch
-    std::string power_on;               // where time since power-on came from
-    std::vector<std::string> notes;     // what could not be computed, and why
+    double offset_rms_v = kNan;                   // [V]
+    double rate_rms_dps = kNan;                   // [deg/s]
+    double drift_dph = kNan;                      // [deg/h]
+    double floor_offset_rms_v = kNan;             // [V]
+    double floor_rate_rms_dps = kNan;             // [deg/s]
+    double floor_drift_dph = kNan;                // [deg/h] white-noise drift of one stretch
+    std::string power_on;                         // where time since power-on came from
+    std::vector<std::string> notes;               // what could not be computed, and why
 };
 
 // Throws model::ModelError when the set is not usable.

@@ -61,7 +61,8 @@ Sample SampleOf(const Gyro& g) {
 struct Compensated {
     double rate_dps = 0.0;
     double angle_deg = 0.0;
-    double rate_stderr_dps = model::kUnknown;  // from the coefficient covariances (calibration only)
+    double rate_stderr_dps =
+        model::kUnknown;  // from the coefficient covariances (calibration only)
     int64_t coeff_set_id = -1;
     model::RangeFlag range = model::RangeFlag::kInRange;
     model::ModelInputs inputs;  // what the models were evaluated with

@@ -30,11 +30,12 @@ class CompensatorNode {
 public:
     // Throws BusError when LCM cannot be opened.
     explicit CompensatorNode(const CompensatorNodeOptions& options);
-    void Run();                              // until SIGINT/SIGTERM
-    // One dispatch round (tests): at most one message handled, its rates published; whether one was.
+    void Run();  // until SIGINT/SIGTERM
+    // One dispatch round (tests): at most one message handled, its rates published; whether one
+    // was.
     bool HandleFor(int timeout_ms);
     const StatusReporter& status() const { return status_; }
-    Bus& bus() { return bus_; }              // tests publish into it over memq://
+    Bus& bus() { return bus_; }  // tests publish into it over memq://
 
 private:
     void OnCoeffs(const coeff_set_t& m, const std::string& channel);

@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/channels.hpp"
-#include "runtime/process_main.hpp"
 #include "compensator/compensator_node.hpp"
+#include "runtime/process_main.hpp"
 
 int main(int argc, char** argv) {
     constexpr const char* kProcess = "gyrocal-compensator";

@@ -38,9 +38,9 @@
 // F(1, nu)^-1(1 - 0.0455) - 2, which keeps AIC's known-variance error rate (or below it, when
 // c < 1 is floored) and tends to 2 as nu grows (nu = 1: 193, 2: 18.5, 4: 6.2, 8: 3.6, 30: 2.4).
 // The price is power with few dof: a real but small cubic needs a larger drop (one unit alone on
-// five points, nu = 1, almost never shows one; hence the fitter's pooling). AICc's own correction 2K(K+1)/(n-K-1)
-// is not used: it corrects for a variance estimated separately inside each model by maximum
-// likelihood, and with the five points of a 5-setpoint run it is infinite for the quadratic
+// five points, nu = 1, almost never shows one; hence the fitter's pooling). AICc's own correction
+// 2K(K+1)/(n-K-1) is not used: it corrects for a variance estimated separately inside each model by
+// maximum likelihood, and with the five points of a 5-setpoint run it is infinite for the quadratic
 // (K = 4 counting c) and forbids the cubic outright, so a real cubic could never be found.
 // Without dof to estimate c (the largest candidate has none, and nothing is pooled) the
 // behaviour is that of known variances: c' = 1, band 2.
@@ -103,12 +103,12 @@ struct FitOptions {
     double min_temp_separation_c = 5.0;  // [degC] temperatures closer than this add no capacity
     double min_range_c = 20.0;           // [degC] hottest - coldest below this: refuse
     double same_level_tolerance_c =
-        1.0;                            // [degC] points this close are one temperature (levels.hpp)
-    int max_degree = 3;                 // highest polynomial degree order selection may choose
-    int fixed_degree = 0;               // 1..3: use this degree (wls); 0 = choose on evidence
+        1.0;               // [degC] points this close are one temperature (levels.hpp)
+    int max_degree = 3;    // highest polynomial degree order selection may choose
+    int fixed_degree = 0;  // 1..3: use this degree (wls); 0 = choose on evidence
     // Of the scaled design matrix (wls); above: refuse.
     double max_condition_number = kMaxLeastSquaresConditionNumber;
-    std::optional<double> t0_c;         // [degC] wls reference; default: midpoint rounded to 5
+    std::optional<double> t0_c;  // [degC] wls reference; default: midpoint rounded to 5
     // Overdispersion evidence from OTHER fits of the same kind (e.g. the run's other units): the
     // sum of their reference models' chi2 and of their dof (FitResult::reference_chi2/_dof),
     // added to this fit's own before c is formed. 0 and 0: this fit's own evidence only.

@@ -161,7 +161,8 @@ FitResult SelectOrder(const std::vector<FitPoint>& pts, const Geometry& g, doubl
         fits.push_back(std::move(f));
     }
     if (fits.empty()) {
-        FitResult why = FitWls(pts, model::PolynomialTerms(1), t0, quantity, o.max_condition_number);
+        FitResult why =
+            FitWls(pts, model::PolynomialTerms(1), t0, quantity, o.max_condition_number);
         why.level_temps_c = g.level_temps;
         return why;
     }

@@ -33,7 +33,8 @@ std::vector<Repeat> Repeatability(const std::vector<FitPoint>& points, const mod
                                   const model::Model& sensitivity, double tolerance_c,
                                   double z_limit) {
     std::vector<FitPoint> pts = points;
-    std::sort(pts.begin(), pts.end(), [](const FitPoint& a, const FitPoint& b) { return a.id < b.id; });
+    std::sort(pts.begin(), pts.end(),
+              [](const FitPoint& a, const FitPoint& b) { return a.id < b.id; });
     const model::Evaluator off(offset), sens(sensitivity);
     std::vector<Repeat> out;
     for (size_t j = 1; j < pts.size(); ++j) {

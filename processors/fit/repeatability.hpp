@@ -26,7 +26,7 @@ namespace gyrocal::fit {
 struct Repeat {
     double temp_c = 0;  // [degC] mean of the two visits
     int64_t first_id = 0, second_id = 0;
-    double first_temp_c = 0, second_temp_c = 0;  // [degC]
+    double first_temp_c = 0, second_temp_c = 0;   // [degC]
     int first_approach = 0, second_approach = 0;  // +1 from colder, -1 from hotter, 0 run start
     double diff_v = 0, diff_sigma_v = 0;          // [V] second - first
     double diff_dps = 0, diff_sigma_dps = 0;      // [deg/s]

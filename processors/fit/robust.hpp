@@ -3,10 +3,10 @@
 //
 // Outliers: a leave-one-out test. For each point i the model is fitted to the OTHER points, its
 // order chosen on their evidence (FitPolynomial: a point far off can make the fit on all points
-// buy a degree to chase it, or miss one the others need); the deleted residual r_i = y_i - yhat_(i) has
-// variance c_(i) sigma_i^2 + var(yhat_(i)), where c_(i) = max(1, overdispersion of the fit without
-// i, pooled with the other units' evidence as in fit.hpp) scales the point's stated error the
-// same way the fit scales its covariance. t_i = r_i / sqrt(that variance) is Student-t with nu
+// buy a degree to chase it, or miss one the others need); the deleted residual r_i = y_i - yhat_(i)
+// has variance c_(i) sigma_i^2 + var(yhat_(i)), where c_(i) = max(1, overdispersion of the fit
+// without i, pooled with the other units' evidence as in fit.hpp) scales the point's stated error
+// the same way the fit scales its covariance. t_i = r_i / sqrt(that variance) is Student-t with nu
 // dof (the dof of that overdispersion estimate; normal when it has none: errors as stated).
 // Leaving the point out is what makes the test robust: a point cannot pull the fit (or inflate
 // c) toward itself and hide. Threshold: |t_i| > t_nu quantile at two-sided alpha / n

@@ -49,9 +49,9 @@ FitResult FitWls(const std::vector<FitPoint>& pts, const std::vector<std::string
     lo.want_condition_number = true;
     const numeric::LeastSquares ls = numeric::SolveLeastSquares(A, y, &sigma, lo);
     if (ls.bad_column >= 0)
-        return Refuse(Refusal::kIllConditioned,
-                      "term '" + names[static_cast<size_t>(ls.bad_column)] +
-                          "' is zero at every point");
+        return Refuse(
+            Refusal::kIllConditioned,
+            "term '" + names[static_cast<size_t>(ls.bad_column)] + "' is zero at every point");
     const double cond = ls.condition_number;
     if (!(cond <= max_cond))
         return Refuse(Refusal::kIllConditioned,

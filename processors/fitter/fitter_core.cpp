@@ -9,9 +9,7 @@
 
 namespace gyrocal::fitter {
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 std::string CoreOptions::Problem() const {
     if (const std::string p = fit.Problem(); !p.empty()) return p;

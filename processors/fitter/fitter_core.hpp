@@ -62,10 +62,10 @@ std::vector<fit::FitPoint> RotationPoints(
     const std::map<int64_t, gyrocal::sensitivity_point_t>& rotations);
 
 struct CoreOptions {
-    fit::FitOptions fit;                           // shared by offset and sensitivity fits
+    fit::FitOptions fit;  // shared by offset and sensitivity fits
     fit::OutlierOptions outliers = fit::OutlierOptions::Defaults();
-    double pool_alpha = 0.01;                      // [1] of the pooling agreement test
-    double repeat_tolerance_c = 2.0;               // [degC] a return to a temperature (fit/repeatability.hpp)
+    double pool_alpha = 0.01;         // [1] of the pooling agreement test
+    double repeat_tolerance_c = 2.0;  // [degC] a return to a temperature (fit/repeatability.hpp)
     double nominal_sensitivity_v_per_dps = 0.006;  // [V/(deg/s)] ADXRS610 datasheet value
     // [deg/s] slow noise of a plateau mean that its standard error cannot show (see header);
     // < 0: from the run's own Allan deviation (NOISE_<id>); >= 0: this value (0 = none).
@@ -81,8 +81,8 @@ struct Rejection {
 };
 
 struct CoreOutput {
-    std::vector<gyrocal::coeff_set_t> publish;    // each on COEFFS_<sensor_id>
-    std::vector<gyrocal::fit_report_t> reports;   // each on FIT_<sensor_id>
+    std::vector<gyrocal::coeff_set_t> publish;   // each on COEFFS_<sensor_id>
+    std::vector<gyrocal::fit_report_t> reports;  // each on FIT_<sensor_id>
     std::vector<Rejection> rejections;
 };
 
@@ -132,8 +132,8 @@ private:
         Evidence offset_evidence, sens_evidence;
     };
     struct Refit {
-        bool emit = false;    // publish when changed
-        bool final = false;   // the run's stop: publish whatever can be published
+        bool emit = false;   // publish when changed
+        bool final = false;  // the run's stop: publish whatever can be published
         int64_t stop_utime = 0;
     };
     // FitCalibration with the pool of the other units; a unit whose own evidence then disagrees

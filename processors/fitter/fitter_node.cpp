@@ -13,9 +13,8 @@ constexpr const char* kProcess = "gyrocal-fitter";
 
 std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
     app.option_defaults()->always_capture_default();  // --help shows every option's default
-    app.add_option(
-        "--lcm-url", o.lcm_url,
-        "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(kDefaultLcmUrl) + ")");
+    app.add_option("--lcm-url", o.lcm_url,
+                   "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(kDefaultLcmUrl) + ")");
     app.add_option("--method", o.method,
                    "auto (3point with exactly 3 points, else wls), 3point, wls");
     app.add_option(
@@ -110,13 +109,13 @@ FitterNode::FitterNode(const FitterOptions& o)
                 Apply(core_.OnSensitivity(m, id));
             });
         });
-    bus_.Subscribe<noise_t>(channels::AllSensors(channels::kNoisePrefix),
-                            [this](const noise_t& m, const std::string& ch) {
-                                status_.Guarded([&] {
-                                    Apply(core_.OnNoise(
-                                        m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
-                                });
-                            });
+    bus_.Subscribe<noise_t>(
+        channels::AllSensors(channels::kNoisePrefix),
+        [this](const noise_t& m, const std::string& ch) {
+            status_.Guarded([&] {
+                Apply(core_.OnNoise(m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
+            });
+        });
     bus_.Subscribe<run_event_t>(
         std::string(channels::kRunEvent), [this](const run_event_t& m, const std::string&) {
             status_.Guarded([&] {
@@ -190,7 +189,8 @@ void FitterNode::UpdateStatus() {
         status_.SetExtra(id + ".offset_overdispersion", s.offset_overdispersion);
         status_.SetExtra(id + ".slow_noise_dps", s.slow_noise_dps);
     }
-    status_.set_state((any_fitted ? "fitted: " : "waiting: ") + (state.empty() ? "no points" : state));
+    status_.set_state((any_fitted ? "fitted: " : "waiting: ") +
+                      (state.empty() ? "no points" : state));
     status_.SetExtra("coeff_sets_published", static_cast<double>(core_.published()));
     status_.SetExtra("rotations_not_accepted", static_cast<double>(core_.not_accepted_rotations()));
     status_.SetExtra("duplicates", static_cast<double>(core_.duplicates()));

@@ -242,9 +242,9 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
         }
         return;
     }
-    const SlowNoise slow = ChooseSlowNoise(options_.plateau_slow_noise_dps,
-                                           options_.nominal_sensitivity_v_per_dps, s.noise,
-                                           s.plateaus, id);
+    const SlowNoise slow =
+        ChooseSlowNoise(options_.plateau_slow_noise_dps, options_.nominal_sensitivity_v_per_dps,
+                        s.noise, s.plateaus, id);
     OffsetPoints pts = PlateauPoints(s.plateaus, slow.v);
     std::string pool_note;
     const fit::CalibrationFit offset =
@@ -258,9 +258,9 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
     fit::CalibrationFit sens_fit;
     if (!s.rotations.empty())
         sens_fit = FitPooled(id, RotationPoints(s.rotations), false, s.sens_evidence, sens_note);
-    const Part sens = SensitivityPart(s.rotations, sens_fit, sens_note,
-                                      options_.nominal_sensitivity_v_per_dps, off.model,
-                                      pts.newest_utime);
+    const Part sens =
+        SensitivityPart(s.rotations, sens_fit, sens_note, options_.nominal_sensitivity_v_per_dps,
+                        off.model, pts.newest_utime);
 
     model::CoeffSet set;
     set.sensor_id = id;
@@ -278,13 +278,13 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
         msg = model::ToMsg(set);
         (void)model::FromMsg(msg);  // the exact check every consumer will apply
     } catch (const model::ModelError& e) {
-        out.rejections.push_back({"model_mismatch", id + ": coefficient set not published: " + e.what()});
+        out.rejections.push_back(
+            {"model_mismatch", id + ": coefficient set not published: " + e.what()});
         return;
     }
-    const gyrocal::fit_report_t report =
-        MakeReport(set, how.final, off, sens, slow,
-                   fit::Repeatability(pts.points, set.offset, set.sensitivity,
-                                      options_.repeat_tolerance_c));
+    const gyrocal::fit_report_t report = MakeReport(
+        set, how.final, off, sens, slow,
+        fit::Repeatability(pts.points, set.offset, set.sensitivity, options_.repeat_tolerance_c));
     s.last_refusal.clear();
     Summarize(s.summary, offset.fit, off, sens, report);
     if (!how.emit) return;
@@ -299,8 +299,8 @@ void FitterCore::RefitSensor(const std::string& id, SensorState& s, const Refit&
 }
 
 fit::CalibrationFit FitterCore::FitPooled(const std::string& id,
-                                         const std::vector<fit::FitPoint>& points, bool offset,
-                                         Evidence& evidence, std::string& note) const {
+                                          const std::vector<fit::FitPoint>& points, bool offset,
+                                          Evidence& evidence, std::string& note) const {
     const std::string quantity = offset ? model::kOffsetQuantity : model::kSensitivityQuantity;
     const fit::FitOptions pooled = Pooled(id, offset, note);
     fit::CalibrationFit c = fit::FitCalibration(points, quantity, pooled, options_.outliers);
@@ -313,7 +313,8 @@ fit::CalibrationFit FitterCore::FitPooled(const std::string& id,
                           {pooled.pooled_chi2, pooled.pooled_dof}, options_.pool_alpha);
     if (!disagrees.empty()) {
         // Its scatter is not the others': its own evidence only; what the test left out stays out.
-        fit::CalibrationFit own = fit::FitCalibration(c.kept, quantity, options_.fit, options_.outliers);
+        fit::CalibrationFit own =
+            fit::FitCalibration(c.kept, quantity, options_.fit, options_.outliers);
         own.excluded.insert(own.excluded.begin(), c.excluded.begin(), c.excluded.end());
         c = std::move(own);
         note = "this unit's " + disagrees + (note.empty() ? "" : "; " + note);
@@ -326,10 +327,10 @@ void FitterCore::NotYet(const std::string& id, SensorState& s, const fit::Calibr
                         const Refit& how, CoreOutput& out) {
     // Too few temperatures is the normal state early in a run; anything else is worth a STATUS
     // line, once per change of reason.
-    const std::string why = offset.fit.ok() ? "offset partial: " + offset.partial_reason
-                                            : std::string("offset refused: ") +
-                                                  fit::ToString(offset.fit.refusal) + ": " +
-                                                  offset.fit.detail;
+    const std::string why = offset.fit.ok()
+                                ? "offset partial: " + offset.partial_reason
+                                : std::string("offset refused: ") +
+                                      fit::ToString(offset.fit.refusal) + ": " + offset.fit.detail;
     s.summary.fitted = false;
     s.summary.complete = false;
     s.summary.text = why;

@@ -2,8 +2,8 @@
 // fitter_core.hpp for the decisions).
 #include <CLI/CLI.hpp>
 
-#include "runtime/process_main.hpp"
 #include "fitter/fitter_node.hpp"
+#include "runtime/process_main.hpp"
 
 int main(int argc, char** argv) {
     gyrocal::FitterOptions o = gyrocal::FitterOptions::Defaults();
@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-fitter", validate))
         return *exit_code;
     if (o.mode == "ramp")
-        return gyrocal::RunUntilStopped("gyrocal-fitter", [&] { gyrocal::RampFitterNode(o).Run(); });
+        return gyrocal::RunUntilStopped("gyrocal-fitter",
+                                        [&] { gyrocal::RampFitterNode(o).Run(); });
     return gyrocal::RunUntilStopped("gyrocal-fitter", [&] { gyrocal::FitterNode(o).Run(); });
 }

@@ -70,7 +70,8 @@ size_t StillFitChannel::Publish() {
         bus_.Publish(channels::Fit(r.sensor_id), r.report);
         // The analysis of a final fit (one per unit and run: the store keeps each one it hears).
         if (r.report.is_final)
-            if (const auto a = fitter::AnalysisMessage(r, r.report.run_id, fitter_.options().source))
+            if (const auto a =
+                    fitter::AnalysisMessage(r, r.report.run_id, fitter_.options().source))
                 bus_.Publish(channels::Analysis(r.sensor_id), *a);
         status_.SetExtra(r.sensor_id + "." + fitter_.options().source + ".fitted",
                          r.set ? 1.0 : 0.0);

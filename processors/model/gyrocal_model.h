@@ -39,14 +39,14 @@
 #include <math.h>
 #include <stdint.h>
 
-#define GYROCAL_NOMINAL_SUPPLY_V 5.0      /* [V] supply terms are taken about this */
-#define GYROCAL_DEFAULT_RATE_TAU_S 5.0    /* [s] time constant of "dTdt" without a parameter */
-#define GYROCAL_SIGN_BRANCH_WIDTH_C 1.0   /* [degC] play-operator width of "heating" */
+#define GYROCAL_NOMINAL_SUPPLY_V 5.0    /* [V] supply terms are taken about this */
+#define GYROCAL_DEFAULT_RATE_TAU_S 5.0  /* [s] time constant of "dTdt" without a parameter */
+#define GYROCAL_SIGN_BRANCH_WIDTH_C 1.0 /* [degC] play-operator width of "heating" */
 
 #define GYROCAL_CLIP 0        /* temp_c clipped to [temp_min_c, temp_max_c] */
 #define GYROCAL_EXTRAPOLATE 1 /* the polynomial used outside the range the fit saw */
 
-#define GYROCAL_IN_RANGE 0     /* range flags (rate_t.range_flag) */
+#define GYROCAL_IN_RANGE 0 /* range flags (rate_t.range_flag) */
 #define GYROCAL_CLIPPED 1
 #define GYROCAL_EXTRAPOLATED 2
 
@@ -105,22 +105,31 @@ static inline double gyrocal_sign(double v) {
 static inline double gyrocal_term_value(const gyrocal_term_t *t, double dT,
                                         const gyrocal_inputs_t *in) {
     switch (t->kind) {
-    case GYROCAL_TERM_ONE: return 1.0;
-    case GYROCAL_TERM_DT: return dT;
-    case GYROCAL_TERM_DT2: return dT * dT;
-    case GYROCAL_TERM_DT3: return dT * dT * dT;
-    case GYROCAL_TERM_DTDT: {
-        const double tau = t->param > 0.0 ? t->param : GYROCAL_DEFAULT_RATE_TAU_S;
-        return in->rate_tau_s == tau ? in->dtemp_dt_c_per_s : NAN;
-    }
-    case GYROCAL_TERM_HEATING:
-        return in->branch_width_c == GYROCAL_SIGN_BRANCH_WIDTH_C ? gyrocal_sign(in->heating)
-                                                                 : NAN;
-    case GYROCAL_TERM_BRANCH: return in->branch_width_c == t->param ? in->branch : NAN;
-    case GYROCAL_TERM_SUPPLY: return in->supply_v - GYROCAL_NOMINAL_SUPPLY_V;
-    case GYROCAL_TERM_DIRECTION: return gyrocal_sign(in->direction);
-    case GYROCAL_TERM_WARMUP: return exp(-in->time_since_power_s / t->param);
-    default: return NAN;
+        case GYROCAL_TERM_ONE:
+            return 1.0;
+        case GYROCAL_TERM_DT:
+            return dT;
+        case GYROCAL_TERM_DT2:
+            return dT * dT;
+        case GYROCAL_TERM_DT3:
+            return dT * dT * dT;
+        case GYROCAL_TERM_DTDT: {
+            const double tau = t->param > 0.0 ? t->param : GYROCAL_DEFAULT_RATE_TAU_S;
+            return in->rate_tau_s == tau ? in->dtemp_dt_c_per_s : NAN;
+        }
+        case GYROCAL_TERM_HEATING:
+            return in->branch_width_c == GYROCAL_SIGN_BRANCH_WIDTH_C ? gyrocal_sign(in->heating)
+                                                                     : NAN;
+        case GYROCAL_TERM_BRANCH:
+            return in->branch_width_c == t->param ? in->branch : NAN;
+        case GYROCAL_TERM_SUPPLY:
+            return in->supply_v - GYROCAL_NOMINAL_SUPPLY_V;
+        case GYROCAL_TERM_DIRECTION:
+            return gyrocal_sign(in->direction);
+        case GYROCAL_TERM_WARMUP:
+            return exp(-in->time_since_power_s / t->param);
+        default:
+            return NAN;
     }
 }
 
@@ -180,15 +189,15 @@ static inline gyrocal_tracker_config_t gyrocal_tracker_config_default(void) {
 
 typedef struct {
     gyrocal_tracker_config_t config;
-    int started;              /* a sample has been seen */
-    int64_t last_utime;       /* [us] newest sample */
-    double fast_c, slow_c;    /* [degC] averages of temp_c over tau and 2 tau */
-    double rate_c_per_s;      /* [degC/s] newest dT/dt */
-    double memory_c;          /* [degC] play-operator memory */
-    double branch, heating;   /* [1] newest branch outputs */
-    int has_power_on;         /* power_on_utime is set */
-    int power_on_assumed;     /* power_on_utime is the first sample's (not a power-on record) */
-    int64_t power_on_utime;   /* [us] */
+    int started;            /* a sample has been seen */
+    int64_t last_utime;     /* [us] newest sample */
+    double fast_c, slow_c;  /* [degC] averages of temp_c over tau and 2 tau */
+    double rate_c_per_s;    /* [degC/s] newest dT/dt */
+    double memory_c;        /* [degC] play-operator memory */
+    double branch, heating; /* [1] newest branch outputs */
+    int has_power_on;       /* power_on_utime is set */
+    int power_on_assumed;   /* power_on_utime is the first sample's (not a power-on record) */
+    int64_t power_on_utime; /* [us] */
 } gyrocal_tracker_t;
 
 static inline void gyrocal_tracker_init(gyrocal_tracker_t *t, gyrocal_tracker_config_t config) {
@@ -260,23 +269,22 @@ typedef struct {
     const gyrocal_model_t *sensitivity; /* sensitivity_v_per_dps [V/(deg/s)] */
     int policy;                         /* GYROCAL_CLIP or GYROCAL_EXTRAPOLATE */
     gyrocal_tracker_t tracker;
-    int integrating;                    /* angle_deg holds an integral */
-    int64_t last_utime;                 /* [us] newest compensated sample */
-    double last_rate_dps;               /* [deg/s] */
-    double angle_deg;                   /* [deg] trapezoid integral of rate_dps since it began */
+    int integrating;      /* angle_deg holds an integral */
+    int64_t last_utime;   /* [us] newest compensated sample */
+    double last_rate_dps; /* [deg/s] */
+    double angle_deg;     /* [deg] trapezoid integral of rate_dps since it began */
 } gyrocal_compensator_t;
 
 typedef struct {
     gyrocal_inputs_t inputs; /* what the models were evaluated with */
     double offset_v;         /* [V] */
     double sensitivity_v_per_dps;
-    double rate_dps;         /* [deg/s] NAN when not computable */
-    double angle_deg;        /* [deg] */
-    int range_flag;          /* GYROCAL_IN_RANGE / _CLIPPED / _EXTRAPOLATED (the worse of both) */
+    double rate_dps;  /* [deg/s] NAN when not computable */
+    double angle_deg; /* [deg] */
+    int range_flag;   /* GYROCAL_IN_RANGE / _CLIPPED / _EXTRAPOLATED (the worse of both) */
 } gyrocal_rate_t;
 
-static inline void gyrocal_compensator_init(gyrocal_compensator_t *c,
-                                            const gyrocal_model_t *offset,
+static inline void gyrocal_compensator_init(gyrocal_compensator_t *c, const gyrocal_model_t *offset,
                                             const gyrocal_model_t *sensitivity, int policy,
                                             gyrocal_tracker_config_t config) {
     c->offset = offset;
@@ -314,8 +322,8 @@ static inline int gyrocal_compensate(gyrocal_compensator_t *c, int64_t utime, do
         return 0;
     }
     if (c->integrating)
-        c->angle_deg += 0.5 * (c->last_rate_dps + r->rate_dps) * 1e-6 *
-                        (double)(utime - c->last_utime);
+        c->angle_deg +=
+            0.5 * (c->last_rate_dps + r->rate_dps) * 1e-6 * (double)(utime - c->last_utime);
     c->integrating = 1;
     c->last_rate_dps = r->rate_dps;
     c->last_utime = utime;

@@ -31,7 +31,9 @@ gyrocal_tracker_config_t TrackerConfigFor(const std::vector<const Model*>& model
 
 gyrocal_tracker_config_t TrackerConfigFor(const Model& model) { return TrackerConfigFor({&model}); }
 
-InputTracker::InputTracker(gyrocal_tracker_config_t config) { gyrocal_tracker_init(&state_, config); }
+InputTracker::InputTracker(gyrocal_tracker_config_t config) {
+    gyrocal_tracker_init(&state_, config);
+}
 
 void InputTracker::PowerOn(int64_t power_on_utime) {
     gyrocal_tracker_power_on(&state_, power_on_utime);

@@ -45,7 +45,8 @@ bool ResolveTerm(std::string_view name, ResolvedTerm* out, std::string* error) {
     const auto open = name.find('(');
     if (open != std::string_view::npos) {
         if (name.back() != ')' || open + 2 > name.size() - 1)
-            return Fail(error, "term '" + std::string(name) + "' is malformed: write name(<number>)");
+            return Fail(error,
+                        "term '" + std::string(name) + "' is malformed: write name(<number>)");
         base = name.substr(0, open);
         param_text = name.substr(open + 1, name.size() - open - 2);
     }
@@ -70,11 +71,12 @@ bool ResolveTerm(std::string_view name, ResolvedTerm* out, std::string* error) {
         return true;
     }
     if (base_known)
-        return Fail(error, "term '" + std::string(name) + "': '" + std::string(base) +
-                               (has_param ? "' takes no parameter"
-                                          : "' needs a parameter, e.g. " + std::string(base) +
-                                                "(600)"));
-    return Fail(error, "unknown term '" + std::string(name) + "' (known: " + KnownTermNames() + ")");
+        return Fail(error,
+                    "term '" + std::string(name) + "': '" + std::string(base) +
+                        (has_param ? "' takes no parameter"
+                                   : "' needs a parameter, e.g. " + std::string(base) + "(600)"));
+    return Fail(error,
+                "unknown term '" + std::string(name) + "' (known: " + KnownTermNames() + ")");
 }
 
 std::string KnownTermNames() {

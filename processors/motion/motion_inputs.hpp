@@ -11,11 +11,11 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "motion/table_motion.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal::motion {
 

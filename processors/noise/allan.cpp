@@ -16,7 +16,8 @@ constexpr double kLn2 = 0.69314718055994530942;
 // Equivalent degrees of freedom of one segment of n phase points at m (see header).
 double SegmentEdf(double n, double m) {
     if (n < 2 * m + 1) return 0.0;
-    const double white = (3.0 * (n - 1) / (2.0 * m) - 2.0 * (n - 2) / n) * 4 * m * m / (4 * m * m + 5);
+    const double white =
+        (3.0 * (n - 1) / (2.0 * m) - 2.0 * (n - 2) / n) * 4 * m * m / (4 * m * m + 5);
     const double flicker =
         m < 2 ? 2.0 * (n - 2) * (n - 2) / (2.3 * n - 4.9) : 5.0 * n * n / (4.0 * m * (n + 3.0 * m));
     return std::max(1.0, std::min(white, flicker));
@@ -50,9 +51,11 @@ TermFit SolveTerms(const std::vector<AllanPoint>& pts, double min_rrw_tau_s) {
             Eigen::VectorXd y(n);
             for (Eigen::Index i = 0; i < n; ++i) {
                 const double tau = pts[i].tau_s;
-                const double w = std::sqrt(std::max(pts[i].edf, 1.0) / 2.0) / std::max(model[i], 1e-300);
+                const double w =
+                    std::sqrt(std::max(pts[i].edf, 1.0) / 2.0) / std::max(model[i], 1e-300);
                 const double row[3] = {1.0 / tau, 1.0, tau / 3.0};
-                for (size_t c = 0; c < cols.size(); ++c) a(i, static_cast<Eigen::Index>(c)) = w * row[cols[c]];
+                for (size_t c = 0; c < cols.size(); ++c)
+                    a(i, static_cast<Eigen::Index>(c)) = w * row[cols[c]];
                 y[i] = w * pts[i].adev * pts[i].adev;
             }
             // Rows already whitened by w: ordinary least squares on them is the weighted fit.
@@ -62,7 +65,8 @@ TermFit SolveTerms(const std::vector<AllanPoint>& pts, double min_rrw_tau_s) {
                 const double tau = pts[i].tau_s;
                 const double row[3] = {1.0 / tau, 1.0, tau / 3.0};
                 double v = 0;
-                for (size_t c = 0; c < cols.size(); ++c) v += row[cols[c]] * ls.coeffs[static_cast<Eigen::Index>(c)];
+                for (size_t c = 0; c < cols.size(); ++c)
+                    v += row[cols[c]] * ls.coeffs[static_cast<Eigen::Index>(c)];
                 model[i] = std::max(v, 1e-3 * pts[i].adev * pts[i].adev);
             }
         }
@@ -81,7 +85,8 @@ TermFit SolveTerms(const std::vector<AllanPoint>& pts, double min_rrw_tau_s) {
         for (size_t c = 0; c < cols.size(); ++c) {
             f.theta[cols[c]] = ls.coeffs[static_cast<Eigen::Index>(c)];
             for (size_t d = 0; d < cols.size(); ++d)
-                f.cov(cols[c], cols[d]) = cov(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(d));
+                f.cov(cols[c], cols[d]) =
+                    cov(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(d));
         }
         f.ok = true;
         return f;
@@ -108,7 +113,8 @@ std::vector<int64_t> TauGrid(int64_t max_m) {
     return grid;
 }
 
-SegmentSums SumSegment(const std::vector<double>& y, double tau0_s, const std::vector<int64_t>& grid) {
+SegmentSums SumSegment(const std::vector<double>& y, double tau0_s,
+                       const std::vector<int64_t>& grid) {
     SegmentSums s;
     const auto m_bins = static_cast<int64_t>(y.size());
     s.bins = m_bins;
@@ -175,15 +181,18 @@ std::vector<SegmentSums> ScreenSegments(const std::vector<SegmentSums>& segments
             double sum = 0, edf = 0;
             int64_t terms = 0;
             for (const SegmentSums& g : kept)
-                if (g.terms[j] > 0) sum += g.sum_sq[j], terms += g.terms[j], edf += SegmentEdf(g.bins + 1, m);
+                if (g.terms[j] > 0)
+                    sum += g.sum_sq[j], terms += g.terms[j], edf += SegmentEdf(g.bins + 1, m);
             for (size_t k = 0; k < kept.size(); ++k) {
                 const SegmentSums& g = kept[k];
                 if (g.terms[j] == 0 || terms == g.terms[j]) continue;
                 const double e_s = SegmentEdf(g.bins + 1, m), e_r = edf - e_s;
-                const double ratio = (g.sum_sq[j] / g.terms[j]) /
-                                     ((sum - g.sum_sq[j]) / static_cast<double>(terms - g.terms[j]));
+                const double ratio =
+                    (g.sum_sq[j] / g.terms[j]) /
+                    ((sum - g.sum_sq[j]) / static_cast<double>(terms - g.terms[j]));
                 const double limit = std::max(4.0, numeric::FUpperQuantile(per_test, e_s, e_r));
-                if (ratio / limit > worst_excess) worst_excess = ratio / limit, worst = static_cast<int>(k);
+                if (ratio / limit > worst_excess)
+                    worst_excess = ratio / limit, worst = static_cast<int>(k);
             }
         }
         if (worst < 0) break;
@@ -222,9 +231,9 @@ NoiseTerms FitTerms(const std::vector<SegmentSums>& segments, double tau0_s,
         double sums[3] = {0, 0, 0}, squares[3] = {0, 0, 0};
         int n = 0;
         for (size_t s = 0; s < segments.size(); ++s) {
-            const TermFit f = SolveTerms(
-                FromTau(Combine(segments, tau0_s, grid, static_cast<int>(s)), min_tau_s),
-                min_rrw_tau_s);
+            const TermFit f =
+                SolveTerms(FromTau(Combine(segments, tau0_s, grid, static_cast<int>(s)), min_tau_s),
+                           min_rrw_tau_s);
             if (!f.ok) continue;
             ++n;
             for (int j = 0; j < 3; ++j) {
@@ -236,7 +245,8 @@ NoiseTerms FitTerms(const std::vector<SegmentSums>& segments, double tau0_s,
         double se[3];
         for (int j = 0; j < 3; ++j) {
             const double mean = n > 0 ? sums[j] / n : 0.0;
-            se[j] = n > 1 ? std::sqrt(std::max(0.0, (n - 1.0) / n * (squares[j] - n * mean * mean))) : kNaN;
+            se[j] = n > 1 ? std::sqrt(std::max(0.0, (n - 1.0) / n * (squares[j] - n * mean * mean)))
+                          : kNaN;
         }
         t.arw_se = se[0], t.bias_se = se[1], t.rrw_se = se[2];
         t.note += std::string(t.note.empty() ? "" : "; ") + "standard errors: jackknife over " +
@@ -273,8 +283,12 @@ double WindowFlickerIntegral(double a) {
     double total = 0.0;
     double lo = a;
     if (lo < 1.0) {
-        total += simpson([&](double s) { const double u = std::exp(s); return f(u) * u; },
-                         std::log(lo), 0.0, 2000);
+        total += simpson(
+            [&](double s) {
+                const double u = std::exp(s);
+                return f(u) * u;
+            },
+            std::log(lo), 0.0, 2000);
         lo = 1.0;
     }
     total += simpson(f, lo, kTailStart, 40000);

@@ -21,9 +21,10 @@
 // and the rest refitted. K is fitted only when the points reach tau >= min_rrw_tau_s (300 s):
 // below that a random walk cannot be told from the flicker floor's slow rise (an OU bank's
 // components with correlation times of ~100-1000 s), and a K fitted there, extrapolated to a run
-// of hours, would make the slow noise several times too large. Points at different tau share data, so the WLS covariance understates
-// the uncertainty; the standard errors are the jackknife over segments (leave one segment out,
-// refit) when there are at least 3 segments, else the WLS ones (said in the note).
+// of hours, would make the slow noise several times too large. Points at different tau share data,
+// so the WLS covariance understates the uncertainty; the standard errors are the jackknife over
+// segments (leave one segment out, refit) when there are at least 3 segments, else the WLS ones
+// (said in the note).
 //
 // The slow noise of a window mean: a plateau's standard error comes from the scatter inside its
 // window and misses noise slower than the window. Its variance, for a mean over w_s within a run
@@ -32,19 +33,18 @@
 //         I(a) = integral_a^inf sin^2(u) / u^3 du   (the window's sinc^2 transfer, u = pi f w)
 //     random walk K: K^2 span / 6   (variance of a random walk about its mean over the span)
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
-
-#include <limits>
 
 namespace gyrocal::noise {
 
 // Running sums of one segment at each tau of the grid.
 struct SegmentSums {
-    double length_s = 0;       // [s] M tau0
-    int64_t bins = 0;          // M
-    std::vector<double> sum_sq;   // per tau index: sum of squared second differences of x
-    std::vector<int64_t> terms;   // per tau index: M - 2m + 1 (0 when the segment is too short)
+    double length_s = 0;         // [s] M tau0
+    int64_t bins = 0;            // M
+    std::vector<double> sum_sq;  // per tau index: sum of squared second differences of x
+    std::vector<int64_t> terms;  // per tau index: M - 2m + 1 (0 when the segment is too short)
 };
 
 struct AllanPoint {
@@ -52,8 +52,8 @@ struct AllanPoint {
     double adev = 0;     // [unit]
     double adev_lo = 0;  // [unit] 68 % interval
     double adev_hi = 0;
-    double edf = 0;      // [1]
-    int64_t terms = 0;   // overlapping differences summed
+    double edf = 0;     // [1]
+    int64_t terms = 0;  // overlapping differences summed
 };
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -70,7 +70,8 @@ struct NoiseTerms {
 std::vector<int64_t> TauGrid(int64_t max_m);
 
 // The sums of one segment of bins y (length tau0_s each) at each m of `grid`.
-SegmentSums SumSegment(const std::vector<double>& y, double tau0_s, const std::vector<int64_t>& grid);
+SegmentSums SumSegment(const std::vector<double>& y, double tau0_s,
+                       const std::vector<int64_t>& grid);
 
 // Segments that disagree with the others: a disturbance inside a still stretch (a knock, a step
 // of the offset) inflates that segment's Allan variance by orders of magnitude and would make the

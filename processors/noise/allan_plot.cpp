@@ -43,7 +43,8 @@ plot::Figure MakeAllanPlot(const AllanPlotInput& in) {
     f.series = {{f.name, Style::kBand, {1, 3, 4}, "68 % interval", "", 0},
                 {f.name, Style::kPoints, {1, 2}, "measured", "", 0}};
     if (n > 0 || b > 0 || k > 0)
-        f.series.push_back({f.name, Style::kLines, {1, 5}, "fit sqrt(N^2/tau + B^2 + K^2 tau/3)", "", 0});
+        f.series.push_back(
+            {f.name, Style::kLines, {1, 5}, "fit sqrt(N^2/tau + B^2 + K^2 tau/3)", "", 0});
     // An asymptote only for a fitted term: a term the data could not reach (e.g. K on a run whose
     // longest still stretch is short) has no line, and its key entry would claim one.
     struct Asymptote {

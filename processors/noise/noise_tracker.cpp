@@ -19,9 +19,12 @@ std::string TrackerConfig::Validate() const {
     if (!In(quiet_slope_c_per_min, 0.001, 10))
         return "--noise-quiet-slope-c-per-min must be in [0.001, 10] degC/min";
     if (!In(slope_window_s, 1, 3600)) return "--noise-slope-window-s must be in [1, 3600] s";
-    if (!In(min_segment_s, 4 * bin_s, 86400)) return "--noise-min-segment-s must be in [4 bins, 86400] s";
-    if (!In(min_fit_tau_s, bin_s, 100)) return "--noise-min-fit-tau-s must be in [--noise-bin-s, 100] s";
-    if (!In(max_tau_s, min_fit_tau_s, 1e6)) return "--noise-max-tau-s must be at least --noise-min-fit-tau-s (and <= 1e6 s)";
+    if (!In(min_segment_s, 4 * bin_s, 86400))
+        return "--noise-min-segment-s must be in [4 bins, 86400] s";
+    if (!In(min_fit_tau_s, bin_s, 100))
+        return "--noise-min-fit-tau-s must be in [--noise-bin-s, 100] s";
+    if (!In(max_tau_s, min_fit_tau_s, 1e6))
+        return "--noise-max-tau-s must be at least --noise-min-fit-tau-s (and <= 1e6 s)";
     return "";
 }
 
@@ -99,7 +102,8 @@ void NoiseTracker::Segment(const std::vector<Bin>& bins, std::vector<SegmentSums
             std::vector<double> ts(b - a), y(b - a);
             double mt = 0, my = 0;
             for (size_t i = a; i < b; ++i) {
-                const size_t lo = std::max(a, i > smooth ? i - smooth : 0), hi = std::min(b, i + smooth + 1);
+                const size_t lo = std::max(a, i > smooth ? i - smooth : 0),
+                             hi = std::min(b, i + smooth + 1);
                 ts[i - a] = temp.Mean(lo, hi);
                 y[i - a] = bins[i].value;
                 mt += ts[i - a];
@@ -139,7 +143,8 @@ NoiseEstimate NoiseTracker::Estimate() const {
     e.segments = static_cast<int>(segments.size());
     e.adev = Combine(segments, tau0_s_, grid_);
     e.terms = FitTerms(segments, tau0_s_, grid_, config_.min_fit_tau_s);
-    if (!screened.empty()) e.terms.note = screened + (e.terms.note.empty() ? "" : "; " + e.terms.note);
+    if (!screened.empty())
+        e.terms.note = screened + (e.terms.note.empty() ? "" : "; " + e.terms.note);
     return e;
 }
 

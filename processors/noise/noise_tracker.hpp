@@ -28,30 +28,30 @@
 namespace gyrocal::noise {
 
 struct TrackerConfig {
-    double bin_s = 0.1;                 // [s] tau0 (at least one sample interval)
-    double quiet_slope_c_per_min = 0.1; // [degC/min] thermally quiet
-    double slope_window_s = 60.0;       // [s] line fit for the slope
-    double min_segment_s = 60.0;        // [s] shorter quiet runs are not used
-    double min_fit_tau_s = 0.5;         // [s] shortest tau in the terms' fit (above the low-pass)
-    double max_tau_s = 2000.0;          // [s] grid limit
+    double bin_s = 0.1;                  // [s] tau0 (at least one sample interval)
+    double quiet_slope_c_per_min = 0.1;  // [degC/min] thermally quiet
+    double slope_window_s = 60.0;        // [s] line fit for the slope
+    double min_segment_s = 60.0;         // [s] shorter quiet runs are not used
+    double min_fit_tau_s = 0.5;          // [s] shortest tau in the terms' fit (above the low-pass)
+    double max_tau_s = 2000.0;           // [s] grid limit
     static TrackerConfig Defaults() { return {}; }
     std::string Validate() const;  // "" when valid
 };
 
 struct NoiseSample {
-    int64_t utime = 0;   // [us]
+    int64_t utime = 0;  // [us]
     int64_t seq = 0;
-    double value = 0;    // [unit] e.g. gyro_v
-    double temp_c = 0;   // [degC]
+    double value = 0;   // [unit] e.g. gyro_v
+    double temp_c = 0;  // [degC]
     bool moving = false;
 };
 
 struct NoiseEstimate {
-    int64_t utime = 0;        // [us] newest sample included
-    double still_s = 0;       // [s] in the quiet segments used
+    int64_t utime = 0;   // [us] newest sample included
+    double still_s = 0;  // [s] in the quiet segments used
     int segments = 0;
-    double longest_s = 0;     // [s] longest segment
-    double tau0_s = 0;        // [s] bin length
+    double longest_s = 0;  // [s] longest segment
+    double tau0_s = 0;     // [s] bin length
     std::vector<AllanPoint> adev;
     NoiseTerms terms;
 };

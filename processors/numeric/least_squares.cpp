@@ -34,9 +34,9 @@ LeastSquares SolveLeastSquares(const MatrixXd& x, const VectorXd& y, const Vecto
                                const LeastSquaresOptions& o) {
     const Index n = x.rows(), p = x.cols();
     if (y.size() != n || (sigma && sigma->size() != n))
-        throw std::invalid_argument("least squares: " + std::to_string(n) + " design rows, " +
-                                    std::to_string(y.size()) + " values" +
-                                    (sigma ? ", " + std::to_string(sigma->size()) + " sigmas" : ""));
+        throw std::invalid_argument(
+            "least squares: " + std::to_string(n) + " design rows, " + std::to_string(y.size()) +
+            " values" + (sigma ? ", " + std::to_string(sigma->size()) + " sigmas" : ""));
     if (p == 0 || n < p)
         return Refused(std::to_string(p) + " terms need at least " + std::to_string(p) +
                        " rows, have " + std::to_string(n));
@@ -52,8 +52,8 @@ LeastSquares SolveLeastSquares(const MatrixXd& x, const VectorXd& y, const Vecto
     const VectorXd s = a.colwise().norm();
     for (Index j = 0; j < p; ++j)
         if (!(s[j] > 0.0) || !std::isfinite(s[j])) {
-            LeastSquares r = Refused("column " + std::to_string(j) +
-                                     " is zero at every row or not finite");
+            LeastSquares r =
+                Refused("column " + std::to_string(j) + " is zero at every row or not finite");
             r.bad_column = static_cast<int>(j);
             return r;
         }

@@ -41,11 +41,11 @@ struct LeastSquaresOptions {
 
 struct LeastSquares {
     bool ok = false;
-    std::string why;              // when !ok
-    Eigen::VectorXd coeffs;       // [unit of y / unit of column j]
-    Eigen::MatrixXd xtwx_inv;     // (X'WX)^-1: the covariance when sigma is the true noise
-    Eigen::VectorXd residuals;    // y - X c (not whitened)
-    double rss = 0.0;             // sum of the WHITENED squared residuals (chi2 with sigma)
+    std::string why;            // when !ok
+    Eigen::VectorXd coeffs;     // [unit of y / unit of column j]
+    Eigen::MatrixXd xtwx_inv;   // (X'WX)^-1: the covariance when sigma is the true noise
+    Eigen::VectorXd residuals;  // y - X c (not whitened)
+    double rss = 0.0;           // sum of the WHITENED squared residuals (chi2 with sigma)
     int rank = 0;
     int bad_column = -1;          // a column that is zero or not finite at every row (!ok)
     double condition_number = 0;  // of the scaled design; 0 when not asked for (kept on refusals)

@@ -122,8 +122,8 @@ struct StateReport {
 };
 
 struct Step {
-    std::optional<StateReport> state;  // set at most every state_period_s and on state changes
-    std::optional<Plateau> plateau;    // set when an averaging window completes
+    std::optional<StateReport> state;    // set at most every state_period_s and on state changes
+    std::optional<Plateau> plateau;      // set when an averaging window completes
     std::optional<std::string> refused;  // an averaging window thrown away, and why
 };
 

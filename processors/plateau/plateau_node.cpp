@@ -121,8 +121,9 @@ void PlateauNode::OnRunEvent(const run_event_t& m) {
         for (auto& [id, sensor] : sensors_) sensor->detector.OnSetpointEvent(m.setpoint_c);
         if (std::isfinite(m.setpoint_c)) chamber_setpoint_c_ = m.setpoint_c;
     } else if (m.event != "rotation") {
-        status_.Reject("unknown event", "RUN_EVENT: event '" + m.event +
-                                            "' is not start, setpoint, rotation, restart, stop or abort");
+        status_.Reject("unknown event",
+                       "RUN_EVENT: event '" + m.event +
+                           "' is not start, setpoint, rotation, restart, stop or abort");
     }
 }
 

@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -26,6 +25,7 @@
 #include "motion/table_motion.hpp"
 #include "noise/noise_tracker.hpp"
 #include "plateau_detector.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 

@@ -12,8 +12,8 @@ namespace {
 bool SafeName(const std::string& name) {
     if (name.empty() || name[0] == '.') return false;
     for (char c : name) {
-        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                        c == '_' || c == '-' || c == '.';
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                        (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
         if (!ok) return false;
     }
     return true;
@@ -37,10 +37,18 @@ std::string Using(const Series& s) {
 std::string Clause(const Series& s) {
     std::string with;
     switch (s.style) {
-        case Style::kPoints: with = "points pt 7 ps 0.6"; break;
-        case Style::kErrorBars: with = "yerrorbars pt 7 ps 0.8"; break;
-        case Style::kLines: with = "lines lw 2"; break;
-        case Style::kBand: with = "filledcurves fs transparent solid 0.25 noborder"; break;
+        case Style::kPoints:
+            with = "points pt 7 ps 0.6";
+            break;
+        case Style::kErrorBars:
+            with = "yerrorbars pt 7 ps 0.8";
+            break;
+        case Style::kLines:
+            with = "lines lw 2";
+            break;
+        case Style::kBand:
+            with = "filledcurves fs transparent solid 0.25 noborder";
+            break;
     }
     std::string clause = Literal(s.table + ".dat") + " using " + Using(s) + " with " + with;
     if (s.dash_type > 0) clause += " dt " + std::to_string(s.dash_type);
@@ -67,23 +75,28 @@ std::string Problem(const Figure& f) {
     if (!SafeName(f.name)) return "figure name '" + f.name + "' is not a plain file stem";
     if (f.series.empty()) return "figure " + f.name + " has no series";
     for (const Table& t : f.tables) {
-        if (!SafeName(t.name)) return "figure " + f.name + ": table name '" + t.name + "' is not a plain file stem";
+        if (!SafeName(t.name))
+            return "figure " + f.name + ": table name '" + t.name + "' is not a plain file stem";
         for (size_t i = 0; i < t.rows.size(); ++i)
             if (t.rows[i].size() != t.columns.size())
-                return "figure " + f.name + ": table " + t.name + " row " + std::to_string(i + 1) + " has " +
-                       std::to_string(t.rows[i].size()) + " values for " + std::to_string(t.columns.size()) +
-                       " columns";
+                return "figure " + f.name + ": table " + t.name + " row " + std::to_string(i + 1) +
+                       " has " + std::to_string(t.rows[i].size()) + " values for " +
+                       std::to_string(t.columns.size()) + " columns";
     }
     for (const Series& s : f.series) {
         const Table* t = FindTable(f, s.table);
-        if (!t) return "figure " + f.name + ": series '" + s.title + "' names no table '" + s.table + "'";
+        if (!t)
+            return "figure " + f.name + ": series '" + s.title + "' names no table '" + s.table +
+                   "'";
         if (static_cast<int>(s.columns.size()) != ColumnsNeeded(s.style))
-            return "figure " + f.name + ": series '" + s.title + "' needs " + std::to_string(ColumnsNeeded(s.style)) +
-                   " columns, has " + std::to_string(s.columns.size());
+            return "figure " + f.name + ": series '" + s.title + "' needs " +
+                   std::to_string(ColumnsNeeded(s.style)) + " columns, has " +
+                   std::to_string(s.columns.size());
         for (int c : s.columns)
             if (c < 1 || c > static_cast<int>(t->columns.size()))
-                return "figure " + f.name + ": series '" + s.title + "' column " + std::to_string(c) +
-                       " is not in table " + t->name + " (1.." + std::to_string(t->columns.size()) + ")";
+                return "figure " + f.name + ": series '" + s.title + "' column " +
+                       std::to_string(c) + " is not in table " + t->name + " (1.." +
+                       std::to_string(t->columns.size()) + ")";
     }
     return "";
 }
@@ -116,7 +129,8 @@ std::string Script(const Figure& f, const std::vector<Terminal>& terminals) {
     // to whole decades, and an offset on top of that adds a decade more on each side.
     const std::string x_margin = f.log_x ? "0" : "graph 0.02";
     const std::string y_margin = f.log_y ? "0" : "graph 0.05";
-    s << "set offsets " << x_margin << ", " << x_margin << ", " << y_margin << ", " << y_margin << "\n";
+    s << "set offsets " << x_margin << ", " << x_margin << ", " << y_margin << ", " << y_margin
+      << "\n";
     if (f.log_x) s << "set logscale x\n";
     if (f.log_y) s << "set logscale y\nset format y \"%g\"\n";
     std::string plot = "plot ";

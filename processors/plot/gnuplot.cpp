@@ -29,13 +29,15 @@ std::string LastLines(const std::string& text, int n) {
     for (std::string l; std::getline(s, l);)
         if (!l.empty()) lines.push_back(l);
     std::string out;
-    for (size_t i = lines.size() > static_cast<size_t>(n) ? lines.size() - n : 0; i < lines.size(); ++i)
+    for (size_t i = lines.size() > static_cast<size_t>(n) ? lines.size() - n : 0; i < lines.size();
+         ++i)
         out += (out.empty() ? "" : " | ") + lines[i];
     return out;
 }
 
 // Runs `gnuplot scripts...` in `dir`, stdout and stderr into dir/gnuplot.log.
-void Run(const std::string& gnuplot, const std::string& dir, const std::vector<std::string>& scripts) {
+void Run(const std::string& gnuplot, const std::string& dir,
+         const std::vector<std::string>& scripts) {
     const std::string log = (fs::path(dir) / "gnuplot.log").string();
     std::vector<std::string> args = {"gnuplot"};
     args.insert(args.end(), scripts.begin(), scripts.end());
@@ -107,7 +109,8 @@ std::vector<std::string> DrawInto(const std::string& gnuplot, const std::string&
     return pictures;
 }
 
-std::vector<std::string> DrawInlineSvgs(const std::string& gnuplot, const std::vector<Figure>& figures) {
+std::vector<std::string> DrawInlineSvgs(const std::string& gnuplot,
+                                        const std::vector<Figure>& figures) {
     const char* tmp = std::getenv("TMPDIR");
     std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/gyrocal-figures-XXXXXX";
     if (!::mkdtemp(pattern.data())) throw GnuplotError("cannot create a directory like " + pattern);

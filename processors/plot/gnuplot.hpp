@@ -34,6 +34,7 @@ std::vector<std::string> DrawInto(const std::string& gnuplot, const std::string&
 // Draws the figures as SVG in a fresh directory under $TMPDIR (removed afterwards) and returns
 // each picture made fit for inlining in an HTML page (svg.hpp: InlineSvg with the figure's name
 // and title), in the order of `figures`. Throws GnuplotError or SvgError.
-std::vector<std::string> DrawInlineSvgs(const std::string& gnuplot, const std::vector<Figure>& figures);
+std::vector<std::string> DrawInlineSvgs(const std::string& gnuplot,
+                                        const std::vector<Figure>& figures);
 
 }  // namespace gyrocal::plot

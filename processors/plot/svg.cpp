@@ -32,8 +32,8 @@ std::string PrefixIds(const std::string& s, const std::string& prefix) {
     out.reserve(s.size() + ids.size() * prefix.size() * 4);
     size_t i = 0;
     while (i < s.size()) {
-        const bool id_attr = s.compare(i, 3, "id=") == 0 && (i == 0 || !IdChar(s[i - 1])) && i + 3 < s.size() &&
-                             (s[i + 3] == '\'' || s[i + 3] == '"');
+        const bool id_attr = s.compare(i, 3, "id=") == 0 && (i == 0 || !IdChar(s[i - 1])) &&
+                             i + 3 < s.size() && (s[i + 3] == '\'' || s[i + 3] == '"');
         if (id_attr) {
             out.append(s, i, 4);
             out += prefix;
@@ -62,11 +62,21 @@ std::string XmlEscape(const std::string& text) {
     std::string out;
     for (char c : text) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&#39;"; break;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&#39;";
+                break;
             default:
                 if (static_cast<unsigned char>(c) >= 0x20 || c == '\n' || c == '\t') out += c;
         }
@@ -76,15 +86,17 @@ std::string XmlEscape(const std::string& text) {
 
 std::string InlineSvg(const std::string& svg, const std::string& name, const std::string& title) {
     const size_t root = svg.find("<svg");
-    if (root == std::string::npos) throw SvgError("figure " + name + ": no <svg> element in gnuplot's output");
+    if (root == std::string::npos)
+        throw SvgError("figure " + name + ": no <svg> element in gnuplot's output");
     if (svg.find("<script") != std::string::npos)
-        throw SvgError("figure " + name + ": gnuplot's SVG contains a script (use the plain svg terminal)");
+        throw SvgError("figure " + name +
+                       ": gnuplot's SVG contains a script (use the plain svg terminal)");
     std::string body = PrefixIds(svg.substr(root), name + "-");
     const size_t t0 = body.find("<title>"), t1 = body.find("</title>");
     if (t0 != std::string::npos && t1 != std::string::npos && t1 > t0)
         body.replace(t0, t1 - t0 + 8, "<title>" + XmlEscape(title) + "</title>");
-    body.insert(4, " data-figure=\"" + XmlEscape(name) + "\" class=\"figure\" role=\"img\" aria-label=\"" +
-                       XmlEscape(title) + "\"");
+    body.insert(4, " data-figure=\"" + XmlEscape(name) +
+                       "\" class=\"figure\" role=\"img\" aria-label=\"" + XmlEscape(title) + "\"");
     return body;
 }
 

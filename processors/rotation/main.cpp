@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 
 #include "motion/motion_options.hpp"
-#include "runtime/process_main.hpp"
 #include "rotation_node.hpp"
+#include "runtime/process_main.hpp"
 
 namespace {
 

@@ -76,8 +76,9 @@ void RotationNode::OnRunEvent(const run_event_t& m) {
         // An estimator started (or restarted) mid-run learns the run from the next event.
         if (run_id_.empty()) run_id_ = m.run_id;
     } else {
-        status_.Reject("unknown event", "RUN_EVENT: event '" + m.event +
-                                            "' is not start, setpoint, rotation, restart, stop or abort");
+        status_.Reject("unknown event",
+                       "RUN_EVENT: event '" + m.event +
+                           "' is not start, setpoint, rotation, restart, stop or abort");
     }
 }
 

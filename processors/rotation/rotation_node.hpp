@@ -13,12 +13,12 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "motion/motion_inputs.hpp"
 #include "motion/table_motion.hpp"
 #include "rotation_estimator.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 

@@ -22,14 +22,14 @@
 namespace gyrocal::rotation {
 
 struct SlipInputs {
-    std::vector<double> gyro_t_s;        // [s] sample times inside the window, increasing
-    std::vector<double> gyro_rate_v;     // [V] gyro_v - offset line at those times
-    std::vector<double> encoder_t_s;     // [s] encoder reading times inside the window
-    std::vector<double> encoder_deg;     // [deg] angle moved since the window's start
-    double sensitivity_v_per_dps = 0;    // [V/(deg/s)] the move's own S
-    double noise_q_v2_s = 0;             // [V^2 s] two-sided level of the gyro's noise
-    double offset_stderr_v = 0;          // [V]
-    double count_deg = 0;                // [deg] one encoder count
+    std::vector<double> gyro_t_s;      // [s] sample times inside the window, increasing
+    std::vector<double> gyro_rate_v;   // [V] gyro_v - offset line at those times
+    std::vector<double> encoder_t_s;   // [s] encoder reading times inside the window
+    std::vector<double> encoder_deg;   // [deg] angle moved since the window's start
+    double sensitivity_v_per_dps = 0;  // [V/(deg/s)] the move's own S
+    double noise_q_v2_s = 0;           // [V^2 s] two-sided level of the gyro's noise
+    double offset_stderr_v = 0;        // [V]
+    double count_deg = 0;              // [deg] one encoder count
 };
 
 struct SlipResult {

@@ -5,21 +5,22 @@
 // messages; all decisions are in the Runner (procedure.hpp, ramp_procedure.hpp); options in
 // sequencer_options.cpp.
 #include <CLI/CLI.hpp>
-
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "bus/channels.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
 #include "sequencer_options.hpp"
-#include <nlohmann/json.hpp>
 
 using namespace gyrocal::sequencer;
 
 int main(int argc, char** argv) {
     SequencerOptions o = SequencerOptions::Defaults();
-    CLI::App app{"gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, rotations)",
+    CLI::App app{
+        "gyrocal-sequencer: runs the calibration procedure (chamber setpoints, plateaus, "
+        "rotations)",
         "gyrocal-sequencer"};
     const auto validate = AddSequencerOptions(app, o);
     if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-sequencer", validate))

@@ -22,9 +22,12 @@ std::string Join(const std::map<std::string, std::string>& why) {
 }
 
 constexpr text::NameTable<Phase, 6> kPhaseNames{
-    {{Phase::kIdle, "idle"}, {Phase::kWaitPlateau, "waiting for plateaus"},
-     {Phase::kWaitRotation, "rotating"}, {Phase::kWaitRetry, "at rest before turning again"},
-     {Phase::kRamping, "ramping"}, {Phase::kDone, "done"}}};
+    {{Phase::kIdle, "idle"},
+     {Phase::kWaitPlateau, "waiting for plateaus"},
+     {Phase::kWaitRotation, "rotating"},
+     {Phase::kWaitRetry, "at rest before turning again"},
+     {Phase::kRamping, "ramping"},
+     {Phase::kDone, "done"}}};
 
 }  // namespace
 
@@ -53,13 +56,15 @@ std::string ProfilesHelp() {
 }
 
 void ProcedureOptions::Validate() const {
-    if (profile.setpoints_c.empty()) throw std::invalid_argument("profile: at least one setpoint is needed");
+    if (profile.setpoints_c.empty())
+        throw std::invalid_argument("profile: at least one setpoint is needed");
     for (double t : profile.setpoints_c) {
         if (!std::isfinite(t) || t < -60.0 || t > 150.0)
             throw std::invalid_argument("setpoint " + text::Sig(t) +
                                         " degC: valid is -60..150 degC");
     }
-    if (sensor_ids.empty()) throw std::invalid_argument("sensors: at least one sensor id is needed");
+    if (sensor_ids.empty())
+        throw std::invalid_argument("sensors: at least one sensor id is needed");
     if (!(ramp_rate_c_per_min > 0.0 && ramp_rate_c_per_min <= 30.0))
         throw std::invalid_argument("ramp rate " + text::Sig(ramp_rate_c_per_min) +
                                     " degC/min: valid is (0, 30]");
@@ -84,7 +89,8 @@ void ProcedureOptions::Validate() const {
         throw std::invalid_argument("retry wait " + text::Sig(retry_wait_s) +
                                     " s: valid is 0..600");
     if (move_attempts < 1 || move_attempts > 5)
-        throw std::invalid_argument("move attempts " + std::to_string(move_attempts) + ": valid is 1..5");
+        throw std::invalid_argument("move attempts " + std::to_string(move_attempts) +
+                                    ": valid is 1..5");
     if (!(turn_interval_s >= 10.0 && turn_interval_s <= 7200.0))
         throw std::invalid_argument("turn interval " + text::Sig(turn_interval_s) +
                                     " s: valid is 10..7200");
@@ -100,22 +106,28 @@ void ProcedureOptions::Validate() const {
         throw std::invalid_argument("target sensitivity " + text::Sig(target_sensitivity_pct) +
                                     " %: valid is 0..100 (0 = no target)");
     if (profile.continuous && resume_setpoint_index >= 0)
-        throw std::invalid_argument("resume setpoint index: a continuous (ramp) run cannot be resumed");
-    if (resume_setpoint_index < -1 || resume_setpoint_index >= static_cast<int>(profile.setpoints_c.size()))
-        throw std::invalid_argument("resume setpoint index " + std::to_string(resume_setpoint_index) +
-                                    ": valid is 0.." + std::to_string(profile.setpoints_c.size() - 1) +
+        throw std::invalid_argument(
+            "resume setpoint index: a continuous (ramp) run cannot be resumed");
+    if (resume_setpoint_index < -1 ||
+        resume_setpoint_index >= static_cast<int>(profile.setpoints_c.size()))
+        throw std::invalid_argument("resume setpoint index " +
+                                    std::to_string(resume_setpoint_index) + ": valid is 0.." +
+                                    std::to_string(profile.setpoints_c.size() - 1) +
                                     " (0-based, of the profile's setpoints) or -1 for a new run");
 }
 
 const char* PhaseName(Phase p) { return text::NameOf(kPhaseNames, p); }
 
-Procedure::Procedure(ProcedureOptions options) : options_(std::move(options)) { options_.Validate(); }
+Procedure::Procedure(ProcedureOptions options) : options_(std::move(options)) {
+    options_.Validate();
+}
 
 std::vector<Order> Procedure::OnTime(int64_t utime) {
     if (phase_ == Phase::kDone) return {};
     now_utime_ = std::max(now_utime_, utime);
     if (phase_ == Phase::kIdle) {
-        if (options_.resume_setpoint_index >= 0) return EnterSetpoint(options_.resume_setpoint_index, utime);
+        if (options_.resume_setpoint_index >= 0)
+            return EnterSetpoint(options_.resume_setpoint_index, utime);
         std::vector<Order> out{RunEventOrder{"start", "profile " + options_.profile.name, -1, NAN}};
         auto more = EnterSetpoint(0, utime);
         out.insert(out.end(), more.begin(), more.end());
@@ -152,8 +164,8 @@ std::vector<Order> Procedure::OnPlateau(const std::string& sensor_id, int64_t ut
     return Advance(utime);
 }
 
-std::vector<Order> Procedure::OnSensitivity(const std::string& sensor_id, int64_t utime, bool accepted,
-                                            const std::string& reject_reason) {
+std::vector<Order> Procedure::OnSensitivity(const std::string& sensor_id, int64_t utime,
+                                            bool accepted, const std::string& reject_reason) {
     if (phase_ != Phase::kWaitRotation || utime < phase_start_utime_) return {};
     if (!pending_.erase(sensor_id)) return {};  // not awaited, or already answered this attempt
     if (!accepted) move_failed_[sensor_id] = "rejected: " + reject_reason;
@@ -168,14 +180,15 @@ std::vector<Order> Procedure::MoveDone(int64_t utime) {
         " deg at setpoint " +
         text::Sig(options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]) + " degC";
     if (move_attempt_ < options_.move_attempts) {
-        retry_why_ = "attempt " + std::to_string(move_attempt_ + 1) + " of " + std::to_string(options_.move_attempts) +
-                     " after " + Join(move_failed_);
+        retry_why_ = "attempt " + std::to_string(move_attempt_ + 1) + " of " +
+                     std::to_string(options_.move_attempts) + " after " + Join(move_failed_);
         phase_ = Phase::kWaitRetry;
         phase_start_utime_ = std::max(utime, now_utime_);  // the rest counts from the data now
         return OnTime(phase_start_utime_);                 // at once when retry_wait_s is 0
     }
-    notes_.push_back(what + ": no accepted sensitivity point after " + std::to_string(move_attempt_) +
-                     (move_attempt_ == 1 ? " attempt" : " attempts") + " (" + Join(move_failed_) + ")");
+    notes_.push_back(
+        what + ": no accepted sensitivity point after " + std::to_string(move_attempt_) +
+        (move_attempt_ == 1 ? " attempt" : " attempts") + " (" + Join(move_failed_) + ")");
     return Advance(utime);
 }
 
@@ -199,8 +212,9 @@ std::vector<Order> Procedure::EnterSetpoint(int index, int64_t utime) {
     phase_start_utime_ = utime;
     pending_ = std::set<std::string>(options_.sensor_ids.begin(), options_.sensor_ids.end());
     const double sp = options_.profile.setpoints_c[static_cast<size_t>(index)];
-    return {RunEventOrder{"setpoint", "setpoint " + std::to_string(index + 1) + " of " +
-                                          std::to_string(options_.profile.setpoints_c.size()),
+    return {RunEventOrder{"setpoint",
+                          "setpoint " + std::to_string(index + 1) + " of " +
+                              std::to_string(options_.profile.setpoints_c.size()),
                           index, sp},
             ChamberOrder{sp, options_.ramp_rate_c_per_min}};
 }
@@ -224,7 +238,8 @@ std::vector<Order> Procedure::Advance(int64_t utime) {
     const int next_move = move_index_ + 1;
     if (next_move < static_cast<int>(options_.moves_deg.size())) return EnterMove(next_move, utime);
     const int next_sp = setpoint_index_ + 1;
-    if (next_sp < static_cast<int>(options_.profile.setpoints_c.size())) return EnterSetpoint(next_sp, utime);
+    if (next_sp < static_cast<int>(options_.profile.setpoints_c.size()))
+        return EnterSetpoint(next_sp, utime);
     if (notes_.empty()) return Finish("stop", "completed");
     std::string missing;
     for (const auto& n : notes_) missing += (missing.empty() ? "" : "; ") + n;
@@ -237,8 +252,9 @@ std::vector<Order> Procedure::Finish(const std::string& event, const std::string
     outcome_reason_ = reason;
     pending_.clear();
     return {RunEventOrder{event, reason, setpoint_index_,
-                          setpoint_index_ >= 0 ? options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]
-                                               : NAN}};
+                          setpoint_index_ >= 0
+                              ? options_.profile.setpoints_c[static_cast<size_t>(setpoint_index_)]
+                              : NAN}};
 }
 
 }  // namespace gyrocal::sequencer

@@ -23,8 +23,8 @@
 // Resume (a sequencer restarted after a crash, resume_setpoint_index >= 0): no "start"; the run
 // goes on at that setpoint, which is taken again from its chamber order (its plateaus and moves:
 // what the dead sequencer was waiting for is not known, so nothing of that setpoint is assumed).
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -38,7 +38,7 @@ namespace gyrocal::sequencer {
 struct Profile {
     std::string name;
     std::vector<double> setpoints_c;  // continuous: the waypoints the ramp turns at, in order
-    bool continuous = false;          // ramp through the waypoints without waiting (ramp_procedure.hpp)
+    bool continuous = false;  // ramp through the waypoints without waiting (ramp_procedure.hpp)
 };
 
 // Named profiles.
@@ -60,16 +60,16 @@ std::string ProfilesHelp();
 
 struct ProcedureOptions {
     Profile profile;
-    std::vector<std::string> sensor_ids;  // units whose plateaus/rotations are awaited
-    double ramp_rate_c_per_min = 3.0;     // [degC/min] ordered chamber ramp rate
-    double plateau_timeout_s = 3.0 * 3600;// [s] data time per setpoint before "chamber fault"
+    std::vector<std::string> sensor_ids;    // units whose plateaus/rotations are awaited
+    double ramp_rate_c_per_min = 3.0;       // [degC/min] ordered chamber ramp rate
+    double plateau_timeout_s = 3.0 * 3600;  // [s] data time per setpoint before "chamber fault"
     std::vector<double> moves_deg = {90.0, -90.0};  // [deg] turntable moves at each setpoint
-    double rotation_rate_dps = 30.0;      // [deg/s] cruise rate of each move
-    double rotation_accel_dps2 = 60.0;    // [deg/s^2]
-    double rotation_timeout_s = 120.0;    // [s] data time per move
-    int move_attempts = 2;                // [count] orders of one move before it is given up, 1..5
-    double retry_wait_s = 10.0;           // [s] data time at rest before a move is ordered again
-    int resume_setpoint_index = -1;       // >= 0: resume a run there (no start event); -1 = new run
+    double rotation_rate_dps = 30.0;                // [deg/s] cruise rate of each move
+    double rotation_accel_dps2 = 60.0;              // [deg/s^2]
+    double rotation_timeout_s = 120.0;              // [s] data time per move
+    int move_attempts = 2;           // [count] orders of one move before it is given up, 1..5
+    double retry_wait_s = 10.0;      // [s] data time at rest before a move is ordered again
+    int resume_setpoint_index = -1;  // >= 0: resume a run there (no start event); -1 = new run
     // Continuous profiles only (ramp_procedure.hpp):
     double turn_interval_s = 300.0;       // [s] data time from one +90/-90 pair to the next
     double dwell_s = 300.0;               // [s] held at a waypoint once the air is there
@@ -92,7 +92,7 @@ struct TurntableOrder {
     double accel_dps2;
 };
 struct RunEventOrder {
-    std::string event;   // start, setpoint, rotation, stop, abort
+    std::string event;  // start, setpoint, rotation, stop, abort
     std::string reason;
     int setpoint_index;  // -1 when not applicable
     double setpoint_c;   // NaN when not applicable
@@ -178,7 +178,7 @@ private:
     std::vector<Order> EnterSetpoint(int index, int64_t utime);
     std::vector<Order> EnterMove(int index, int64_t utime, const std::string& why = "");
     std::vector<Order> MoveDone(int64_t utime);  // every sensor answered or the move timed out
-    std::vector<Order> Advance(int64_t utime);  // after a setpoint's plateaus or a move completes
+    std::vector<Order> Advance(int64_t utime);   // after a setpoint's plateaus or a move completes
     std::vector<Order> Finish(const std::string& event, const std::string& reason) override;
 
     ProcedureOptions options_;

@@ -150,7 +150,8 @@ double RampProcedure::RemainingPlanS() const {
         const double from_c = std::isfinite(air_c_) ? air_c_ : Waypoint(leg_);
         s += std::abs(Waypoint(leg_) - from_c) / rate_c_per_s + options_.dwell_s;
     } else {
-        s += std::max(0.0, options_.dwell_s - static_cast<double>(now_utime_ - reached_utime_) * 1e-6);
+        s += std::max(0.0,
+                      options_.dwell_s - static_cast<double>(now_utime_ - reached_utime_) * 1e-6);
     }
     for (int i = leg_ + 1; i < static_cast<int>(options_.profile.setpoints_c.size()); ++i)
         s += std::abs(Waypoint(i) - Waypoint(i - 1)) / rate_c_per_s + options_.dwell_s;

@@ -10,9 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
-#include "gyrocal/chamber_cmd_t.hpp"
 #include "coeff_uncertainty.hpp"
+#include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
@@ -21,6 +20,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "gyrocal/version.hpp"
+#include "runtime/shutdown.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
@@ -69,28 +69,33 @@ SequencerNode::SequencerNode(SequencerOptions options)
 
     bus_.Subscribe<chamber_state_t>(std::string(channels::kChamberState),
                                     [this](const chamber_state_t& s, const std::string&) {
-                                        if (!s.fault.empty()) status_.Reject("chamber fault", s.fault);
+                                        if (!s.fault.empty())
+                                            status_.Reject("chamber fault", s.fault);
                                         OnAnyTime(s.utime);
-                                        if (procedure_) Publish(procedure_->OnChamber(s.utime, s.air_c));
+                                        if (procedure_)
+                                            Publish(procedure_->OnChamber(s.utime, s.air_c));
                                     });
-    bus_.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
-                                  [this](const gyro_sample_t& s, const std::string& channel) {
-                                      if (!procedure_) {
-                                          if (auto id = channels::SensorOf(channels::kGyroPrefix, channel))
-                                              discovered_.insert(*id);
-                                      }
-                                      OnAnyTime(s.utime);
-                                  });
-    bus_.Subscribe<plateau_t>(channels::AllSensors(channels::kPlateauPrefix),
-                              [this](const plateau_t& p, const std::string&) {
-                                  if (procedure_) Publish(procedure_->OnPlateau(p.sensor_id, p.utime, p.setpoint_c));
-                              });
-    bus_.Subscribe<sensitivity_point_t>(channels::AllSensors(channels::kSensitivityPrefix),
-                                        [this](const sensitivity_point_t& s, const std::string&) {
-                                            if (procedure_)
-                                                Publish(procedure_->OnSensitivity(s.sensor_id, s.utime, s.accepted,
-                                                                                  s.reject_reason));
-                                        });
+    bus_.Subscribe<gyro_sample_t>(
+        channels::AllSensors(channels::kGyroPrefix),
+        [this](const gyro_sample_t& s, const std::string& channel) {
+            if (!procedure_) {
+                if (auto id = channels::SensorOf(channels::kGyroPrefix, channel))
+                    discovered_.insert(*id);
+            }
+            OnAnyTime(s.utime);
+        });
+    bus_.Subscribe<plateau_t>(
+        channels::AllSensors(channels::kPlateauPrefix),
+        [this](const plateau_t& p, const std::string&) {
+            if (procedure_) Publish(procedure_->OnPlateau(p.sensor_id, p.utime, p.setpoint_c));
+        });
+    bus_.Subscribe<sensitivity_point_t>(
+        channels::AllSensors(channels::kSensitivityPrefix),
+        [this](const sensitivity_point_t& s, const std::string&) {
+            if (procedure_)
+                Publish(
+                    procedure_->OnSensitivity(s.sensor_id, s.utime, s.accepted, s.reject_reason));
+        });
     if (p.profile.continuous) {
         bus_.Subscribe<coeff_set_t>(channels::AllSensors(channels::kCoeffsPrefix),
                                     [this](const coeff_set_t& m, const std::string&) {
@@ -105,16 +110,20 @@ SequencerNode::SequencerNode(SequencerOptions options)
     // A supervisor ends the run when a process it cannot restart died (gyrocal calibrate: the
     // rig); the sequencer then stops without ordering more. Its own events come back too (LCM
     // loops them back): by then the procedure is done and this changes nothing.
-    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent), [this](const run_event_t& e, const std::string&) {
-        if (!procedure_ || e.run_id != options_.run_id) return;
-        if (e.event == "abort" || e.event == "stop") procedure_->EndedElsewhere(e.event, e.reason);
-    });
+    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
+                                [this](const run_event_t& e, const std::string&) {
+                                    if (!procedure_ || e.run_id != options_.run_id) return;
+                                    if (e.event == "abort" || e.event == "stop")
+                                        procedure_->EndedElsewhere(e.event, e.reason);
+                                });
 }
 
 void SequencerNode::MaybeStart(int64_t utime) {
     if (procedure_) return;
     if (first_utime_ < 0) first_utime_ = utime;
-    if (static_cast<double>(utime - first_utime_) * 1e-6 < options_.discover_s || discovered_.empty()) return;
+    if (static_cast<double>(utime - first_utime_) * 1e-6 < options_.discover_s ||
+        discovered_.empty())
+        return;
     ProcedureOptions p = options_.procedure;
     p.sensor_ids.assign(discovered_.begin(), discovered_.end());
     procedure_ = MakeRunner(p);
@@ -140,7 +149,8 @@ void SequencerNode::Publish(const std::vector<Order>& orders) {
     if (procedure_) {
         status_.set_state(PhaseName(procedure_->phase()));
         status_.SetExtra("setpoint_index", procedure_->setpoint_index());
-        status_.SetExtra("pending_sensors", static_cast<double>(procedure_->pending_sensors().size()));
+        status_.SetExtra("pending_sensors",
+                         static_cast<double>(procedure_->pending_sensors().size()));
     }
 }
 
@@ -187,7 +197,8 @@ int SequencerNode::Run() {
         std::cerr << "gyrocal-sequencer: stopped before any sensor was seen; no run was started\n";
         return 3;
     }
-    for (const auto& note : procedure_->notes()) std::cerr << "gyrocal-sequencer: note: " << note << "\n";
+    for (const auto& note : procedure_->notes())
+        std::cerr << "gyrocal-sequencer: note: " << note << "\n";
     status_.PublishNow();
     return procedure_->outcome() == "completed" ? 0 : 3;
 }

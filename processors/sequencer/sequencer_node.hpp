@@ -9,19 +9,19 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "model/convert.hpp"
 #include "procedure.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal::sequencer {
 
 struct SequencerOptions {
     std::string lcm_url;
-    ProcedureOptions procedure;       // sensor_ids empty = discover from GYRO_* channels
-    double discover_s = 2.0;          // [s] data time to listen for sensors before starting
-    std::string run_id;               // "" = generated from wall time, host and pid
-    std::string run_config_json;      // configuration of the whole graph (from the launcher)
-    std::string command_line;         // recorded with the run
+    ProcedureOptions procedure;   // sensor_ids empty = discover from GYRO_* channels
+    double discover_s = 2.0;      // [s] data time to listen for sensors before starting
+    std::string run_id;           // "" = generated from wall time, host and pid
+    std::string run_config_json;  // configuration of the whole graph (from the launcher)
+    std::string command_line;     // recorded with the run
     static SequencerOptions Defaults();
 };
 

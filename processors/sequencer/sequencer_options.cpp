@@ -43,16 +43,18 @@ std::string ResolveProfile(SequencerOptions& o, const Raw& raw) {
     }
     o.procedure.profile = *named;
     if (!raw.setpoints_c.empty())
-        o.procedure.profile = Profile{named->continuous ? named->name : "custom", raw.setpoints_c,
-                                      named->continuous};
-    if (!named->continuous && (o.procedure.target_offset_dps > 0 || o.procedure.target_sensitivity_pct > 0))
-        return "--target-offset-dps/--target-sensitivity-pct: only with --profile ramp (a plateau run "
+        o.procedure.profile =
+            Profile{named->continuous ? named->name : "custom", raw.setpoints_c, named->continuous};
+    if (!named->continuous &&
+        (o.procedure.target_offset_dps > 0 || o.procedure.target_sensitivity_pct > 0))
+        return "--target-offset-dps/--target-sensitivity-pct: only with --profile ramp (a plateau "
+               "run "
                "visits every setpoint)";
     if (!raw.range_c.empty()) {
         if (!named->continuous) return "--ramp-range-c: only with --profile ramp";
         if (!(raw.range_c[0] < raw.range_c[1]))
-            return "--ramp-range-c: MIN,MAX needs MIN < MAX (got " + std::to_string(raw.range_c[0]) +
-                   "," + std::to_string(raw.range_c[1]) + ")";
+            return "--ramp-range-c: MIN,MAX needs MIN < MAX (got " +
+                   std::to_string(raw.range_c[0]) + "," + std::to_string(raw.range_c[1]) + ")";
         o.procedure.profile.setpoints_c = raw.range_c;
     }
     return "";
@@ -67,9 +69,12 @@ std::string ValidateProcedure(const SequencerOptions& o) {
     } catch (const std::invalid_argument& e) {
         const std::string what = e.what();
         const std::pair<const char*, const char*> prefixes[] = {
-            {"resume setpoint index", "--resume-setpoint-index"}, {"move attempts", "--move-attempts"},
-            {"retry wait", "--retry-wait-s"}, {"turn interval", "--turn-interval-s"},
-            {"dwell", "--dwell-s"}, {"target offset", "--target-offset-dps"},
+            {"resume setpoint index", "--resume-setpoint-index"},
+            {"move attempts", "--move-attempts"},
+            {"retry wait", "--retry-wait-s"},
+            {"turn interval", "--turn-interval-s"},
+            {"dwell", "--dwell-s"},
+            {"target offset", "--target-offset-dps"},
             {"target sensitivity", "--target-sensitivity-pct"}};
         for (const auto& [field, option] : prefixes)
             if (what.rfind(field, 0) == 0) return std::string(option) + ": " + what;
@@ -80,9 +85,11 @@ std::string ValidateProcedure(const SequencerOptions& o) {
 
 std::string Validate(SequencerOptions& o, const Raw& raw) {
     if (std::string e = ResolveProfile(o, raw); !e.empty()) return e;
-    if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors"); !e.empty())
+    if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors");
+        !e.empty())
         return e;
-    if (o.procedure.resume_setpoint_index >= 0 && (o.run_id.empty() || o.procedure.sensor_ids.empty()))
+    if (o.procedure.resume_setpoint_index >= 0 &&
+        (o.run_id.empty() || o.procedure.sensor_ids.empty()))
         return "--resume-setpoint-index: resuming needs the run's --run-id and --sensors";
     if (std::string e = ValidateProcedure(o); !e.empty()) return e;
     if (!o.run_config_json.empty() && !nlohmann::json::accept(o.run_config_json))
@@ -127,10 +134,12 @@ std::function<std::string()> AddSequencerOptions(CLI::App& app, SequencerOptions
     app.add_option("--resume-setpoint-index", o.procedure.resume_setpoint_index,
                    "resume run --run-id at this 0-based setpoint (a restarted sequencer; needs "
                    "--run-id and --sensors); -1 = start a new run");
-    app.add_option("--run-config-json", o.run_config_json, "configuration of the whole process graph, recorded");
+    app.add_option("--run-config-json", o.run_config_json,
+                   "configuration of the whole process graph, recorded");
     app.add_option("--command-line", o.command_line, "command line to record (default: this one)");
-    app.footer("Exit codes: 0 run completed, 1 runtime failure, 2 bad options, 3 run aborted "
-               "(chamber fault, operator stop).");
+    app.footer(
+        "Exit codes: 0 run completed, 1 runtime failure, 2 bad options, 3 run aborted "
+        "(chamber fault, operator stop).");
     // Bad options are the frame's (exit 2, "gyrocal-sequencer: <reason>"); the run is not: its
     // exit code is the procedure's (0 completed, 3 aborted), so it is kept here.
     return [&o, raw] { return Validate(o, *raw); };

@@ -1,7 +1,6 @@
 #pragma once
 // gyrocal-sequencer's command line, apart from the node so that the node knows no CLI11.
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <string>
 

@@ -6,11 +6,7 @@ namespace gyrocal::csv {
 
 CsvReader::CsvReader(std::istream& in, std::string file, sensor::TempTransfer transfer,
                      OnError policy, long max_rows)
-    : in_(in),
-      file_(std::move(file)),
-      transfer_(transfer),
-      policy_(policy),
-      max_rows_(max_rows) {}
+    : in_(in), file_(std::move(file)), transfer_(transfer), policy_(policy), max_rows_(max_rows) {}
 
 std::optional<CsvRow> CsvReader::Next() {
     while (std::getline(in_, line_)) {

@@ -16,9 +16,14 @@ namespace {
 
 // Declaration order of Column, so that a column's row is also its index.
 constexpr text::NameTable<Column, kNumColumns> kColumnNames{
-    {{Column::kTimeS, "time_s"}, {Column::kSensorId, "sensor_id"}, {Column::kGyroV, "gyro_v"},
-     {Column::kTempV, "temp_v"}, {Column::kTempC, "temp_c"}, {Column::kSupplyV, "supply_v"},
-     {Column::kEncoderDeg, "encoder_deg"}, {Column::kChamberC, "chamber_c"},
+    {{Column::kTimeS, "time_s"},
+     {Column::kSensorId, "sensor_id"},
+     {Column::kGyroV, "gyro_v"},
+     {Column::kTempV, "temp_v"},
+     {Column::kTempC, "temp_c"},
+     {Column::kSupplyV, "supply_v"},
+     {Column::kEncoderDeg, "encoder_deg"},
+     {Column::kChamberC, "chamber_c"},
      {Column::kTimeSincePowerS, "time_since_power_s"}}};
 
 }  // namespace

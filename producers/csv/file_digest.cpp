@@ -17,7 +17,8 @@ std::string Sha256HexOfFile(const std::string& path) {
     std::vector<char> buf(1 << 16);
     while (f) {
         f.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-        if (f.gcount() > 0) EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<size_t>(f.gcount()));
+        if (f.gcount() > 0)
+            EVP_DigestUpdate(ctx.get(), buf.data(), static_cast<size_t>(f.gcount()));
     }
     if (!f.eof()) throw std::runtime_error(path + ": read error while computing its SHA-256");
     unsigned char digest[EVP_MAX_MD_SIZE];

@@ -53,7 +53,8 @@ RowMessages MessageBuilder::Build(const CsvRow& row, int64_t utime) {
     if (row.time_since_power_s) {
         const int64_t on = utime - TimeUs(*row.time_since_power_s);
         const auto it = power_.find(row.sensor_id);
-        if (it == power_.end() || std::llabs(on - it->second.power_on_utime) > kPowerOnToleranceUs ||
+        if (it == power_.end() ||
+            std::llabs(on - it->second.power_on_utime) > kPowerOnToleranceUs ||
             utime - it->second.sent_utime >= TimeUs(kPowerRepeatS)) {
             power_state_t p;
             p.utime = utime;

@@ -82,11 +82,10 @@ CsvRecordNode::CsvRecordNode(const CsvRecordOptions& options)
         std::string(channels::kChamberState), [this](const chamber_state_t& c, const std::string&) {
             KeepFinite(chamber_c_, c.utime, c.air_c, "nonfinite_chamber", "CHAMBER_STATE air_c");
         });
-    bus_.Subscribe<power_state_t>(
-        channels::AllSensors(channels::kPowerPrefix),
-        [this](const power_state_t& p, const std::string&) {
-            power_on_utime_[p.sensor_id] = p.power_on_utime;
-        });
+    bus_.Subscribe<power_state_t>(channels::AllSensors(channels::kPowerPrefix),
+                                  [this](const power_state_t& p, const std::string&) {
+                                      power_on_utime_[p.sensor_id] = p.power_on_utime;
+                                  });
 }
 
 void CsvRecordNode::KeepFinite(csv::LatestAt& series, int64_t utime, double value,

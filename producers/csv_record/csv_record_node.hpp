@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "runtime/status.hpp"
 #include "csv/csv_writer.hpp"
 #include "csv/row_messages.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal {
 

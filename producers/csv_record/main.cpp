@@ -4,10 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "csv_record_node.hpp"
+#include "producer_cli/producer_cli.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
-#include "producer_cli/producer_cli.hpp"
-#include "csv_record_node.hpp"
 
 namespace {
 constexpr const char* kFooter = R"(

@@ -29,7 +29,7 @@ std::optional<CsvCheck> CheckWholeFile(const CsvSourceOptions& o, int* exit_code
     std::ifstream in(o.file);
     if (!in) {
         PrintError(kCsvSourceProcess, "--file '" + o.file + "' cannot be opened: " +
-                                              std::strerror(errno) + "; give a readable CSV file");
+                                          std::strerror(errno) + "; give a readable CSV file");
         *exit_code = 2;
         return std::nullopt;
     }

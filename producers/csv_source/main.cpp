@@ -2,9 +2,9 @@
 // CHAMBER_STATE messages, the same messages a rig sends. See README.md.
 #include <CLI/CLI.hpp>
 
-#include "runtime/process_main.hpp"
-#include "producer_cli/producer_cli.hpp"
 #include "csv_source_node.hpp"
+#include "producer_cli/producer_cli.hpp"
+#include "runtime/process_main.hpp"
 
 namespace {
 

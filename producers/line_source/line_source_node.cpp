@@ -60,8 +60,11 @@ int64_t LineSourceNode::Utime(const csv::CsvRow& row) {
 void LineSourceNode::HandleLine(const InputLine& line) {
     const LineOutcome o = stream_.Feed(line);
     switch (o.kind) {
-        case LineOutcome::Kind::kIgnored: return;
-        case LineOutcome::Kind::kFatal: fatal_ = o.message; return;
+        case LineOutcome::Kind::kIgnored:
+            return;
+        case LineOutcome::Kind::kFatal:
+            fatal_ = o.message;
+            return;
         case LineOutcome::Kind::kBad:
             ++bad_lines_;
             status_.Reject("bad_line", o.message);
@@ -75,7 +78,8 @@ void LineSourceNode::HandleLine(const InputLine& line) {
             }
             status_.set_state("streaming");
             return;
-        case LineOutcome::Kind::kRow: break;
+        case LineOutcome::Kind::kRow:
+            break;
     }
     const csv::CsvRow& row = *o.row;
     last_utime_ = Utime(row);

@@ -34,7 +34,8 @@ LineOutcome LineStream::Feed(const InputLine& line) {
         } catch (const csv::CsvError& e) {
             fatal_ = true;
             out.kind = Kind::kFatal;
-            out.message = std::string(e.what()) + " (the first line of the stream must be the header)";
+            out.message =
+                std::string(e.what()) + " (the first line of the stream must be the header)";
         }
         return out;
     }

@@ -69,8 +69,8 @@ int main(int argc, char** argv) {
         fd = open(o.device.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC);
         if (fd < 0) {
             if (errno == EINTR && StopRequested()) return 0;
-            PrintError("gyrocal-line-source", "--device '" + o.device + "' cannot be opened: " +
-                                                  std::strerror(errno) +
+            PrintError("gyrocal-line-source", "--device '" + o.device +
+                                                  "' cannot be opened: " + std::strerror(errno) +
                                                   "; give a readable serial device, FIFO or file");
             return 2;
         }

@@ -282,8 +282,7 @@ GyroReading Rig::ReadUnit(int64_t utime, size_t i, double gyro_analog_v, double 
                           const SupplyScan& supply) {
     const GyroPreset& p = config_.preset;
     const double sensor_read_c = state_[i]->sensor_c + units_[i].temp_sensor_offset_c;
-    const double temp_analog_v =
-        p.temp_transfer.TempV(sensor_read_c) + temp_noise_v;
+    const double temp_analog_v = p.temp_transfer.TempV(sensor_read_c) + temp_noise_v;
 
     GyroReading r;
     r.utime = utime;

@@ -9,8 +9,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(NoiseConfig, noise_density_dps_rthz, bias_ins
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ThermalConfig, start_temp_c, ramp_c_per_min, air_tau_s,
                                    air_noise_c, air_noise_tau_s, package_tau_s, sensor_tau_s,
                                    setpoint_tolerance_c, min_setpoint_c, max_setpoint_c)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TableConfig, default_rate_dps, default_accel_dps2,
-                                   max_rate_dps, max_accel_dps2, max_move_deg)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TableConfig, default_rate_dps, default_accel_dps2, max_rate_dps,
+                                   max_accel_dps2, max_move_deg)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AdcConfig, bits, vref_v, supply_divider)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SupplyConfig, nominal_v, ripple_v, ripple_hz, drift_std_v,
                                    drift_tau_s, noise_v)

@@ -4,10 +4,10 @@
 #include <iostream>
 #include <string>
 
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
 #include "cli.hpp"
 #include "rig_node.hpp"
+#include "runtime/process_main.hpp"
+#include "runtime/shutdown.hpp"
 #include "truth_file.hpp"
 
 int main(int argc, char** argv) {

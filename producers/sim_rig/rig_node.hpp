@@ -57,7 +57,7 @@ private:
     bool IgnoredInBuiltinMode(const std::string& what, int64_t cmd_id);
     void OnChamberCmd(const chamber_cmd_t& cmd);
     void OnTurntableCmd(const turntable_cmd_t& cmd);
-    bool Advance();  // pacing step; true when finished
+    bool Advance();             // pacing step; true when finished
     bool AdvanceByConsumers();  // --speed 0: as far as the consumers have room for
     void UpdateProgress(int64_t target);
     bool OverMessageBudget() const;

@@ -49,7 +49,9 @@ nlohmann::json OptJson(std::optional<int64_t> v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json Finite(double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 std::string RunLabel(const std::string& run_id) { return run_id.empty() ? "(no run)" : run_id; }
 
@@ -68,8 +70,6 @@ std::string Terms(const ModelRow& m) {
     return Join(parts, " ");
 }
 
-std::optional<double> Eval(const ModelRow& m, double temp_c) {
-    return SteadyStateValue(m, temp_c);
-}
+std::optional<double> Eval(const ModelRow& m, double temp_c) { return SteadyStateValue(m, temp_c); }
 
 }  // namespace gyrocal::store::report::detail

@@ -21,12 +21,12 @@ private:
     std::vector<std::vector<std::string>> rows_;
 };
 
-std::string Opt(std::optional<int64_t> v);       // "-" when absent
+std::string Opt(std::optional<int64_t> v);  // "-" when absent
 nlohmann::json OptJson(std::optional<int64_t> v);
-nlohmann::json Finite(double v);                 // null when not finite (JSON has no NaN)
-std::string RunLabel(const std::string& run_id); // "(no run)" for ''
+nlohmann::json Finite(double v);                  // null when not finite (JSON has no NaN)
+std::string RunLabel(const std::string& run_id);  // "(no run)" for ''
 std::string Join(const std::vector<std::string>& v, const std::string& sep);
-std::string Terms(const ModelRow& m);            // "1=2.5 dT=0.001"
+std::string Terms(const ModelRow& m);  // "1=2.5 dT=0.001"
 // The model at temp_c [degC] by the shared evaluator, at steady state (SteadyStateInputs),
 // extrapolated outside its valid range; nullopt when the model is not usable.
 std::optional<double> Eval(const ModelRow& m, double temp_c);

@@ -80,18 +80,24 @@ std::string RunsTable(const std::vector<RunInfo>& runs) {
     // The station column only where runs came from stations (a central database).
     bool stations = false;
     for (const auto& r : runs) stations = stations || !r.station.empty();
-    std::vector<std::string> head = {"RUN", "OUTCOME", "FIRST SEEN (UTC)", "SENSORS",
-                                     "GYRO SAMPLES", "PLATEAUS", "SENS PTS", "COEFF SETS",
-                                     "SEQ GAPS", "DECODE ERR", "QUEUE DROPS", "VERSION"};
+    std::vector<std::string> head = {"RUN",          "OUTCOME",    "FIRST SEEN (UTC)", "SENSORS",
+                                     "GYRO SAMPLES", "PLATEAUS",   "SENS PTS",         "COEFF SETS",
+                                     "SEQ GAPS",     "DECODE ERR", "QUEUE DROPS",      "VERSION"};
     if (stations) head.push_back("STATION");
     Table t(head);
     for (const auto& r : runs) {
-        std::vector<std::string> row = {
-            RunLabel(r.run_id), r.outcome, UtcText(r.first_recv_utime), Join(r.sensor_ids, ","),
-            std::to_string(r.gyro_samples), std::to_string(r.plateaus),
-            std::to_string(r.sensitivity_points), std::to_string(r.coeff_sets),
-            std::to_string(r.seq_gaps), std::to_string(r.decode_errors),
-            std::to_string(r.queue_drops), r.software_version};
+        std::vector<std::string> row = {RunLabel(r.run_id),
+                                        r.outcome,
+                                        UtcText(r.first_recv_utime),
+                                        Join(r.sensor_ids, ","),
+                                        std::to_string(r.gyro_samples),
+                                        std::to_string(r.plateaus),
+                                        std::to_string(r.sensitivity_points),
+                                        std::to_string(r.coeff_sets),
+                                        std::to_string(r.seq_gaps),
+                                        std::to_string(r.decode_errors),
+                                        std::to_string(r.queue_drops),
+                                        r.software_version};
         if (stations) row.push_back(r.station);
         t.Add(row);
     }
@@ -113,10 +119,13 @@ static nlohmann::json RunJson(const RunInfo& r) {
     j["recorder_host"] = r.recorder_host;
     j["sensor_ids"] = r.sensor_ids;
     if (!r.station.empty()) j["station"] = r.station;
-    j["counts"] = {{"gyro_samples", r.gyro_samples},     {"encoder_samples", r.encoder_samples},
-                   {"chamber_states", r.chamber_states}, {"plateaus", r.plateaus},
+    j["counts"] = {{"gyro_samples", r.gyro_samples},
+                   {"encoder_samples", r.encoder_samples},
+                   {"chamber_states", r.chamber_states},
+                   {"plateaus", r.plateaus},
                    {"sensitivity_points", r.sensitivity_points},
-                   {"coeff_sets", r.coeff_sets},         {"raw_events", r.raw_events}};
+                   {"coeff_sets", r.coeff_sets},
+                   {"raw_events", r.raw_events}};
     j["losses"] = {{"seq_gaps", r.seq_gaps},
                    {"decode_errors", r.decode_errors},
                    {"queue_drops", r.queue_drops}};
@@ -241,7 +250,8 @@ static std::string SetRole(const RunDetail& d, const CoeffSetInfo& c) {
 }
 
 // The final set of each sensor and source, with what it came from.
-static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+static void CoeffSetsText(std::ostream& out, const RunDetail& d,
+                          const std::vector<ProvenanceSummary>& provenance) {
     out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
     for (const auto& c : d.coeff_sets) {
         out << "  " << Printable(c.set.sensor_id) << "  set " << c.set.coeff_set_id << " ("
@@ -260,8 +270,8 @@ static void CoeffSetsText(std::ostream& out, const RunDetail& d, const std::vect
                 samples += item.stored_samples;
             }
             out << "    from " << c.set.plateau_ids.size() << " plateaus and "
-                << c.set.rotation_ids.size() << " rotations (" << found << " of "
-                << p->items.size() << " found), " << samples << " raw gyro samples stored\n";
+                << c.set.rotation_ids.size() << " rotations (" << found << " of " << p->items.size()
+                << " found), " << samples << " raw gyro samples stored\n";
         }
     }
 }
@@ -342,11 +352,16 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
 static nlohmann::json PlateausJson(const RunDetail& d) {
     nlohmann::json plateaus = nlohmann::json::array();
     for (const auto& p : d.plateaus) {
-        plateaus.push_back({{"sensor_id", p.sensor_id}, {"plateau_id", p.plateau_id},
-                            {"setpoint_c", Finite(p.setpoint_c)}, {"start_utime", p.start_utime},
-                            {"end_utime", p.end_utime}, {"first_seq", p.first_seq},
-                            {"last_seq", p.last_seq}, {"n_samples", p.n_samples},
-                            {"n_excluded_motion", p.n_excluded_motion}, {"seq_gaps", p.seq_gaps},
+        plateaus.push_back({{"sensor_id", p.sensor_id},
+                            {"plateau_id", p.plateau_id},
+                            {"setpoint_c", Finite(p.setpoint_c)},
+                            {"start_utime", p.start_utime},
+                            {"end_utime", p.end_utime},
+                            {"first_seq", p.first_seq},
+                            {"last_seq", p.last_seq},
+                            {"n_samples", p.n_samples},
+                            {"n_excluded_motion", p.n_excluded_motion},
+                            {"seq_gaps", p.seq_gaps},
                             {"temp_mean_c", Finite(p.temp_mean_c)},
                             {"temp_std_c", Finite(p.temp_std_c)},
                             {"temp_slope_c_per_min", Finite(p.temp_slope_c_per_min)},
@@ -362,28 +377,35 @@ static nlohmann::json PlateausJson(const RunDetail& d) {
 static nlohmann::json SensitivityPointsJson(const RunDetail& d) {
     nlohmann::json points = nlohmann::json::array();
     for (const auto& s : d.sensitivity_points) {
-        points.push_back({{"sensor_id", s.sensor_id}, {"rotation_id", s.rotation_id},
-                          {"start_utime", s.start_utime}, {"end_utime", s.end_utime},
-                          {"n_samples", s.n_samples}, {"direction", s.direction},
+        points.push_back({{"sensor_id", s.sensor_id},
+                          {"rotation_id", s.rotation_id},
+                          {"start_utime", s.start_utime},
+                          {"end_utime", s.end_utime},
+                          {"n_samples", s.n_samples},
+                          {"direction", s.direction},
                           {"temp_c", Finite(s.temp_c)},
                           {"encoder_angle_deg", Finite(s.encoder_angle_deg)},
                           {"sensitivity_v_per_dps", Finite(s.sensitivity_v_per_dps)},
                           {"sensitivity_stderr_v_per_dps", Finite(s.sensitivity_stderr_v_per_dps)},
-                          {"accepted", s.accepted}, {"reject_reason", s.reject_reason}});
+                          {"accepted", s.accepted},
+                          {"reject_reason", s.reject_reason}});
     }
     return points;
 }
 
 // The final sets with the provenance of each (what it was fitted from).
-static nlohmann::json CoeffSetsJson(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+static nlohmann::json CoeffSetsJson(const RunDetail& d,
+                                    const std::vector<ProvenanceSummary>& provenance) {
     nlohmann::json sets = nlohmann::json::array();
     for (const auto& c : d.coeff_sets) {
         nlohmann::json cj = CoeffSetJson(c);
         if (const ProvenanceSummary* p = FindProv(provenance, c.coeff_row_id)) {
             nlohmann::json items = nlohmann::json::array();
             for (const auto& it : p->items) {
-                items.push_back({{"kind", it.kind}, {"item_id", it.item_id},
-                                 {"found", it.item_found}, {"start_utime", OptJson(it.start_utime)},
+                items.push_back({{"kind", it.kind},
+                                 {"item_id", it.item_id},
+                                 {"found", it.item_found},
+                                 {"start_utime", OptJson(it.start_utime)},
                                  {"end_utime", OptJson(it.end_utime)},
                                  {"n_samples", OptJson(it.n_samples)},
                                  {"stored_gyro_samples", it.stored_samples}});
@@ -399,8 +421,10 @@ static nlohmann::json CoeffSetsJson(const RunDetail& d, const std::vector<Proven
 static nlohmann::json LossesJson(const RunDetail& d) {
     nlohmann::json losses = nlohmann::json::array();
     for (const auto& l : d.losses) {
-        losses.push_back({{"channel", l.channel}, {"seq_gaps", l.seq_gaps},
-                          {"seq_backwards", l.seq_backwards}, {"decode_errors", l.decode_errors},
+        losses.push_back({{"channel", l.channel},
+                          {"seq_gaps", l.seq_gaps},
+                          {"seq_backwards", l.seq_backwards},
+                          {"decode_errors", l.decode_errors},
                           {"queue_drops", l.queue_drops}});
     }
     return losses;
@@ -410,7 +434,9 @@ static nlohmann::json LossesJson(const RunDetail& d) {
 static nlohmann::json EventsJson(const RunDetail& d) {
     nlohmann::json events = nlohmann::json::array();
     for (const auto& e : d.events) {
-        events.push_back({{"utime", e.utime}, {"event", e.event}, {"reason", e.reason},
+        events.push_back({{"utime", e.utime},
+                          {"event", e.event},
+                          {"reason", e.reason},
                           {"setpoint_index", e.setpoint_index},
                           {"setpoint_c", Finite(e.setpoint_c)}});
     }
@@ -421,11 +447,17 @@ static nlohmann::json EventsJson(const RunDetail& d) {
 static nlohmann::json ProcessesJson(const RunDetail& d) {
     nlohmann::json procs = nlohmann::json::array();
     for (const auto& p : d.processes) {
-        procs.push_back({{"process", p.process}, {"host", p.host}, {"pid", p.pid},
-                         {"state", p.state}, {"received", p.received},
-                         {"published", p.published}, {"decode_errors", p.decode_errors},
-                         {"seq_gaps", p.seq_gaps}, {"queue_drops", p.queue_drops},
-                         {"rejected", p.rejected}, {"last_reject", p.last_reject},
+        procs.push_back({{"process", p.process},
+                         {"host", p.host},
+                         {"pid", p.pid},
+                         {"state", p.state},
+                         {"received", p.received},
+                         {"published", p.published},
+                         {"decode_errors", p.decode_errors},
+                         {"seq_gaps", p.seq_gaps},
+                         {"queue_drops", p.queue_drops},
+                         {"rejected", p.rejected},
+                         {"last_reject", p.last_reject},
                          {"utime", p.utime}});
     }
     return procs;
@@ -515,10 +547,10 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
             }
             std::vector<std::string> row = {UtcText(c.recv_utime), RunLabel(c.run_id)};
             if (stations) row.push_back(sets[k].station);
-            for (std::string v : {std::to_string(c.coeff_set_id), c.source,
-                                  text::SigOrDash(temp, 4),
-                                  off ? text::SigOrDash(*off, 8) : std::string("n/a"), d_off,
-                                  sens ? text::SigOrDash(*sens, 8) : std::string("n/a"), d_sens})
+            for (std::string v :
+                 {std::to_string(c.coeff_set_id), c.source, text::SigOrDash(temp, 4),
+                  off ? text::SigOrDash(*off, 8) : std::string("n/a"), d_off,
+                  sens ? text::SigOrDash(*sens, 8) : std::string("n/a"), d_sens})
                 row.push_back(v);
             t.Add(row);
         }
@@ -543,9 +575,10 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
         for (double temp : ref_temps_c) {
             const auto off = Eval(s.set.offset, temp);
             const auto sens = Eval(s.set.sensitivity, temp);
-            at.push_back({{"temp_c", temp},
-                          {"offset_v", off ? Finite(*off) : nlohmann::json(nullptr)},
-                          {"sensitivity_v_per_dps", sens ? Finite(*sens) : nlohmann::json(nullptr)}});
+            at.push_back(
+                {{"temp_c", temp},
+                 {"offset_v", off ? Finite(*off) : nlohmann::json(nullptr)},
+                 {"sensitivity_v_per_dps", sens ? Finite(*sens) : nlohmann::json(nullptr)}});
         }
         e["at_ref_temps"] = at;
         arr.push_back(e);
@@ -553,6 +586,5 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
     j["coeff_sets"] = arr;
     return j;
 }
-
 
 }  // namespace gyrocal::store::report

@@ -36,8 +36,8 @@ void ReportBlock(std::ostringstream& out, const FitReportRow& r) {
 }
 
 std::string RepeatabilityText(const RunDetail& d) {
-    Table t({"SENSOR", "TEMP_C", "FIRST_PLATEAU", "SECOND_PLATEAU", "APPROACHES",
-             "OFFSET_DIFF_MV", "OFFSET_DIFF_DPS", "Z", "VERDICT"});
+    Table t({"SENSOR", "TEMP_C", "FIRST_PLATEAU", "SECOND_PLATEAU", "APPROACHES", "OFFSET_DIFF_MV",
+             "OFFSET_DIFF_DPS", "Z", "VERDICT"});
     int n = 0;
     for (const FitReportInfo& f : d.fit_reports)
         for (const RepeatabilityRow& r : f.report.repeats) {
@@ -70,10 +70,12 @@ std::string NoiseText(const RunDetail& d) {
                PlusMinus(n.rrw_v_rts / s, n.rrw_stderr_v_rts / s, 3),
                text::SigOrDash(n.arw_v_rthz, 3), text::SigOrDash(n.bias_instability_v, 3),
                text::SigOrDash(n.rrw_v_rts, 3)});
-        if (!n.fit_note.empty()) notes += "  " + Printable(n.sensor_id) + ": " + Printable(n.fit_note) + "\n";
+        if (!n.fit_note.empty())
+            notes += "  " + Printable(n.sensor_id) + ": " + Printable(n.fit_note) + "\n";
     }
     return t.str() + notes +
-           "  (overlapping Allan deviation of the still, thermally quiet stretches; sigma_A^2 = N^2/tau "
+           "  (overlapping Allan deviation of the still, thermally quiet stretches; sigma_A^2 = "
+           "N^2/tau "
            "+ B^2 + K^2 tau/3; deg/s through the sensitivity at T0 of the run's fitter set; "
            "gyrocal analyze RUN --plot draws it)\n";
 }
@@ -86,7 +88,8 @@ std::string SetStatusLabel(const RunDetail& d, const CoeffSetInfo& c) {
         if (r.sensor_id != c.set.sensor_id || r.source != c.set.source ||
             r.coeff_set_id != c.set.coeff_set_id)
             continue;
-        if (r.status == "complete") return std::string("  COMPLETE") + (r.is_final ? ", final" : "");
+        if (r.status == "complete")
+            return std::string("  COMPLETE") + (r.is_final ? ", final" : "");
         return "  PARTIAL" + std::string(r.is_final ? ", final" : "") + ": " + Printable(r.reason);
     }
     return "";
@@ -108,28 +111,39 @@ void AddFitJson(nlohmann::json& j, const RunDetail& d) {
         const FitReportRow& r = f.report;
         nlohmann::json excluded = nlohmann::json::array(), repeats = nlohmann::json::array();
         for (const FitExclusionRow& e : r.excluded)
-            excluded.push_back({{"kind", e.kind}, {"item_id", e.item_id}, {"temp_c", Finite(e.temp_c)},
-                                {"value", Finite(e.value)}, {"residual", Finite(e.residual)},
+            excluded.push_back({{"kind", e.kind},
+                                {"item_id", e.item_id},
+                                {"temp_c", Finite(e.temp_c)},
+                                {"value", Finite(e.value)},
+                                {"residual", Finite(e.residual)},
                                 {"residual_sigma", Finite(e.residual_sigma)},
-                                {"statistic", Finite(e.statistic)}, {"threshold", Finite(e.threshold)},
+                                {"statistic", Finite(e.statistic)},
+                                {"threshold", Finite(e.threshold)},
                                 {"reason", e.reason}});
         for (const RepeatabilityRow& x : r.repeats)
-            repeats.push_back({{"temp_c", Finite(x.temp_c)}, {"first_plateau_id", x.first_plateau_id},
+            repeats.push_back({{"temp_c", Finite(x.temp_c)},
+                               {"first_plateau_id", x.first_plateau_id},
                                {"second_plateau_id", x.second_plateau_id},
-                               {"first_approach", x.first_approach}, {"second_approach", x.second_approach},
+                               {"first_approach", x.first_approach},
+                               {"second_approach", x.second_approach},
                                {"offset_diff_v", Finite(x.offset_diff_v)},
                                {"offset_diff_stderr_v", Finite(x.offset_diff_stderr_v)},
                                {"offset_diff_dps", Finite(x.offset_diff_dps)},
                                {"offset_diff_stderr_dps", Finite(x.offset_diff_stderr_dps)},
-                               {"z", Finite(x.z)}, {"verdict", x.verdict}});
-        reports.push_back({{"sensor_id", r.sensor_id}, {"source", r.source},
-                           {"coeff_set_id", r.coeff_set_id}, {"is_final", r.is_final},
-                           {"status", r.status}, {"reason", r.reason},
+                               {"z", Finite(x.z)},
+                               {"verdict", x.verdict}});
+        reports.push_back({{"sensor_id", r.sensor_id},
+                           {"source", r.source},
+                           {"coeff_set_id", r.coeff_set_id},
+                           {"is_final", r.is_final},
+                           {"status", r.status},
+                           {"reason", r.reason},
                            {"offset_detail", r.offset_detail},
                            {"sensitivity_detail", r.sensitivity_detail},
                            {"slow_noise_v", Finite(r.slow_noise_v)},
                            {"slow_noise_dps", Finite(r.slow_noise_dps)},
-                           {"slow_noise_source", r.slow_noise_source}, {"excluded", excluded},
+                           {"slow_noise_source", r.slow_noise_source},
+                           {"excluded", excluded},
                            {"repeatability", repeats}});
     }
     j["fit_reports"] = reports;
@@ -138,18 +152,27 @@ void AddFitJson(nlohmann::json& j, const RunDetail& d) {
         const NoiseRow& n = ni.noise;
         nlohmann::json adev = nlohmann::json::array();
         for (size_t i = 0; i < n.tau_s.size(); ++i)
-            adev.push_back({{"tau_s", n.tau_s[i]}, {"adev_v", Finite(n.adev_v[i])},
-                            {"adev_lo_v", Finite(n.adev_lo_v[i])}, {"adev_hi_v", Finite(n.adev_hi_v[i])},
+            adev.push_back({{"tau_s", n.tau_s[i]},
+                            {"adev_v", Finite(n.adev_v[i])},
+                            {"adev_lo_v", Finite(n.adev_lo_v[i])},
+                            {"adev_hi_v", Finite(n.adev_hi_v[i])},
                             {"edf", Finite(n.edf[i])}});
-        noise.push_back({{"sensor_id", n.sensor_id}, {"utime", n.utime}, {"still_s", Finite(n.still_s)},
-                         {"n_segments", n.n_segments}, {"longest_segment_s", Finite(n.longest_segment_s)},
-                         {"arw_v_rthz", Finite(n.arw_v_rthz)}, {"arw_stderr_v_rthz", Finite(n.arw_stderr_v_rthz)},
-                         {"bias_instability_v", Finite(n.bias_instability_v)},
-                         {"bias_instability_stderr_v", Finite(n.bias_instability_stderr_v)},
-                         {"rrw_v_rts", Finite(n.rrw_v_rts)}, {"rrw_stderr_v_rts", Finite(n.rrw_stderr_v_rts)},
-                         {"sensitivity_v_per_dps", ni.sensitivity_v_per_dps ? Finite(*ni.sensitivity_v_per_dps)
-                                                                            : nlohmann::json(nullptr)},
-                         {"fit_note", n.fit_note}, {"adev", adev}});
+        noise.push_back(
+            {{"sensor_id", n.sensor_id},
+             {"utime", n.utime},
+             {"still_s", Finite(n.still_s)},
+             {"n_segments", n.n_segments},
+             {"longest_segment_s", Finite(n.longest_segment_s)},
+             {"arw_v_rthz", Finite(n.arw_v_rthz)},
+             {"arw_stderr_v_rthz", Finite(n.arw_stderr_v_rthz)},
+             {"bias_instability_v", Finite(n.bias_instability_v)},
+             {"bias_instability_stderr_v", Finite(n.bias_instability_stderr_v)},
+             {"rrw_v_rts", Finite(n.rrw_v_rts)},
+             {"rrw_stderr_v_rts", Finite(n.rrw_stderr_v_rts)},
+             {"sensitivity_v_per_dps", ni.sensitivity_v_per_dps ? Finite(*ni.sensitivity_v_per_dps)
+                                                                : nlohmann::json(nullptr)},
+             {"fit_note", n.fit_note},
+             {"adev", adev}});
     }
     j["noise"] = noise;
 }

@@ -33,10 +33,10 @@ int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string&
                     gyro_sample_t s;
                     record::CopyFields(s, r);
                     const auto p = power_on.find(r.sensor_id);
-                    out << csv::FormatRecordRow(s, csv::kDefaultStartUtime, encoder_deg.At(r.utime),
-                                                chamber_c.At(r.utime),
-                                                p == power_on.end() ? std::nullopt
-                                                                    : std::optional(p->second))
+                    out << csv::FormatRecordRow(
+                               s, csv::kDefaultStartUtime, encoder_deg.At(r.utime),
+                               chamber_c.At(r.utime),
+                               p == power_on.end() ? std::nullopt : std::optional(p->second))
                         << '\n';
                     ++rows;
                 }

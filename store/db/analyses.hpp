@@ -26,7 +26,7 @@ struct AnalysisRow {
     std::string run_id, sensor_id;   // the analysed run (must exist) and sensor
     int64_t created_wall_utime = 0;  // [us] wall clock; <= 0 on insert = now
     std::string software_version, command_line;
-    std::string verdict;                 // e.g. "no missing effect", "added temp_rate"
+    std::string verdict;  // e.g. "no missing effect", "added temp_rate"
     // adequate, explained, partly explained, unexplained residual, ambiguous, not testable;
     // nullopt for an analysis stored before outcomes existed (NULL in the column).
     std::optional<std::string> outcome;

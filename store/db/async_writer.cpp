@@ -9,9 +9,9 @@ namespace {
 
 // The table each kind of row goes to, in the order of the Row variant.
 constexpr std::array<const char*, std::variant_size_v<Row>> kTables = {
-    "gyro_samples", "encoder_samples",    "chamber_states", "chamber_cmds", "turntable_cmds",
-    "plateau_states", "plateaus", "sensitivity_points", "coeff_sets", "rates", "status",
-    "run_events", "raw_events"};
+    "gyro_samples",   "encoder_samples", "chamber_states",     "chamber_cmds", "turntable_cmds",
+    "plateau_states", "plateaus",        "sensitivity_points", "coeff_sets",   "rates",
+    "status",         "run_events",      "raw_events"};
 
 const std::string& RunOf(const Row& row) {
     return std::visit([](const auto& r) -> const std::string& { return r.run_id; }, row);
@@ -50,7 +50,8 @@ bool AsyncWriter::Push(Row&& row, const std::string& channel, bool essential) {
     queue_.push_back(std::move(row));
     ++stats_.pushed;
     const size_t n = queue_.size();
-    if (static_cast<int64_t>(n) > stats_.max_queue_rows) stats_.max_queue_rows = static_cast<int64_t>(n);
+    if (static_cast<int64_t>(n) > stats_.max_queue_rows)
+        stats_.max_queue_rows = static_cast<int64_t>(n);
     lock.unlock();
     if (n == options_.batch_rows) cv_.notify_one();
     return true;
@@ -179,9 +180,9 @@ bool AsyncWriter::TryWrite(const std::vector<Row>& batch, const LossMap& losses,
         held.insert(held.end(), queue_.begin(), queue_.end());
         stats_.unwritten_rows = static_cast<int64_t>(held.size());
         stats_.unwritten_summary = SummarizeRows(held);
-        error_ = fault.empty() ? error
-                               : "the database still cannot be written at stop (" + fault +
-                                     "): " + error;
+        error_ = fault.empty()
+                     ? error
+                     : "the database still cannot be written at stop (" + fault + "): " + error;
         failed_.store(true);
         return false;
     }

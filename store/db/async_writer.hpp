@@ -38,30 +38,30 @@
 namespace gyrocal::store {
 
 struct AsyncWriterOptions {
-    size_t queue_rows = 100000;   // rows held in memory (queued or waiting) before Push() drops
-    size_t batch_rows = 1000;     // commit at least this often (rows)
-    std::chrono::milliseconds batch_interval{200};  // ... and at least this often (time)
+    size_t queue_rows = 100000;  // rows held in memory (queued or waiting) before Push() drops
+    size_t batch_rows = 1000;    // commit at least this often (rows)
+    std::chrono::milliseconds batch_interval{200};   // ... and at least this often (time)
     std::chrono::milliseconds retry_interval{1000};  // while a storage fault lasts
     static AsyncWriterOptions Defaults() { return {}; }
 };
 
 struct AsyncWriterStats {
-    int64_t pushed = 0;       // rows accepted
-    int64_t dropped = 0;      // rows dropped because the memory bound was reached (or failure)
-    int64_t written = 0;      // rows committed
-    int64_t batches = 0;      // transactions committed
+    int64_t pushed = 0;   // rows accepted
+    int64_t dropped = 0;  // rows dropped because the memory bound was reached (or failure)
+    int64_t written = 0;  // rows committed
+    int64_t batches = 0;  // transactions committed
     int64_t max_queue_rows = 0;
-    double max_commit_ms = 0; // slowest transaction
-    int64_t held_rows = 0;    // rows in memory now, not yet committed
+    double max_commit_ms = 0;  // slowest transaction
+    int64_t held_rows = 0;     // rows in memory now, not yet committed
     // Storage faults.
-    bool blocked = false;          // the last write failed with a storage fault; retrying
-    std::string blocked_reason;    // StorageFaultName: "disk full", "read-only", ...
-    std::string blocked_error;     // the whole error of the last failed attempt
-    int64_t failed_writes = 0;     // attempts that failed with a storage fault
-    int64_t fault_episodes = 0;    // times the writer became blocked
+    bool blocked = false;        // the last write failed with a storage fault; retrying
+    std::string blocked_reason;  // StorageFaultName: "disk full", "read-only", ...
+    std::string blocked_error;   // the whole error of the last failed attempt
+    int64_t failed_writes = 0;   // attempts that failed with a storage fault
+    int64_t fault_episodes = 0;  // times the writer became blocked
     std::chrono::steady_clock::time_point blocked_since{};
-    int64_t unwritten_rows = 0;    // given up at Stop() while still blocked
-    std::string unwritten_summary; // e.g. "R1 gyro_samples 4000, R1 status 12"
+    int64_t unwritten_rows = 0;     // given up at Stop() while still blocked
+    std::string unwritten_summary;  // e.g. "R1 gyro_samples 4000, R1 status 12"
 };
 
 class AsyncWriter {

@@ -1,8 +1,8 @@
 #include "model_rows.hpp"
 
-#include "model/inputs.hpp"
-
 #include <limits>
+
+#include "model/inputs.hpp"
 
 namespace gyrocal::store {
 namespace {

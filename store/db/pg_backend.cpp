@@ -1,7 +1,8 @@
 // The central database behind a Db: a libpqxx connection with one transaction at a time;
 // statements over sample tables are read through server-side cursors (a run's millions of
-// samples never sit in memory at once), the others in one round trip. Readers work in one read-only REPEATABLE READ snapshot for the life of the Db, so a
-// push that commits meanwhile does not change the answer half-way.
+// samples never sit in memory at once), the others in one round trip. Readers work in one read-only
+// REPEATABLE READ snapshot for the life of the Db, so a push that commits meanwhile does not change
+// the answer half-way.
 #include <charconv>
 #include <cmath>
 #include <cstdlib>

@@ -26,10 +26,10 @@ public:
 std::unique_ptr<Db> OpenForQuery(const std::string& path);
 
 struct RunFilter {
-    std::optional<std::string> sensor_id;   // runs that recorded this sensor
-    std::optional<int64_t> since_utime;     // [us] wall clock: runs first seen at or after
-    std::optional<int64_t> until_utime;     // [us] wall clock: runs first seen before
-    std::optional<std::string> outcome;     // 'running', 'stop', 'abort', 'none'
+    std::optional<std::string> sensor_id;  // runs that recorded this sensor
+    std::optional<int64_t> since_utime;    // [us] wall clock: runs first seen at or after
+    std::optional<int64_t> until_utime;    // [us] wall clock: runs first seen before
+    std::optional<std::string> outcome;    // 'running', 'stop', 'abort', 'none'
 };
 
 struct RunInfo {
@@ -63,7 +63,7 @@ struct RunDetail {
     std::vector<CoeffSetInfo> coeff_sets;
     std::vector<LossInfo> losses;
     std::vector<RunEventRow> events;
-    std::vector<StatusRow> processes;  // last STATUS of each process (name, host, pid) in the run
+    std::vector<StatusRow> processes;   // last STATUS of each process (name, host, pid) in the run
     std::vector<AnalysisRow> analyses;  // closed-loop analyses of the run, oldest first
     std::vector<FitReportInfo> fit_reports;  // final report of each sensor and source (v5)
     std::vector<NoiseInfo> noise;            // newest noise estimate of each sensor (v5)

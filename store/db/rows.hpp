@@ -80,12 +80,11 @@ struct PlateauRow {
 
 struct SensitivityRow {
     std::string run_id, sensor_id;
-    int64_t rotation_id = 0, utime = 0, start_utime = 0, end_utime = 0, first_seq = 0,
-            last_seq = 0;
+    int64_t rotation_id = 0, utime = 0, start_utime = 0, end_utime = 0, first_seq = 0, last_seq = 0;
     int32_t n_samples = 0;
     int32_t direction = 0;
-    double temp_c = 0, encoder_angle_deg = 0, offset_v = 0, offset_stderr_v = 0,
-           integral_v_s = 0, sensitivity_v_per_dps = 0, sensitivity_stderr_v_per_dps = 0;
+    double temp_c = 0, encoder_angle_deg = 0, offset_v = 0, offset_stderr_v = 0, integral_v_s = 0,
+           sensitivity_v_per_dps = 0, sensitivity_stderr_v_per_dps = 0;
     bool accepted = false;
     std::string reject_reason;
     int64_t recv_utime = 0;

@@ -2,8 +2,8 @@
 
 #include <array>
 #include <chrono>
-#include <thread>
 #include <string_view>
+#include <thread>
 
 namespace gyrocal::store {
 namespace {
@@ -530,8 +530,8 @@ void ConfigureConnection(Db& db) {
 
 void Migrate(Db& db, int target_version) {
     if (target_version < 0 || target_version > kSchemaVersion) {
-        throw StoreError("schema version " + std::to_string(target_version) +
-                         " is not valid (0.." + std::to_string(kSchemaVersion) + ")");
+        throw StoreError("schema version " + std::to_string(target_version) + " is not valid (0.." +
+                         std::to_string(kSchemaVersion) + ")");
     }
     const FileState state = ReadFileState(db);
     int version = state.version;

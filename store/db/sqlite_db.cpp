@@ -34,15 +34,20 @@ std::string StorageFaultName(int code, int os_errno) {
         if (os_errno == ENOSPC || os_errno == EDQUOT) return "disk full";
     }
     switch (code & 0xff) {
-        case SQLITE_FULL: return "disk full";
+        case SQLITE_FULL:
+            return "disk full";
         case SQLITE_READONLY:
             return code == SQLITE_READONLY_DBMOVED ? "file removed or replaced" : "read-only";
         case SQLITE_BUSY:
         case SQLITE_LOCKED:
-        case SQLITE_PROTOCOL: return "locked by another writer";
-        case SQLITE_IOERR: return "I/O error";
-        case SQLITE_CANTOPEN: return "cannot open";
-        default: return "";
+        case SQLITE_PROTOCOL:
+            return "locked by another writer";
+        case SQLITE_IOERR:
+            return "I/O error";
+        case SQLITE_CANTOPEN:
+            return "cannot open";
+        default:
+            return "";
     }
 }
 
@@ -53,7 +58,8 @@ std::string Describe(sqlite3* db) {
     std::string msg = sqlite3_errmsg(db);
     const int primary = sqlite3_extended_errcode(db) & 0xff;
     const int os = sqlite3_system_errno(db);
-    if (os != 0 && (primary == SQLITE_IOERR || primary == SQLITE_FULL || primary == SQLITE_CANTOPEN)) {
+    if (os != 0 &&
+        (primary == SQLITE_IOERR || primary == SQLITE_FULL || primary == SQLITE_CANTOPEN)) {
         msg += std::string(" (OS: ") + std::strerror(os) + ")";
     }
     return msg;
@@ -82,9 +88,15 @@ std::string Prefix(const std::string& path, int code) {
 Db::Db(const std::string& path, Mode mode) : path_(path) {
     int flags = SQLITE_OPEN_NOMUTEX;
     switch (mode) {
-        case Mode::kReadWriteCreate: flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE; break;
-        case Mode::kReadWrite: flags |= SQLITE_OPEN_READWRITE; break;
-        case Mode::kReadOnly: flags |= SQLITE_OPEN_READONLY; break;
+        case Mode::kReadWriteCreate:
+            flags |= SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+            break;
+        case Mode::kReadWrite:
+            flags |= SQLITE_OPEN_READWRITE;
+            break;
+        case Mode::kReadOnly:
+            flags |= SQLITE_OPEN_READONLY;
+            break;
     }
     const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
     if (rc != SQLITE_OK) {

@@ -118,7 +118,10 @@ public:
     }
 
     bool Step();
-    void Run() { Step(); Reset(); }  // for INSERT/UPDATE
+    void Run() {
+        Step();
+        Reset();
+    }  // for INSERT/UPDATE
     void Reset();
 
     bool IsNull(int col) const;

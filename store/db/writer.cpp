@@ -46,74 +46,91 @@ StoreError WithCause(const StoreError& e, const std::string& path) {
 
 struct StoreWriter::Statements {
     explicit Statements(Db& db)
-        : gyro(db, "INSERT INTO gyro_samples(run_id, sensor_id, utime, seq, gyro_v, temp_v, "
-                   "temp_c, supply_v, has_adc, gyro_counts, temp_counts, supply_counts, "
-                   "recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)"),
-          encoder(db, "INSERT INTO encoder_samples(run_id, encoder_id, utime, seq, counts, "
-                      "counts_per_rev, angle_deg, recv_utime) VALUES (?,?,?,?,?,?,?,?)"),
-          chamber(db, "INSERT INTO chamber_states(run_id, utime, seq, cmd_id, setpoint_c, air_c, "
-                      "at_setpoint, fault, recv_utime) VALUES (?,?,?,?,?,?,?,?,?)"),
-          chamber_cmd(db, "INSERT INTO chamber_cmds(run_id, msg_run_id, utime, cmd_id, "
-                          "setpoint_c, ramp_rate_c_per_min, recv_utime) VALUES (?,?,?,?,?,?,?)"),
-          turntable_cmd(db, "INSERT INTO turntable_cmds(run_id, msg_run_id, utime, cmd_id, "
-                            "move_deg, rate_dps, accel_dps2, recv_utime) "
-                            "VALUES (?,?,?,?,?,?,?,?)"),
-          plateau_state(db, "INSERT INTO plateau_states(run_id, sensor_id, utime, state, temp_c, "
-                            "temp_slope_c_per_min, temp_std_c, stable_for_s, "
-                            "averaging_progress, last_plateau_id, recv_utime) "
-                            "VALUES (?,?,?,?,?,?,?,?,?,?,?)"),
-          plateau(db, "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, setpoint_c, "
-                      "start_utime, end_utime, first_seq, last_seq, n_samples, "
-                      "n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
-                      "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_mean_v, "
-                      "supply_mean_v, recv_utime) "
-                      "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,?19,"
-                      "?20,?21,?22 "
-                      "WHERE NOT EXISTS (SELECT 1 FROM plateaus WHERE run_id = ?1 AND "
-                      "sensor_id = ?2 AND plateau_id = ?3)"),
-          sensitivity(db, "INSERT INTO sensitivity_points(run_id, sensor_id, rotation_id, utime, "
-                          "start_utime, end_utime, first_seq, last_seq, n_samples, direction, "
-                          "temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
-                          "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, "
-                          "reject_reason, recv_utime) "
-                          "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,"
-                          "?19,?20 "
-                          "WHERE NOT EXISTS (SELECT 1 FROM sensitivity_points WHERE run_id = ?1 "
-                          "AND sensor_id = ?2 AND rotation_id = ?3)"),
-          rate(db, "INSERT INTO rates(run_id, sensor_id, utime, seq, rate_dps, angle_deg, temp_c, "
-                   "coeff_set_id, range_flag, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?)"),
-          status(db, "INSERT INTO status(run_id, utime, process, host, pid, state, received, "
-                     "published, decode_errors, seq_gaps, queue_drops, rejected, last_reject, "
-                     "extra_json, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
-          run_event(db, "INSERT INTO run_events(run_id, utime, event, reason, setpoint_index, "
-                        "setpoint_c, sensor_ids_json, software_version, config_json, "
-                        "command_line, host, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)"),
-          run_start(db, "INSERT INTO runs(run_id, started_utime, outcome, software_version, "
-                        "config_json, command_line, host, recorder_version, recorder_host, "
-                        "first_recv_utime) VALUES (?1,?2,'running',?3,?4,?5,?6,?7,?8,?9) "
-                        "ON CONFLICT(run_id) DO UPDATE SET started_utime = ?2, "
-                        "software_version = ?3, config_json = ?4, command_line = ?5, host = ?6, "
-                        "recorder_version = ?7, recorder_host = ?8"),
-          run_stop(db, "INSERT INTO runs(run_id, stopped_utime, outcome, reason, first_recv_utime) "
-                       "VALUES (?1,?2,?3,?4,?5) ON CONFLICT(run_id) DO UPDATE SET "
-                       "stopped_utime = ?2, outcome = ?3, reason = ?4"),
-          block(db, "INSERT INTO gyro_blocks(run_id, sensor_id, first_rowid, last_rowid, "
-                    "min_utime, max_utime, n_samples) VALUES (?,?,?,?,?,?,?)"),
+        : gyro(db,
+               "INSERT INTO gyro_samples(run_id, sensor_id, utime, seq, gyro_v, temp_v, "
+               "temp_c, supply_v, has_adc, gyro_counts, temp_counts, supply_counts, "
+               "recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+          encoder(db,
+                  "INSERT INTO encoder_samples(run_id, encoder_id, utime, seq, counts, "
+                  "counts_per_rev, angle_deg, recv_utime) VALUES (?,?,?,?,?,?,?,?)"),
+          chamber(db,
+                  "INSERT INTO chamber_states(run_id, utime, seq, cmd_id, setpoint_c, air_c, "
+                  "at_setpoint, fault, recv_utime) VALUES (?,?,?,?,?,?,?,?,?)"),
+          chamber_cmd(db,
+                      "INSERT INTO chamber_cmds(run_id, msg_run_id, utime, cmd_id, "
+                      "setpoint_c, ramp_rate_c_per_min, recv_utime) VALUES (?,?,?,?,?,?,?)"),
+          turntable_cmd(db,
+                        "INSERT INTO turntable_cmds(run_id, msg_run_id, utime, cmd_id, "
+                        "move_deg, rate_dps, accel_dps2, recv_utime) "
+                        "VALUES (?,?,?,?,?,?,?,?)"),
+          plateau_state(db,
+                        "INSERT INTO plateau_states(run_id, sensor_id, utime, state, temp_c, "
+                        "temp_slope_c_per_min, temp_std_c, stable_for_s, "
+                        "averaging_progress, last_plateau_id, recv_utime) "
+                        "VALUES (?,?,?,?,?,?,?,?,?,?,?)"),
+          plateau(db,
+                  "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, setpoint_c, "
+                  "start_utime, end_utime, first_seq, last_seq, n_samples, "
+                  "n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
+                  "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_mean_v, "
+                  "supply_mean_v, recv_utime) "
+                  "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,?19,"
+                  "?20,?21,?22 "
+                  "WHERE NOT EXISTS (SELECT 1 FROM plateaus WHERE run_id = ?1 AND "
+                  "sensor_id = ?2 AND plateau_id = ?3)"),
+          sensitivity(db,
+                      "INSERT INTO sensitivity_points(run_id, sensor_id, rotation_id, utime, "
+                      "start_utime, end_utime, first_seq, last_seq, n_samples, direction, "
+                      "temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
+                      "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, "
+                      "reject_reason, recv_utime) "
+                      "SELECT ?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14,?15,?16,?17,?18,"
+                      "?19,?20 "
+                      "WHERE NOT EXISTS (SELECT 1 FROM sensitivity_points WHERE run_id = ?1 "
+                      "AND sensor_id = ?2 AND rotation_id = ?3)"),
+          rate(db,
+               "INSERT INTO rates(run_id, sensor_id, utime, seq, rate_dps, angle_deg, temp_c, "
+               "coeff_set_id, range_flag, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?)"),
+          status(db,
+                 "INSERT INTO status(run_id, utime, process, host, pid, state, received, "
+                 "published, decode_errors, seq_gaps, queue_drops, rejected, last_reject, "
+                 "extra_json, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+          run_event(db,
+                    "INSERT INTO run_events(run_id, utime, event, reason, setpoint_index, "
+                    "setpoint_c, sensor_ids_json, software_version, config_json, "
+                    "command_line, host, recv_utime) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)"),
+          run_start(db,
+                    "INSERT INTO runs(run_id, started_utime, outcome, software_version, "
+                    "config_json, command_line, host, recorder_version, recorder_host, "
+                    "first_recv_utime) VALUES (?1,?2,'running',?3,?4,?5,?6,?7,?8,?9) "
+                    "ON CONFLICT(run_id) DO UPDATE SET started_utime = ?2, "
+                    "software_version = ?3, config_json = ?4, command_line = ?5, host = ?6, "
+                    "recorder_version = ?7, recorder_host = ?8"),
+          run_stop(db,
+                   "INSERT INTO runs(run_id, stopped_utime, outcome, reason, first_recv_utime) "
+                   "VALUES (?1,?2,?3,?4,?5) ON CONFLICT(run_id) DO UPDATE SET "
+                   "stopped_utime = ?2, outcome = ?3, reason = ?4"),
+          block(db,
+                "INSERT INTO gyro_blocks(run_id, sensor_id, first_rowid, last_rowid, "
+                "min_utime, max_utime, n_samples) VALUES (?,?,?,?,?,?,?)"),
           run_bare(db, "INSERT OR IGNORE INTO runs(run_id, first_recv_utime) VALUES (?,?)"),
-          power(db, "INSERT INTO power_states(run_id, sensor_id, utime, seq, power_on_utime, "
-                    "source, recv_utime) VALUES (?,?,?,?,?,?,?)"),
+          power(db,
+                "INSERT INTO power_states(run_id, sensor_id, utime, seq, power_on_utime, "
+                "source, recv_utime) VALUES (?,?,?,?,?,?,?)"),
           run_sensor(db, "INSERT OR IGNORE INTO run_sensors(run_id, sensor_id) VALUES (?,?)"),
           sensor(db, "INSERT OR IGNORE INTO sensors(sensor_id, first_recv_utime) VALUES (?,?)"),
-          raw(db, "INSERT INTO raw_events(run_id, channel, recv_utime, fingerprint, reason, data) "
-                  "VALUES (?,?,?,?,?,?)"),
-          loss(db, "INSERT INTO losses(run_id, channel, seq_gaps, seq_backwards, decode_errors, "
-                   "queue_drops) VALUES (?1,?2,?3,?4,?5,?6) ON CONFLICT(run_id, channel) DO "
-                   "UPDATE SET seq_gaps = seq_gaps + ?3, seq_backwards = seq_backwards + ?4, "
-                   "decode_errors = decode_errors + ?5, queue_drops = queue_drops + ?6") {}
+          raw(db,
+              "INSERT INTO raw_events(run_id, channel, recv_utime, fingerprint, reason, data) "
+              "VALUES (?,?,?,?,?,?)"),
+          loss(db,
+               "INSERT INTO losses(run_id, channel, seq_gaps, seq_backwards, decode_errors, "
+               "queue_drops) VALUES (?1,?2,?3,?4,?5,?6) ON CONFLICT(run_id, channel) DO "
+               "UPDATE SET seq_gaps = seq_gaps + ?3, seq_backwards = seq_backwards + ?4, "
+               "decode_errors = decode_errors + ?5, queue_drops = queue_drops + ?6") {}
 
     Stmt gyro, encoder, chamber, chamber_cmd, turntable_cmd, plateau_state, plateau, sensitivity,
-        rate, status, run_event, run_start, run_stop, block, run_bare, power, run_sensor, sensor, raw,
-        loss;
+        rate, status, run_event, run_start, run_stop, block, run_bare, power, run_sensor, sensor,
+        raw, loss;
 };
 
 StoreWriter::StoreWriter(const std::string& path, WriterInfo info)
@@ -212,7 +229,6 @@ void StoreWriter::EnsureSensor(const std::string& sensor_id, int64_t recv_utime)
     known_sensors_.insert(sensor_id);
 }
 
-
 void StoreWriter::Write(const std::vector<Row>& rows, const LossMap& losses) {
     try {
         WriteBatch(rows, losses);
@@ -228,8 +244,9 @@ void StoreWriter::WriteBatch(const std::vector<Row>& rows, const LossMap& losses
     if (reopen_) Open();
     reopen_ = true;
     if (db_->HasMoved()) {  // SQLite would go on writing into the removed file, silently
-        throw StoreError("database '" + path_ + "': the file was removed or replaced while open; "
-                         "it is opened (created) again at that path",
+        throw StoreError("database '" + path_ +
+                             "': the file was removed or replaced while open; "
+                             "it is opened (created) again at that path",
                          SQLITE_READONLY_DBMOVED);
     }
     {
@@ -329,7 +346,6 @@ void Insert(Stmt& s, const RawEventRow& raw) {
     s.Bind(4, raw.fingerprint_hex).Bind(5, raw.reason);
     s.BindBlob(6, raw.data.data(), static_cast<int>(raw.data.size())).Run();
 }
-
 
 void Insert(Stmt& s, const GyroRow& g) {
     s.Bind(1, g.run_id).Bind(2, g.sensor_id).Bind(3, g.utime).Bind(4, g.seq);

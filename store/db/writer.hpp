@@ -77,8 +77,8 @@ private:
     void NoteBlock(const GyroRow& g, int64_t rowid);
     void WriteRunEvent(const RunEventRow& r);
     void WriteCoeffSet(const CoeffSetRow& r);
-    void WriteNoise(const NoiseRow& r);          // writer_fit.cpp
-    void WriteFitReport(const FitReportRow& r);  // writer_fit.cpp
+    void WriteNoise(const NoiseRow& r);            // writer_fit.cpp
+    void WriteFitReport(const FitReportRow& r);    // writer_fit.cpp
     void WriteClosedLoop(const ClosedLoopRow& r);  // writer_fit.cpp
 
     std::string path_;

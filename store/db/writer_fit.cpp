@@ -23,7 +23,9 @@ void StoreWriter::WriteNoise(const NoiseRow& r) {
            "INSERT INTO noise_adev(noise_row_id, tau_s, adev_v, adev_lo_v, adev_hi_v, edf) "
            "VALUES (?,?,?,?,?,?)");
     for (size_t i = 0; i < r.tau_s.size(); ++i) {
-        auto at = [&](const std::vector<double>& v) { return i < v.size() ? v[i] : std::numeric_limits<double>::quiet_NaN(); };
+        auto at = [&](const std::vector<double>& v) {
+            return i < v.size() ? v[i] : std::numeric_limits<double>::quiet_NaN();
+        };
         p.Bind(1, row).Bind(2, r.tau_s[i]).Bind(3, at(r.adev_v)).Bind(4, at(r.adev_lo_v));
         p.Bind(5, at(r.adev_hi_v)).Bind(6, at(r.edf)).Run();
     }

@@ -5,9 +5,9 @@
 #include <memory>
 #include <string>
 
+#include "recorder_node.hpp"
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
-#include "recorder_node.hpp"
 
 int main(int argc, char** argv) {
     using gyrocal::record::kRecorderProcess;
@@ -34,15 +34,20 @@ int main(int argc, char** argv) {
                    "central database postgresql://...: when a run ends, push it there in the "
                    "background (gyrocal push; recording never waits on it; password from "
                    "PGPASSFILE rather than the URL)");
-    app.add_option("--queue-rows", o.queue_rows,
-                   "rows held in memory (queued, or waiting for a blocked database) before dropping")
-        ->check(CLI::Range(size_t{1000}, size_t{100000000}))->capture_default_str();
+    app.add_option(
+           "--queue-rows", o.queue_rows,
+           "rows held in memory (queued, or waiting for a blocked database) before dropping")
+        ->check(CLI::Range(size_t{1000}, size_t{100000000}))
+        ->capture_default_str();
     app.add_option("--batch-rows", o.batch_rows, "commit every N rows")
-        ->check(CLI::Range(size_t{1}, size_t{1000000}))->capture_default_str();
+        ->check(CLI::Range(size_t{1}, size_t{1000000}))
+        ->capture_default_str();
     app.add_option("--batch-ms", o.batch_ms, "commit at least every N ms (crash loss bound)")
-        ->check(CLI::Range(1, 60000))->capture_default_str();
+        ->check(CLI::Range(1, 60000))
+        ->capture_default_str();
     // The options check themselves (CLI::Range, the channel regex); --db is checked by opening it.
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kRecorderProcess)) return *exit_code;
+    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kRecorderProcess))
+        return *exit_code;
 
     std::unique_ptr<gyrocal::store::StoreWriter> writer;
     try {

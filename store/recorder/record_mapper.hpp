@@ -36,9 +36,9 @@ struct MapperOptions {
 struct Mapped {
     std::optional<store::Row> row;  // nothing for skipped messages (rates when off, flow control)
     std::vector<store::Row> more;   // a batch's samples after the first, in order
-    bool essential = false;         // run events, coefficient sets, fit reports, noise: never dropped
-    std::string run_id;             // run the loss below belongs to
-    store::LossDelta loss;          // seq gaps / decode errors this message revealed
+    bool essential = false;  // run events, coefficient sets, fit reports, noise: never dropped
+    std::string run_id;      // run the loss below belongs to
+    store::LossDelta loss;   // seq gaps / decode errors this message revealed
     // Flow control (flow_mark_t, flow_ack_t) or an empty batch: handled, nothing to store. The
     // pacing a source did is recorded through its STATUS (flow_* counters).
     bool control = false;

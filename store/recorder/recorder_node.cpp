@@ -58,9 +58,8 @@ RecorderNode::RecorderNode(const RecorderOptions& o, std::unique_ptr<store::Stor
         std::cerr << kRecorderProcess << ": continuing run '" << mapper_.current_run()
                   << "' (started on this bus, not stopped, in " << o.db_path << ")\n";
     }
-    bus_.SubscribeRaw(o.channels, [this](const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
-        OnMessage(rbuf, channel);
-    });
+    bus_.SubscribeRaw(o.channels, [this](const lcm::ReceiveBuffer& rbuf,
+                                         const std::string& channel) { OnMessage(rbuf, channel); });
     // A row is handled once its writer has it, but "has it" must not outrun the disk: a source
     // is answered only while the write queue is at most half full, so a slow disk slows the
     // source instead of filling the queue to its drop bound.

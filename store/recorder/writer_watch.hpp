@@ -20,7 +20,7 @@ namespace gyrocal::record {
 struct WatchReport {
     std::string state;
     std::vector<std::pair<std::string, double>> extras;  // STATUS extra counters
-    std::vector<std::string> log;                         // lines for stderr, may be empty
+    std::vector<std::string> log;                        // lines for stderr, may be empty
 };
 
 class WriterWatch {
@@ -36,7 +36,7 @@ private:
     bool blocked_ = false;
     int64_t dropped_at_block_ = 0;
     int64_t written_at_block_ = 0;
-    Clock::time_point since_{};     // the fault began (first failed write)
+    Clock::time_point since_{};  // the fault began (first failed write)
     Clock::time_point last_log_{};
 };
 

@@ -6,9 +6,9 @@
 #include <thread>
 #include <variant>
 
-#include "runtime/shutdown.hpp"
 #include "query.hpp"
 #include "replay_source.hpp"
+#include "runtime/shutdown.hpp"
 
 namespace gyrocal::record {
 
@@ -76,8 +76,7 @@ int ReplayNode::Run() {
     if (flow_ && !StopRequested() && flow_->paced_consumers() > 0 && !flow_->Drain(last_recv))
         std::cerr << kReplayProcess << ": flow: not every consumer answered the end\n";
     std::cerr << kReplayProcess << ": published " << published_ << " messages of run '"
-              << options_.run_id << "' (" << bus_.counters().publish_errors
-              << " publish errors)\n";
+              << options_.run_id << "' (" << bus_.counters().publish_errors << " publish errors)\n";
     return bus_.counters().publish_errors == 0 ? 0 : 1;
 }
 

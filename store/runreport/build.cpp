@@ -7,17 +7,17 @@
 #include "central_url.hpp"
 #include "figures.hpp"
 #include "html.hpp"
-#include "utc_text.hpp"
 #include "page.hpp"
 #include "plot/gnuplot.hpp"
+#include "utc_text.hpp"
 
 namespace gyrocal::runreport {
 
 std::string ReportFileName(const std::string& run_id) {
     std::string safe = run_id.empty() ? "no-run" : run_id;
     for (char& c : safe) {
-        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
-                        c == '_' || c == '-';
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                        (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
         if (!ok) c = '_';
     }
     return "report-" + safe + ".html";
@@ -41,7 +41,8 @@ ReportResult WriteReport(const ReportOptions& o) {
     std::vector<plot::Figure> figures;
     for (size_t i = 0; i < in.units.size(); ++i) {
         in.stems.push_back("u" + std::to_string(i + 1));
-        for (plot::Figure& f : UnitFigures(in.units[i], in.stems.back(), in.plateau_slow_noise_dps, t0))
+        for (plot::Figure& f :
+             UnitFigures(in.units[i], in.stems.back(), in.plateau_slow_noise_dps, t0))
             figures.push_back(std::move(f));
     }
     const std::vector<std::string> svgs = plot::DrawInlineSvgs(o.gnuplot, figures);

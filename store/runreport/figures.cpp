@@ -38,7 +38,8 @@ bool AnyFinite(const plot::Table& t) {
 // Adds the series when its table has a finite row (and the table once).
 void AddSeries(plot::Figure& f, const plot::Table& t, plot::Series s) {
     if (!AnyFinite(t)) return;
-    if (std::none_of(f.tables.begin(), f.tables.end(), [&](const plot::Table& x) { return x.name == t.name; }))
+    if (std::none_of(f.tables.begin(), f.tables.end(),
+                     [&](const plot::Table& x) { return x.name == t.name; }))
         f.tables.push_back(t);
     s.table = t.name;
     f.series.push_back(std::move(s));
@@ -47,7 +48,8 @@ void AddSeries(plot::Figure& f, const plot::Table& t, plot::Series s) {
 // The curve and its band over the model's range: temp_c, value, low, high (value x scale).
 plot::Table Curve(const model::Evaluator& e, const std::string& name, double scale, bool centred) {
     const model::Model& m = e.model();
-    plot::Table t{name, "fitted curve and +-2 sigma band", {"temp_c", "fit", "band_low", "band_high"}, {}};
+    plot::Table t{
+        name, "fitted curve and +-2 sigma band", {"temp_c", "fit", "band_low", "band_high"}, {}};
     const double lo = m.temp_min_c, hi = m.temp_max_c;
     if (!std::isfinite(lo) || !std::isfinite(hi) || hi < lo) return t;
     for (int i = 0; i < kCurvePoints; ++i) {
@@ -75,12 +77,16 @@ plot::Figure Base(const std::string& name, const std::string& title, const std::
 }
 
 // [V] a plateau's uncertainty as the fitter weighted it.
-double PlateauSigmaV(const store::PlateauRow& p, double slow_dps, const std::optional<model::Evaluator>& sens) {
-    const double s = sens ? std::abs(sens->Value(At(*sens, p.temp_mean_c), model::RangePolicy::kClip)) : NAN;
+double PlateauSigmaV(const store::PlateauRow& p, double slow_dps,
+                     const std::optional<model::Evaluator>& sens) {
+    const double s =
+        sens ? std::abs(sens->Value(At(*sens, p.temp_mean_c), model::RangePolicy::kClip)) : NAN;
     return std::hypot(p.gyro_sem_v, std::isfinite(s) ? slow_dps * s : 0.0);
 }
 
-bool Used(const std::vector<int64_t>& ids, int64_t id) { return std::find(ids.begin(), ids.end(), id) != ids.end(); }
+bool Used(const std::vector<int64_t>& ids, int64_t id) {
+    return std::find(ids.begin(), ids.end(), id) != ids.end();
+}
 
 }  // namespace
 
@@ -107,24 +113,31 @@ struct Fits {
 };
 
 // Offset vs temperature, and the offset residuals vs temperature and time.
-void OffsetFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0, const Fits& fit,
-                   std::vector<plot::Figure>& figures) {
+void OffsetFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0,
+                   const Fits& fit, std::vector<plot::Figure>& figures) {
     const std::string& id = u.sensor_id;
-    plot::Table pts{stem + "_offset_pts", "plateau means", {"temp_c", "gyro_mean_v", "sigma_v"}, {}};
-    plot::Table res{stem + "_resid", "plateau residuals", {"temp_c", "time_h", "resid_mv", "sigma_mv"}, {}};
-    plot::Table unused{stem + "_resid_unused", "plateaus not in the fit", {"temp_c", "time_h", "resid_mv"}, {}};
+    plot::Table pts{
+        stem + "_offset_pts", "plateau means", {"temp_c", "gyro_mean_v", "sigma_v"}, {}};
+    plot::Table res{
+        stem + "_resid", "plateau residuals", {"temp_c", "time_h", "resid_mv", "sigma_mv"}, {}};
+    plot::Table unused{
+        stem + "_resid_unused", "plateaus not in the fit", {"temp_c", "time_h", "resid_mv"}, {}};
     for (const auto& p : u.plateaus) {
         const double sigma = PlateauSigmaV(p, slow_dps, fit.sens);
         pts.rows.push_back({p.temp_mean_c, p.gyro_mean_v, sigma});
         if (!fit.off) continue;
-        const double r_mv = (p.gyro_mean_v - fit.off->Value(At(*fit.off, p.temp_mean_c), model::RangePolicy::kExtrapolate)) * 1e3;
-        const double mid_h = (0.5 * (p.start_utime + p.end_utime) - static_cast<double>(t0)) / 3.6e9;
+        const double r_mv = (p.gyro_mean_v - fit.off->Value(At(*fit.off, p.temp_mean_c),
+                                                            model::RangePolicy::kExtrapolate)) *
+                            1e3;
+        const double mid_h =
+            (0.5 * (p.start_utime + p.end_utime) - static_cast<double>(t0)) / 3.6e9;
         if (Used(fit.used_plateaus, p.plateau_id))
             res.rows.push_back({p.temp_mean_c, mid_h, r_mv, sigma * 1e3});
         else
             unused.rows.push_back({p.temp_mean_c, mid_h, r_mv});
     }
-    plot::Figure fo = Base(stem + "_offset", id + ": offset vs temperature", "temperature [degC]", "offset [V]");
+    plot::Figure fo =
+        Base(stem + "_offset", id + ": offset vs temperature", "temperature [degC]", "offset [V]");
     if (fit.off) {
         const plot::Table c = Curve(*fit.off, stem + "_offset_fit", 1.0, false);
         AddSeries(fo, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
@@ -145,40 +158,51 @@ void OffsetFigures(const UnitData& u, const std::string& stem, double slow_dps, 
     if (!fo.series.empty()) figures.push_back(fo);
     if (!fit.off) return;
     // The band around zero is the fitted curve's own uncertainty.
-    plot::Table band{stem + "_offset_band", "+-2 sigma of the fitted offset", {"temp_c", "zero", "low_mv", "high_mv"}, {}};
+    plot::Table band{stem + "_offset_band",
+                     "+-2 sigma of the fitted offset",
+                     {"temp_c", "zero", "low_mv", "high_mv"},
+                     {}};
     band.rows = Curve(*fit.off, "tmp", 1e3, true).rows;
-    plot::Figure frt = Base(stem + "_resid_temp", id + ": offset residual vs temperature", "temperature [degC]",
-                            "plateau mean - fit [mV]");
+    plot::Figure frt = Base(stem + "_resid_temp", id + ": offset residual vs temperature",
+                            "temperature [degC]", "plateau mean - fit [mV]");
     AddSeries(frt, band, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
     AddSeries(frt, res, {"", plot::Style::kErrorBars, {1, 3, 4}, "plateaus in the fit", "#d62728"});
-    AddSeries(frt, unused, {"", plot::Style::kPoints, {1, 3}, "plateaus not in the fit", "#7f7f7f"});
+    AddSeries(frt, unused,
+              {"", plot::Style::kPoints, {1, 3}, "plateaus not in the fit", "#7f7f7f"});
     if (!frt.series.empty()) figures.push_back(frt);
-    plot::Figure frh = Base(stem + "_resid_time", id + ": offset residual vs time", "time since the run started [h]",
-                            "plateau mean - fit [mV]");
+    plot::Figure frh = Base(stem + "_resid_time", id + ": offset residual vs time",
+                            "time since the run started [h]", "plateau mean - fit [mV]");
     AddSeries(frh, res, {"", plot::Style::kErrorBars, {2, 3, 4}, "plateaus in the fit", "#d62728"});
-    AddSeries(frh, unused, {"", plot::Style::kPoints, {2, 3}, "plateaus not in the fit", "#7f7f7f"});
+    AddSeries(frh, unused,
+              {"", plot::Style::kPoints, {2, 3}, "plateaus not in the fit", "#7f7f7f"});
     if (!frh.series.empty()) figures.push_back(frh);
 }
 
 // Sensitivity [mV/(deg/s)] vs temperature, and the turns' residuals [%].
-void SensitivityFigures(const UnitData& u, const std::string& stem, const Fits& fit, std::vector<plot::Figure>& figures) {
+void SensitivityFigures(const UnitData& u, const std::string& stem, const Fits& fit,
+                        std::vector<plot::Figure>& figures) {
     const std::string& id = u.sensor_id;
-    plot::Table acc{stem + "_sens_pts", "accepted turns", {"temp_c", "sens_mv_per_dps", "sigma_mv_per_dps"}, {}};
+    plot::Table acc{stem + "_sens_pts",
+                    "accepted turns",
+                    {"temp_c", "sens_mv_per_dps", "sigma_mv_per_dps"},
+                    {}};
     plot::Table rej{stem + "_sens_rej", "refused turns", {"temp_c", "sens_mv_per_dps"}, {}};
-    plot::Table res{stem + "_sens_resid", "turn residuals", {"temp_c", "resid_pct", "sigma_pct"}, {}};
+    plot::Table res{
+        stem + "_sens_resid", "turn residuals", {"temp_c", "resid_pct", "sigma_pct"}, {}};
     for (const auto& s : u.turns) {
         if (!s.accepted) {
             rej.rows.push_back({s.temp_c, s.sensitivity_v_per_dps * 1e3});
             continue;
         }
-        acc.rows.push_back({s.temp_c, s.sensitivity_v_per_dps * 1e3, s.sensitivity_stderr_v_per_dps * 1e3});
+        acc.rows.push_back(
+            {s.temp_c, s.sensitivity_v_per_dps * 1e3, s.sensitivity_stderr_v_per_dps * 1e3});
         if (!fit.sens) continue;
         const double f = fit.sens->Value(At(*fit.sens, s.temp_c), model::RangePolicy::kExtrapolate);
         res.rows.push_back({s.temp_c, 100.0 * (s.sensitivity_v_per_dps - f) / f,
                             100.0 * s.sensitivity_stderr_v_per_dps / std::abs(f)});
     }
-    plot::Figure fs = Base(stem + "_sens", id + ": sensitivity vs temperature", "temperature [degC]",
-                           "sensitivity [mV/(deg/s)]");
+    plot::Figure fs = Base(stem + "_sens", id + ": sensitivity vs temperature",
+                           "temperature [degC]", "sensitivity [mV/(deg/s)]");
     if (fit.sens) {
         const plot::Table c = Curve(*fit.sens, stem + "_sens_fit", 1e3, false);
         AddSeries(fs, c, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
@@ -188,13 +212,16 @@ void SensitivityFigures(const UnitData& u, const std::string& stem, const Fits& 
     AddSeries(fs, rej, {"", plot::Style::kPoints, {1, 2}, "refused turns", "#7f7f7f"});
     if (!fs.series.empty()) figures.push_back(fs);
     if (!fit.sens || !AnyFinite(res)) return;
-    plot::Table band{stem + "_sens_band", "+-2 sigma of the fitted sensitivity", {"temp_c", "zero", "low_pct", "high_pct"}, {}};
+    plot::Table band{stem + "_sens_band",
+                     "+-2 sigma of the fitted sensitivity",
+                     {"temp_c", "zero", "low_pct", "high_pct"},
+                     {}};
     for (const auto& row : Curve(*fit.sens, "tmp", 1.0, false).rows) {
         const double half_pct = 100.0 * (row[3] - row[1]) / std::abs(row[1]);
         band.rows.push_back({row[0], 0.0, -half_pct, half_pct});
     }
-    plot::Figure fr = Base(stem + "_sens_resid", id + ": sensitivity residual vs temperature", "temperature [degC]",
-                           "turn - fit [%]");
+    plot::Figure fr = Base(stem + "_sens_resid", id + ": sensitivity residual vs temperature",
+                           "temperature [degC]", "turn - fit [%]");
     AddSeries(fr, band, {"", plot::Style::kBand, {1, 3, 4}, kBandTitle, "#9ecae1"});
     AddSeries(fr, res, {"", plot::Style::kErrorBars, {1, 2, 3}, "accepted turns", "#d62728"});
     figures.push_back(fr);
@@ -234,7 +261,8 @@ void ClosedLoopFigures(const UnitData& u, const std::string& stem,
 
 }  // namespace
 
-std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem, double slow_dps, int64_t t0) {
+std::vector<plot::Figure> UnitFigures(const UnitData& u, const std::string& stem, double slow_dps,
+                                      int64_t t0) {
     Fits fit;
     if (u.calibration) {
         fit.off = EvaluatorOf(u.calibration->set.offset);

@@ -10,7 +10,8 @@
 //                      band around zero: a point outside the band by more than its error bar is a
 //                      point the model does not explain;
 //   <stem>_resid_time  the same residuals vs time since the run started [h] (TimeOrigin);
-//   <stem>_sens_resid  sensitivity residual [%] of each accepted turn vs temperature, with the band.
+//   <stem>_sens_resid  sensitivity residual [%] of each accepted turn vs temperature, with the
+//   band.
 // A figure without data is left out (the section says why); a series without a finite value is
 // dropped (gnuplot refuses a plot with no valid point at all). Pure.
 #include <cstdint>
@@ -30,7 +31,7 @@ inline constexpr double kBandSigmas = 2.0;
 int64_t TimeOrigin(const store::RunDetail& detail);
 
 // `stem`: a plain file stem unique in the report (e.g. "u1"); the sensor id goes in the titles.
-std::vector<plot::Figure> UnitFigures(const UnitData& unit, const std::string& stem, double plateau_slow_noise_dps,
-                                      int64_t time_origin_utime);
+std::vector<plot::Figure> UnitFigures(const UnitData& unit, const std::string& stem,
+                                      double plateau_slow_noise_dps, int64_t time_origin_utime);
 
 }  // namespace gyrocal::runreport

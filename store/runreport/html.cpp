@@ -64,20 +64,22 @@ Table::Table(std::vector<std::string> headers, std::string css_class)
 void Table::Row(std::vector<Cell> cells, const std::string& attrs) {
     std::string r = "<tr" + (attrs.empty() ? "" : " " + attrs) + ">";
     for (const Cell& c : cells)
-        r += "<td" + (c.cls.empty() ? "" : " class=\"" + c.cls + "\"") + (c.attrs.empty() ? "" : " " + c.attrs) + ">" +
-             c.html + "</td>";
+        r += "<td" + (c.cls.empty() ? "" : " class=\"" + c.cls + "\"") +
+             (c.attrs.empty() ? "" : " " + c.attrs) + ">" + c.html + "</td>";
     rows_.push_back(r + "</tr>");
 }
 
 std::string Table::str() const {
-    std::string s = "<table" + (css_class_.empty() ? "" : " class=\"" + css_class_ + "\"") + "><thead><tr>";
+    std::string s =
+        "<table" + (css_class_.empty() ? "" : " class=\"" + css_class_ + "\"") + "><thead><tr>";
     for (const std::string& h : headers_) s += "<th>" + Esc(h) + "</th>";
     s += "</tr></thead><tbody>";
     for (const std::string& r : rows_) s += r;
     return s + "</tbody></table>\n";
 }
 
-std::string KeyValues(const std::vector<std::pair<std::string, std::string>>& items, const std::string& css_class) {
+std::string KeyValues(const std::vector<std::pair<std::string, std::string>>& items,
+                      const std::string& css_class) {
     std::string s = "<table class=\"" + css_class + "\"><tbody>";
     for (const auto& [k, v] : items) s += "<tr><th>" + Esc(k) + "</th><td>" + Esc(v) + "</td></tr>";
     return s + "</tbody></table>\n";
@@ -91,21 +93,24 @@ std::string OutcomeClass(acceptance::Outcome o) {
 }
 
 std::string Badge(acceptance::Outcome o) {
-    return "<span class=\"badge " + OutcomeClass(o) + "\">" + Esc(acceptance::ToString(o)) + "</span>";
+    return "<span class=\"badge " + OutcomeClass(o) + "\">" + Esc(acceptance::ToString(o)) +
+           "</span>";
 }
 
 std::string NotMeasured(const std::string& how) {
-    return "<p class=\"not-measured\">Not measured in this run" + (how.empty() ? "" : " (" + Esc(how) + ")") + ".</p>\n";
+    return "<p class=\"not-measured\">Not measured in this run" +
+           (how.empty() ? "" : " (" + Esc(how) + ")") + ".</p>\n";
 }
 
 std::string Page(const std::string& title, const std::string& body, const std::string& generator) {
     return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-           "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src 'unsafe-inline'; "
+           "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; style-src "
+           "'unsafe-inline'; "
            "img-src data:\">\n"
            "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
            "<meta name=\"generator\" content=\"" +
-           Esc(generator) + "\">\n<title>" + Esc(title) + "</title>\n<style>" + kCss + "</style>\n</head>\n<body>\n" +
-           body + "</body>\n</html>\n";
+           Esc(generator) + "\">\n<title>" + Esc(title) + "</title>\n<style>" + kCss +
+           "</style>\n</head>\n<body>\n" + body + "</body>\n</html>\n";
 }
 
 }  // namespace gyrocal::runreport::html

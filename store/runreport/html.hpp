@@ -39,7 +39,8 @@ private:
 };
 
 // A two-column table of labels and plain-text values.
-std::string KeyValues(const std::vector<std::pair<std::string, std::string>>& items, const std::string& css_class = "kv");
+std::string KeyValues(const std::vector<std::pair<std::string, std::string>>& items,
+                      const std::string& css_class = "kv");
 
 // <span class="badge pass|fail|ne">pass|FAIL|not evaluated</span>
 std::string Badge(acceptance::Outcome outcome);

@@ -18,9 +18,9 @@ namespace gyrocal::runreport {
 struct ReportInput {
     store::RunDetail detail;
     std::vector<UnitData> units;
-    std::vector<std::string> stems;               // figure stem of each unit (same order)
-    std::map<std::string, std::string> svgs;      // figure name -> inline SVG
-    std::optional<acceptance::Limits> limits;     // none: acceptance "not measured"
+    std::vector<std::string> stems;            // figure stem of each unit (same order)
+    std::map<std::string, std::string> svgs;   // figure name -> inline SVG
+    std::optional<acceptance::Limits> limits;  // none: acceptance "not measured"
     std::string limits_origin, limits_problem;
     std::vector<acceptance::UnitVerdict> verdicts;  // one per unit when limits are given
     double plateau_slow_noise_dps = 0;

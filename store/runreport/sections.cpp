@@ -34,16 +34,21 @@ std::string Figures(const UnitContext& c, const std::vector<std::string>& suffix
 Section Acceptance(const UnitContext& c) {
     Section s{"acceptance", "Acceptance", ""};
     if (!c.verdict) {
-        s.html = html::NotMeasured("no acceptance limits for this run: gyrocal calibrate --limits FILE, or gyrocal "
-                                   "report --limits FILE");
+        s.html = html::NotMeasured(
+            "no acceptance limits for this run: gyrocal calibrate --limits FILE, or gyrocal "
+            "report --limits FILE");
         return s;
     }
-    html::Table t({"limit", "", "limit value", "measured", "unit", "outcome", "note"}, "acceptance");
+    html::Table t({"limit", "", "limit value", "measured", "unit", "outcome", "note"},
+                  "acceptance");
     for (const acceptance::Check& k : c.verdict->checks) {
         const std::string op = k.kind == "max" ? "<=" : k.kind == "min" ? ">=" : "required";
-        t.Row({html::Text(k.key, "mono"), html::Text(op), k.kind == "require" ? html::Text("") : html::Number(k.limit, "%.6g"),
-               k.kind == "require" ? html::Text(k.measured_text) : html::Number(k.measured, "%.4g"), html::Text(k.unit),
-               html::Text(acceptance::ToString(k.outcome), html::OutcomeClass(k.outcome)), html::Text(k.note, "note")},
+        t.Row({html::Text(k.key, "mono"), html::Text(op),
+               k.kind == "require" ? html::Text("") : html::Number(k.limit, "%.6g"),
+               k.kind == "require" ? html::Text(k.measured_text) : html::Number(k.measured, "%.4g"),
+               html::Text(k.unit),
+               html::Text(acceptance::ToString(k.outcome), html::OutcomeClass(k.outcome)),
+               html::Text(k.note, "note")},
               "data-key=\"" + Esc(k.key) + "\"");
     }
     s.html = "<p>Unit outcome: " + html::Badge(c.verdict->outcome) + "</p>\n" + t.str();
@@ -51,8 +56,10 @@ Section Acceptance(const UnitContext& c) {
 }
 
 Section Curves(const UnitContext& c) {
-    Section s{"curves", "Offset and sensitivity against temperature", Figures(c, {"_offset", "_sens"})};
-    if (s.html.empty()) s.html = html::NotMeasured("the unit has no plateau, no turn and no coefficient set");
+    Section s{"curves", "Offset and sensitivity against temperature",
+              Figures(c, {"_offset", "_sens"})};
+    if (s.html.empty())
+        s.html = html::NotMeasured("the unit has no plateau, no turn and no coefficient set");
     else
         s.html =
             "<p class=\"note\">Error bars: a plateau's standard error combined with the run's "
@@ -74,10 +81,13 @@ Section Residuals(const UnitContext& c) {
 std::string ModelTable(const store::ModelRow& m) {
     html::Table t({"term", "coefficient", "standard uncertainty", "unit"}, "coeffs");
     for (size_t i = 0; i < m.term_names.size(); ++i) {
-        const double var = i < m.covariance.size() && i < m.covariance[i].size() ? m.covariance[i][i] : NAN;
-        t.Row({html::Text(m.term_names[i], "mono"), html::Number(m.coeffs.at(i), kCoeff),
-               html::Number(std::sqrt(var), "%.2g"), html::Text(CoeffUnit(m.quantity, m.term_names[i]))},
-              "data-quantity=\"" + Esc(m.quantity) + "\" data-term=\"" + Esc(m.term_names[i]) + "\"");
+        const double var =
+            i < m.covariance.size() && i < m.covariance[i].size() ? m.covariance[i][i] : NAN;
+        t.Row(
+            {html::Text(m.term_names[i], "mono"), html::Number(m.coeffs.at(i), kCoeff),
+             html::Number(std::sqrt(var), "%.2g"),
+             html::Text(CoeffUnit(m.quantity, m.term_names[i]))},
+            "data-quantity=\"" + Esc(m.quantity) + "\" data-term=\"" + Esc(m.term_names[i]) + "\"");
     }
     return t.str() + "<p class=\"note\">" + Esc(m.quantity) + ": method " + Esc(m.method) +
            ", T0 " + text::PrintfOrDash("%.4g", m.t0_c) + " degC, valid " +
@@ -88,10 +98,10 @@ std::string ModelTable(const store::ModelRow& m) {
 }
 
 std::string SetHtml(const store::CoeffSetInfo& set, const std::string& role) {
-    return "<h4>" + Esc(role) + ": coefficient set " + std::to_string(set.set.coeff_set_id) + " (source " +
-           Esc(set.set.source) + ", stored row " + std::to_string(set.coeff_row_id) + ")</h4>\n" +
-           "<div data-coeff-row=\"" + std::to_string(set.coeff_row_id) + "\">" + ModelTable(set.set.offset) +
-           ModelTable(set.set.sensitivity) + "</div>\n";
+    return "<h4>" + Esc(role) + ": coefficient set " + std::to_string(set.set.coeff_set_id) +
+           " (source " + Esc(set.set.source) + ", stored row " + std::to_string(set.coeff_row_id) +
+           ")</h4>\n" + "<div data-coeff-row=\"" + std::to_string(set.coeff_row_id) + "\">" +
+           ModelTable(set.set.offset) + ModelTable(set.set.sensitivity) + "</div>\n";
 }
 
 // What a set is, for people (model/convert.hpp names the sources).
@@ -130,21 +140,23 @@ Section Points(const UnitContext& c) {
         s.html = html::NotMeasured("no plateau and no turn of this unit was recorded");
         return s;
     }
-    html::Table p({"plateau", "setpoint [degC]", "temp_mean_c", "slope [degC/min]", "gyro_mean_v", "gyro_sem_v",
-                   "samples", "in the fit"},
+    html::Table p({"plateau", "setpoint [degC]", "temp_mean_c", "slope [degC/min]", "gyro_mean_v",
+                   "gyro_sem_v", "samples", "in the fit"},
                   "plateaus");
     for (const auto& r : c.unit.plateaus)
-        p.Row({html::Number(static_cast<double>(r.plateau_id), "%.0f"), html::Number(r.setpoint_c, "%.4g"),
-               html::Number(r.temp_mean_c, "%.3f"), html::Number(r.temp_slope_c_per_min, "%.2g"),
-               html::Number(r.gyro_mean_v, "%.6f"), html::Number(r.gyro_sem_v, "%.2g"),
-               html::Number(r.n_samples, "%.0f"), html::Text(InSet(c, r.plateau_id) ? "yes" : "no")},
+        p.Row({html::Number(static_cast<double>(r.plateau_id), "%.0f"),
+               html::Number(r.setpoint_c, "%.4g"), html::Number(r.temp_mean_c, "%.3f"),
+               html::Number(r.temp_slope_c_per_min, "%.2g"), html::Number(r.gyro_mean_v, "%.6f"),
+               html::Number(r.gyro_sem_v, "%.2g"), html::Number(r.n_samples, "%.0f"),
+               html::Text(InSet(c, r.plateau_id) ? "yes" : "no")},
               "data-plateau=\"" + std::to_string(r.plateau_id) + "\"");
     html::Table t({"turn", "direction", "temp_c", "encoder angle [deg]", "sensitivity [mV/(deg/s)]",
                    "standard error [mV/(deg/s)]", "accepted"},
                   "turns");
     for (const auto& r : c.unit.turns)
-        t.Row({html::Number(static_cast<double>(r.rotation_id), "%.0f"), html::Number(r.direction, "%+.0f"),
-               html::Number(r.temp_c, "%.3f"), html::Number(r.encoder_angle_deg, "%.4f"),
+        t.Row({html::Number(static_cast<double>(r.rotation_id), "%.0f"),
+               html::Number(r.direction, "%+.0f"), html::Number(r.temp_c, "%.3f"),
+               html::Number(r.encoder_angle_deg, "%.4f"),
                html::Number(r.sensitivity_v_per_dps * 1e3, "%.6g"),
                html::Number(r.sensitivity_stderr_v_per_dps * 1e3, "%.2g"),
                html::Text(r.accepted ? "yes" : "no: " + r.reject_reason, r.accepted ? "" : "fail")},
@@ -171,16 +183,21 @@ Section Refusals(const UnitContext& c) {
         const auto j = nlohmann::json::parse(c.unit.analyses.back().result_json, nullptr, false);
         if (j.is_object() && j.contains("could_not_test") && j["could_not_test"].is_array())
             for (const auto& w : j["could_not_test"])
-                if (w.is_string()) items += "<li>analysis could not test: " + Esc(w.get<std::string>()) + "</li>\n";
+                if (w.is_string())
+                    items +=
+                        "<li>analysis could not test: " + Esc(w.get<std::string>()) + "</li>\n";
     }
-    s.html = items.empty() ? "<p>None: every plateau and turn of this unit was used.</p>\n" : "<ul>\n" + items + "</ul>\n";
+    s.html = items.empty() ? "<p>None: every plateau and turn of this unit was used.</p>\n"
+                           : "<ul>\n" + items + "</ul>\n";
     return s;
 }
 
 std::string CandidatesTable(const nlohmann::json& cands) {
     html::Table t({"effect", "term", "decision", "z2", "CV gain", "note"}, "candidates");
     for (const auto& k : cands) {
-        const auto num = [&](const char* key) -> double { return k.contains(key) && k[key].is_number() ? k[key].get<double>() : NAN; };
+        const auto num = [&](const char* key) -> double {
+            return k.contains(key) && k[key].is_number() ? k[key].get<double>() : NAN;
+        };
         t.Row({html::Text(k.value("effect", "")), html::Text(k.value("term", ""), "mono"),
                html::Text(k.value("decision", "")), html::Number(num("statistic"), "%.3g"),
                html::Number(num("cv_gain"), "%.3g"), html::Text(k.value("note", ""), "note")});
@@ -199,7 +216,8 @@ Section Analysis(const UnitContext& c) {
         c.unit.final_analysis ? *c.unit.final_analysis : c.unit.analyses.back();
     const auto j = nlohmann::json::parse(a.result_json, nullptr, false);
     const auto expected = [&](const char* key) -> double {
-        if (!j.is_object() || !j.contains("expected_after") || !j["expected_after"].contains(key)) return NAN;
+        if (!j.is_object() || !j.contains("expected_after") || !j["expected_after"].contains(key))
+            return NAN;
         const auto& v = j["expected_after"][key];
         return v.is_number() ? v.get<double>() : NAN;
     };
@@ -208,7 +226,8 @@ Section Analysis(const UnitContext& c) {
              "): outcome <strong data-outcome>" +
              Esc(a.outcome.value_or("not stored (an analysis older than outcomes)")) +
              "</strong>, verdict <strong data-verdict>" + Esc(a.verdict) + "</strong></p>\n";
-    html::Table t({"figure", "before (declared model)", "after (extended model)", "floor", "expected after (fit)"},
+    html::Table t({"figure", "before (declared model)", "after (extended model)", "floor",
+                   "expected after (fit)"},
                   "analysis");
     t.Row({html::Text("offset RMS [mV]"), html::Number(a.offset_rms_v_before * 1e3, "%.4g"),
            html::Number(a.offset_rms_v_after * 1e3, "%.4g"), html::Text(""),
@@ -216,8 +235,8 @@ Section Analysis(const UnitContext& c) {
     t.Row({html::Text("rate RMS [deg/s]"), html::Number(a.rate_rms_dps_before, "%.4g"),
            html::Number(a.rate_rms_dps_after, "%.4g"), html::Number(a.floor_rate_rms_dps, "%.4g"),
            html::Number(expected("rate_rms_dps"), "%.4g")});
-    t.Row({html::Text("drift [deg/h]"), html::Number(a.drift_dph_before, "%.4g"), html::Number(a.drift_dph_after, "%.4g"),
-           html::Text(""), html::Text("")});
+    t.Row({html::Text("drift [deg/h]"), html::Number(a.drift_dph_before, "%.4g"),
+           html::Number(a.drift_dph_after, "%.4g"), html::Text(""), html::Text("")});
     s.html += t.str() +
               "<p class=\"note\">On held-out still data (blocks of the run the fit did not see): "
               "before = the declared model, after = with the terms the data confirmed" +
@@ -228,7 +247,9 @@ Section Analysis(const UnitContext& c) {
     if (added.is_array() && !added.empty()) {
         html::Table e({"effect", "term", "coefficient", "standard uncertainty", "unit"}, "added");
         for (const auto& x : added) {
-            const auto num = [&](const char* k) -> double { return x.contains(k) && x[k].is_number() ? x[k].get<double>() : NAN; };
+            const auto num = [&](const char* k) -> double {
+                return x.contains(k) && x[k].is_number() ? x[k].get<double>() : NAN;
+            };
             e.Row({html::Text(x.value("effect", "")), html::Text(x.value("term", ""), "mono"),
                    html::Number(num("coefficient"), kCoeff), html::Number(num("stderr"), "%.2g"),
                    html::Text(x.value("unit", ""))});
@@ -242,7 +263,9 @@ Section Analysis(const UnitContext& c) {
 
 // Figures the project does not measure per run yet: one line each until they are wired in.
 Section Allan(const UnitContext&) { return {"allan", "Allan deviation", html::NotMeasured()}; }
-Section Repeatability(const UnitContext&) { return {"repeatability", "Repeatability", html::NotMeasured()}; }
+Section Repeatability(const UnitContext&) {
+    return {"repeatability", "Repeatability", html::NotMeasured()};
+}
 Section Validation(const UnitContext&) {
     return {"validation", "Error of the model on another run", html::NotMeasured()};
 }
@@ -250,32 +273,36 @@ Section Validation(const UnitContext&) {
 }  // namespace
 
 const std::vector<UnitSectionBuilder>& UnitSections() {
-    static const std::vector<UnitSectionBuilder> builders = {Acceptance, Curves,   Residuals,     Coefficients,
-                                                             Points,     Refusals, Analysis,      Allan,
-                                                             Repeatability, Validation};
+    static const std::vector<UnitSectionBuilder> builders = {
+        Acceptance, Curves,   Residuals, Coefficients,  Points,
+        Refusals,   Analysis, Allan,     Repeatability, Validation};
     return builders;
 }
 
 std::string UnitHtml(const UnitContext& c) {
-    std::string s = "<section class=\"unit\" id=\"" + c.stem + "\" data-sensor=\"" + Esc(c.unit.sensor_id) + "\">\n<h2>Unit " +
-                    Esc(c.unit.sensor_id) + (c.verdict ? " " + html::Badge(c.verdict->outcome) : "") + "</h2>\n";
+    std::string s = "<section class=\"unit\" id=\"" + c.stem + "\" data-sensor=\"" +
+                    Esc(c.unit.sensor_id) + "\">\n<h2>Unit " + Esc(c.unit.sensor_id) +
+                    (c.verdict ? " " + html::Badge(c.verdict->outcome) : "") + "</h2>\n";
     for (UnitSectionBuilder build : UnitSections()) {
         const Section sec = build(c);
-        s += "<div class=\"part\" id=\"" + Anchor(c, sec.id) + "\" data-part=\"" + sec.id + "\">\n<h3>" + Esc(sec.title) +
-             "</h3>\n" + sec.html + "</div>\n";
+        s += "<div class=\"part\" id=\"" + Anchor(c, sec.id) + "\" data-part=\"" + sec.id +
+             "\">\n<h3>" + Esc(sec.title) + "</h3>\n" + sec.html + "</div>\n";
     }
     return s + "</section>\n";
 }
 
 std::string CoeffUnit(const std::string& quantity, const std::string& term) {
-    const std::string y = quantity == "offset_v" ? "V" : quantity == "sensitivity_v_per_dps" ? "V/(deg/s)" : "?";
+    const std::string y = quantity == "offset_v"                ? "V"
+                          : quantity == "sensitivity_v_per_dps" ? "V/(deg/s)"
+                                                                : "?";
     model::ResolvedTerm r;
     std::string error;
     if (!model::ResolveTerm(term, &r, &error)) return "?";
     const std::string u(r.def->unit);
     if (u == "1") return y;
     const bool compound = u.find('/') != std::string::npos;
-    return (y.find('/') != std::string::npos ? "(" + y + ")" : y) + "/" + (compound ? "(" + u + ")" : u);
+    return (y.find('/') != std::string::npos ? "(" + y + ")" : y) + "/" +
+           (compound ? "(" + u + ")" : u);
 }
 
 std::string TraceabilityHtml(const store::RunDetail& d, const std::string& version) {
@@ -314,21 +341,29 @@ std::string TraceabilityHtml(const store::RunDetail& d, const std::string& versi
     std::vector<std::pair<std::string, std::string>> source = {{"kind", src.kind}};
     source.insert(source.end(), src.details.begin(), src.details.end());
     std::string hosts;
-    for (const auto& [host, what] : Hosts(d)) hosts += "<li><code>" + Esc(host) + "</code>: " + Esc(what) + "</li>";
+    for (const auto& [host, what] : Hosts(d))
+        hosts += "<li><code>" + Esc(host) + "</code>: " + Esc(what) + "</li>";
     return "<section id=\"traceability\">\n<h2>Traceability</h2>\n" + html::KeyValues(kv) +
-           "<h3>Source of the data</h3>\n" + html::KeyValues(source, "kv source") + "<h3>Hosts</h3>\n" +
-           (hosts.empty() ? "<p>none recorded</p>\n" : "<ul class=\"hosts\">" + hosts + "</ul>\n") + "</section>\n";
+           "<h3>Source of the data</h3>\n" + html::KeyValues(source, "kv source") +
+           "<h3>Hosts</h3>\n" +
+           (hosts.empty() ? "<p>none recorded</p>\n" : "<ul class=\"hosts\">" + hosts + "</ul>\n") +
+           "</section>\n";
 }
 
-std::string AcceptanceHtml(const LimitsInfo& l, const std::vector<acceptance::UnitVerdict>& verdicts) {
+std::string AcceptanceHtml(const LimitsInfo& l,
+                           const std::vector<acceptance::UnitVerdict>& verdicts) {
     std::string s = "<section id=\"acceptance\">\n<h2>Acceptance</h2>\n";
-    if (!l.problem.empty()) s += "<p class=\"fail\">Stored limits cannot be read: " + Esc(l.problem) + "</p>\n";
+    if (!l.problem.empty())
+        s += "<p class=\"fail\">Stored limits cannot be read: " + Esc(l.problem) + "</p>\n";
     if (!l.limits) {
-        return s + html::NotMeasured("no acceptance limits for this run: gyrocal calibrate --limits FILE, or gyrocal "
-                                     "report --limits FILE") +
+        return s +
+               html::NotMeasured(
+                   "no acceptance limits for this run: gyrocal calibrate --limits FILE, or gyrocal "
+                   "report --limits FILE") +
                "</section>\n";
     }
-    s += "<p>Limits " + Esc(l.origin) + (l.limits->description.empty() ? "" : ": " + Esc(l.limits->description)) + "</p>\n";
+    s += "<p>Limits " + Esc(l.origin) +
+         (l.limits->description.empty() ? "" : ": " + Esc(l.limits->description)) + "</p>\n";
     // One row per unit, one column per limit (the limit's name may break after each '_').
     std::string head = "<tr><th>unit</th><th>outcome</th>";
     std::vector<std::string> keys;
@@ -336,7 +371,8 @@ std::string AcceptanceHtml(const LimitsInfo& l, const std::vector<acceptance::Un
     for (const auto& c : verdicts.empty() ? none : verdicts.front().checks) {
         keys.push_back(c.key);
         std::string name = Esc(c.key);
-        for (size_t at = name.find('_'); at != std::string::npos; at = name.find('_', at + 6)) name.insert(at + 1, "<wbr>");
+        for (size_t at = name.find('_'); at != std::string::npos; at = name.find('_', at + 6))
+            name.insert(at + 1, "<wbr>");
         const std::string op = c.kind == "max" ? "&lt;= " : c.kind == "min" ? "&gt;= " : "required";
         head +=
             "<th>" + name + "<br><span class=\"muted\">" + op +
@@ -345,49 +381,62 @@ std::string AcceptanceHtml(const LimitsInfo& l, const std::vector<acceptance::Un
     }
     std::string rows;
     for (const auto& v : verdicts) {
-        rows += "<tr data-sensor=\"" + Esc(v.sensor_id) + "\" data-outcome=\"" + Esc(acceptance::ToString(v.outcome)) +
-                "\"><td class=\"mono\">" + Esc(v.sensor_id) + "</td><td class=\"" + html::OutcomeClass(v.outcome) + "\">" +
+        rows += "<tr data-sensor=\"" + Esc(v.sensor_id) + "\" data-outcome=\"" +
+                Esc(acceptance::ToString(v.outcome)) + "\"><td class=\"mono\">" + Esc(v.sensor_id) +
+                "</td><td class=\"" + html::OutcomeClass(v.outcome) + "\">" +
                 Esc(acceptance::ToString(v.outcome)) + "</td>";
         for (const auto& c : v.checks) {
             const std::string shown =
                 c.kind == "require" ? c.measured_text : text::PrintfOrDash("%.4g", c.measured);
-            rows += "<td class=\"" + html::OutcomeClass(c.outcome) + "\" data-key=\"" + Esc(c.key) + "\">" + Esc(shown) +
-                    "<br>" + Esc(acceptance::ToString(c.outcome)) + "</td>";
+            rows += "<td class=\"" + html::OutcomeClass(c.outcome) + "\" data-key=\"" + Esc(c.key) +
+                    "\">" + Esc(shown) + "<br>" + Esc(acceptance::ToString(c.outcome)) + "</td>";
         }
         rows += "</tr>";
     }
-    s += "<table class=\"acceptance-summary\"><thead>" + head + "</tr></thead><tbody>" + rows + "</tbody></table>\n";
+    s += "<table class=\"acceptance-summary\"><thead>" + head + "</tr></thead><tbody>" + rows +
+         "</tbody></table>\n";
     html::Table defs({"limit", "unit", "what is measured"}, "limit-defs");
     for (const acceptance::LimitDef& d : acceptance::LimitDefs())
         if (std::find(keys.begin(), keys.end(), d.key) != keys.end())
-            defs.Row({html::Text(std::string(d.key), "mono"), html::Text(std::string(d.unit)), html::Text(std::string(d.meaning))});
+            defs.Row({html::Text(std::string(d.key), "mono"), html::Text(std::string(d.unit)),
+                      html::Text(std::string(d.meaning))});
     return s + defs.str() + "</section>\n";
 }
 
 std::string LossesHtml(const store::RunDetail& d) {
     std::string s = "<section id=\"losses\">\n<h2>Losses per channel</h2>\n";
-    if (d.losses.empty()) return s + "<p>None recorded: the recorder saw no sequence gap, decode error or queue drop.</p>\n</section>\n";
-    html::Table t({"channel", "seq_gaps", "seq_backwards", "decode_errors", "queue_drops"}, "losses");
+    if (d.losses.empty())
+        return s +
+               "<p>None recorded: the recorder saw no sequence gap, decode error or queue "
+               "drop.</p>\n</section>\n";
+    html::Table t({"channel", "seq_gaps", "seq_backwards", "decode_errors", "queue_drops"},
+                  "losses");
     for (const auto& l : d.losses)
-        t.Row({html::Text(l.channel.empty() ? "(recorder)" : l.channel, "mono"), html::Number(l.seq_gaps, "%.0f"),
-               html::Number(l.seq_backwards, "%.0f"), html::Number(l.decode_errors, "%.0f"),
-               html::Number(l.queue_drops, "%.0f")},
+        t.Row({html::Text(l.channel.empty() ? "(recorder)" : l.channel, "mono"),
+               html::Number(l.seq_gaps, "%.0f"), html::Number(l.seq_backwards, "%.0f"),
+               html::Number(l.decode_errors, "%.0f"), html::Number(l.queue_drops, "%.0f")},
               "data-channel=\"" + Esc(l.channel) + "\"");
     return s + t.str() + "</section>\n";
 }
 
 std::string ProcessesHtml(const store::RunDetail& d) {
-    std::string s = "<section id=\"processes\">\n<h2>Processes</h2>\n<p class=\"note\">The last STATUS of each process in "
-                    "this run: its own count of what it received, lost and refused.</p>\n";
+    std::string s =
+        "<section id=\"processes\">\n<h2>Processes</h2>\n<p class=\"note\">The last STATUS of each "
+        "process in "
+        "this run: its own count of what it received, lost and refused.</p>\n";
     if (d.processes.empty()) return s + "<p>None recorded.</p>\n</section>\n";
-    html::Table t({"process", "host", "pid", "state", "received", "published", "decode errors", "seq gaps", "queue drops",
-                   "refused", "last refusal"},
+    html::Table t({"process", "host", "pid", "state", "received", "published", "decode errors",
+                   "seq gaps", "queue drops", "refused", "last refusal"},
                   "processes");
     for (const auto& p : d.processes)
-        t.Row({html::Text(p.process, "mono"), html::Text(p.host, "mono"), html::Number(p.pid, "%.0f"), html::Text(p.state),
-               html::Number(static_cast<double>(p.received), "%.0f"), html::Number(static_cast<double>(p.published), "%.0f"),
-               html::Number(static_cast<double>(p.decode_errors), "%.0f"), html::Number(static_cast<double>(p.seq_gaps), "%.0f"),
-               html::Number(static_cast<double>(p.queue_drops), "%.0f"), html::Number(static_cast<double>(p.rejected), "%.0f"),
+        t.Row({html::Text(p.process, "mono"), html::Text(p.host, "mono"),
+               html::Number(p.pid, "%.0f"), html::Text(p.state),
+               html::Number(static_cast<double>(p.received), "%.0f"),
+               html::Number(static_cast<double>(p.published), "%.0f"),
+               html::Number(static_cast<double>(p.decode_errors), "%.0f"),
+               html::Number(static_cast<double>(p.seq_gaps), "%.0f"),
+               html::Number(static_cast<double>(p.queue_drops), "%.0f"),
+               html::Number(static_cast<double>(p.rejected), "%.0f"),
                html::Text(p.last_reject, "note")});
     return s + t.str() + "</section>\n";
 }

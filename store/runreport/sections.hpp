@@ -24,7 +24,7 @@ struct UnitContext {
 };
 
 struct Section {
-    std::string id;     // anchor suffix, e.g. "coefficients"
+    std::string id;  // anchor suffix, e.g. "coefficients"
     std::string title;
     std::string html;
 };
@@ -41,8 +41,10 @@ struct LimitsInfo {
     std::string origin;                          // where they came from
     std::string problem;                         // stored limits that could not be read
 };
-std::string TraceabilityHtml(const store::RunDetail& detail, const std::string& software_version_of_report);
-std::string AcceptanceHtml(const LimitsInfo& limits, const std::vector<acceptance::UnitVerdict>& verdicts);
+std::string TraceabilityHtml(const store::RunDetail& detail,
+                             const std::string& software_version_of_report);
+std::string AcceptanceHtml(const LimitsInfo& limits,
+                           const std::vector<acceptance::UnitVerdict>& verdicts);
 std::string LossesHtml(const store::RunDetail& detail);
 std::string ProcessesHtml(const store::RunDetail& detail);
 

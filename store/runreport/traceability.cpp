@@ -33,8 +33,10 @@ DataSource SourceOf(const store::RunInfo& run) {
     const auto c = nlohmann::json::parse(run.config_json, nullptr, false);
     if (!c.is_object() || !c.contains("source")) {
         s.kind = "not recorded";
-        s.details.push_back({"configuration", run.config_json.empty() ? "none recorded with the run"
-                                                                      : "recorded without a source: " + run.config_json});
+        s.details.push_back(
+            {"configuration", run.config_json.empty()
+                                  ? "none recorded with the run"
+                                  : "recorded without a source: " + run.config_json});
         return s;
     }
     const std::string source = Text(c["source"]);
@@ -57,7 +59,8 @@ DataSource SourceOf(const store::RunInfo& run) {
             s.details.push_back({"SHA-256", "not recorded (run made before gyrocal recorded it)"});
     } else if (source == "lines") {
         s.kind = "line stream";
-        s.details.push_back({"input", "standard input of gyrocal calibrate (a DAQ stream; nothing to hash)"});
+        s.details.push_back(
+            {"input", "standard input of gyrocal calibrate (a DAQ stream; nothing to hash)"});
     } else {
         s.kind = source;
     }

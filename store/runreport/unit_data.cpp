@@ -106,7 +106,8 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
             const store::PlateauRow* found = nullptr;
             for (const auto& p : u.plateaus)
                 if (p.plateau_id == id) found = &p;
-            if (found) e.plateaus.push_back({found->temp_mean_c, found->gyro_mean_v, found->gyro_sem_v});
+            if (found)
+                e.plateaus.push_back({found->temp_mean_c, found->gyro_mean_v, found->gyro_sem_v});
         }
     }
     if (u.final_analysis) {
@@ -137,8 +138,9 @@ RunLimits StoredLimits(const store::RunInfo& run) {
     const auto it = c.find(kLimitsKey);
     if (it == c.end() || it->is_null()) return out;
     const auto file = c.find(kLimitsFileKey);
-    out.origin = "stored with run " + run.run_id +
-                 (file != c.end() && file->is_string() ? " (from " + file->get<std::string>() + ")" : "");
+    out.origin =
+        "stored with run " + run.run_id +
+        (file != c.end() && file->is_string() ? " (from " + file->get<std::string>() + ")" : "");
     try {
         out.limits = acceptance::FromJson(*it, "limits stored with run " + run.run_id);
     } catch (const acceptance::LimitsError& e) {
@@ -147,20 +149,25 @@ RunLimits StoredLimits(const store::RunInfo& run) {
     return out;
 }
 
-std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& d, const acceptance::Limits& limits) {
+std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& d,
+                                            const acceptance::Limits& limits) {
     const double slow = PlateauSlowNoiseDps(d.run);
     std::vector<acceptance::UnitVerdict> out;
-    for (const UnitData& u : Units(d)) out.push_back(acceptance::Evaluate(limits, Evidence(u, slow)));
+    for (const UnitData& u : Units(d))
+        out.push_back(acceptance::Evaluate(limits, Evidence(u, slow)));
     return out;
 }
 
 acceptance::Outcome RunOutcome(const std::vector<acceptance::UnitVerdict>& verdicts) {
     using acceptance::Outcome;
     const auto any = [&](Outcome o) {
-        return std::any_of(verdicts.begin(), verdicts.end(), [o](const auto& v) { return v.outcome == o; });
+        return std::any_of(verdicts.begin(), verdicts.end(),
+                           [o](const auto& v) { return v.outcome == o; });
     };
     if (verdicts.empty()) return Outcome::kNotEvaluated;
-    return any(Outcome::kFail) ? Outcome::kFail : any(Outcome::kNotEvaluated) ? Outcome::kNotEvaluated : Outcome::kPass;
+    return any(Outcome::kFail)           ? Outcome::kFail
+           : any(Outcome::kNotEvaluated) ? Outcome::kNotEvaluated
+                                         : Outcome::kPass;
 }
 
 }  // namespace gyrocal::runreport
@@ -182,11 +189,15 @@ RunAcceptance AcceptRun(const store::RunDetail& d, const std::optional<acceptanc
 
 std::string AcceptanceText(const RunAcceptance& a) {
     if (!a.limits.limits) {
-        std::string s = "Acceptance: no limits for this run (gyrocal calibrate --limits FILE, or gyrocal report --limits FILE)\n";
-        if (!a.limits.problem.empty()) s += "  stored limits cannot be read: " + a.limits.problem + "\n";
+        std::string s =
+            "Acceptance: no limits for this run (gyrocal calibrate --limits FILE, or gyrocal "
+            "report --limits FILE)\n";
+        if (!a.limits.problem.empty())
+            s += "  stored limits cannot be read: " + a.limits.problem + "\n";
         return s;
     }
-    std::string s = "Acceptance (limits " + a.limits.origin + "): " + acceptance::ToString(RunOutcome(a.verdicts)) + "\n";
+    std::string s = "Acceptance (limits " + a.limits.origin +
+                    "): " + acceptance::ToString(RunOutcome(a.verdicts)) + "\n";
     for (const auto& v : a.verdicts) s += "  " + acceptance::Summary(v) + "\n";
     return s;
 }
@@ -205,12 +216,16 @@ nlohmann::json AcceptanceJson(const RunAcceptance& a) {
             checks.push_back({{"limit", c.key},
                               {"kind", c.kind},
                               {"unit", c.unit},
-                              {"limit_value", c.kind == "require" ? nlohmann::json(true) : nlohmann::json(c.limit)},
-                              {"measured", std::isfinite(c.measured) ? nlohmann::json(c.measured) : nlohmann::json(nullptr)},
+                              {"limit_value", c.kind == "require" ? nlohmann::json(true)
+                                                                  : nlohmann::json(c.limit)},
+                              {"measured", std::isfinite(c.measured) ? nlohmann::json(c.measured)
+                                                                     : nlohmann::json(nullptr)},
                               {"measured_text", c.measured_text},
                               {"outcome", acceptance::ToString(c.outcome)},
                               {"note", c.note}});
-        units.push_back({{"sensor_id", v.sensor_id}, {"outcome", acceptance::ToString(v.outcome)}, {"checks", checks}});
+        units.push_back({{"sensor_id", v.sensor_id},
+                         {"outcome", acceptance::ToString(v.outcome)},
+                         {"checks", checks}});
     }
     j["units"] = units;
     return j;

@@ -22,15 +22,15 @@ namespace gyrocal::runreport {
 
 struct UnitData {
     std::string sensor_id;
-    std::vector<store::PlateauRow> plateaus;      // every plateau of the unit in the run
-    std::vector<store::SensitivityRow> turns;     // every turn, accepted or not
+    std::vector<store::PlateauRow> plateaus;         // every plateau of the unit in the run
+    std::vector<store::SensitivityRow> turns;        // every turn, accepted or not
     std::optional<store::CoeffSetInfo> calibration;  // the final set
     std::optional<store::CoeffSetInfo> plateau_set;  // the newest set of source "fitter", when
                                                      // the final set is another (closed loop)
     std::vector<store::CoeffSetInfo> other_sets;     // every other set (older ones, analyses)
     // The analysis that made the final set (closed loop, ramp fit), when stored.
     std::optional<store::AnalysisRow> final_analysis;
-    std::vector<store::AnalysisRow> analyses;     // oldest first
+    std::vector<store::AnalysisRow> analyses;  // oldest first
 };
 
 // The units of a run, by sensor id: those the run declared and any other with data in it.
@@ -55,7 +55,8 @@ RunLimits StoredLimits(const store::RunInfo& run);
 inline constexpr const char* kLimitsKey = "acceptance_limits";
 inline constexpr const char* kLimitsFileKey = "acceptance_limits_file";
 
-std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& detail, const acceptance::Limits& limits);
+std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& detail,
+                                            const acceptance::Limits& limits);
 
 // "pass" when every unit passed; else "FAIL" when any failed; else "not evaluated".
 acceptance::Outcome RunOutcome(const std::vector<acceptance::UnitVerdict>& verdicts);
@@ -71,7 +72,8 @@ struct RunAcceptance {
 };
 // `given`: limits handed in by the caller (e.g. gyrocal report --limits FILE) instead of the
 // stored ones; `given_origin` says where they came from.
-RunAcceptance AcceptRun(const store::RunDetail& detail, const std::optional<acceptance::Limits>& given = {},
+RunAcceptance AcceptRun(const store::RunDetail& detail,
+                        const std::optional<acceptance::Limits>& given = {},
                         const std::string& given_origin = "");
 
 // For people: "Acceptance (limits ...): run FAIL" and one line per unit (acceptance::Summary);

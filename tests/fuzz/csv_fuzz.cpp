@@ -22,7 +22,8 @@ using namespace gyrocal;
 template <class Msg>
 void CheckEncodes(const Msg& m) {
     std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
-    FUZZ_CHECK(m.encode(buf.data(), 0, static_cast<int>(buf.size())) > 0, "message does not encode");
+    FUZZ_CHECK(m.encode(buf.data(), 0, static_cast<int>(buf.size())) > 0,
+               "message does not encode");
     Msg back{};
     FUZZ_CHECK(DecodeMessage(back, buf.data(), static_cast<int>(buf.size())),
                "message does not decode");
@@ -57,7 +58,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     csv::MessageBuilder builder;
     for (const csv::CsvRow& row : skip.rows) {
         fuzz::CheckRow(row, last_us);
-        const csv::RowMessages m = builder.Build(row, csv::StreamUtime(csv::kDefaultStartUtime, row.time_s));
+        const csv::RowMessages m =
+            builder.Build(row, csv::StreamUtime(csv::kDefaultStartUtime, row.time_s));
         FUZZ_CHECK(m.gyro.seq == next_seq[row.sensor_id]++, "gyro seq does not count per sensor");
         CheckEncodes(m.gyro);
         if (m.encoder) CheckEncodes(*m.encoder);

@@ -11,12 +11,12 @@
 #include "bus/channels.hpp"
 #include "csv/row_parser.hpp"
 
-#define FUZZ_CHECK(cond, what)                                                               \
-    do {                                                                                     \
-        if (!(cond)) {                                                                       \
+#define FUZZ_CHECK(cond, what)                                                                    \
+    do {                                                                                          \
+        if (!(cond)) {                                                                            \
             std::fprintf(stderr, "fuzz contract broken: %s (%s:%d)\n", what, __FILE__, __LINE__); \
-            std::abort();                                                                    \
-        }                                                                                    \
+            std::abort();                                                                         \
+        }                                                                                         \
     } while (0)
 
 namespace gyrocal::fuzz {

@@ -40,7 +40,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     bool fatal = false;
     for (const InputLine& line : lines) {
         const LineOutcome o = stream.Feed(line);
-        FUZZ_CHECK(!fatal || o.kind == LineOutcome::Kind::kFatal, "a line was read after a fatal one");
+        FUZZ_CHECK(!fatal || o.kind == LineOutcome::Kind::kFatal,
+                   "a line was read after a fatal one");
         fatal = o.kind == LineOutcome::Kind::kFatal;
         FUZZ_CHECK(o.row.has_value() == (o.kind == LineOutcome::Kind::kRow), "row without kRow");
         if (o.row) fuzz::CheckRow(*o.row, last_us);

@@ -17,12 +17,18 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace gyrocal;
-    static const std::vector<std::string> kChannels = {
-        channels::Gyro("S01"), std::string(channels::kEncoder),
-        std::string(channels::kChamberState), std::string(channels::kRunEvent),
-        channels::Coeffs("S01"), std::string(channels::kStatus), channels::Plateau("S01"),
-        channels::Rate("S01"), "SOMETHING_ELSE", channels::Power("S01"), channels::Noise("S01"),
-        channels::Fit("S01")};
+    static const std::vector<std::string> kChannels = {channels::Gyro("S01"),
+                                                       std::string(channels::kEncoder),
+                                                       std::string(channels::kChamberState),
+                                                       std::string(channels::kRunEvent),
+                                                       channels::Coeffs("S01"),
+                                                       std::string(channels::kStatus),
+                                                       channels::Plateau("S01"),
+                                                       channels::Rate("S01"),
+                                                       "SOMETHING_ELSE",
+                                                       channels::Power("S01"),
+                                                       channels::Noise("S01"),
+                                                       channels::Fit("S01")};
     record::RecordMapper mapper(record::MapperOptions::Defaults(), "R0");
     size_t at = 0;
     int64_t recv_utime = 1;
@@ -36,8 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         at += len;
 
         const std::string run_before = mapper.current_run();
-        const record::Mapped m =
-            mapper.Map(channel, payload, static_cast<int>(len), recv_utime++);
+        const record::Mapped m = mapper.Map(channel, payload, static_cast<int>(len), recv_utime++);
         if (m.control) {
             FUZZ_CHECK(!m.row && m.more.empty() && m.loss.decode_errors == 0,
                        "flow control or an empty batch became rows");

@@ -15,8 +15,8 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "gyrocal/status_t.hpp"
 #include "bus_wait.hpp"
+#include "gyrocal/status_t.hpp"
 
 namespace gyrocal::test {
 
@@ -90,8 +90,8 @@ void WriteText(const std::string& path, const std::string& text) {
 
 ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url, const std::string& out,
                             const std::string& err, const std::vector<std::string>& extra) {
-    std::vector<std::string> argv = {Bin("gyrocal-csv-record"), "--out", dir.Path(out),
-                                     "--lcm-url", url, "--idle-exit-s", "3"};
+    std::vector<std::string> argv = {
+        Bin("gyrocal-csv-record"), "--out", dir.Path(out), "--lcm-url", url, "--idle-exit-s", "3"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return ChildProcess(argv, "", dir.Path(err));
 }
@@ -110,7 +110,8 @@ bool WaitForStatus(const std::string& url, const std::vector<const ChildProcess*
     for (const ChildProcess* c : children) waiting.insert(static_cast<int32_t>(c->pid()));
     bus.Subscribe<status_t>(std::string(channels::kStatus),
                             [&](const status_t& s, const std::string&) { waiting.erase(s.pid); });
-    return testing::HandleUntil(bus, [&] { return waiting.empty(); }, timeout);
+    return testing::HandleUntil(
+        bus, [&] { return waiting.empty(); }, timeout);
 }
 
 ExitStatus WaitExit(ChildProcess& child, std::chrono::milliseconds timeout) {

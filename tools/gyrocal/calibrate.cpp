@@ -20,6 +20,7 @@
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "calibration.hpp"
+#include "child_errors.hpp"
 #include "coeff_table.hpp"
 #include "csv/file_digest.hpp"
 #include "final_verdict.hpp"
@@ -32,14 +33,13 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/version.hpp"
+#include "input_check.hpp"
 #include "launch/child_process.hpp"
 #include "model/convert.hpp"
 #include "paths.hpp"
-#include "child_errors.hpp"
-#include "input_check.hpp"
-#include "runtime/process_main.hpp"
 #include "procedure.hpp"
 #include "progress.hpp"
+#include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
 #include "runtime/status.hpp"
 
@@ -70,7 +70,8 @@ Source ParseSource(const std::string& name) {
     for (const SourceName& s : kSourceNames)
         if (name == s.name) return s.source;
     std::string valid;
-    for (const SourceName& s : kSourceNames) valid += (valid.empty() ? "" : ", ") + std::string(s.name);
+    for (const SourceName& s : kSourceNames)
+        valid += (valid.empty() ? "" : ", ") + std::string(s.name);
     throw std::invalid_argument("--source '" + name + "' is not valid: use " + valid);
 }
 
@@ -78,14 +79,17 @@ double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o) {
     if (o.plateau_slow_noise_dps >= 0.0) return o.plateau_slow_noise_dps;
     return ParseSource(o.source) == Source::kSim ? o.simulated.plateau_slow_noise_dps : -1.0;
 }
-double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double SecondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 std::string TailOf(const std::string& path, int lines) {
     std::ifstream f(path);
     std::vector<std::string> all;
     for (std::string l; std::getline(f, l);) all.push_back(l);
     std::string out;
-    for (size_t i = all.size() > static_cast<size_t>(lines) ? all.size() - lines : 0; i < all.size(); ++i)
+    for (size_t i = all.size() > static_cast<size_t>(lines) ? all.size() - lines : 0;
+         i < all.size(); ++i)
         out += "    " + all[i] + "\n";
     return out;
 }
@@ -128,7 +132,8 @@ Calibration::Calibration(CalibrateOptions o)
     url_ = bus_.url();
     if (o_.log_dir.empty()) {
         const char* tmp = std::getenv("TMPDIR");
-        o_.log_dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/gyrocal-calibrate-" + std::to_string(getpid());
+        o_.log_dir = std::string(tmp && *tmp ? tmp : "/tmp") + "/gyrocal-calibrate-" +
+                     std::to_string(getpid());
     }
     std::filesystem::create_directories(o_.log_dir);
     if (o_.truth_out.empty()) o_.truth_out = o_.log_dir + "/truth.json";
@@ -138,12 +143,14 @@ Calibration::Calibration(CalibrateOptions o)
 }
 
 void Calibration::Subscribe() {
-    bus_.Subscribe<status_t>(std::string(channels::kStatus), [this](const status_t& s, const std::string&) {
-        heard_[s.process].insert(s.pid);
-        if (progress_) progress_->OnStatus(s);
-    });
-    bus_.Subscribe<run_event_t>(std::string(channels::kRunEvent),
-                                [this](const run_event_t& e, const std::string&) { OnRunEvent(e); });
+    bus_.Subscribe<status_t>(std::string(channels::kStatus),
+                             [this](const status_t& s, const std::string&) {
+                                 heard_[s.process].insert(s.pid);
+                                 if (progress_) progress_->OnStatus(s);
+                             });
+    bus_.Subscribe<run_event_t>(
+        std::string(channels::kRunEvent),
+        [this](const run_event_t& e, const std::string&) { OnRunEvent(e); });
     bus_.Subscribe<chamber_state_t>(std::string(channels::kChamberState),
                                     [this](const chamber_state_t& s, const std::string&) {
                                         if (progress_) progress_->OnChamber(s);
@@ -200,7 +207,8 @@ void Calibration::OnRunEvent(const run_event_t& e) {
 
 bool Calibration::StartConsumers() {
     std::set<std::string> local;
-    auto start = [&](const std::string& exe, std::vector<std::string> args, const std::vector<std::string>& pass) {
+    auto start = [&](const std::string& exe, std::vector<std::string> args,
+                     const std::vector<std::string>& pass) {
         if (!Runs(exe)) return;
         args.insert(args.end(), pass.begin(), pass.end());
         Start(SiblingExecutable(exe), args);
@@ -214,15 +222,17 @@ bool Calibration::StartConsumers() {
         if (EffectivePlateauSlowNoiseDps(o_) >= 0)
             fitter = {"--plateau-slow-noise-dps", std::to_string(EffectivePlateauSlowNoiseDps(o_))};
         if (source_kind_ == Source::kSim && o_.simulated.nominal_sensitivity_v_per_dps > 0)
-            fitter.insert(fitter.end(), {"--nominal-sensitivity-v-per-dps",
-                                         std::to_string(o_.simulated.nominal_sensitivity_v_per_dps)});
+            fitter.insert(fitter.end(),
+                          {"--nominal-sensitivity-v-per-dps",
+                           std::to_string(o_.simulated.nominal_sensitivity_v_per_dps)});
         if (IsRamp()) fitter.insert(fitter.end(), {"--mode", "ramp"});
         // The seed's 3-point procedure keeps its own method: no closed loop beside it.
         if (!IsRamp() && !ClosedLoop()) fitter.insert(fitter.end(), {"--closed-loop", "false"});
         start("gyrocal-fitter", fitter, o_.fitter_args);
         start("gyrocal-compensator", {}, o_.compensator_args);
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal calibrate: " << e.what() << " (is the project built? tools/run.sh setup)\n";
+        std::cerr << "gyrocal calibrate: " << e.what()
+                  << " (is the project built? tools/run.sh setup)\n";
         return false;
     }
     return local.empty() || AwaitHeartbeats(local, 20s, "");
@@ -230,10 +240,13 @@ bool Calibration::StartConsumers() {
 
 bool Calibration::StartProducers() {
     // Every consumer must listen before the first sample: on other hosts they are the other roles.
-    const std::string hint = role_ == Role::kAll ? ""
-                                                 : " (start `gyrocal calibrate --role processors` and `--role recorder` "
-                                                   "on their hosts first, on the same LCM URL)";
-    if (!AwaitHeartbeats(kConsumers, std::chrono::seconds(static_cast<int64_t>(std::ceil(o_.await_peers_s))), hint))
+    const std::string hint =
+        role_ == Role::kAll ? ""
+                            : " (start `gyrocal calibrate --role processors` and `--role recorder` "
+                              "on their hosts first, on the same LCM URL)";
+    if (!AwaitHeartbeats(kConsumers,
+                         std::chrono::seconds(static_cast<int64_t>(std::ceil(o_.await_peers_s))),
+                         hint))
         return false;
     try {
         if (source_kind_ == Source::kSim) {
@@ -272,7 +285,8 @@ void Calibration::StartSim() {
             if (const auto p = sequencer::NamedProfile(o_.profile))
                 for (double t : p->setpoints_c) setpoints.push_back(std::to_string(t));
         rig.insert(rig.end(), {"--mode", "builtin", "--profile", Join(setpoints, ",")});
-        AnnounceRun("start", "the simulated rig's own procedure (profile " + Join(setpoints, ",") + ")");
+        AnnounceRun("start",
+                    "the simulated rig's own procedure (profile " + Join(setpoints, ",") + ")");
         rig.insert(rig.end(), o_.rig_args.begin(), o_.rig_args.end());
         source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), rig);
         return;
@@ -280,9 +294,10 @@ void Calibration::StartSim() {
     rig.insert(rig.end(), {"--mode", "commanded"});
     rig.insert(rig.end(), o_.rig_args.begin(), o_.rig_args.end());
     source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), rig);
-    if (!AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, "")) throw std::runtime_error("the rig did not start");
-    std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line", o_.command_line,
-                                    "--profile", o_.profile};
+    if (!AwaitHeartbeats({"gyrocal-sim-rig"}, 20s, ""))
+        throw std::runtime_error("the rig did not start");
+    std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line",
+                                    o_.command_line,     "--profile",  o_.profile};
     if (!setpoints.empty()) seq.insert(seq.end(), {"--setpoints-c", Join(setpoints, ",")});
     if (o_.ramp_rate_c_per_min > 0)
         seq.insert(seq.end(), {"--ramp-rate-c-per-min", std::to_string(o_.ramp_rate_c_per_min)});
@@ -300,7 +315,8 @@ void Calibration::StartSim() {
 }
 
 void Calibration::StartMeasured() {
-    AnnounceRun("start", "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
+    AnnounceRun("start",
+                "measured data from " + o_.source + (o_.input.empty() ? "" : " " + o_.input));
     switch (source_kind_) {
         case Source::kCsv: {
             // A file is replayed as fast as every process of the graph keeps up (flow control),
@@ -365,10 +381,14 @@ std::string Calibration::ConfigJson() const {
         j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);
         j["acceptance_limits_file"] = o_.limits_file;
     }
-    j["args"] = {{"rig", o_.rig_args},           {"plateau", o_.plateau_args},
-                 {"rotation", o_.rotation_args}, {"fitter", o_.fitter_args},
-                 {"compensator", o_.compensator_args}, {"sequencer", o_.sequencer_args},
-                 {"recorder", o_.recorder_args}, {"source", o_.source_args}};
+    j["args"] = {{"rig", o_.rig_args},
+                 {"plateau", o_.plateau_args},
+                 {"rotation", o_.rotation_args},
+                 {"fitter", o_.fitter_args},
+                 {"compensator", o_.compensator_args},
+                 {"sequencer", o_.sequencer_args},
+                 {"recorder", o_.recorder_args},
+                 {"source", o_.source_args}};
     return j.dump();
 }
 
@@ -377,7 +397,8 @@ void Calibration::AnnounceRun(const std::string& event, const std::string& reaso
     // announces it; it also ends a run it must abort (a source died).
     run_event_t e;
     e.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch()).count();
+                  std::chrono::system_clock::now().time_since_epoch())
+                  .count();
     if (run_id_.empty()) {
         char buf[32];
         std::time_t t = std::time(nullptr);
@@ -454,8 +475,8 @@ bool Calibration::WaitsForCoeffs() const {
 }
 
 int Calibration::Run() {
-    std::cout << "gyrocal calibrate: role " << RoleName(role_) << ", logs in " << o_.log_dir << ", database "
-              << o_.db << ", LCM " << url_ << "\n";
+    std::cout << "gyrocal calibrate: role " << RoleName(role_) << ", logs in " << o_.log_dir
+              << ", database " << o_.db << ", LCM " << url_ << "\n";
     const auto named = sequencer::NamedProfile(o_.profile);
     const int setpoints = static_cast<int>(
         o_.setpoints_c.empty() ? (named ? named->setpoints_c.size() : 0) : o_.setpoints_c.size());
@@ -502,7 +523,8 @@ int Calibration::Watch() {
             std::cout << "\ngyrocal calibrate: interrupted; stopping the run\n";
             if (sequencer_) sequencer_->proc->Signal(SIGTERM);  // it records the abort
             if (!sequencer_ && source_) AnnounceRun("abort", "operator stop (signal)");
-            for (int i = 0; i < 40 && sequencer_ && !sequencer_->proc->Poll(); ++i) bus_.Handle(50ms);
+            for (int i = 0; i < 40 && sequencer_ && !sequencer_->proc->Poll(); ++i)
+                bus_.Handle(50ms);
             run_outcome_ = "abort: operator stop";
             return Finish(3);
         }
@@ -525,9 +547,11 @@ int Calibration::Watch() {
             }
         }
         if (o_.wall_timeout_s > 0 && SecondsSince(start_) > o_.wall_timeout_s) {
-            std::cerr << "\ngyrocal calibrate: wall-clock limit of " << o_.wall_timeout_s << " s reached\n";
+            std::cerr << "\ngyrocal calibrate: wall-clock limit of " << o_.wall_timeout_s
+                      << " s reached\n";
             if (sequencer_) sequencer_->proc->Signal(SIGTERM);
-            for (int i = 0; i < 40 && sequencer_ && !sequencer_->proc->Poll(); ++i) bus_.Handle(50ms);
+            for (int i = 0; i < 40 && sequencer_ && !sequencer_->proc->Poll(); ++i)
+                bus_.Handle(50ms);
             run_outcome_ = "abort: wall-clock limit";
             return Finish(3);
         }
@@ -535,7 +559,8 @@ int Calibration::Watch() {
     ShowProgress(true);
     std::cout << "\n";
     int code = 0;
-    if (sequencer_ && !(sequencer_->proc->Poll()->exited && sequencer_->proc->Poll()->code == 0)) code = 3;
+    if (sequencer_ && !(sequencer_->proc->Poll()->exited && sequencer_->proc->Poll()->code == 0))
+        code = 3;
     if (run_outcome_.rfind("stop", 0) != 0) code = 3;
     if (WaitsForCoeffs() && !HaveFinalCoeffs()) code = 3;
     if (WaitsForCoeffs() && !Verdict().AllComplete()) code = 3;
@@ -564,7 +589,8 @@ int Calibration::Finish(int code) {
             try {
                 std::cout << "\n" << FormatTruthComparison(coeffs_, nlohmann::json::parse(truth));
             } catch (const std::exception& e) {
-                std::cerr << "gyrocal calibrate: cannot compare with the truth in " << o_.truth_out << ": " << e.what() << "\n";
+                std::cerr << "gyrocal calibrate: cannot compare with the truth in " << o_.truth_out
+                          << ": " << e.what() << "\n";
             }
         }
     }
@@ -583,7 +609,8 @@ int RunCalibration(const CalibrateOptions& options) {
     if (o.command_line.empty()) {
         // The command line as the kernel has it (NUL-separated), recorded with the run.
         std::ifstream f("/proc/self/cmdline");
-        for (std::string arg; std::getline(f, arg, '\0');) o.command_line += (o.command_line.empty() ? "" : " ") + arg;
+        for (std::string arg; std::getline(f, arg, '\0');)
+            o.command_line += (o.command_line.empty() ? "" : " ") + arg;
     }
     // Measured input that cannot be replayed is refused before any process starts (no run).
     if (RoleRuns(*ParseRole(o.role), "gyrocal-sim-rig")) {

@@ -48,24 +48,24 @@ Source ParseSource(const std::string& name);
 inline bool ReadsInputFile(Source s) { return s == Source::kCsv || s == Source::kLog; }
 
 struct CalibrateOptions {
-    std::string source = "sim";   // sim | csv | lines | log
-    std::string input;            // file for csv and log sources
+    std::string source = "sim";  // sim | csv | lines | log
+    std::string input;           // file for csv and log sources
     std::string db = "gyrocal.db";
-    std::string lcm_url;          // "" = $GYROCAL_LCM_URL or the udpm TTL 0 default
-    std::string role = "all";     // all | producers | processors | recorder (lab.hpp)
-    int chamber = 1;              // 1..100: the bus is the URL's group at port + chamber - 1
+    std::string lcm_url;       // "" = $GYROCAL_LCM_URL or the udpm TTL 0 default
+    std::string role = "all";  // all | producers | processors | recorder (lab.hpp)
+    int chamber = 1;           // 1..100: the bus is the URL's group at port + chamber - 1
     std::string procedure = "sequencer";  // sim: sequencer (commanded rig) | rig (its own profile)
-    int max_restarts = 3;         // restarts of one process per run before the run is aborted
-    double await_peers_s = 20;    // wall seconds the producers wait for every consumer's heartbeat
-    int sensors = 4;              // simulated units
-    std::string preset = "610";   // module preset of the simulated units
+    int max_restarts = 3;        // restarts of one process per run before the run is aborted
+    double await_peers_s = 20;   // wall seconds the producers wait for every consumer's heartbeat
+    int sensors = 4;             // simulated units
+    std::string preset = "610";  // module preset of the simulated units
     uint64_t seed = 1;
-    uint64_t noise_seed = 0;      // 0 = seed (see gyrocal-sim-rig --noise-seed)
+    uint64_t noise_seed = 0;  // 0 = seed (see gyrocal-sim-rig --noise-seed)
     // [deg/s] gyrocal-fitter --plateau-slow-noise-dps; < 0 = auto: for the simulated rig its gyro
     // type's characterisation (`simulated`), for measured data the run's
     // own Allan deviation (the fitter's default, NOISE_<id>).
     double plateau_slow_noise_dps = -1.0;
-    SimulatedGyros simulated;     // --source sim: the fitter's options for the simulated type
+    SimulatedGyros simulated;  // --source sim: the fitter's options for the simulated type
     // Simulated seconds per wall second; 0 = auto: no fixed speed: the simulated rig (--speed 0)
     // and a CSV file (--max) run as fast as every process of the graph keeps up (flow control,
     // lcmtypes/flow), with samples batched kDefaultBatchSamples per message (bus/batch.hpp).
@@ -81,10 +81,10 @@ struct CalibrateOptions {
     double target_offset_dps = 0.0;
     double target_sensitivity_pct = 0.0;
     std::vector<std::string> effects;  // undeclared effects switched on in the rig (NAME=VALUE)
-    std::string log_dir;          // child logs; "" = a fresh folder under $TMPDIR
-    double wall_timeout_s = 0;    // 0 = none
-    double final_coeffs_wait_s = 30;  // wall seconds to wait for the final coefficient sets
-    std::string truth_out;        // rig truth sidecar; "" = <log_dir>/truth.json
+    std::string log_dir;               // child logs; "" = a fresh folder under $TMPDIR
+    double wall_timeout_s = 0;         // 0 = none
+    double final_coeffs_wait_s = 30;   // wall seconds to wait for the final coefficient sets
+    std::string truth_out;             // rig truth sidecar; "" = <log_dir>/truth.json
     std::vector<std::string> rig_args, plateau_args, rotation_args, fitter_args, compensator_args,
         sequencer_args, recorder_args, source_args;  // passed through verbatim
     bool quiet = false;
@@ -112,7 +112,8 @@ int RunCalibration(const CalibrateOptions& options);
 // holds the whole run, with the run id and the exit code so far; returns the exit code. The
 // launcher links no SQLite: the acceptance step lives with the report (cmd_report.hpp) and main
 // installs it when that component is built.
-using AfterRunHook = std::function<int(const CalibrateOptions&, const std::string& run_id, int code)>;
+using AfterRunHook =
+    std::function<int(const CalibrateOptions&, const std::string& run_id, int code)>;
 void SetAfterRunHook(AfterRunHook hook);
 bool HasAfterRunHook();
 
@@ -127,7 +128,8 @@ struct RecoveredState {
     std::vector<coeff_set_t> newest_coeffs;
 };
 // Throws std::exception with the reason when the database cannot be read.
-using RecoveryReader = std::function<RecoveredState(const std::string& db_path, const std::string& run_id)>;
+using RecoveryReader =
+    std::function<RecoveredState(const std::string& db_path, const std::string& run_id)>;
 void SetRecoveryReader(RecoveryReader reader);
 
 }  // namespace gyrocal::cli

@@ -13,8 +13,8 @@
 #include "bus/bus.hpp"
 #include "calibrate.hpp"
 #include "final_verdict.hpp"
-#include "gyrocal/analysis_t.hpp"
 #include "flow/flow_acker.hpp"
+#include "gyrocal/analysis_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/run_event_t.hpp"
@@ -37,7 +37,7 @@ private:
         std::vector<std::string> argv;  // as first started
         std::string log;
         std::unique_ptr<ChildProcess> proc;
-        int instance = 0;  // restarts so far
+        int instance = 0;                         // restarts so far
         std::vector<std::string> previous_cause;  // error lines of the instance last restarted
     };
     struct PendingRecovery {
@@ -106,8 +106,8 @@ private:
     std::unique_ptr<Progress> progress_;
     std::vector<std::string> run_sensors_;
     std::set<std::string> stability_sensors_;
-    std::map<std::string, coeff_set_t> coeffs_;  // newest per sensor
-    std::set<std::string> final_coeffs_;         // sensors with a set after the stop
+    std::map<std::string, coeff_set_t> coeffs_;          // newest per sensor
+    std::set<std::string> final_coeffs_;                 // sensors with a set after the stop
     std::map<std::string, fit_report_t> final_reports_;  // the fitter's verdict at the stop
     // The closed loop (plateau runs): each unit's final report and analysis of source
     // closed-loop, and the newest plateau set (source fitter) beside it.

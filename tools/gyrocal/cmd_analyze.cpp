@@ -40,9 +40,9 @@ void AddAllanPlot(const st::RunDetail& d, const std::string& id, std::vector<plo
     for (const st::NoiseInfo& ni : d.noise) {
         if (ni.noise.sensor_id != id || ni.noise.tau_s.empty()) continue;
         const st::NoiseRow& n = ni.noise;
-        plots.push_back(noise::MakeAllanPlot({id, n.tau_s, n.adev_v, n.adev_lo_v, n.adev_hi_v,
-                                              n.arw_v_rthz, n.bias_instability_v, n.rrw_v_rts,
-                                              ni.sensitivity_v_per_dps}));
+        plots.push_back(
+            noise::MakeAllanPlot({id, n.tau_s, n.adev_v, n.adev_lo_v, n.adev_hi_v, n.arw_v_rthz,
+                                  n.bias_instability_v, n.rrw_v_rts, ni.sensitivity_v_per_dps}));
     }
 }
 

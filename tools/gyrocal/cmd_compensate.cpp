@@ -112,8 +112,8 @@ int RunCompensate(const CompensateOptions& o, std::ostream& out, std::ostream& e
     }
     return FailOnThrow(err, me, [&] {
         std::string origin;
-        const std::map<std::string, model::CoeffSet> sets = LoadCoeffSets(
-            {o.coeffs_path, o.db, o.run_id, o.sensor_id, o.coeff_set_row}, &origin);
+        const std::map<std::string, model::CoeffSet> sets =
+            LoadCoeffSets({o.coeffs_path, o.db, o.run_id, o.sensor_id, o.coeff_set_row}, &origin);
         std::ifstream in(o.csv_path, std::ios::binary);
         if (!in) {
             err << me << "cannot read CSV '" << o.csv_path << "'\n";

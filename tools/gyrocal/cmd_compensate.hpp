@@ -25,23 +25,23 @@
 namespace gyrocal::cli {
 
 struct CompensateOptions {
-    std::string csv_path;                  // measured data
-    std::string coeffs_path;               // JSON export; "" = from --db
-    std::string db;                        // SQLite database
-    std::string run_id;                    // with db
-    std::string sensor_id;                 // with db: filter (with run) or newest set of sensor
-    std::optional<int64_t> coeff_set_row;  // with db
-    std::string out_path;                  // "" = `out`
+    std::string csv_path;                      // measured data
+    std::string coeffs_path;                   // JSON export; "" = from --db
+    std::string db;                            // SQLite database
+    std::string run_id;                        // with db
+    std::string sensor_id;                     // with db: filter (with run) or newest set of sensor
+    std::optional<int64_t> coeff_set_row;      // with db
+    std::string out_path;                      // "" = `out`
     std::string range_policy = "extrapolate";  // the default of gyrocal-compensator --out-of-range
-    std::string preset = "610";            // temperature transfer when the CSV has no temp_c
-    std::optional<double> temp_v_at_25c;   // [V]
-    std::optional<double> temp_v_per_c;    // [V/degC]
+    std::string preset = "610";                // temperature transfer when the CSV has no temp_c
+    std::optional<double> temp_v_at_25c;       // [V]
+    std::optional<double> temp_v_per_c;        // [V/degC]
 };
 
 // Where coefficient sets come from (shared with `gyrocal validate`): a JSON file, or a database
 // with a run (its newest set per sensor), a sensor (its newest set) or one stored set.
 struct CoeffSource {
-    std::string coeffs_path;               // JSON export; "" = from db
+    std::string coeffs_path;  // JSON export; "" = from db
     std::string db;
     std::string run_id;                    // with db
     std::string sensor_id;                 // filter (with run or file), or newest set of sensor

@@ -35,7 +35,9 @@ std::string PrepareOutDir(const std::string& out_dir) {
     fs::path dir = fs::absolute(out_dir).lexically_normal();
     if (!dir.has_filename()) dir = dir.parent_path();
     std::error_code ec;
-    if (fs::exists(dir, ec)) return fs::is_directory(dir, ec) ? "" : "--out " + out_dir + ": exists and is not a directory";
+    if (fs::exists(dir, ec))
+        return fs::is_directory(dir, ec) ? ""
+                                         : "--out " + out_dir + ": exists and is not a directory";
     if (!fs::is_directory(dir.parent_path(), ec))
         return "--out " + out_dir + ": parent directory '" + dir.parent_path().string() +
                "' does not exist (DIR itself is created, its parent must exist)";
@@ -50,7 +52,8 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
     if (!o.limits_file.empty()) {
         try {
             ro.limits = acceptance::LoadLimitsFile(o.limits_file);
-            ro.limits_origin = "from " + o.limits_file + " (given to gyrocal report, not stored with the run)";
+            ro.limits_origin =
+                "from " + o.limits_file + " (given to gyrocal report, not stored with the run)";
         } catch (const acceptance::LimitsError& e) {
             err << "gyrocal report: --limits: " << e.what() << "\n";
             return 2;
@@ -87,8 +90,9 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
 void AddReportCommand(CLI::App& app, std::function<int()>& action) {
     auto o = std::make_shared<ReportCommandOptions>();
     CLI::App* sub = app.add_subcommand(
-        "report", "the calibration report of a run: one self-contained HTML page (figures, coefficients with "
-                  "uncertainties, analysis, acceptance, traceability)");
+        "report",
+        "the calibration report of a run: one self-contained HTML page (figures, coefficients with "
+        "uncertainties, analysis, acceptance, traceability)");
     sub->option_defaults()->always_capture_default();  // --help shows every option's default
     auto* run = sub->add_option("run", o->run_id, "run id (see gyrocal runs)");
     auto* latest = sub->add_flag("--latest", o->latest, "the newest run of the database");
@@ -96,12 +100,15 @@ void AddReportCommand(CLI::App& app, std::function<int()>& action) {
     sub->add_option("--db", o->db, "SQLite database the recorder wrote");
     sub->add_option("--out", o->out_dir,
                     "directory of the page report-<run>.html (created if its parent exists)");
-    sub->add_option("--limits", o->limits_file,
-                    "acceptance limits (JSON) to judge the run by, instead of those stored with it");
+    sub->add_option(
+        "--limits", o->limits_file,
+        "acceptance limits (JSON) to judge the run by, instead of those stored with it");
     sub->add_flag("--json", o->json, "print the path and the acceptance as JSON");
     sub->footer(
-        "Exit codes: 0 report written (whatever the units' outcome), 1 failure (database, unknown run, gnuplot "
-        "missing or failing, page not writable), 2 bad options (incl. a limits file that does not validate).");
+        "Exit codes: 0 report written (whatever the units' outcome), 1 failure (database, unknown "
+        "run, gnuplot "
+        "missing or failing, page not writable), 2 bad options (incl. a limits file that does not "
+        "validate).");
     sub->callback([o, &action] {
         if (o->run_id.empty() && !o->latest) throw CLI::RequiredError("a RUN id or --latest");
         action = [o] { return RunReport(*o, std::cout, std::cerr); };
@@ -121,7 +128,8 @@ int AcceptanceStep(const CalibrateOptions& options, const std::string& run_id, i
             AnalyzeOptions ao;
             ao.run_id = run_id;
             ao.db = options.db;
-            ao.command_line = "gyrocal calibrate --limits " + options.limits_file + " (analysis of run " + run_id + ")";
+            ao.command_line = "gyrocal calibrate --limits " + options.limits_file +
+                              " (analysis of run " + run_id + ")";
             std::ostringstream report;
             if (RunAnalyze(ao, report, std::cerr) != 0)
                 std::cerr << "gyrocal calibrate: the analysis of run " << run_id
@@ -135,11 +143,13 @@ int AcceptanceStep(const CalibrateOptions& options, const std::string& run_id, i
         for (const acceptance::UnitVerdict& v : a.verdicts) {
             if (v.outcome == acceptance::Outcome::kPass) continue;
             all_pass = false;
-            std::cerr << "gyrocal calibrate: unit did not pass its limits: " << acceptance::Summary(v) << "\n";
+            std::cerr << "gyrocal calibrate: unit did not pass its limits: "
+                      << acceptance::Summary(v) << "\n";
         }
         return code == 0 && !all_pass ? kExitUnitNotAccepted : code;
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal calibrate: acceptance of run " << run_id << " not evaluated: " << e.what() << "\n";
+        std::cerr << "gyrocal calibrate: acceptance of run " << run_id
+                  << " not evaluated: " << e.what() << "\n";
         return code == 0 ? kExitUnitNotAccepted : code;
     }
 }
@@ -162,7 +172,8 @@ int ReportStep(const CalibrateOptions& options, const std::string& run_id, int c
         std::cout << "\nreport: " << rr::WriteReport(ro).path << "\n";
         return code;
     } catch (const std::exception& e) {
-        std::cerr << "gyrocal calibrate: the report of run " << run_id << " was not written: " << e.what() << "\n";
+        std::cerr << "gyrocal calibrate: the report of run " << run_id
+                  << " was not written: " << e.what() << "\n";
         return code == 0 ? 1 : code;
     }
 }

@@ -27,11 +27,13 @@ int RunSpy(const SpyOptions& o) {
     struct Need {
         std::string what, path, fix;
     };
-    for (const Need& n : {Need{"LCM's Java library", o.lcm_jar, "apt-get install liblcm-java"},
-                          Need{"jchart2d (lcm-spy's charts)", o.jchart_jar, "apt-get install libjchart2d-java"},
-                          Need{"the gyrocal types jar", types, "build the project (tools/run.sh setup)"}}) {
+    for (const Need& n :
+         {Need{"LCM's Java library", o.lcm_jar, "apt-get install liblcm-java"},
+          Need{"jchart2d (lcm-spy's charts)", o.jchart_jar, "apt-get install libjchart2d-java"},
+          Need{"the gyrocal types jar", types, "build the project (tools/run.sh setup)"}}) {
         if (!std::filesystem::exists(n.path)) {
-            std::cerr << "gyrocal spy: " << n.what << " not found at " << n.path << ": " << n.fix << "\n";
+            std::cerr << "gyrocal spy: " << n.what << " not found at " << n.path << ": " << n.fix
+                      << "\n";
             return 1;
         }
     }
@@ -40,8 +42,12 @@ int RunSpy(const SpyOptions& o) {
         return 1;
     }
     const std::string url = BusOptions{o.lcm_url}.ResolvedUrl();
-    std::vector<std::string> args = {o.java, "-Djava.net.preferIPv4Stack=true", "-Xmx256m", "-cp",
-                                     o.lcm_jar + ":" + o.jchart_jar + ":" + types, "lcm.spy.Spy",
+    std::vector<std::string> args = {o.java,
+                                     "-Djava.net.preferIPv4Stack=true",
+                                     "-Xmx256m",
+                                     "-cp",
+                                     o.lcm_jar + ":" + o.jchart_jar + ":" + types,
+                                     "lcm.spy.Spy",
                                      "--lcm-url=" + url};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
@@ -55,11 +61,13 @@ int RunSpy(const SpyOptions& o) {
 
 void AddSpyCommand(CLI::App& app, std::function<int()>& action) {
     auto o = std::make_shared<SpyOptions>();
-    CLI::App* cmd = app.add_subcommand("spy", "watch the bus live in lcm-spy, with every gyrocal type decoded");
+    CLI::App* cmd =
+        app.add_subcommand("spy", "watch the bus live in lcm-spy, with every gyrocal type decoded");
     cmd->add_option("--lcm-url", o->lcm_url, "LCM URL (default: $GYROCAL_LCM_URL or udpm TTL 0)");
     cmd->add_option("--java", o->java, "java executable")->capture_default_str();
-    cmd->footer("Needs a display (X11). Exit codes: 1 when java, lcm.jar, jchart2d.jar or the types jar is "
-                "missing; otherwise lcm-spy's own.");
+    cmd->footer(
+        "Needs a display (X11). Exit codes: 1 when java, lcm.jar, jchart2d.jar or the types jar is "
+        "missing; otherwise lcm-spy's own.");
     cmd->callback([o, &action] { action = [o] { return RunSpy(*o); }; });
 }
 

@@ -69,8 +69,10 @@ std::string ExecutableDir() {
 CLI::Validator UtcDate() {
     return CLI::Validator(
         [](std::string& s) -> std::string {
-            return rep::ParseUtc(s) ? "" : "'" + s + "' is not a UTC date (YYYY-MM-DD or "
-                                                     "YYYY-MM-DDTHH:MM[:SS][Z])";
+            return rep::ParseUtc(s) ? ""
+                                    : "'" + s +
+                                          "' is not a UTC date (YYYY-MM-DD or "
+                                          "YYYY-MM-DDTHH:MM[:SS][Z])";
         },
         "DATE");
 }
@@ -87,9 +89,11 @@ void AddDb(CLI::App* sub, Common& c) {
         ->capture_default_str();
 }
 
-std::vector<rep::ProvenanceSummary> Provenance(st::Db& db, const std::vector<st::CoeffSetInfo>& sets) {
+std::vector<rep::ProvenanceSummary> Provenance(st::Db& db,
+                                               const std::vector<st::CoeffSetInfo>& sets) {
     std::vector<rep::ProvenanceSummary> out;
-    for (const auto& c : sets) out.push_back({c.coeff_row_id, st::CoeffProvenance(db, c.coeff_row_id)});
+    for (const auto& c : sets)
+        out.push_back({c.coeff_row_id, st::CoeffProvenance(db, c.coeff_row_id)});
     return out;
 }
 
@@ -103,8 +107,10 @@ void AddRuns(CLI::App& app, std::function<int()>& action) {
     sub->footer(kExitCodes);
     AddDb(sub, *c);
     sub->add_option("--sensor", *sensor, "only runs that recorded this sensor id");
-    sub->add_option("--since", *since, "only runs first seen at/after this UTC date")->check(UtcDate());
-    sub->add_option("--until", *until, "only runs first seen before this UTC date")->check(UtcDate());
+    sub->add_option("--since", *since, "only runs first seen at/after this UTC date")
+        ->check(UtcDate());
+    sub->add_option("--until", *until, "only runs first seen before this UTC date")
+        ->check(UtcDate());
     sub->add_option("--outcome", *outcome, "only runs that ended so")
         ->check(CLI::IsMember({"running", "stop", "abort", "none"}));
     sub->add_flag("--json", c->json, "JSON array instead of a table");
@@ -120,8 +126,8 @@ void AddRuns(CLI::App& app, std::function<int()>& action) {
                 const auto runs = st::ListRuns(*db, f);
                 if (c->json) return Emit("runs", rep::RunsJson(runs).dump(2) + "\n", "");
                 if (runs.empty()) {
-                    std::cout << "no runs match in " << rep::Printable(st::WithoutCredentials(c->db))
-                              << "\n";
+                    std::cout << "no runs match in "
+                              << rep::Printable(st::WithoutCredentials(c->db)) << "\n";
                     return 0;
                 }
                 return Emit("runs", rep::RunsTable(runs), "");
@@ -133,9 +139,9 @@ void AddRuns(CLI::App& app, std::function<int()>& action) {
 void AddShow(CLI::App& app, std::function<int()>& action) {
     auto c = std::make_shared<Common>();
     auto run = std::make_shared<std::string>();
-    CLI::App* sub = app.add_subcommand(
-        "show",
-        "a run: configuration, plateaus, sensitivity points, coefficient sets, analyses, losses, acceptance");
+    CLI::App* sub = app.add_subcommand("show",
+                                       "a run: configuration, plateaus, sensitivity points, "
+                                       "coefficient sets, analyses, losses, acceptance");
     sub->footer(kExitCodes);
     sub->add_option("run", *run, "run id ('' = the no-run bucket)")->required();
     AddDb(sub, *c);
@@ -153,7 +159,10 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
                     j["acceptance"] = gyrocal::runreport::AcceptanceJson(accepted);
                     return Emit("show", j.dump(2) + "\n", "");
                 }
-                return Emit("show", rep::RunDetailText(d, prov) + "\n" + gyrocal::runreport::AcceptanceText(accepted), "");
+                return Emit("show",
+                            rep::RunDetailText(d, prov) + "\n" +
+                                gyrocal::runreport::AcceptanceText(accepted),
+                            "");
             });
         };
     });
@@ -173,11 +182,13 @@ void AddHistory(CLI::App& app, std::function<int()>& action) {
         ->capture_default_str()
         ->check(CLI::Validator(
             [](std::string& s) -> std::string {
-                return rep::ParseTemps(s) ? "" : "'" + s + "' is not a list of numbers like 0,25,50";
+                return rep::ParseTemps(s) ? ""
+                                          : "'" + s + "' is not a list of numbers like 0,25,50";
             },
             "LIST"));
-    sub->add_flag("--all", *all,
-                  "every coefficient set published (default: the final one of each run and source)");
+    sub->add_flag(
+        "--all", *all,
+        "every coefficient set published (default: the final one of each run and source)");
     sub->add_flag("--json", c->json, "JSON instead of a table");
     sub->callback([&action, c, sensor, temps, all] {
         action = [c, sensor, temps, all] {
@@ -222,7 +233,8 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
         "export",
         "coefficients of a run (newest set of each sensor, whatever its source: an analysis'\n"
         "extended model stored after the fitter's set wins) or of a sensor (its newest set);\n"
-        "--format samples: the run's raw samples as measured-data CSV (gyrocal compensate reads it)");
+        "--format samples: the run's raw samples as measured-data CSV (gyrocal compensate reads "
+        "it)");
     sub->footer(kExitCodes);
     sub->add_option("id", *id, "run id or sensor id (a run id wins; see --kind)")->required();
     AddDb(sub, *c);
@@ -252,7 +264,8 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
                     }
                     auto all = st::SensorHistory(*db, *id, true);
                     if (!all.empty()) sets.push_back(all.back());
-                    origin = "sensor '" + *id + "' (newest set) of " + st::WithoutCredentials(c->db);
+                    origin =
+                        "sensor '" + *id + "' (newest set) of " + st::WithoutCredentials(c->db);
                 }
                 if (sets.empty()) {
                     throw st::NotFound(std::string(is_run ? "run '" : "sensor '") + *id +
@@ -396,7 +409,8 @@ void AddReplay(CLI::App& app, std::function<int()>& action) {
             for (auto& a : args) argv.push_back(a.data());
             argv.push_back(nullptr);
             execv(exe.c_str(), argv.data());
-            std::cerr << "gyrocal replay: error: cannot start '" << exe << "' (build it beside gyrocal)\n";
+            std::cerr << "gyrocal replay: error: cannot start '" << exe
+                      << "' (build it beside gyrocal)\n";
             return 1;
         };
     });

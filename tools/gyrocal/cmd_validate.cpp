@@ -6,8 +6,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "analysis/validate.hpp"
 #include "analyses.hpp"
+#include "analysis/validate.hpp"
 #include "cmd_compensate.hpp"
 #include "command.hpp"
 #include "gyrocal/version.hpp"
@@ -25,7 +25,8 @@ namespace {
 // "" when exactly one model source is given, else what is wrong.
 std::string SourceProblem(const ValidateOptions& o) {
     const int n = !o.model_run_id.empty() + o.coeff_set_row.has_value() + !o.coeffs_path.empty();
-    if (n != 1) return "give exactly one model: --model-run RUN, --coeff-set-row N or --coeffs FILE";
+    if (n != 1)
+        return "give exactly one model: --model-run RUN, --coeff-set-row N or --coeffs FILE";
     if (o.model_run_id == o.run_id)
         return "--model-run is the run being validated: validate a model on a run it was not "
                "fitted on";
@@ -61,10 +62,10 @@ int RunValidate(const ValidateOptions& o, std::ostream& out, std::ostream& err) 
     }
     return FailOnThrow(err, me, [&] {
         std::string origin;
-        const std::map<std::string, model::CoeffSet> sets = LoadCoeffSets(
-            {o.coeffs_path, o.coeffs_path.empty() ? o.db : "", o.model_run_id, o.sensor_id,
-             o.coeff_set_row},
-            &origin);
+        const std::map<std::string, model::CoeffSet> sets =
+            LoadCoeffSets({o.coeffs_path, o.coeffs_path.empty() ? o.db : "", o.model_run_id,
+                           o.sensor_id, o.coeff_set_row},
+                          &origin);
         std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
         const st::RunDetail detail = st::ShowRun(*db, o.run_id);
         std::vector<std::string> sensors;

@@ -15,7 +15,7 @@
 namespace gyrocal::cli {
 
 struct ValidateOptions {
-    std::string run_id;                    // the run to validate on
+    std::string run_id;  // the run to validate on
     std::string db = "gyrocal.db";
     std::string sensor_id;                 // "" = every sensor the model covers in the run
     std::string model_run_id;              // the newest set of each sensor of this run

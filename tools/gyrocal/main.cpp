@@ -1,7 +1,6 @@
 // gyrocal: the command line of the project. Each subcommand lives in its own cmd_*.cpp and sets
 // `action` when chosen; main parses, then runs it.
 #include <CLI/CLI.hpp>
-
 #include <functional>
 #include <iostream>
 #include <sstream>
@@ -39,7 +38,8 @@ int main(int argc, char** argv) {
     gyrocal::cli::SetRecoveryReader([](const std::string& db_path, const std::string& run_id) {
         auto db = gyrocal::store::OpenForQuery(db_path);
         gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
-        return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations), std::move(r.newest_coeffs)};
+        return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations),
+                                            std::move(r.newest_coeffs)};
     });
     return gyrocal::cli::ParseAndRun(app, argc, argv, action);
 }

@@ -13,7 +13,9 @@ std::string SiblingExecutable(const std::string& name) { return ExecutableDir() 
 
 std::string TypesJar() {
     if (const char* env = std::getenv("GYROCAL_TYPES_JAR"); env && *env) return env;
-    return (std::filesystem::path(ExecutableDir()) / ".." / "java" / "gyrocal_types.jar").lexically_normal().string();
+    return (std::filesystem::path(ExecutableDir()) / ".." / "java" / "gyrocal_types.jar")
+        .lexically_normal()
+        .string();
 }
 
 }  // namespace gyrocal::cli

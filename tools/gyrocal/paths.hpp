@@ -5,7 +5,7 @@
 
 namespace gyrocal::cli {
 
-std::string ExecutableDir();                       // folder of /proc/self/exe
+std::string ExecutableDir();                             // folder of /proc/self/exe
 std::string SiblingExecutable(const std::string& name);  // ExecutableDir()/name
 std::string TypesJar();  // $GYROCAL_TYPES_JAR, else <bin>/../java/gyrocal_types.jar
 

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <map>
 #include <set>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"

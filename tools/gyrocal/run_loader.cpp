@@ -25,7 +25,8 @@ std::map<std::string, an::SensorRun> LoadSensorRuns(st::Db& db, const st::RunDet
                 using T = std::decay_t<decltype(r)>;
                 if constexpr (std::is_same_v<T, st::GyroRow>) {
                     if (wanted.count(r.sensor_id))
-                        gyro[r.sensor_id].push_back({r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
+                        gyro[r.sensor_id].push_back(
+                            {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
                 } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
                     encoder.push_back({r.utime, r.counts, r.counts_per_rev});
                 } else if constexpr (std::is_same_v<T, st::ChamberStateRow>) {

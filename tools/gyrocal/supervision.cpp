@@ -6,11 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
-#include "runtime/status.hpp"
 #include "calibration.hpp"
 #include "child_errors.hpp"
 #include "gyrocal/version.hpp"
+#include "runtime/shutdown.hpp"
+#include "runtime/status.hpp"
 
 namespace gyrocal::cli {
 namespace {
@@ -119,8 +119,8 @@ std::optional<int> Calibration::HandleCrash(Child& c, const ExitStatus& how) {
                                       " restarts in this run (--max-restarts)",
                                   cause));
     if (!Restart(c, how))
-        return AbortRun(WithCause(
-            what + " and did not come back when restarted (log " + c.log + ")", cause));
+        return AbortRun(
+            WithCause(what + " and did not come back when restarted (log " + c.log + ")", cause));
     return std::nullopt;
 }
 
@@ -172,11 +172,12 @@ void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int prev
                   .count();
     e.run_id = run_id_;
     e.event = "restart";
-    e.reason = WithCause(c.name + " ended unexpectedly (" + how.Describe() + "); restarted as pid " +
-                             std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " +
-                             std::to_string(budget_.used(c.name)) + " of " +
-                             std::to_string(budget_.max()) + "); recovery: " + kRecovery.at(r),
-                         c.previous_cause);
+    e.reason =
+        WithCause(c.name + " ended unexpectedly (" + how.Describe() + "); restarted as pid " +
+                      std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " +
+                      std::to_string(budget_.used(c.name)) + " of " +
+                      std::to_string(budget_.max()) + "); recovery: " + kRecovery.at(r),
+                  c.previous_cause);
     e.setpoint_index = setpoint_index_;
     e.setpoint_c = setpoint_index_ >= 0 ? setpoint_c_ : NAN;
     e.num_sensors = 0;
@@ -231,17 +232,21 @@ void Calibration::RecoverDue() {
             const RecoveredState r = InstalledRecoveryReader()(o_.db, it->run_id);
             size_t n = 0;
             if (it->what == Recovery::kStoredPoints) {
-                for (const auto& p : r.plateaus) n += bus_.Publish(channels::Plateau(p.sensor_id), p) ? 1 : 0;
-                for (const auto& s : r.rotations) n += bus_.Publish(channels::Sensitivity(s.sensor_id), s) ? 1 : 0;
+                for (const auto& p : r.plateaus)
+                    n += bus_.Publish(channels::Plateau(p.sensor_id), p) ? 1 : 0;
+                for (const auto& s : r.rotations)
+                    n += bus_.Publish(channels::Sensitivity(s.sensor_id), s) ? 1 : 0;
             } else {
-                for (const auto& c : r.newest_coeffs) n += bus_.Publish(channels::Coeffs(c.sensor_id), c) ? 1 : 0;
+                for (const auto& c : r.newest_coeffs)
+                    n += bus_.Publish(channels::Coeffs(c.sensor_id), c) ? 1 : 0;
             }
             std::cerr << "gyrocal calibrate: recovered " << it->process << ": published " << n
-                      << (it->what == Recovery::kStoredPoints ? " plateaus and sensitivity points" : " coefficient sets")
+                      << (it->what == Recovery::kStoredPoints ? " plateaus and sensitivity points"
+                                                              : " coefficient sets")
                       << " of run " << it->run_id << " from " << o_.db << "\n";
         } catch (const std::exception& e) {
-            std::cerr << "gyrocal calibrate: cannot recover " << it->process << " from " << o_.db << ": " << e.what()
-                      << " (it goes on from the live bus only)\n";
+            std::cerr << "gyrocal calibrate: cannot recover " << it->process << " from " << o_.db
+                      << ": " << e.what() << " (it goes on from the live bus only)\n";
         }
         it = recoveries_.erase(it);
     }

@@ -39,7 +39,8 @@ std::string ReadLog(const std::string& path) {
 
 std::string ExitStatus::Describe() const {
     if (exited) return "exit code " + std::to_string(code);
-    return std::string("killed by signal ") + std::to_string(signal) + " (" + strsignal(signal) + ")";
+    return std::string("killed by signal ") + std::to_string(signal) + " (" + strsignal(signal) +
+           ")";
 }
 
 std::string FindOnPath(const std::string& program) {
@@ -75,12 +76,14 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, const ChildOptions& op
     const int n_child_fds = static_cast<int>(options.child_fds.size());
     std::vector<int> high_fds(options.child_fds.size(), -1);  // allocated before the fork
     int fds[2];
-    if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot start '" + name_ + "': pipe failed");
+    if (pipe2(fds, O_CLOEXEC) != 0)
+        throw std::runtime_error("cannot start '" + name_ + "': pipe failed");
     const pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
         close(fds[1]);
-        throw std::runtime_error("cannot start '" + name_ + "': fork failed: " + std::strerror(errno));
+        throw std::runtime_error("cannot start '" + name_ +
+                                 "': fork failed: " + std::strerror(errno));
     }
     if (pid == 0) {
         // Own process group: a terminal's Ctrl-C reaches only the launcher, which stops the
@@ -92,7 +95,9 @@ ChildProcess::ChildProcess(std::vector<std::string> argv, const ChildOptions& op
             if (fd >= 0) dup2(fd, 1);
         }
         if (!stderr_path.empty()) {
-            int fd = stderr_path == stdout_path ? 1 : open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+            int fd = stderr_path == stdout_path
+                         ? 1
+                         : open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
             if (fd >= 0) dup2(fd, 2);
         }
         int report_fd = fds[1];

@@ -14,9 +14,9 @@
 namespace gyrocal {
 
 struct ExitStatus {
-    bool exited = false;   // true: normal exit with code; false: killed by signal
-    int code = 0;          // exit code when exited
-    int signal = 0;        // signal number when killed
+    bool exited = false;  // true: normal exit with code; false: killed by signal
+    int code = 0;         // exit code when exited
+    int signal = 0;       // signal number when killed
     std::string Describe() const;
 };
 

@@ -60,9 +60,9 @@ Figures OnHeldOut(const analysis::BinnedRun& binned, const std::vector<int>& hel
         ss += rate * rate;
         angle += rate * b.n * period_s;
         dur += b.n * period_s;
-        const bool block_ends = k + 1 == held.size() ||
-                                binned.bins()[static_cast<size_t>(held[k + 1])].start_utime -
-                                        b.end_utime > 60'000'000;
+        const bool block_ends =
+            k + 1 == held.size() ||
+            binned.bins()[static_cast<size_t>(held[k + 1])].start_utime - b.end_utime > 60'000'000;
         if (block_ends) {
             ss_drift += std::pow(angle / dur * 3600.0, 2);
             ++blocks;

@@ -9,12 +9,12 @@
 //    the incremental bins now (RampFitter), both measured as the growth of the allocator's bytes in
 //    use (mallinfo2) while the run is fed in.
 // 2. Receive latency while refits run: a publisher thread sends UNITS units' run (default 4; 10 Hz,
-//    2.3 h of data, encoder at 1 Hz) over LCM udpm (port 7940, TTL 0; run it inside a network namespace:
-//    /work/bin/nsrun NAME ...) at MSGS_PER_S (default 2000: ~200x real time); the receiving thread
-//    runs the ramp fitter (refit every 600 s of data once 1200 s are in) either with the fit in
-//    the sample's handler (as the ramp fitter did before this change) or on the fit worker
-//    (fit_worker.hpp). A second subscriber on the same thread takes the time from each sample's
-//    publication to its dispatch: while a fit runs in the handler, nothing is dispatched.
+//    2.3 h of data, encoder at 1 Hz) over LCM udpm (port 7940, TTL 0; run it inside a network
+//    namespace: /work/bin/nsrun NAME ...) at MSGS_PER_S (default 2000: ~200x real time); the
+//    receiving thread runs the ramp fitter (refit every 600 s of data once 1200 s are in) either
+//    with the fit in the sample's handler (as the ramp fitter did before this change) or on the fit
+//    worker (fit_worker.hpp). A second subscriber on the same thread takes the time from each
+//    sample's publication to its dispatch: while a fit runs in the handler, nothing is dispatched.
 #include <malloc.h>
 
 #include <algorithm>
@@ -131,18 +131,21 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool 
     std::optional<StillFitChannel> channel;
     Latency out;
     int64_t now = 0;
-    auto unit_of = [](const std::string& ch) { return channels::SensorOf(channels::kGyroPrefix, ch).value(); };
+    auto unit_of = [](const std::string& ch) {
+        return channels::SensorOf(channels::kGyroPrefix, ch).value();
+    };
     if (inline_fit) {
-        bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
-                                     [&](const gyro_sample_t& m, const std::string& ch) {
-                                         f.AddGyro(unit_of(ch), {m.utime, m.seq, m.temp_c, m.gyro_v, m.supply_v});
-                                         if (m.utime <= now) return;
-                                         now = m.utime;
-                                         for (const auto& r : f.OnTime(m.utime)) {  // the fit, here
-                                             if (r.set) bus.Publish(channels::Coeffs(r.sensor_id), *r.set);
-                                             ++out.fits;
-                                         }
-                                     });
+        bus.Subscribe<gyro_sample_t>(
+            channels::AllSensors(channels::kGyroPrefix),
+            [&](const gyro_sample_t& m, const std::string& ch) {
+                f.AddGyro(unit_of(ch), {m.utime, m.seq, m.temp_c, m.gyro_v, m.supply_v});
+                if (m.utime <= now) return;
+                now = m.utime;
+                for (const auto& r : f.OnTime(m.utime)) {  // the fit, here
+                    if (r.set) bus.Publish(channels::Coeffs(r.sensor_id), *r.set);
+                    ++out.fits;
+                }
+            });
         bus.Subscribe<encoder_sample_t>(std::string(channels::kEncoder),
                                         [&](const encoder_sample_t& m, const std::string&) {
                                             f.AddEncoder({m.utime, m.counts, m.counts_per_rev});
@@ -153,14 +156,15 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool 
     const size_t total = run.size() * static_cast<size_t>(units);
     std::vector<std::atomic<int64_t>> sent(total);  // [ns] of the steady clock, per message
     std::atomic<bool> done{false};
-    bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
-                                 [&](const gyro_sample_t& m, const std::string&) {
-                                     const auto k = static_cast<size_t>(m.seq);
-                                     if (k < total)
-                                         out.ms.push_back(1e-6 * static_cast<double>(
-                                                                     Clock::now().time_since_epoch().count() -
-                                                                     sent[k].load()));
-                                 });
+    bus.Subscribe<gyro_sample_t>(
+        channels::AllSensors(channels::kGyroPrefix),
+        [&](const gyro_sample_t& m, const std::string&) {
+            const auto k = static_cast<size_t>(m.seq);
+            if (k < total)
+                out.ms.push_back(
+                    1e-6 *
+                    static_cast<double>(Clock::now().time_since_epoch().count() - sent[k].load()));
+        });
     f.StartRun("bench");
     std::thread pub([&] {
         Bus p(BusOptions{kUrl});
@@ -169,16 +173,20 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool 
         for (size_t i = 0; i < run.size(); ++i) {
             const Sample& s = run[i];
             if (s.encoder) {
-                std::this_thread::sleep_until(start + std::chrono::duration<double>(k++ / msgs_per_s));
+                std::this_thread::sleep_until(start +
+                                              std::chrono::duration<double>(k++ / msgs_per_s));
                 encoder_sample_t e{};
-                e.utime = s.g.utime, e.encoder_id = "TABLE", e.seq = k, e.counts = 0, e.counts_per_rev = 20000;
+                e.utime = s.g.utime, e.encoder_id = "TABLE", e.seq = k, e.counts = 0,
+                e.counts_per_rev = 20000;
                 p.Publish(std::string(channels::kEncoder), e);
             }
             for (int u = 0; u < units; ++u) {
-                std::this_thread::sleep_until(start + std::chrono::duration<double>(k++ / msgs_per_s));
+                std::this_thread::sleep_until(start +
+                                              std::chrono::duration<double>(k++ / msgs_per_s));
                 const std::string id = "U" + std::to_string(u + 1);
                 gyro_sample_t g{};
-                g.utime = s.g.utime, g.sensor_id = id, g.seq = s.g.seq * units + u, g.temp_c = s.g.temp_c;
+                g.utime = s.g.utime, g.sensor_id = id, g.seq = s.g.seq * units + u,
+                g.temp_c = s.g.temp_c;
                 g.gyro_v = s.g.gyro_v, g.supply_v = s.g.supply_v;
                 sent[static_cast<size_t>(g.seq)] = Clock::now().time_since_epoch().count();
                 p.Publish(channels::Gyro(id), g);
@@ -223,7 +231,8 @@ int main(int argc, char** argv) {
     const int rate = gyrocal::bench::IntArg(argc, argv, 2, 2000);
     const int units = gyrocal::bench::IntArg(argc, argv, 3, 4);
     if (hours < 1 || hours > 48 || rate < 100 || rate > 100000 || units < 1 || units > 16)
-        return gyrocal::bench::Usage(argv, "[HOURS_MEMORY 1..48] [MSGS_PER_S 100..100000] [UNITS 1..16]");
+        return gyrocal::bench::Usage(argv,
+                                     "[HOURS_MEMORY 1..48] [MSGS_PER_S 100..100000] [UNITS 1..16]");
     gyrocal::bench::PrintContext(argc, argv);
     gyrocal::Memory(hours);
     gyrocal::Receive(rate, units);

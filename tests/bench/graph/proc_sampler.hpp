@@ -88,7 +88,8 @@ public:
             tr.cpu_s = s.cpu_s;
             tr.hwm_kb = std::max(tr.hwm_kb, s.hwm_kb);
             tr.rss.emplace_back(t, s.rss_kb);
-            if (out_.is_open()) out_ << t << "," << pid << "," << tr.name << "," << s.rss_kb << "\n";
+            if (out_.is_open())
+                out_ << t << "," << pid << "," << tr.name << "," << s.rss_kb << "\n";
         }
         if (out_.is_open()) out_.flush();
     }

@@ -71,7 +71,8 @@ std::string TermList(const model::Model& m) {
     return s;
 }
 
-std::vector<Config> Configs(const std::vector<double>& rates, const std::vector<double>& waypoints) {
+std::vector<Config> Configs(const std::vector<double>& rates,
+                            const std::vector<double>& waypoints) {
     std::vector<Config> c = {
         {"five (plateau)", "five", {-40.0, -10.0, 25.0, 55.0, 85.0}, fit::Method::kWls},
         {"seed3 (3point)", "seed3", {-10.0, 30.0, 60.0}, fit::Method::kThreePoint},
@@ -103,8 +104,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> presets = {"610", "613"};
     std::vector<double> rates = {1.0, 2.0, 3.0}, waypoints = {-40.0, 85.0};
     double turn_s = 300.0, dwell_s = 300.0, held_out_rate = 0.5;
-    CLI::App app{"gyrocal_bench_ramp: ramp vs plateau calibration on a held-out record.\n"
-                 "Exit codes: 0 done, 1 a run failed, 2 bad options."};
+    CLI::App app{
+        "gyrocal_bench_ramp: ramp vs plateau calibration on a held-out record.\n"
+        "Exit codes: 0 done, 1 a run failed, 2 bad options."};
     app.add_option("--seeds", seeds, "rig seeds per preset")->check(CLI::Range(1, 100));
     app.add_option("--first-seed", first_seed, "first rig seed")->check(CLI::Range(1, 1000000));
     app.add_option("--units", units, "units per seed")->check(CLI::Range(1, 16));
@@ -128,9 +130,10 @@ int main(int argc, char** argv) {
     gyrocal::bench::PrintContext(argc, argv);
     const auto wall0 = std::chrono::steady_clock::now();
     int failures = 0;
-    std::printf("gyrocal_bench_ramp: %d seeds (%d..) x %d units per preset; held-out 25 -> -40 -> "
-                "85 -> 25 degC at %.2f degC/min, unit still, 10 s bins; ramp waypoints",
-                seeds, first_seed, units, held_out_rate);
+    std::printf(
+        "gyrocal_bench_ramp: %d seeds (%d..) x %d units per preset; held-out 25 -> -40 -> "
+        "85 -> 25 degC at %.2f degC/min, unit still, 10 s bins; ramp waypoints",
+        seeds, first_seed, units, held_out_rate);
     for (double w : waypoints) std::printf(" %g", w);
     std::printf(" degC, turns every %g s, dwell %g s\n", turn_s, dwell_s);
     for (const std::string& preset : presets) {
@@ -167,7 +170,8 @@ int main(int argc, char** argv) {
                     if (candidates[k].count(s.sensor_id))
                         rows[k].Add(s.err_dps[k], s.angle_deg[k], h.duration_s);
                 rows[configs.size()].Add(s.floor_dps, s.floor_angle_deg, h.duration_s);
-                rows[configs.size() + 1].Add(s.floor_meas_dps, s.floor_meas_angle_deg, h.duration_s);
+                rows[configs.size() + 1].Add(s.floor_meas_dps, s.floor_meas_angle_deg,
+                                             h.duration_s);
             }
         }
         const double five_h = rows[0].chamber_h.empty() ? NAN : [&] {

@@ -17,9 +17,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "launch/child_process.hpp"
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 int main(int argc, char** argv) {
     std::vector<double> speeds = {100, 200, 500, 1000, 2000};

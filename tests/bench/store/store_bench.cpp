@@ -49,7 +49,8 @@ using gyrocal::bench::ReadProcStats;
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 std::string TempDir() {
-    const auto d = std::filesystem::temp_directory_path() / ("gyrocal_store_bench_" + std::to_string(getpid()));
+    const auto d = std::filesystem::temp_directory_path() /
+                   ("gyrocal_store_bench_" + std::to_string(getpid()));
     std::filesystem::create_directories(d);
     return d.string();
 }
@@ -86,9 +87,10 @@ st::RateRow RateRowOf(const st::GyroRow& g) {
 // measurement is why schema v4 does not have it.)
 void RatesIndexCost(const std::string& dir) {
     constexpr int64_t kSamples = 150000, kBatch = 500;  // 1000 rows per transaction
-    std::printf("\nA2. Cost of a rates(run_id, sensor_id, utime) index (%lld gyro + %lld rate "
-                "rows, 1000 per transaction; 3 repeats each, alternating)\n",
-                static_cast<long long>(kSamples), static_cast<long long>(kSamples));
+    std::printf(
+        "\nA2. Cost of a rates(run_id, sensor_id, utime) index (%lld gyro + %lld rate "
+        "rows, 1000 per transaction; 3 repeats each, alternating)\n",
+        static_cast<long long>(kSamples), static_cast<long long>(kSamples));
     std::printf("%-52s %12s %12s %12s\n", "path", "rows/s #1", "rows/s #2", "rows/s #3");
     double rate[2][3] = {};
     for (int rep = 0; rep < 3; ++rep) {
@@ -132,9 +134,10 @@ void StoreAlone(const std::string& dir) {
         Remove(p);
         st::Db db(p, st::Db::Mode::kReadWriteCreate);
         db.Exec("PRAGMA journal_mode = WAL; PRAGMA synchronous = NORMAL;");
-        db.Exec("CREATE TABLE g(run_id TEXT, sensor_id TEXT, utime INTEGER, seq INTEGER, gyro_v "
-                "REAL, temp_v REAL, temp_c REAL, supply_v REAL, has_adc INTEGER, gyro_counts "
-                "INTEGER, temp_counts INTEGER, supply_counts INTEGER, recv_utime INTEGER)");
+        db.Exec(
+            "CREATE TABLE g(run_id TEXT, sensor_id TEXT, utime INTEGER, seq INTEGER, gyro_v "
+            "REAL, temp_v REAL, temp_c REAL, supply_v REAL, has_adc INTEGER, gyro_counts "
+            "INTEGER, temp_counts INTEGER, supply_counts INTEGER, recv_utime INTEGER)");
         st::Stmt ins(db, "INSERT INTO g VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
         const auto t0 = Clock::now();
         for (int64_t b = 0; b < kRows / kBatch; ++b) {
@@ -217,11 +220,13 @@ int64_t Publish(gyrocal::Bus& bus, int units, double hz, double seconds) {
     const auto t0 = Clock::now();
     int64_t sent = 0;
     while (sent < total) {
-        const int64_t due = std::min<int64_t>(total, static_cast<int64_t>(rate * Seconds(Clock::now() - t0)) + 1);
+        const int64_t due =
+            std::min<int64_t>(total, static_cast<int64_t>(rate * Seconds(Clock::now() - t0)) + 1);
         while (sent < due) {
             const size_t u = static_cast<size_t>(sent % units);
             auto& m = msgs[u];
-            m.utime = 1000000000000000 + static_cast<int64_t>(static_cast<double>(m.seq) * 1e6 / hz);
+            m.utime =
+                1000000000000000 + static_cast<int64_t>(static_cast<double>(m.seq) * 1e6 / hz);
             bus.Publish(chans[u], m);
             ++m.seq;
             ++sent;
@@ -260,8 +265,9 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
     Remove(db);
     std::filesystem::remove(log);
     gyrocal::Bus bus(gyrocal::BusOptions{url});
-    gyrocal::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
-                               "--lcm-url", url}, "", dir + "/rec.err");
+    gyrocal::ChildProcess rec(
+        {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url", url}, "",
+        dir + "/rec.err");
     gyrocal::ChildProcess logger({"lcm-logger", "-q", "-f", "--lcm-url=" + url, log}, "",
                                  dir + "/logger.err");
     if (!WaitForRecorder(bus, rec.pid())) {
@@ -310,7 +316,8 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
     r.rec_stored = CountRows(db);
     try {
         st::Db d(db, st::Db::Mode::kReadOnly);
-        st::Stmt s(d, "SELECT coalesce(sum(seq_gaps), 0), coalesce(sum(queue_drops), 0) FROM losses");
+        st::Stmt s(d,
+                   "SELECT coalesce(sum(seq_gaps), 0), coalesce(sum(queue_drops), 0) FROM losses");
         if (s.Step()) {
             r.rec_seq_gaps = s.Int(0);
             r.rec_queue_drops = s.Int(1);
@@ -322,25 +329,27 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
 }
 
 void SideBySide(const std::string& dir, const std::string& url, double step_s) {
-    std::printf("\nB. gyrocal-recorder vs lcm-logger on the same stream (gyro_sample_t, %.0f s per step)\n",
-                step_s);
-    std::printf("%6s %6s %10s %10s | %10s %8s %8s %8s %6s %6s | %10s %8s %6s %6s\n", "units",
-                "hz", "target/s", "sent/s", "rec stored", "rec lost", "gaps", "qdrops", "rec%",
-                "recMB", "log stored", "log lost", "log%", "logMB");
-    const std::vector<std::pair<int, double>> steps = {
-        {8, 100}, {16, 500}, {32, 1000}, {64, 1000}, {96, 1000}, {128, 1000}, {192, 1000},
-        {256, 1000}};
+    std::printf(
+        "\nB. gyrocal-recorder vs lcm-logger on the same stream (gyro_sample_t, %.0f s per step)\n",
+        step_s);
+    std::printf("%6s %6s %10s %10s | %10s %8s %8s %8s %6s %6s | %10s %8s %6s %6s\n", "units", "hz",
+                "target/s", "sent/s", "rec stored", "rec lost", "gaps", "qdrops", "rec%", "recMB",
+                "log stored", "log lost", "log%", "logMB");
+    const std::vector<std::pair<int, double>> steps = {{8, 100},    {16, 500},  {32, 1000},
+                                                       {64, 1000},  {96, 1000}, {128, 1000},
+                                                       {192, 1000}, {256, 1000}};
     int after_loss = -1, publisher_short = 0;
     for (const auto& [units, hz] : steps) {
         const StepResult r = Step(dir, url, units, hz, step_s);
         const int64_t rec_lost = r.published - r.rec_stored, log_lost = r.published - r.log_stored;
-        std::printf("%6d %6.0f %10.0f %10.0f | %10lld %8lld %8lld %8lld %6.0f %6.1f | %10lld %8lld "
-                    "%6.0f %6.1f\n",
-                    units, hz, units * hz, r.achieved_rate, static_cast<long long>(r.rec_stored),
-                    static_cast<long long>(rec_lost), static_cast<long long>(r.rec_seq_gaps),
-                    static_cast<long long>(r.rec_queue_drops), r.rec_cpu_pct, r.rec_hwm_kb / 1024.0,
-                    static_cast<long long>(r.log_stored), static_cast<long long>(log_lost),
-                    r.log_cpu_pct, r.log_hwm_kb / 1024.0);
+        std::printf(
+            "%6d %6.0f %10.0f %10.0f | %10lld %8lld %8lld %8lld %6.0f %6.1f | %10lld %8lld "
+            "%6.0f %6.1f\n",
+            units, hz, units * hz, r.achieved_rate, static_cast<long long>(r.rec_stored),
+            static_cast<long long>(rec_lost), static_cast<long long>(r.rec_seq_gaps),
+            static_cast<long long>(r.rec_queue_drops), r.rec_cpu_pct, r.rec_hwm_kb / 1024.0,
+            static_cast<long long>(r.log_stored), static_cast<long long>(log_lost), r.log_cpu_pct,
+            r.log_hwm_kb / 1024.0);
         std::fflush(stdout);
         // Rising until the recorder loses too (lcm-logger loses first here), then one more step;
         // also stop when the publisher itself cannot reach the target twice.
@@ -348,9 +357,10 @@ void SideBySide(const std::string& dir, const std::string& url, double step_s) {
         if (after_loss >= 0 && ++after_loss > 1) break;
         if (r.achieved_rate < 0.9 * units * hz && ++publisher_short >= 2) break;
     }
-    std::printf("(lost = published - stored; gaps/qdrops = the recorder's own loss accounting in its "
-                "database: seq gaps seen, own queue drops; rec%%/log%% = CPU of one core over "
-                "publish+drain; MB = peak resident)\n");
+    std::printf(
+        "(lost = published - stored; gaps/qdrops = the recorder's own loss accounting in its "
+        "database: seq gaps seen, own queue drops; rec%%/log%% = CPU of one core over "
+        "publish+drain; MB = peak resident)\n");
 }
 
 void LongRun(const std::string& dir, const std::string& url, double seconds) {
@@ -361,8 +371,9 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
     const std::string db = dir + "/long.db";
     Remove(db);
     gyrocal::Bus bus(gyrocal::BusOptions{url});
-    gyrocal::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
-                               "--lcm-url", url}, "", dir + "/long.err");
+    gyrocal::ChildProcess rec(
+        {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url", url}, "",
+        dir + "/long.err");
     if (!WaitForRecorder(bus, rec.pid())) return;
     std::atomic<bool> done{false};
     std::vector<std::pair<double, int64_t>> rss;
@@ -382,7 +393,8 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
     int64_t gaps = 0, drops = 0;
     {
         st::Db d(db, st::Db::Mode::kReadOnly);
-        st::Stmt s(d, "SELECT coalesce(sum(seq_gaps), 0), coalesce(sum(queue_drops), 0) FROM losses");
+        st::Stmt s(d,
+                   "SELECT coalesce(sum(seq_gaps), 0), coalesce(sum(queue_drops), 0) FROM losses");
         if (s.Step()) {
             gaps = s.Int(0);
             drops = s.Int(1);
@@ -390,10 +402,11 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
     }
     std::printf("%8s %10s\n", "t_s", "rss_MB");
     for (const auto& [t, kb] : rss) std::printf("%8.0f %10.1f\n", t, kb / 1024.0);
-    std::printf("sent %lld, stored %lld (recorder's accounting: %lld seq gaps, %lld queue drops), "
-                "peak resident %.1f MB\n", static_cast<long long>(sent),
-                static_cast<long long>(CountRows(db)), static_cast<long long>(gaps),
-                static_cast<long long>(drops), end.hwm_kb / 1024.0);
+    std::printf(
+        "sent %lld, stored %lld (recorder's accounting: %lld seq gaps, %lld queue drops), "
+        "peak resident %.1f MB\n",
+        static_cast<long long>(sent), static_cast<long long>(CountRows(db)),
+        static_cast<long long>(gaps), static_cast<long long>(drops), end.hwm_kb / 1024.0);
 }
 
 }  // namespace
@@ -419,9 +432,12 @@ int main(int argc, char** argv) {
             std::cerr << "store_bench: " << a << " needs a value\n";
             return 2;
         }
-        if (a == "--step-s") step_s = std::stod(argv[i + 1]);
-        else if (a == "--long-s") long_s = std::stod(argv[i + 1]);
-        else if (a == "--port") port = std::stoi(argv[i + 1]);
+        if (a == "--step-s")
+            step_s = std::stod(argv[i + 1]);
+        else if (a == "--long-s")
+            long_s = std::stod(argv[i + 1]);
+        else if (a == "--port")
+            port = std::stoi(argv[i + 1]);
         else {
             std::cerr << "store_bench: unknown option " << a
                       << " (valid: --step-s S, --long-s S, --port P, --keep, --store-only)\n";

@@ -5,14 +5,13 @@
 //            control tests (tests/lcmtypes/flow).
 // Exit codes: 0 normal stop, 1 runtime failure (e.g. LCM cannot open), 2 bad options.
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <iostream>
 
 #include "bus/bus.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
 #include "runtime/shutdown.hpp"
 #include "runtime/status.hpp"
-#include "gyrocal/gyro_sample_t.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal-bus-probe: listen on a channel and report bus counters in STATUS"};
@@ -48,7 +47,8 @@ int main(int argc, char** argv) {
                 }
             });
         gyrocal::RunLoop(bus, status, [&] {
-            return std::chrono::steady_clock::now() - last > std::chrono::duration<double>(idle_exit_s);
+            return std::chrono::steady_clock::now() - last >
+                   std::chrono::duration<double>(idle_exit_s);
         });
         return 0;
     } catch (const std::exception& e) {

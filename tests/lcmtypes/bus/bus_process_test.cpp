@@ -13,11 +13,11 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
-#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {
@@ -30,10 +30,12 @@ const std::string kProbe = GYROCAL_BUS_PROBE;
 std::optional<status_t> AwaitProbeStatus(Bus& bus, const std::function<bool(const status_t&)>& pred,
                                          std::chrono::seconds limit) {
     std::optional<status_t> found;
-    bus.Subscribe<status_t>(std::string(channels::kStatus), [&](const status_t& s, const std::string&) {
-        if (s.process == "gyrocal-bus-probe" && pred(s)) found = s;
-    });
-    testing::HandleUntil(bus, [&] { return found.has_value(); }, limit);
+    bus.Subscribe<status_t>(std::string(channels::kStatus),
+                            [&](const status_t& s, const std::string&) {
+                                if (s.process == "gyrocal-bus-probe" && pred(s)) found = s;
+                            });
+    testing::HandleUntil(
+        bus, [&] { return found.has_value(); }, limit);
     return found;
 }
 
@@ -43,7 +45,8 @@ TEST(BusMultiProcess, CountsSamplesGapsAndWrongTypesAcrossProcesses) {
     // GIVEN the probe is up (its first heartbeat arrived)
     {
         Bus status_bus(BusOptions{kUrl});
-        ASSERT_TRUE(AwaitProbeStatus(status_bus, [](const status_t&) { return true; }, 10s))
+        ASSERT_TRUE(AwaitProbeStatus(
+            status_bus, [](const status_t&) { return true; }, 10s))
             << "probe never sent STATUS";
     }
     // WHEN 200 samples are sent with seq 100..104 left out, and 3 encoder messages on its channel
@@ -62,7 +65,8 @@ TEST(BusMultiProcess, CountsSamplesGapsAndWrongTypesAcrossProcesses) {
     // THEN its STATUS reports all of them, the 5 missing and the 3 that did not decode
     Bus status_bus(BusOptions{kUrl});
     auto st = AwaitProbeStatus(
-        status_bus, [&](const status_t& x) { return x.received >= sent && x.decode_errors >= 3; }, 15s);
+        status_bus, [&](const status_t& x) { return x.received >= sent && x.decode_errors >= 3; },
+        15s);
     ASSERT_TRUE(st.has_value()) << "probe never reported the samples";
     EXPECT_EQ(st->received, sent);
     EXPECT_EQ(st->seq_gaps, 5);
@@ -96,7 +100,8 @@ TEST(BusMultiProcess, NoMulticastRouteGivesTheFix) {
     std::system(("ip netns delete " + ns).c_str());
     ASSERT_TRUE(ex.has_value());
     EXPECT_EQ(ex->code, 1) << ReadLog(err);
-    EXPECT_NE(ReadLog(err).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos) << ReadLog(err);
+    EXPECT_NE(ReadLog(err).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos)
+        << ReadLog(err);
 }
 
 }  // namespace

@@ -34,9 +34,9 @@ inline void PublishBadSamples(Bus& bus, int64_t utime, const std::string& unknow
 // wire.hpp: the node in-process or the process over UDP) until STATUS shows `counted()` with
 // that sample refused as out of order (its last refusal).
 template <class Counted>
-::testing::AssertionResult LateSampleIsRefused(Bus& bus, const Wire& wire,
-                                               const StatusWatch& watch, const std::string& id,
-                                               int64_t utime, int64_t seq, Counted&& counted) {
+::testing::AssertionResult LateSampleIsRefused(Bus& bus, const Wire& wire, const StatusWatch& watch,
+                                               const std::string& id, int64_t utime, int64_t seq,
+                                               Counted&& counted) {
     bus.Publish(channels::Gyro(id), GyroSample(id, utime, seq, 2.505, 30.0));
     if (!wire.until(counted, std::chrono::seconds(5))) {
         return ::testing::AssertionFailure()

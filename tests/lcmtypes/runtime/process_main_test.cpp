@@ -17,8 +17,8 @@ struct Case {
     std::vector<std::string> args;  // after the program name
     std::string validation_error;   // what the process's own check says ("": valid)
     std::optional<int> exit_code;   // nullopt: the process goes on
-    std::string says;               // on stderr, one line after "gyrocal-test: error: " ("": nothing)
-    std::string ends;               // how that line ends
+    std::string says;  // on stderr, one line after "gyrocal-test: error: " ("": nothing)
+    std::string ends;  // how that line ends
 };
 
 TEST(ParseCommandLine, HelpBadOptionsAndFailedChecksEndTheProcessWithTheirCode) {

@@ -1,10 +1,10 @@
 // Each limit measured on models and points whose answer is known in closed form, and the
 // outcome rules: fail, pass, not evaluated (never a silent pass).
+#include "acceptance/evaluate.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "acceptance/evaluate.hpp"
 
 namespace gyrocal::acceptance {
 namespace {
@@ -110,7 +110,8 @@ TEST(Evaluate, EachLimitPassesOrFailsOnItsMeasure) {
     const std::string s = Summary(v);
     EXPECT_NE(s.find("S01: FAIL: max_residual_rms_over_floor 2.24 > 2 1"), std::string::npos) << s;
     EXPECT_NE(s.find("min_turns 10 < 12 count"), std::string::npos) << s;
-    EXPECT_EQ(s.find("max_offset_change_dps"), std::string::npos) << "a passing limit is not listed: " << s;
+    EXPECT_EQ(s.find("max_offset_change_dps"), std::string::npos)
+        << "a passing limit is not listed: " << s;
     l.max_residual_rms_over_floor = 2.5;
     l.min_turns = 10;
     EXPECT_EQ(Evaluate(l, Unit({1, -1, 2, -2, 0}, 0.0)).outcome, Outcome::kPass);
@@ -224,7 +225,8 @@ TEST(Evaluate, AUnitWithoutCalibrationFailsAndUnjudgeableLimitsAreNotEvaluated) 
     EXPECT_EQ(w.checks[0].outcome, Outcome::kNotEvaluated);
     EXPECT_EQ(w.checks[1].outcome, Outcome::kPass);
     EXPECT_EQ(w.outcome, Outcome::kNotEvaluated);
-    EXPECT_NE(Summary(w).find("S01: not evaluated: max_residual_rms_over_floor not evaluated"), std::string::npos)
+    EXPECT_NE(Summary(w).find("S01: not evaluated: max_residual_rms_over_floor not evaluated"),
+              std::string::npos)
         << Summary(w);
 }
 

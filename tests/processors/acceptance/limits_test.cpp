@@ -1,11 +1,11 @@
 // The limits file: a valid file round-trips; every bad input is an error naming the key (or the
 // line and column) and what would be valid.
+#include "acceptance/limits.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
-
-#include "acceptance/limits.hpp"
 
 namespace gyrocal::acceptance {
 namespace {
@@ -52,15 +52,23 @@ TEST(Limits, UnknownKeyIsNamedWithTheValidKeys) {
 
 TEST(Limits, WrongTypesAndInvalidValuesNameTheKeyAndWhatIsValid) {
     std::string e = ErrorOf(R"({"max_offset_change_dps": "3"})");
-    EXPECT_NE(e.find("key 'max_offset_change_dps': expected a number >= 0, got string"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'max_offset_change_dps': expected a number >= 0, got string"),
+              std::string::npos)
+        << e;
     e = ErrorOf(R"({"max_offset_change_dps": -1})");
-    EXPECT_NE(e.find("key 'max_offset_change_dps': -1 is not valid; expected a number >= 0"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'max_offset_change_dps': -1 is not valid; expected a number >= 0"),
+              std::string::npos)
+        << e;
     e = ErrorOf(R"({"min_plateaus": 2.5})");
     EXPECT_NE(e.find("key 'min_plateaus': expected a whole number >= 1"), std::string::npos) << e;
     e = ErrorOf(R"({"min_turns": 0})");
-    EXPECT_NE(e.find("key 'min_turns': 0 is not valid; expected a whole number from 1"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'min_turns': 0 is not valid; expected a whole number from 1"),
+              std::string::npos)
+        << e;
     e = ErrorOf(R"({"no_unexplained_residual": "yes"})");
-    EXPECT_NE(e.find("key 'no_unexplained_residual': expected true or false, got string"), std::string::npos) << e;
+    EXPECT_NE(e.find("key 'no_unexplained_residual': expected true or false, got string"),
+              std::string::npos)
+        << e;
     e = ErrorOf(R"({"max_heldout_drift_dph": -2})");
     EXPECT_NE(e.find("key 'max_heldout_drift_dph': -2 is not valid; expected a number >= 0"),
               std::string::npos)
@@ -81,12 +89,15 @@ TEST(Limits, NotAnObjectNoLimitOrNotJsonAreRefused) {
         LoadLimitsFile("/nonexistent/limits.json");
         FAIL();
     } catch (const LimitsError& x) {
-        EXPECT_NE(std::string(x.what()).find("/nonexistent/limits.json: cannot be read"), std::string::npos) << x.what();
+        EXPECT_NE(std::string(x.what()).find("/nonexistent/limits.json: cannot be read"),
+                  std::string::npos)
+            << x.what();
     }
 }
 
 TEST(Limits, LoadsAFile) {
-    const auto path = std::filesystem::temp_directory_path() / ("gyrocal_limits_" + std::to_string(::getpid()) + ".json");
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("gyrocal_limits_" + std::to_string(::getpid()) + ".json");
     std::ofstream(path) << R"({"min_plateaus": 5})";
     EXPECT_EQ(*LoadLimitsFile(path.string()).min_plateaus, 5);
     std::filesystem::remove(path);

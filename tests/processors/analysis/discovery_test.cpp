@@ -268,7 +268,7 @@ TEST(BadInput, NoRotationsNoSupplyFewPlateaus) {
     SCOPED_TRACE(FormatReport(r));
     EXPECT_TRUE(Mentions(r.could_not_test, "sf_asymmetry"));
     EXPECT_TRUE(Mentions(r.could_not_test, "no supply voltage recorded"));
-    EXPECT_TRUE(std::isfinite(r.error_before.offset_rms_v));  // the bins carry the declared model
+    EXPECT_TRUE(std::isfinite(r.error_before.offset_rms_v));   // the bins carry the declared model
     EXPECT_FALSE(std::isfinite(r.error_before.rate_rms_dps));  // no sensitivity: no deg/s
     EXPECT_TRUE(r.added.empty());  // clean data: nothing invented to fill the gaps
     for (const CandidateResult& c : r.candidates) {

@@ -26,8 +26,8 @@ struct OutsideInputs {
 
 struct SimRunOptions {
     uint64_t seed = 1;
-    uint64_t noise_seed = 0;   // 0 = seed's noise; another value: the same units, fresh noise
-    int64_t start_utime = 0;   // [us] 0 = the rig's default start
+    uint64_t noise_seed = 0;  // 0 = seed's noise; another value: the same units, fresh noise
+    int64_t start_utime = 0;  // [us] 0 = the rig's default start
     sim::EffectsConfig effects;
     // Start 25 degC; down, up, down, up, down: ramps in both directions through shared
     // temperatures.

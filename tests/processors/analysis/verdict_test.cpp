@@ -72,11 +72,12 @@ void RunOutside(const OutsideCase& c, int seeds) {
         SCOPED_TRACE(std::string(c.name) + " seed " + std::to_string(o.seed) + "\n" +
                      FormatReport(r));
         const FeatureResult* top = r.features.empty() ? nullptr : &r.features[0];
-        std::printf("[ verdict ] %s seed %d: %s, residual/bound %.2f, top feature %s z %.2f "
-                    "leaves %.2f of the held-out residual\n",
-                    c.name, static_cast<int>(o.seed), ToString(r.outcome), r.excess_ratio,
-                    top ? top->feature.c_str() : "-", top ? top->heldout_z : NAN,
-                    top ? top->heldout_after_rms_v / r.heldout_residual_rms_v : NAN);
+        std::printf(
+            "[ verdict ] %s seed %d: %s, residual/bound %.2f, top feature %s z %.2f "
+            "leaves %.2f of the held-out residual\n",
+            c.name, static_cast<int>(o.seed), ToString(r.outcome), r.excess_ratio,
+            top ? top->feature.c_str() : "-", top ? top->heldout_z : NAN,
+            top ? top->heldout_after_rms_v / r.heldout_residual_rms_v : NAN);
         EXPECT_FALSE(NamedOffsetAdded(r)) << r.headline;
         EXPECT_TRUE(r.outcome == Outcome::kUnexplained || r.outcome == Outcome::kPartlyExplained)
             << ToString(r.outcome);
@@ -117,11 +118,12 @@ TEST(Verdict, CleanRunsAreAdequate) {
             if (std::isfinite(f.heldout_drop) && f.heldout_drop > max_drop)
                 max_drop = f.heldout_drop, max_drop_feature = f.feature + " [" + f.channel + "]";
         const FeatureResult* top = r.features.empty() ? nullptr : &r.features[0];
-        std::printf("[ verdict ] clean seed %d: %s, residual/bound %.2f, top feature %s z %.2f "
-                    "leaves %.2f of the held-out residual\n",
-                    700 + seed, ToString(r.outcome), r.excess_ratio,
-                    top ? top->feature.c_str() : "-", top ? top->heldout_z : NAN,
-                    top ? top->heldout_after_rms_v / r.heldout_residual_rms_v : NAN);
+        std::printf(
+            "[ verdict ] clean seed %d: %s, residual/bound %.2f, top feature %s z %.2f "
+            "leaves %.2f of the held-out residual\n",
+            700 + seed, ToString(r.outcome), r.excess_ratio, top ? top->feature.c_str() : "-",
+            top ? top->heldout_z : NAN,
+            top ? top->heldout_after_rms_v / r.heldout_residual_rms_v : NAN);
         if (r.outcome != Outcome::kAdequate) {
             ++not_adequate;
             std::printf("%s", FormatReport(r).c_str());

@@ -58,7 +58,8 @@ TEST(CompensatorNode, RatesAreTheTruthAndBadInputIsRefused) {
     EXPECT_TRUE(c.rates.empty());
     // WHEN a set arrives, then samples at 10 deg/s from -5 to 55 degC (inside the valid range)
     bus.Publish(channels::Coeffs("S01"), Set(777));
-    for (; seq < 105; ++seq) bus.Publish(channels::Gyro("S01"), Sample(seq, -5.0 + 0.6 * (seq - 5), 10.0));
+    for (; seq < 105; ++seq)
+        bus.Publish(channels::Gyro("S01"), Sample(seq, -5.0 + 0.6 * (seq - 5), 10.0));
     // a set with an unknown term: refused, the old one stays
     coeff_set_t bad = Set(888);
     bad.offset.term_names[2] = "dT^9";
@@ -92,7 +93,8 @@ TEST(CompensatorNode, OtherSensorsAreIgnoredWhenSensorsAreChosen) {
     o.sensors = {"S02"};
     MemqCompensator c(o);
     c.node.bus().Publish(channels::Coeffs("S01"), Set(5));
-    for (int64_t seq = 0; seq < 10; ++seq) c.node.bus().Publish(channels::Gyro("S01"), Sample(seq, 25.0, 1.0));
+    for (int64_t seq = 0; seq < 10; ++seq)
+        c.node.bus().Publish(channels::Gyro("S01"), Sample(seq, 25.0, 1.0));
     c.Drain();
     EXPECT_TRUE(c.rates.empty());
 }

@@ -50,8 +50,8 @@ TEST(Offline, RatesAreTheLiveLibrarysOnTheSameSamplesAndRecoverTheTruth) {
     ASSERT_EQ(live.SetCoefficients(set).outcome, SetOutcome::kApplied);
     for (size_t i = 0; i < rows.size(); ++i) {
         const int64_t utime = csv::StreamUtime(csv::kDefaultStartUtime, rows[i].time_s);
-        const ApplyResult a = live.Apply({utime, static_cast<int64_t>(i), rows[i].gyro_v,
-                                          rows[i].temp_c, NAN});
+        const ApplyResult a =
+            live.Apply({utime, static_cast<int64_t>(i), rows[i].gyro_v, rows[i].temp_c, NAN});
         ASSERT_EQ(a.status, ApplyStatus::kOk);
         EXPECT_EQ(r.rates[i].rate_dps, a.out.rate_dps) << i;
         EXPECT_EQ(r.rates[i].angle_deg, a.out.angle_deg) << i;
@@ -65,9 +65,9 @@ TEST(Offline, RatesAreTheLiveLibrarysOnTheSameSamplesAndRecoverTheTruth) {
 
 TEST(Offline, TheRatesCsvReadsBackToTheSameDoubles) {
     std::vector<double> truth;
-    const OfflineResult r = CompensateRows(KnownRows(3, &truth),
-                                           {{"S01", model::FromMsg(testing::KnownSet(1, ""))}},
-                                           "in.csv", "sets.json");
+    const OfflineResult r =
+        CompensateRows(KnownRows(3, &truth), {{"S01", model::FromMsg(testing::KnownSet(1, ""))}},
+                       "in.csv", "sets.json");
     std::istringstream in(FormatRatesCsv(r.rates));
     std::string line;
     std::getline(in, line);

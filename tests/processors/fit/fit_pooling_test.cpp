@@ -33,8 +33,10 @@ TEST(Pool, UnitsWithACommonFactorAreRarelySplit) {
 
 TEST(Pool, ABadUnitIsLeftOutAndGivesNothing) {
     std::mt19937_64 rng(9);
-    std::vector<UnitEvidence> u = {Draw("S1", 2, 4, rng), Draw("S2", 2, 4, rng),
-                                   Draw("S3", 2, 4, rng), {"S4", 900.0, 4}};  // ~100x
+    std::vector<UnitEvidence> u = {Draw("S1", 2, 4, rng),
+                                   Draw("S2", 2, 4, rng),
+                                   Draw("S3", 2, 4, rng),
+                                   {"S4", 900.0, 4}};  // ~100x
     const Pool pool = Pool::Decide(u);
     ASSERT_EQ(pool.left_out().count("S4"), 1u);
     EXPECT_NE(pool.left_out().at("S4").find("disagrees"), std::string::npos);
@@ -80,7 +82,8 @@ TEST(Repeatability, AReturnIsComparedWithTheModelStepTakenOut) {
     const model::Model sens = Line("sensitivity_v_per_dps", 0.006, 0.0);
     // 25 (start), -10, 70, back at 25.4: the model step 0.4 mV is taken out, leaving +0.2 mV.
     const std::vector<FitPoint> pts = {P(1, 25.0, 2.5, 3e-5), P(2, -10, 2.465, 3e-5),
-                                       P(3, 70, 2.545, 3e-5), P(4, 25.4, 2.5 + 0.4e-3 + 0.2e-3, 4e-5)};
+                                       P(3, 70, 2.545, 3e-5),
+                                       P(4, 25.4, 2.5 + 0.4e-3 + 0.2e-3, 4e-5)};
     const Repeat r = Only(Repeatability(pts, off, sens));
     EXPECT_EQ(r.first_id, 1);
     EXPECT_EQ(r.second_id, 4);
@@ -88,8 +91,8 @@ TEST(Repeatability, AReturnIsComparedWithTheModelStepTakenOut) {
     EXPECT_NEAR(r.diff_sigma_v, 5e-5, 1e-15);
     EXPECT_NEAR(r.diff_dps, 0.2e-3 / 0.006, 1e-9);
     EXPECT_NEAR(r.z, 4.0, 1e-9);
-    EXPECT_EQ(r.first_approach, 0);   // the run's first plateau
-    EXPECT_EQ(r.second_approach, -1); // from 70 degC: from hotter
+    EXPECT_EQ(r.first_approach, 0);    // the run's first plateau
+    EXPECT_EQ(r.second_approach, -1);  // from 70 degC: from hotter
     EXPECT_NE(r.verdict.find("not repeatable"), std::string::npos) << r.verdict;
     EXPECT_NE(r.verdict.find("drift"), std::string::npos) << r.verdict;
 }
@@ -98,8 +101,9 @@ TEST(Repeatability, OppositeApproachesPointAtHysteresisAndReplicatesAreNoReturn)
     const model::Model off = Line("offset_v", 2.5, 0.0);
     const model::Model sens = Line("sensitivity_v_per_dps", 0.006, 0.0);
     // 0 -> 30 (from colder) -> 30 again (same visit) -> 60 -> 30 (from hotter), 5 sigma apart
-    const std::vector<FitPoint> pts = {P(1, 0, 2.5, 1e-5), P(2, 30, 2.5, 1e-5), P(3, 30.2, 2.5, 1e-5),
-                                       P(4, 60, 2.5, 1e-5), P(5, 30.1, 2.5 + 5 * std::sqrt(2) * 1e-5, 1e-5)};
+    const std::vector<FitPoint> pts = {P(1, 0, 2.5, 1e-5), P(2, 30, 2.5, 1e-5),
+                                       P(3, 30.2, 2.5, 1e-5), P(4, 60, 2.5, 1e-5),
+                                       P(5, 30.1, 2.5 + 5 * std::sqrt(2) * 1e-5, 1e-5)};
     const Repeat r = Only(Repeatability(pts, off, sens));
     EXPECT_EQ(r.first_id, 3);  // the latest earlier visit's last plateau
     EXPECT_EQ(r.second_id, 5);

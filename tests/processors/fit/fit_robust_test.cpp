@@ -123,8 +123,8 @@ TEST(Outliers, ThreeOrFourPointsCannotBeChecked) {
 TEST(Fallback, TooFewTemperaturesGiveALineOrAMeanMarkedPartial) {
     std::mt19937_64 rng(19);
     // Two separated temperatures (25 and 28 are one): a line.
-    const CalibrationFit line =
-        FitCalibration(testing::Points(kTruth, {25, 28, 60}, {2e-5}, rng), "offset_v", FitOptions{});
+    const CalibrationFit line = FitCalibration(testing::Points(kTruth, {25, 28, 60}, {2e-5}, rng),
+                                               "offset_v", FitOptions{});
     ASSERT_TRUE(line.fit.ok());
     EXPECT_FALSE(line.complete);
     EXPECT_EQ(line.fit.model.term_names, (std::vector<std::string>{"1", "dT"}));
@@ -136,8 +136,8 @@ TEST(Fallback, TooFewTemperaturesGiveALineOrAMeanMarkedPartial) {
     EXPECT_FALSE(mean.complete);
     EXPECT_EQ(mean.fit.model.method, "mean");
     // A narrow range (15..25 degC < 20): a line, and the reason says why.
-    const CalibrationFit narrow =
-        FitCalibration(testing::Points(kTruth, {15, 20, 25}, {2e-5}, rng), "offset_v", FitOptions{});
+    const CalibrationFit narrow = FitCalibration(testing::Points(kTruth, {15, 20, 25}, {2e-5}, rng),
+                                                 "offset_v", FitOptions{});
     EXPECT_FALSE(narrow.complete);
     EXPECT_NE(narrow.partial_reason.find("range_too_narrow"), std::string::npos);
     // Non-finite input publishes nothing.

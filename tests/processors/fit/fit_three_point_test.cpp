@@ -108,8 +108,8 @@ TEST(FitPolynomial, DegenerateSetsAreRefusedWithTheRightReason) {
         {{}, Refusal::kTooFewTemperatures},
         // 3 levels, but 25 and 28 are 3 degC < 5 apart: 2 temperatures carry a degree
         {{P(25, 1), P(28, 1.1), P(60, 1.2)}, Refusal::kTooFewTemperatures},
-        {{P(20, 1), P(27, 1.1), P(35, 1.2)}, Refusal::kRangeTooNarrow},        // 15 degC < 20
-        {{P(15, 1), P(20, 1.1), P(25, 1.2)}, Refusal::kRangeTooNarrow},        // the seed's example
+        {{P(20, 1), P(27, 1.1), P(35, 1.2)}, Refusal::kRangeTooNarrow},  // 15 degC < 20
+        {{P(15, 1), P(20, 1.1), P(25, 1.2)}, Refusal::kRangeTooNarrow},  // the seed's example
         {{P(-10, 1), P(NAN, 1.1), P(60, 1.2)}, Refusal::kNonFiniteInput},
         {{P(-10, 1), P(30, INFINITY), P(60, 1.2)}, Refusal::kNonFiniteInput},
         {{P(-10, 1), P(30, 1.1, 0.0), P(60, 1.2)}, Refusal::kBadStandardError},

@@ -98,8 +98,10 @@ TEST(FitterNode, FinalSetIsTheTruthWithExactIdsAndBadInputIsRefused) {
     for (double temp = -10; temp <= 60; temp += 7) {
         model::ModelInputs in;
         in.temp_c = temp;
-        EXPECT_NEAR(off.Value(in, model::RangePolicy::kExtrapolate), OffsetTruthV(temp), 1e-12) << temp;
-        EXPECT_NEAR(sens.Value(in, model::RangePolicy::kExtrapolate), SensTruth(temp), 1e-12) << temp;
+        EXPECT_NEAR(off.Value(in, model::RangePolicy::kExtrapolate), OffsetTruthV(temp), 1e-12)
+            << temp;
+        EXPECT_NEAR(sens.Value(in, model::RangePolicy::kExtrapolate), SensTruth(temp), 1e-12)
+            << temp;
     }
     // a final report beside it, complete, naming the same set
     const fit_report_t* final_report = nullptr;

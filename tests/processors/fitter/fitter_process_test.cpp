@@ -146,7 +146,8 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     const int64_t newest = rotation_ids.back() + 5'000'000;
     int64_t first_id = 0;
     for (const auto& c : l.coeffs)
-        if (c.sensor_id == "S01" && c.num_rotations == 6 && first_id == 0) first_id = c.coeff_set_id;
+        if (c.sensor_id == "S01" && c.num_rotations == 6 && first_id == 0)
+            first_id = c.coeff_set_id;
     EXPECT_EQ(first_id, newest);
     EXPECT_EQ(s1.coeff_set_id, t + 10);
     EXPECT_EQ(s1.utime, t + 10);
@@ -163,7 +164,8 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     EXPECT_NE(final_reports["S02"].reason.find("nominal"), std::string::npos);
     EXPECT_EQ(final_reports["S03"].status, "partial");
     EXPECT_NE(final_reports["S01"].offset_detail.find("cannot check"), std::string::npos);
-    EXPECT_NE(final_reports["S03"].offset_detail.find("outliers: checked 5 points"), std::string::npos)
+    EXPECT_NE(final_reports["S03"].offset_detail.find("outliers: checked 5 points"),
+              std::string::npos)
         << final_reports["S03"].offset_detail;
     EXPECT_NE(final_reports["S03"].slow_noise_source.find("none: no NOISE_S03"), std::string::npos)
         << final_reports["S03"].slow_noise_source;

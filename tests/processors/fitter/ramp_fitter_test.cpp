@@ -1,11 +1,12 @@
 // The ramp fitter: a unit ramped through its range with known offset and sensitivity curves and
 // white noise; the fits it publishes during the run and at the stop, against that truth.
+#include "fitter/ramp_fitter.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "fitter/ramp_fitter.hpp"
 #include "model/convert.hpp"
 #include "model/inputs.hpp"
 
@@ -13,11 +14,14 @@ namespace gyrocal::fitter {
 namespace {
 
 constexpr int64_t kS = 1'000'000;
-constexpr double kNoiseV = 1e-3;     // [V] white noise per sample
-constexpr double kSensSeV = 5e-6;    // [V/(deg/s)] standard error of a sensitivity point
-constexpr double kHz = 10.0;         // samples per second (fewer than a rig's, same statistics)
+constexpr double kNoiseV = 1e-3;   // [V] white noise per sample
+constexpr double kSensSeV = 5e-6;  // [V/(deg/s)] standard error of a sensitivity point
+constexpr double kHz = 10.0;       // samples per second (fewer than a rig's, same statistics)
 
-double OffsetTrue(double t_c) { const double d = t_c - 25.0; return 2.5 + 5e-4 * d - 3e-6 * d * d; }
+double OffsetTrue(double t_c) {
+    const double d = t_c - 25.0;
+    return 2.5 + 5e-4 * d - 3e-6 * d * d;
+}
 double SensTrue(double t_c) { return 5e-3 + 2e-6 * (t_c - 25.0); }
 
 // Triangle 25 -> -15 -> 55 -> 25 degC at 1 degC/min (140 min), the table still (one encoder
@@ -38,7 +42,8 @@ void Feed(RampFitter& f, std::vector<RampFitResult>& during, int64_t* end_utime)
             if (seq % static_cast<int64_t>(kHz) == 0) f.AddEncoder({u, 0, 10000});
             if (seq % static_cast<int64_t>(300 * kHz) == 0) {
                 for (int d : {1, -1})
-                    f.AddSensitivity("U1", {++rot, u, t_c, d, SensTrue(t_c) + kSensSeV * n(rng), kSensSeV, true});
+                    f.AddSensitivity("U1", {++rot, u, t_c, d, SensTrue(t_c) + kSensSeV * n(rng),
+                                            kSensSeV, true});
             }
             if (seq % static_cast<int64_t>(10 * kHz) == 0)
                 for (auto& r : f.OnTime(u)) during.push_back(std::move(r));
@@ -82,9 +87,11 @@ TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
         const auto off = model::Evaluate(set.offset, model::SteadyStateInputs(set.offset, t_c),
                                          model::RangePolicy::kClip);
         EXPECT_NEAR(off.value, OffsetTrue(t_c), 4.0 * std::sqrt(off.variance)) << t_c << " C";
-        EXPECT_LT(std::sqrt(off.variance), 5.0 * kNoiseV / std::sqrt(kHz * 10.0)) << "fit, not noise";
-        const auto s = model::Evaluate(set.sensitivity, model::SteadyStateInputs(set.sensitivity, t_c),
-                                       model::RangePolicy::kClip);
+        EXPECT_LT(std::sqrt(off.variance), 5.0 * kNoiseV / std::sqrt(kHz * 10.0))
+            << "fit, not noise";
+        const auto s =
+            model::Evaluate(set.sensitivity, model::SteadyStateInputs(set.sensitivity, t_c),
+                            model::RangePolicy::kClip);
         EXPECT_NEAR(s.value, SensTrue(t_c), 4.0 * std::sqrt(s.variance)) << t_c << " C";
     }
     // The run's data are dropped at the stop.

@@ -31,10 +31,10 @@ TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
     EXPECT_EQ(Term("dT^2", 3.0, in), 9.0);
     EXPECT_EQ(Term("dT^3", -2.0, in), -8.0);
     EXPECT_EQ(Term("dTdt", 3.0, in), 0.02);
-    EXPECT_EQ(Term("dTdt(5)", 3.0, in), 0.02);  // the default time constant written out
-    EXPECT_NEAR(Term("supply", 3.0, in), 0.1, 1e-15);   // about the nominal supply
-    EXPECT_EQ(Term("heating", 3.0, in), -1.0);          // sign-only: the side last reached
-    EXPECT_EQ(Term("heating(1)", 3.0, in), -0.4);       // the continuous branch of width 1
+    EXPECT_EQ(Term("dTdt(5)", 3.0, in), 0.02);         // the default time constant written out
+    EXPECT_NEAR(Term("supply", 3.0, in), 0.1, 1e-15);  // about the nominal supply
+    EXPECT_EQ(Term("heating", 3.0, in), -1.0);         // sign-only: the side last reached
+    EXPECT_EQ(Term("heating(1)", 3.0, in), -0.4);      // the continuous branch of width 1
     EXPECT_EQ(Term("direction", 3.0, in), 1.0);
     EXPECT_NEAR(Term("warmup(300)", 3.0, in), std::exp(-2.0), 1e-15);
 }
@@ -46,7 +46,7 @@ TEST(Terms, InputsTrackedWithAnotherParameterAreNotUsed) {
     in.branch = 0.5;
     in.heating = 1.0;
     in.branch_width_c = 2.0;
-    EXPECT_TRUE(std::isnan(Term("dTdt", 0.0, in)));        // 5 s meant, 20 s tracked
+    EXPECT_TRUE(std::isnan(Term("dTdt", 0.0, in)));  // 5 s meant, 20 s tracked
     EXPECT_EQ(Term("dTdt(20)", 0.0, in), 0.02);
     EXPECT_TRUE(std::isnan(Term("heating(2.5)", 0.0, in)));  // 2.5 degC meant, 2 tracked
     EXPECT_TRUE(std::isnan(Term("heating", 0.0, in)));       // the sign-only form is 1 degC
@@ -72,9 +72,8 @@ TEST(Terms, ParametricNamesAreWrittenOneWay) {
 }
 
 TEST(Terms, UnknownOrMalformedNamesAreRefusedWithTheKnownList) {
-    for (const char* bad :
-         {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)", "1(",
-          "supply(2)", "heating(0)", "dTdt(-5)"}) {
+    for (const char* bad : {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)",
+                            "1(", "supply(2)", "heating(0)", "dTdt(-5)"}) {
         std::string error;
         EXPECT_FALSE(ResolveTerm(bad, nullptr, &error)) << bad;
         EXPECT_FALSE(error.empty()) << bad;

@@ -3,22 +3,25 @@
 // gnuplot). The curve is built from known N, B, K, so every tabulated value has an exact truth
 // (tolerances are rounding only: the data file keeps 9 significant digits, checked at 1e-12
 // relative on the in-memory table).
+#include "noise/allan_plot.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <regex>
 #include <set>
 
-#include "noise/allan_plot.hpp"
 #include "plot/gnuplot.hpp"
 
 namespace gyrocal::noise {
 namespace {
 
 constexpr double kN = 2.4e-4, kB = 5e-5, kK = 2e-6;  // V/rtHz, V, V/rts
-constexpr double kSens = 0.006;                       // V/(deg/s)
+constexpr double kSens = 0.006;                      // V/(deg/s)
 
-double Adev(double tau, double n, double b, double k) { return std::sqrt(n * n / tau + b * b + k * k * tau / 3); }
+double Adev(double tau, double n, double b, double k) {
+    return std::sqrt(n * n / tau + b * b + k * k * tau / 3);
+}
 
 AllanPlotInput Curve(double k_v_rts) {
     AllanPlotInput in;
@@ -90,18 +93,21 @@ TEST(AllanPlot, ATermNotFittedHasNoAsymptoteAndVoltsWithoutASensitivity) {
 // (as on linear axes) would add a decade more on each side (1e-6 .. 10).
 TEST(AllanPlot, GnuplotDrawsItOnLogAxes) {
     const std::string gnuplot = plot::FindOnPath("gnuplot");
-    if (gnuplot.empty()) GTEST_SKIP() << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
+    if (gnuplot.empty())
+        GTEST_SKIP() << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
     const std::vector<std::string> svg = plot::DrawInlineSvgs(gnuplot, {MakeAllanPlot(Curve(kK))});
     ASSERT_EQ(svg.size(), 1u);
     std::set<std::string> labels;
     const std::regex text_re(">\\s*([0-9.e+-]+)\\s*<");
-    for (auto it = std::sregex_iterator(svg[0].begin(), svg[0].end(), text_re); it != std::sregex_iterator(); ++it)
+    for (auto it = std::sregex_iterator(svg[0].begin(), svg[0].end(), text_re);
+         it != std::sregex_iterator(); ++it)
         labels.insert((*it)[1]);
     for (const char* decade : {"1e-05", "0.0001", "0.001", "0.01", "0.1", "1", "1000"})
         EXPECT_EQ(labels.count(decade), 1u) << "no tic label " << decade;
     EXPECT_EQ(labels.count("1e-06"), 0u) << "the y range reaches a decade below the data";
     for (const char* linear : {"0.02", "0.05", "0.2", "500"})
-        EXPECT_EQ(labels.count(linear), 0u) << "a linear tic on what should be a log axis: " << linear;
+        EXPECT_EQ(labels.count(linear), 0u)
+            << "a linear tic on what should be a log axis: " << linear;
     EXPECT_NE(svg[0].find("slope +1/2"), std::string::npos);
 }
 

@@ -1,12 +1,13 @@
 // The Allan deviation library and the per-unit tracker (processors/noise) against series of
 // known noise: white (closed form), and othersim's OU-bank flicker (its own theory), plus the
 // tracker's stretch and quiet-segment rules.
+#include "noise/allan.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "noise/allan.hpp"
 #include "noise/noise_tracker.hpp"
 #include "physics.hpp"
 #include "synthetic_noise.hpp"
@@ -103,11 +104,11 @@ TEST(Tracker, RampsMotionAndGapsAreNotNoise) {
             t_us += 10000;
         }
     };
-    run(300, 25, 0.0, false);          // quiet: one segment
-    run(600, 25, 2.0 / 60, false);     // a 2 degC/min ramp, still: no segment
-    run(5, 45, 0, true);               // a turn
-    run(200, 45, 0.0005, false);       // settling tail (0.03 degC/min): one segment, detrended
-    run(200, 45.1, 0.0, false, 5);     // after 5 lost samples: a new segment
+    run(300, 25, 0.0, false);       // quiet: one segment
+    run(600, 25, 2.0 / 60, false);  // a 2 degC/min ramp, still: no segment
+    run(5, 45, 0, true);            // a turn
+    run(200, 45, 0.0005, false);    // settling tail (0.03 degC/min): one segment, detrended
+    run(200, 45.1, 0.0, false, 5);  // after 5 lost samples: a new segment
     const NoiseEstimate e = tr.Estimate();
     EXPECT_EQ(e.segments, 3);
     EXPECT_NEAR(e.still_s, 700, 30);  // the slope window trims the segment ends a little
@@ -141,7 +142,8 @@ TEST(Tracker, ASegmentWithAStepIsLeftOutAndOneSomewhatNoisierIsNot) {
     }
     const NoiseEstimate e = tr.Estimate();
     EXPECT_EQ(e.segments, 5);  // the ones used
-    EXPECT_NE(e.terms.note.find("1 of 6 still segments left out"), std::string::npos) << e.terms.note;
+    EXPECT_NE(e.terms.note.find("1 of 6 still segments left out"), std::string::npos)
+        << e.terms.note;
     // white noise of 1e-3 per 10 ms sample: B stays far below the step's ~1e-3 signature
     EXPECT_LT(e.terms.bias, 1e-5);
     for (const AllanPoint& p : e.adev)

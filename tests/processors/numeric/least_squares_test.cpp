@@ -11,6 +11,8 @@
 //     (condition ~10) differs between two orders of the same operations by a few ulp per
 //     element, far below it, while any change of method (another weighting, a missing scale, a
 //     different covariance) changes the figures at 1e-3 or more.
+#include "numeric/least_squares.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,7 +21,6 @@
 
 #include "analysis/regress.hpp"
 #include "fit/fit.hpp"
-#include "numeric/least_squares.hpp"
 #include "synthetic_noise.hpp"
 
 namespace gyrocal {
@@ -78,7 +79,8 @@ TEST(LeastSquares, NoiseFreeDataAreReproducedAndTheCovarianceIsTheNormalEquation
     const MatrixXd normal = (xw.transpose() * xw).ldlt().solve(MatrixXd::Identity(4, 4));
     for (Index i = 0; i < 4; ++i)
         for (Index j = 0; j < 4; ++j)
-            EXPECT_NEAR(ls.xtwx_inv(i, j), normal(i, j), 1e-8 * std::sqrt(normal(i, i) * normal(j, j)));
+            EXPECT_NEAR(ls.xtwx_inv(i, j), normal(i, j),
+                        1e-8 * std::sqrt(normal(i, i) * normal(j, j)));
     // Whitened residuals of noise-free data are rounding: 2.5 V x 2.2e-16 / 1e-5 V ~ 5e-11 per
     // row at most a few times that; over 60 rows rss < 60 x (1.3e-10)^2 = 1e-18.
     EXPECT_LT(ls.rss, 1e-18);

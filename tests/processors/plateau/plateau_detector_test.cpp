@@ -272,7 +272,8 @@ TEST(PlateauDetector, RefusesAWindowWithASequenceGapAndAveragesAgain) {
     const std::vector<std::string>& refused = run.refused;
     // THEN one refusal naming the hole, and one plateau that starts after it, without a gap
     ASSERT_EQ(refused.size(), 1u);
-    EXPECT_NE(refused[0].find("7 samples missing (sequence gap after seq 14999)"), std::string::npos)
+    EXPECT_NE(refused[0].find("7 samples missing (sequence gap after seq 14999)"),
+              std::string::npos)
         << refused[0];
     EXPECT_NE(refused[0].find("averaging again from seq 15007"), std::string::npos) << refused[0];
     ASSERT_EQ(got.size(), 1u);

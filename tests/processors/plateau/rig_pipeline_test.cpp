@@ -21,10 +21,10 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "bus_wait.hpp"
 #include "launch/child_process.hpp"
 #include "sim/noise.hpp"
 

@@ -6,8 +6,8 @@
 #include <functional>
 #include <random>
 
-#include "synthetic_noise.hpp"
 #include "plateau_detector.hpp"
+#include "synthetic_noise.hpp"
 
 namespace gyrocal::plateau::testing {
 

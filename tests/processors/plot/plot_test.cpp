@@ -25,7 +25,8 @@ Figure Line(const std::string& name, double slope) {
     Table t{name + "_data", "a line", {"x", "y", "y_err"}, {}};
     for (int i = 0; i <= 10; ++i) t.rows.push_back({double(i), slope * i, 0.1});
     f.tables = {t};
-    f.series = {{t.name, Style::kErrorBars, {1, 2, 3}, "points", "#d62728"}, {t.name, Style::kLines, {1, 2}, "line", ""}};
+    f.series = {{t.name, Style::kErrorBars, {1, 2, 3}, "points", "#d62728"},
+                {t.name, Style::kLines, {1, 2}, "line", ""}};
     return f;
 }
 
@@ -36,7 +37,8 @@ TEST(Figure, ProblemNamesWhatCannotBeDrawn) {
     EXPECT_NE(Problem(f).find("names no table 'missing'"), std::string::npos) << Problem(f);
     f = Line("ok", 1);
     f.series[0].columns = {1, 2, 4};
-    EXPECT_NE(Problem(f).find("column 4 is not in table ok_data (1..3)"), std::string::npos) << Problem(f);
+    EXPECT_NE(Problem(f).find("column 4 is not in table ok_data (1..3)"), std::string::npos)
+        << Problem(f);
     f = Line("ok", 1);
     f.series[0].columns = {1, 2};  // error bars need three
     EXPECT_NE(Problem(f).find("needs 3 columns"), std::string::npos) << Problem(f);
@@ -57,7 +59,8 @@ TEST(Figure, DataFileWritesMissingValuesAsGnuplotsMarker) {
 
 TEST(Figure, ScriptResetsReadsItsDataFileAndWritesEachTerminal) {
     const std::string s = Script(Line("fig", 1), {Terminal::kPng, Terminal::kSvg});
-    EXPECT_EQ(s.find("reset"), s.find('\n') + 1);  // first command: several scripts share one gnuplot
+    EXPECT_EQ(s.find("reset"),
+              s.find('\n') + 1);  // first command: several scripts share one gnuplot
     EXPECT_NE(s.find("set output 'fig.png'"), std::string::npos);
     EXPECT_NE(s.find("set output 'fig.svg'"), std::string::npos);
     EXPECT_NE(s.find("'fig_data.dat' using 1:2:3 with yerrorbars"), std::string::npos);
@@ -66,9 +69,11 @@ TEST(Figure, ScriptResetsReadsItsDataFileAndWritesEachTerminal) {
 
 TEST(Svg, InlineSvgPrefixesIdsAndReferencesAndDropsTheProlog) {
     const std::string in =
-        "<?xml version=\"1.0\"?>\n<!DOCTYPE svg>\n<svg viewBox=\"0 0 10 10\"><title>Gnuplot</title><defs>"
+        "<?xml version=\"1.0\"?>\n<!DOCTYPE svg>\n<svg viewBox=\"0 0 10 "
+        "10\"><title>Gnuplot</title><defs>"
         "<path id='gpPt0' d='M0,0'/><use xlink:href='#gpPt0' id=\"gpPt6\"/></defs>"
-        "<g id=\"gnuplot_canvas\"><use href=\"#gpPt6\" fill=\"#d62728\"/><rect fill=\"url(#gpPt0)\"/></g></svg>";
+        "<g id=\"gnuplot_canvas\"><use href=\"#gpPt6\" fill=\"#d62728\"/><rect "
+        "fill=\"url(#gpPt0)\"/></g></svg>";
     const std::string out = InlineSvg(in, "u1_offset", "S01 <offset>");
     EXPECT_EQ(out.rfind("<svg data-figure=\"u1_offset\"", 0), 0u) << out;
     EXPECT_EQ(out.find("<?xml"), std::string::npos);
@@ -86,7 +91,9 @@ class Gnuplot : public ::testing::Test {
 protected:
     void SetUp() override {
         gnuplot_ = FindOnPath("gnuplot");
-        if (gnuplot_.empty()) GTEST_SKIP() << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
+        if (gnuplot_.empty())
+            GTEST_SKIP()
+                << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
     }
     std::string gnuplot_;
 };
@@ -99,11 +106,13 @@ TEST_F(Gnuplot, DrawsEveryFigureInOneRunAndTheirIdsDoNotCollide) {
     for (const std::string& s : svgs) {
         EXPECT_NE(s.find("</svg>"), std::string::npos);
         EXPECT_EQ(s.find("<script"), std::string::npos);
-        for (auto it = std::sregex_iterator(s.begin(), s.end(), id_re); it != std::sregex_iterator(); ++it)
+        for (auto it = std::sregex_iterator(s.begin(), s.end(), id_re);
+             it != std::sregex_iterator(); ++it)
             ids.insert((*it)[1]);
     }
     ASSERT_FALSE(ids.empty());
-    for (const std::string& id : ids) EXPECT_EQ(ids.count(id), 1u) << "id " << id << " appears twice on the page";
+    for (const std::string& id : ids)
+        EXPECT_EQ(ids.count(id), 1u) << "id " << id << " appears twice on the page";
     // gnuplot draws the y tic labels of each figure's range: the slope -2 line reaches -20.
     EXPECT_NE(svgs[1].find(">-20<"), std::string::npos);
     EXPECT_EQ(svgs[0].find(">-20<"), std::string::npos);
@@ -112,7 +121,8 @@ TEST_F(Gnuplot, DrawsEveryFigureInOneRunAndTheirIdsDoNotCollide) {
 // Text from the database in a title is only text: gnuplot runs `...` as a shell command inside
 // double quotes, never inside the single-quoted literals the scripts use.
 TEST_F(Gnuplot, BackquotesInTitlesAreNotRunAsCommands) {
-    const auto marker = std::filesystem::temp_directory_path() / ("gyrocal_plot_injected_" + std::to_string(::getpid()));
+    const auto marker = std::filesystem::temp_directory_path() /
+                        ("gyrocal_plot_injected_" + std::to_string(::getpid()));
     std::filesystem::remove(marker);
     Figure f = Line("inj", 1);
     f.title = "S01`touch " + marker.string() + "`'quote\"";
@@ -124,7 +134,8 @@ TEST_F(Gnuplot, BackquotesInTitlesAreNotRunAsCommands) {
 }
 
 TEST_F(Gnuplot, AFigureThatCannotBeDrawnOrThatGnuplotRefusesIsAnErrorNamingIt) {
-    const auto dir = std::filesystem::temp_directory_path() / ("gyrocal_plot_test_" + std::to_string(::getpid()));
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("gyrocal_plot_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     Figure bad = Line("bad", 1);
     bad.series[0].table = "nope";

@@ -70,7 +70,8 @@ TEST(EncoderSlip, CleanTurnsOfAnotherRigAreNeverSlips) {
     for (uint64_t seed = 1; seed <= 20; ++seed) {
         othersim::Options o = Turns();
         o.seed = seed;
-        for (const Point& p : Points(o)) EXPECT_TRUE(p.accepted) << "seed " << seed << ": " << p.reject_reason;
+        for (const Point& p : Points(o))
+            EXPECT_TRUE(p.accepted) << "seed " << seed << ": " << p.reject_reason;
     }
 }
 

@@ -1,9 +1,9 @@
 // The procedure state machine: order of commands, waiting on every sensor, data-time timeouts.
+#include "procedure.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "procedure.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
@@ -143,7 +143,9 @@ TEST(Procedure, RejectedMoveIsOrderedAgainThenNamedAsMissing) {
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
     EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, 90.0);
     const auto& ev = std::get<RunEventOrder>(o[0]);
-    EXPECT_NE(ev.reason.find("attempt 2 of 2 after B: rejected: 12 samples missing"), std::string::npos) << ev.reason;
+    EXPECT_NE(ev.reason.find("attempt 2 of 2 after B: rejected: 12 samples missing"),
+              std::string::npos)
+        << ev.reason;
     EXPECT_TRUE(p.notes().empty());
     // A point of the first attempt arriving late does not count for the second.
     EXPECT_TRUE(p.OnSensitivity("A", 2 * kS, true).empty());
@@ -153,7 +155,8 @@ TEST(Procedure, RejectedMoveIsOrderedAgainThenNamedAsMissing) {
     o = p.OnSensitivity("B", 14 * kS, true);
     ASSERT_EQ(Count<TurntableOrder>(o), 1);
     EXPECT_DOUBLE_EQ(std::get<TurntableOrder>(o[1]).move_deg, -90.0);
-    // WHEN -90 fails twice (B silent, then rejected) THEN it is noted and the run completes naming it
+    // WHEN -90 fails twice (B silent, then rejected) THEN it is noted and the run completes naming
+    // it
     p.OnSensitivity("A", 15 * kS, true);
     EXPECT_TRUE(p.OnTime(14 * kS + 61 * kS).empty());  // B silent past the 60 s rotation timeout
     o = p.OnTime(14 * kS + 71 * kS);
@@ -162,10 +165,13 @@ TEST(Procedure, RejectedMoveIsOrderedAgainThenNamedAsMissing) {
     o = p.OnSensitivity("B", 91 * kS, false, "slip");
     EXPECT_EQ(FirstEvent(o), "stop");
     ASSERT_EQ(p.notes().size(), 1u);
-    EXPECT_NE(p.notes()[0].find("move -90 deg at setpoint 25 degC"), std::string::npos) << p.notes()[0];
-    EXPECT_NE(p.notes()[0].find("after 2 attempts (B: rejected: slip)"), std::string::npos) << p.notes()[0];
+    EXPECT_NE(p.notes()[0].find("move -90 deg at setpoint 25 degC"), std::string::npos)
+        << p.notes()[0];
+    EXPECT_NE(p.notes()[0].find("after 2 attempts (B: rejected: slip)"), std::string::npos)
+        << p.notes()[0];
     EXPECT_EQ(p.outcome(), "completed");
-    EXPECT_EQ(p.outcome_reason().rfind("completed; missing: move -90 deg", 0), 0u) << p.outcome_reason();
+    EXPECT_EQ(p.outcome_reason().rfind("completed; missing: move -90 deg", 0), 0u)
+        << p.outcome_reason();
 }
 
 // A restarted sequencer resumes its run at the setpoint it was at: no second start, that

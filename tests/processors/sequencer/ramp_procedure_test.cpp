@@ -1,12 +1,13 @@
 // The ramp procedure: legs through the waypoints without waiting for stability, turn pairs on a
 // data-time schedule, the dwell, timeouts, the early stop on coefficient uncertainty, and the
 // uncertainty figure itself.
+#include "ramp_procedure.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "coeff_uncertainty.hpp"
-#include "ramp_procedure.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
@@ -112,7 +113,8 @@ TEST(RampProcedure, AChamberThatNeverGetsThereAbortsTheRun) {
     for (int64_t t = 0; t <= 700 * kS && !p.done(); t += kS) last = p.OnChamber(t, 25.0);
     ASSERT_TRUE(p.done());
     EXPECT_EQ(p.outcome(), "abort");
-    EXPECT_NE(p.outcome_reason().find("did not reach 10 degC"), std::string::npos) << p.outcome_reason();
+    EXPECT_NE(p.outcome_reason().find("did not reach 10 degC"), std::string::npos)
+        << p.outcome_reason();
     ASSERT_EQ(All<RunEventOrder>(last).size(), 1u);
     EXPECT_EQ(All<RunEventOrder>(last)[0].event, "abort");
 }

@@ -23,7 +23,8 @@ struct Case {
 };
 
 TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
-    const std::string err = ::testing::TempDir() + "gyrocal_seq_cli_" + std::to_string(getpid()) + ".err";
+    const std::string err =
+        ::testing::TempDir() + "gyrocal_seq_cli_" + std::to_string(getpid()) + ".err";
     const std::vector<Case> cases = {
         {{"--profile", "seven"}, "--profile: unknown profile 'seven'"},
         {{"--sensors", "S01,bad id!"}, "--sensors: 'bad id!' is not a valid sensor id"},
@@ -31,14 +32,18 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
         {{"--setpoints-c", "20,abc"}, "--setpoints-c"},
         {{"--run-config-json", "{\"a\":"}, "--run-config-json: is not valid JSON"},
         {{"--bogus"}, "--bogus"},
-        {{"--resume-setpoint-index", "1"}, "--resume-setpoint-index: resuming needs the run's --run-id and --sensors"},
+        {{"--resume-setpoint-index", "1"},
+         "--resume-setpoint-index: resuming needs the run's --run-id and --sensors"},
         {{"--run-id", "R", "--sensors", "A", "--resume-setpoint-index", "6"},
-         "--resume-setpoint-index: resume setpoint index 6: valid is 0..5"},  // default profile: six
+         "--resume-setpoint-index: resume setpoint index 6: valid is 0..5"},  // default profile:
+                                                                              // six
         {{"--move-attempts", "0"}, "--move-attempts: move attempts 0: valid is 1..5"},
         {{"--profile", "ramp", "--turn-interval-s", "1"}, "--turn-interval-s: turn interval 1 s"},
         {{"--profile", "ramp", "--dwell-s", "-5"}, "--dwell-s: dwell -5 s"},
-        {{"--profile", "ramp", "--ramp-range-c", "40,10"}, "--ramp-range-c: MIN,MAX needs MIN < MAX"},
-        {{"--profile", "five", "--ramp-range-c", "10,40"}, "--ramp-range-c: only with --profile ramp"},
+        {{"--profile", "ramp", "--ramp-range-c", "40,10"},
+         "--ramp-range-c: MIN,MAX needs MIN < MAX"},
+        {{"--profile", "five", "--ramp-range-c", "10,40"},
+         "--ramp-range-c: only with --profile ramp"},
         {{"--profile", "five", "--target-offset-dps", "0.1"}, "only with --profile ramp"},
         {{"--profile", "ramp", "--target-sensitivity-pct", "150"}, "--target-sensitivity-pct"},
     };
@@ -57,7 +62,8 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
 }
 
 TEST(SequencerCli, HelpExitsZeroWithTheExitCodes) {
-    const std::string out = ::testing::TempDir() + "gyrocal_seq_help_" + std::to_string(getpid()) + ".out";
+    const std::string out =
+        ::testing::TempDir() + "gyrocal_seq_help_" + std::to_string(getpid()) + ".out";
     ChildProcess p({GYROCAL_SEQUENCER_EXE, "--help"}, out, "/dev/null");
     const auto st = p.Wait(10s);
     ASSERT_TRUE(st.has_value());

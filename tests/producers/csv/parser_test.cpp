@@ -66,7 +66,8 @@ TEST(CsvHeader, EachMissingRequiredColumnIsNamed) {
         EXPECT_EQ(ErrorOf(header + ",supply_v\n"),
                   "f.csv:1: column " + missing +
                       ": missing from the header; required columns are time_s, sensor_id, "
-                      "gyro_v, temp_v (optional: temp_c, supply_v, encoder_deg, chamber_c, time_since_power_s)");
+                      "gyro_v, temp_v (optional: temp_c, supply_v, encoder_deg, chamber_c, "
+                      "time_since_power_s)");
     }
 }
 
@@ -233,7 +234,8 @@ TEST(CsvPolicy, StopThrowsTheFirstErrorOnly) {
 
 TEST(CsvFile, HeadCheckReadsOnlyTheFirstRows) {
     // GIVEN a bad row after the first three
-    const std::string text = kHeader + "0,S01,2.5,2.5\n1,S01,2.5,2.5\n2,S01,2.5,2.5\n3,S01,abc,2.5\n";
+    const std::string text =
+        kHeader + "0,S01,2.5,2.5\n1,S01,2.5,2.5\n2,S01,2.5,2.5\n3,S01,abc,2.5\n";
     std::istringstream head(text), whole(text);
     // WHEN only the head is read THEN the three rows are there and the bad one was never parsed
     const CsvFile f = ReadCsv(head, "f.csv", kDefault, OnError::kStop, 3);

@@ -1,7 +1,8 @@
 // The built-in profile: setpoints in order, a dwell at each, +move and -move, then done.
+#include "sim/builtin_profile.hpp"
+
 #include <gtest/gtest.h>
 
-#include "sim/builtin_profile.hpp"
 #include "sim/rig.hpp"
 #include "sim_test_support.hpp"
 
@@ -51,9 +52,9 @@ ProfileRun RunProfile(const RigConfig& c, ProfileConfig pc, int64_t chunk_us, in
 TEST(SimBuiltinProfile, RunsSetpointsDwellsAndRotates) {
     RigConfig c = testing::QuietConfig();
     c.thermal.ramp_c_per_min = 30.0;
-    const ProfileRun run = RunProfile<ProfileSink>(
-        c, {.setpoints_c = {-10.0, 40.0}, .dwell_s = 60.0, .rest_s = 10.0}, 10'000'000,
-        4'000'000'000LL);
+    const ProfileRun run =
+        RunProfile<ProfileSink>(c, {.setpoints_c = {-10.0, 40.0}, .dwell_s = 60.0, .rest_s = 10.0},
+                                10'000'000, 4'000'000'000LL);
     ASSERT_TRUE(run.done);
     const testing::Recorded& data = run.data;
     // Chamber orders 1 then 2, each reached before the table moved.

@@ -1,10 +1,11 @@
 // Bad configuration is refused with a message naming the option and the valid range.
+#include "sim/config.hpp"
+
 #include <gtest/gtest.h>
 
 #include <functional>
 
 #include "sim/builtin_profile.hpp"
-#include "sim/config.hpp"
 #include "sim/rig.hpp"
 
 namespace gyrocal::sim {

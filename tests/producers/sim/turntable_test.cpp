@@ -1,12 +1,13 @@
 // Turntable profile, encoder quantization, the gyro's view of a move, saturation and refusals.
 // The table and encoder are exact functions of time and noise-free; tolerances are one encoder
 // count or floating-point rounding unless stated.
+#include "sim/turntable.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "sim/rig.hpp"
-#include "sim/turntable.hpp"
 #include "sim_test_support.hpp"
 
 namespace gyrocal::sim {

@@ -16,6 +16,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
@@ -24,7 +25,6 @@
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "launch/child_process.hpp"
 #include "message_builders.hpp"
-#include "bus_wait.hpp"
 
 namespace gyrocal {
 namespace {

@@ -2,14 +2,14 @@
 // fixture database with known contents: output, exit codes, bad ids and hostile strings.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "fixture.hpp"
@@ -42,7 +42,8 @@ class StoreCli : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         dir_ = (std::filesystem::temp_directory_path() /
-                ("gyrocal_store_cli_" + std::to_string(::getpid()))).string();
+                ("gyrocal_store_cli_" + std::to_string(::getpid())))
+                   .string();
         std::filesystem::create_directories(dir_);
         db_ = dir_ + "/fixture.db";
         std::filesystem::remove(db_);
@@ -113,12 +114,14 @@ TEST_F(StoreCli, RunsFilters) {
               (std::vector<std::string>{"R2", "R1"}));
     EXPECT_EQ(ids(RunDb({"runs", "--json", "--since", "2026-01-15", "--until", "2026-01-25"})),
               std::vector<std::string>{"R2"});
-    EXPECT_EQ(ids(RunDb({"runs", "--json", "--since", "2026-01-21T00:00:00Z", "--outcome",
-                         "running"})), std::vector<std::string>{"R3"});
+    EXPECT_EQ(
+        ids(RunDb({"runs", "--json", "--since", "2026-01-21T00:00:00Z", "--outcome", "running"})),
+        std::vector<std::string>{"R3"});
     const Result none = RunDb({"runs", "--since", "2030-01-01"});
     EXPECT_EQ(none.code, 0);
     EXPECT_NE(none.out.find("no runs match"), std::string::npos);
-    EXPECT_EQ(ids(RunDb({"runs", "--json", "--sensor", "' OR 1=1 --"})), std::vector<std::string>{});
+    EXPECT_EQ(ids(RunDb({"runs", "--json", "--sensor", "' OR 1=1 --"})),
+              std::vector<std::string>{});
 }
 
 TEST_F(StoreCli, BadOptionValuesExitTwo) {
@@ -160,20 +163,21 @@ TEST_F(StoreCli, ShowRunHasEverythingAndProvenance) {
 
     const Result t = RunDb({"show", "R1"});
     ASSERT_EQ(t.code, 0);
-    for (const char* s : {"v1.2.3", "Plateaus (1)", "Sensitivity points (1)", "offset_v",
-                          "GYRO_S01", "(recorder)", "200 raw gyro samples stored",
-                          "gyrocal-plateau", "non_finite: temp_c is NaN"}) {
+    for (const char* s :
+         {"v1.2.3", "Plateaus (1)", "Sensitivity points (1)", "offset_v", "GYRO_S01", "(recorder)",
+          "200 raw gyro samples stored", "gyrocal-plateau", "non_finite: temp_c is NaN"}) {
         EXPECT_NE(t.out.find(s), std::string::npos) << s << " missing in:\n" << t.out;
     }
 }
 
 TEST_F(StoreCli, UnknownAndHostileIdsAreAClearErrorAndChangeNothing) {
     const int64_t runs_before = RunsInDb();
-    for (const std::string id : {"NOPE", "R1' OR '1'='1", "'; DROP TABLE runs; --", "R1\"",
-                                 "%", "R_"}) {
-        for (const std::vector<std::string>& cmd :
-             {std::vector<std::string>{"show", id}, {"export", id, "--kind", "run"},
-              {"history", id}, {"export", id}}) {
+    for (const std::string id :
+         {"NOPE", "R1' OR '1'='1", "'; DROP TABLE runs; --", "R1\"", "%", "R_"}) {
+        for (const std::vector<std::string>& cmd : {std::vector<std::string>{"show", id},
+                                                    {"export", id, "--kind", "run"},
+                                                    {"history", id},
+                                                    {"export", id}}) {
             const Result r = RunDb(cmd);
             EXPECT_EQ(r.code, 1) << cmd[0] << " " << id;
             EXPECT_EQ(r.out, "");
@@ -240,7 +244,10 @@ TEST_F(StoreCli, DamagedForeignEmptyOrNewerDatabasesAreOneLineExitOneAndLeftAlon
     bad.push_back({"newer.db", "has schema version 99, newer than this software", newer});
 
     const std::vector<std::vector<std::string>> commands = {
-        {"runs"}, {"show", "R1"}, {"history", "S01"}, {"export", "R1", "--format", "json"},
+        {"runs"},
+        {"show", "R1"},
+        {"history", "S01"},
+        {"export", "R1", "--format", "json"},
         {"replay", "R1", "--lcm-url", "memq://"}};
     for (const Bad& b : bad) {
         const std::string path = dir_ + "/" + b.name;
@@ -385,9 +392,11 @@ std::string CompileAndRun(const std::string& dir, const std::string& header,
                           const std::string& main_body) {
     const std::string c = dir + "/use.c", exe = dir + "/use";
     std::ofstream(c) << "#include <stdio.h>\n#include \"" << header << "\"\n"
-                     << "int main(void) {\n" << main_body << "  return 0;\n}\n";
+                     << "int main(void) {\n"
+                     << main_body << "  return 0;\n}\n";
     ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wno-unused-const-variable",
-                     "-o", exe, c, "-lm"}, "", dir + "/cc.err");
+                     "-o", exe, c, "-lm"},
+                    "", dir + "/cc.err");
     const auto st = cc.Wait(60s);
     EXPECT_TRUE(st && st->exited && st->code == 0) << Slurp(dir + "/cc.err");
     ChildProcess run({exe}, dir + "/use.out", "");
@@ -458,12 +467,14 @@ TEST_F(StoreCli, CHeaderEvaluatesExtendedModelsLikeTheSharedEvaluator) {
             return std::string(buf);
         };
         body << "  { gyrocal_rate_t r; gyrocal_inputs_t in = gyrocal_inputs_unknown();\n"
-             << "    in.temp_c = " << c(in.temp_c) << "; in.dtemp_dt_c_per_s = "
-             << c(in.dtemp_dt_c_per_s) << "; in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;\n"
-             << "    in.supply_v = " << c(in.supply_v) << "; in.branch = in.heating = "
-             << c(in.heating) << "; in.branch_width_c = GYROCAL_SIGN_BRANCH_WIDTH_C;\n"
-             << "    in.direction = " << c(in.direction) << "; in.time_since_power_s = "
-             << c(in.time_since_power_s) << ";\n"
+             << "    in.temp_c = " << c(in.temp_c)
+             << "; in.dtemp_dt_c_per_s = " << c(in.dtemp_dt_c_per_s)
+             << "; in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;\n"
+             << "    in.supply_v = " << c(in.supply_v)
+             << "; in.branch = in.heating = " << c(in.heating)
+             << "; in.branch_width_c = GYROCAL_SIGN_BRANCH_WIDTH_C;\n"
+             << "    in.direction = " << c(in.direction)
+             << "; in.time_since_power_s = " << c(in.time_since_power_s) << ";\n"
              << "    r.inputs = in; gyrocal_rate_at(&c, " << c(kGyroV) << ", &r);\n"
              << "    printf(\"%.17g %.17g %.17g %.17g\\n\", gyrocal_eval(&gyrocal_S01_offset, &in),"
              << " gyrocal_eval(&gyrocal_S01_sensitivity, &in),"
@@ -520,25 +531,42 @@ TEST(StoreCliJson, AStoredSetIsWrittenByTheModelWriterAndReadsBackBitForBit) {
     c.set.recv_utime = 1'000'000'456;
     c.set.plateau_ids = {1, 2, 3};
     c.set.rotation_ids = {7};
-    c.set.offset = {"offset_v", {"1", "dT", "dT^2"}, {2.5, 4.1e-4, -3.3e-6},
+    c.set.offset = {"offset_v",
+                    {"1", "dT", "dT^2"},
+                    {2.5, 4.1e-4, -3.3e-6},
                     {{1e-8, 0, 0}, {0, 1e-12, 0}, {0, 0, std::nan("")}},
-                    25.0, -10.0, 60.0, 1.2e-5, 5, 3.3, "wls"};
-    c.set.sensitivity = {"sensitivity_v_per_dps", {"1"}, {0.006}, {{std::nan("")}},
-                         25.0, -10.0, 60.0, std::nan(""), 0, 1.0, "nominal"};
+                    25.0,
+                    -10.0,
+                    60.0,
+                    1.2e-5,
+                    5,
+                    3.3,
+                    "wls"};
+    c.set.sensitivity = {"sensitivity_v_per_dps",
+                         {"1"},
+                         {0.006},
+                         {{std::nan("")}},
+                         25.0,
+                         -10.0,
+                         60.0,
+                         std::nan(""),
+                         0,
+                         1.0,
+                         "nominal"};
     const nlohmann::json j = store::report::CoeffSetJson(c);
     std::vector<std::string> keys;
     for (const auto& [k, v] : j.items()) keys.push_back(k);
     EXPECT_EQ(keys, (std::vector<std::string>{"coeff_row_id", "coeff_set_id", "offset",
-                                              "plateau_ids", "recv_utime", "rotation_ids",
-                                              "run_id", "sensitivity", "sensor_id", "source",
-                                              "utime"}));
+                                              "plateau_ids", "recv_utime", "rotation_ids", "run_id",
+                                              "sensitivity", "sensor_id", "source", "utime"}));
     EXPECT_EQ(j["coeff_row_id"], 17);
     EXPECT_EQ(j["recv_utime"], 1'000'000'456);
     EXPECT_TRUE(j["offset"]["covariance"][2][2].is_null());
     const model::CoeffSet back = model::CoeffSetFromJson(nlohmann::json::parse(j.dump()));
     const model::CoeffSet want = store::ToCoeffSet(c.set);
     EXPECT_EQ(back.offset.coeffs, want.offset.coeffs);
-    EXPECT_EQ(back.offset.covariance.topLeftCorner(2, 2), want.offset.covariance.topLeftCorner(2, 2));
+    EXPECT_EQ(back.offset.covariance.topLeftCorner(2, 2),
+              want.offset.covariance.topLeftCorner(2, 2));
     EXPECT_TRUE(std::isnan(back.offset.covariance(2, 2)));
     EXPECT_EQ(back.offset.residual_rms, 1.2e-5);
     EXPECT_TRUE(std::isnan(back.sensitivity.residual_rms));

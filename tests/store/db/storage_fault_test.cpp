@@ -11,8 +11,8 @@
 #include <thread>
 
 #include "async_writer.hpp"
-#include "writer.hpp"
 #include "scratch_db.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::store {
 namespace {
@@ -125,8 +125,10 @@ TEST(StorageFault, AtTheMemoryBoundRowsAreDroppedAndCountedPerRunAndChannel) {
     ASSERT_FALSE(db.aw.failed()) << db.aw.error();
     EXPECT_EQ(Count(db.path, "SELECT count(*) FROM gyro_samples"), 200);
     for (const auto& [channel, n] : refused) {
-        EXPECT_EQ(Count(db.path, "SELECT queue_drops FROM losses WHERE run_id = 'R1' AND "
-                                 "channel = '" + channel + "'"),
+        EXPECT_EQ(Count(db.path,
+                        "SELECT queue_drops FROM losses WHERE run_id = 'R1' AND "
+                        "channel = '" +
+                            channel + "'"),
                   n)
             << channel;
     }

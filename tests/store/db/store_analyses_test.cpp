@@ -129,8 +129,9 @@ TEST(MigrateRename, PlateauTempLineMeanKeepsItsValueUnderTheFixedName) {
     Stmt s(w.db(), "SELECT temp_mean_v FROM plateaus WHERE run_id = 'OLD'");
     ASSERT_TRUE(s.Step());
     EXPECT_EQ(s.Real(0), 2.545);  // a rename copies nothing: the stored double itself
-    EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM pragma_table_info('plateaus') "
-                            "WHERE name = 'temp_v_mean'"),
+    EXPECT_EQ(Count(w.db(),
+                    "SELECT count(*) FROM pragma_table_info('plateaus') "
+                    "WHERE name = 'temp_v_mean'"),
               0);
 }
 

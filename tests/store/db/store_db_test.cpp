@@ -39,16 +39,21 @@ TEST(Schema, MigratesAVersionOneDatabaseWithItsData) {
         // GIVEN a database at schema version 1 with a run, samples and a coefficient set
         OldDatabase db(path, 1);
         ASSERT_EQ(db.UserVersion(), 1);
-        EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'recorder_sessions'"), 0);
-        db.Exec("INSERT INTO runs(run_id, started_utime, stopped_utime, outcome, first_recv_utime) "
-                "VALUES ('OLD', 1, 2, 'stop', 10)");
-        db.Exec("INSERT INTO gyro_samples(run_id, sensor_id, utime, seq, gyro_v, has_adc, "
-                "recv_utime) VALUES ('OLD', 'S01', 100, 0, 2.5, 0, 11), "
-                "('OLD', 'S01', 200, 1, 2.5, 0, 12)");
-        db.Exec("INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, start_utime, "
-                "end_utime, n_samples, recv_utime) VALUES ('OLD', 'S01', 100, 200, 100, 200, 2, 13)");
-        db.Exec("INSERT INTO coeff_sets(run_id, sensor_id, coeff_set_id, source, utime, "
-                "recv_utime) VALUES ('OLD', 'S01', 200, 'fitter', 200, 14)");
+        EXPECT_EQ(Count(db, "SELECT count(*) FROM sqlite_master WHERE name = 'recorder_sessions'"),
+                  0);
+        db.Exec(
+            "INSERT INTO runs(run_id, started_utime, stopped_utime, outcome, first_recv_utime) "
+            "VALUES ('OLD', 1, 2, 'stop', 10)");
+        db.Exec(
+            "INSERT INTO gyro_samples(run_id, sensor_id, utime, seq, gyro_v, has_adc, "
+            "recv_utime) VALUES ('OLD', 'S01', 100, 0, 2.5, 0, 11), "
+            "('OLD', 'S01', 200, 1, 2.5, 0, 12)");
+        db.Exec(
+            "INSERT INTO plateaus(run_id, sensor_id, plateau_id, utime, start_utime, "
+            "end_utime, n_samples, recv_utime) VALUES ('OLD', 'S01', 100, 200, 100, 200, 2, 13)");
+        db.Exec(
+            "INSERT INTO coeff_sets(run_id, sensor_id, coeff_set_id, source, utime, "
+            "recv_utime) VALUES ('OLD', 'S01', 200, 'fitter', 200, 14)");
         db.Exec("INSERT INTO coeff_set_plateaus(coeff_row_id, plateau_id) VALUES (1, 100)");
     }
     // WHEN the writer opens it THEN it is at the current version, data intact, views work
@@ -67,7 +72,8 @@ TEST(Schema, MigratesAVersionOneDatabaseWithItsData) {
     EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_blocks"), 2);  // backfilled + new batch
     EXPECT_EQ(Count(db, "SELECT count(*) FROM v_coeff_samples"), 3);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM recorder_sessions"), 1);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check = 'ok'"), 1);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check = 'ok'"),
+              1);
 }
 
 TEST(Schema, QueryToolsMigrateAnOlderFileToo) {
@@ -147,7 +153,8 @@ TEST(Schema, TwoWritersCreatingOneDatabaseAtOnceBothComeUp) {
         Db db(path, Db::Mode::kReadOnly);
         EXPECT_EQ(db.UserVersion(), kSchemaVersion) << "round " << round;
     }
-    EXPECT_EQ(failed, 0) << failed << " writers of " << 2 * kRounds << " failed (stderr names them)";
+    EXPECT_EQ(failed, 0) << failed << " writers of " << 2 * kRounds
+                         << " failed (stderr names them)";
 }
 
 TEST(Writer, RoundTripsRowsRunsAndLosses) {
@@ -187,8 +194,10 @@ TEST(Writer, RoundTripsRowsRunsAndLosses) {
     ASSERT_EQ(d.losses.size(), 1u);
     EXPECT_EQ(d.losses[0].seq_gaps, 4);
     // NaN is stored as NULL and read back as NaN.
-    EXPECT_EQ(Count(*db, "SELECT count(*) FROM gyro_samples WHERE supply_v IS NULL AND "
-                         "supply_counts IS NULL AND gyro_counts IS NULL"), 2);
+    EXPECT_EQ(Count(*db,
+                    "SELECT count(*) FROM gyro_samples WHERE supply_v IS NULL AND "
+                    "supply_counts IS NULL AND gyro_counts IS NULL"),
+              2);
     ReplayReader reader(*db, "R1");
     int n = 0;
     while (auto row = reader.Next()) {
@@ -243,8 +252,9 @@ TEST(AsyncWriter, FullQueueDropsCountedPerRunButEssentialRowsKept) {
     ASSERT_FALSE(aw.failed()) << aw.error();
     Db db(path, Db::Mode::kReadOnly);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples"), accepted);
-    EXPECT_EQ(Count(db, "SELECT queue_drops FROM losses WHERE run_id = 'R1' AND channel = 'GYRO_S01'"),
-              100 - accepted);
+    EXPECT_EQ(
+        Count(db, "SELECT queue_drops FROM losses WHERE run_id = 'R1' AND channel = 'GYRO_S01'"),
+        100 - accepted);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'R1' AND outcome = 'stop'"), 1);
 }
 

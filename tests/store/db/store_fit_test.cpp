@@ -8,8 +8,8 @@
 #include "fit_query.hpp"
 #include "query.hpp"
 #include "schema.hpp"
-#include "writer.hpp"
 #include "scratch_db.hpp"
+#include "writer.hpp"
 
 namespace gyrocal::store {
 namespace {
@@ -38,7 +38,8 @@ FitReportRow Report(int64_t set_id, bool final, const std::string& status) {
     r.slow_noise_v = 8e-5;
     r.slow_noise_dps = 8e-5 / 0.006;
     r.slow_noise_source = "Allan deviation of this run";
-    r.excluded.push_back({"plateau", 3000, 30.2, 2.51, 3e-3, 1e-4, 30.0, 4.1, "leave-one-out: ..."});
+    r.excluded.push_back(
+        {"plateau", 3000, 30.2, 2.51, 3e-3, 1e-4, 30.0, 4.1, "leave-one-out: ..."});
     r.repeats.push_back({25.1, 1000, 7000, 25.0, 25.2, 0, -1, 1e-4, 4e-5, 0.0167, 0.0067, 2.5,
                          "repeatable within 3 sigma"});
     r.recv_utime = 50;
@@ -126,9 +127,10 @@ TEST(FitReports, AVersionFourFileGainsTheTablesAndKeepsItsRows) {
     StoreWriter w(path, {"test", "h", 1});
     EXPECT_EQ(w.db().UserVersion(), kSchemaVersion);
     EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM runs WHERE run_id = 'OLD'"), 1);
-    EXPECT_EQ(Count(w.db(), "SELECT count(*) FROM sqlite_master WHERE name IN ('fit_reports', "
-                            "'fit_exclusions', 'repeatability', 'noise_estimates', 'noise_adev', "
-                            "'v_fit_final', 'v_repeatability', 'v_noise')"),
+    EXPECT_EQ(Count(w.db(),
+                    "SELECT count(*) FROM sqlite_master WHERE name IN ('fit_reports', "
+                    "'fit_exclusions', 'repeatability', 'noise_estimates', 'noise_adev', "
+                    "'v_fit_final', 'v_repeatability', 'v_noise')"),
               8);
     EXPECT_TRUE(RunFitReports(w.db(), "OLD").empty());
 }

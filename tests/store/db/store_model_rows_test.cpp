@@ -71,9 +71,10 @@ TEST(ModelRows, SteadyStateValueIsTheSharedEvaluatorAtSteadyInputs) {
         const auto got = SteadyStateValue(row, temp_c);
         ASSERT_TRUE(got);
         EXPECT_NEAR(*got, want, 1e-15 * 4);  // a few ulps of 2.5
-        EXPECT_EQ(*got, model::Evaluate(ToModel(row), model::SteadyStateInputs(ToModel(row), temp_c),
-                                        model::RangePolicy::kExtrapolate)
-                            .value);
+        EXPECT_EQ(*got,
+                  model::Evaluate(ToModel(row), model::SteadyStateInputs(ToModel(row), temp_c),
+                                  model::RangePolicy::kExtrapolate)
+                      .value);
     }
     // Not usable: unknown term, no terms, non-finite range.
     ModelRow bad = row;

@@ -42,8 +42,8 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
         ChildProcess rec = StartRecorder(db, url);
         ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s)) << "restart " << k;
         if (!started) {
-            ASSERT_TRUE(bus.Publish(std::string(channels::kRunEvent),
-                                    RunEvent("RC", "start", {"K"})));
+            ASSERT_TRUE(
+                bus.Publish(std::string(channels::kRunEvent), RunEvent("RC", "start", {"K"})));
             started = true;
         }
         const int64_t first = seq;
@@ -56,9 +56,11 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
             if (seq % 4 == 0) std::this_thread::sleep_for(1ms);
         }
         if (k == kKills) {  // the last one stops normally: everything must be there
-            EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE seq >= " +
-                                           std::to_string(first), seq - first, 10s),
-                      seq - first);
+            EXPECT_EQ(
+                WaitForCount(
+                    db, "SELECT count(*) FROM gyro_samples WHERE seq >= " + std::to_string(first),
+                    seq - first, 10s),
+                seq - first);
             EXPECT_EQ(rec.Stop().code, 0);
             break;
         }
@@ -68,8 +70,10 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
         ASSERT_TRUE(rec.Wait(5s));
 
         // Intact, and what another connection saw committed is still there.
-        EXPECT_EQ(Count(db, "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check "
-                            "= 'ok'"), 1);
+        EXPECT_EQ(Count(db,
+                        "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check "
+                        "= 'ok'"),
+                  1);
         const int64_t stored = Count(db, "SELECT count(*) FROM gyro_samples");
         EXPECT_GE(stored, committed_before_kill);
         // Every sample sent earlier than bound before the kill was stored.
@@ -83,11 +87,12 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
                 killed_at - sent_at[static_cast<size_t>(s + 1)] > kBatchInterval + kAllowance) {
                 continue;
             }
-            EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE seq = " +
-                                    std::to_string(s)), 1)
+            EXPECT_EQ(
+                Count(db, "SELECT count(*) FROM gyro_samples WHERE seq = " + std::to_string(s)), 1)
                 << "seq " << s << " sent "
                 << std::chrono::duration_cast<std::chrono::milliseconds>(
-                       killed_at - sent_at[static_cast<size_t>(s)]).count()
+                       killed_at - sent_at[static_cast<size_t>(s)])
+                       .count()
                 << " ms before the kill is missing (kill " << k << ")";
         }
         const int64_t seg_stored = Count(db, "SELECT count(*)" + range);
@@ -107,8 +112,10 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
     // The crash losses are visible: each restarted recorder resumed seq tracking from the last
     // stored sample, so what the kills lost is counted as seq gaps of the run, exactly.
     const int64_t lost = seq - Count(db, "SELECT count(*) FROM gyro_samples");
-    EXPECT_EQ(Count(db, "SELECT coalesce(sum(seq_gaps), 0) FROM losses WHERE run_id = 'RC' AND "
-                        "channel = 'GYRO_K'"), lost);
+    EXPECT_EQ(Count(db,
+                    "SELECT coalesce(sum(seq_gaps), 0) FROM losses WHERE run_id = 'RC' AND "
+                    "channel = 'GYRO_K'"),
+              lost);
 }
 
 }  // namespace

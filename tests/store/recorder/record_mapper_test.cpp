@@ -47,8 +47,9 @@ TEST(RecordMapper, RunEventsDecideTheRunOfLaterMessages) {
     EXPECT_EQ(m.current_run(), "R1");
     EXPECT_EQ(std::get<store::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 0)).row).run_id, "R1");
     // A plateau keeps the run it carries, even when another is in force.
-    EXPECT_EQ(std::get<store::PlateauRow>(*MapMsg(m, "PLATEAU_S01", Plateau("S01", "R0", 0, 9))
-                                               .row).run_id, "R0");
+    EXPECT_EQ(std::get<store::PlateauRow>(*MapMsg(m, "PLATEAU_S01", Plateau("S01", "R0", 0, 9)).row)
+                  .run_id,
+              "R0");
     Mapped stop = MapMsg(m, "RUN_EVENT", RunEvent("R1", "stop", {"S01"}));
     EXPECT_EQ(std::get<store::RunEventRow>(*stop.row).run_id, "R1");
     EXPECT_EQ(m.current_run(), "");

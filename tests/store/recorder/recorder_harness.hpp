@@ -6,10 +6,10 @@
 #include <vector>
 
 #include "bus/bus.hpp"
+#include "bus_wait.hpp"
 #include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 #include "scratch_db.hpp"
-#include "bus_wait.hpp"
 
 namespace gyrocal::testing {
 
@@ -19,8 +19,8 @@ inline std::string UrlForPort(int port) {
 
 inline ChildProcess StartRecorder(const std::string& db, const std::string& url,
                                   std::vector<std::string> extra = {}) {
-    std::vector<std::string> argv = {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
-                                     db, "--lcm-url", url};
+    std::vector<std::string> argv = {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
+                                     "--lcm-url", url};
     argv.insert(argv.end(), extra.begin(), extra.end());
     return ChildProcess(argv, "", db + ".recorder.err");
 }
@@ -31,7 +31,8 @@ inline bool WaitForRecorder(Bus& bus, int pid, std::chrono::milliseconds timeout
     bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
         if (s.process == "gyrocal-recorder" && s.pid == pid) seen = true;
     });
-    return HandleUntil(bus, [&] { return seen; }, timeout);
+    return HandleUntil(
+        bus, [&] { return seen; }, timeout);
 }
 
 // A real gyrocal-recorder writing `db`, and a bus on its `url` to publish to it and to hear it.

@@ -3,6 +3,8 @@
 // type that does not decode are counted as losses of the run in force; an unknown type is kept
 // whole in raw_events; a bad channel regex is refused before anything subscribes. The real
 // process over UDP multicast is recorder_process_test.cpp.
+#include "recorder_node.hpp"
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -11,7 +13,6 @@
 #include "bus/channels.hpp"
 #include "message_builders.hpp"
 #include "recorder_harness.hpp"
-#include "recorder_node.hpp"
 
 namespace gyrocal::testing {
 namespace {
@@ -49,20 +50,32 @@ TEST(RecorderNode, RecordsTheRunAndCountsWhatWasLost) {
         EXPECT_EQ(node.Finish(), 0);
     }
     // THEN every row is in its table under the run, and the losses name what was missed
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R1' AND sensor_id = 'S01'"), 8);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R1' AND sensor_id = 'S02'"), 5);
+    EXPECT_EQ(
+        Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R1' AND sensor_id = 'S01'"),
+        8);
+    EXPECT_EQ(
+        Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R1' AND sensor_id = 'S02'"),
+        5);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM run_events WHERE run_id = 'R1'"), 2);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'R1' AND outcome = 'stop'"), 1);
-    EXPECT_EQ(Count(db, "SELECT coalesce(sum(seq_gaps), 0) FROM losses WHERE run_id = 'R1' AND "
-                        "channel = 'GYRO_S01'"), 2);
-    EXPECT_EQ(Count(db, "SELECT coalesce(sum(decode_errors), 0) FROM losses WHERE run_id = 'R1' "
-                        "AND channel = 'GYRO_S02'"), 1);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM raw_events WHERE channel = 'SOMEONE_ELSES_TYPE' AND "
-                        "reason = 'unknown_type' AND fingerprint = '0123456789abcdef' AND "
-                        "length(data) = 10"), 1);
+    EXPECT_EQ(Count(db,
+                    "SELECT coalesce(sum(seq_gaps), 0) FROM losses WHERE run_id = 'R1' AND "
+                    "channel = 'GYRO_S01'"),
+              2);
+    EXPECT_EQ(Count(db,
+                    "SELECT coalesce(sum(decode_errors), 0) FROM losses WHERE run_id = 'R1' "
+                    "AND channel = 'GYRO_S02'"),
+              1);
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM raw_events WHERE channel = 'SOMEONE_ELSES_TYPE' AND "
+                    "reason = 'unknown_type' AND fingerprint = '0123456789abcdef' AND "
+                    "length(data) = 10"),
+              1);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM raw_events WHERE channel = 'GYRO_S02'"), 1);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM recorder_sessions WHERE stopped_wall_utime IS NOT "
-                        "NULL"), 1);
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM recorder_sessions WHERE stopped_wall_utime IS NOT "
+                    "NULL"),
+              1);
 }
 
 TEST(RecorderNode, ChannelRegexIsRecordedOnly) {

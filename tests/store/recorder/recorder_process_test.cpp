@@ -99,10 +99,16 @@ TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
                   pub.count(channels::Gyro(id)));
         EXPECT_EQ(Count(db, "SELECT count(*) FROM rates WHERE sensor_id = '" + id + "'"),
                   pub.count(channels::Rate(id)));
-        EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R1' AND "
-                            "sensor_id = '" + id + "'"), kIn);
-        EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = '' AND "
-                            "sensor_id = '" + id + "'"), kBefore + kAfter);
+        EXPECT_EQ(Count(db,
+                        "SELECT count(*) FROM gyro_samples WHERE run_id = 'R1' AND "
+                        "sensor_id = '" +
+                            id + "'"),
+                  kIn);
+        EXPECT_EQ(Count(db,
+                        "SELECT count(*) FROM gyro_samples WHERE run_id = '' AND "
+                        "sensor_id = '" +
+                            id + "'"),
+                  kBefore + kAfter);
     }
     EXPECT_EQ(Count(db, "SELECT count(*) FROM encoder_samples"), pub.count("ENCODER"));
     EXPECT_EQ(Count(db, "SELECT count(*) FROM chamber_states"), pub.count("CHAMBER_STATE"));
@@ -114,33 +120,41 @@ TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
     EXPECT_EQ(Count(db, "SELECT count(*) FROM sensitivity_points"), pub.count("SENSITIVITY_S01"));
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), pub.count("COEFFS_S01"));
     EXPECT_EQ(Count(db, "SELECT count(*) FROM run_events"), pub.count("RUN_EVENT"));
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM status WHERE process = 'gyrocal-recorder'") > 0, true);
+    EXPECT_EQ(Count(db, "SELECT count(*) FROM status WHERE process = 'gyrocal-recorder'") > 0,
+              true);
     // Unknown types kept whole with their fingerprint.
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM raw_events WHERE channel = 'SOMEONE_ELSES_TYPE' "
-                        "AND reason = 'unknown_type' AND fingerprint = '0123456789abcdef' "
-                        "AND length(data) = 10 AND run_id = 'R1'"),
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM raw_events WHERE channel = 'SOMEONE_ELSES_TYPE' "
+                    "AND reason = 'unknown_type' AND fingerprint = '0123456789abcdef' "
+                    "AND length(data) = 10 AND run_id = 'R1'"),
               5);
     // The run: created by start with its provenance fields, closed by stop.
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'R1' AND outcome = 'stop' AND "
-                        "software_version = 'test-1.0' AND host = 'testhost' AND "
-                        "command_line LIKE 'gyrocal calibrate%' AND "
-                        "json_extract(config_json, '$.setpoints_c[2]') = 50 AND "
-                        "stopped_utime IS NOT NULL"),
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM runs WHERE run_id = 'R1' AND outcome = 'stop' AND "
+                    "software_version = 'test-1.0' AND host = 'testhost' AND "
+                    "command_line LIKE 'gyrocal calibrate%' AND "
+                    "json_extract(config_json, '$.setpoints_c[2]') = 50 AND "
+                    "stopped_utime IS NOT NULL"),
               1);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM run_sensors WHERE run_id = 'R1'"), 3);
     // Nothing lost on this clean stream.
-    EXPECT_EQ(Count(db, "SELECT coalesce(sum(seq_gaps + decode_errors + queue_drops), 0) "
-                        "FROM losses"), 0);
+    EXPECT_EQ(Count(db,
+                    "SELECT coalesce(sum(seq_gaps + decode_errors + queue_drops), 0) "
+                    "FROM losses"),
+              0);
     // Provenance: every plateau and the rotation found, and each range holds exactly its samples.
     EXPECT_EQ(Count(db, "SELECT count(*) FROM v_coeff_provenance WHERE item_found = 1"), 4);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM v_coeff_samples"), 3 * 100 + 50);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM (SELECT v.item_id FROM v_coeff_provenance v "
-                        "JOIN v_coeff_samples s ON s.coeff_row_id = v.coeff_row_id AND "
-                        "s.item_id = v.item_id AND s.kind = v.kind GROUP BY v.kind, v.item_id "
-                        "HAVING count(*) = max(v.n_samples))"),
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM (SELECT v.item_id FROM v_coeff_provenance v "
+                    "JOIN v_coeff_samples s ON s.coeff_row_id = v.coeff_row_id AND "
+                    "s.item_id = v.item_id AND s.kind = v.kind GROUP BY v.kind, v.item_id "
+                    "HAVING count(*) = max(v.n_samples))"),
               4);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM recorder_sessions WHERE stopped_wall_utime IS NOT "
-                        "NULL"), 1);
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM recorder_sessions WHERE stopped_wall_utime IS NOT "
+                    "NULL"),
+              1);
 }
 
 TEST(RecorderProcess, RestartedRecorderContinuesTheOpenRunAndNoRatesSkipsRates) {
@@ -163,11 +177,14 @@ TEST(RecorderProcess, RestartedRecorderContinuesTheOpenRunAndNoRatesSkipsRates) 
         ASSERT_TRUE(r.bus.Publish(channels::Gyro("A"), Gyro("A", s)));
         ASSERT_TRUE(r.bus.Publish(channels::Rate("A"), Rate("A", s)));
     }
-    EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R9'", 20, 10s), 20);
+    EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'R9'", 20, 10s),
+              20);
     EXPECT_EQ(r.rec.Stop().code, 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM rates"), 0);
-    EXPECT_EQ(Count(db, "SELECT resumed_run_id = 'R9' FROM recorder_sessions ORDER BY "
-                        "session_id DESC LIMIT 1"), 1);
+    EXPECT_EQ(Count(db,
+                    "SELECT resumed_run_id = 'R9' FROM recorder_sessions ORDER BY "
+                    "session_id DESC LIMIT 1"),
+              1);
 }
 
 TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
@@ -186,8 +203,9 @@ TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
         store::Db d(db, store::Db::Mode::kReadWriteCreate);
         d.Exec("CREATE TABLE t(x)");
     }
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
-                      "--lcm-url", UrlForPort(7762)}, "", db + ".err");
+    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url",
+                      UrlForPort(7762)},
+                     "", db + ".err");
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_EQ(st->code, 2);
@@ -231,18 +249,21 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
     // THEN one row per source, and the analysis points at the row it stored
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 2);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets WHERE source = 'fitter'"), 1);
-    EXPECT_EQ(Count(db, "SELECT coeff_row_id FROM coeff_sets WHERE source = '" + stored.source +
-                        "'"), *stored.coeff_row_id);
+    EXPECT_EQ(
+        Count(db, "SELECT coeff_row_id FROM coeff_sets WHERE source = '" + stored.source + "'"),
+        *stored.coeff_row_id);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_terms WHERE coeff_row_id = " +
-                        std::to_string(*stored.coeff_row_id)), 3 + 2);  // not doubled
+                            std::to_string(*stored.coeff_row_id)),
+              3 + 2);  // not doubled
 }
 
 TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
     const std::string err = FreshDbPath("bad_regex.err");
     for (const std::string bad : {"GYRO_(", "*", "[a-"}) {
-        ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
-                          FreshDbPath("bad_regex.db"), "--channels", bad, "--lcm-url",
-                          UrlForPort(7762)}, "", err);
+        ChildProcess rec(
+            {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
+             FreshDbPath("bad_regex.db"), "--channels", bad, "--lcm-url", UrlForPort(7762)},
+            "", err);
         const auto st = rec.Wait(10s);
         ASSERT_TRUE(st);
         EXPECT_TRUE(st->exited);

@@ -16,8 +16,8 @@ TEST(RecorderWithRig, StoresEveryMessageTheRigPublished) {
     RecorderOnBus r(db, url);
     ASSERT_TRUE(r.Listening());
     int64_t rig_published = -1;
-    ChildProcess rig({std::string(GYROCAL_BIN_DIR) + "/gyrocal-sim-rig", "--lcm-url", url,
-                      "--mode", "builtin", "--speed", "50", "--duration-s", "40", "--units", "4"},
+    ChildProcess rig({std::string(GYROCAL_BIN_DIR) + "/gyrocal-sim-rig", "--lcm-url", url, "--mode",
+                      "builtin", "--speed", "50", "--duration-s", "40", "--units", "4"},
                      "", db + ".rig.err");
     r.bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
         if (s.pid == rig.pid()) rig_published = s.published;  // the last heartbeat counts itself
@@ -36,13 +36,19 @@ TEST(RecorderWithRig, StoresEveryMessageTheRigPublished) {
     EXPECT_EQ(WaitForCount(db, stored_sql, rig_published, 10s), rig_published);
     EXPECT_EQ(r.rec.Stop().code, 0);
     // Every unit's power-on time (the rig's start) is announced every 10 s: t = 0, 10, .. 40 s.
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM power_states WHERE power_on_utime = "
-                        "(SELECT min(utime) FROM gyro_samples)"), 4 * 5);
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM power_states WHERE power_on_utime = "
+                    "(SELECT min(utime) FROM gyro_samples)"),
+              4 * 5);
     // 40 simulated seconds at 100 Hz: 4001 samples per unit (t = 0 .. 40 s), seq without holes.
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM (SELECT sensor_id FROM gyro_samples GROUP BY "
-                        "sensor_id HAVING count(*) = max(seq) + 1 AND min(seq) = 0)"), 4);
-    EXPECT_EQ(Count(db, "SELECT coalesce(sum(seq_gaps + queue_drops + decode_errors), 0) "
-                        "FROM losses"), 0);
+    EXPECT_EQ(Count(db,
+                    "SELECT count(*) FROM (SELECT sensor_id FROM gyro_samples GROUP BY "
+                    "sensor_id HAVING count(*) = max(seq) + 1 AND min(seq) = 0)"),
+              4);
+    EXPECT_EQ(Count(db,
+                    "SELECT coalesce(sum(seq_gaps + queue_drops + decode_errors), 0) "
+                    "FROM losses"),
+              0);
 }
 
 }  // namespace

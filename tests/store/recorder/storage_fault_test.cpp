@@ -42,7 +42,8 @@ public:
                      dir_);
     }
     std::string MountExt4(const std::string& name, int size_mb) {
-        if (::geteuid() != 0) return "needs root to mount a loop device and chattr (CI runs as root)";
+        if (::geteuid() != 0)
+            return "needs root to mount a loop device and chattr (CI runs as root)";
         MakeDir(name);
         image_ = dir_ + ".img";
         const std::string why = Run("truncate -s " + std::to_string(size_mb) + "M " + image_ +
@@ -94,8 +95,12 @@ protected:
         log_ = FreshDbPath("fault_" + std::to_string(port) + ".err");
         bus_ = std::make_unique<Bus>(BusOptions{UrlForPort(port)});
         std::vector<std::string> argv = {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder",
-                                         "--db", db, "--lcm-url", UrlForPort(port),
-                                         "--batch-ms", "50"};
+                                         "--db",
+                                         db,
+                                         "--lcm-url",
+                                         UrlForPort(port),
+                                         "--batch-ms",
+                                         "50"};
         argv.insert(argv.end(), extra.begin(), extra.end());
         rec_.emplace(argv, "", log_);
         ASSERT_TRUE(WaitForRecorder(*bus_, rec_->pid(), 10s));
@@ -109,7 +114,8 @@ protected:
                                           status_.extra[s.extra_names[i]] = s.extra_values[i];
                                       }
                                   });
-        ASSERT_TRUE(bus_->Publish(std::string(channels::kRunEvent), RunEvent("RF", "start", {"K"})));
+        ASSERT_TRUE(
+            bus_->Publish(std::string(channels::kRunEvent), RunEvent("RF", "start", {"K"})));
     }
 
     // The recorder on `db`, with its first 200 samples stored before a fault is made.
@@ -138,9 +144,9 @@ protected:
 
     // Every sample published so far committed (bounded wait).
     void ExpectAllStored() {
-        EXPECT_EQ(WaitForCount(db_, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RF'", seq_,
-                               30s),
-                  seq_);
+        EXPECT_EQ(
+            WaitForCount(db_, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RF'", seq_, 30s),
+            seq_);
     }
 
     // Once the fault is gone: every held row written and recording again; then StopAndCheck.
@@ -157,11 +163,13 @@ protected:
         const std::string log = ReadLog(log_);
         EXPECT_NE(log.find("database writes fail (" + fault + ")"), std::string::npos) << log;
         EXPECT_NE(log.find("database writable again after"), std::string::npos) << log;
-        EXPECT_EQ(Count(db_, "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check "
-                             "= 'ok'"),
+        EXPECT_EQ(Count(db_,
+                        "SELECT count(*) FROM pragma_integrity_check WHERE integrity_check "
+                        "= 'ok'"),
                   1);
-        EXPECT_EQ(Count(db_, "SELECT count(*) FROM losses WHERE run_id = 'RF' AND "
-                             "(queue_drops > 0 OR seq_gaps > 0)"),
+        EXPECT_EQ(Count(db_,
+                        "SELECT count(*) FROM losses WHERE run_id = 'RF' AND "
+                        "(queue_drops > 0 OR seq_gaps > 0)"),
                   0);
     }
 
@@ -178,8 +186,10 @@ TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
         store::Db blocker(db_, store::Db::Mode::kReadWrite);
         blocker.Exec("BEGIN IMMEDIATE");  // as another writer would, e.g. a long import
         Publish(2000);
-        ASSERT_TRUE(WaitStatus([&] { return status_.state == "db_blocked:locked_by_another_writer"; }))
-            << "state " << status_.state;
+        ASSERT_TRUE(WaitStatus([&] {
+            return status_.state == "db_blocked:locked_by_another_writer";
+        })) << "state "
+            << status_.state;
         EXPECT_GT(status_.extra["held_rows"], 0);
         Publish(500);  // still arriving while blocked
         EXPECT_EQ(Stored(), 200);
@@ -200,24 +210,26 @@ TEST_F(Fault, AtTheMemoryBoundWhatIsDroppedIsCountedInLosses) {
     // Held rows written out, not only the state word: a write still inside SQLite's busy wait
     // when the lock goes never reports a fault, so "recording" alone would let the next samples
     // arrive at a full queue.
-    ASSERT_TRUE(WaitStatus([&] {
-        return status_.state == "recording" && status_.extra["held_rows"] == 0;
-    }));
+    ASSERT_TRUE(WaitStatus(
+        [&] { return status_.state == "recording" && status_.extra["held_rows"] == 0; }));
     const int64_t after = seq_;
     Publish(10);  // after the release: a lost UDP packet before these shows as a seq gap
     const int64_t published = seq_;
     // These have room again: wait until they are committed, so none is still on its way at stop.
-    EXPECT_EQ(WaitForCount(db_, "SELECT count(*) FROM gyro_samples WHERE seq >= " +
-                                    std::to_string(after), 10, 30s),
-              10);
+    EXPECT_EQ(
+        WaitForCount(db_, "SELECT count(*) FROM gyro_samples WHERE seq >= " + std::to_string(after),
+                     10, 30s),
+        10);
     EXPECT_EQ(rec_->Stop(10s).code, 0);
     // Every sample is stored or counted: dropped at the bound (queue_drops) or, had the network
     // lost one, as a seq gap. The bound held: at most --queue-rows rows were kept meanwhile.
     const int64_t stored = Stored();
-    const int64_t dropped = Count(db_, "SELECT coalesce(sum(queue_drops), 0) FROM losses WHERE "
-                                       "run_id = 'RF' AND channel = 'GYRO_K'");
-    const int64_t gaps = Count(db_, "SELECT coalesce(sum(seq_gaps), 0) FROM losses WHERE "
-                                    "run_id = 'RF' AND channel = 'GYRO_K'");
+    const int64_t dropped = Count(db_,
+                                  "SELECT coalesce(sum(queue_drops), 0) FROM losses WHERE "
+                                  "run_id = 'RF' AND channel = 'GYRO_K'");
+    const int64_t gaps = Count(db_,
+                               "SELECT coalesce(sum(seq_gaps), 0) FROM losses WHERE "
+                               "run_id = 'RF' AND channel = 'GYRO_K'");
     EXPECT_GT(dropped, 0);
     EXPECT_EQ(stored + dropped + gaps, published);
     EXPECT_LE(stored, 100 + 1000 + 10);
@@ -272,8 +284,8 @@ TEST(FaultAtStart, ADatabaseOnAReadOnlyFileSystemIsAClearErrorAndExitTwo) {
     { store::StoreWriter w(db, {}); }  // a valid gyrocal database, then the mount goes read-only
     ASSERT_EQ(ScratchMount::Run("mount -o remount,ro " + m.dir()), "");
     const std::string err_path = FreshDbPath("fault_rostart.err");  // not on the read-only mount
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
-                      "--lcm-url", UrlForPort(7854)},
+    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url",
+                      UrlForPort(7854)},
                      "", err_path);
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st.has_value());

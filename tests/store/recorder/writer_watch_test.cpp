@@ -1,9 +1,9 @@
 // WriterWatch: the recorder's STATUS state and log lines through a storage fault, from a
 // sequence of AsyncWriter stats (GIVEN a time line, THEN what is said when).
+#include "writer_watch.hpp"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-
-#include "writer_watch.hpp"
 
 namespace gyrocal::record {
 namespace {

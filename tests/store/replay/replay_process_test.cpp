@@ -74,7 +74,8 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
     // (< 100 ms) plus scheduling on a loaded machine (300 ms); never shorter than the span/4.
     const auto t0 = std::chrono::steady_clock::now();
     ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", src,
-                         "--speed", "4", "--lcm-url", url}, "", dst + ".replay.err");
+                         "--speed", "4", "--lcm-url", url},
+                        "", dst + ".replay.err");
     const auto st = replay.Wait(20s);
     const auto took = std::chrono::steady_clock::now() - t0;
     ASSERT_TRUE(st && st->exited && st->code == 0);
@@ -82,17 +83,21 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
     EXPECT_LE(took, std::chrono::microseconds(kSpanUs / 4) + 400ms);
 
     EXPECT_EQ(WaitForCount(dst, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR'",
-                           2 * kSamples, 10s), 2 * kSamples);
+                           2 * kSamples, 10s),
+              2 * kSamples);
     EXPECT_EQ(r.rec.Stop().code, 0);
     EXPECT_EQ(Count(dst, "SELECT count(*) FROM encoder_samples WHERE run_id = 'RR'"), kSamples);
     EXPECT_EQ(Count(dst, "SELECT count(*) FROM chamber_states WHERE run_id = 'RR'"), 1);
-    EXPECT_EQ(Count(dst, "SELECT count(*) FROM runs WHERE run_id = 'RR' AND outcome = 'stop' "
-                         "AND config_json = '{\"k\":1}'"), 1);
+    EXPECT_EQ(Count(dst,
+                    "SELECT count(*) FROM runs WHERE run_id = 'RR' AND outcome = 'stop' "
+                    "AND config_json = '{\"k\":1}'"),
+              1);
     // Same values: seq, utime, gyro_v of every sample; NaN supply is NaN (NULL) again.
     store::Db a(src, store::Db::Mode::kReadOnly);
     store::Db b(dst, store::Db::Mode::kReadOnly);
-    const char* q = "SELECT sensor_id, seq, utime, gyro_v, supply_v IS NULL FROM gyro_samples "
-                    "ORDER BY sensor_id, seq";
+    const char* q =
+        "SELECT sensor_id, seq, utime, gyro_v, supply_v IS NULL FROM gyro_samples "
+        "ORDER BY sensor_id, seq";
     store::Stmt sa(a, q), sb(b, q);
     int64_t compared = 0;
     while (sa.Step()) {
@@ -120,11 +125,12 @@ TEST(Replay, AsRunKeepsAReplayIntoTheSameDatabaseApart) {
     const auto st = replay.Wait(20s);
     ASSERT_TRUE(st && st->exited && st->code == 0);
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR-replay'",
-                           2 * kSamples, 10s), 2 * kSamples);
+                           2 * kSamples, 10s),
+              2 * kSamples);
     EXPECT_EQ(r.rec.Stop().code, 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR'"), 2 * kSamples);
-    EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'RR-replay' AND outcome = 'stop'"),
-              1);
+    EXPECT_EQ(
+        Count(db, "SELECT count(*) FROM runs WHERE run_id = 'RR-replay' AND outcome = 'stop'"), 1);
 }
 
 TEST(Replay, UnknownRunAndBadOptions) {

@@ -17,7 +17,8 @@ double Poly(const std::vector<double>& c, double temp_c) {
     return v;
 }
 
-store::ModelRow Model(const std::string& quantity, const std::vector<double>& c, const std::string& method) {
+store::ModelRow Model(const std::string& quantity, const std::vector<double>& c,
+                      const std::string& method) {
     store::ModelRow m;
     m.quantity = quantity;
     const std::vector<std::string> names = {"1", "dT", "dT^2"};
@@ -45,9 +46,11 @@ store::RunEventRow Event(const std::string& ev, int64_t utime) {
     e.sensor_ids = {"S01", "S02"};
     e.software_version = "v9.9-fixture";
     e.config_json = std::string(R"({"source":"csv","input":"/lab/run7.csv","input_sha256":")") +
-                    std::string(64, 'a') + R"(","plateau_slow_noise_dps":0.01,"acceptance_limits":)" + kLimitsJson +
+                    std::string(64, 'a') +
+                    R"(","plateau_slow_noise_dps":0.01,"acceptance_limits":)" + kLimitsJson +
                     R"(,"acceptance_limits_file":"/lab/limits.json"})";
-    e.command_line = "gyrocal calibrate --source csv --input /lab/run7.csv --limits /lab/limits.json";
+    e.command_line =
+        "gyrocal calibrate --source csv --input /lab/run7.csv --limits /lab/limits.json";
     e.host = "daq-pc";
     e.recv_utime = utime;
     return e;
@@ -130,8 +133,10 @@ void WriteReportDb(const std::string& path) {
     a.command_line = "gyrocal analyze R7";
     a.verdict = "missing effect: supply";
     a.outcome = "partly explained";
-    a.candidates_json = R"([{"effect":"supply","term":"supply","statistic":61.5,"cv_gain":0.2,"decision":"added"}])";
-    a.added_json = R"([{"effect":"supply","term":"supply","coefficient":0.004,"stderr":0.0002,"unit":"V/V"}])";
+    a.candidates_json =
+        R"([{"effect":"supply","term":"supply","statistic":61.5,"cv_gain":0.2,"decision":"added"}])";
+    a.added_json =
+        R"([{"effect":"supply","term":"supply","coefficient":0.004,"stderr":0.0002,"unit":"V/V"}])";
     SetErrors(a, {2e-4, 5e-5}, {0.035, 0.009}, {80, 20});
     a.floor_rate_rms_dps = 0.006;
     a.result_json = R"({"could_not_test":["warmup: the run is shorter than 10 tau"],)"

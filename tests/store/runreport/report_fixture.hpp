@@ -18,8 +18,9 @@ inline constexpr const char* kLimitsJson =
     R"("min_plateaus":5,"min_turns":9,"no_unexplained_residual":true})";
 inline constexpr const char* kRefusal = "<b>angle</b> 87.1 deg is not within 1 deg of 90";
 inline constexpr double kSlowNoiseDps = 0.01;
-inline const std::vector<double> kOffset = {2.5, 4e-4, 6e-6};  // about 25 degC [V, V/degC, V/degC^2]
-inline const std::vector<double> kSens = {0.0057, 2e-6};       // [V/(deg/s), ../degC]
+inline const std::vector<double> kOffset = {2.5, 4e-4,
+                                            6e-6};        // about 25 degC [V, V/degC, V/degC^2]
+inline const std::vector<double> kSens = {0.0057, 2e-6};  // [V/(deg/s), ../degC]
 inline const std::vector<double> kPlateauTemps = {-40, -10, 25, 55, 85};
 inline const std::vector<double> kResidualSigmas = {0.5, -0.5, 1, -1, 0};
 inline constexpr double kSemV = 4e-5;

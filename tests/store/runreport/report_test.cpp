@@ -40,7 +40,8 @@ std::string Slurp(const fs::path& p) {
 class Report : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        dir_ = new fs::path(fs::temp_directory_path() / ("gyrocal_runreport_" + std::to_string(::getpid())));
+        dir_ = new fs::path(fs::temp_directory_path() /
+                            ("gyrocal_runreport_" + std::to_string(::getpid())));
         fs::remove_all(*dir_);
         fs::create_directories(*dir_);
         db_ = new std::string((*dir_ / "report.db").string());
@@ -145,11 +146,14 @@ TEST_F(Report, AcceptanceUsesTheLimitsStoredWithTheRun) {
     EXPECT_EQ(s01.outcome, Outcome::kFail);
     const acceptance::UnitVerdict& s02 = a.verdicts[1];
     EXPECT_EQ(s02.outcome, Outcome::kFail);
-    for (size_t i = 0; i < 4; ++i) EXPECT_EQ(s02.checks[i].outcome, Outcome::kFail) << s02.checks[i].key;
+    for (size_t i = 0; i < 4; ++i)
+        EXPECT_EQ(s02.checks[i].outcome, Outcome::kFail) << s02.checks[i].key;
     EXPECT_EQ(s02.checks[4].outcome, Outcome::kNotEvaluated);  // no analysis of S02
     const std::string text = AcceptanceText(a);
-    EXPECT_NE(text.find("S02: FAIL: max_residual_rms_over_floor failed (no coefficient set for this unit)"),
-              std::string::npos)
+    EXPECT_NE(
+        text.find(
+            "S02: FAIL: max_residual_rms_over_floor failed (no coefficient set for this unit)"),
+        std::string::npos)
         << text;
     EXPECT_NE(
         text.find("no_unexplained_residual failed (partly explained: missing effect: supply)"),
@@ -161,8 +165,8 @@ TEST_F(Report, AcceptanceUsesTheLimitsStoredWithTheRun) {
 // version does not know, or NULL (stored before outcomes existed). The limit is "not evaluated"
 // and says which, whatever the headline reads ("missing effect: supply" here).
 TEST(ReportOldDb, AnUnknownOrMissingStoredOutcomeIsNotEvaluatedAndNamed) {
-    const fs::path path = fs::temp_directory_path() /
-                          ("gyrocal_runreport_old_" + std::to_string(::getpid()) + ".db");
+    const fs::path path =
+        fs::temp_directory_path() / ("gyrocal_runreport_old_" + std::to_string(::getpid()) + ".db");
     for (const char* ext : {"", "-wal", "-shm"}) fs::remove(path.string() + ext);
     testing::WriteReportDb(path.string());
     const auto s01_check = [&](const char* update) {
@@ -203,8 +207,9 @@ TEST_F(Report, StoredLimitsThatDoNotValidateAreReportedNotIgnored) {
 
 TEST(Traceability, SourceOfEachKindOfRun) {
     store::RunInfo r;
-    r.config_json = R"({"source":"sim","seed":7,"noise_seed":0,"preset":"613","sensors":2,"effects":["supply=0.05"],)"
-                    R"("profile":"five","plateau_slow_noise_dps":0.0153194807})";
+    r.config_json =
+        R"({"source":"sim","seed":7,"noise_seed":0,"preset":"613","sensors":2,"effects":["supply=0.05"],)"
+        R"("profile":"five","plateau_slow_noise_dps":0.0153194807})";
     DataSource s = SourceOf(r);
     EXPECT_EQ(s.kind, "simulated rig");
     const auto has = [&](const std::string& label, const std::string& value) {
@@ -236,7 +241,9 @@ class ReportPage : public Report {
 protected:
     void SetUp() override {
         gnuplot_ = plot::FindOnPath("gnuplot");
-        if (gnuplot_.empty()) GTEST_SKIP() << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
+        if (gnuplot_.empty())
+            GTEST_SKIP()
+                << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
     }
     std::string gnuplot_;
 };
@@ -256,14 +263,18 @@ TEST_F(ReportPage, IsSelfContainedAndCarriesTheRunsNumbers) {
     EXPECT_EQ(page.find("<script"), std::string::npos);
     EXPECT_EQ(page.find("<link"), std::string::npos);
     EXPECT_EQ(page.find(" src="), std::string::npos);
-    EXPECT_NE(page.find("Content-Security-Policy\" content=\"default-src 'none'"), std::string::npos);
+    EXPECT_NE(page.find("Content-Security-Policy\" content=\"default-src 'none'"),
+              std::string::npos);
     const std::regex url(R"(https?://([^/"' ]+))");
-    for (auto it = std::sregex_iterator(page.begin(), page.end(), url); it != std::sregex_iterator(); ++it)
-        EXPECT_EQ((*it)[1], "www.w3.org") << "only XML namespace names, never a fetch: " << (*it)[0];
+    for (auto it = std::sregex_iterator(page.begin(), page.end(), url);
+         it != std::sregex_iterator(); ++it)
+        EXPECT_EQ((*it)[1], "www.w3.org")
+            << "only XML namespace names, never a fetch: " << (*it)[0];
     EXPECT_NE(page.find("@media print"), std::string::npos);
     // Figures: S01 offset, sensitivity, two offset residuals, sensitivity residual; S02 its points.
     const std::regex figure_re("<svg data-figure=\"([a-z0-9_]+)\"");
-    const auto figures = std::distance(std::sregex_iterator(page.begin(), page.end(), figure_re), std::sregex_iterator());
+    const auto figures = std::distance(std::sregex_iterator(page.begin(), page.end(), figure_re),
+                                       std::sregex_iterator());
     EXPECT_EQ(figures, 6);
     EXPECT_EQ(r.figures, 6);
     // The calibration's coefficients as stored, in the table of S01.
@@ -291,12 +302,17 @@ TEST_F(ReportPage, IsSelfContainedAndCarriesTheRunsNumbers) {
     // What this run does not have is one line, never an empty box: for both units Allan deviation,
     // repeatability and validation; for S02 also the analysis and the residuals.
     for (const char* part : {"allan", "repeatability", "validation"}) {
-        const std::regex re(std::string("data-part=\"") + part + "\">\\n<h3>[^<]+</h3>\\n<p class=\"not-measured\">");
-        EXPECT_EQ(std::distance(std::sregex_iterator(page.begin(), page.end(), re), std::sregex_iterator()), 2) << part;
+        const std::regex re(std::string("data-part=\"") + part +
+                            "\">\\n<h3>[^<]+</h3>\\n<p class=\"not-measured\">");
+        EXPECT_EQ(std::distance(std::sregex_iterator(page.begin(), page.end(), re),
+                                std::sregex_iterator()),
+                  2)
+            << part;
     }
     const size_t s02 = page.find("<section class=\"unit\" id=\"u2\"");
     ASSERT_NE(s02, std::string::npos);
-    EXPECT_NE(page.find("Not measured in this run (no analysis: gyrocal analyze R7)", s02), std::string::npos);
+    EXPECT_NE(page.find("Not measured in this run (no analysis: gyrocal analyze R7)", s02),
+              std::string::npos);
 }
 
 TEST_F(ReportPage, CommandWritesThePageAndPrintsTheOutcomePerUnit) {
@@ -306,7 +322,8 @@ TEST_F(ReportPage, CommandWritesThePageAndPrintsTheOutcomePerUnit) {
     o.out_dir = (*dir_ / "pages").string();  // created: its parent exists
     std::ostringstream out, err;
     ASSERT_EQ(cli::RunReport(o, out, err), 0) << err.str();
-    EXPECT_NE(out.str().find("report: " + (*dir_ / "pages" / "report-R7.html").string()), std::string::npos)
+    EXPECT_NE(out.str().find("report: " + (*dir_ / "pages" / "report-R7.html").string()),
+              std::string::npos)
         << out.str();
     EXPECT_NE(out.str().find("S01: FAIL"), std::string::npos) << out.str();
     // Other limits for this report only: every limit S01 meets.
@@ -319,7 +336,8 @@ TEST_F(ReportPage, CommandWritesThePageAndPrintsTheOutcomePerUnit) {
     const nlohmann::json j = nlohmann::json::parse(out.str());
     EXPECT_EQ(j["units"][0]["outcome"], "pass");
     EXPECT_EQ(j["units"][1]["outcome"], "FAIL");
-    EXPECT_NE(j["limits_origin"].get<std::string>().find("not stored with the run"), std::string::npos);
+    EXPECT_NE(j["limits_origin"].get<std::string>().find("not stored with the run"),
+              std::string::npos);
 }
 
 TEST_F(Report, CommandRefusesBadInputsNamingThem) {
@@ -332,12 +350,15 @@ TEST_F(Report, CommandRefusesBadInputsNamingThem) {
     std::ofstream(bad) << R"({"min_turns": "ten"})";
     o.limits_file = bad.string();
     EXPECT_EQ(cli::RunReport(o, out, err), 2);
-    EXPECT_NE(err.str().find("key 'min_turns': expected a whole number >= 1, got string"), std::string::npos) << err.str();
+    EXPECT_NE(err.str().find("key 'min_turns': expected a whole number >= 1, got string"),
+              std::string::npos)
+        << err.str();
     o.limits_file.clear();
     err.str("");
     o.out_dir = "/nonexistent_gyrocal_parent/pages";
     EXPECT_EQ(cli::RunReport(o, out, err), 2);
-    EXPECT_NE(err.str().find("parent directory '/nonexistent_gyrocal_parent' does not exist"), std::string::npos)
+    EXPECT_NE(err.str().find("parent directory '/nonexistent_gyrocal_parent' does not exist"),
+              std::string::npos)
         << err.str();
     o.out_dir = dir_->string();
     err.str("");

@@ -64,7 +64,8 @@ public:
     // The volts the DAQ reports for a line at v read through `divider`.
     double Read(double v, double divider) const {
         if (o_.bits == 0) return v;
-        const double code = std::clamp(std::floor(v * divider / o_.vref_v * levels_), 0.0, levels_ - 1);
+        const double code =
+            std::clamp(std::floor(v * divider / o_.vref_v * levels_), 0.0, levels_ - 1);
         return (code + 0.5) * o_.vref_v / levels_ / divider;
     }
 
@@ -169,8 +170,8 @@ Generated Generate(const Options& o, std::ostream& csv) {
                     RateNoise(o.noise, o.sample_rate_hz, Stream(noise_seed, 100 + u)),
                     std::mt19937_64(Stream(noise_seed, 200 + u))};
         s.path = ThermalPath{o.profile.start_c, o.profile.start_c, o.profile.start_c};
-        s.lpf1 = s.lpf2 = s.truth.OffsetV(o.profile.start_c) + o.effects.warmup_v +
-                          o.effects.OutsideV(0.0);
+        s.lpf1 = s.lpf2 =
+            s.truth.OffsetV(o.profile.start_c) + o.effects.warmup_v + o.effects.OutsideV(0.0);
         units.push_back(std::move(s));
     }
     std::mt19937_64 aux(Stream(noise_seed, 2));
@@ -198,17 +199,16 @@ Generated Generate(const Options& o, std::ostream& csv) {
         for (UnitState& s : units) {
             if (k > 0) s.path.Advance(o.thermal, s.truth.self_heating_c, air, dt);
             const double die = s.path.die_c;
-            const double x = s.truth.OffsetV(die) +
-                             s.truth.SensitivityVPerDps(die) * (rate + s.noise.Next()) +
-                             o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
-                             o.effects.gradient_v_per_c *
-                                 (s.path.board_c + s.truth.self_heating_c - die) +
-                             o.effects.supply_v_per_v * (supply - o.supply.nominal_v) +
-                             o.effects.OutsideV(t) +
-                             tl.DisturbanceAt(s.truth.sensor_id, t);
+            const double x =
+                s.truth.OffsetV(die) + s.truth.SensitivityVPerDps(die) * (rate + s.noise.Next()) +
+                o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
+                o.effects.gradient_v_per_c * (s.path.board_c + s.truth.self_heating_c - die) +
+                o.effects.supply_v_per_v * (supply - o.supply.nominal_v) + o.effects.OutsideV(t) +
+                tl.DisturbanceAt(s.truth.sensor_id, t);
             s.lpf1 += alpha * (x - s.lpf1);
             s.lpf2 += alpha * (s.lpf1 - s.lpf2);
-            const double gyro_v = adc.Read(std::clamp(s.lpf2, kRailLowV, kRailHighV), o.adc.divider);
+            const double gyro_v =
+                adc.Read(std::clamp(s.lpf2, kRailLowV, kRailHighV), o.adc.divider);
             const double temp_v =
                 adc.Read(s.truth.temp_v_at_25c + s.truth.temp_v_per_c * (s.path.line_c - 25.0) +
                              o.noise.temp_line_noise_v * normal(s.rng),

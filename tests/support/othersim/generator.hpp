@@ -14,11 +14,11 @@ namespace gyrocal::othersim {
 
 struct DwellSpan {
     int index = 0;
-    double setpoint_c = 0;    // [degC]
-    double ramp_start_s = 0;  // [s] its ramp begins
-    double start_s = 0;       // [s] the ramp reference reached the setpoint
+    double setpoint_c = 0;     // [degC]
+    double ramp_start_s = 0;   // [s] its ramp begins
+    double start_s = 0;        // [s] the ramp reference reached the setpoint
     double turns_start_s = 0;  // [s] the first turn begins (= end_s when no turns)
-    double end_s = 0;         // [s] the next ramp may begin
+    double end_s = 0;          // [s] the next ramp may begin
 };
 
 struct TurnSpan {
@@ -47,9 +47,9 @@ struct Timeline {
     };
     std::vector<Ramp> ramps;
 
-    double ReferenceAt(double t_s) const;  // [degC] the chamber controller's reference
-    double TableAt(double t_s) const;      // [deg] the table's true angle
-    double TableRateAt(double t_s) const;  // [deg/s]
+    double ReferenceAt(double t_s) const;    // [degC] the chamber controller's reference
+    double TableAt(double t_s) const;        // [deg] the table's true angle
+    double TableRateAt(double t_s) const;    // [deg/s]
     double EncoderLossAt(double t_s) const;  // [deg] what slips have taken from the encoder
     double DisturbanceAt(const std::string& sensor_id, double t_s) const;  // [V]
 };

@@ -5,8 +5,8 @@
 #include <exception>
 
 #include "cli.hpp"
-#include "runtime/process_main.hpp"
 #include "generator.hpp"
+#include "runtime/process_main.hpp"
 
 int main(int argc, char** argv) {
     using namespace gyrocal::othersim;
@@ -30,9 +30,10 @@ int main(int argc, char** argv) {
     if (gyrocal::CheckOnly()) return 0;  // GYROCAL_CHECK_ONLY=1: the command line is valid
     try {
         const Generated g = WriteRun(o, v.out, v.truth_out);
-        std::printf("gyrocal-othersim: %lld rows, %.0f s of data, %zu dwells, %zu turns -> %s, %s\n",
-                    static_cast<long long>(g.rows), g.timeline.duration_s, g.timeline.dwells.size(),
-                    g.timeline.turns.size(), v.out.c_str(), v.truth_out.c_str());
+        std::printf(
+            "gyrocal-othersim: %lld rows, %.0f s of data, %zu dwells, %zu turns -> %s, %s\n",
+            static_cast<long long>(g.rows), g.timeline.duration_s, g.timeline.dwells.size(),
+            g.timeline.turns.size(), v.out.c_str(), v.truth_out.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "gyrocal-othersim: %s\n", e.what());
         return 1;

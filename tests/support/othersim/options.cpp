@@ -99,8 +99,8 @@ std::string FaultProblem(const Options& o) {
     for (const Step& s : o.profile.steps) turns += s.turns ? 2 : 0;
     for (const Slip& s : o.faults.slips) {
         if (s.turn_index < 0 || s.turn_index >= turns)
-            return "--slip: turn " + std::to_string(s.turn_index) + " is not a turn of the run (0.." +
-                   std::to_string(turns - 1) + ")";
+            return "--slip: turn " + std::to_string(s.turn_index) +
+                   " is not a turn of the run (0.." + std::to_string(turns - 1) + ")";
         if (!In(s.slip_deg, 0.001, 0.5 * o.profile.turn_deg))
             return "--slip: slip must be in (0, half the turn] deg";
     }

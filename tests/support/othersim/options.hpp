@@ -34,12 +34,12 @@ struct Step {
 
 struct ProfileOptions {
     std::vector<Step> steps;
-    double start_c = 25.0;          // [degC] room temperature at power-on (air, board, die)
-    double lead_in_s = 60.0;        // [s] powered at room temperature before the first ramp
-    double ramp_c_per_min = 2.0;    // [degC/min] ramp of the controller's reference
-    double turn_deg = 90.0;         // [deg] each turn (+ then -)
-    double turn_rate_dps = 45.0;    // [deg/s] cruise rate
-    double turn_accel_dps2 = 90.0;  // [deg/s^2]
+    double start_c = 25.0;               // [degC] room temperature at power-on (air, board, die)
+    double lead_in_s = 60.0;             // [s] powered at room temperature before the first ramp
+    double ramp_c_per_min = 2.0;         // [degC/min] ramp of the controller's reference
+    double turn_deg = 90.0;              // [deg] each turn (+ then -)
+    double turn_rate_dps = 45.0;         // [deg/s] cruise rate
+    double turn_accel_dps2 = 90.0;       // [deg/s^2]
     double pause_between_turns_s = 8.0;  // [s] at rest between the + and the - turn
     double rest_after_turns_s = 8.0;     // [s] at rest after the pair, before the next ramp
     double tail_s = 30.0;                // [s] recorded after the last step
@@ -57,60 +57,60 @@ struct ThermalOptions {
 };
 
 struct NoiseOptions {
-    double white_dps_rthz = 0.04;  // [deg/s/sqrt(Hz)] white rate noise (Allan rho / sqrt(tau))
-    double flicker_dps = 0.007;    // [deg/s] flat Allan deviation level of the OU bank
-    double rrw_dps_rts = 3e-5;     // [deg/s/sqrt(s)] rate random walk
-    double lpf_hz = 35.0;          // [Hz] corner of each of the two output poles
+    double white_dps_rthz = 0.04;       // [deg/s/sqrt(Hz)] white rate noise (Allan rho / sqrt(tau))
+    double flicker_dps = 0.007;         // [deg/s] flat Allan deviation level of the OU bank
+    double rrw_dps_rts = 3e-5;          // [deg/s/sqrt(s)] rate random walk
+    double lpf_hz = 35.0;               // [Hz] corner of each of the two output poles
     double temp_line_noise_v = 0.0004;  // [V] white noise on the temperature line (1 sigma)
 };
 
 struct AdcOptions {
-    int bits = 12;            // [bits] 0 = write the analog volts unquantised
-    double vref_v = 4.096;    // [V] full scale
-    double divider = 0.8;     // [1] gyro and temperature lines are read through this divider
+    int bits = 12;                // [bits] 0 = write the analog volts unquantised
+    double vref_v = 4.096;        // [V] full scale
+    double divider = 0.8;         // [1] gyro and temperature lines are read through this divider
     double supply_divider = 0.5;  // [1] supply read through this divider
 };
 
 struct SupplyOptions {
-    bool write = true;              // write the supply_v column
-    double nominal_v = 5.0;         // [V]
-    double wander_v = 0.02;         // [V] slow OU wander (1 sigma)
-    double wander_tau_s = 900.0;    // [s]
-    double read_noise_v = 0.001;    // [V] measurement noise
+    bool write = true;            // write the supply_v column
+    double nominal_v = 5.0;       // [V]
+    double wander_v = 0.02;       // [V] slow OU wander (1 sigma)
+    double wander_tau_s = 900.0;  // [s]
+    double read_noise_v = 0.001;  // [V] measurement noise
 };
 
 // How units differ (1 sigma, or scales of their draws).
 struct SpreadOptions {
-    double null_sd_v = 0.04;             // [V] offset at 25 degC about 2.5 V
-    double slope_sd_v = 0.02;            // [V] offset change per 50 degC (linear part)
-    double curve_sd_v = 0.004;           // [V] quadratic part at +-50 degC
-    double cubic_sd_v = 0.0015;          // [V] cubic part at +-50 degC
-    double cold_bend_sd_v = 0.002;       // [V] exponential part at the cold end
-    double cold_bend_c = 15.0;           // [degC] its e-folding temperature above -40 degC
+    double null_sd_v = 0.04;                // [V] offset at 25 degC about 2.5 V
+    double slope_sd_v = 0.02;               // [V] offset change per 50 degC (linear part)
+    double curve_sd_v = 0.004;              // [V] quadratic part at +-50 degC
+    double cubic_sd_v = 0.0015;             // [V] cubic part at +-50 degC
+    double cold_bend_sd_v = 0.002;          // [V] exponential part at the cold end
+    double cold_bend_c = 15.0;              // [degC] its e-folding temperature above -40 degC
     double sens_nominal_v_per_dps = 0.006;  // [V/(deg/s)]
-    double sens_sd_frac = 0.025;         // [1] sensitivity at 25 degC
-    double sens_slope_sd_frac = 0.01;    // [1] relative change per 50 degC
-    double sens_curve_sd_frac = 0.003;   // [1] quadratic part at +-50 degC
-    double sens_cubic_sd_frac = 0.001;   // [1] cubic part at +-50 degC
-    double temp_offset_sd_c = 1.5;       // [degC] temperature output offset
-    double temp_gain_sd_frac = 0.01;     // [1] temperature output gain about 9 mV/K
+    double sens_sd_frac = 0.025;            // [1] sensitivity at 25 degC
+    double sens_slope_sd_frac = 0.01;       // [1] relative change per 50 degC
+    double sens_curve_sd_frac = 0.003;      // [1] quadratic part at +-50 degC
+    double sens_cubic_sd_frac = 0.001;      // [1] cubic part at +-50 degC
+    double temp_offset_sd_c = 1.5;          // [degC] temperature output offset
+    double temp_gain_sd_frac = 0.01;        // [1] temperature output gain about 9 mV/K
 };
 
 // Effects none of the pipeline's lists has to know about (0 = off).
 struct EffectOptions {
-    double warmup_v = 0.0003;         // [V] offset at power-on, decaying with warmup_tau_s
-    double warmup_tau_s = 300.0;      // [s]
-    double gradient_v_per_c = 0.0;    // [V/degC] offset += k * (board - die + self heating)
-    double supply_v_per_v = 0.0;      // [V/V] offset += k * (supply - nominal)
+    double warmup_v = 0.0003;       // [V] offset at power-on, decaying with warmup_tau_s
+    double warmup_tau_s = 300.0;    // [s]
+    double gradient_v_per_c = 0.0;  // [V/degC] offset += k * (board - die + self heating)
+    double supply_v_per_v = 0.0;    // [V/V] offset += k * (supply - nominal)
     // Outside any candidate list (README.md#effects-outside-the-list):
-    double drift_v_per_h = 0.0;       // [V/h] aging: offset += k * t (package stress relaxing)
-    double periodic_v = 0.0;          // [V] amplitude of an offset at periodic_s (the chamber
-    double periodic_s = 600.0;        //     compressor's duty cycle coupling through the mount)
-    double periodic_phase_rad = 0.0;  // [rad]
-    double step_v = 0.0;              // [V] offset step at step_at_s (a mount screw settling)
-    double step_at_s = 0.0;           // [s]
-    double warmup2_v = 0.0;           // [V] a second, slow warm-up exp(-t / warmup2_tau_s)
-    double warmup2_tau_s = 3000.0;    // [s] (the regulator board's thermal time constant)
+    double drift_v_per_h = 0.0;         // [V/h] aging: offset += k * t (package stress relaxing)
+    double periodic_v = 0.0;            // [V] amplitude of an offset at periodic_s (the chamber
+    double periodic_s = 600.0;          //     compressor's duty cycle coupling through the mount)
+    double periodic_phase_rad = 0.0;    // [rad]
+    double step_v = 0.0;                // [V] offset step at step_at_s (a mount screw settling)
+    double step_at_s = 0.0;             // [s]
+    double warmup2_v = 0.0;             // [V] a second, slow warm-up exp(-t / warmup2_tau_s)
+    double warmup2_tau_s = 3000.0;      // [s] (the regulator board's thermal time constant)
     double OutsideV(double t_s) const;  // [V] the sum of the four at time t_s
 };
 
@@ -142,8 +142,8 @@ struct Options {
     // from `seed`) with fresh noise, as a second run of the same units (a held-out run).
     uint64_t noise_seed = 0;
     int units = 2;
-    std::string id_prefix = "U";     // sensor ids U1, U2, ...
-    double sample_rate_hz = 100.0;   // [Hz] every unit and the encoder, sampled together
+    std::string id_prefix = "U";            // sensor ids U1, U2, ...
+    double sample_rate_hz = 100.0;          // [Hz] every unit and the encoder, sampled together
     double encoder_counts_per_rev = 14400;  // [count/rev] 3600 lines x4
     ProfileOptions profile;
     ThermalOptions thermal;

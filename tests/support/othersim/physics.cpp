@@ -12,7 +12,8 @@ double X(double die_c) { return (die_c - 25.0) / 50.0; }
 
 double UnitTruth::OffsetV(double die_c) const {
     const double x = X(die_c);
-    return null_v + a1 * x + a2 * x * x + a3 * x * x * x + bend_v * std::exp(-(die_c + 40.0) / bend_c);
+    return null_v + a1 * x + a2 * x * x + a3 * x * x * x +
+           bend_v * std::exp(-(die_c + 40.0) / bend_c);
 }
 
 double UnitTruth::SensitivityVPerDps(double die_c) const {
@@ -109,7 +110,8 @@ Chamber::Chamber(const ThermalOptions& o, double start_c, uint64_t seed)
 
 double Chamber::Advance(double dt_s, double reference_c) {
     // Semi-implicit Euler: stable for omega dt << 1 (here < 0.03).
-    const double acc = omega_ * omega_ * (reference_c - x_) - 2.0 * o_.chamber_damping * omega_ * v_;
+    const double acc =
+        omega_ * omega_ * (reference_c - x_) - 2.0 * o_.chamber_damping * omega_ * v_;
     v_ += acc * dt_s;
     x_ += v_ * dt_s;
     const double phi = std::exp(-dt_s / o_.air_wander_tau_s);

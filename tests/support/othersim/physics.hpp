@@ -18,10 +18,10 @@ namespace gyrocal::othersim {
 struct UnitTruth {
     std::string sensor_id;
     double null_v = 2.5, a1 = 0, a2 = 0, a3 = 0, bend_v = 0, bend_c = 15;  // [V], [degC]
-    double s0 = 0.006, b1 = 0, b2 = 0, b3 = 0;  // [V/(deg/s)], [1]
-    double temp_v_at_25c = 2.5;                 // [V]
-    double temp_v_per_c = 0.009;                // [V/degC]
-    double self_heating_c = 1.2;                // [degC]
+    double s0 = 0.006, b1 = 0, b2 = 0, b3 = 0;                             // [V/(deg/s)], [1]
+    double temp_v_at_25c = 2.5;                                            // [V]
+    double temp_v_per_c = 0.009;                                           // [V/degC]
+    double self_heating_c = 1.2;                                           // [degC]
     double OffsetV(double die_c) const;
     double SensitivityVPerDps(double die_c) const;
     // The die temperature at which the unit's temperature line reads temp_v.
@@ -37,8 +37,8 @@ std::vector<UnitTruth> DrawUnits(const Options& o);
 // Rate noise of one unit [deg/s]: white + a bank of OU processes (flicker) + random walk.
 class RateNoise {
 public:
-    static constexpr std::array<double, 8> kOuTauS = {0.5, 1.5, 4.5, 13.5, 40.5, 121.5, 364.5,
-                                                      1093.5};
+    static constexpr std::array<double, 8> kOuTauS = {0.5,  1.5,   4.5,   13.5,
+                                                      40.5, 121.5, 364.5, 1093.5};
     RateNoise(const NoiseOptions& o, double sample_rate_hz, uint64_t seed);
     double Next();
     // The flat Allan level of the bank with unit component sigma: the geometric mean of its Allan

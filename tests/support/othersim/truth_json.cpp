@@ -15,14 +15,23 @@ namespace {
 nlohmann::json UnitJson(const UnitTruth& u) {
     nlohmann::json j;
     j["sensor_id"] = u.sensor_id;
-    j["offset_v"] = {{"form", "null_v + a1 x + a2 x^2 + a3 x^3 + bend_v exp(-(T + 40)/bend_c), "
-                              "x = (T - 25)/50, T die [degC]"},
-                     {"null_v", u.null_v}, {"a1", u.a1}, {"a2", u.a2}, {"a3", u.a3},
-                     {"bend_v", u.bend_v}, {"bend_c", u.bend_c}};
+    j["offset_v"] = {{"form",
+                      "null_v + a1 x + a2 x^2 + a3 x^3 + bend_v exp(-(T + 40)/bend_c), "
+                      "x = (T - 25)/50, T die [degC]"},
+                     {"null_v", u.null_v},
+                     {"a1", u.a1},
+                     {"a2", u.a2},
+                     {"a3", u.a3},
+                     {"bend_v", u.bend_v},
+                     {"bend_c", u.bend_c}};
     j["sensitivity_v_per_dps"] = {{"form", "s0 (1 + b1 x + b2 x^2 + b3 x^3)"},
-                                  {"s0", u.s0}, {"b1", u.b1}, {"b2", u.b2}, {"b3", u.b3}};
+                                  {"s0", u.s0},
+                                  {"b1", u.b1},
+                                  {"b2", u.b2},
+                                  {"b3", u.b3}};
     j["temp_line"] = {{"form", "temp_v = v_at_25c + v_per_c (T_die - 25)"},
-                      {"v_at_25c", u.temp_v_at_25c}, {"v_per_c", u.temp_v_per_c}};
+                      {"v_at_25c", u.temp_v_at_25c},
+                      {"v_per_c", u.temp_v_per_c}};
     j["self_heating_c"] = u.self_heating_c;
     nlohmann::json table = nlohmann::json::array();
     for (int t = -60; t <= 150; ++t)
@@ -36,27 +45,39 @@ nlohmann::json UnitJson(const UnitTruth& u) {
 nlohmann::json TimelineJson(const Timeline& tl) {
     nlohmann::json dwells = nlohmann::json::array();
     for (const DwellSpan& d : tl.dwells)
-        dwells.push_back({{"index", d.index}, {"setpoint_c", d.setpoint_c},
-                          {"ramp_start_s", d.ramp_start_s}, {"start_s", d.start_s},
-                          {"turns_start_s", d.turns_start_s}, {"end_s", d.end_s}});
+        dwells.push_back({{"index", d.index},
+                          {"setpoint_c", d.setpoint_c},
+                          {"ramp_start_s", d.ramp_start_s},
+                          {"start_s", d.start_s},
+                          {"turns_start_s", d.turns_start_s},
+                          {"end_s", d.end_s}});
     nlohmann::json turns = nlohmann::json::array();
     for (const TurnSpan& s : tl.turns)
-        turns.push_back({{"index", s.index}, {"dwell_index", s.dwell_index},
-                         {"start_s", s.start_s}, {"end_s", s.end_s}, {"angle_deg", s.angle_deg}});
+        turns.push_back({{"index", s.index},
+                         {"dwell_index", s.dwell_index},
+                         {"start_s", s.start_s},
+                         {"end_s", s.end_s},
+                         {"angle_deg", s.angle_deg}});
     return {{"duration_s", tl.duration_s}, {"dwells", dwells}, {"turns", turns}};
 }
 
 nlohmann::json FaultsJson(const Timeline& tl) {
     nlohmann::json f = nlohmann::json::array();
     for (const DisturbanceSpan& d : tl.disturbances)
-        f.push_back({{"kind", "disturbance"}, {"dwell_index", d.dwell_index},
-                     {"sensor_id", d.sensor_id}, {"offset_v", d.offset_v}, {"start_s", d.start_s},
+        f.push_back({{"kind", "disturbance"},
+                     {"dwell_index", d.dwell_index},
+                     {"sensor_id", d.sensor_id},
+                     {"offset_v", d.offset_v},
+                     {"start_s", d.start_s},
                      {"end_s", d.end_s}});
     for (const TurnSpan& s : tl.turns)
         if (s.slip_deg > 0)
-            f.push_back({{"kind", "encoder_slip"}, {"turn_index", s.index},
-                         {"dwell_index", s.dwell_index}, {"slip_deg", s.slip_deg},
-                         {"start_s", s.slip_start_s}, {"end_s", s.slip_end_s}});
+            f.push_back({{"kind", "encoder_slip"},
+                         {"turn_index", s.index},
+                         {"dwell_index", s.dwell_index},
+                         {"slip_deg", s.slip_deg},
+                         {"start_s", s.slip_start_s},
+                         {"end_s", s.slip_end_s}});
     return f;
 }
 
@@ -69,8 +90,9 @@ nlohmann::json TruthJson(const Options& o, const Generated& g) {
     j["sample_rate_hz"] = o.sample_rate_hz;
     j["rows"] = g.rows;
     j["csv_temp_transfer"] = {
-        {"note", "the CSV has no temp_c: the importer's default 2.5 V at 25 degC, 9 mV/K maps "
-                 "temp_v to temp_c; temp_line maps temp_v to the die temperature"}};
+        {"note",
+         "the CSV has no temp_c: the importer's default 2.5 V at 25 degC, 9 mV/K maps "
+         "temp_v to temp_c; temp_line maps temp_v to the die temperature"}};
     nlohmann::json units = nlohmann::json::array();
     for (const UnitTruth& u : g.units) units.push_back(UnitJson(u));
     j["units"] = units;

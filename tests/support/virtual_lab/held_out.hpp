@@ -78,10 +78,9 @@ compensate::CompensatorOptions ClippedOptions();
 
 // Records the profile once and compensates it with every candidate. Throws on a bad profile or
 // rig config, or when a candidate's set is rejected by the compensator (what() says why).
-HeldOutResult EvaluateHeldOut(
-    const sim::RigConfig& rig, const HeldOutProfile& profile,
-    const std::vector<Candidate>& candidates,
-    const compensate::CompensatorOptions& options = ClippedOptions());
+HeldOutResult EvaluateHeldOut(const sim::RigConfig& rig, const HeldOutProfile& profile,
+                              const std::vector<Candidate>& candidates,
+                              const compensate::CompensatorOptions& options = ClippedOptions());
 
 // Figures of one error series (bins), NaN bins ignored.
 struct Score {

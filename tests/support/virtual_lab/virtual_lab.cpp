@@ -21,9 +21,10 @@ LabConfig LabConfig::For(const std::string& profile, fit::Method method) {
     const auto p = sequencer::NamedProfile(profile);
     if (!p) {
         std::string valid;
-        for (const std::string& n : sequencer::ProfileNames()) valid += (valid.empty() ? "" : ", ") + n;
-        throw std::invalid_argument("virtual lab: profile '" + profile + "' is unknown; valid: " +
-                                    valid);
+        for (const std::string& n : sequencer::ProfileNames())
+            valid += (valid.empty() ? "" : ", ") + n;
+        throw std::invalid_argument("virtual lab: profile '" + profile +
+                                    "' is unknown; valid: " + valid);
     }
     c.procedure.profile = *p;
     c.fitter.fit.method = method;
@@ -104,7 +105,10 @@ public:
 private:
     struct Sensor {
         Sensor(std::string sensor_id, const LabConfig& c)
-            : id(std::move(sensor_id)), detector(c.plateau), noise(c.noise), estimator(c.rotation) {}
+            : id(std::move(sensor_id)),
+              detector(c.plateau),
+              noise(c.noise),
+              estimator(c.rotation) {}
         std::string id;
         plateau::PlateauDetector detector;
         noise::NoiseTracker noise;
@@ -252,7 +256,8 @@ private:
             for (auto& s : sensors_) s->detector.OnSetpointEvent(r.setpoint_c);
         } else if (r.event == "stop" || r.event == "abort") {
             out_.last_point_utime = rig_.now_utime();
-            for (auto& s : sensors_) out_.noise[s->id] = ToNoiseMessage(s->id, run_id_, s->noise.Estimate());
+            for (auto& s : sensors_)
+                out_.noise[s->id] = ToNoiseMessage(s->id, run_id_, s->noise.Estimate());
             run_id_.clear();
             for (auto& s : sensors_) s->detector.EndRun();
         }

@@ -31,11 +31,11 @@
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
-#include "motion/table_motion.hpp"
-#include "noise/noise_tracker.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "model/convert.hpp"
+#include "motion/table_motion.hpp"
+#include "noise/noise_tracker.hpp"
 #include "plateau_detector.hpp"
 #include "procedure.hpp"
 #include "rotation_estimator.hpp"
@@ -50,7 +50,7 @@ struct LabConfig {
     plateau::PlateauConfig plateau = plateau::PlateauConfig::Defaults();
     motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
     double motion_guard_s = motion::kDefaultGuardS;  // [s] as gyrocal-plateau's --motion-guard-s
-    double encoder_stale_s = 2.0;  // [s] as gyrocal-plateau's --encoder-stale-s
+    double encoder_stale_s = 2.0;                    // [s] as gyrocal-plateau's --encoder-stale-s
     noise::TrackerConfig noise = noise::TrackerConfig::Defaults();  // as gyrocal-plateau's
     rotation::RotationConfig rotation = rotation::RotationConfig::Defaults();
     fitter::CoreOptions fitter = fitter::CoreOptions::Defaults();
@@ -76,8 +76,8 @@ struct RunResult {
     std::vector<std::string> notes;  // skipped moves etc. (procedure notes)
     std::vector<gyrocal::plateau_t> plateaus;                      // every plateau, in order
     std::vector<gyrocal::sensitivity_point_t> sensitivity_points;  // every point, accepted or not
-    std::vector<gyrocal::coeff_set_t> published;  // every set the fitter core emitted, in order
-    std::vector<gyrocal::fit_report_t> reports;   // every report, in order
+    std::vector<gyrocal::coeff_set_t> published;    // every set the fitter core emitted, in order
+    std::vector<gyrocal::fit_report_t> reports;     // every report, in order
     std::map<std::string, gyrocal::noise_t> noise;  // the last NOISE of each sensor
     std::map<std::string, model::CoeffSet> final_sets;  // the newest set of each sensor (the
                                                         // fitter core's or the ramp fitter's)

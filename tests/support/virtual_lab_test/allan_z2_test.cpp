@@ -72,8 +72,8 @@ Z2 Seeds(const std::string& profile, fit::Method method, int seeds, double slow_
 TEST(AllanSlowNoise, DefaultProfileUncertaintiesAreHonestWithoutAHandGivenValue) {
     const Z2 with = Seeds("six", fit::Method::kAuto, 20, -1.0);
     const double tol = 4.0 * std::sqrt(2.0 / with.units);
-    std::printf("[ allan ] six, auto: mean z^2 %.3f over %d units (tolerance +-%.2f)\n", with.Mean(),
-                with.units, tol);
+    std::printf("[ allan ] six, auto: mean z^2 %.3f over %d units (tolerance +-%.2f)\n",
+                with.Mean(), with.units, tol);
     EXPECT_NEAR(with.Mean(), 1.0, tol);
 }
 
@@ -81,9 +81,10 @@ TEST(AllanSlowNoise, ThreePointFitsAreHonestOnlyWithTheSlowNoise) {
     const Z2 with = Seeds("seed3", fit::Method::kThreePoint, 20, -1.0);
     const Z2 without = Seeds("seed3", fit::Method::kThreePoint, 20, 0.0);
     const double tol = 4.0 * std::sqrt(2.0 / with.units);
-    std::printf("[ allan ] seed3, 3point: mean z^2 %.3f with the Allan-derived slow noise, %.3f "
-                "without, over %d units (tolerance +-%.2f)\n",
-                with.Mean(), without.Mean(), with.units, tol);
+    std::printf(
+        "[ allan ] seed3, 3point: mean z^2 %.3f with the Allan-derived slow noise, %.3f "
+        "without, over %d units (tolerance +-%.2f)\n",
+        with.Mean(), without.Mean(), with.units, tol);
     EXPECT_NEAR(with.Mean(), 1.0, tol);
     // without it the claimed errors are the window's alone: (0.0065^2 + 0.015^2) / 0.0065^2 ~ 6
     EXPECT_GT(without.Mean(), 3.0);

@@ -120,7 +120,7 @@ double VisibleEffectRms(const SimRun& s) {
 struct Outcome {
     double after = NAN, truth = NAN, prediction = NAN;
     std::string added;
-    std::string report;  // the analysis' report, for a failure's message
+    std::string report;              // the analysis' report, for a failure's message
     bool flagged = false;            // the analysis said something is left (or two shapes tie)
     bool named = false;              // the switched-on effect is among the added terms
     bool named_in_tie = false;       // or named in an ambiguity (the data could not tell it apart)
@@ -232,12 +232,14 @@ void RunEffect(const char* effect, double value) {
         // beyond it only when the verdict says something is left or ties.
         EXPECT_TRUE(o.after <= noise_bound || o.flagged)
             << effect << " seed " << seed << ": extended " << o.after
-            << " deg/s above the noise bound " << noise_bound << " and the analysis did not say so\n"
+            << " deg/s above the noise bound " << noise_bound
+            << " and the analysis did not say so\n"
             << o.report;
         if (!listed) {
             EXPECT_LE(o.after, 1.2 * o.truth)
                 << effect << " seed " << seed << ": extended " << o.after << " deg/s, true model "
-                << o.truth << " deg/s\n" << o.report;
+                << o.truth << " deg/s\n"
+                << o.report;
         }
     }
     std::printf("[ held-out ] %-12s within 1.2x of the true model on %d of %d seeds\n", effect,

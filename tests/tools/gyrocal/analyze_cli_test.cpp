@@ -162,7 +162,8 @@ TEST(AnalyzeCliOutside, AnUnexplainedResidualIsStoredWithoutAModel) {
     std::ostringstream out, err;
     ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
     // THEN the verdict says so, names no candidate, and no extended model is stored
-    EXPECT_NE(out.str().find("sensor S01: missing effect (unexplained residual)"), std::string::npos)
+    EXPECT_NE(out.str().find("sensor S01: missing effect (unexplained residual)"),
+              std::string::npos)
         << out.str();
     EXPECT_NE(out.str().find("correlates with"), std::string::npos) << out.str();
     EXPECT_NE(err.str().find("stored as analysis"), std::string::npos) << err.str();
@@ -186,7 +187,8 @@ TEST_F(AnalyzeCli, NoStoreLeavesTheDatabaseAlone) {
     auto db = st::OpenForQuery(*path_);
     const size_t before = st::ListAnalyses(*db, "R1").size();
     ASSERT_EQ(cli::RunAnalyze(o, out, err), 0) << err.str();
-    EXPECT_NE(out.str().find("sensor S01: missing effect: hysteresis, explained"), std::string::npos)
+    EXPECT_NE(out.str().find("sensor S01: missing effect: hysteresis, explained"),
+              std::string::npos)
         << out.str();
     EXPECT_EQ(st::ListAnalyses(*db, "R1").size(), before);
 }

@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "e2e_support.hpp"
 #include "launch/child_process.hpp"
 #include "sim/noise.hpp"
-#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -29,11 +29,31 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     // keep it to ~1 simulated hour. The temperature sensor lag is made negligible (0.1 s) so the
     // only effect the declared model lacks is the one switched on: with the default 15 s lag the
     // analysis rightly also finds temp_rate (the lag makes the offset follow dT/dt).
-    ChildProcess cal({GYROCAL_CLI, "calibrate", "--profile", "five", "--sensors", "1", "--seed", "11", "--speed", "30",
-                      "--db", db, "--lcm-url", UdpmUrl(7789), "--log-dir",
-                      dir + "/logs", "--quiet", "--effect", "supply=0.05", "--rig-arg=--package-tau-s=40",
-                      "--rig-arg=--ramp-c-per-min=10", "--rig-arg=--sensor-tau-s=0.1",
-                      "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "500"},
+    ChildProcess cal({GYROCAL_CLI,
+                      "calibrate",
+                      "--profile",
+                      "five",
+                      "--sensors",
+                      "1",
+                      "--seed",
+                      "11",
+                      "--speed",
+                      "30",
+                      "--db",
+                      db,
+                      "--lcm-url",
+                      UdpmUrl(7789),
+                      "--log-dir",
+                      dir + "/logs",
+                      "--quiet",
+                      "--effect",
+                      "supply=0.05",
+                      "--rig-arg=--package-tau-s=40",
+                      "--rig-arg=--ramp-c-per-min=10",
+                      "--rig-arg=--sensor-tau-s=0.1",
+                      "--sequencer-arg=--ramp-rate-c-per-min=10",
+                      "--wall-timeout-s",
+                      "500"},
                      out, out);
     auto ended = cal.Wait(540s);
     ASSERT_TRUE(ended.has_value()) << ReadLog(out);
@@ -42,7 +62,8 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     ASSERT_FALSE(run.empty());
 
     const std::string report = dir + "/analysis.json";
-    ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db, "--json"}, report, dir + "/analyze.err");
+    ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db, "--json"}, report,
+                    dir + "/analyze.err");
     auto an_end = an.Wait(120s);
     ASSERT_TRUE(an_end.has_value());
     ASSERT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");
@@ -69,7 +90,8 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     // (0.01 V over ~600 s, times 0.05 V/V = 0.5 mV = ~0.08 deg/s) still dominates the white and
     // slow noise (~0.025 deg/s together), so the term must at least halve the held-out error;
     // the bound below says how close to the noise it gets.
-    EXPECT_LT(after, 0.5 * before) << "the extended model must cut the error well below the declared one";
+    EXPECT_LT(after, 0.5 * before)
+        << "the extended model must cut the error well below the declared one";
     EXPECT_GT(s.at("heldout_gain").at("z").get<double>(), 2.0);  // confirmed on held-out bins
     // Near what the data allows. A perfect model would leave, on the held-out bins, the white
     // scatter of 10 s bins (the floor: the Allan deviation of the residual at 10 s) plus the slow
@@ -89,8 +111,10 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     const double floor = s.at("floor_rate_rms_dps");
     const double pred = s.at("expected_after").at("prediction_rms_dps");
     const double bound = std::sqrt(floor * floor + 9.0 * (slow2 + pred * pred));
-    EXPECT_LT(after, bound) << "floor " << floor << ", slow noise " << std::sqrt(slow2) << ", prediction " << pred;
-    EXPECT_LT(s.at("error_after").at("drift_dph").get<double>(), s.at("error_before").at("drift_dph").get<double>());
+    EXPECT_LT(after, bound) << "floor " << floor << ", slow noise " << std::sqrt(slow2)
+                            << ", prediction " << pred;
+    EXPECT_LT(s.at("error_after").at("drift_dph").get<double>(),
+              s.at("error_before").at("drift_dph").get<double>());
 
     // Kept with the run: the analysis row and the extended coefficient set, linked by provenance.
     // The run holds two: the fitter's closed loop at the end of the calibration (its final set,

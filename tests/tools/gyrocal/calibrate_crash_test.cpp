@@ -16,10 +16,10 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "e2e_support.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "launch/child_process.hpp"
-#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -288,8 +288,9 @@ TEST(CalibrateCrash, KilledRigAbortsTheRunWithTheReasonAndKeepsWhatWasRecorded) 
     ChildProcess show({GYROCAL_CLI, "show", run.at(0), "--db", dir + "/run.db"}, dir + "/show.txt",
                       dir + "/show.txt");
     ASSERT_TRUE(show.Wait(std::chrono::seconds(60)).has_value());
-    EXPECT_NE(ReadLog(dir + "/show.txt").find("gyrocal-sim-rig ended unexpectedly (killed by signal 9"),
-              std::string::npos)
+    EXPECT_NE(
+        ReadLog(dir + "/show.txt").find("gyrocal-sim-rig ended unexpectedly (killed by signal 9"),
+        std::string::npos)
         << ReadLog(dir + "/show.txt");
     // One abort: the sequencer ended on the supervisor's, without one of its own.
     EXPECT_EQ(sql.Int("SELECT count(*) FROM run_events WHERE event IN ('stop', 'abort')"), 1);

@@ -16,8 +16,8 @@
 #include <sstream>
 #include <thread>
 
-#include "launch/child_process.hpp"
 #include "e2e_support.hpp"
+#include "launch/child_process.hpp"
 
 namespace gyrocal {
 namespace {
@@ -49,13 +49,33 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
 
     // GIVEN a simulated five-setpoint run (one unit, fast thermal constants, negligible sensor
     // lag, an undeclared supply effect) written to CSV
-    ChildProcess rec_a({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_a, "--lcm-url", url_a}, dir + "/rec_a.log",
-                       dir + "/rec_a.log");
+    ChildProcess rec_a({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_a, "--lcm-url", url_a},
+                       dir + "/rec_a.log", dir + "/rec_a.log");
     std::this_thread::sleep_for(1s);  // the recorder subscribes before the rig's first sample
-    ChildProcess rig({GYROCAL_BIN "/gyrocal-sim-rig", "--mode", "builtin", "--units", "1", "--seed", "3", "--speed",
-                      "60", "--profile=-30,0,30,60,80", "--dwell-s", "500", "--package-tau-s", "40",
-                      "--ramp-c-per-min", "10", "--sensor-tau-s", "0.1", "--effect", "supply=0.05", "--lcm-url",
-                      url_a, "--truth-out", dir + "/truth.json"},
+    ChildProcess rig({GYROCAL_BIN "/gyrocal-sim-rig",
+                      "--mode",
+                      "builtin",
+                      "--units",
+                      "1",
+                      "--seed",
+                      "3",
+                      "--speed",
+                      "60",
+                      "--profile=-30,0,30,60,80",
+                      "--dwell-s",
+                      "500",
+                      "--package-tau-s",
+                      "40",
+                      "--ramp-c-per-min",
+                      "10",
+                      "--sensor-tau-s",
+                      "0.1",
+                      "--effect",
+                      "supply=0.05",
+                      "--lcm-url",
+                      url_a,
+                      "--truth-out",
+                      dir + "/truth.json"},
                      dir + "/rig.log", dir + "/rig.log");
     auto rig_end = rig.Wait(300s);
     ASSERT_TRUE(rig_end.has_value()) << ReadLog(dir + "/rig.log");
@@ -71,14 +91,15 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     }
 
     // WHEN it is calibrated as measured data, with a second recorder listening to the replay
-    ChildProcess rec_b({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_b, "--lcm-url", url_b}, dir + "/rec_b.log",
-                       dir + "/rec_b.log");
+    ChildProcess rec_b({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_b, "--lcm-url", url_b},
+                       dir + "/rec_b.log", dir + "/rec_b.log");
     std::this_thread::sleep_for(1s);
     const std::string db = dir + "/lab.db", out = dir + "/calibrate.out";
-    ChildProcess cal({GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv_a, "--db", db,
-                      "--lcm-url", url_b, "--log-dir", dir + "/logs", "--quiet", "--source-arg=--max", "--source-arg=--max-rate-hz=10000",
-                      "--wall-timeout-s", "300"},
-                     out, out);
+    ChildProcess cal(
+        {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv_a, "--db", db,
+         "--lcm-url", url_b, "--log-dir", dir + "/logs", "--quiet", "--source-arg=--max",
+         "--source-arg=--max-rate-hz=10000", "--wall-timeout-s", "300"},
+        out, out);
     auto cal_end = cal.Wait(330s);
     ASSERT_TRUE(cal_end.has_value()) << ReadLog(out);
     EXPECT_EQ(cal_end->code, 0) << ReadLog(out);
@@ -86,7 +107,10 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
 
     // THEN the run is recorded like any other: every row, its plateaus and rotations, a fit
     const int64_t rows = static_cast<int64_t>(rows_a.size()) - 1;
-    EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM gyro_samples g JOIN runs r USING(run_id) WHERE r.outcome='stop'"), rows);
+    EXPECT_EQ(
+        Sql(db).Int(
+            "SELECT count(*) FROM gyro_samples g JOIN runs r USING(run_id) WHERE r.outcome='stop'"),
+        rows);
     EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM plateaus"), 5);
     EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM sensitivity_points WHERE accepted=1"), 2 * 5);
     EXPECT_GE(Sql(db).Int("SELECT count(*) FROM coeff_sets"), 1);
@@ -96,7 +120,8 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     // of data time, so its latest value may trail by up to a second and is not compared).
     const auto rows_b = Lines(csv_b);
     ASSERT_EQ(rows_b.size(), rows_a.size());
-    for (size_t i = 0; i < rows_a.size(); ++i) ASSERT_EQ(Fields(rows_b[i], 7), Fields(rows_a[i], 7)) << "row " << i;
+    for (size_t i = 0; i < rows_a.size(); ++i)
+        ASSERT_EQ(Fields(rows_b[i], 7), Fields(rows_a[i], 7)) << "row " << i;
 
     // AND the analysis of the CSV-sourced run names the supply effect with the rig's coefficient
     // (4 reported standard errors + 5 % for the measured-supply regressor; derivation in
@@ -111,14 +136,16 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     // The run records which file it came from: the input's SHA-256 as sha256sum computes it.
     sqlite3_prepare_v2(h, "SELECT config_json FROM runs WHERE outcome='stop'", -1, &st, nullptr);
     ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
-    const auto config = nlohmann::json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)));
+    const auto config =
+        nlohmann::json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)));
     sqlite3_finalize(st);
     sqlite3_close(h);
     ChildProcess sum({"sha256sum", csv_a}, dir + "/sha256.txt", dir + "/sha256.err");
     ASSERT_TRUE(sum.Wait(60s).has_value());
-    EXPECT_EQ(config.value("input_sha256", ""), ReadLog(dir + "/sha256.txt").substr(0, 64)) << config.dump();
-    ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", run, "--db", db, "--json"}, dir + "/analysis.json",
-                    dir + "/analyze.err");
+    EXPECT_EQ(config.value("input_sha256", ""), ReadLog(dir + "/sha256.txt").substr(0, 64))
+        << config.dump();
+    ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", run, "--db", db, "--json"},
+                    dir + "/analysis.json", dir + "/analyze.err");
     auto an_end = an.Wait(120s);
     ASSERT_TRUE(an_end.has_value());
     ASSERT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");

@@ -17,11 +17,11 @@
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
+#include "e2e_support.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "launch/child_process.hpp"
 #include "netns_lab.hpp"
-#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -112,11 +112,9 @@ TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
     const auto common = Common("rig", "11", "20");
     // GIVEN the run on one host (TTL 0, this machine's loopback)
     {
-        std::vector<std::string> argv = {
-            GYROCAL_CLI, "calibrate",
-            "--db",      dir + "/single.db",
-            "--log-dir", dir + "/single",
-            "--lcm-url", UdpmUrl(7805)};
+        std::vector<std::string> argv = {GYROCAL_CLI,        "calibrate",  "--db",
+                                         dir + "/single.db", "--log-dir",  dir + "/single",
+                                         "--lcm-url",        UdpmUrl(7805)};
         argv.insert(argv.end(), common.begin(), common.end());
         ChildProcess single(argv, dir + "/single.out", dir + "/single.out");
         const auto st = single.Wait(450s);

@@ -2,7 +2,6 @@
 // characterisation for the simulated rig, nothing invented for measured data, the user's value
 // whenever given; and a bad value is refused by the real CLI (exit 2, naming the option).
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,9 +26,11 @@ TEST(CalibrateOptions, PlateauSlowNoiseIsTheSimulatedGyrosOnlyForTheRig) {
     const sim::SimulatedGyroFacts facts = sim::FactsOfSimulatedGyros("610");
     o.simulated = SimulatedGyros{facts.plateau_slow_noise_dps, facts.nominal_sensitivity_v_per_dps};
     // The rig's defaults (bias instability 0.008 deg/s, rate random walk 5e-5 deg/s/sqrt(s)) in a
-    // 60 s mean: 0.0152 deg/s (sim::SlowNoiseBinVariance, checked there against 60 simulated hours).
+    // 60 s mean: 0.0152 deg/s (sim::SlowNoiseBinVariance, checked there against 60 simulated
+    // hours).
     EXPECT_NEAR(EffectivePlateauSlowNoiseDps(o), 0.0152, 0.0005);
-    EXPECT_EQ(o.simulated.nominal_sensitivity_v_per_dps, sim::PresetByName("610").sensitivity_v_per_dps);
+    EXPECT_EQ(o.simulated.nominal_sensitivity_v_per_dps,
+              sim::PresetByName("610").sensitivity_v_per_dps);
     EXPECT_DOUBLE_EQ(EffectivePlateauSlowNoiseDps(o),
                      std::sqrt(sim::SlowNoiseBinVariance(sim::NoiseConfig{}, 60.0, 3600.0)));
     o.source = "csv";  // measured data: none passed, the fitter uses the run's Allan deviation
@@ -67,16 +68,22 @@ TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
         {{"--chamber", "2", "--lcm-url", "memq://"}, 2, "--chamber 2 needs a udpm:// LCM URL"},
         {{"--chamber", "100", "--lcm-url", "udpm://239.255.76.67:65500?ttl=0"}, 2, "is past 65535"},
         {{"--procedure", "manual"}, 2, "--procedure"},
-        {{"--procedure", "rig", "--source", "csv", "--input", "/etc/hostname"}, 2, "--procedure: rig is the simulated"},
+        {{"--procedure", "rig", "--source", "csv", "--input", "/etc/hostname"},
+         2,
+         "--procedure: rig is the simulated"},
         {{"--max-restarts", "21"}, 2, "--max-restarts"},
         // The producers of a multi-host lab whose other roles never came: a clear failure. On a
         // port of its own (7812): on 7797 another worktree's run of this test may start a recorder.
-        {{"--role", "producers", "--await-peers-s", "1", "--lcm-url", "udpm://239.255.76.67:7812?ttl=0"}, 1,
-         "no heartbeat from gyrocal-recorder within 1 s (start `gyrocal calibrate --role processors` and `--role "
+        {{"--role", "producers", "--await-peers-s", "1", "--lcm-url",
+          "udpm://239.255.76.67:7812?ttl=0"},
+         1,
+         "no heartbeat from gyrocal-recorder within 1 s (start `gyrocal calibrate --role "
+         "processors` and `--role "
          "recorder` on their hosts first"},
     };
     for (const Case& c : cases) {
-        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", db, "--quiet", "--log-dir", dir + "/logs"};
+        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db",       db,
+                                         "--quiet",   "--log-dir", dir + "/logs"};
         if (std::find(c.args.begin(), c.args.end(), "--lcm-url") == c.args.end())
             argv.insert(argv.end(), {"--lcm-url", "udpm://239.255.76.67:7797?ttl=0"});
         argv.insert(argv.end(), c.args.begin(), c.args.end());

@@ -52,9 +52,10 @@ namespace {
 
 using namespace std::chrono_literals;
 
-const std::vector<std::string> kScale = {
-    "--sample-rate-hz", "40",  "--lpf-hz", "15", "--board-tau-s", "40", "--die-tau-s", "8",
-    "--chamber-period-s", "100", "--ramp-c-per-min", "5", "--dwell-s", "540"};
+const std::vector<std::string> kScale = {"--sample-rate-hz",   "40",  "--lpf-hz",         "15",
+                                         "--board-tau-s",      "40",  "--die-tau-s",      "8",
+                                         "--chamber-period-s", "100", "--ramp-c-per-min", "5",
+                                         "--dwell-s",          "540"};
 
 struct Lab {
     std::string dir, csv, truth_path, db, run_id, show, out;
@@ -79,11 +80,11 @@ Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
     lab.truth = nlohmann::json::parse(truth);
     const std::string url = UdpmUrl(port);
     lab.out = lab.dir + "/calibrate.out";
-    ChildProcess cal({GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", lab.csv,
-                      "--db", lab.db, "--lcm-url", url, "--log-dir", lab.dir + "/logs", "--quiet",
-                      "--source-arg=--max", "--source-arg=--max-rate-hz=20000", "--wall-timeout-s",
-                      "1200"},
-                     lab.out, lab.out);
+    ChildProcess cal(
+        {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", lab.csv, "--db", lab.db,
+         "--lcm-url", url, "--log-dir", lab.dir + "/logs", "--quiet", "--source-arg=--max",
+         "--source-arg=--max-rate-hz=20000", "--wall-timeout-s", "1200"},
+        lab.out, lab.out);
     const auto cal_end = cal.Wait(1300s);
     EXPECT_TRUE(cal_end.has_value()) << ReadLog(lab.out);
     lab.exit_code = cal_end ? cal_end->code : -1;
@@ -91,7 +92,8 @@ Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
     for (const store::RunInfo& r : store::ListRuns(*db, {}))
         if (!r.run_id.empty()) lab.run_id = r.run_id;
     for (const bool json : {false, true}) {
-        std::vector<std::string> show = {GYROCAL_BIN "/gyrocal", "show", lab.run_id, "--db", lab.db};
+        std::vector<std::string> show = {GYROCAL_BIN "/gyrocal", "show", lab.run_id, "--db",
+                                         lab.db};
         if (json) show.push_back("--json");
         const std::string file = lab.dir + (json ? "/show.json" : "/show.txt");
         ChildProcess s(show, file, lab.dir + "/show.err");
@@ -202,15 +204,16 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
     // step at 29 so that, as in the runs (22.9/23.1 against 27.8 degC), the room
     // temperature visited twice sits less than 5 degC from its neighbour whatever the units'
     // temperature-line offsets
-    const Lab lab = RunLab("rts", {"--units", "2", "--seed", "5", "--setpoints-c", "25,-10,10,29,50,70,25"},
-                           7891);
+    const Lab lab = RunLab(
+        "rts", {"--units", "2", "--seed", "5", "--setpoints-c", "25,-10,10,29,50,70,25"}, 7891);
     for (const std::string id : {"U1", "U2"}) {
         std::vector<double> temps;
         for (const auto& p : lab.detail.at("plateaus"))
             if (p.at("sensor_id") == id) temps.push_back(p.at("temp_mean_c"));
         std::sort(temps.begin(), temps.end());
         bool close = false;  // two distinct levels (> 1 degC apart) closer than 5 degC
-        for (size_t i = 1; i < temps.size(); ++i) close |= temps[i] - temps[i - 1] > 1 && temps[i] - temps[i - 1] < 5;
+        for (size_t i = 1; i < temps.size(); ++i)
+            close |= temps[i] - temps[i - 1] > 1 && temps[i] - temps[i - 1] < 5;
         EXPECT_TRUE(close) << id << ": the data do not reproduce the issue's close levels";
     }
     // THEN the run ends with exit 0 and complete sets spanning every plateau
@@ -220,10 +223,12 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
     for (const std::string id : {"U1", "U2"}) {
         const auto& rep = FinalReport(lab, id);
         ASSERT_EQ(rep.at("repeatability").size(), 1u) << id;
-        EXPECT_NE(rep.at("slow_noise_source").get<std::string>().find("Allan deviation of this run"),
-                  std::string::npos);
+        EXPECT_NE(
+            rep.at("slow_noise_source").get<std::string>().find("Allan deviation of this run"),
+            std::string::npos);
     }
-    EXPECT_NE(lab.show.find("Repeatability (temperatures the run visited again)"), std::string::npos);
+    EXPECT_NE(lab.show.find("Repeatability (temperatures the run visited again)"),
+              std::string::npos);
     EXPECT_NE(lab.show.find("U1      2"), std::string::npos) << lab.show;  // a row at ~2x degC
     ASSERT_EQ(lab.detail.at("noise").size(), 2u);
     for (const auto& n : lab.detail.at("noise")) {
@@ -250,7 +255,8 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
             model::ModelInputs in;
             in.temp_c = p.at("temp_mean_c");
             const model::Evaluation e = model::Evaluate(set.offset, in, model::RangePolicy::kClip);
-            EXPECT_NEAR(e.value, u.OffsetV(u.DieFromMeasuredC(in.temp_c)), 5 * std::sqrt(e.variance))
+            EXPECT_NEAR(e.value, u.OffsetV(u.DieFromMeasuredC(in.temp_c)),
+                        5 * std::sqrt(e.variance))
                 << set.sensor_id << " at " << in.temp_c;
         }
     }
@@ -276,8 +282,8 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
 
 TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReported) {
     // GIVEN every setpoint visited twice, from both sides
-    const Lab lab = RunLab("repeat", {"--units", "1", "--seed", "9", "--setpoints-c", "-10,30,70,30,-10,70"},
-                        7892);
+    const Lab lab = RunLab(
+        "repeat", {"--units", "1", "--seed", "9", "--setpoints-c", "-10,30,70,30,-10,70"}, 7892);
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     // THEN the set is complete over the range and uses all six plateaus
     ExpectCompleteAcrossTheRange(lab, {"U1"});
@@ -288,7 +294,8 @@ TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReporte
     const auto& reps = FinalReport(lab, "U1").at("repeatability");
     ASSERT_EQ(reps.size(), 3u);
     std::set<int> levels;
-    for (const auto& r : reps) levels.insert(static_cast<int>(std::lround(r.at("temp_c").get<double>() / 10)));
+    for (const auto& r : reps)
+        levels.insert(static_cast<int>(std::lround(r.at("temp_c").get<double>() / 10)));
     EXPECT_EQ(levels.size(), 3u);
     EXPECT_NE(lab.show.find("from colder"), std::string::npos) << lab.show;
     EXPECT_NE(lab.show.find("from hotter"), std::string::npos);
@@ -296,7 +303,8 @@ TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReporte
 
 TEST(OthersimCalibration, AnOutlierPlateauIsExcludedNamedAndLeavesTheOtherUnitAlone) {
     // GIVEN U2's offset shifted by 3 mV (~40 of its plateau errors) through its 30 degC dwell
-    const Lab lab = RunLab("outlier", {"--units", "2", "--seed", "8", "--disturb", "3:U2:0.003:0:480"}, 7893);
+    const Lab lab =
+        RunLab("outlier", {"--units", "2", "--seed", "8", "--disturb", "3:U2:0.003:0:480"}, 7893);
     ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
     // THEN U2's report excludes exactly the plateau averaged inside the disturbance
@@ -348,13 +356,16 @@ TEST(OthersimCalibration, AnEncoderSlipRejectsThatTurnWithItsReasonAndTheSetStay
 
 // The other side of "never leaves a lab without a calibration": when the data cannot carry a
 // temperature model, the end of the run says so instead of printing a set as if it were final.
-TEST(OthersimCalibration, DataThatCannotCarryATemperatureModelEndWithExit3NamingTheUnitAndWhatWasPublished) {
+TEST(OthersimCalibration,
+     DataThatCannotCarryATemperatureModelEndWithExit3NamingTheUnitAndWhatWasPublished) {
     // GIVEN two setpoints 3 degC apart (one level at the fitter's 5 degC separation)
-    const Lab lab = RunLab("partial", {"--units", "1", "--seed", "3", "--setpoints-c", "25,28"}, 7895);
+    const Lab lab =
+        RunLab("partial", {"--units", "1", "--seed", "3", "--setpoints-c", "25,28"}, 7895);
     // THEN exit 3; the explanation names the unit, why, and the constant set that was published
     EXPECT_EQ(lab.exit_code, 3) << ReadLog(lab.out);
     const std::string out = ReadLog(lab.out);
-    EXPECT_NE(out.find("unit U1: PARTIAL calibration: offset: temperature model refused (too_few_temperatures"),
+    EXPECT_NE(out.find("unit U1: PARTIAL calibration: offset: temperature model refused "
+                       "(too_few_temperatures"),
               std::string::npos)
         << out;
     EXPECT_NE(out.find("; published set "), std::string::npos) << out;
@@ -365,7 +376,8 @@ TEST(OthersimCalibration, DataThatCannotCarryATemperatureModelEndWithExit3Naming
     EXPECT_TRUE(rep.at("is_final").get<bool>());
     const auto sets = SetsOf(lab, "fitter");
     ASSERT_EQ(sets.size(), 1u);
-    EXPECT_EQ(sets[0].at("offset").at("term_names"), nlohmann::json::array({"1"})) << sets[0].dump();
+    EXPECT_EQ(sets[0].at("offset").at("term_names"), nlohmann::json::array({"1"}))
+        << sets[0].dump();
     EXPECT_NE(lab.show.find("PARTIAL"), std::string::npos) << lab.show;
     // AND the closed loop publishes no set on temperatures that cannot carry a model (it says why)
     EXPECT_TRUE(SetsOf(lab, "closed-loop").empty());

@@ -40,12 +40,31 @@ std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& 
     // noise, analyze.hpp step 9), so a missed drift must show. The sensor lag is made negligible
     // (0.1 s) so that the declared model lacks nothing else (with the default 15 s lag temp_rate
     // is rightly found as well).
-    ChildProcess cal({GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints, "--sensors", "1", "--seed", "12", "--speed",
-                      "30", "--db", db, "--lcm-url",
+    ChildProcess cal({GYROCAL_CLI,
+                      "calibrate",
+                      "--setpoints-c",
+                      setpoints,
+                      "--sensors",
+                      "1",
+                      "--seed",
+                      "12",
+                      "--speed",
+                      "30",
+                      "--db",
+                      db,
+                      "--lcm-url",
                       UdpmUrl(port),
-                      "--log-dir", dir + "/logs", "--quiet", "--effect", "aging=0.004", "--rig-arg=--package-tau-s=40",
-                      "--rig-arg=--ramp-c-per-min=10", "--rig-arg=--sensor-tau-s=0.1",
-                      "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "500"},
+                      "--log-dir",
+                      dir + "/logs",
+                      "--quiet",
+                      "--effect",
+                      "aging=0.004",
+                      "--rig-arg=--package-tau-s=40",
+                      "--rig-arg=--ramp-c-per-min=10",
+                      "--rig-arg=--sensor-tau-s=0.1",
+                      "--sequencer-arg=--ramp-rate-c-per-min=10",
+                      "--wall-timeout-s",
+                      "500"},
                      out, out);
     auto ended = cal.Wait(540s);
     EXPECT_TRUE(ended.has_value()) << ReadLog(out);
@@ -60,7 +79,8 @@ std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& 
     EXPECT_EQ(truth.at("effects").at("aging").at("value"), 0.004);
     EXPECT_EQ(truth.at("effects").at("aging").at("analysis"), "outside the list");
 
-    ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db}, dir + "/analyze.out", dir + "/analyze.err");
+    ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db}, dir + "/analyze.out",
+                    dir + "/analyze.err");
     auto an_end = an.Wait(180s);
     EXPECT_TRUE(an_end.has_value());
     if (!an_end) return "";
@@ -89,11 +109,13 @@ TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
     // drift predicts as well); neither clause names a cause. Nothing is added either way (below).
     const std::string cause = verdict.substr(
         0, std::min(verdict.find("; ambiguous:"), verdict.find("; not attributed:")));
-    for (const char* c : {"temp_rate", "hysteresis", "temp_cubic", "supply ", "sf_asymmetry", "warmup"})
+    for (const char* c :
+         {"temp_rate", "hysteresis", "temp_cubic", "supply ", "sf_asymmetry", "warmup"})
         EXPECT_EQ(cause.find(c), std::string::npos) << c << " in: " << verdict;
     EXPECT_EQ(verdict.find("missing effect: "), std::string::npos) << verdict;
     Sql sql(db);
-    EXPECT_EQ(sql.Rows("SELECT added_json FROM analyses WHERE run_id='" + run + "'").at(0).at(0), "[]");
+    EXPECT_EQ(sql.Rows("SELECT added_json FROM analyses WHERE run_id='" + run + "'").at(0).at(0),
+              "[]");
     EXPECT_EQ(
         sql.Int("SELECT count(*) FROM analyses WHERE run_id='" + run + "' AND added_json != '[]'"),
         0);
@@ -167,11 +189,13 @@ TEST(OutsideEffectEndToEnd, AgingOnAMonotonicProfileNamesNoCandidate) {
 TEST(OutsideEffectEndToEnd, BadEffectIsRefusedBeforeAnyProcessStarts) {
     const std::string dir = FreshDir("gyrocal_outside_bad");
     for (const auto& [effect, named] : std::vector<std::pair<std::string, std::string>>{
-             {"aging=1", "aging"}, {"tilt_deg=120", "tilt_deg"}, {"compressor_period_s=0", "compressor_period_s"},
+             {"aging=1", "aging"},
+             {"tilt_deg=120", "tilt_deg"},
+             {"compressor_period_s=0", "compressor_period_s"},
              {"agin=0.001", "aging"}}) {
         const std::string out = dir + "/bad.out";
-        ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--db", dir + "/bad.db", "--lcm-url",
-                          "udpm://239.255.76.67:8002?ttl=0", "--effect", effect},
+        ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--db", dir + "/bad.db",
+                          "--lcm-url", "udpm://239.255.76.67:8002?ttl=0", "--effect", effect},
                          out, out);
         auto ended = cal.Wait(60s);
         ASSERT_TRUE(ended.has_value());

@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "e2e_support.hpp"
 #include "launch/child_process.hpp"
 #include "model/inputs.hpp"
 #include "model/model.hpp"
-#include "e2e_support.hpp"
 #include "stored_model.hpp"
 
 namespace gyrocal {
@@ -40,10 +40,26 @@ Ran RunRamp(const std::string& name, const std::string& url, std::vector<std::st
     Ran r;
     r.dir = FreshDir("gyrocal_ramp_" + name);
     const std::string out = r.dir + "/calibrate.out";
-    std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--profile", "ramp", "--sensors", "2",
-                                     "--seed", "7", "--speed", "40", "--db", r.dir + "/run.db",
-                                     "--lcm-url", url, "--log-dir", r.dir + "/logs", "--quiet",
-                                     "--rig-arg=--package-tau-s=40", "--wall-timeout-s", "500"};
+    std::vector<std::string> argv = {GYROCAL_CLI,
+                                     "calibrate",
+                                     "--profile",
+                                     "ramp",
+                                     "--sensors",
+                                     "2",
+                                     "--seed",
+                                     "7",
+                                     "--speed",
+                                     "40",
+                                     "--db",
+                                     r.dir + "/run.db",
+                                     "--lcm-url",
+                                     url,
+                                     "--log-dir",
+                                     r.dir + "/logs",
+                                     "--quiet",
+                                     "--rig-arg=--package-tau-s=40",
+                                     "--wall-timeout-s",
+                                     "500"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     ChildProcess cal(argv, out, out);
     r.ended = cal.Wait(std::chrono::seconds(540));
@@ -54,8 +70,9 @@ Ran RunRamp(const std::string& name, const std::string& url, std::vector<std::st
 TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
     // Cool 25 -> 10, heat 10 -> 40, cool 40 -> 10 at 3 degC/min: every temperature of 10..40
     // is passed heating and cooling, turns every 120 s.
-    const Ran r = RunRamp("truth", UdpmUrl(7960),
-                          {"--setpoints-c", "10,40,10", "--turn-interval-s", "120", "--dwell-s", "60"});
+    const Ran r =
+        RunRamp("truth", UdpmUrl(7960),
+                {"--setpoints-c", "10,40,10", "--turn-interval-s", "120", "--dwell-s", "60"});
     ASSERT_TRUE(r.ended.has_value()) << "calibrate did not finish:\n" << r.printed;
     ASSERT_TRUE(r.ended->exited && r.ended->code == 0) << r.ended->Describe() << "\n" << r.printed;
     EXPECT_NE(r.printed.find("stop: completed"), std::string::npos) << r.printed;
@@ -63,7 +80,9 @@ TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
     const json truth = json::parse(ReadLog(r.dir + "/logs/truth.json"));
     Sql sql(r.dir + "/run.db");
     const std::string run =
-        sql.Rows("SELECT run_id FROM runs WHERE run_id <> '' ORDER BY started_utime DESC").at(0).at(0);
+        sql.Rows("SELECT run_id FROM runs WHERE run_id <> '' ORDER BY started_utime DESC")
+            .at(0)
+            .at(0);
     const double rate_c_per_s = 3.0 / 60.0;
     const double sensor_tau_s = truth.at("config").at("thermal").at("sensor_tau_s");
     for (const json& unit : truth.at("units")) {
@@ -74,9 +93,13 @@ TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
                           run + "' AND sensor_id='" + id + "'"),
                   10);
         // Sets were published during the run as well as the final one.
-        EXPECT_GE(sql.Int("SELECT count(*) FROM coeff_sets WHERE run_id='" + run + "' AND sensor_id='" + id + "'"), 2);
-        const std::string row = sql.Rows("SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id='" + run +
-                                         "' AND sensor_id='" + id + "'").at(0).at(0);
+        EXPECT_GE(sql.Int("SELECT count(*) FROM coeff_sets WHERE run_id='" + run +
+                          "' AND sensor_id='" + id + "'"),
+                  2);
+        const std::string row = sql.Rows("SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id='" +
+                                         run + "' AND sensor_id='" + id + "'")
+                                    .at(0)
+                                    .at(0);
         ASSERT_FALSE(row.empty());
         const model::Model offset = StoredModel(sql, row, "offset");
         const model::Model sens = StoredModel(sql, row, "sensitivity");
@@ -100,15 +123,16 @@ TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
         //    (1 count of 10000 per rev) and the offset drift across a turn on the ramp.
         for (double t_c = offset.temp_min_c; t_c <= offset.temp_max_c; t_c += 2.5) {
             const double die_c = t_c - sensor_offset_c;
-            const double slope_v_per_c =
-                std::abs(Poly(unit.at("offset_v"), die_c + 0.5) - Poly(unit.at("offset_v"), die_c - 0.5));
-            const model::Evaluation o = off_eval.Evaluate(model::SteadyStateInputs(offset, t_c),
-                                                          model::RangePolicy::kClip);
+            const double slope_v_per_c = std::abs(Poly(unit.at("offset_v"), die_c + 0.5) -
+                                                  Poly(unit.at("offset_v"), die_c - 0.5));
+            const model::Evaluation o =
+                off_eval.Evaluate(model::SteadyStateInputs(offset, t_c), model::RangePolicy::kClip);
             const double lag_v = slope_v_per_c * rate_c_per_s * sensor_tau_s;
-            EXPECT_NEAR(o.value, Poly(unit.at("offset_v"), die_c), 4.0 * std::sqrt(o.variance) + lag_v)
+            EXPECT_NEAR(o.value, Poly(unit.at("offset_v"), die_c),
+                        4.0 * std::sqrt(o.variance) + lag_v)
                 << "offset at " << t_c << " C";
-            const model::Evaluation s = sens_eval.Evaluate(model::SteadyStateInputs(sens, t_c),
-                                                           model::RangePolicy::kClip);
+            const model::Evaluation s =
+                sens_eval.Evaluate(model::SteadyStateInputs(sens, t_c), model::RangePolicy::kClip);
             const double s_true = Poly(unit.at("sensitivity_v_per_dps"), die_c);
             EXPECT_NEAR(s.value, s_true, 4.0 * std::sqrt(s.variance) + 1e-3 * s_true)
                 << "sensitivity at " << t_c << " C";
@@ -120,17 +144,19 @@ TEST(RampEndToEnd, StopsEarlyAtTheTargetAndSaysWhatItSaved) {
     // Targets a loose calibration reaches during the second leg; sets every 120 s of data once
     // 600 s are in, so the sequencer hears them on the way.
     const Ran r = RunRamp("early", UdpmUrl(7961),
-                          {"--setpoints-c", "10,40,10", "--turn-interval-s", "120", "--dwell-s", "60",
-                           "--target-offset-dps", "0.5", "--target-sensitivity-pct", "5",
+                          {"--setpoints-c", "10,40,10", "--turn-interval-s", "120", "--dwell-s",
+                           "60", "--target-offset-dps", "0.5", "--target-sensitivity-pct", "5",
                            "--fitter-arg=--refit-interval-s=120", "--fitter-arg=--min-span-s=600"});
     ASSERT_TRUE(r.ended.has_value()) << "calibrate did not finish:\n" << r.printed;
     ASSERT_TRUE(r.ended->exited && r.ended->code == 0) << r.ended->Describe() << "\n" << r.printed;
-    EXPECT_NE(r.printed.find("stop: completed early: target reached"), std::string::npos) << r.printed;
+    EXPECT_NE(r.printed.find("stop: completed early: target reached"), std::string::npos)
+        << r.printed;
     EXPECT_NE(r.printed.find("chamber time saved"), std::string::npos) << r.printed;
     // The plan: 15 + 30 + 30 degC at 3 degC/min plus three dwells is ~28 min; stopped early means
     // the last leg (30 degC, 10 min) was not finished.
     Sql sql(r.dir + "/run.db");
-    const double span_s = 1e-6 * static_cast<double>(sql.Int("SELECT max(utime) - min(utime) FROM run_events"));
+    const double span_s =
+        1e-6 * static_cast<double>(sql.Int("SELECT max(utime) - min(utime) FROM run_events"));
     EXPECT_LT(span_s, 25 * 60.0);
 }
 
@@ -148,14 +174,16 @@ TEST(RampEndToEnd, BadRampOptionsAreRefusedBeforeAnythingStarts) {
     };
     const std::string dir = FreshDir("gyrocal_ramp_bad");
     for (const Case& c : cases) {
-        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate", "--db", dir + "/x.db", "--lcm-url",
-                                         "udpm://239.255.76.67:7961?ttl=0"};
+        std::vector<std::string> argv = {GYROCAL_CLI, "calibrate",
+                                         "--db",      dir + "/x.db",
+                                         "--lcm-url", "udpm://239.255.76.67:7961?ttl=0"};
         argv.insert(argv.end(), c.args.begin(), c.args.end());
         const std::string out = dir + "/out";
         ChildProcess p(argv, out, out);
         const auto ended = p.Wait(std::chrono::seconds(60));
         ASSERT_TRUE(ended.has_value());
-        EXPECT_TRUE(ended->exited && ended->code == 2) << ended->Describe() << " for " << c.args.back();
+        EXPECT_TRUE(ended->exited && ended->code == 2)
+            << ended->Describe() << " for " << c.args.back();
         EXPECT_NE(ReadLog(out).find(c.says), std::string::npos) << ReadLog(out);
     }
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.db")) << "nothing is created for bad options";

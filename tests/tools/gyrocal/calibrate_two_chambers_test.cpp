@@ -7,8 +7,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "launch/child_process.hpp"
 #include "e2e_support.hpp"
+#include "launch/child_process.hpp"
 
 namespace gyrocal {
 namespace {

@@ -215,9 +215,10 @@ TEST_F(CompensateCli, ExportedSetRecoversTheTruthAndEqualsTheLiveCompensator) {
     // 0.4 deg/s.
     const double n = static_cast<double>(n_stats);
     const double expected_rms = std::sqrt(ss_expected / n);
-    std::printf("compensated %zu of %zu samples: rate error RMS %.5f deg/s (expected %.5f), mean "
-                "%+.5f deg/s\n",
-                k, truth_.time_s.size(), std::sqrt(ss_err / n), expected_rms, sum_err / n);
+    std::printf(
+        "compensated %zu of %zu samples: rate error RMS %.5f deg/s (expected %.5f), mean "
+        "%+.5f deg/s\n",
+        k, truth_.time_s.size(), std::sqrt(ss_err / n), expected_rms, sum_err / n);
     EXPECT_NEAR(std::sqrt(ss_err / n), expected_rms, 0.05 * expected_rms);
     EXPECT_LT(std::fabs(sum_err / n), 5.0 * expected_rms / std::sqrt(n));
     EXPECT_EQ(err.str().find("not computable"), std::string::npos) << err.str();
@@ -311,8 +312,8 @@ TEST(CompensateCommand, OptionsAreParsedIntoTheBody) {
          {std::vector<std::string>{"compensate", "x.csv", "--coeffs", "a.json", "--db", "b.db"},
           std::vector<std::string>{"compensate", "x.csv", "--coeffs", "a.json", "--out-of-range",
                                    "wrap"},
-          std::vector<std::string>{"compensate", "x.csv", "--coeffs", "a.json",
-                                   "--coeff-set-row", "3"},
+          std::vector<std::string>{"compensate", "x.csv", "--coeffs", "a.json", "--coeff-set-row",
+                                   "3"},
           std::vector<std::string>{"compensate", "x.csv", "--coeffs", "a.json", "--temp-v-per-c",
                                    "0"},
           // The slope's old name (hidden from --help) still reaches the body.

@@ -27,7 +27,8 @@ coeff_set_t Set(const std::string& id, int64_t set_id, int offset_terms) {
 }
 
 // A final report of set `set_id`.
-fit_report_t Report(const std::string& id, int64_t set_id, const std::string& status, const std::string& reason) {
+fit_report_t Report(const std::string& id, int64_t set_id, const std::string& status,
+                    const std::string& reason) {
     fit_report_t r = testing::FitReport(id);
     r.coeff_set_id = set_id;
     r.status = status;
@@ -36,7 +37,8 @@ fit_report_t Report(const std::string& id, int64_t set_id, const std::string& st
 }
 
 TEST(FinalVerdict, EveryUnitCompleteAndFinalIsExitZeroWithNoLabelAndNothingToExplain) {
-    const std::map<std::string, coeff_set_t> newest = {{"U1", Set("U1", 50, 3)}, {"U2", Set("U2", 50, 4)}};
+    const std::map<std::string, coeff_set_t> newest = {{"U1", Set("U1", 50, 3)},
+                                                       {"U2", Set("U2", 50, 4)}};
     const std::set<std::string> finals = {"U1", "U2"};
     const std::map<std::string, fit_report_t> reports = {{"U1", Report("U1", 50, "complete", "")},
                                                          {"U2", Report("U2", 50, "complete", "")}};
@@ -48,7 +50,8 @@ TEST(FinalVerdict, EveryUnitCompleteAndFinalIsExitZeroWithNoLabelAndNothingToExp
 
 TEST(FinalVerdict, APartialUnitIsNamedWithItsReasonAndWhatWasPublished) {
     // GIVEN U2's final fit fell back to a constant offset, U1 complete
-    const std::map<std::string, coeff_set_t> newest = {{"U1", Set("U1", 50, 3)}, {"U2", Set("U2", 50, 1)}};
+    const std::map<std::string, coeff_set_t> newest = {{"U1", Set("U1", 50, 3)},
+                                                       {"U2", Set("U2", 50, 1)}};
     const std::set<std::string> finals = {"U1", "U2"};
     const std::map<std::string, fit_report_t> reports = {
         {"U1", Report("U1", 50, "complete", "")},
@@ -60,15 +63,20 @@ TEST(FinalVerdict, APartialUnitIsNamedWithItsReasonAndWhatWasPublished) {
     EXPECT_EQ(v.Labels().at("U2"), "PARTIAL: offset: one temperature level, constant offset only");
     const std::string e = v.Explain();
     EXPECT_EQ(e.find("U1"), std::string::npos) << e;
-    EXPECT_NE(e.find("unit U2: PARTIAL calibration: offset: one temperature level"), std::string::npos) << e;
-    EXPECT_NE(e.find("published set 50: offset wls with 1 terms over -10.0..70.0 C"), std::string::npos) << e;
+    EXPECT_NE(e.find("unit U2: PARTIAL calibration: offset: one temperature level"),
+              std::string::npos)
+        << e;
+    EXPECT_NE(e.find("published set 50: offset wls with 1 terms over -10.0..70.0 C"),
+              std::string::npos)
+        << e;
 }
 
 TEST(FinalVerdict, AStaleSetIsNeverShownAsFinal) {
     // GIVEN U1's newest set came before the stop and the final report published none
     const std::map<std::string, coeff_set_t> newest = {{"U1", Set("U1", 20, 3)}};
     const std::set<std::string> finals;
-    const std::map<std::string, fit_report_t> reports = {{"U1", Report("U1", -1, "none", "no plateau")}};
+    const std::map<std::string, fit_report_t> reports = {
+        {"U1", Report("U1", -1, "none", "no plateau")}};
     const FinalVerdict v{{"U1"}, newest, finals, reports};
     EXPECT_FALSE(v.AllComplete());
     EXPECT_EQ(v.Labels().at("U1").rfind("NOT FINAL", 0), 0u) << v.Labels().at("U1");

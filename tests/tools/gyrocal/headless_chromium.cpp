@@ -74,7 +74,8 @@ nlohmann::json HeadlessChromium::Read(std::chrono::steady_clock::time_point dead
             buffer_.erase(0, nul + 1);
             return nlohmann::json::parse(msg);
         }
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
         if (left.count() <= 0) throw std::runtime_error("no message from chromium in time");
         pollfd p{from_browser_, POLLIN, 0};
         if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) continue;
@@ -86,7 +87,8 @@ nlohmann::json HeadlessChromium::Read(std::chrono::steady_clock::time_point dead
 }
 
 nlohmann::json HeadlessChromium::Call(const std::string& method, const nlohmann::json& params,
-                                      const std::string& session, std::chrono::milliseconds timeout) {
+                                      const std::string& session,
+                                      std::chrono::milliseconds timeout) {
     const int id = ++next_id_;
     nlohmann::json cmd = {{"id", id}, {"method", method}, {"params", params}};
     if (!session.empty()) cmd["sessionId"] = session;
@@ -109,10 +111,13 @@ nlohmann::json HeadlessChromium::Call(const std::string& method, const nlohmann:
     }
 }
 
-std::string HeadlessChromium::Open(const std::string& url, int width_px, std::chrono::milliseconds timeout) {
+std::string HeadlessChromium::Open(const std::string& url, int width_px,
+                                   std::chrono::milliseconds timeout) {
     const std::string target = Call("Target.createTarget", {{"url", "about:blank"}})["targetId"];
-    const std::string s = Call("Target.attachToTarget", {{"targetId", target}, {"flatten", true}})["sessionId"];
-    for (const char* domain : {"Page.enable", "Runtime.enable", "Log.enable", "Network.enable"}) Call(domain, {}, s);
+    const std::string s =
+        Call("Target.attachToTarget", {{"targetId", target}, {"flatten", true}})["sessionId"];
+    for (const char* domain : {"Page.enable", "Runtime.enable", "Log.enable", "Network.enable"})
+        Call(domain, {}, s);
     Call("Emulation.setDeviceMetricsOverride",
          {{"width", width_px}, {"height", 900}, {"deviceScaleFactor", 1}, {"mobile", false}}, s);
     const size_t before = events_.size();
@@ -121,24 +126,29 @@ std::string HeadlessChromium::Open(const std::string& url, int width_px, std::ch
     for (size_t i = before;; ++i) {
         while (i >= events_.size()) events_.push_back(Read(deadline));
         const nlohmann::json& e = events_[i];
-        if (e.value("method", "") == "Page.loadEventFired" && e.value("sessionId", "") == s) return s;
+        if (e.value("method", "") == "Page.loadEventFired" && e.value("sessionId", "") == s)
+            return s;
     }
 }
 
-nlohmann::json HeadlessChromium::Evaluate(const std::string& session, const std::string& expression) {
-    const nlohmann::json r = Call("Runtime.evaluate", {{"expression", expression}, {"returnByValue", true}}, session);
-    if (r.contains("exceptionDetails")) throw std::runtime_error("script failed: " + r["exceptionDetails"].dump());
+nlohmann::json HeadlessChromium::Evaluate(const std::string& session,
+                                          const std::string& expression) {
+    const nlohmann::json r =
+        Call("Runtime.evaluate", {{"expression", expression}, {"returnByValue", true}}, session);
+    if (r.contains("exceptionDetails"))
+        throw std::runtime_error("script failed: " + r["exceptionDetails"].dump());
     return r["result"].value("value", nlohmann::json());
 }
 
 std::string HeadlessChromium::Screenshot(const std::string& session) {
     const nlohmann::json m = Call("Page.getLayoutMetrics", {}, session);
     const double width = m["cssContentSize"]["width"], height = m["cssContentSize"]["height"];
-    const nlohmann::json r = Call("Page.captureScreenshot",
-                                  {{"format", "png"},
-                                   {"captureBeyondViewport", true},
-                                   {"clip", {{"x", 0}, {"y", 0}, {"width", width}, {"height", height}, {"scale", 1}}}},
-                                  session);
+    const nlohmann::json r =
+        Call("Page.captureScreenshot",
+             {{"format", "png"},
+              {"captureBeyondViewport", true},
+              {"clip", {{"x", 0}, {"y", 0}, {"width", width}, {"height", height}, {"scale", 1}}}},
+             session);
     return DecodeBase64(r["data"]);
 }
 
@@ -148,13 +158,20 @@ std::string DecodeBase64(const std::string& text) {
     int bits = 0;
     for (char c : text) {
         int v;
-        if (c >= 'A' && c <= 'Z') v = c - 'A';
-        else if (c >= 'a' && c <= 'z') v = c - 'a' + 26;
-        else if (c >= '0' && c <= '9') v = c - '0' + 52;
-        else if (c == '+') v = 62;
-        else if (c == '/') v = 63;
-        else if (c == '=' || c == '\n' || c == '\r') continue;
-        else throw std::runtime_error(std::string("not base64: '") + c + "'");
+        if (c >= 'A' && c <= 'Z')
+            v = c - 'A';
+        else if (c >= 'a' && c <= 'z')
+            v = c - 'a' + 26;
+        else if (c >= '0' && c <= '9')
+            v = c - '0' + 52;
+        else if (c == '+')
+            v = 62;
+        else if (c == '/')
+            v = 63;
+        else if (c == '=' || c == '\n' || c == '\r')
+            continue;
+        else
+            throw std::runtime_error(std::string("not base64: '") + c + "'");
         value = (value << 6) | static_cast<unsigned>(v);
         bits += 6;
         if (bits >= 8) {

@@ -26,15 +26,18 @@ public:
     static std::string Find();
 
     // Starts the browser; its own output goes to `log_path`. Throws std::runtime_error.
-    HeadlessChromium(const std::string& executable, const std::string& user_data_dir, const std::string& log_path);
+    HeadlessChromium(const std::string& executable, const std::string& user_data_dir,
+                     const std::string& log_path);
     ~HeadlessChromium();
     HeadlessChromium(const HeadlessChromium&) = delete;
     HeadlessChromium& operator=(const HeadlessChromium&) = delete;
 
     // Sends a command (to the browser, or to a page's session) and returns its "result".
     // Throws std::runtime_error on a protocol error or when no reply comes within `timeout`.
-    nlohmann::json Call(const std::string& method, const nlohmann::json& params = nlohmann::json::object(),
-                        const std::string& session = "", std::chrono::milliseconds timeout = std::chrono::seconds(60));
+    nlohmann::json Call(const std::string& method,
+                        const nlohmann::json& params = nlohmann::json::object(),
+                        const std::string& session = "",
+                        std::chrono::milliseconds timeout = std::chrono::seconds(60));
 
     // Opens `url` in a new page of `width_px` with Page, Runtime, Log and Network events on, and
     // returns the page's session once its load event fired (within `timeout`).

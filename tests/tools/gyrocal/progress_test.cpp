@@ -1,7 +1,7 @@
 // The progress line and the time-left estimate of `gyrocal calibrate`.
-#include <gtest/gtest.h>
-
 #include "progress.hpp"
+
+#include <gtest/gtest.h>
 
 namespace gyrocal::cli {
 namespace {

@@ -13,11 +13,11 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "e2e_support.hpp"
 #include "headless_chromium.hpp"
 #include "launch/child_process.hpp"
 #include "sim/config.hpp"
 #include "sim/unit_model.hpp"
-#include "e2e_support.hpp"
 
 namespace gyrocal {
 namespace {
@@ -47,13 +47,16 @@ int Cli(const std::vector<std::string>& args, const fs::path& out, std::chrono::
 // image to fetch, the events show each of them.
 TEST(HeadlessBrowser, SeesScriptErrorsConsoleMessagesAndRequests) {
     const std::string chromium = testing::HeadlessChromium::Find();
-    if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian chromium; tools/run.sh installs it)";
+    if (chromium.empty())
+        GTEST_SKIP() << "chromium is not installed (Debian chromium; tools/run.sh installs it)";
     const fs::path dir = FreshDir("gyrocal_browser_probe");
-    std::ofstream(dir / "bad.html") << "<!DOCTYPE html><html><body><p id=p>x</p><img src=\"missing.png\">"
-                                       "<script>console.log('hello'); throw new Error('boom');</script></body></html>";
+    std::ofstream(dir / "bad.html")
+        << "<!DOCTYPE html><html><body><p id=p>x</p><img src=\"missing.png\">"
+           "<script>console.log('hello'); throw new Error('boom');</script></body></html>";
     int exceptions = 0, console = 0, image_requests = 0;
     {
-        testing::HeadlessChromium browser(chromium, (dir / "profile").string(), (dir / "chromium.log").string());
+        testing::HeadlessChromium browser(chromium, (dir / "profile").string(),
+                                          (dir / "chromium.log").string());
         const std::string s = browser.Open("file://" + (dir / "bad.html").string(), 800, 60s);
         EXPECT_EQ(browser.Evaluate(s, "document.getElementById('p').textContent"), "x");
         for (const json& e : browser.events()) {
@@ -61,7 +64,8 @@ TEST(HeadlessBrowser, SeesScriptErrorsConsoleMessagesAndRequests) {
             exceptions += method == "Runtime.exceptionThrown";
             console += method == "Runtime.consoleAPICalled";
             if (method == "Network.requestWillBeSent")
-                image_requests += e["params"]["request"]["url"].get<std::string>().find("missing.png") != std::string::npos;
+                image_requests += e["params"]["request"]["url"].get<std::string>().find(
+                                      "missing.png") != std::string::npos;
         }
     }
     EXPECT_EQ(exceptions, 1);
@@ -74,7 +78,8 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
     const fs::path dir = FreshDir("gyrocal_limits_bad");
     const fs::path db = dir / "never.db";
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {R"({"max_offset_change_dps": "5"})", "key 'max_offset_change_dps': expected a number >= 0, got string"},
+        {R"({"max_offset_change_dps": "5"})",
+         "key 'max_offset_change_dps': expected a number >= 0, got string"},
         {R"({"min_turn": 6})", "unknown key 'min_turn'"},
         {R"({"min_plateaus": -5})", "key 'min_plateaus': -5 is not valid"},
         {"{\"min_turns\": 6,,}", "not valid JSON"},
@@ -82,9 +87,10 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
     for (const auto& [text, expected] : cases) {
         const fs::path file = dir / "limits.json";
         std::ofstream(file) << text;
-        const int rc = Cli({"calibrate", "--limits", file.string(), "--db", db.string(), "--lcm-url", kUnusedUrl,
-                            "--log-dir", (dir / "logs").string(), "--quiet"},
-                           dir / "out.txt", 60s);
+        const int rc =
+            Cli({"calibrate", "--limits", file.string(), "--db", db.string(), "--lcm-url",
+                 kUnusedUrl, "--log-dir", (dir / "logs").string(), "--quiet"},
+                dir / "out.txt", 60s);
         const std::string out = ReadLog((dir / "out.txt").string());
         EXPECT_EQ(rc, 2) << out;
         EXPECT_NE(out.find("--limits"), std::string::npos) << out;
@@ -92,13 +98,16 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
         EXPECT_FALSE(fs::exists(db)) << "nothing may start before the limits are valid";
         EXPECT_FALSE(fs::exists(dir / "logs"));
     }
-    EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "missing.json").string(), "--db", db.string()}, dir / "out.txt", 60s),
+    EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "missing.json").string(), "--db", db.string()},
+                  dir / "out.txt", 60s),
               2);
-    EXPECT_NE(ReadLog((dir / "out.txt").string()).find("missing.json: cannot be read"), std::string::npos);
+    EXPECT_NE(ReadLog((dir / "out.txt").string()).find("missing.json: cannot be read"),
+              std::string::npos);
     // A report directory that cannot be made is refused as early.
     std::ofstream(dir / "limits.json") << R"({"min_turns": 6})";
-    EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "limits.json").string(), "--report", "/nonexistent_gyrocal/r",
-                   "--db", db.string(), "--lcm-url", kUnusedUrl, "--log-dir", (dir / "logs").string()},
+    EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "limits.json").string(), "--report",
+                   "/nonexistent_gyrocal/r", "--db", db.string(), "--lcm-url", kUnusedUrl,
+                   "--log-dir", (dir / "logs").string()},
                   dir / "out.txt", 60s),
               2);
     EXPECT_NE(ReadLog((dir / "out.txt").string()).find("--report"), std::string::npos);
@@ -143,29 +152,52 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     const fs::path limits = dir / "limits.json";
     // (No count limits: on a loaded machine a turn can be refused for lost samples, and the unit
     // would then fail for that, rightly; the counts are tested on stored data in runreport_tests.)
-    std::ofstream(limits) << json{{"description", "e2e"},
-                                  {"max_offset_change_dps", limit},
-                                  {"max_sensitivity_rel_uncertainty_pct", 1.0}}
-                                 .dump();
+    std::ofstream(limits) << json{
+        {"description", "e2e"},
+        {"max_offset_change_dps", limit},
+        {"max_sensitivity_rel_uncertainty_pct",
+         1.0}}.dump();
 
     // WHEN the seed's 3-point procedure runs with those limits (fast thermal constants as in
     // calibrate_e2e_test.cpp)
     const std::string db = (dir / "run.db").string();
-    const int rc = Cli({"calibrate", "--profile", "seed3", "--sensors", "2", "--seed", "7", "--speed", "40", "--db", db,
-                        "--lcm-url", kUrl, "--log-dir", (dir / "logs").string(), "--quiet",
-                        "--rig-arg=--package-tau-s=40", "--rig-arg=--ramp-c-per-min=10",
-                        "--sequencer-arg=--ramp-rate-c-per-min=10", "--wall-timeout-s", "400", "--limits",
-                        limits.string(), "--report", (dir / "calibrate-report").string()},
+    const int rc = Cli({"calibrate",
+                        "--profile",
+                        "seed3",
+                        "--sensors",
+                        "2",
+                        "--seed",
+                        "7",
+                        "--speed",
+                        "40",
+                        "--db",
+                        db,
+                        "--lcm-url",
+                        kUrl,
+                        "--log-dir",
+                        (dir / "logs").string(),
+                        "--quiet",
+                        "--rig-arg=--package-tau-s=40",
+                        "--rig-arg=--ramp-c-per-min=10",
+                        "--sequencer-arg=--ramp-rate-c-per-min=10",
+                        "--wall-timeout-s",
+                        "400",
+                        "--limits",
+                        limits.string(),
+                        "--report",
+                        (dir / "calibrate-report").string()},
                        dir / "calibrate.out", 450s);
     const std::string printed = ReadLog((dir / "calibrate.out").string());
 
     // THEN the exit code says a unit did not pass, and the failing unit and limit are named
     ASSERT_EQ(rc, 4) << printed;
     EXPECT_NE(printed.find("stop: completed"), std::string::npos) << printed;
-    EXPECT_NE(printed.find("unit did not pass its limits: " + failing + ": FAIL: max_offset_change_dps"),
-              std::string::npos)
+    EXPECT_NE(
+        printed.find("unit did not pass its limits: " + failing + ": FAIL: max_offset_change_dps"),
+        std::string::npos)
         << printed;
-    EXPECT_EQ(printed.find("unit did not pass its limits: " + passing), std::string::npos) << printed;
+    EXPECT_EQ(printed.find("unit did not pass its limits: " + passing), std::string::npos)
+        << printed;
     EXPECT_NE(printed.find("  " + passing + ": pass"), std::string::npos) << printed;
     const std::string run = Rows(db, "SELECT run_id FROM runs WHERE run_id <> ''").at(0).at(0);
     // --report: the page of this run, written at the end, its path printed.
@@ -173,32 +205,40 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     EXPECT_NE(printed.find("report: " + written.string()), std::string::npos) << printed;
     EXPECT_TRUE(fs::exists(written));
     // The limits are stored with the run.
-    const json config = json::parse(Rows(db, "SELECT config_json FROM runs WHERE run_id <> ''").at(0).at(0));
-    EXPECT_DOUBLE_EQ(config.at("acceptance_limits").at("max_offset_change_dps").get<double>(), limit);
+    const json config =
+        json::parse(Rows(db, "SELECT config_json FROM runs WHERE run_id <> ''").at(0).at(0));
+    EXPECT_DOUBLE_EQ(config.at("acceptance_limits").at("max_offset_change_dps").get<double>(),
+                     limit);
 
     // AND gyrocal show prints the outcome per unit
     ASSERT_EQ(Cli({"show", run, "--db", db}, dir / "show.out", 60s), 0);
     const std::string shown = ReadLog((dir / "show.out").string());
     EXPECT_NE(shown.find("Acceptance (limits stored with run " + run), std::string::npos) << shown;
-    EXPECT_NE(shown.find("  " + failing + ": FAIL: max_offset_change_dps"), std::string::npos) << shown;
+    EXPECT_NE(shown.find("  " + failing + ": FAIL: max_offset_change_dps"), std::string::npos)
+        << shown;
     EXPECT_NE(shown.find("  " + passing + ": pass"), std::string::npos) << shown;
 
     // AND gyrocal report writes the page
-    ASSERT_EQ(Cli({"report", run, "--db", db, "--out", (dir / "report").string()}, dir / "report.out", 120s), 0)
+    ASSERT_EQ(Cli({"report", run, "--db", db, "--out", (dir / "report").string()},
+                  dir / "report.out", 120s),
+              0)
         << ReadLog((dir / "report.out").string());
     const fs::path page = dir / "report" / ("report-" + run + ".html");
-    EXPECT_NE(ReadLog((dir / "report.out").string()).find("report: " + page.string()), std::string::npos);
+    EXPECT_NE(ReadLog((dir / "report.out").string()).find("report: " + page.string()),
+              std::string::npos);
     ASSERT_TRUE(fs::exists(page));
 
     // AND a real browser renders it without errors and without any request but the file
     const std::string chromium = testing::HeadlessChromium::Find();
-    if (chromium.empty()) GTEST_SKIP() << "chromium is not installed (Debian chromium; tools/run.sh installs it)";
+    if (chromium.empty())
+        GTEST_SKIP() << "chromium is not installed (Debian chromium; tools/run.sh installs it)";
     std::optional<testing::HeadlessChromium> chrome;
     chrome.emplace(chromium, (dir / "chromium-profile").string(), (dir / "chromium.log").string());
     testing::HeadlessChromium& browser = *chrome;
     const std::string url = "file://" + page.string();
     const std::string s = browser.Open(url, 1200, 120s);
-    const json dom = json::parse(browser.Evaluate(s, R"js(JSON.stringify({
+    const json dom = json::parse(browser
+                                     .Evaluate(s, R"js(JSON.stringify({
         runId: document.querySelector('[data-run-id]').textContent,
         figures: [...document.querySelectorAll('svg.figure')].map(f => {
             const r = f.getBoundingClientRect();
@@ -214,7 +254,8 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
         acceptance: [...document.querySelectorAll('table.acceptance-summary tbody tr')].map(tr => ({
             sensor: tr.dataset.sensor, outcome: tr.dataset.outcome,
             change: tr.querySelector('td[data-key=max_offset_change_dps]').textContent}))
-    }))js").get<std::string>());
+    }))js")
+                                     .get<std::string>());
     int requests = 0;
     for (const json& e : browser.events()) {
         const std::string method = e.value("method", "");
@@ -246,18 +287,25 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     for (const json& u : dom["units"]) {
         const std::string id = u["sensor"];
         SCOPED_TRACE(id);
-        const auto coeffs = Rows(db,
-                                 "SELECT t.term_name, t.coeff FROM coeff_terms t WHERE t.role = 'offset' AND "
-                                 "t.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets WHERE sensor_id = '" +
-                                     id + "' AND source = 'fitter') ORDER BY t.term_index");
+        const auto coeffs =
+            Rows(db,
+                 "SELECT t.term_name, t.coeff FROM coeff_terms t WHERE t.role = 'offset' AND "
+                 "t.coeff_row_id = (SELECT max(coeff_row_id) FROM coeff_sets WHERE sensor_id = '" +
+                     id + "' AND source = 'fitter') ORDER BY t.term_index");
         ASSERT_EQ(u["offset"].size(), coeffs.size());
         for (size_t i = 0; i < coeffs.size(); ++i) {
             EXPECT_EQ(u["offset"][i][0], coeffs[i][0]);
             const double stored = std::stod(coeffs[i][1]);
-            EXPECT_NEAR(std::stod(u["offset"][i][1].get<std::string>()), stored, 5e-6 * std::abs(stored)) << coeffs[i][0];
+            EXPECT_NEAR(std::stod(u["offset"][i][1].get<std::string>()), stored,
+                        5e-6 * std::abs(stored))
+                << coeffs[i][0];
         }
-        EXPECT_EQ(u["plateaus"], std::stoi(Rows(db, "SELECT count(*) FROM plateaus WHERE sensor_id='" + id + "'")[0][0]));
-        EXPECT_EQ(u["turns"], std::stoi(Rows(db, "SELECT count(*) FROM sensitivity_points WHERE sensor_id='" + id + "'")[0][0]));
+        EXPECT_EQ(u["plateaus"],
+                  std::stoi(Rows(
+                      db, "SELECT count(*) FROM plateaus WHERE sensor_id='" + id + "'")[0][0]));
+        EXPECT_EQ(u["turns"],
+                  std::stoi(Rows(db, "SELECT count(*) FROM sensitivity_points WHERE sensor_id='" +
+                                         id + "'")[0][0]));
         // Allan deviation, repeatability, validation and the analysis: one line each.
         EXPECT_EQ(u["notMeasured"], 4);
     }
@@ -274,7 +322,8 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     ASSERT_GT(png.size(), 50000u);
     EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
     std::ofstream(dir / "report.png", std::ios::binary) << png;
-    if (const char* copy = std::getenv("GYROCAL_REPORT_SCREENSHOT")) std::ofstream(copy, std::ios::binary) << png;
+    if (const char* copy = std::getenv("GYROCAL_REPORT_SCREENSHOT"))
+        std::ofstream(copy, std::ios::binary) << png;
     // The page and its screenshot stay with the test's files; the database and profile go.
     chrome.reset();
     if (!HasFailure()) {

@@ -23,9 +23,12 @@ int CountLcmFiles() {
 
 TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
     if (!std::filesystem::exists("/usr/bin/xvfb-run"))
-        GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb xauth); no display to start lcm-spy on";
+        GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb xauth); no display to "
+                        "start lcm-spy on";
     const std::string log = ::testing::TempDir() + "spy.log";
-    ChildProcess spy({"xvfb-run", "-a", GYROCAL_CLI, "spy", "--lcm-url", "udpm://239.255.76.67:7706?ttl=0"}, log, log);
+    ChildProcess spy(
+        {"xvfb-run", "-a", GYROCAL_CLI, "spy", "--lcm-url", "udpm://239.255.76.67:7706?ttl=0"}, log,
+        log);
     const std::string expected = "Found " + std::to_string(CountLcmFiles()) + " LCM types";
     std::string out;
     for (int i = 0; i < 300 && out.find(expected) == std::string::npos; ++i) {
@@ -42,7 +45,8 @@ TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
 
 TEST(Spy, MissingTypesJarIsAClearError) {
     const std::string log = ::testing::TempDir() + "spy_nojar.log";
-    ChildProcess spy({"env", "GYROCAL_TYPES_JAR=/nonexistent/types.jar", GYROCAL_CLI, "spy"}, log, log);
+    ChildProcess spy({"env", "GYROCAL_TYPES_JAR=/nonexistent/types.jar", GYROCAL_CLI, "spy"}, log,
+                     log);
     auto s = spy.Wait(10s);
     ASSERT_TRUE(s.has_value());
     EXPECT_EQ(s->code, 1);
