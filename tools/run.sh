@@ -190,7 +190,7 @@ if [ "${GYROCAL_CHECK_ONLY:-}" = "1" ]; then
         calibrate) exec "$build/bin/gyrocal" calibrate "$@" ;;
         test|setup) exit 0 ;;
         sanitize) case "${1:-asan}" in asan|tsan|fast) exit 0 ;; esac ;;
-        fuzz) exit 0 ;;
+        fuzz|format-check) exit 0 ;;
     esac
     echo "run.sh: '$cmd ${*}' is not a command of tools/run.sh" >&2
     exit 2
