@@ -210,14 +210,14 @@ void JointSearch(const BinnedRun& binned, const Split& split, double t0, const A
 
 // ---- hook (issue 29, loop): the analysis of bins made elsewhere (bins_incremental.hpp) ----
 SensorResult Analyze(const SensorRun& run, const AnalysisOptions& o) {
-    if (const std::string p = o.Problem(); !p.empty())
+    if (const std::string p = o.Validate(); !p.empty())
         throw std::invalid_argument("analysis options: " + p);
     return AnalyzeBinned(run, BinnedRun(run, o.bins), o);
 }
 
 SensorResult AnalyzeBinned(const SensorRun& run, const BinnedRun& binned,
                            const AnalysisOptions& o) {
-    if (const std::string p = o.Problem(); !p.empty())
+    if (const std::string p = o.Validate(); !p.empty())
         throw std::invalid_argument("analysis options: " + p);
     if (binned.bin_s() != o.bins.bin_s)
         throw std::invalid_argument("analysis options: bins of " + text::Sig(binned.bin_s(), 3) +

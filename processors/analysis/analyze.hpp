@@ -164,7 +164,7 @@ struct AnalysisOptions {
     // bound: feature_fpr + window_fpr + warmup_fpr + what the floor bound's 3 sigma leaves
     // (0.27 %). The candidates' z^2 at min_z2 = 25 (5 sigma) behind a held-out gate adds far less.
     double ClaimedFalsePositiveRate() const;
-    std::string Problem() const;  // "" when valid
+    std::string Validate() const;  // "" when valid
 };
 
 enum class Decision { kAdded, kRejected, kAmbiguous, kNotTested };
@@ -334,7 +334,7 @@ struct SensorResult {
 };
 
 // Never throws on bad data (it says what it could not do); throws std::invalid_argument on bad
-// options (Problem()).
+// options (Validate()).
 SensorResult Analyze(const SensorRun& run,
                      const AnalysisOptions& options = AnalysisOptions::Defaults());
 // The same on bins made elsewhere (bins_incremental.hpp: as the samples came, without keeping

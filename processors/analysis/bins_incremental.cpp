@@ -68,7 +68,7 @@ IncrementalOptions IncrementalOptions::For(const AnalysisOptions& analysis, doub
     return o;
 }
 
-std::string IncrementalOptions::Problem() const {
+std::string IncrementalOptions::Validate() const {
     if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";
     if (!(bins.min_fill > 0.0 && bins.min_fill <= 1.0)) return "min_fill must be in (0, 1]";
     if (!(build.guard_s >= 0.0 && build.guard_s <= 60.0)) return "guard_s must be in [0, 60] s";

@@ -83,7 +83,7 @@ struct IncrementalOptions {
     // The bins and the grid the analysis with `analysis` reads.
     static IncrementalOptions For(const AnalysisOptions& analysis, double width_ratio = 1.03);
     static IncrementalOptions Defaults() { return For(AnalysisOptions::Defaults()); }
-    std::string Problem() const;  // "" when valid, else the field and what is valid
+    std::string Validate() const;  // "" when valid, else the field and what is valid
 };
 
 // The table's moves of a run, from its encoder (shared by every unit of the run), as
@@ -231,7 +231,7 @@ private:
 // A run's units and its shared encoder and chamber air, binned as the messages come.
 class RunBinner {
 public:
-    explicit RunBinner(IncrementalOptions options);  // throws std::invalid_argument on Problem()
+    explicit RunBinner(IncrementalOptions options);  // throws std::invalid_argument on Validate()
 
     void AddGyro(const std::string& sensor_id, const GyroSample& s);
     void AddEncoder(const EncoderSample& e);

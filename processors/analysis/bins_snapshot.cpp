@@ -250,7 +250,7 @@ RunBinner::RunBinner(IncrementalOptions options)
     : options_(std::move(options)), motion_(options_.build) {
     if (options_.grid.rate_taus_s.empty() && options_.grid.widths_c.empty())
         options_.grid = TrackerGrid::For(AnalysisOptions::Defaults(), options_.width_ratio);
-    if (const std::string p = options_.Problem(); !p.empty())
+    if (const std::string p = options_.Validate(); !p.empty())
         throw std::invalid_argument("incremental bins: " + p);
     grid_ = std::make_shared<const TrackerGrid>(options_.grid);
 }

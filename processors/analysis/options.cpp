@@ -33,7 +33,7 @@ double AnalysisOptions::ClaimedFalsePositiveRate() const {
     return feature_fpr + window_fpr + warmup_fpr + 0.0027;
 }
 
-std::string AnalysisOptions::Problem() const {
+std::string AnalysisOptions::Validate() const {
     if (!(bins.bin_s > 0.0 && bins.bin_s <= 600.0)) return "bin_s must be in (0, 600] s";
     if (!(bins.min_fill > 0.0 && bins.min_fill <= 1.0)) return "min_fill must be in (0, 1]";
     if (offset_terms.empty()) return "offset_terms must not be empty";

@@ -31,7 +31,7 @@ const char* ToString(Method m) { return text::NameOf(kMethodNames, m); }
 
 const char* ToString(Refusal r) { return text::NameOf(kRefusalNames, r); }
 
-std::string FitOptions::Problem() const {
+std::string FitOptions::Validate() const {
     if (!(min_temp_separation_c >= 0.0) || !std::isfinite(min_temp_separation_c))
         return "--min-temp-separation-c must be a finite number >= 0";
     if (!(min_range_c >= 0.0) || !std::isfinite(min_range_c))

@@ -116,7 +116,7 @@ struct FitOptions {
     int pooled_dof = 0;
     static FitOptions Defaults() { return {}; }
     // "" when valid, else which option is wrong and its valid range.
-    std::string Problem() const;
+    std::string Validate() const;
 };
 
 enum class Refusal {

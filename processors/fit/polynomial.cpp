@@ -195,7 +195,7 @@ double DefaultT0(double coldest_c, double hottest_c) {
 
 FitResult FitPolynomial(const std::vector<FitPoint>& pts, const std::string& quantity,
                         const FitOptions& o) {
-    if (const std::string problem = o.Problem(); !problem.empty())
+    if (const std::string problem = o.Validate(); !problem.empty())
         return Refuse(Refusal::kNotApplicable, problem);
     if (auto bad = CheckFinite(pts)) return *bad;
     const Geometry g = CheckGeometry(pts, o);

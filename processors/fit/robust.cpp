@@ -117,7 +117,7 @@ Screen ScreenOnce(const std::vector<FitPoint>& pts, const std::string& quantity,
 
 }  // namespace
 
-std::string OutlierOptions::Problem() const {
+std::string OutlierOptions::Validate() const {
     if (!(family_alpha > 0.0 && family_alpha < 0.5)) return "--outlier-alpha must be in (0, 0.5)";
     if (!(max_fraction >= 0.0 && max_fraction <= 0.5))
         return "outlier max fraction must be in [0, 0.5]";

@@ -47,7 +47,7 @@ struct OutlierOptions {
     double family_alpha = 0.01;  // [1] chance per fit of excluding a point that is fine
     double max_fraction = 0.25;  // [1] at most this fraction of the points (at least 1)
     static OutlierOptions Defaults() { return {}; }
-    std::string Problem() const;  // "" when valid
+    std::string Validate() const;  // "" when valid
 };
 
 struct CalibrationFit {

@@ -11,9 +11,9 @@ namespace gyrocal::fitter {
 
 namespace {}  // namespace
 
-std::string CoreOptions::Problem() const {
-    if (const std::string p = fit.Problem(); !p.empty()) return p;
-    if (const std::string p = outliers.Problem(); !p.empty()) return p;
+std::string CoreOptions::Validate() const {
+    if (const std::string p = fit.Validate(); !p.empty()) return p;
+    if (const std::string p = outliers.Validate(); !p.empty()) return p;
     if (!(pool_alpha > 0.0 && pool_alpha < 0.5)) return "--pool-alpha must be in (0, 0.5)";
     if (!(repeat_tolerance_c >= 0.0 && repeat_tolerance_c <= 20.0))
         return "--repeat-tolerance-c must be in [0, 20] degC";

@@ -72,7 +72,7 @@ struct CoreOptions {
     double plateau_slow_noise_dps = -1.0;
     std::string source = "fitter";
     static CoreOptions Defaults() { return {}; }
-    std::string Problem() const;  // "" when valid
+    std::string Validate() const;  // "" when valid
 };
 
 struct Rejection {

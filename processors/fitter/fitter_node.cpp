@@ -61,11 +61,11 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
     return [&o]() -> std::string {
         if (o.mode != "plateau" && o.mode != "ramp")
             return "--mode '" + o.mode + "' is not valid: use plateau or ramp";
-        if (std::string p = o.ramp.Problem(); !p.empty()) return "--mode ramp: " + p;
+        if (std::string p = o.ramp.Validate(); !p.empty()) return "--mode ramp: " + p;
         const auto method = fit::ParseMethod(o.method);
         if (!method) return "--method '" + o.method + "' is not valid: use auto, 3point or wls";
         o.core.fit.method = *method;
-        return o.core.Problem();
+        return o.core.Validate();
     };
 }
 

@@ -49,8 +49,8 @@ RampFitterOptions RampFitterOptions::ClosedLoop() {
     return o;
 }
 
-std::string RampFitterOptions::Problem() const {
-    if (std::string p = analysis.Problem(); !p.empty()) return "analysis: " + p;
+std::string RampFitterOptions::Validate() const {
+    if (std::string p = analysis.Validate(); !p.empty()) return "analysis: " + p;
     if (!(refit_interval_s >= 10.0 && refit_interval_s <= 86400.0))
         return "refit interval " + std::to_string(refit_interval_s) + " s: valid is 10..86400";
     if (!(min_span_s >= 0.0 && min_span_s <= 86400.0))
@@ -62,7 +62,7 @@ std::string RampFitterOptions::Problem() const {
 }
 
 RampFitter::RampFitter(RampFitterOptions options) : options_(std::move(options)) {
-    if (const std::string p = options_.Problem(); !p.empty())
+    if (const std::string p = options_.Validate(); !p.empty())
         throw std::invalid_argument("ramp fitter: " + p);
     binner_ = std::make_unique<analysis::RunBinner>(BinnerOptions(options_));
 }

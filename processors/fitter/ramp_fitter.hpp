@@ -55,7 +55,7 @@ struct RampFitterOptions {
     static RampFitterOptions Defaults() { return {}; }
     // The plateau mode's closed loop: the final set only, source "closed-loop", method "analysis".
     static RampFitterOptions ClosedLoop();
-    std::string Problem() const;  // "" when valid, else the option and what is valid
+    std::string Validate() const;  // "" when valid, else the option and what is valid
 };
 
 // One unit's fit to make: its bins at a moment, and what the set will be called.
@@ -82,7 +82,7 @@ struct RampFitResult {
 
 class RampFitter {
 public:
-    explicit RampFitter(RampFitterOptions options);  // throws std::invalid_argument on Problem()
+    explicit RampFitter(RampFitterOptions options);  // throws std::invalid_argument on Validate()
 
     // The run's id (RUN_EVENT start). Samples heard before it are kept: they are the units at
     // rest at the start temperature, and the model inputs are tracked from the first sample.

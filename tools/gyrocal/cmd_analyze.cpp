@@ -94,7 +94,7 @@ std::optional<int> PrepareAnalyze(const AnalyzeOptions& o, an::AnalysisOptions& 
     ao.min_feature_drop = o.min_feature_drop;
     ao.surrogates = o.surrogates;
     ao.surrogate_seed = o.surrogate_seed;
-    if (const std::string p = ao.Problem(); !p.empty()) {
+    if (const std::string p = ao.Validate(); !p.empty()) {
         err << "gyrocal analyze: " << p << "\n";
         return 2;
     }

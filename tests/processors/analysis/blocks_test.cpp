@@ -123,10 +123,10 @@ TEST(Regress, ProjectedCorrelationSeesCollinearity) {
 TEST(Options, BadOptionsAreRefusedByName) {
     AnalysisOptions o;
     o.offset_terms = {"1", "dT", "bogus"};
-    EXPECT_NE(o.Problem().find("bogus"), std::string::npos);
+    EXPECT_NE(o.Validate().find("bogus"), std::string::npos);
     o = AnalysisOptions::Defaults();
     o.holdout_fraction = 0.95;  // valid: 0.05 .. 0.5
-    EXPECT_NE(o.Problem().find("holdout_fraction"), std::string::npos);
+    EXPECT_NE(o.Validate().find("holdout_fraction"), std::string::npos);
     EXPECT_THROW(Analyze(SensorRun{}, o), std::invalid_argument);
 }
 
@@ -222,7 +222,7 @@ TEST(Analyze, PairMemberThresholdIsRefusedWithItsName) {
     for (double v : {-1.0, kNan, static_cast<double>(INFINITY)}) {
         AnalysisOptions o;
         o.min_pair_member_z2 = v;
-        EXPECT_NE(o.Problem().find("min_pair_member_z2"), std::string::npos) << v;
+        EXPECT_NE(o.Validate().find("min_pair_member_z2"), std::string::npos) << v;
         EXPECT_THROW(Analyze(run, o), std::invalid_argument);
     }
 }

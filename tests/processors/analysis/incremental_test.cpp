@@ -268,11 +268,11 @@ TEST(IncrementalBins, BadSamplesAreCountedAsTheRawPathCountsThem) {
 TEST(IncrementalBins, BadOptionsAreNamed) {
     IncrementalOptions o = IncrementalOptions::Defaults();
     o.width_ratio = 1.0;
-    EXPECT_NE(o.Problem().find("width_ratio"), std::string::npos);
+    EXPECT_NE(o.Validate().find("width_ratio"), std::string::npos);
     EXPECT_THROW(RunBinner{o}, std::invalid_argument);
     o = IncrementalOptions::Defaults();
     o.bins.bin_s = 0.0;
-    EXPECT_NE(o.Problem().find("bin_s"), std::string::npos);
+    EXPECT_NE(o.Validate().find("bin_s"), std::string::npos);
     EXPECT_THROW(TrackerGrid::For(AnalysisOptions::Defaults(), 3.0), std::invalid_argument);
     const RunBinner b(IncrementalOptions::Defaults());
     EXPECT_THROW(b.Snapshot("nobody"), std::out_of_range);

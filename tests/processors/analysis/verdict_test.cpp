@@ -262,7 +262,7 @@ TEST(BadInput, VerdictOptionsAreRefusedWithTheirName) {
     auto refused = [&](const char* name, const std::function<void(AnalysisOptions&)>& set) {
         AnalysisOptions o;
         set(o);
-        EXPECT_NE(o.Problem().find(name), std::string::npos) << name << ": " << o.Problem();
+        EXPECT_NE(o.Validate().find(name), std::string::npos) << name << ": " << o.Validate();
         EXPECT_THROW(Analyze(run, o), std::invalid_argument) << name;
     };
     for (double v : {11.0, kNan})

@@ -208,15 +208,15 @@ TEST(Overdispersion, WithoutDofTheStatedErrorsStand) {
 TEST(Overdispersion, BadPooledEvidenceIsRefusedNamingIt) {
     FitOptions o;
     o.pooled_dof = -1;
-    EXPECT_NE(o.Problem().find("pooled"), std::string::npos);
+    EXPECT_NE(o.Validate().find("pooled"), std::string::npos);
     o.pooled_dof = 0;
     o.pooled_chi2 = 3.0;
-    EXPECT_NE(o.Problem().find("pooled"), std::string::npos);
+    EXPECT_NE(o.Validate().find("pooled"), std::string::npos);
     o.pooled_dof = 2;
     o.pooled_chi2 = NAN;
-    EXPECT_NE(o.Problem().find("pooled"), std::string::npos);
+    EXPECT_NE(o.Validate().find("pooled"), std::string::npos);
     o.pooled_chi2 = 3.0;
-    EXPECT_EQ(o.Problem(), "");
+    EXPECT_EQ(o.Validate(), "");
 }
 
 }  // namespace

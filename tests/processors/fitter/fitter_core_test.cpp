@@ -291,28 +291,28 @@ TEST(FitterCore, PlateauSlowNoiseMakesTheThreePointUncertaintyHonest) {
 
 TEST(FitterCore, OptionsAreValidated) {
     CoreOptions o;
-    EXPECT_EQ(o.Problem(), "");
+    EXPECT_EQ(o.Validate(), "");
     o.nominal_sensitivity_v_per_dps = 0;
-    EXPECT_NE(o.Problem().find("--nominal-sensitivity-v-per-dps"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--nominal-sensitivity-v-per-dps"), std::string::npos);
     o = CoreOptions{};
     o.fit.max_degree = 4;
-    EXPECT_NE(o.Problem().find("--max-degree"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--max-degree"), std::string::npos);
     o = CoreOptions{};
     o.plateau_slow_noise_dps = -1;  // from the run's Allan deviation: valid
-    EXPECT_EQ(o.Problem(), "");
+    EXPECT_EQ(o.Validate(), "");
     o.plateau_slow_noise_dps = 11;
-    EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--plateau-slow-noise-dps"), std::string::npos);
     o.plateau_slow_noise_dps = NAN;
-    EXPECT_NE(o.Problem().find("--plateau-slow-noise-dps"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--plateau-slow-noise-dps"), std::string::npos);
     o = CoreOptions{};
     o.outliers.family_alpha = 0.7;
-    EXPECT_NE(o.Problem().find("--outlier-alpha"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--outlier-alpha"), std::string::npos);
     o = CoreOptions{};
     o.pool_alpha = 0;
-    EXPECT_NE(o.Problem().find("--pool-alpha"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--pool-alpha"), std::string::npos);
     o = CoreOptions{};
     o.repeat_tolerance_c = -1;
-    EXPECT_NE(o.Problem().find("--repeat-tolerance-c"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--repeat-tolerance-c"), std::string::npos);
 }
 
 // A unit's five plateaus leave its cubic reference one dof; the fitter pools the other units'

@@ -114,14 +114,14 @@ TEST(RampFitter, NoRunNoFitAndAUnitWithTooLittleDataSaysWhy) {
 TEST(RampFitter, BadOptionsNameTheOption) {
     RampFitterOptions o;
     o.refit_interval_s = 1.0;
-    EXPECT_NE(o.Problem().find("refit interval"), std::string::npos);
+    EXPECT_NE(o.Validate().find("refit interval"), std::string::npos);
     EXPECT_THROW(RampFitter{o}, std::invalid_argument);
     o = RampFitterOptions::Defaults();
     o.min_span_s = -1.0;
-    EXPECT_NE(o.Problem().find("min span"), std::string::npos);
+    EXPECT_NE(o.Validate().find("min span"), std::string::npos);
     o = RampFitterOptions::Defaults();
     o.analysis.bins.bin_s = 0.0;
-    EXPECT_NE(o.Problem().find("analysis: bin_s"), std::string::npos);
+    EXPECT_NE(o.Validate().find("analysis: bin_s"), std::string::npos);
 }
 
 }  // namespace

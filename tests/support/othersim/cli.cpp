@@ -127,7 +127,7 @@ std::string Finish(Options& o, CliValues& v) {
                                      : v.out;
         v.truth_out = stem + ".truth.json";
     }
-    return o.Problem();
+    return o.Validate();
 }
 
 }  // namespace gyrocal::othersim

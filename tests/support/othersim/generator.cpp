@@ -124,7 +124,7 @@ double Timeline::DisturbanceAt(const std::string& id, double t) const {
 }
 
 Timeline BuildTimeline(const Options& o) {
-    if (std::string p = o.Problem(); !p.empty()) throw std::invalid_argument(p);
+    if (std::string p = o.Validate(); !p.empty()) throw std::invalid_argument(p);
     const ProfileOptions& p = o.profile;
     Timeline tl;
     tl.start_c = p.start_c;

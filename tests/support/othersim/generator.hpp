@@ -54,7 +54,7 @@ struct Timeline {
     double DisturbanceAt(const std::string& sensor_id, double t_s) const;  // [V]
 };
 
-// Throws std::invalid_argument with Options::Problem() when the options are invalid.
+// Throws std::invalid_argument with Options::Validate() when the options are invalid.
 Timeline BuildTimeline(const Options& o);
 
 struct Generated {

@@ -132,7 +132,7 @@ std::vector<std::string> Options::SensorIds() const {
     return ids;
 }
 
-std::string Options::Problem() const {
+std::string Options::Validate() const {
     if (units < 1 || units > 64) return "--units must be 1..64";
     if (id_prefix.empty() || id_prefix.size() > 20) return "--id-prefix must be 1..20 characters";
     for (char c : id_prefix)

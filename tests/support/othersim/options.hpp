@@ -161,7 +161,7 @@ struct Options {
     // tests that need a whole run in seconds.
     static Options QuickReturnToStart(double dwell_s);
     // "" when valid, else one sentence naming the option (as the CLI spells it) and what is valid.
-    std::string Problem() const;
+    std::string Validate() const;
     std::vector<std::string> SensorIds() const;
 };
 

@@ -145,16 +145,16 @@ TEST(Othersim, FaultsAppearWhereTheTruthSaysAndNowhereElse) {
 TEST(Othersim, BadOptionsNameTheOption) {
     Options o = Small();
     o.units = 0;
-    EXPECT_NE(o.Problem().find("--units"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--units"), std::string::npos);
     o = Small();
     o.faults.slips.push_back({99, 1.0});
-    EXPECT_NE(o.Problem().find("--slip"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--slip"), std::string::npos);
     o = Small();
     o.faults.disturbances.push_back({2, "U9", 0.001, 0, 0});
-    EXPECT_NE(o.Problem().find("U9"), std::string::npos);
+    EXPECT_NE(o.Validate().find("U9"), std::string::npos);
     o = Small();
     o.noise.lpf_hz = 15.0;  // above 0.45 x 20 Hz
-    EXPECT_NE(o.Problem().find("--lpf-hz"), std::string::npos);
+    EXPECT_NE(o.Validate().find("--lpf-hz"), std::string::npos);
     EXPECT_THROW(ParseSetpoints("25,abc", 60, true), std::invalid_argument);
     EXPECT_THROW(BuildTimeline(Options{}), std::invalid_argument);  // no steps
 }
