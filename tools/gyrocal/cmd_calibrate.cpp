@@ -7,14 +7,16 @@
 #include <sstream>
 
 #include "acceptance/limits.hpp"
-#include "calibrate.hpp"
 #include "gyro_facts.hpp"
 #include "plot/gnuplot.hpp"
 #include "procedure.hpp"
 #include "sim/config.hpp"
+#include "supervisor.hpp"
 
 namespace gyrocal::cli {
 namespace {
+
+using namespace supervisor;  // the options and the run are the supervisor's
 
 // The recorder would refuse an unwritable database only after every process started; say it
 // before anything runs, with what to do.
@@ -44,13 +46,13 @@ void AddAfterRunOptions(CLI::App* cmd, CalibrateOptions& o) {
 }
 
 // The limits and the report come after the run; what would stop them is said before anything runs.
-void CheckAfterRunOptions(CalibrateOptions& o) {
+void CheckAfterRunOptions(CalibrateOptions& o, bool has_after_run) {
     namespace fs = std::filesystem;
     for (const auto& [option, value] :
          {std::pair{"--limits", o.limits_file}, std::pair{"--report", o.report_dir}})
-        if (!value.empty() && !HasAfterRunHook())
+        if (!value.empty() && !has_after_run)
             throw CLI::ValidationError(
-                option, "needs the store component (this gyrocal was built without it)");
+                option, "needs the store (this launcher was given no acceptance step)");
     if (!o.limits_file.empty()) {
         try {
             o.limits_json = acceptance::ToJson(acceptance::LoadLimitsFile(o.limits_file)).dump();
@@ -251,7 +253,7 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
 
 // The checks across options, after parsing (CLI::ValidationError names the option); completes
 // `o` with what the simulated rig tells the fitter.
-void CheckCalibrateOptions(CalibrateOptions& o) {
+void CheckCalibrateOptions(CalibrateOptions& o, bool has_after_run) {
     const Source source = ParseSource(o.source);
     if (ReadsInputFile(source) && o.input.empty())
         throw CLI::ValidationError("--input", "is required with --source " + o.source);
@@ -282,7 +284,7 @@ void CheckCalibrateOptions(CalibrateOptions& o) {
         throw CLI::ValidationError("--chamber", e.what());
     }
     if (o.role == "all" || o.role == "recorder") CheckWritableDb(o.db);
-    CheckAfterRunOptions(o);
+    CheckAfterRunOptions(o, has_after_run);
     if (source == Source::kSim) {
         const sim::SimulatedGyroFacts facts = sim::FactsOfSimulatedGyros(o.preset);
         o.simulated =
@@ -292,7 +294,8 @@ void CheckCalibrateOptions(CalibrateOptions& o) {
 
 }  // namespace
 
-void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
+void AddCalibrateCommand(CLI::App& app, std::function<int()>& action,
+                         supervisor::StoreServices services) {
     auto o = std::make_shared<CalibrateOptions>(CalibrateOptions::Defaults());
     CLI::App* cmd = app.add_subcommand(
         "calibrate",
@@ -300,9 +303,10 @@ void AddCalibrateCommand(CLI::App& app, std::function<int()>& action) {
     AddPlaceOptions(cmd, o.get());
     AddRigOptions(cmd, o.get());
     AddProcessOptions(cmd, o.get());
-    cmd->callback([o, &action] {
-        CheckCalibrateOptions(*o);
-        action = [o] { return RunCalibration(*o); };
+    auto store = std::make_shared<supervisor::StoreServices>(std::move(services));
+    cmd->callback([o, store, &action] {
+        CheckCalibrateOptions(*o, static_cast<bool>(store->after_run));
+        action = [o, store] { return RunCalibration(*o, *store); };
     });
 }
 

@@ -19,6 +19,7 @@ namespace gyrocal::cli {
 namespace fs = std::filesystem;
 namespace rr = gyrocal::runreport;
 namespace st = gyrocal::store;
+using supervisor::CalibrateOptions;
 
 namespace {
 

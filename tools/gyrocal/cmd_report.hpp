@@ -18,7 +18,7 @@
 #include <iosfwd>
 #include <string>
 
-#include "calibrate.hpp"
+#include "supervisor.hpp"
 
 namespace gyrocal::cli {
 
@@ -39,7 +39,8 @@ int RunReport(const ReportCommandOptions& options, std::ostream& out, std::ostre
 
 void AddReportCommand(CLI::App& app, std::function<int()>& action);
 
-// For SetAfterRunHook (calibrate.hpp).
-int AfterCalibration(const CalibrateOptions& options, const std::string& run_id, int code);
+// The acceptance step after a calibration (supervisor.hpp: StoreServices::after_run).
+int AfterCalibration(const supervisor::CalibrateOptions& options, const std::string& run_id,
+                     int code);
 
 }  // namespace gyrocal::cli

@@ -23,7 +23,7 @@ struct SpyOptions {
 };
 
 int RunSpy(const SpyOptions& o) {
-    const std::string types = TypesJar();
+    const std::string types = supervisor::TypesJar();
     struct Need {
         std::string what, path, fix;
     };

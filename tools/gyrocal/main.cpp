@@ -5,7 +5,6 @@
 #include <iostream>
 #include <sstream>
 
-#include "calibrate.hpp"
 #include "cmd_analyze.hpp"
 #include "cmd_calibrate.hpp"
 #include "cmd_compensate.hpp"
@@ -25,7 +24,17 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string(gyrocal::kSoftwareVersion));
     app.footer("Exit codes: 0 success, 1 failure, 2 bad options; see each command's --help.");
     std::function<int()> action;
-    gyrocal::cli::AddCalibrateCommand(app, action);
+    // What a calibration needs of the store: the acceptance step after the run, and a restarted
+    // fitter's or compensator's state read back from the database.
+    gyrocal::supervisor::StoreServices store;
+    store.after_run = gyrocal::cli::AfterCalibration;
+    store.recovery = [](const std::string& db_path, const std::string& run_id) {
+        auto db = gyrocal::store::OpenForQuery(db_path);
+        gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
+        return gyrocal::supervisor::RecoveredState{std::move(r.plateaus), std::move(r.rotations),
+                                                   std::move(r.newest_coeffs)};
+    };
+    gyrocal::cli::AddCalibrateCommand(app, action, std::move(store));
     gyrocal::cli::AddSpyCommand(app, action);
     AddStoreCommands(app, action);
     gyrocal::cli::AddPushCommands(app, action);
@@ -33,13 +42,5 @@ int main(int argc, char** argv) {
     gyrocal::cli::AddValidateCommand(app, action);
     gyrocal::cli::AddCompensateCommand(app, action);
     gyrocal::cli::AddReportCommand(app, action);
-    gyrocal::cli::SetAfterRunHook(gyrocal::cli::AfterCalibration);
-    // A restarted fitter's or compensator's state, read back from the database.
-    gyrocal::cli::SetRecoveryReader([](const std::string& db_path, const std::string& run_id) {
-        auto db = gyrocal::store::OpenForQuery(db_path);
-        gyrocal::record::RecoveredRun r = gyrocal::record::ReadRecovery(*db, run_id);
-        return gyrocal::cli::RecoveredState{std::move(r.plateaus), std::move(r.rotations),
-                                            std::move(r.newest_coeffs)};
-    });
     return gyrocal::cli::ParseAndRun(app, argc, argv, action);
 }

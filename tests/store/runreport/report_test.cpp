@@ -386,7 +386,7 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
     drift.seed = 601;
     drift.outside_v = [](double t_s) { return 2e-3 * t_s / 3600.0; };
     const std::string udb = analysis::testing::WriteRunDb("acceptance_drift", drift);
-    cli::CalibrateOptions o;
+    supervisor::CalibrateOptions o;
     o.db = udb;
     o.limits_file = "lim.json";
     o.limits_json = R"({"no_unexplained_residual": true})";

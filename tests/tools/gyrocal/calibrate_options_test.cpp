@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "calibrate.hpp"
 #include "gyro_facts.hpp"
 #include "launch/child_process.hpp"
 #include "sim/config.hpp"
 #include "sim/noise.hpp"
+#include "supervisor.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 TEST(CalibrateOptions, PlateauSlowNoiseIsTheSimulatedGyrosOnlyForTheRig) {
@@ -98,4 +98,4 @@ TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
 }
 
 }  // namespace
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -10,7 +10,7 @@
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 struct FinalVerdict {
     std::set<std::string> sensors;                     // the run's units
@@ -26,4 +26,4 @@ struct FinalVerdict {
     std::string Explain() const;
 };
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

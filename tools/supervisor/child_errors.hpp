@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 // The last `max_lines` error lines of `process` in `log_text`, without the "<process>: error: "
 // prefix, oldest first. When the log holds none (a crash, a signal), its last non-empty line as
@@ -18,4 +18,4 @@ std::vector<std::string> ErrorLinesOf(const std::string& log_text, const std::st
 // reason stored with the run and printed under the abort line.
 std::string WithCause(const std::string& what, const std::vector<std::string>& lines);
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

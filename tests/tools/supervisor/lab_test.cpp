@@ -5,7 +5,7 @@
 
 #include <stdexcept>
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 const std::vector<std::string> kAll = {
@@ -77,4 +77,4 @@ TEST(Lab, ChamberMovesThePortAndKeepsTheRest) {
 }
 
 }  // namespace
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 run_event_t Event(const std::string& what, int index) {
@@ -69,4 +69,4 @@ TEST(Progress, LineShowsSensorsStatesAndLosses) {
 }
 
 }  // namespace
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

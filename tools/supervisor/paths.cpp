@@ -3,7 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 std::string ExecutableDir() {
     return std::filesystem::read_symlink("/proc/self/exe").parent_path().string();
@@ -18,4 +18,4 @@ std::string TypesJar() {
         .string();
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -7,7 +7,7 @@
 
 #include "gyrocal/coeff_set_t.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 // One block per sensor: method, T0, valid range, residual RMS, point count, every term with its
 // coefficient and 1-sigma, for offset and sensitivity. `labels` (per sensor, "" = none): what
@@ -24,4 +24,4 @@ std::string FormatCoeffTable(const std::map<std::string, coeff_set_t>& coeffs,
 std::string FormatTruthComparison(const std::map<std::string, coeff_set_t>& coeffs,
                                   const nlohmann::json& truth);
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -14,7 +14,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 class Progress {
 public:
@@ -61,4 +61,4 @@ private:
     int rotations_rejected_ = 0;
 };
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

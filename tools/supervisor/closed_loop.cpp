@@ -4,11 +4,11 @@
 // not explain or test.
 #include <nlohmann/json.hpp>
 
-#include "calibration.hpp"
+#include "launcher.hpp"
 #include "model/convert.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 namespace {
 
@@ -65,4 +65,4 @@ std::string Calibration::ClosedLoopLines() const {
     return out;
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

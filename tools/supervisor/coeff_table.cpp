@@ -9,7 +9,7 @@
 #include "model/model.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 void ModelBlock(std::ostringstream& os, const char* label, const model_t& m) {
@@ -111,4 +111,4 @@ std::string FormatTruthComparison(const std::map<std::string, coeff_set_t>& coef
     return os.str();
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -6,13 +6,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bus/channels.hpp"
-#include "calibration.hpp"
 #include "child_errors.hpp"
 #include "gyrocal/version.hpp"
+#include "launcher.hpp"
 #include "runtime/shutdown.hpp"
 #include "runtime/status.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 using namespace std::chrono_literals;
@@ -227,9 +227,9 @@ void Calibration::RecoverDue() {
             continue;
         }
         try {
-            if (!InstalledRecoveryReader())
-                throw std::runtime_error("this build has no database reader (store component)");
-            const RecoveredState r = InstalledRecoveryReader()(o_.db, it->run_id);
+            if (!services_.recovery)
+                throw std::runtime_error("this launcher was given no database reader (store)");
+            const RecoveredState r = services_.recovery(o_.db, it->run_id);
             size_t n = 0;
             if (it->what == Recovery::kStoredPoints) {
                 for (const auto& p : r.plateaus)
@@ -268,4 +268,4 @@ void Calibration::StopAll() {
         }
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -6,7 +6,7 @@
 #include "bus/bus.hpp"
 #include "text/names.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 constexpr std::array<std::string_view, 5> kProducers = {"gyrocal-sim-rig", "gyrocal-sequencer",
@@ -90,4 +90,4 @@ std::string ChamberUrl(const std::string& url, int chamber) {
     return FormatUdpm(*a);
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -5,7 +5,7 @@
 
 #include "text/number.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 void Progress::OnRunEvent(const run_event_t& e) {
     run_id_ = e.run_id;
@@ -94,4 +94,4 @@ std::string Progress::Line(double wall_elapsed_s) const {
     return line;
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -7,7 +7,7 @@
 
 #include "message_builders.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 coeff_set_t Set(const std::string& id, int64_t set_id, int offset_terms) {
@@ -107,4 +107,4 @@ TEST(FinalVerdict, ANewerSetThanTheFinalReportsIsMarked) {
 }
 
 }  // namespace
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -10,9 +10,9 @@
 // own error line printed and stored (child_errors.hpp).
 #include <string>
 
-#include "calibrate.hpp"
+#include "supervisor.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 inline constexpr long kCheckRows = 100;  // rows read ahead: every column's format, a few sensors
 
@@ -22,4 +22,4 @@ std::string MeasuredInputProblem(const CalibrateOptions& o);
 // The LCM log check alone (first bytes of `path`): "" or the problem.
 std::string LcmLogProblem(const std::string& path);
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

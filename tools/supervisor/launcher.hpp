@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "bus/bus.hpp"
-#include "calibrate.hpp"
 #include "final_verdict.hpp"
 #include "flow/flow_acker.hpp"
 #include "gyrocal/analysis_t.hpp"
@@ -21,14 +20,15 @@
 #include "lab.hpp"
 #include "launch/child_process.hpp"
 #include "progress.hpp"
+#include "supervisor.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 using Clock = std::chrono::steady_clock;
 
 class Calibration {
 public:
-    explicit Calibration(CalibrateOptions o);
+    Calibration(CalibrateOptions o, StoreServices services);
     int Run();
 
 private:
@@ -91,6 +91,7 @@ private:
     bool RunIsOn() const { return !run_id_.empty() && !run_ended_; }
 
     CalibrateOptions o_;
+    StoreServices services_;  // what needs the store (supervisor.hpp)
     Source source_kind_;
     Role role_;
     Bus bus_;
@@ -129,7 +130,6 @@ private:
 };
 
 double SecondsSince(Clock::time_point t0);
-const RecoveryReader& InstalledRecoveryReader();  // empty when none was installed
 std::string TailOf(const std::string& path, int lines);
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -3,10 +3,10 @@
 // build's bin/ folder), so a build tree runs without installation.
 #include <string>
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 std::string ExecutableDir();                             // folder of /proc/self/exe
 std::string SiblingExecutable(const std::string& name);  // ExecutableDir()/name
 std::string TypesJar();  // $GYROCAL_TYPES_JAR, else <bin>/../java/gyrocal_types.jar
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

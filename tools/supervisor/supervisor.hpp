@@ -23,7 +23,7 @@
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 // What the simulated gyro type tells the fitter for --source sim (the command fills it from the
 // rig's side, producers/sim_rig/gyro_facts.hpp, so that running a calibration needs no simulator).
@@ -103,25 +103,15 @@ double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);
 // port. Throws std::invalid_argument naming --chamber.
 std::string EffectiveLcmUrl(const CalibrateOptions& o);
 
-// Runs the calibration (this host's role of it); returns the exit code (0 completed with
-// coefficients for every sensor, 1 failure, 3 run aborted or incomplete; the after-run hook may
-// turn 0 into 4: a unit did not pass its acceptance limits).
-int RunCalibration(const CalibrateOptions& options);
-
 // Called once a run has ended and every process (the recorder last) has stopped, so the database
-// holds the whole run, with the run id and the exit code so far; returns the exit code. The
-// launcher links no SQLite: the acceptance step lives with the report (cmd_report.hpp) and main
-// installs it when that component is built.
+// holds the whole run, with the run id and the exit code so far; returns the exit code (the
+// acceptance step: 0 may become 4, a unit did not pass its limits).
 using AfterRunHook =
     std::function<int(const CalibrateOptions&, const std::string& run_id, int code)>;
-void SetAfterRunHook(AfterRunHook hook);
-bool HasAfterRunHook();
 
 // What a restarted fitter or compensator is given back from the database by the host that holds
 // it (lab.hpp): the run's plateaus and sensitivity points, the newest coefficient set of each
-// sensor. Read by the store component (store/recorder/recovery.hpp), installed by main like the
-// after-run hook, so the launcher links no SQLite; without it a restarted fitter or compensator
-// rebuilds from the live bus only (and the launcher says so).
+// sensor (store/recorder/recovery.hpp reads them).
 struct RecoveredState {
     std::vector<plateau_t> plateaus;
     std::vector<sensitivity_point_t> rotations;
@@ -130,6 +120,19 @@ struct RecoveredState {
 // Throws std::exception with the reason when the database cannot be read.
 using RecoveryReader =
     std::function<RecoveredState(const std::string& db_path, const std::string& run_id)>;
-void SetRecoveryReader(RecoveryReader reader);
 
-}  // namespace gyrocal::cli
+// What the supervisor needs of the store, passed in by the caller (the gyrocal command builds
+// both from the store's libraries), so that this library links no SQLite. Either may be empty:
+// then --limits and --report are refused before the run, and a restarted fitter or compensator
+// rebuilds from the live bus only (the launcher says so).
+struct StoreServices {
+    AfterRunHook after_run;
+    RecoveryReader recovery;
+};
+
+// Runs the calibration (this host's role of it); returns the exit code (0 completed with
+// coefficients for every sensor, 1 failure, 3 run aborted or incomplete; services.after_run
+// may turn 0 into 4: a unit did not pass its acceptance limits).
+int RunCalibration(const CalibrateOptions& options, const StoreServices& services);
+
+}  // namespace gyrocal::supervisor

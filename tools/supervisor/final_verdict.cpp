@@ -2,7 +2,7 @@
 
 #include "text/number.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 namespace {
 
@@ -66,4 +66,4 @@ std::string FinalVerdict::Explain() const {
     return out;
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

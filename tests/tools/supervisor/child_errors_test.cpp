@@ -7,7 +7,7 @@
 
 #include "runtime/process_main.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 using ::testing::ElementsAre;
@@ -45,4 +45,4 @@ TEST(ChildErrors, TheCauseFollowsWhatHappened) {
 }
 
 }  // namespace
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -26,7 +26,7 @@
 #include <string>
 #include <string_view>
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 enum class Role { kAll, kProducers, kProcessors, kRecorder };
 std::optional<Role> ParseRole(std::string_view text);
@@ -65,4 +65,4 @@ private:
 // Chamber 1 is `url` itself. Throws std::invalid_argument naming --chamber and what is valid.
 std::string ChamberUrl(const std::string& url, int chamber);
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -1,4 +1,4 @@
-#include "calibrate.hpp"
+#include "launcher.hpp"
 
 #include <unistd.h>
 
@@ -19,7 +19,6 @@
 #include "bus/batch.hpp"
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
-#include "calibration.hpp"
 #include "child_errors.hpp"
 #include "coeff_table.hpp"
 #include "csv/file_digest.hpp"
@@ -42,23 +41,9 @@
 #include "runtime/process_main.hpp"
 #include "runtime/shutdown.hpp"
 #include "runtime/status.hpp"
+#include "supervisor.hpp"
 
-namespace gyrocal::cli {
-
-namespace {
-// The one installed function of each hook type (main installs them; none = not built in).
-template <class Hook>
-Hook& Installed() {
-    static Hook hook;
-    return hook;
-}
-}  // namespace
-
-void SetAfterRunHook(AfterRunHook hook) { Installed<AfterRunHook>() = std::move(hook); }
-bool HasAfterRunHook() { return static_cast<bool>(Installed<AfterRunHook>()); }
-
-void SetRecoveryReader(RecoveryReader reader) { Installed<RecoveryReader>() = std::move(reader); }
-const RecoveryReader& InstalledRecoveryReader() { return Installed<RecoveryReader>(); }
+namespace gyrocal::supervisor {
 
 std::vector<std::string> SourceNames() {
     std::vector<std::string> names;
@@ -122,8 +107,9 @@ std::string Join(const std::vector<std::string>& v, const char* sep) {
 
 }  // namespace
 
-Calibration::Calibration(CalibrateOptions o)
+Calibration::Calibration(CalibrateOptions o, StoreServices services)
     : o_(std::move(o)),
+      services_(std::move(services)),
       source_kind_(ParseSource(o_.source)),
       role_(*ParseRole(o_.role)),
       bus_(BusOptions{o_.lcm_url}),
@@ -597,13 +583,12 @@ int Calibration::Finish(int code) {
     std::cout << "\ndatabase: " << o_.db << "   logs: " << o_.log_dir << "\n";
     if (stop_seen_ && WaitsForCoeffs()) std::cerr << Verdict().Explain();
     // The acceptance step reads the database: on the host that holds it.
-    const AfterRunHook& after_run = Installed<AfterRunHook>();
-    if (after_run && !run_id_.empty() && Runs("gyrocal-recorder"))
-        code = after_run(o_, run_id_, code);
+    if (services_.after_run && !run_id_.empty() && Runs("gyrocal-recorder"))
+        code = services_.after_run(o_, run_id_, code);
     return code;
 }
 
-int RunCalibration(const CalibrateOptions& options) {
+int RunCalibration(const CalibrateOptions& options, const StoreServices& services) {
     InstallStopHandlers();
     CalibrateOptions o = options;
     if (o.command_line.empty()) {
@@ -623,7 +608,7 @@ int RunCalibration(const CalibrateOptions& options) {
     }
     try {
         o.lcm_url = EffectiveLcmUrl(o);
-        Calibration c(o);
+        Calibration c(o, services);
         return c.Run();
     } catch (const BusError& e) {
         std::cerr << "gyrocal calibrate: " << e.what() << "\n";
@@ -634,4 +619,4 @@ int RunCalibration(const CalibrateOptions& options) {
     }
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

@@ -12,7 +12,7 @@
 #include "paths.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 namespace {
 
 constexpr const char* kCsvSource = "gyrocal-csv-source";
@@ -80,4 +80,4 @@ std::string MeasuredInputProblem(const CalibrateOptions& o) {
     return "";
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor

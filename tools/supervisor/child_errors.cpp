@@ -4,7 +4,7 @@
 
 #include "runtime/process_main.hpp"
 
-namespace gyrocal::cli {
+namespace gyrocal::supervisor {
 
 std::vector<std::string> ErrorLinesOf(const std::string& log_text, const std::string& process,
                                       size_t max_lines) {
@@ -32,4 +32,4 @@ std::string WithCause(const std::string& what, const std::vector<std::string>& l
     return out;
 }
 
-}  // namespace gyrocal::cli
+}  // namespace gyrocal::supervisor
