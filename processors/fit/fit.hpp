@@ -65,7 +65,7 @@
 // Refusals (FitResult::refusal, never magic ints): fewer than 3 temperatures min_temp_separation_c
 // apart; range narrower than min_range_c; non-finite input; non-positive standard error;
 // ill-conditioned design; degree/method not applicable. What can still be published then (a
-// lower order, a mean) is robust.hpp's FitCalibration's business.
+// lower order, a mean) is calibration_fit.hpp's FitCalibration's business.
 #include <cstdint>
 #include <optional>
 #include <string>

@@ -8,7 +8,7 @@
 // of the current run changes nothing); points of another run are refused. Before any start the
 // first run id seen is adopted (a fitter started late, or data replayed without its start).
 //
-// Fits (fit/robust.hpp: FitCalibration): outliers are left out by a leave-one-out test and
+// Fits (fit/calibration_fit.hpp: FitCalibration): outliers are left out by a leave-one-out test and
 // named; order on evidence; when the temperatures do not allow a full temperature model, a lower
 // order (a line, a mean) is what can be published, marked partial with the reason. During a run a
 // set is emitted after each accepted point when its offset model is complete and the set
@@ -45,8 +45,8 @@
 #include <string>
 #include <vector>
 
+#include "fit/calibration_fit.hpp"
 #include "fit/fit.hpp"
-#include "fit/robust.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"

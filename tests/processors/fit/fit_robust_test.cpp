@@ -1,11 +1,11 @@
-// The leave-one-out outlier test and the lower-order fallbacks (fit/robust.hpp) and the
+// The leave-one-out outlier test and the lower-order fallbacks (fit/calibration_fit.hpp) and the
 // separated-level count.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "fit/robust.hpp"
+#include "fit/calibration_fit.hpp"
 #include "synth.hpp"
 
 namespace gyrocal::fit {

@@ -1,4 +1,4 @@
-#include "robust.hpp"
+#include "calibration_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
