@@ -2,7 +2,7 @@
 // The fields a stored row (store/db/rows.hpp) shares by name with the LCM message it is recorded
 // from, one list per stored message type, used in both directions: message -> row when recording
 // (record_mapper.cpp), row -> message when replaying (replay_source.cpp), recovering
-// (recovery.cpp) and exporting samples (store/cli/samples_csv.cpp). A field added to a message
+// (recovery.cpp) and exporting samples (store/format/samples_csv.cpp). A field added to a message
 // and its row is added here once.
 //
 // What is not shared by name stays with each conversion: the run in force and recv_utime (rows

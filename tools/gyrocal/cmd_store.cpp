@@ -1,5 +1,5 @@
 // `gyrocal runs|show|history|export|fleet|replay`: thin CLI over the query library (store/db) and
-// the formatters (store/cli/report). Errors are one line on stderr naming the command.
+// the formatters (store/format). Errors are one line on stderr naming the command.
 #include "cmd_store.hpp"
 
 #include <unistd.h>
@@ -16,16 +16,16 @@
 
 #include "central_url.hpp"
 #include "fleet.hpp"
+#include "format.hpp"
 #include "plot/gnuplot.hpp"
 #include "query.hpp"
-#include "report.hpp"
 #include "samples_csv.hpp"
 #include "unit_data.hpp"
 
 namespace {
 
 namespace st = gyrocal::store;
-namespace rep = gyrocal::store::report;
+namespace rep = gyrocal::store::format;
 
 constexpr const char* kExitCodes =
     "Exit codes: 0 success, 1 unknown run/sensor or database/output failure, 2 bad options.";

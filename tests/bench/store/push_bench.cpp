@@ -22,12 +22,12 @@
 #include "bench_args.hpp"
 #include "bench_context.hpp"
 #include "central_db.hpp"
+#include "format.hpp"
 #include "machine.hpp"
 #include "pg_server.hpp"
 #include "push.hpp"
 #include "push_tables.hpp"
 #include "query.hpp"
-#include "report.hpp"
 #include "scratch_db.hpp"
 #include "station_fixture.hpp"
 
@@ -140,7 +140,7 @@ double HistoryTime(const std::string& db_name, const std::string& unit, int n, s
         const auto t0 = Clock::now();
         auto db = st::OpenForQuery(db_name);
         const auto h = st::SensorHistory(*db, unit, true);
-        const std::string text = st::report::HistoryTable(unit, h, {0, 25, 50});
+        const std::string text = st::format::HistoryTable(unit, h, {0, 25, 50});
         times.push_back(Since(t0));
         *sets = h.size();
     }

@@ -14,9 +14,9 @@
 
 #include "cmd_compensate.hpp"
 #include "compensator/compensate.hpp"
+#include "format.hpp"
 #include "model_rows.hpp"
 #include "query.hpp"
-#include "report.hpp"
 #include "text/number.hpp"
 #include "writer.hpp"
 
@@ -127,7 +127,7 @@ protected:
         j["exported_from"] = "test";
         j["coeff_sets"] = nlohmann::json::array();
         for (const auto& s : st::RunNewestCoeffs(*db, "R1"))
-            j["coeff_sets"].push_back(st::report::CoeffSetJson(s));
+            j["coeff_sets"].push_back(st::format::CoeffSetJson(s));
         std::ofstream(dir_ / "coeffs.json") << j.dump(2);
     }
     void TearDown() override { fs::remove_all(dir_); }

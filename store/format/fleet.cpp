@@ -5,12 +5,12 @@
 #include <map>
 #include <sstream>
 
+#include "format.hpp"
 #include "format_util.hpp"
 #include "model_rows.hpp"
-#include "report.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 using namespace detail;
 
@@ -310,4 +310,4 @@ std::vector<plot::Figure> FleetFigures(const std::vector<FleetGroup>& groups,
     return out;
 }
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

@@ -9,7 +9,7 @@
 #include "message_fields.hpp"
 #include "replay_reader.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string& sensor_id,
                            std::ostream& out) {
@@ -46,4 +46,4 @@ int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string&
     return rows;
 }
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

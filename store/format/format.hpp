@@ -13,7 +13,7 @@
 #include "query.hpp"
 #include "utc_text.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 // "2026-11-21 05:14:00" (UTC) of a wall-clock utime [us]; "-" when absent.
 using gyrocal::store::UtcText;
@@ -49,4 +49,4 @@ std::string CoeffsCHeader(const std::vector<CoeffSetInfo>& sets, const std::stri
 // Replaces control characters (and DEL) by '?', for one-line display of untrusted text.
 std::string Printable(const std::string& s);
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

@@ -1,5 +1,5 @@
 // Human tables and JSON for runs, a run's detail and a sensor's history.
-#include "report.hpp"
+#include "format.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -8,10 +8,10 @@
 
 #include "format_util.hpp"
 #include "model/convert.hpp"
-#include "report_fit.hpp"
+#include "show_fit.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 using namespace detail;
 
@@ -587,4 +587,4 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
     return j;
 }
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

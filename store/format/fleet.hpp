@@ -21,7 +21,7 @@
 #include "plot/figure.hpp"
 #include "rows.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 struct FleetUnit {
     std::string sensor_id, model, station, run_id;
@@ -81,4 +81,4 @@ nlohmann::json FleetJson(const std::vector<FleetGroup>& groups, const FleetOptio
 std::vector<plot::Figure> FleetFigures(const std::vector<FleetGroup>& groups,
                                        const FleetOptions& options);
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

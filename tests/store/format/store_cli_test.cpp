@@ -13,12 +13,12 @@
 #include <sstream>
 
 #include "fixture.hpp"
+#include "format.hpp"
 #include "launch/child_process.hpp"
 #include "model/c_source.hpp"
 #include "model/json.hpp"
 #include "model/model.hpp"
 #include "model_rows.hpp"
-#include "report.hpp"
 #include "sqlite_db.hpp"
 
 namespace gyrocal::testing {
@@ -553,7 +553,7 @@ TEST(StoreCliJson, AStoredSetIsWrittenByTheModelWriterAndReadsBackBitForBit) {
                          0,
                          1.0,
                          "nominal"};
-    const nlohmann::json j = store::report::CoeffSetJson(c);
+    const nlohmann::json j = store::format::CoeffSetJson(c);
     std::vector<std::string> keys;
     for (const auto& [k, v] : j.items()) keys.push_back(k);
     EXPECT_EQ(keys, (std::vector<std::string>{"coeff_row_id", "coeff_set_id", "offset",

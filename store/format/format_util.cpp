@@ -4,11 +4,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "format.hpp"
 #include "model_rows.hpp"
-#include "report.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::store::report::detail {
+namespace gyrocal::store::format::detail {
 
 Table::Table(std::vector<std::string> headers) { rows_.push_back(std::move(headers)); }
 
@@ -72,4 +72,4 @@ std::string Terms(const ModelRow& m) {
 
 std::optional<double> Eval(const ModelRow& m, double temp_c) { return SteadyStateValue(m, temp_c); }
 
-}  // namespace gyrocal::store::report::detail
+}  // namespace gyrocal::store::format::detail

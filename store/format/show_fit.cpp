@@ -1,13 +1,13 @@
-#include "report_fit.hpp"
+#include "show_fit.hpp"
 
 #include <cmath>
 #include <sstream>
 
+#include "format.hpp"
 #include "format_util.hpp"
-#include "report.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 using namespace detail;
 
@@ -177,4 +177,4 @@ void AddFitJson(nlohmann::json& j, const RunDetail& d) {
     j["noise"] = noise;
 }
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

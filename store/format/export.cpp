@@ -4,16 +4,16 @@
 #include <set>
 #include <sstream>
 
+#include "format.hpp"
 #include "format_util.hpp"
 #include "model/c_source.hpp"
 #include "model/inputs.hpp"
 #include "model/json.hpp"
 #include "model/terms.hpp"
 #include "model_rows.hpp"
-#include "report.hpp"
 #include "text/number.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 namespace {
 
 std::string CsvField(const std::string& s) {
@@ -203,4 +203,4 @@ std::string CoeffsCHeader(const std::vector<CoeffSetInfo>& sets, const std::stri
     return out.str();
 }
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

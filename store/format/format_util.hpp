@@ -8,7 +8,7 @@
 
 #include "rows.hpp"
 
-namespace gyrocal::store::report::detail {
+namespace gyrocal::store::format::detail {
 
 // Column-aligned text table; cells are made printable (untrusted text).
 class Table {
@@ -31,4 +31,4 @@ std::string Terms(const ModelRow& m);  // "1=2.5 dT=0.001"
 // extrapolated outside its valid range; nullopt when the model is not usable.
 std::optional<double> Eval(const ModelRow& m, double temp_c);
 
-}  // namespace gyrocal::store::report::detail
+}  // namespace gyrocal::store::format::detail

@@ -1,13 +1,13 @@
-// The fleet view's numbers (store/cli/fleet.hpp) on units with known curves: the lot's centre and
-// spread, the unit outside it, a station's bias, valid ranges, too few units, the unit model read
-// from a run's configuration, and drawable figures.
+// The fleet view's numbers (store/format/fleet.hpp) on units with known curves: the lot's centre
+// and spread, the unit outside it, a station's bias, valid ranges, too few units, the unit model
+// read from a run's configuration, and drawable figures.
 #include "fleet.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 namespace {
 
 // The standard normal quantile, by bisection on the CDF 0.5 erfc(-x / sqrt 2) (60 halvings of
@@ -134,4 +134,4 @@ TEST(Fleet, FiguresAreDrawableAndNameTheUnitOutside) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format

@@ -7,7 +7,7 @@
 
 #include "query.hpp"
 
-namespace gyrocal::store::report {
+namespace gyrocal::store::format {
 
 // " COMPLETE", " PARTIAL: why", or "" when no report names this set.
 std::string SetStatusLabel(const RunDetail& d, const CoeffSetInfo& c);
@@ -16,4 +16,4 @@ std::string FitSectionsText(const RunDetail& d);
 // The same as "fit_reports" and "noise" members of `j`.
 void AddFitJson(nlohmann::json& j, const RunDetail& d);
 
-}  // namespace gyrocal::store::report
+}  // namespace gyrocal::store::format
