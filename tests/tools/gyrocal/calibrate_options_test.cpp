@@ -8,9 +8,12 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "cmd_calibrate.hpp"
 #include "gyro_facts.hpp"
 #include "launch/child_process.hpp"
 #include "sim/config.hpp"
@@ -93,6 +96,49 @@ TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
         ASSERT_TRUE(st.has_value()) << c.args[0] << ": still running";
         EXPECT_TRUE(st->exited && st->code == c.code) << c.args[0] << ": " << st->Describe();
         EXPECT_NE(ReadLog(err).find(c.says), std::string::npos) << ReadLog(err);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+// The supervisor takes what it needs of the store as a dependency (StoreServices), not from a
+// global hook: a command built without an acceptance step refuses --limits and --report when the
+// options are parsed, naming the option, and one given a step accepts them; nothing runs.
+TEST(CalibrateOptions, LimitsAndReportNeedTheAcceptanceStepPassedIn) {
+    const std::string dir = ::testing::TempDir() + "gyrocal_cal_svc_" + std::to_string(getpid());
+    std::filesystem::create_directories(dir);
+    const std::string limits = dir + "/limits.json";
+    std::ofstream(limits) << R"({"max_offset_change_dps": 25.0})";
+    const std::string db = dir + "/x.db";
+    for (const bool with_step : {false, true}) {
+        for (const std::vector<std::string>& extra :
+             {std::vector<std::string>{"--limits", limits}, {"--report", dir}}) {
+            CLI::App app;
+            std::function<int()> action;
+            StoreServices services;
+            if (with_step)
+                services.after_run = [](const CalibrateOptions&, const std::string&, int code) {
+                    return code;
+                };
+            cli::AddCalibrateCommand(app, action, services);
+            std::vector<std::string> args = {"gyrocal", "calibrate", "--db", db};
+            args.insert(args.end(), extra.begin(), extra.end());
+            std::vector<const char*> argv;
+            for (const std::string& a : args) argv.push_back(a.c_str());
+            if (with_step) {
+                EXPECT_NO_THROW(app.parse(static_cast<int>(argv.size()), argv.data())) << extra[0];
+                EXPECT_TRUE(static_cast<bool>(action)) << extra[0];
+                continue;
+            }
+            try {
+                app.parse(static_cast<int>(argv.size()), argv.data());
+                ADD_FAILURE() << extra[0] << " accepted without an acceptance step";
+            } catch (const CLI::ValidationError& e) {
+                EXPECT_NE(std::string(e.what()).find(extra[0]), std::string::npos) << e.what();
+                EXPECT_NE(std::string(e.what()).find("needs the store"), std::string::npos)
+                    << e.what();
+            }
+            EXPECT_FALSE(static_cast<bool>(action));
+        }
     }
     std::filesystem::remove_all(dir);
 }
