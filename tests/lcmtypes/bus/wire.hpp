@@ -22,7 +22,8 @@ struct Wire {
 inline Wire ForProcess(Bus& bus) {
     return {[&bus] {
                 bus.Handle(std::chrono::milliseconds(0));
-                std::this_thread::sleep_for(std::chrono::milliseconds(2));  // ~100 msgs / 2 ms
+                // Pacing, not a wait: ~100 msgs / 2 ms, what the process's socket buffer holds.
+                std::this_thread::sleep_for(std::chrono::milliseconds(2));
             },
             [&bus](const std::function<bool()>& done, std::chrono::milliseconds limit) {
                 return HandleUntil(bus, done, limit, std::chrono::milliseconds(20));

@@ -87,7 +87,8 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
         l.bus.Publish(channels::Sensitivity("S01"),
                       Rotation("S01", temp, t, +1, false));  // not accepted
         t += 10'000'000;
-        std::this_thread::sleep_for(20ms);  // keep UDP bursts small
+        // Pacing, not a wait: keeps each UDP burst small enough for the socket buffer.
+        std::this_thread::sleep_for(20ms);
     }
     // S03: five noisy plateaus (noise = the stated sem, 2e-5 V): the N-point path.
     std::mt19937_64 rng(3);

@@ -18,6 +18,7 @@
 #include "query.hpp"
 #include "recorder_harness.hpp"
 #include "table_digest.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal::testing {
 namespace {
@@ -30,7 +31,7 @@ void PublishSamples(Bus& bus, const std::vector<std::string>& units, int64_t fir
     int k = 0;
     for (int64_t s = first; s < first + n; ++s) {
         for (const auto& u : units) ASSERT_TRUE(bus.Publish(channels::Gyro(u), Gyro(u, s)));
-        if (++k % 10 == 0) std::this_thread::sleep_for(1ms);
+        if (++k % 10 == 0) std::this_thread::sleep_for(1ms);  // pacing (above), not a wait
     }
 }
 
@@ -52,13 +53,13 @@ TEST(RecorderBackgroundPush, ARunEndingIsPushedWhileTheRecorderGoesOnRecording) 
     ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG2", "start", units)));
     PublishSamples(r.bus, units, 2000, 3000);
     // THEN BG1 reaches the centre (bounded wait: the push waits for the stop's commit, 200 ms)
-    const auto give_up = std::chrono::steady_clock::now() + 60s;
     std::string outcome;
-    while (std::chrono::steady_clock::now() < give_up) {
-        outcome = server.Query(db_name, "SELECT outcome FROM runs WHERE run_id = 'BG1'");
-        if (outcome == "stop") break;
-        std::this_thread::sleep_for(200ms);
-    }
+    WaitUntil(
+        [&] {
+            outcome = server.Query(db_name, "SELECT outcome FROM runs WHERE run_id = 'BG1'");
+            return outcome == "stop";
+        },
+        60s, 200ms);
     ASSERT_EQ(outcome, "stop") << ReadLog(station + ".recorder.err");
     r.rec.Signal(SIGTERM);
     const auto exit = r.rec.Wait(20s);

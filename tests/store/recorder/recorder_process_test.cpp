@@ -27,7 +27,7 @@ public:
     void Send(const std::string& channel, const Msg& m) {
         ASSERT_TRUE(bus_.Publish(channel, m));
         ++count_[channel];
-        if (++n_ % 20 == 0) std::this_thread::sleep_for(1ms);
+        if (++n_ % 20 == 0) std::this_thread::sleep_for(1ms);  // pacing (above), not a wait
     }
     void SendRaw(const std::string& channel, const std::vector<uint8_t>& b) {
         ASSERT_TRUE(bus_.PublishRaw(channel, b.data(), static_cast<int>(b.size())));
