@@ -13,9 +13,6 @@
 #include "text/number.hpp"
 
 namespace gyrocal {
-namespace {
-// As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
-}  // namespace
 
 std::string CsvRecordOptions::Validate() const {
     if (out.empty()) return "--out is required: the CSV file to write";
@@ -118,9 +115,18 @@ bool CsvRecordNode::Idle() {
            now - last_activity_ >= std::chrono::duration<double>(options_.idle_exit_s);
 }
 
+void CsvRecordNode::PublishStatus() {
+    status_.SetExtra("rows_written", static_cast<double>(rows_));
+    status_.PublishNow();
+}
+
 int CsvRecordNode::Run() {
     RunLoop(
         bus_, status_, [this] { return Idle(); }, std::chrono::milliseconds(20));
+    return Finish();
+}
+
+int CsvRecordNode::Finish() {
     out_.flush();
     out_.close();
     std::cerr << "gyrocal-csv-record: wrote " << rows_ << " rows to " << options_.out << "\n";

@@ -6,6 +6,7 @@
 //
 // Threads: one. Run() is RunLoop; handlers format and append to a buffered file, flushed once
 // a second and at exit. It stops on SIGINT/SIGTERM, or after --idle-exit-s without messages.
+// In-process (tests over memq://): publish on bus(), Handle it, then Finish() instead of Run().
 #include <chrono>
 #include <cstdint>
 #include <fstream>
@@ -34,8 +35,16 @@ class CsvRecordNode {
 public:
     // Throws std::runtime_error when --out cannot be created.
     explicit CsvRecordNode(const CsvRecordOptions& options);
-    // 0 on a normal stop, 1 when writing failed.
+    // RunLoop until a stop, then Finish(): 0 on a normal stop, 1 when writing failed.
     int Run();
+    // Flushes and closes the file and says how many rows it holds: 0, or 1 when writing failed.
+    int Finish();
+
+    // In-process use: the node's bus (publish to it, Handle it), its STATUS on demand.
+    Bus& bus() { return bus_; }
+    void PublishStatus();
+    int64_t rows_written() const { return rows_; }
+    int64_t rejected() const { return status_.rejected(); }
 
 private:
     using Clock = std::chrono::steady_clock;

@@ -12,7 +12,6 @@
 
 namespace gyrocal {
 namespace {
-// As a person typed it: "0", "-1.5", "1e+07" (std::to_string would print "0.000000").
 sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
     std::string err;
     return *conversion.Transfer(&err);  // validated by main

@@ -47,6 +47,12 @@ public:
     // 0 at end of input or on SIGINT/SIGTERM; 1 on a read error or a stream without a header.
     int Run();
 
+    // In-process use (tests over memq://): the node's bus, to subscribe to what it publishes
+    // (Handle it after Run() for the last messages), and its counts.
+    Bus& bus() { return bus_; }
+    int64_t rows_published() const { return published_rows_; }
+    int64_t bad_lines() const { return bad_lines_; }
+
 private:
     bool Step();
     bool AtEnd();  // end of input: the last answers (--flow) or --drain-s

@@ -48,6 +48,10 @@ public:
     explicit LogSourceNode(const LogSourceOptions& options, int64_t events);
     // 0 when done or stopped, 1 when publishing failed or the file changed under it.
     int Run();
+    // The node's bus: tests subscribe to it over memq:// (Handle it after Run() for the last
+    // messages).
+    Bus& bus() { return bus_; }
+    int64_t published() const { return published_; }
 
 private:
     using Clock = std::chrono::steady_clock;

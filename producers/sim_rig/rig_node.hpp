@@ -50,6 +50,9 @@ public:
     explicit SimRigNode(const SimRigOptions& options);
     // Runs until stopped; returns the process exit code.
     int Run();
+    // The node's bus: tests publish commands to it and subscribe to it over memq:// (Handle it
+    // after Run() for the last messages).
+    Bus& bus() { return bus_; }
 
 private:
     // Guard: a built-in profile drives the rig itself; a command on the bus (`what`, e.g.

@@ -8,10 +8,10 @@
 #include <exception>
 #include <filesystem>
 #include <string>
-#include <thread>
 
 #include "schema.hpp"
 #include "sqlite_db.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal::testing {
 
@@ -40,17 +40,18 @@ inline int64_t Count(const std::string& db_path, const std::string& sql) {
 // Polls `sql` until it returns `expected` or `timeout` passes; returns the last value.
 inline int64_t WaitForCount(const std::string& db_path, const std::string& sql, int64_t expected,
                             std::chrono::milliseconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
     int64_t n = -1;
-    for (;;) {
-        try {
-            n = Count(db_path, sql);
-        } catch (const std::exception&) {
-            n = -1;  // not created yet
-        }
-        if (n == expected || std::chrono::steady_clock::now() >= end) return n;
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    WaitUntil(
+        [&] {
+            try {
+                n = Count(db_path, sql);
+            } catch (const std::exception&) {
+                n = -1;  // not created yet
+            }
+            return n == expected;
+        },
+        timeout, std::chrono::milliseconds(50));
+    return n;
 }
 
 // A new database at schema `version`, as an older gyrocal left it, for a test to fill.

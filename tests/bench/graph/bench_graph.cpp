@@ -177,6 +177,7 @@ int main(int argc, char** argv) {
     std::optional<ExitStatus> status;
     while (!(status = calibrate.Poll())) {
         sampler.Sample();
+        // Time itself: the sampling period of the resource figures.
         std::this_thread::sleep_for(std::chrono::milliseconds(a.sample_ms));
     }
     const double wall_s =

@@ -36,6 +36,7 @@
 #include "machine.hpp"
 #include "row_builders.hpp"
 #include "sqlite_db.hpp"
+#include "wait_until.hpp"
 #include "writer.hpp"
 
 namespace {
@@ -181,6 +182,26 @@ void StoreAlone(const std::string& dir) {
     }
 }
 
+int64_t CountRows(const std::string& db);
+
+// Drain: until the recorder stored `published` rows, or its count stopped moving for 2 s
+// (bounded at 30 s); a loaded machine can starve a process for a while.
+void WaitForDrain(const std::string& db, int64_t published) {
+    int64_t last = -1;
+    auto still_since = Clock::now();
+    gyrocal::testing::WaitUntil(
+        [&] {
+            const int64_t n = CountRows(db);
+            if (n >= published) return true;
+            if (n != last) {
+                last = n;
+                still_since = Clock::now();
+            }
+            return Clock::now() - still_since > 2s;
+        },
+        30s, 100ms);
+}
+
 int64_t CountRows(const std::string& db) {
     try {
         st::Db d(db, st::Db::Mode::kReadOnly);
@@ -231,6 +252,7 @@ int64_t Publish(gyrocal::Bus& bus, int units, double hz, double seconds) {
             ++m.seq;
             ++sent;
         }
+        // Time itself: the publisher keeps the stated rate (units x hz), sending what is due.
         std::this_thread::sleep_for(100us);
     }
     return bus.counters().published;
@@ -276,34 +298,20 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
     }
     // lcm-logger has no heartbeat: ping on a side channel until its file grows (it flushes
     // every 100 ms), so both listen before the stream starts.
-    const auto ready_by = Clock::now() + 10s;
     const uint8_t ping[8] = {0};
-    while (Clock::now() < ready_by &&
-           (!std::filesystem::exists(log) || std::filesystem::file_size(log) == 0)) {
-        bus.PublishRaw("BENCH_PING", ping, sizeof ping);
-        std::this_thread::sleep_for(50ms);
-    }
+    gyrocal::testing::WaitUntil(
+        [&] {
+            if (std::filesystem::exists(log) && std::filesystem::file_size(log) > 0) return true;
+            bus.PublishRaw("BENCH_PING", ping, sizeof ping);
+            return false;
+        },
+        10s, 50ms);
     const int64_t pings = bus.counters().published;
     const ProcStats rec0 = ReadProcStats(rec.pid()), log0 = ReadProcStats(logger.pid());
     const auto t0 = Clock::now();
     r.published = Publish(bus, units, hz, seconds) - pings;
     r.achieved_rate = r.published / Seconds(Clock::now() - t0);
-    // Drain: until the recorder stored everything, or its count stopped moving for 2 s
-    // (bounded at 30 s); a loaded machine can starve a process for a while.
-    int64_t last = -1;
-    auto still_since = Clock::now();
-    const auto end = Clock::now() + 30s;
-    while (Clock::now() < end) {
-        const int64_t n = CountRows(db);
-        if (n >= r.published) break;
-        if (n != last) {
-            last = n;
-            still_since = Clock::now();
-        } else if (Clock::now() - still_since > 2s) {
-            break;
-        }
-        std::this_thread::sleep_for(100ms);
-    }
+    WaitForDrain(db, r.published);
     const double wall = Seconds(Clock::now() - t0);
     const ProcStats rec1 = ReadProcStats(rec.pid()), log1 = ReadProcStats(logger.pid());
     r.rec_cpu_pct = 100 * (rec1.cpu_s - rec0.cpu_s) / wall;
@@ -381,13 +389,13 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
         const auto t0 = Clock::now();
         while (!done) {
             rss.emplace_back(Seconds(Clock::now() - t0), ReadProcStats(rec.pid()).rss_kb);
-            std::this_thread::sleep_for(2s);
+            std::this_thread::sleep_for(2s);  // time itself: the sampling period
         }
     });
     const int64_t sent = Publish(bus, units, hz, seconds);
     done = true;
     sampler.join();
-    std::this_thread::sleep_for(1s);
+    WaitForDrain(db, sent);
     const ProcStats end = ReadProcStats(rec.pid());
     rec.Stop(10s);
     int64_t gaps = 0, drops = 0;

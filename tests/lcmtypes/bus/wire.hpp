@@ -3,14 +3,19 @@
 // and the real process over UDP multicast:
 //   pace()          after a burst of published messages: let the receiver keep up;
 //   until(done, t)  dispatch until done() holds or t has passed (false: it did not).
-// ForProcess: the test's own bus on the process's multicast port; ForNode: the node's own bus
-// (memq://), its STATUS published on every round, since no heartbeat loop runs in-process.
+// ForProcess: the test's own bus on the process's multicast port, paced on the process's answers
+// to flow marks (flow_pacer.hpp); ForNode: the node's own bus (memq://), its STATUS published on
+// every round, since no heartbeat loop runs in-process.
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <functional>
-#include <thread>
+#include <memory>
+#include <string>
 
 #include "bus/bus.hpp"
 #include "bus_wait.hpp"
+#include "flow_pacer.hpp"
 
 namespace gyrocal::testing {
 
@@ -19,11 +24,10 @@ struct Wire {
     std::function<bool(const std::function<bool()>&, std::chrono::milliseconds)> until;
 };
 
-inline Wire ForProcess(Bus& bus) {
-    return {[&bus] {
-                bus.Handle(std::chrono::milliseconds(0));
-                std::this_thread::sleep_for(std::chrono::milliseconds(2));  // ~100 msgs / 2 ms
-            },
+// `process`: the process's STATUS name, whose answers to the marks pace the test.
+inline Wire ForProcess(Bus& bus, const std::string& process) {
+    auto pacer = std::make_shared<FlowPacer>(bus, process);
+    return {[pacer] { EXPECT_TRUE(pacer->Sync()) << "the process answered no flow mark"; },
             [&bus](const std::function<bool()>& done, std::chrono::milliseconds limit) {
                 return HandleUntil(bus, done, limit, std::chrono::milliseconds(20));
             }};

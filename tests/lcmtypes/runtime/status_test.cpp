@@ -97,10 +97,10 @@ TEST(StatusReporter, TickPublishesOncePerPeriod) {
     Bus bus(BusOptions{"memq://"});
     Heartbeats heartbeats(bus);
     StatusReporter status(bus, "gyrocal-test", 200ms);
-    status.Tick();  // the first: nothing published yet
-    status.Tick();  // within the period
-    std::this_thread::sleep_for(250ms);
-    status.Tick();  // a period later
+    status.Tick();                       // the first: nothing published yet
+    status.Tick();                       // within the period
+    std::this_thread::sleep_for(250ms);  // time itself: what is tested is the period
+    status.Tick();                       // a period later
     EXPECT_EQ(heartbeats.Drain().size(), 2u);
 }
 
@@ -122,9 +122,9 @@ TEST(RateLimitedLog, RepeatsWithinASecondAreCountedAndSaidWithTheNext) {
     RateLimitedLog log("gyrocal-test");
     ::testing::internal::CaptureStderr();
     log.Warn("gap", "first");
-    log.Warn("gap", "second");   // within the second: suppressed
-    log.Warn("other", "third");  // another key: its own limit
-    std::this_thread::sleep_for(1100ms);
+    log.Warn("gap", "second");            // within the second: suppressed
+    log.Warn("other", "third");           // another key: its own limit
+    std::this_thread::sleep_for(1100ms);  // time itself: past the one-second limit
     log.Warn("gap", "fourth");
     EXPECT_EQ(::testing::internal::GetCapturedStderr(),
               "gyrocal-test: warning: first\n"

@@ -1,16 +1,15 @@
 // gyrocal-compensator as a real OS process over UDP multicast (port 7751, TTL 0): samples before
 // any set are counted uncompensated; after a COEFFS_ the RATE_ values are the truth (outside the
 // valid range too under the default policy, extrapolate, flagged 2; clipped and flagged 1 under
-// --out-of-range clip); a bad set is
-// rejected, counted in STATUS, and the old set stays in force; NaN, backwards and mislabelled
-// samples are refused and counted; bad options exit 2.
+// --out-of-range clip); a bad set is rejected, counted in STATUS, and the old set stays in force
+// (each set is waited for in STATUS, never slept over); NaN, backwards and mislabelled samples
+// are refused and counted; bad options exit 2.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iterator>
-#include <thread>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
@@ -61,7 +60,9 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
     for (; seq < 5; ++seq) l.bus.Publish(channels::Gyro("S01"), Sample(seq, 20.0, 10.0));
     // WHEN a set arrives, then samples at a constant 10 deg/s at temperatures across the range
     l.bus.Publish(channels::Coeffs("S01"), Set(777));
-    std::this_thread::sleep_for(50ms);
+    // Its STATUS names the set in force before any sample is sent against it.
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.Extra("S01.coeff_set_id") == 777; }))
+        << "STATUS never reported S01.coeff_set_id 777";
     const int64_t first_compensated = seq;
     for (; seq < 105; ++seq)
         l.bus.Publish(channels::Gyro("S01"), Sample(seq, -5.0 + 0.6 * (seq - 5), 10.0));
@@ -69,7 +70,9 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
     coeff_set_t bad = Set(888);
     bad.offset.term_names[2] = "dT^9";
     l.bus.Publish(channels::Coeffs("S01"), bad);
-    std::this_thread::sleep_for(50ms);
+    ASSERT_TRUE(l.WaitFor([&] { return l.status.Extra("coeff_sets_rejected") >= 1; }))
+        << "STATUS never counted the bad set";
+    EXPECT_EQ(l.status.Extra("S01.coeff_set_id"), 777);  // the old set stays in force
     for (; seq < 110; ++seq)
         l.bus.Publish(channels::Gyro("S01"), Sample(seq, 70.0, 10.0));  // above the range
     // bad samples: NaN gyro_v, a timestamp going backwards, a sensor_id that is not the channel's

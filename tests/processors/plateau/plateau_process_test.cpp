@@ -22,7 +22,7 @@ constexpr const char* kUrl = "udpm://239.255.76.67:7740?ttl=0&recv_buf_size=4194
 TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
     Bus bus(BusOptions{kUrl});
     testing::StatusWatch status(bus, "gyrocal-plateau");
-    const testing::Wire wire = testing::ForProcess(bus);
+    const testing::Wire wire = testing::ForProcess(bus, "gyrocal-plateau");
     const auto dir =
         std::filesystem::temp_directory_path() / ("gyrocal_plateau_mp_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);

@@ -22,7 +22,7 @@ constexpr const char* kUrl = "udpm://239.255.76.67:7741?ttl=0&recv_buf_size=4194
 TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
     Bus bus(BusOptions{kUrl});
     testing::StatusWatch status(bus, "gyrocal-rotation");
-    const testing::Wire wire = testing::ForProcess(bus);
+    const testing::Wire wire = testing::ForProcess(bus, "gyrocal-rotation");
     const auto dir = std::filesystem::temp_directory_path() /
                      ("gyrocal_rotation_mp_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);

@@ -10,11 +10,11 @@
 #include <csignal>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
-#include <thread>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "producer_process_support.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal::test {
 namespace {
@@ -56,12 +56,14 @@ TEST(LcmLog, LoggedRunReplaysToTheSameSamples) {
         // test's own and nothing subscribes to it).
         Bus probe(BusOptions{url});
         const uint8_t byte = 0;
-        const auto end = std::chrono::steady_clock::now() + 10s;
-        while (std::chrono::steady_clock::now() < end &&
-               !(std::filesystem::exists(log) && std::filesystem::file_size(log) > 0)) {
-            probe.PublishRaw(kProbeChannel, &byte, 1);
-            std::this_thread::sleep_for(50ms);
-        }
+        testing::WaitUntil(
+            [&] {
+                if (std::filesystem::exists(log) && std::filesystem::file_size(log) > 0)
+                    return true;
+                probe.PublishRaw(kProbeChannel, &byte, 1);
+                return false;
+            },
+            10s, 50ms);
         ASSERT_GT(std::filesystem::file_size(log), 0u) << Slurp(dir.Path("logger.err"));
     }
     // WHEN a CSV run is published and logged

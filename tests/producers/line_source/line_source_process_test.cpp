@@ -72,7 +72,7 @@ TEST(LineSource, WallTimeFromAFifo) {
     // WHEN a DAQ writes 20 lines, 20 ms apart (the header arrives in two pieces)
     const std::string header = "time_s,sensor_id,gyro_v,temp_v\n";
     ASSERT_EQ(write(fd, header.data(), 10), 10);
-    std::this_thread::sleep_for(20ms);
+    std::this_thread::sleep_for(20ms);  // time itself: the second piece arrives later
     ASSERT_EQ(write(fd, header.data() + 10, header.size() - 10),
               static_cast<ssize_t>(header.size() - 10));
     std::vector<int64_t> sent_us;
@@ -81,7 +81,7 @@ TEST(LineSource, WallTimeFromAFifo) {
             std::to_string(i * 0.02) + ",DAQ1," + std::to_string(2.5 + i * 1e-3) + ",2.5\n";
         sent_us.push_back(wall_us());
         ASSERT_EQ(write(fd, line.data(), line.size()), static_cast<ssize_t>(line.size()));
-        std::this_thread::sleep_for(20ms);
+        std::this_thread::sleep_for(20ms);  // time itself: a DAQ's pace, stamped at reception
     }
     close(fd);
     EXPECT_EQ(WaitExit(src, 20s).code, 0) << Slurp(dir.Path("src.err"));

@@ -9,9 +9,11 @@
 #include <unistd.h>
 
 #include <csignal>
-#include <thread>
+#include <fstream>
+#include <string>
 
 #include "producer_process_support.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal::test {
 namespace {
@@ -87,6 +89,16 @@ TEST(SourcesBadInput, HelpListsOptionsAndExitCodes) {
     }
 }
 
+// Whether process `pid` has a handler for SIGTERM (its SigCgt mask in /proc/<pid>/status).
+bool CatchesSigterm(pid_t pid) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);) {
+        if (line.rfind("SigCgt:", 0) == 0)
+            return (std::stoull(line.substr(7), nullptr, 16) >> (SIGTERM - 1)) & 1u;
+    }
+    return false;
+}
+
 TEST(SourcesSignals, SigtermStopsBothSourcesWithExitZero) {
     // GIVEN a 3 s file replayed in real time, and a line source waiting on an idle FIFO
     Scratch dir("signals");
@@ -99,7 +111,10 @@ TEST(SourcesSignals, SigtermStopsBothSourcesWithExitZero) {
                       dir.Path("line.err"));
     const int fd = open(fifo.c_str(), O_WRONLY);  // returns once the source has opened it
     ASSERT_GE(fd, 0);
-    std::this_thread::sleep_for(500ms);
+    // Both have installed their SIGTERM handlers (the line source did before opening the FIFO).
+    ASSERT_TRUE(testing::WaitUntil([&] { return CatchesSigterm(src.pid()); }, 10s))
+        << Slurp(dir.Path("src.err"));
+    ASSERT_TRUE(CatchesSigterm(line.pid()));
     // WHEN both get SIGTERM mid-way
     src.Signal(SIGTERM);
     line.Signal(SIGTERM);

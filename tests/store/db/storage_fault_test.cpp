@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <functional>
 #include <map>
-#include <thread>
 
 #include "async_writer.hpp"
 #include "scratch_db.hpp"
+#include "wait_until.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::store {
@@ -33,14 +33,7 @@ GyroRow Sample(const std::string& run, const std::string& sensor, int64_t seq) {
 }
 
 // Polls `done` until true or 10 s (generous: the writer retries every 100 ms here).
-bool WaitFor(const std::function<bool()>& done) {
-    const auto end = std::chrono::steady_clock::now() + 10s;
-    while (!done()) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        std::this_thread::sleep_for(5ms);
-    }
-    return true;
-}
+bool WaitFor(const std::function<bool()>& done) { return testing::WaitUntil(done, 10s, 5ms); }
 
 AsyncWriterOptions Fast(size_t queue_rows) {
     AsyncWriterOptions o;

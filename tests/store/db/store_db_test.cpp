@@ -16,6 +16,7 @@
 #include "row_builders.hpp"
 #include "schema.hpp"
 #include "scratch_db.hpp"
+#include "wait_until.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::store {
@@ -219,10 +220,8 @@ TEST(AsyncWriter, CommitsWithinTheBatchInterval) {
     const auto t0 = std::chrono::steady_clock::now();
     ASSERT_TRUE(aw.Push(Sample("", 0), "GYRO_S01"));
     Db reader(path, Db::Mode::kReadOnly);
-    while (Count(reader, "SELECT count(*) FROM gyro_samples") != 1 &&
-           std::chrono::steady_clock::now() - t0 < 5s) {
-        std::this_thread::sleep_for(2ms);
-    }
+    testing::WaitUntil([&] { return Count(reader, "SELECT count(*) FROM gyro_samples") == 1; }, 5s,
+                       2ms);
     const auto waited = std::chrono::steady_clock::now() - t0;
     // One row far below batch_rows: only the interval can have committed it. Allowance: the
     // commit itself (< 5 ms here) and scheduling on a loaded 2-core machine (250 ms).

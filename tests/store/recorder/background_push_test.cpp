@@ -9,15 +9,16 @@
 
 #include <fstream>
 #include <sstream>
-#include <thread>
 
 #include "bus/channels.hpp"
 #include "central_db.hpp"
+#include "flow_pacer.hpp"
 #include "message_builders.hpp"
 #include "pg_server.hpp"
 #include "query.hpp"
 #include "recorder_harness.hpp"
 #include "table_digest.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal::testing {
 namespace {
@@ -25,12 +26,16 @@ namespace {
 using namespace std::chrono_literals;
 namespace st = gyrocal::store;
 
-// Publishes `n` samples of each unit, pausing so the kernel's socket buffer never overflows.
-void PublishSamples(Bus& bus, const std::vector<std::string>& units, int64_t first, int64_t n) {
+// Publishes `n` samples of each unit, each 10 handled by the recorder before the next (its
+// answer to a flow mark), so the kernel's socket buffer never overflows.
+void PublishSamples(Bus& bus, FlowPacer& pacer, const std::vector<std::string>& units,
+                    int64_t first, int64_t n) {
     int k = 0;
     for (int64_t s = first; s < first + n; ++s) {
         for (const auto& u : units) ASSERT_TRUE(bus.Publish(channels::Gyro(u), Gyro(u, s)));
-        if (++k % 10 == 0) std::this_thread::sleep_for(1ms);
+        if (++k % 10 == 0) {
+            ASSERT_TRUE(pacer.Sync()) << "the recorder answered no flow mark";
+        }
     }
 }
 
@@ -44,21 +49,22 @@ TEST(RecorderBackgroundPush, ARunEndingIsPushedWhileTheRecorderGoesOnRecording) 
     const std::string station = FreshDbPath("background_push.db");
     RecorderOnBus r(station, UrlForPort(7765), {"--push-to", url});
     ASSERT_TRUE(r.Listening());
+    FlowPacer pacer(r.bus, "gyrocal-recorder");
     const std::vector<std::string> units = {"B1", "B2"};
     // WHEN run BG1 ends, and BG2 starts and records at once
     ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG1", "start", units)));
-    PublishSamples(r.bus, units, 0, 2000);
+    PublishSamples(r.bus, pacer, units, 0, 2000);
     ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG1", "stop", units)));
     ASSERT_TRUE(r.bus.Publish(std::string(channels::kRunEvent), RunEvent("BG2", "start", units)));
-    PublishSamples(r.bus, units, 2000, 3000);
+    PublishSamples(r.bus, pacer, units, 2000, 3000);
     // THEN BG1 reaches the centre (bounded wait: the push waits for the stop's commit, 200 ms)
-    const auto give_up = std::chrono::steady_clock::now() + 60s;
     std::string outcome;
-    while (std::chrono::steady_clock::now() < give_up) {
-        outcome = server.Query(db_name, "SELECT outcome FROM runs WHERE run_id = 'BG1'");
-        if (outcome == "stop") break;
-        std::this_thread::sleep_for(200ms);
-    }
+    WaitUntil(
+        [&] {
+            outcome = server.Query(db_name, "SELECT outcome FROM runs WHERE run_id = 'BG1'");
+            return outcome == "stop";
+        },
+        60s, 200ms);
     ASSERT_EQ(outcome, "stop") << ReadLog(station + ".recorder.err");
     r.rec.Signal(SIGTERM);
     const auto exit = r.rec.Wait(20s);

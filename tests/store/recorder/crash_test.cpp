@@ -53,6 +53,8 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
             ASSERT_TRUE(bus.Publish(channels::Gyro("K"), Gyro("K", seq)));
             sent_at.push_back(Clock::now());
             ++seq;
+            // Time itself: samples at a sensor's pace for the run's random length, to be killed
+            // somewhere in the middle of them.
             if (seq % 4 == 0) std::this_thread::sleep_for(1ms);
         }
         if (k == kKills) {  // the last one stops normally: everything must be there

@@ -5,10 +5,10 @@
 
 #include <fstream>
 #include <iterator>
-#include <thread>
 
 #include "analyses.hpp"
 #include "bus/channels.hpp"
+#include "flow_pacer.hpp"
 #include "message_builders.hpp"
 #include "model_rows.hpp"
 #include "recorder_harness.hpp"
@@ -18,16 +18,19 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Publishes with a pause every `burst` messages so the kernel's socket buffer never overflows
-// (what is tested here is the recorder, not UDP).
+// Publishes in bursts of 20, each handled by the recorder before the next (its answer to a flow
+// mark), so the kernel's socket buffer never overflows (what is tested here is the recorder, not
+// UDP).
 class Publisher {
 public:
-    explicit Publisher(Bus& bus) : bus_(bus) {}
+    explicit Publisher(Bus& bus) : bus_(bus), pacer_(bus, "gyrocal-recorder") {}
     template <class Msg>
     void Send(const std::string& channel, const Msg& m) {
         ASSERT_TRUE(bus_.Publish(channel, m));
         ++count_[channel];
-        if (++n_ % 20 == 0) std::this_thread::sleep_for(1ms);
+        if (++n_ % 20 == 0) {
+            ASSERT_TRUE(pacer_.Sync()) << "the recorder answered no flow mark";
+        }
     }
     void SendRaw(const std::string& channel, const std::vector<uint8_t>& b) {
         ASSERT_TRUE(bus_.PublishRaw(channel, b.data(), static_cast<int>(b.size())));
@@ -37,6 +40,7 @@ public:
 
 private:
     Bus& bus_;
+    FlowPacer pacer_;
     std::map<std::string, int64_t> count_;
     int64_t n_ = 0;
 };

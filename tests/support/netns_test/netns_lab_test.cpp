@@ -11,6 +11,7 @@
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal::testing {
 namespace {
@@ -37,7 +38,8 @@ TEST(NetnsLab, TwoHostsTalkOverTheBridgeUntilTheCableIsPulled) {
         for (int i = 0; i < 10; ++i) bus.Handle(20ms);
         receiver_gaps = bus.counters().seq_gaps;
     });
-    while (!listening) std::this_thread::sleep_for(10ms);
+    EXPECT_TRUE(testing::WaitUntil([&] { return listening.load(); }, 10s))
+        << "the receiver never subscribed";
     int64_t sent = 0, sent_before_cut = 0, sent_after_restore = 0;
     std::thread tx = lab.OnHost(1, [&] {
         Bus bus(BusOptions{kUrl});
@@ -58,11 +60,18 @@ TEST(NetnsLab, TwoHostsTalkOverTheBridgeUntilTheCableIsPulled) {
             }
             m.seq = sent++;
             bus.Publish(channels::Gyro("N1"), m);
+            // Time itself: the sender's rate (about 200/s, a sensor's), not a wait on anything.
             std::this_thread::sleep_for(5ms);
         }
     });
     tx.join();
-    std::this_thread::sleep_for(300ms);
+    // The last message has crossed (bounded: if it was lost the checks below say so).
+    testing::WaitUntil(
+        [&] {
+            std::lock_guard<std::mutex> l(mu);
+            return !got.empty() && got.back() == sent - 1;
+        },
+        5s);
     done = true;
     rx.join();
     std::lock_guard<std::mutex> l(mu);

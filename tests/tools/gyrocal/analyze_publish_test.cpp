@@ -7,7 +7,6 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
-#include <thread>
 
 #include "bus/bus.hpp"
 #include "bus/channels.hpp"
@@ -17,6 +16,7 @@
 #include "launch/child_process.hpp"
 #include "query.hpp"
 #include "run_db.hpp"
+#include "status_watch.hpp"
 
 namespace gyrocal::analysis {
 namespace {
@@ -34,6 +34,7 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
     ChildProcess comp({GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl}, log, log);
 
     Bus bus(BusOptions{kUrl});
+    gyrocal::testing::StatusWatch status(bus, "gyrocal-compensator");
     int64_t last_set_id = -2;
     int n_rates = 0;
     bus.Subscribe<rate_t>(channels::Rate("S01"), [&](const rate_t& m, const std::string&) {
@@ -43,6 +44,9 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
     // GYRO_S01 in message time: 10 samples per simulated second on a slow warming ramp, so the
     // extended model's "heating" input is known to the compensator (its dT/dt estimator needs
     // half of its 10 s window and a slope above 1/600 degC/s; this ramp is 0.1 degC/s).
+    ASSERT_TRUE(gyrocal::testing::HandleUntil(
+        bus, [&] { return status.seen; }, 10s))
+        << "no STATUS from gyrocal-compensator; log " << log;
     int64_t seq = 0;
     auto send = [&](int n) {
         for (int i = 0; i < n; ++i, ++seq) {
@@ -57,11 +61,12 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
             g.gyro_counts = g.temp_counts = 0;
             g.supply_counts = -1;
             bus.Publish(channels::Gyro("S01"), g);
-            std::this_thread::sleep_for(2ms);
-            bus.Handle(0ms);
         }
     };
-    send(100);  // the compensator has no coefficients yet: nothing is published
+    send(100);  // the compensator has no coefficients yet: each counted, nothing published
+    ASSERT_TRUE(gyrocal::testing::HandleUntil(
+        bus, [&] { return status.Extra("uncompensated") >= 100; }, 10s))
+        << "uncompensated " << status.Extra("uncompensated") << "; log " << log;
     EXPECT_EQ(n_rates, 0);
 
     cli::AnalyzeOptions o;
@@ -78,8 +83,13 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
     const int64_t stored_id = d.coeff_sets[0].set.coeff_set_id;
     EXPECT_EQ(d.coeff_sets[0].set.source.rfind("analysis:", 0), 0u);
 
+    // Samples until one comes back compensated with the published set (bounded).
     const auto deadline = std::chrono::steady_clock::now() + 10s;
-    while (last_set_id != stored_id && std::chrono::steady_clock::now() < deadline) send(10);
+    while (last_set_id != stored_id && std::chrono::steady_clock::now() < deadline) {
+        send(10);
+        gyrocal::testing::HandleUntil(
+            bus, [&] { return last_set_id == stored_id; }, 100ms, 20ms);
+    }
     EXPECT_EQ(last_set_id, stored_id) << n_rates << " RATE_S01 messages; compensator log " << log;
     EXPECT_GT(n_rates, 0);
 

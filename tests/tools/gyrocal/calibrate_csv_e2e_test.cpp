@@ -14,9 +14,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
+#include <vector>
 
+#include "bus/bus.hpp"
+#include "bus/channels.hpp"
+#include "bus_wait.hpp"
 #include "e2e_support.hpp"
+#include "gyrocal/status_t.hpp"
 #include "launch/child_process.hpp"
 
 namespace gyrocal {
@@ -41,6 +45,40 @@ std::string Fields(const std::string& line, int n) {
     return line.substr(0, end);
 }
 
+// A gyrocal-csv-record on `url` as its STATUS heartbeats show it: rows_written of each (-1
+// before its first flush). Build it before the recorder starts.
+struct CsvRecordWatch {
+    Bus bus;
+    std::vector<double> rows;
+    explicit CsvRecordWatch(const std::string& url) : bus(BusOptions{url}) {
+        bus.Subscribe<status_t>(std::string(channels::kStatus),
+                                [this](const status_t& m, const std::string&) {
+                                    if (m.process != "gyrocal-csv-record") return;
+                                    double n = -1;
+                                    for (int i = 0; i < m.num_extra; ++i)
+                                        if (m.extra_names[i] == "rows_written")
+                                            n = m.extra_values[i];
+                                    rows.push_back(n);
+                                });
+    }
+    // Its first heartbeat: it has subscribed.
+    bool Listening() {
+        return testing::HandleUntil(
+            bus, [&] { return !rows.empty(); }, 20s);
+    }
+    // Two heartbeats in a row (a second apart) with the same rows, after whatever was queued:
+    // the writer has ended and every row the recorder heard is written.
+    bool Settled() {
+        return testing::HandleUntil(
+            bus,
+            [&] {
+                const size_t n = rows.size();
+                return n >= 2 && rows[n - 1] > 0 && rows[n - 1] == rows[n - 2];
+            },
+            30s);
+    }
+};
+
 TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     const std::string dir = FreshDir("gyrocal_csv_e2e");
     const std::string url_a = UdpmUrl(7783);
@@ -49,9 +87,11 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
 
     // GIVEN a simulated five-setpoint run (one unit, fast thermal constants, negligible sensor
     // lag, an undeclared supply effect) written to CSV
+    CsvRecordWatch watch_a(url_a);
     ChildProcess rec_a({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_a, "--lcm-url", url_a},
                        dir + "/rec_a.log", dir + "/rec_a.log");
-    std::this_thread::sleep_for(1s);  // the recorder subscribes before the rig's first sample
+    // The recorder subscribes before the rig's first sample.
+    ASSERT_TRUE(watch_a.Listening()) << ReadLog(dir + "/rec_a.log");
     ChildProcess rig({GYROCAL_BIN "/gyrocal-sim-rig",
                       "--mode",
                       "builtin",
@@ -80,7 +120,7 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     auto rig_end = rig.Wait(300s);
     ASSERT_TRUE(rig_end.has_value()) << ReadLog(dir + "/rig.log");
     ASSERT_EQ(rig_end->code, 0) << ReadLog(dir + "/rig.log");
-    std::this_thread::sleep_for(1s);
+    ASSERT_TRUE(watch_a.Settled()) << ReadLog(dir + "/rec_a.log");
     rec_a.Stop();
     const auto rows_a = Lines(csv_a);
     ASSERT_GT(rows_a.size(), 100000u) << "the recording is too short";
@@ -91,9 +131,10 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     }
 
     // WHEN it is calibrated as measured data, with a second recorder listening to the replay
+    CsvRecordWatch watch_b(url_b);
     ChildProcess rec_b({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_b, "--lcm-url", url_b},
                        dir + "/rec_b.log", dir + "/rec_b.log");
-    std::this_thread::sleep_for(1s);
+    ASSERT_TRUE(watch_b.Listening()) << ReadLog(dir + "/rec_b.log");
     const std::string db = dir + "/lab.db", out = dir + "/calibrate.out";
     ChildProcess cal(
         {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv_a, "--db", db,

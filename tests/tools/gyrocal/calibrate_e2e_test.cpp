@@ -12,7 +12,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
 
 #include "e2e_support.hpp"
 #include "gyrocal/model_t.hpp"
@@ -20,6 +19,7 @@
 #include "model/model.hpp"
 #include "sim/noise.hpp"
 #include "stored_model.hpp"
+#include "wait_until.hpp"
 
 namespace gyrocal {
 namespace {
@@ -212,14 +212,25 @@ TEST(CalibrateEndToEnd, InterruptAbortsTheRunCleanly) {
     ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--speed", "20", "--db", db,
                       "--lcm-url", url, "--log-dir", dir + "/logs", "--quiet"},
                      out, out);
-    // Wait (bounded) until the run has started, as a person would before pressing Ctrl-C.
-    for (int i = 0; i < 300 && ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint") ==
-                                   std::string::npos;
-         ++i)
-        std::this_thread::sleep_for(100ms);
-    ASSERT_NE(ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint"), std::string::npos)
+    // Wait (bounded) until the run has started, as a person would before pressing Ctrl-C, and
+    // is recording: samples of it are in the database.
+    ASSERT_TRUE(testing::WaitUntil(
+        [&] {
+            return ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint") !=
+                   std::string::npos;
+        },
+        30s, 100ms))
         << ReadLog(out);
-    std::this_thread::sleep_for(2s);
+    ASSERT_TRUE(testing::WaitUntil(
+        [&] {
+            try {
+                return Sql(db).Int("SELECT count(*) FROM gyro_samples") > 0;
+            } catch (const std::exception&) {
+                return false;  // not created yet, or its schema not yet
+            }
+        },
+        30s, 100ms))
+        << ReadLog(out);
     cal.Signal(SIGINT);
     auto ended = cal.Wait(60s);
     ASSERT_TRUE(ended.has_value()) << ReadLog(out);

@@ -237,6 +237,7 @@ TEST_F(PushCli, APushKilledAtRandomPointsAndResumedEndsWithExactlyTheStationsRow
         const std::string url = fresh_centre();
         ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station}, Dir() + "/kill.out",
                        Dir() + "/kill.err");
+        // Time itself: the kill lands at a random point of the push's duration.
         std::this_thread::sleep_for(
             std::chrono::duration_cast<std::chrono::milliseconds>(whole * fraction(rng)));
         p.Signal(SIGKILL);

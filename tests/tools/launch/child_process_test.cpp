@@ -8,7 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
+
+#include "wait_until.hpp"
 
 namespace gyrocal {
 namespace {
@@ -102,20 +103,31 @@ TEST(FindOnPath, FindsWhatExecvpWouldStartAndNothingElse) {
 TEST(ChildProcess, StopEscalatesToSigkillAndReachesGrandchildren) {
     // The shell ignores SIGTERM and runs a grandchild; Stop() must still end both.
     const std::string pidfile = ::testing::TempDir() + "grandchild.pid";
+    std::filesystem::remove(pidfile);
     ChildProcess c({"sh", "-c", "trap '' TERM; sleep 60 & echo $! > " + pidfile + "; wait"});
-    std::this_thread::sleep_for(300ms);
+    // The shell writes the grandchild's pid after it has set the trap: once it is there, both
+    // are in place.
+    pid_t grandchild = 0;
+    ASSERT_TRUE(testing::WaitUntil(
+        [&] {
+            std::ifstream f(pidfile);
+            return static_cast<bool>(f >> grandchild) && grandchild > 0;
+        },
+        10s))
+        << "the shell never wrote " << pidfile;
     ExitStatus s = c.Stop(500ms);
     EXPECT_FALSE(s.exited);
     EXPECT_EQ(s.signal, SIGKILL);
-    std::ifstream f(pidfile);
-    pid_t grandchild = 0;
-    f >> grandchild;
-    ASSERT_GT(grandchild, 0);
-    std::this_thread::sleep_for(200ms);
-    // kill(pid, 0) fails once the grandchild is gone (it may linger as a zombie of init briefly).
-    std::ifstream stat("/proc/" + std::to_string(grandchild) + "/stat");
-    std::string content((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
-    EXPECT_TRUE(content.empty() || content.find(") Z") != std::string::npos) << content;
+    // The grandchild goes (it may linger as a zombie of init briefly).
+    std::string content;
+    EXPECT_TRUE(testing::WaitUntil(
+        [&] {
+            std::ifstream stat("/proc/" + std::to_string(grandchild) + "/stat");
+            content.assign(std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>());
+            return content.empty() || content.find(") Z") != std::string::npos;
+        },
+        10s))
+        << content;
 }
 
 }  // namespace

@@ -1,0 +1,125 @@
+// gyrocal-line-source's node in one process over memq:// (LCM's in-process provider), reading a
+// pipe the test has written and closed: each good line published as the samples it holds, bad
+// lines skipped whole and counted, a stream without a header refused. Known truth: the values
+// written in the lines. No sleep: Run() returns at the end of the input (--drain-s 0), and what
+// it published last is handled after. The real process (stdin, a FIFO with wall time, exit
+// codes): line_source_process_test.cpp.
+#include "line_source_node.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bus/channels.hpp"
+#include "bus_wait.hpp"
+#include "csv/row_messages.hpp"
+#include "gyrocal/chamber_state_t.hpp"
+#include "gyrocal/encoder_sample_t.hpp"
+#include "gyrocal/gyro_sample_t.hpp"
+#include "text/number.hpp"
+
+namespace gyrocal {
+namespace {
+
+// A LineInput reading `text` from a pipe whose write end is closed (the text must fit the pipe's
+// buffer, 64 KiB on Linux): the stream ends after it.
+std::unique_ptr<LineInput> PipeOf(const std::string& text) {
+    int fds[2];
+    if (pipe(fds) != 0) throw std::runtime_error("pipe() failed");
+    const ssize_t n = write(fds[1], text.data(), text.size());
+    close(fds[1]);
+    if (n != static_cast<ssize_t>(text.size())) throw std::runtime_error("short write to pipe");
+    return std::make_unique<LineInput>(fds[0], "test-pipe");
+}
+
+LineSourceOptions NodeOptions() {
+    LineSourceOptions o = LineSourceOptions::Defaults();
+    o.lcm_url = "memq://";
+    o.drain_s = 0.0;
+    return o;
+}
+
+// The messages the node published and has not yet dispatched to its own bus.
+void DrainBus(Bus& bus) {
+    ASSERT_TRUE(testing::HandleUntil(
+        bus, [&] { return !bus.Handle(std::chrono::milliseconds(0)); },
+        std::chrono::milliseconds(10'000), std::chrono::milliseconds(0)));
+}
+
+TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
+    // GIVEN a stream of two sensors, 10 rows each 10 ms apart, with the table turning by 1 deg
+    // per row and the chamber at 30 degC; a NaN gyro_v after the 4th row and a garbage line
+    // after the 12th
+    const std::string header =
+        "time_s,sensor_id,gyro_v,temp_v,temp_c,supply_v,encoder_deg,chamber_c";
+    std::string text = header + "\n";
+    struct Row {
+        int64_t us;
+        std::string id;
+        double gyro_v;
+    };
+    std::vector<Row> rows;
+    for (int i = 0; i < 10; ++i) {
+        for (const char* id : {"S01", "S02"}) {
+            const double gyro_v = 2.5 + 0.001 * i + (id[2] == '2' ? 0.1 : 0.0);
+            rows.push_back({i * 10'000, id, gyro_v});
+            text += std::to_string(i * 0.01) + "," + id + "," + text::Sig(gyro_v, 17) +
+                    ",2.4,25,5," + std::to_string(i) + ",30\n";
+            if (rows.size() == 4) text += "0.035,S01,nan,2.4,25,5,3,30\n";
+            if (rows.size() == 12) text += "garbage\n";
+        }
+    }
+    LineSourceNode node(NodeOptions(), PipeOf(text));
+    std::vector<gyro_sample_t> gyro;
+    std::vector<encoder_sample_t> encoder;
+    std::vector<chamber_state_t> chamber;
+    testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
+    testing::CollectInto(node.bus(), std::string(channels::kEncoder), encoder);
+    testing::CollectInto(node.bus(), std::string(channels::kChamberState), chamber);
+    // WHEN the node reads it to the end
+    EXPECT_EQ(node.Run(), 0);
+    DrainBus(node.bus());
+    // THEN every good row is a sample with its values, at start + time_s, in order, numbered
+    // per sensor; the two bad lines are counted and nothing of them is published
+    EXPECT_EQ(node.rows_published(), 20);
+    EXPECT_EQ(node.bad_lines(), 2);
+    ASSERT_EQ(gyro.size(), rows.size());
+    std::map<std::string, int64_t> seq;
+    for (size_t i = 0; i < rows.size(); ++i) {
+        SCOPED_TRACE(i);
+        EXPECT_EQ(gyro[i].sensor_id, rows[i].id);
+        EXPECT_EQ(gyro[i].utime, csv::kDefaultStartUtime + rows[i].us);
+        EXPECT_EQ(gyro[i].gyro_v, rows[i].gyro_v);  // 17 significant digits: exact
+        EXPECT_EQ(gyro[i].temp_v, 2.4);
+        EXPECT_EQ(gyro[i].temp_c, 25.0);
+        EXPECT_EQ(gyro[i].supply_v, 5.0);
+        EXPECT_EQ(gyro[i].seq, seq[rows[i].id]++);
+    }
+    // One encoder reading per time step (the second sensor's row at the same time adds none),
+    // the chamber once: its period is 1 s of data time and the stream holds 0.09 s.
+    ASSERT_EQ(encoder.size(), 10u);
+    for (size_t i = 0; i < encoder.size(); ++i) {
+        EXPECT_EQ(encoder[i].angle_deg, static_cast<double>(i));
+        EXPECT_EQ(encoder[i].utime, csv::kDefaultStartUtime + static_cast<int64_t>(i) * 10'000);
+    }
+    ASSERT_EQ(chamber.size(), 1u);
+    EXPECT_EQ(chamber[0].air_c, 30.0);
+}
+
+TEST(LineSourceNode, AStreamWithoutAHeaderFails) {
+    LineSourceNode node(NodeOptions(), PipeOf("0,S01,2.5,2.5\n"));
+    std::vector<gyro_sample_t> gyro;
+    testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
+    EXPECT_EQ(node.Run(), 1);
+    DrainBus(node.bus());
+    EXPECT_EQ(node.rows_published(), 0);
+    EXPECT_TRUE(gyro.empty());
+}
+
+}  // namespace
+}  // namespace gyrocal
