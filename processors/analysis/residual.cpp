@@ -129,6 +129,42 @@ void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& 
                                {"periodic", "time", "period ", " s", "period", {}, {}, true}));
 }
 
+// A static temperature shape that no polynomial of low degree follows: one knot of a cubic
+// spline, (T - Tk)^3 above the knot or (Tk - T)^3 below it, the knot searched over the inner
+// part of the temperature range. An end of the range that bends away (a package stress that sets
+// in, a cold-end nonlinearity) is such a shape, whatever its physics; with temp_cubic in the
+// model it is what a cubic cannot follow (displace.cpp sets the two against each other).
+void SplineKnotFeatures(const VectorXd& temp, std::vector<Family>& out) {
+    const double lo = temp.minCoeff(), hi = temp.maxCoeff();
+    if (!(hi - lo > 1.0)) return;
+    std::vector<double> knots;
+    for (int k = 0; k <= 12; ++k) knots.push_back(lo + (hi - lo) * (0.2 + 0.05 * k));
+    // Scaled by the range cubed so that the columns are of order 1 whatever the unit spread.
+    const double scale = 1.0 / ((hi - lo) * (hi - lo) * (hi - lo));
+    out.push_back(Searched(
+        knots,
+        [&](double k) { return MatrixXd(((temp.array() - k).max(0.0).cube() * scale).matrix()); },
+        {"spline knot, above",
+         "temperature",
+         "(T - Tk)^3 above Tk = ",
+         " degC",
+         "knot",
+         {},
+         {},
+         false}));
+    out.push_back(Searched(
+        knots,
+        [&](double k) { return MatrixXd(((k - temp.array()).max(0.0).cube() * scale).matrix()); },
+        {"spline knot, below",
+         "temperature",
+         "(Tk - T)^3 below Tk = ",
+         " degC",
+         "knot",
+         {},
+         {},
+         false}));
+}
+
 void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t,
                      std::vector<Family>& out, std::vector<std::string>& absent) {
     const std::vector<Bin>& bins = b.bins();
@@ -144,6 +180,7 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
                         dt.array().square().square().matrix(), false));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
+    SplineKnotFeatures(temp, out);
     for (double w : {60.0, 300.0, 1200.0}) {
         const VectorXd r = Rate(temp, t, 0.5 * w);
         if (r.allFinite())
@@ -515,6 +552,7 @@ ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double,
     d.autocorr = Autocorrelation(bins, r, b.bin_s(), std::min<Index>(n / 4, 120));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
+    SplineKnotFeatures(temp, out);
     Windows(t, r, 10, d.by_time, d.worst_time, 3);
     Windows(temp, r, 8, d.by_temp, d.worst_temp, 3);
     return d;
