@@ -552,7 +552,6 @@ ResidualDiagnostics Diagnose(const BinnedRun& b, const VectorXd& r, double,
     d.autocorr = Autocorrelation(bins, r, b.bin_s(), std::min<Index>(n / 4, 120));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
-    SplineKnotFeatures(temp, out);
     Windows(t, r, 10, d.by_time, d.worst_time, 3);
     Windows(temp, r, 8, d.by_temp, d.worst_temp, 3);
     return d;
