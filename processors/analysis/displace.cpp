@@ -117,6 +117,9 @@ std::string Judge(const std::vector<Family>& fams, const TermVsFeatures& t,
                    text::Sig(t.with.z[f], 3) + " above " + text::Sig(t.with.threshold, 3) +
                    "; the cubic is part of a shape the candidates do not have)";
         }
+        // Alone, a spline's knot is the cubic's near twin over most of the range: it can only
+        // show what is beyond the cubic (above), never stand in for it.
+        if (fams[f].name.rfind("spline knot", 0) == 0) continue;
         const Gain term_given_feature = HeldOutGain(wo.r1, w.r1, split.held_block, hac_lag);
         if (Improves(term_given_feature, o)) continue;
         if (Significant(t.with, f)) {
