@@ -26,6 +26,9 @@ double ParamOf(const std::string& term) {
 
 // The measurement that tells a candidate from a time-shaped shape.
 std::string SeparationFromTime(const std::string& effect, const std::string& feature) {
+    if (effect == "warmup" && feature == "step")
+        return "a second power cycle later in the run (a warm-up restarts with it, a one-time "
+               "shift does not), or a longer dwell right after power-on";
     if (feature == "step")
         return "the same temperatures visited from both sides before and after the step's time "
                "(a one-time shift stays whatever the temperature does; " +

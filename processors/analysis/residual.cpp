@@ -92,6 +92,20 @@ Family Fixed(std::string name, std::string channel, std::string detail, MatrixXd
     return f;
 }
 
+}  // namespace
+
+Family StepFamily(const std::vector<Bin>& bins) {
+    const VectorXd t = TimeS(bins);
+    const Index n = t.size();
+    std::vector<double> at;
+    for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
+    return Searched(
+        at, [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
+        {"step", "time", "offset step at ", " s from the start", "step time", {}, {}, true});
+}
+
+namespace {
+
 void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& o,
                   std::vector<Family>& out) {
     const std::vector<Bin>& bins = b.bins();
@@ -114,13 +128,7 @@ void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& 
                       {},
                       true}));
     }
-    std::vector<double> at;
-    for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
-    if (at.size() >= 2)
-        out.push_back(Searched(
-            at,
-            [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
-            {"step", "time", "offset step at ", " s from the start", "step time", {}, {}, true}));
+    if (Family step = StepFamily(bins); step.grid.size() >= 2) out.push_back(std::move(step));
     // At least 4 cycles in the run: a longer "period" is a trend or a transient, which the other
     // features name.
     const double p_lo = 4.0 * b.bin_s(), p_hi = 0.25 * span;

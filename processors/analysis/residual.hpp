@@ -75,6 +75,10 @@ std::vector<GenericFeature> GenericFeatures(const BinnedRun& binned, const Conte
                                             const AnalysisOptions& o,
                                             std::vector<std::string>* absent = nullptr);
 
+// The step feature's family: 0 before, 1 after a time searched over the middle 90 % of the run
+// (time since the first bin [s]).
+Family StepFamily(const std::vector<Bin>& bins);
+
 // The bins' gyro_v [V].
 Eigen::VectorXd BinValues(const BinnedRun& binned);
 

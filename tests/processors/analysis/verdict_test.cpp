@@ -365,6 +365,36 @@ TEST(OutsideOthersim, Step) {
     RunOthersim("step", e, [](const FeatureResult& f) { return f.channel == "time"; });
 }
 
+// A one-time shift early in the run (1.5 mV from 1100 s on, the CSV says nothing of it): the
+// stretch before it looks like a transient after power-on, and the warm-up, which blocked
+// cross-validation cannot check (localized.hpp), was named for it (3 of 10 othersim runs of the
+// benchmark's "one-time shift"). The step rule weighs every warm-up against a step at a
+// searched time: not named, and the step is what is left.
+TEST(OutsideOthersim, EarlyStepIsNotAWarmup) {
+    othersim::EffectOptions e;
+    e.step_v = 1.5e-3;
+    e.step_at_s = 1100.0;
+    // What is left is time-shaped (the step, or a slow transient standing in for it).
+    RunOthersim("early step", e, TimeShaped);
+    // Where the warm-up passed its own check (z2, size, its localized prediction), it was weighed
+    // against the step and the step found where it is: the step's time is searched on a grid of
+    // about 22 s (every 200th part of the run) over 10 s bins, so within 60 s of the truth. Seed 11
+    // gets there (warmup(436) passes its check); on seed 12 the warm-up's z2 stays below min_z2.
+    int weighed = 0;
+    for (uint64_t seed : {11u, 12u}) {
+        const SensorResult r = Analyze(OthersimRun(seed, e));
+        for (const std::string& s : r.not_attributed) {
+            if (s.rfind("warmup", 0) != 0) continue;
+            const std::string key = "a one-time step at ";
+            const size_t at = s.find(key);
+            ASSERT_NE(at, std::string::npos) << s;
+            EXPECT_NEAR(std::stod(s.substr(at + key.size())), 1100.0, 60.0) << s;
+            ++weighed;
+        }
+    }
+    EXPECT_GE(weighed, 1);
+}
+
 TEST(OutsideOthersim, SecondSlowWarmup) {
     othersim::EffectOptions e;
     e.warmup2_v = 5e-3;
