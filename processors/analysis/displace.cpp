@@ -26,6 +26,9 @@ double ParamOf(const std::string& term) {
 
 // The measurement that tells a candidate from a time-shaped shape.
 std::string SeparationFromTime(const std::string& effect, const std::string& feature) {
+    if (effect == "warmup" && feature == "step")
+        return "a second power cycle later in the run (a warm-up restarts with it, a one-time "
+               "shift does not), or a longer dwell right after power-on";
     if (feature == "step")
         return "the same temperatures visited from both sides before and after the step's time "
                "(a one-time shift stays whatever the temperature does; " +
@@ -45,6 +48,12 @@ std::string SeparationFromTime(const std::string& effect, const std::string& fea
 }
 
 namespace {
+
+// The static temperature shapes beyond a cubic: what temp_cubic is set against.
+bool TemperatureShape(const Family& f) {
+    return f.channel == "temperature" &&
+           (f.name == "temperature^4" || f.name.rfind("spline knot", 0) == 0);
+}
 
 struct TermVsFeatures {
     NullVerdict with, without;  // each family with every term in, and without this one
@@ -71,8 +80,9 @@ void TakeOut(size_t k, Decision d, const std::string& why, Selection& sel, Senso
             c.note = (d == Decision::kAmbiguous ? "ambiguous: " : "not attributed: ") + why;
 }
 
-// One added term against every time-shaped family (and temp_cubic also against a temperature
-// shape beyond it, (T - T0)^4), on the held-out bins, every model fitted on the training bins:
+// One added term against every time-shaped family (and temp_cubic also against the temperature
+// shapes beyond it: (T - T0)^4 and one spline knot above or below), on the held-out bins, every
+// model fitted on the training bins:
 // - kept when the term lowers the held-out error with the feature in (HeldOutGain, gate_min_z);
 // - a mimic (not attributed) when it does not and the feature still explains held-out data with
 //   the term in (the features' null);
@@ -99,6 +109,20 @@ std::string Judge(const std::vector<Family>& fams, const TermVsFeatures& t,
         // A feature without a time shape competes only with the candidate of its own kind: a
         // temperature shape beyond the cubic with temp_cubic.
         if (!fams[f].competes && effect != "temp_cubic") continue;
+        // A static temperature shape that still explains held-out data with the cubic in: the
+        // offset's dependence on temperature goes beyond a cubic, and the cubic is but its
+        // projection on dT^3 (it lowers the error without being the effect). The shape is not a
+        // candidate: reported as what is left, the cubic not attributed.
+        if (!fams[f].competes && Significant(t.with, f)) {
+            d = Decision::kRejected;
+            return effect + " (the offset's temperature shape goes beyond a cubic: " + what +
+                   " explains the held-out residual with the cubic in, standardised " +
+                   text::Sig(t.with.z[f], 3) + " above " + text::Sig(t.with.threshold, 3) +
+                   "; the cubic is part of a shape the candidates do not have)";
+        }
+        // Alone, a spline's knot is the cubic's near twin over most of the range: it can only
+        // show what is beyond the cubic (above), never stand in for it.
+        if (fams[f].name.rfind("spline knot", 0) == 0) continue;
         const Gain term_given_feature = HeldOutGain(wo.r1, w.r1, split.held_block, hac_lag);
         if (Improves(term_given_feature, o)) continue;
         if (Significant(t.with, f)) {
@@ -140,7 +164,7 @@ std::vector<std::string> Displace(const Context& train, const BinnedRun& binned,
     if (sel.terms.size() == nd || s.noise.empty()) return out;
     std::vector<Family> fams;
     for (Family& f : FeatureFamilies(binned, train, train.AllDesign(o.offset_terms), o))
-        if (f.competes || f.name == "temperature^4") fams.push_back(std::move(f));
+        if (f.competes || TemperatureShape(f)) fams.push_back(std::move(f));
     const VectorXd y = BinValues(binned);
     const HeldOutSearch with(train.AllDesign(sel.terms), train.rows, split.held, fams);
     if (!with.ok()) return out;

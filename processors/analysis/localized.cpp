@@ -91,6 +91,34 @@ void DriftRule(const BinnedRun& binned, const Context& all, const MatrixXd& base
                                          : Decision::kAmbiguous;
 }
 
+// The step rule (header) for the warm-up column w on the localized split.
+void StepRule(const BinnedRun& binned, const Context& all, const MatrixXd& base, const VectorXd& w,
+              const std::vector<Index>& train, const std::vector<Index>& held,
+              const AnalysisOptions& o, LocalizedCheck& c) {
+    const VectorXd y = BinValues(binned);
+    const Family step = StepFamily(binned.bins());
+    if (step.grid.size() < 2) return;
+    const HeldOutSearch search(base, train, held, {step});
+    if (!search.ok()) return;
+    const FamilyFit s = search.Evaluate(y, true).at(0);
+    if (s.best < 0) return;
+    c.step_s = step.grid[static_cast<size_t>(s.best)];
+    c.step_drop = 1.0 - s.r1.squaredNorm() / s.r0.squaredNorm();
+    MatrixXd with_s(base.rows(), base.cols() + 1);
+    with_s << base, step.cols[static_cast<size_t>(s.best)];
+    VectorXd r_s, r_ws;
+    if (!HeldPair(with_s, w, y, train, held, r_s, r_ws)) return;
+    std::vector<int> block;
+    for (Index i : held)
+        block.push_back(static_cast<int>(std::floor(
+            binned.bins()[static_cast<size_t>(i)].time_since_power_s / o.early_block_s)));
+    const bool warmup_adds = Improves(HeldOutGain(r_s, r_ws, block, all.hac_lag), o);
+    const bool better = c.step_drop < c.drop;
+    c.step_rule = better && warmup_adds ? Decision::kAdded
+                  : !better             ? Decision::kRejected
+                                        : Decision::kAmbiguous;
+}
+
 }  // namespace
 
 LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
@@ -140,6 +168,10 @@ LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
         DriftRule(binned, all, base, fam.cols[static_cast<size_t>(f.best)], train, held, o, c);
         c.passes = !c.drift_rule || *c.drift_rule == Decision::kAdded;
     }
+    if (c.passes) {
+        StepRule(binned, all, base, fam.cols[static_cast<size_t>(f.best)], train, held, o, c);
+        c.passes = !c.step_rule || *c.step_rule == Decision::kAdded;
+    }
     c.note = "localized check on " + std::to_string(c.n_held) + " held-out bins in interleaved " +
              text::Sig(o.early_block_s, 3) + " s blocks of the first " + text::Sig(c.support_s, 3) +
              " s after power-on: removes " + text::Sig(100.0 * c.drop, 3) +
@@ -153,6 +185,12 @@ LocalizedCheck CheckWarmup(const BinnedRun& binned, const Context& all,
                   (*c.drift_rule == Decision::kAdded ? "the warm-up predicts better and adds to it"
                    : *c.drift_rule == Decision::kRejected ? "it predicts them at least as well"
                                                           : "neither is the better shape");
+    if (std::isfinite(c.step_drop))
+        c.note += "; a one-time step at " + text::Sig(c.step_s, 3) + " s from the start removes " +
+                  text::Sig(100.0 * c.step_drop, 3) + " % of the same blocks' squared residual, " +
+                  (*c.step_rule == Decision::kAdded ? "the warm-up predicts better and adds to it"
+                   : *c.step_rule == Decision::kRejected ? "it predicts them at least as well"
+                                                         : "neither is the better shape");
     return c;
 }
 

@@ -24,6 +24,11 @@
 // the drift in the model (gate_min_z); when the drift predicts them at least as well, the
 // warm-up is not attributed (said as a drift); otherwise the two are ambiguous. Never named a
 // warm-up unless its shape shows.
+// The step rule: a one-time shift (an offset that changes once, at an event, and stays) makes a
+// "transient" of the stretch before it. Every warm-up that passes is weighed the same way
+// against a step at a time searched over the run (chosen on the training data): not attributed
+// when the step predicts the held-out blocks at least as well, ambiguous when the warm-up
+// predicts better but adds nothing beyond its noise with the step in.
 #include <optional>
 #include <string>
 
@@ -48,6 +53,10 @@ struct LocalizedCheck {
     // only).
     double drift_drop = kNan;
     std::optional<Decision> drift_rule;
+    // The step rule (every warm-up that passes): the same for a one-time shift at a time searched
+    // over the run (the step feature), with the time it chose.
+    double step_drop = kNan, step_s = kNan;
+    std::optional<Decision> step_rule;
     std::string note;  // what was found, or why it could not be tested
 };
 

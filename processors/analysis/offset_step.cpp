@@ -148,6 +148,25 @@ void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& 
             r.note = "ambiguous: " + why + "; " + c.note;
             res.ambiguities.push_back(why);
         }
+    } else if (c.step_rule && *c.step_rule != Decision::kAdded) {
+        const std::string what = " (" + c.term + "; on its held-out blocks a one-time step at " +
+                                 text::Sig(c.step_s, 3) + " s from the start removes " +
+                                 text::Sig(100.0 * c.step_drop, 3) +
+                                 " % of the squared residual, the warm-up " +
+                                 text::Sig(100.0 * c.drop, 3) + " %";
+        const std::string sep = "to separate: " + SeparationFromTime("warmup", "step");
+        if (*c.step_rule == Decision::kRejected) {
+            const std::string why =
+                "warmup" + what + "; the step predicts them at least as well; " + sep + ")";
+            r.note = "not attributed: " + why + "; " + c.note;
+            res.not_attributed.push_back(why);
+        } else {
+            const std::string why = "warmup vs step [time]" + what +
+                                    "; the data do not tell one from the other): " + sep;
+            r.decision = Decision::kAmbiguous;
+            r.note = "ambiguous: " + why + "; " + c.note;
+            res.ambiguities.push_back(why);
+        }
     } else if (c.passes) {
         r.decision = Decision::kAdded;
         sel.terms.push_back(c.term);

@@ -92,6 +92,20 @@ Family Fixed(std::string name, std::string channel, std::string detail, MatrixXd
     return f;
 }
 
+}  // namespace
+
+Family StepFamily(const std::vector<Bin>& bins) {
+    const VectorXd t = TimeS(bins);
+    const Index n = t.size();
+    std::vector<double> at;
+    for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
+    return Searched(
+        at, [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
+        {"step", "time", "offset step at ", " s from the start", "step time", {}, {}, true});
+}
+
+namespace {
+
 void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& o,
                   std::vector<Family>& out) {
     const std::vector<Bin>& bins = b.bins();
@@ -114,19 +128,49 @@ void TimeFeatures(const BinnedRun& b, const VectorXd& t, const AnalysisOptions& 
                       {},
                       true}));
     }
-    std::vector<double> at;
-    for (Index i = n / 20; i < n - n / 20; i += std::max<Index>(1, n / 200)) at.push_back(t[i]);
-    if (at.size() >= 2)
-        out.push_back(Searched(
-            at,
-            [&](double t_step) { return MatrixXd((t.array() >= t_step).cast<double>().matrix()); },
-            {"step", "time", "offset step at ", " s from the start", "step time", {}, {}, true}));
+    if (Family step = StepFamily(bins); step.grid.size() >= 2) out.push_back(std::move(step));
     // At least 4 cycles in the run: a longer "period" is a trend or a transient, which the other
     // features name.
     const double p_lo = 4.0 * b.bin_s(), p_hi = 0.25 * span;
     if (p_hi > 2.0 * p_lo)
         out.push_back(Searched(LogSpace(p_lo, p_hi, 400), [&](double p) { return Sinusoid(t, p); },
                                {"periodic", "time", "period ", " s", "period", {}, {}, true}));
+}
+
+// A static temperature shape that no polynomial of low degree follows: one knot of a cubic
+// spline, (T - Tk)^3 above the knot or (Tk - T)^3 below it, the knot searched over the inner
+// part of the temperature range. An end of the range that bends away (a package stress that sets
+// in, a cold-end nonlinearity) is such a shape, whatever its physics; with temp_cubic in the
+// model it is what a cubic cannot follow (displace.cpp sets the two against each other).
+void SplineKnotFeatures(const VectorXd& temp, std::vector<Family>& out) {
+    const double lo = temp.minCoeff(), hi = temp.maxCoeff();
+    if (!(hi - lo > 1.0)) return;
+    std::vector<double> knots;
+    for (int k = 0; k <= 12; ++k) knots.push_back(lo + (hi - lo) * (0.2 + 0.05 * k));
+    // Scaled by the range cubed so that the columns are of order 1 whatever the unit spread.
+    const double scale = 1.0 / ((hi - lo) * (hi - lo) * (hi - lo));
+    out.push_back(Searched(
+        knots,
+        [&](double k) { return MatrixXd(((temp.array() - k).max(0.0).cube() * scale).matrix()); },
+        {"spline knot, above",
+         "temperature",
+         "(T - Tk)^3 above Tk = ",
+         " degC",
+         "knot",
+         {},
+         {},
+         false}));
+    out.push_back(Searched(
+        knots,
+        [&](double k) { return MatrixXd(((k - temp.array()).max(0.0).cube() * scale).matrix()); },
+        {"spline knot, below",
+         "temperature",
+         "(Tk - T)^3 below Tk = ",
+         " degC",
+         "knot",
+         {},
+         {},
+         false}));
 }
 
 void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t,
@@ -144,6 +188,7 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
                         dt.array().square().square().matrix(), false));
     VectorXd temp(n);
     for (Index i = 0; i < n; ++i) temp[i] = bins[static_cast<size_t>(i)].temp_c;
+    SplineKnotFeatures(temp, out);
     for (double w : {60.0, 300.0, 1200.0}) {
         const VectorXd r = Rate(temp, t, 0.5 * w);
         if (r.allFinite())

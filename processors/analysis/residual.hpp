@@ -11,6 +11,9 @@
 //                               to a quarter of the span (4 cycles at least; longer is a trend)
 //                                                                                  channel: time
 //   temperature^3, ^4           shape in temperature beyond the declared model  (temperature)
+//   spline knot, above / below  (T - Tk)^3 above or (Tk - T)^3 below a knot searched over the
+//                               middle 60 % of the range: a bend no low polynomial follows
+//                                                                               (temperature)
 //   dT/dt over 60/300/1200 s    the temperature's rate at other time scales     (temperature)
 //   |dT/dt| over 300 s          rate magnitude (direction-free)                 (temperature)
 //   supply, supply rate         when every bin has it                           channel: supply
@@ -71,6 +74,10 @@ std::vector<GenericFeature> GenericFeatures(const BinnedRun& binned, const Conte
                                             const Eigen::MatrixXd& base_all,
                                             const AnalysisOptions& o,
                                             std::vector<std::string>* absent = nullptr);
+
+// The step feature's family: 0 before, 1 after a time searched over the middle 90 % of the run
+// (time since the first bin [s]).
+Family StepFamily(const std::vector<Bin>& bins);
 
 // The bins' gyro_v [V].
 Eigen::VectorXd BinValues(const BinnedRun& binned);

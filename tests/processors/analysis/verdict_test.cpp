@@ -102,6 +102,34 @@ TEST(Outside, OffsetStep) {
                kSeeds);
 }
 
+// A static temperature shape no candidate has: the offset bends away at the hot end, 6 mV x
+// exp((T - 70 degC) / 8 degC) (6 mV at 70 degC, 0.5 mV at 50 degC; the analysis benchmark's
+// "hot-end exp bend"). A cubic lowers the error (it is the bend's projection on dT^3) but is not
+// the effect: it must not be named, and what is left must correlate with the temperature (a
+// spline's knot, or a power of T beyond the model). Before the spline knots 8 of 10 such runs
+// named temp_cubic (gyrocal_bench_verdict).
+TEST(Outside, HotEndBendIsNotNamedACubic) {
+    int honest = 0;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+        SimRunOptions o;
+        o.seed = 600 + seed;
+        o.outside_channels_v = [](const testing::OutsideInputs& in) {
+            return 6e-3 * std::exp((in.temp_c - 70.0) / 8.0);
+        };
+        const SensorResult r = Analyze(MakeSimRun(o).run);
+        SCOPED_TRACE("hot-end bend seed " + std::to_string(o.seed) + "\n" + FormatReport(r));
+        EXPECT_FALSE(NamedOffsetAdded(r)) << r.headline;
+        EXPECT_TRUE(r.outcome == Outcome::kUnexplained || r.outcome == Outcome::kPartlyExplained)
+            << ToString(r.outcome);
+        const FeatureResult* f = FirstExplaining(r);
+        ASSERT_NE(f, nullptr);
+        EXPECT_EQ(f->channel, "temperature") << f->feature << " " << f->detail;
+        if (!NamedOffsetAdded(r) && f->channel == "temperature") ++honest;
+    }
+    std::printf("[ verdict ] hot-end bend: not named a cubic, temperature correlate %d/%d\n",
+                honest, kSeeds);
+}
+
 TEST(Verdict, CleanRunsAreAdequate) {
     // 40 seeds; asserted bound 2/40 (5 %) for any outcome other than adequate.
     const int seeds = 40;
@@ -335,6 +363,36 @@ TEST(OutsideOthersim, Step) {
     e.step_v = 2e-3;
     e.step_at_s = 3000.0;
     RunOthersim("step", e, [](const FeatureResult& f) { return f.channel == "time"; });
+}
+
+// A one-time shift early in the run (1.5 mV from 1100 s on, the CSV says nothing of it): the
+// stretch before it looks like a transient after power-on, and the warm-up, which blocked
+// cross-validation cannot check (localized.hpp), was named for it (3 of 10 othersim runs of the
+// benchmark's "one-time shift"). The step rule weighs every warm-up against a step at a
+// searched time: not named, and the step is what is left.
+TEST(OutsideOthersim, EarlyStepIsNotAWarmup) {
+    othersim::EffectOptions e;
+    e.step_v = 1.5e-3;
+    e.step_at_s = 1100.0;
+    // What is left is time-shaped (the step, or a slow transient standing in for it).
+    RunOthersim("early step", e, TimeShaped);
+    // Where the warm-up passed its own check (z2, size, its localized prediction), it was weighed
+    // against the step and the step found where it is: the step's time is searched on a grid of
+    // about 22 s (every 200th part of the run) over 10 s bins, so within 60 s of the truth. Seed 11
+    // gets there (warmup(436) passes its check); on seed 12 the warm-up's z2 stays below min_z2.
+    int weighed = 0;
+    for (uint64_t seed : {11u, 12u}) {
+        const SensorResult r = Analyze(OthersimRun(seed, e));
+        for (const std::string& s : r.not_attributed) {
+            if (s.rfind("warmup", 0) != 0) continue;
+            const std::string key = "a one-time step at ";
+            const size_t at = s.find(key);
+            ASSERT_NE(at, std::string::npos) << s;
+            EXPECT_NEAR(std::stod(s.substr(at + key.size())), 1100.0, 60.0) << s;
+            ++weighed;
+        }
+    }
+    EXPECT_GE(weighed, 1);
 }
 
 TEST(OutsideOthersim, SecondSlowWarmup) {
