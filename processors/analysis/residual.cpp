@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/terms.hpp"
 #include "null.hpp"
 #include "numeric/least_squares.hpp"
 #include "numeric/line_fit.hpp"
@@ -150,8 +151,8 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
     if (r300.allFinite())
         out.push_back(Fixed("|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false));
     if (supply.allFinite()) {
-        out.push_back(
-            Fixed("supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false));
+        out.push_back(Fixed("supply", "supply", "supply_v - 5 V",
+                            (supply.array() - model::kNominalSupplyV).matrix(), false));
         VectorXd rate = VectorXd::Zero(n);
         for (Index i = 1; i + 1 < n; ++i)
             rate[i] = (supply[i + 1] - supply[i - 1]) / std::max(1e-9, t[i + 1] - t[i - 1]);

@@ -16,7 +16,7 @@ std::map<std::string, an::SensorRun> LoadSensorRuns(st::Db& db, const st::RunDet
     const std::set<std::string> wanted(sensors.begin(), sensors.end());
     std::map<std::string, std::vector<an::GyroSample>> gyro;
     std::map<std::string, std::vector<an::PowerRecord>> power;
-    std::vector<an::EncoderSample> encoder;
+    std::vector<motion::EncoderReading> encoder;
     std::vector<an::AirSample> air;  // one chamber per run: every unit sat in the same air
     st::ReplayReader reader(db, detail.run.run_id);
     while (auto row = reader.Next()) {
