@@ -24,44 +24,34 @@ namespace gyrocal {
 inline constexpr int kDefaultBatchSamples = 16;
 
 template <class Msg>
-struct BatchTraits;  // no batch form
+struct BatchTraits;  // no batch form; each one below names its batch type
+
+// The batch of `samples`: its time is the newest sample's, and so is its sensor id where the batch
+// type has one (the encoder's has none).
+template <class Batch, class Msg>
+Batch MakeBatch(std::vector<Msg> samples) {
+    Batch b;
+    b.utime = samples.empty() ? 0 : samples.back().utime;
+    if constexpr (requires { b.sensor_id; })
+        b.sensor_id = samples.empty() ? "" : samples.back().sensor_id;
+    b.num_samples = static_cast<int32_t>(samples.size());
+    b.samples = std::move(samples);
+    return b;
+}
 
 template <>
 struct BatchTraits<gyro_sample_t> {
     using Batch = gyro_batch_t;
-    static Batch Make(std::vector<gyro_sample_t> samples) {
-        Batch b;
-        b.utime = samples.empty() ? 0 : samples.back().utime;
-        b.sensor_id = samples.empty() ? "" : samples.back().sensor_id;
-        b.num_samples = static_cast<int32_t>(samples.size());
-        b.samples = std::move(samples);
-        return b;
-    }
 };
 
 template <>
 struct BatchTraits<encoder_sample_t> {
     using Batch = encoder_batch_t;
-    static Batch Make(std::vector<encoder_sample_t> samples) {
-        Batch b;
-        b.utime = samples.empty() ? 0 : samples.back().utime;
-        b.num_samples = static_cast<int32_t>(samples.size());
-        b.samples = std::move(samples);
-        return b;
-    }
 };
 
 template <>
 struct BatchTraits<rate_t> {
     using Batch = rate_batch_t;
-    static Batch Make(std::vector<rate_t> samples) {
-        Batch b;
-        b.utime = samples.empty() ? 0 : samples.back().utime;
-        b.sensor_id = samples.empty() ? "" : samples.back().sensor_id;
-        b.num_samples = static_cast<int32_t>(samples.size());
-        b.samples = std::move(samples);
-        return b;
-    }
 };
 
 template <class Msg>

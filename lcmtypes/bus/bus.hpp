@@ -188,7 +188,7 @@ template <class Msg>
 bool Bus::PublishSamples(const std::string& channel, std::vector<Msg> samples) {
     if (samples.empty()) return true;
     if (samples.size() == 1) return Publish(channel, samples.front());
-    return Publish(channel, BatchTraits<Msg>::Make(std::move(samples)));
+    return Publish(channel, MakeBatch<typename BatchTraits<Msg>::Batch>(std::move(samples)));
 }
 
 }  // namespace gyrocal

@@ -41,6 +41,19 @@ struct SourceFlowOptions {
     }
 };
 
+inline constexpr const char* kMaxHelp = "as fast as every consumer keeps up (flow control)";
+
+// A source's pacing: --speed (seconds of data per wall second; `speed_help` says whose) and --max
+// (as fast as every consumer keeps up), which exclude each other. Returns --speed (to check its
+// range).
+inline CLI::Option* AddPacingOptions(CLI::App& app, double& speed, bool& max,
+                                     const std::string& speed_help,
+                                     const std::string& max_help = kMaxHelp) {
+    CLI::Option* speed_option = app.add_option("--speed", speed, speed_help);
+    app.add_flag("--max", max, max_help)->excludes(speed_option);
+    return speed_option;
+}
+
 // Adds --flow-window-kb, --flow-timeout-s and --batch-samples (their defaults in the help).
 inline void AddSourceFlowOptions(CLI::App& app, SourceFlowOptions& o) {
     app.add_option("--flow-window-kb", o.window_kb,

@@ -89,7 +89,7 @@ std::string IncrementalOptions::Validate() const {
 
 RunMotion::RunMotion(const BuildOptions& options) : detector_(options.move) {}
 
-void RunMotion::Add(const EncoderSample& e) {
+void RunMotion::Add(const motion::EncoderReading& e) {
     ++readings_;
     if (!have_first_) {
         have_first_ = true;

@@ -92,7 +92,7 @@ class RunMotion {
 public:
     explicit RunMotion(const BuildOptions& options);
     // A reading not after the previous one, or without counts_per_rev, is ignored and counted.
-    void Add(const EncoderSample& e);
+    void Add(const motion::EncoderReading& e);
 
     bool has_encoder() const { return readings_ > 0; }
     int64_t bad_readings() const { return bad_readings_; }
@@ -234,7 +234,7 @@ public:
     explicit RunBinner(IncrementalOptions options);  // throws std::invalid_argument on Validate()
 
     void AddGyro(const std::string& sensor_id, const GyroSample& s);
-    void AddEncoder(const EncoderSample& e);
+    void AddEncoder(const motion::EncoderReading& e);
     void AddPower(const std::string& sensor_id, const PowerRecord& p);
     void AddAir(const AirSample& a);  // the chamber's: every unit's
     void AddPlateau(const std::string& sensor_id, const PlateauInput& p);

@@ -267,7 +267,7 @@ void RunBinner::AddGyro(const std::string& id, const GyroSample& s) {
     Unit(id).AddGyro(s, motion_);
 }
 
-void RunBinner::AddEncoder(const EncoderSample& e) {
+void RunBinner::AddEncoder(const motion::EncoderReading& e) {
     motion_.Add(e);
     for (auto& [id, u] : units_) u.Settle(motion_);
 }

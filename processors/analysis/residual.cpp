@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/terms.hpp"
 #include "null.hpp"
+#include "numeric/least_squares.hpp"
+#include "numeric/line_fit.hpp"
 #include "regress.hpp"
 #include "text/number.hpp"
 
@@ -28,20 +31,14 @@ VectorXd TimeS(const std::vector<Bin>& bins) {
 // (any stretch: moves between bins do not stop the temperature); NaN with fewer than 3 bins.
 VectorXd Rate(const VectorXd& v, const VectorXd& t, double half_s) {
     const Index n = t.size();
+    numeric::PrefixLine line(static_cast<size_t>(n));
+    for (Index i = 0; i < n; ++i) line.Set(static_cast<size_t>(i), t[i], v[i]);
     VectorXd r = VectorXd::Constant(n, kNan);
     Index lo = 0, hi = 0;
     for (Index i = 0; i < n; ++i) {
         while (t[lo] < t[i] - half_s) ++lo;
         while (hi < n && t[hi] <= t[i] + half_s) ++hi;
-        if (hi - lo < 3) continue;
-        double st = 0, sT = 0, stt = 0, stT = 0;
-        for (Index j = lo; j < hi; ++j) {
-            const double tj = t[j] - t[i], Tj = v[j];
-            st += tj, sT += Tj, stt += tj * tj, stT += tj * Tj;
-        }
-        const double m = static_cast<double>(hi - lo);
-        const double den = stt - st * st / m;
-        if (den > 0) r[i] = (stT - st * sT / m) / den;
+        if (hi - lo >= 3) r[i] = line.Slope(static_cast<size_t>(lo), static_cast<size_t>(hi));
     }
     return r;
 }
@@ -54,7 +51,7 @@ MatrixXd Independent(const MatrixXd& base, const MatrixXd& x) {
     std::vector<Index> keep;
     for (Index j = 0; j < x.cols(); ++j) {
         const VectorXd c = x.col(j);
-        const VectorXd r = c - span * span.colPivHouseholderQr().solve(c);
+        const VectorXd r = numeric::ProjectOut(span, c);
         if (!(r.norm() > 1e-6 * std::max(c.norm(), 1e-300))) continue;
         keep.push_back(j);
         span.conservativeResize(Eigen::NoChange, span.cols() + 1);
@@ -199,8 +196,8 @@ void ChannelFeatures(const BinnedRun& b, const Context& train, const VectorXd& t
     if (r300.allFinite())
         out.push_back(Fixed("|dT/dt| over 300 s", "temperature", "degC/s", r300.cwiseAbs(), false));
     if (supply.allFinite()) {
-        out.push_back(
-            Fixed("supply", "supply", "supply_v - 5 V", (supply.array() - 5.0).matrix(), false));
+        out.push_back(Fixed("supply", "supply", "supply_v - 5 V",
+                            (supply.array() - model::kNominalSupplyV).matrix(), false));
         VectorXd rate = VectorXd::Zero(n);
         for (Index i = 1; i + 1 < n; ++i)
             rate[i] = (supply[i + 1] - supply[i - 1]) / std::max(1e-9, t[i + 1] - t[i - 1]);

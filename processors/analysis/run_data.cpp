@@ -6,15 +6,16 @@
 
 namespace gyrocal::analysis {
 
-std::vector<motion::TableMove> MovesFromEncoder(std::vector<EncoderSample> enc,
+std::vector<motion::TableMove> MovesFromEncoder(std::vector<motion::EncoderReading> enc,
                                                 const BuildOptions& o, int64_t* n_bad) {
-    std::stable_sort(enc.begin(), enc.end(), [](const EncoderSample& a, const EncoderSample& b) {
-        return a.utime < b.utime;
-    });
+    std::stable_sort(enc.begin(), enc.end(),
+                     [](const motion::EncoderReading& a, const motion::EncoderReading& b) {
+                         return a.utime < b.utime;
+                     });
     std::vector<motion::TableMove> moves;
     motion::MoveDetector detector(o.move);
     int64_t last = INT64_MIN, bad = 0;
-    for (const EncoderSample& e : enc) {
+    for (const motion::EncoderReading& e : enc) {
         if (e.utime <= last || e.counts_per_rev <= 0) {  // as the live node guards
             ++bad;
             continue;
@@ -57,7 +58,7 @@ void PowerOn(SensorRun& run, const std::vector<PowerRecord>& power) {
 }  // namespace
 
 SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> raw,
-                         const std::vector<EncoderSample>& encoder,
+                         const std::vector<motion::EncoderReading>& encoder,
                          std::vector<PlateauInput> plateaus,
                          std::vector<SensitivityInput> sensitivities,
                          const std::vector<PowerRecord>& power, const BuildOptions& o) {
@@ -71,9 +72,11 @@ SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> r
     // Fewer than 2 usable readings cannot show a move: motion unknown (run_data.hpp).
     run.motion_unknown =
         run.has_encoder && static_cast<int64_t>(encoder.size()) - run.n_bad_encoder < 2;
-    const auto first = std::min_element(
-        encoder.begin(), encoder.end(),
-        [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
+    const auto first =
+        std::min_element(encoder.begin(), encoder.end(),
+                         [](const motion::EncoderReading& a, const motion::EncoderReading& b) {
+                             return a.utime < b.utime;
+                         });
     if (first != encoder.end() && first->counts_per_rev > 0)
         run.initial_counts = first->counts, run.counts_per_rev = first->counts_per_rev;
     PowerOn(run, power);

@@ -42,12 +42,6 @@ struct GyroSample {
     double supply_v = kNan;  // [V] measured supply; NaN when not recorded
 };
 
-struct EncoderSample {
-    int64_t utime = 0;           // [us]
-    int64_t counts = 0;          // [count] cumulative
-    int32_t counts_per_rev = 0;  // [count/rev]
-};
-
 struct PowerRecord {
     int64_t utime = 0;           // [us] when it was sent
     int64_t power_on_utime = 0;  // [us] when the unit was powered
@@ -112,7 +106,8 @@ struct SensorRun {
 };
 
 struct BuildOptions {
-    double guard_s = 1.0;  // [s] excluded before and after every move (gyrocal-plateau's default)
+    // [s] excluded before and after every move (gyrocal-plateau's default)
+    double guard_s = motion::kDefaultGuardS;
     motion::MoveDetectorConfig move = motion::MoveDetectorConfig::Defaults();
     static BuildOptions Defaults() { return {}; }
 };
@@ -120,14 +115,14 @@ struct BuildOptions {
 // The moves of the encoder readings (any order; sorted here, equal times in the order given).
 // A reading whose time is not after the previous one's, or without counts_per_rev, is dropped;
 // `n_bad`, when given, is set to how many were.
-std::vector<motion::TableMove> MovesFromEncoder(std::vector<EncoderSample> encoder,
+std::vector<motion::TableMove> MovesFromEncoder(std::vector<motion::EncoderReading> encoder,
                                                 const BuildOptions& options,
                                                 int64_t* n_bad = nullptr);
 
 // Builds the analysis input from raw samples, encoder readings and power records (any order;
 // sorted here).
 SensorRun BuildSensorRun(const std::string& sensor_id, std::vector<GyroSample> raw,
-                         const std::vector<EncoderSample>& encoder,
+                         const std::vector<motion::EncoderReading>& encoder,
                          std::vector<PlateauInput> plateaus,
                          std::vector<SensitivityInput> sensitivities,
                          const std::vector<PowerRecord>& power = {},

@@ -81,7 +81,7 @@ void RampFitter::AddGyro(const std::string& sensor_id, const analysis::GyroSampl
     if (!stopped_) binner_->AddGyro(sensor_id, s);
 }
 
-void RampFitter::AddEncoder(const analysis::EncoderSample& e) {
+void RampFitter::AddEncoder(const motion::EncoderReading& e) {
     if (!stopped_) binner_->AddEncoder(e);
 }
 

@@ -88,7 +88,7 @@ public:
     // rest at the start temperature, and the model inputs are tracked from the first sample.
     void StartRun(const std::string& run_id);
     void AddGyro(const std::string& sensor_id, const analysis::GyroSample& s);
-    void AddEncoder(const analysis::EncoderSample& e);
+    void AddEncoder(const motion::EncoderReading& e);
     void AddSensitivity(const std::string& sensor_id, const analysis::SensitivityInput& p);
     void AddPower(const std::string& sensor_id, const analysis::PowerRecord& p);
     void AddAir(const analysis::AirSample& a);

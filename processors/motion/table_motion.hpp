@@ -25,10 +25,12 @@
 
 namespace gyrocal::motion {
 
+// One encoder reading, live (the nodes, from ENCODER) or recorded (the analysis' runs, the fitter's
+// ramp mode); the analysis drops and counts readings without counts_per_rev.
 struct EncoderReading {
     int64_t utime = 0;           // [us] producer clock
     int64_t counts = 0;          // [count] cumulative, signed
-    int32_t counts_per_rev = 0;  // [count/rev] > 0
+    int32_t counts_per_rev = 0;  // [count/rev] > 0 in a usable reading
 };
 
 struct TableMove {
@@ -83,8 +85,9 @@ private:
 };
 
 // The default guard_s [s] of TableMotion: one value for everything that classifies samples as
-// still or moving the way gyrocal-plateau does (its --motion-guard-s, the in-process virtual lab),
-// so that what the live detector averages and what is fitted later are the same samples.
+// still or moving the way gyrocal-plateau does (its --motion-guard-s, the in-process virtual lab,
+// the analysis' BuildOptions), so that what the live detector averages and what is fitted later
+// are the same samples.
 inline constexpr double kDefaultGuardS = 1.0;
 
 class TableMotion {

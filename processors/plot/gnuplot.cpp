@@ -1,7 +1,5 @@
 #include "gnuplot.hpp"
 
-#include <fcntl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "launch/child_process.hpp"
 #include "plot/svg.hpp"
 
 namespace gyrocal::plot {
@@ -39,47 +38,20 @@ std::string LastLines(const std::string& text, int n) {
 void Run(const std::string& gnuplot, const std::string& dir,
          const std::vector<std::string>& scripts) {
     const std::string log = (fs::path(dir) / "gnuplot.log").string();
-    std::vector<std::string> args = {"gnuplot"};
+    std::vector<std::string> args = {gnuplot};
     args.insert(args.end(), scripts.begin(), scripts.end());
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const pid_t pid = ::fork();
-    if (pid < 0) throw GnuplotError("cannot start gnuplot (fork failed)");
-    if (pid == 0) {
-        if (::chdir(dir.c_str()) != 0) ::_exit(126);
-        const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fd >= 0) {
-            ::dup2(fd, 1);
-            ::dup2(fd, 2);
-        }
-        ::execv(gnuplot.c_str(), argv.data());
-        ::_exit(127);
+    ExitStatus status;
+    try {
+        status = ChildProcess(args, ChildOptions{log, log, dir, {}}).Wait();
+    } catch (const std::runtime_error& e) {
+        throw GnuplotError(e.what());
     }
-    int status = 0;
-    if (::waitpid(pid, &status, 0) < 0) throw GnuplotError("lost the gnuplot process");
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
-    throw GnuplotError("gnuplot in " + dir + " failed (" +
-                       (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status))
-                                          : std::string("killed by a signal")) +
+    if (status.exited && status.code == 0) return;
+    throw GnuplotError("gnuplot in " + dir + " failed (" + status.Describe() +
                        "): " + LastLines(Slurp(log), 3));
 }
 
 }  // namespace
-
-std::string FindOnPath(const std::string& program) {
-    const char* path = std::getenv("PATH");
-    const std::string dirs = path ? path : "";
-    size_t start = 0;
-    while (start <= dirs.size()) {
-        const size_t end = std::min(dirs.find(':', start), dirs.size());
-        const std::string dir = dirs.substr(start, end - start);
-        const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
-        if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-        start = end + 1;
-    }
-    return "";
-}
 
 std::vector<std::string> DrawInto(const std::string& gnuplot, const std::string& dir,
                                   const std::vector<Figure>& figures,

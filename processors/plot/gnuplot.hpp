@@ -1,12 +1,14 @@
 #pragma once
 // Runs gnuplot (Debian package gnuplot-nox) on figures of gyrocal_plot: the files go into a
 // directory, one gnuplot process runs every script there (scripts name their files relative to
-// it), and the pictures are checked to exist. No shell is involved; gnuplot's own messages go to
-// <dir>/gnuplot.log and the last of them into the error.
+// it), and the pictures are checked to exist. No shell is involved (gnuplot is a ChildProcess of
+// lcmtypes/launch); gnuplot's own messages go to <dir>/gnuplot.log and the last of them into the
+// error.
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "launch/child_process.hpp"
 #include "plot/figure.hpp"
 
 namespace gyrocal::plot {
@@ -16,8 +18,9 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-// Full path of `program` found on $PATH; "" when absent.
-std::string FindOnPath(const std::string& program);
+// Full path of `program` found on $PATH; "" when absent: the project's one PATH search
+// (lcmtypes/launch), by the name its callers here have always used.
+using ::gyrocal::FindOnPath;
 
 // What to tell someone without gnuplot.
 inline constexpr const char* kGnuplotMissing =

@@ -4,6 +4,7 @@
 
 #include "csv_source_node.hpp"
 #include "producer_cli/producer_cli.hpp"
+#include "runtime/flow_options.hpp"
 #include "runtime/process_main.hpp"
 
 namespace {
@@ -51,10 +52,8 @@ int main(int argc, char** argv) {
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "CSV file to replay")->required();
     csv::AddLcmUrlOption(app, o.lcm_url);
-    auto* speed = app.add_option("--speed", o.speed,
-                                 "data seconds per wall second, > 0 (default 1 = real time)");
-    app.add_flag("--max", o.max, "as fast as every consumer keeps up (flow control)")
-        ->excludes(speed);
+    AddPacingOptions(app, o.speed, o.max,
+                     "data seconds per wall second, > 0 (default 1 = real time)");
     app.add_option("--max-rate-hz", o.max_rate_hz,
                    "--max when no consumer answers: message-rate cap [msg/s], 1..1e7 "
                    "(default 20000)");

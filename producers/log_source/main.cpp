@@ -35,10 +35,8 @@ int main(int argc, char** argv) {
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "LCM log file (lcm-logger's)")->required();
     csv::AddLcmUrlOption(app, o.lcm_url);
-    auto* speed = app.add_option("--speed", o.speed,
-                                 "recorded seconds per wall second, > 0 (default 1 = as recorded)");
-    app.add_flag("--max", o.max, "as fast as every consumer keeps up (flow control)")
-        ->excludes(speed);
+    AddPacingOptions(app, o.speed, o.max,
+                     "recorded seconds per wall second, > 0 (default 1 = as recorded)");
     app.add_option("--channels", o.channels,
                    "regular expression of the channels to publish, the whole name (default .*)");
     app.add_option("--drain-s", o.drain_s,

@@ -4,7 +4,7 @@
 #include <initializer_list>
 #include <string>
 
-#include "bus_free_ids.hpp"
+#include "bus/channels.hpp"
 #include "text/number.hpp"
 
 namespace gyrocal::sim {
@@ -203,7 +203,7 @@ void CheckUnitIds(const RigConfig& c) {
                                   "' appears twice; valid: distinct ids (each is a channel)");
             }
         }
-        if (!IsPlainSensorId(id)) {
+        if (!channels::IsValidSensorId(id)) {
             throw ConfigError("--sensor-ids: '" + id +
                               "' is not a valid sensor id; valid: 1..32 of A-Z a-z 0-9 _ -");
         }

@@ -15,6 +15,10 @@
 
 namespace gyrocal::store {
 
+// The start of a statement on one line (whitespace runs collapsed, cut at 100 characters with
+// "..."): how a failure of either engine names its statement.
+std::string Snippet(std::string_view sql);
+
 class StmtBackend {
 public:
     virtual ~StmtBackend() = default;

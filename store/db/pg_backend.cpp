@@ -16,18 +16,6 @@
 namespace gyrocal::store {
 namespace {
 
-// The start of a statement on one line, for messages.
-std::string Snippet(const std::string& sql) {
-    std::string out;
-    for (char c : sql) {
-        const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
-        if (space && (out.empty() || out.back() == ' ')) continue;
-        out += space ? ' ' : c;
-        if (out.size() >= 100) return out + "...";
-    }
-    return out;
-}
-
 // True for a statement that may return a run's worth of rows: it reads a table of samples (the
 // replay reader, the sample export, the analysis' loader). It is read through a server-side
 // cursor, 20 000 rows at a time; any other statement in one round trip (a history over a
@@ -118,7 +106,7 @@ public:
         try {
             Tx().exec(std::string(sql));
         } catch (const std::exception& e) {
-            c_->Fail(e, "'" + Snippet(std::string(sql)) + "'");
+            c_->Fail(e, "'" + Snippet(sql) + "'");
         }
     }
     int SchemaVersion() override {

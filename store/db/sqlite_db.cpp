@@ -24,6 +24,17 @@ bool IsStorageFault(int code) {
     }
 }
 
+std::string Snippet(std::string_view sql) {
+    std::string out;
+    for (char c : sql) {
+        const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
+        if (space && (out.empty() || out.back() == ' ')) continue;
+        out += space ? ' ' : c;
+        if (out.size() >= 100) return out + "...";
+    }
+    return out;
+}
+
 std::string StorageFaultName(const StoreError& e) {
     return StorageFaultName(e.sqlite_code(), e.os_errno());
 }
@@ -64,18 +75,6 @@ std::string Describe(sqlite3* db) {
     }
     return msg;
 }
-// The start of a statement on one line (whitespace runs collapsed), for messages.
-std::string Snippet(std::string_view sql) {
-    std::string out;
-    for (char c : sql) {
-        const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
-        if (space && (out.empty() || out.back() == ' ')) continue;
-        out += space ? ' ' : c;
-        if (out.size() >= 100) return out + "...";
-    }
-    return out;
-}
-
 // "database 'PATH': " or, when the file itself is the problem, "database 'PATH' is damaged
 // (...)" so that the cause comes before the statement that met it.
 std::string Prefix(const std::string& path, int code) {

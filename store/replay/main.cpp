@@ -25,12 +25,11 @@ int main(int argc, char** argv) {
     app.add_option("--as-run", o.as_run,
                    "publish the run events under this run id instead (keeps a replay recorded "
                    "into the same database apart from the original)");
-    auto* speed = app.add_option("--speed", o.speed, "recorded seconds per wall second")
-                      ->check(CLI::Range(1e-3, 1e6));
-    app.add_flag("--max", o.max,
-                 "as fast as every consumer keeps up (flow control: each gyrocal process answers "
-                 "the replay's FLOW_MARK messages; with none answering, no timing at all)")
-        ->excludes(speed);
+    gyrocal::AddPacingOptions(app, o.speed, o.max, "recorded seconds per wall second",
+                              "as fast as every consumer keeps up (flow control: each gyrocal "
+                              "process answers the replay's FLOW_MARK messages; with none "
+                              "answering, no timing at all)")
+        ->check(CLI::Range(1e-3, 1e6));
     gyrocal::AddSourceFlowOptions(app, o.flow);
     app.remove_option(app.get_option("--batch-samples"));  // stored rows go out one by one
     if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess,

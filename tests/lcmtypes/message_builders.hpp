@@ -294,31 +294,29 @@ inline fit_report_t FitReport(const std::string& id) {
     return r;
 }
 
-// Samples seq first..first+n-1 of one unit in one message (bus/batch.hpp's batch forms).
-inline gyro_batch_t GyroBatch(const std::string& id, int64_t first, int n) {
-    gyro_batch_t b{};
-    for (int i = 0; i < n; ++i) b.samples.push_back(Gyro(id, first + i));
+// Samples seq first..first+n-1 of one unit in one message (bus/batch.hpp's batch forms), each
+// made by sample(seq); the batch's time is its newest sample's (0 when empty), its sensor id `id`
+// where the batch type has one (also when empty).
+template <class Batch, class Sample>
+Batch BatchOf(const std::string& id, int64_t first, int n, Sample sample) {
+    Batch b{};
+    for (int i = 0; i < n; ++i) b.samples.push_back(sample(first + i));
     b.num_samples = n;
-    b.sensor_id = id;
     b.utime = n > 0 ? b.samples.back().utime : 0;
+    if constexpr (requires { b.sensor_id; }) b.sensor_id = id;
     return b;
+}
+
+inline gyro_batch_t GyroBatch(const std::string& id, int64_t first, int n) {
+    return BatchOf<gyro_batch_t>(id, first, n, [&](int64_t seq) { return Gyro(id, seq); });
 }
 
 inline encoder_batch_t EncoderBatch(int64_t first, int n) {
-    encoder_batch_t b{};
-    for (int i = 0; i < n; ++i) b.samples.push_back(Encoder(first + i));
-    b.num_samples = n;
-    b.utime = n > 0 ? b.samples.back().utime : 0;
-    return b;
+    return BatchOf<encoder_batch_t>("", first, n, [](int64_t seq) { return Encoder(seq); });
 }
 
 inline rate_batch_t RateBatch(const std::string& id, int64_t first, int n) {
-    rate_batch_t b{};
-    for (int i = 0; i < n; ++i) b.samples.push_back(Rate(id, first + i));
-    b.num_samples = n;
-    b.sensor_id = id;
-    b.utime = n > 0 ? b.samples.back().utime : 0;
-    return b;
+    return BatchOf<rate_batch_t>(id, first, n, [&](int64_t seq) { return Rate(id, seq); });
 }
 
 inline flow_mark_t FlowMark(int64_t mark_seq) {

@@ -7,15 +7,7 @@
 set -u
 src="$1"; scratch="$2"
 rm -rf "$scratch"; mkdir -p "$scratch"
-fail=0; pass=0
-check() {  # name, expected exit (nz = any non-zero), actual exit, output file, expected text
-    local name="$1" want="$2" got="$3" out="$4" text="$5"
-    local ok=1
-    if [ "$want" = nz ]; then [ "$got" -ne 0 ] || ok=0; else [ "$got" -eq "$want" ] || ok=0; fi
-    grep -qF -- "$text" "$out" || ok=0
-    if [ $ok -eq 1 ]; then pass=$((pass+1)); echo "ok   $name";
-    else fail=$((fail+1)); echo "FAIL $name (exit $got, want $want; looked for: $text)"; sed 's/^/     | /' "$out" | tail -8; fi
-}
+source "$(dirname "$0")/check.sh"
 
 repo="$scratch/repo"
 mkdir -p "$repo/build"
@@ -47,5 +39,4 @@ rm -f "$repo/.clang-format"
 "$src/tools/run.sh" format-check "$repo" >"$scratch/4.out" 2>&1; rc=$?
 check "a repository without .clang-format is refused" nz $rc "$scratch/4.out" ".clang-format is missing"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

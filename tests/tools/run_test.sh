@@ -5,16 +5,7 @@
 set -u
 src="$1"; scratch="$2"
 rm -rf "$scratch"; mkdir -p "$scratch"
-fail=0; pass=0
-check() {  # name, expected exit (nz = any non-zero), actual exit, output file, expected text
-    local name="$1" want="$2" got="$3" out="$4" text="$5"
-    local ok=1
-    if [ "$want" = nz ]; then [ "$got" -ne 0 ] || ok=0; else [ "$got" -eq "$want" ] || ok=0; fi
-    # CMake wraps long messages: compare with runs of white space folded to one space.
-    tr -s " \n" "  " <"$out" | grep -qF -- "$text" || ok=0
-    if [ $ok -eq 1 ]; then pass=$((pass+1)); echo "ok   $name";
-    else fail=$((fail+1)); echo "FAIL $name (exit $got, want $want; looked for: $text)"; sed 's/^/     | /' "$out" | tail -5; fi
-}
+source "$(dirname "$0")/check.sh"
 
 # 1. A dependency CMake cannot find: the message names the package.
 cmake -S "$src" -B "$scratch/b1" -DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=TRUE >"$scratch/1.out" 2>&1; rc=$?
@@ -38,5 +29,4 @@ PATH="$scratch/fake:$PATH" "$src/tools/run.sh" setup >"$scratch/4.out" 2>&1; rc=
 check "failing apt-get is reported" 1 $rc "$scratch/4.out" "run.sh: apt-get"
 check "missing packages are named" 1 $rc "$scratch/4.out" "liblcm-dev"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

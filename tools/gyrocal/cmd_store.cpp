@@ -19,6 +19,7 @@
 #include "format.hpp"
 #include "plot/gnuplot.hpp"
 #include "query.hpp"
+#include "runtime/flow_options.hpp"
 #include "samples_csv.hpp"
 #include "unit_data.hpp"
 
@@ -381,10 +382,9 @@ void AddReplay(CLI::App& app, std::function<int()>& action) {
     sub->footer(kExitCodes);
     sub->add_option("run", *run, "run id")->required();
     AddDb(sub, *c);
-    auto* sp = sub->add_option("--speed", *speed, "recorded seconds per wall second")
-                   ->check(CLI::Range(1e-3, 1e6))
-                   ->capture_default_str();
-    sub->add_flag("--max", *max, "as fast as every consumer keeps up (flow control)")->excludes(sp);
+    gyrocal::AddPacingOptions(*sub, *speed, *max, "recorded seconds per wall second")
+        ->check(CLI::Range(1e-3, 1e6))
+        ->capture_default_str();
     sub->add_option("--lcm-url", *url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
     sub->add_option("--as-run", *as_run, "publish the run events under this run id instead");
     sub->callback([&action, c, run, speed, max, url, as_run, sub] {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "model/terms.hpp"
+
 namespace gyrocal::bench {
 
 namespace {
@@ -54,7 +56,7 @@ double Listed(const PostHoc& p, const Grid& g, size_t k, const analysis::GyroSam
     double v = p.rate_v_per_c_per_s * g.rate[k] + p.branch_v * g.branch[k] +
                p.cubic_v_per_c3 * dT * dT * dT + p.warmup_v * std::exp(-t / p.warmup_tau_s);
     if (p.supply_v_per_v != 0 && std::isfinite(s.supply_v))
-        v += p.supply_v_per_v * (s.supply_v - 5.0);
+        v += p.supply_v_per_v * (s.supply_v - model::kNominalSupplyV);
     return v;
 }
 

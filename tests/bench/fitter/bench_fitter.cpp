@@ -82,7 +82,7 @@ void Memory(double hours) {
     {
         const size_t h0 = HeapInUse();
         std::vector<analysis::GyroSample> samples;  // the ramp fitter's containers before
-        std::vector<analysis::EncoderSample> encoder;
+        std::vector<motion::EncoderReading> encoder;
         for (const Sample& s : run) {
             samples.push_back(s.g);
             if (s.encoder) encoder.push_back({s.g.utime, 0, 20000});

@@ -38,8 +38,6 @@ namespace {
 using namespace gyrocal;
 using bench::Row;
 
-const char* kMethods[] = {"plateau set", "final set", "PX4 cubic", "truth @ T_meas"};
-
 struct Case {
     std::string name, effect;  // effect: "" for the rig's defaults
     double value = 0.0;
@@ -127,12 +125,7 @@ int RunCase(const Case& k, int seeds, int first_seed, int units) {
             met += s.rows[1].Rms() <= 1.2 * s.rows[3].Rms();
         }
     }
-    std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth",
-                "drift/truth");
-    for (size_t m = 0; m < 4; ++m)
-        std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(),
-                    total[m].Drift(), total[m].Rms() / total[3].Rms(),
-                    total[m].Drift() / total[3].Drift());
+    bench::PrintMethodTotals(total);
     if (k.effect.empty())
         std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met,
                     counted);

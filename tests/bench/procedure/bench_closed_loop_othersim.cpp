@@ -46,7 +46,6 @@ namespace {
 
 using namespace std::chrono_literals;
 using bench::Row;
-const char* kMethods[] = {"plateau set", "final set", "PX4 cubic", "truth @ T_meas"};
 
 othersim::Options Scaled(uint64_t seed, int units, double supply_v_per_v) {
     othersim::Options o = othersim::Options::ReturnToStart(540.0);
@@ -232,12 +231,7 @@ int main(int argc, char** argv) {
             }
             std::fflush(stdout);
         }
-        std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth",
-                    "drift/truth");
-        for (size_t m = 0; m < 4; ++m)
-            std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(),
-                        total[m].Drift(), total[m].Rms() / total[3].Rms(),
-                        total[m].Drift() / total[3].Drift());
+        bench::PrintMethodTotals(total);
         if (supply == 0.0)
             std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met,
                         seeds);

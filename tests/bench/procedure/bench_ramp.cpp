@@ -32,6 +32,7 @@
 
 #include "bench_context.hpp"
 #include "held_out.hpp"
+#include "held_out_row.hpp"
 #include "text/number.hpp"
 #include "virtual_lab.hpp"
 
@@ -47,22 +48,11 @@ struct Config {
     double rate_c_per_min = 3.0;
 };
 
-struct Row {
-    std::string label;
+// A configuration's held-out figures, its chamber hours and the offset term lists its sets chose.
+struct RampRow : bench::Row {
     std::vector<double> chamber_h;
-    double sum2 = 0, sum2_drift = 0;
-    long n = 0;
-    int units = 0, incomplete = 0;
+    int incomplete = 0;
     std::map<std::string, int> terms;  // offset term lists chosen -> count
-    void Add(const std::vector<double>& err, double angle_deg, double duration_s) {
-        for (double e : err)
-            if (std::isfinite(e)) sum2 += e * e, ++n;
-        const double drift_dph = angle_deg / duration_s * 3600.0;
-        sum2_drift += drift_dph * drift_dph;
-        ++units;
-    }
-    double Rms() const { return n > 0 ? std::sqrt(sum2 / n) : NAN; }
-    double Drift() const { return units > 0 ? std::sqrt(sum2_drift / units) : NAN; }
 };
 
 std::string TermList(const model::Model& m) {
@@ -137,7 +127,7 @@ int main(int argc, char** argv) {
     for (double w : waypoints) std::printf(" %g", w);
     std::printf(" degC, turns every %g s, dwell %g s\n", turn_s, dwell_s);
     for (const std::string& preset : presets) {
-        std::vector<Row> rows(configs.size() + 2);
+        std::vector<RampRow> rows(configs.size() + 2);
         for (size_t k = 0; k < configs.size(); ++k) rows[k].label = configs[k].label;
         rows[configs.size()].label = "truth @ die";
         rows[configs.size() + 1].label = "truth @ T_meas";
@@ -184,7 +174,7 @@ int main(int argc, char** argv) {
         std::printf("%-18s %16s %9s %12s %10s %8s\n", "", "mean [min-max]", "", "[deg/s]",
                     "[deg/h]", "truth");
         const double limit = rows[configs.size() + 1].Rms();
-        for (const Row& r : rows) {
+        for (const RampRow& r : rows) {
             std::string hours = "-", ratio = "-";
             if (!r.chamber_h.empty()) {
                 double sum = 0;

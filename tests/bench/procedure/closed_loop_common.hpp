@@ -6,10 +6,12 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "analysis/bins.hpp"
+#include "held_out_row.hpp"
 #include "model/model.hpp"
 
 namespace gyrocal::bench {
@@ -45,22 +47,19 @@ inline model::Model Px4Cubic(const analysis::BinnedRun& b) {
     return m;
 }
 
-// A method's held-out figures over seeds and units: rate RMS of the 10 s bin means over every
-// unit, drift = RMS over units of the integrated error / duration.
-struct Row {
-    std::string label;
-    double sum2 = 0, sum2_drift = 0;
-    long n = 0;
-    int units = 0;
-    void Add(const std::vector<double>& err_dps, double angle_deg, double duration_s) {
-        for (double e : err_dps)
-            if (std::isfinite(e)) sum2 += e * e, ++n;
-        const double drift_dph = angle_deg / duration_s * 3600.0;
-        sum2_drift += drift_dph * drift_dph;
-        ++units;
-    }
-    double Rms() const { return n > 0 ? std::sqrt(sum2 / n) : NAN; }
-    double Drift() const { return units > 0 ? std::sqrt(sum2_drift / units) : NAN; }
-};
+// The four methods the closed-loop benchmarks compare, in their rows' order.
+inline constexpr const char* kMethods[] = {"plateau set", "final set", "PX4 cubic",
+                                           "truth @ T_meas"};
+
+// The table of the methods' totals over every seed and unit, the truth's last: RMS and drift,
+// and both over the truth's.
+inline void PrintMethodTotals(const std::vector<Row>& total) {
+    std::printf("  %-16s %12s %10s %10s %10s\n", "method", "rate RMS", "drift", "RMS/truth",
+                "drift/truth");
+    for (size_t m = 0; m < 4; ++m)
+        std::printf("  %-16s %12.4f %10.2f %10.2f %10.2f\n", kMethods[m], total[m].Rms(),
+                    total[m].Drift(), total[m].Rms() / total[3].Rms(),
+                    total[m].Drift() / total[3].Drift());
+}
 
 }  // namespace gyrocal::bench

@@ -22,6 +22,16 @@ WindowOptions Options() {
 
 const ConsumerId kA{"h", 1}, kB{"h", 2};
 
+// GIVEN A and B paced on (both answered a first mark), then 10 datagrams out and a second mark
+// after them, answered by nobody yet: that mark.
+Mark TenOwedByBoth(FlowWindow& w, Time t0) {
+    const Mark m1 = w.IssueMark(t0);
+    w.OnAck(kA, "a", m1.mark_seq, t0);
+    w.OnAck(kB, "b", m1.mark_seq, t0);
+    w.OnPublished(10, 10000);
+    return w.IssueMark(t0);
+}
+
 TEST(FlowWindow, NobodyToPaceOnIsNoCredit) {
     FlowWindow w(Options());
     EXPECT_FALSE(w.Credit(Time{}).has_value());
@@ -107,11 +117,7 @@ TEST(FlowWindow, AConsumerThatNeverAnswersIsDroppedAtItsTimeoutAndSaidSo) {
 TEST(FlowWindow, AStuckConsumerIsDroppedAndAdmittedAgainWhenItAnswers) {
     FlowWindow w(Options());
     const Time t0{};
-    const Mark m1 = w.IssueMark(t0);
-    w.OnAck(kA, "a", m1.mark_seq, t0);
-    w.OnAck(kB, "b", m1.mark_seq, t0);
-    w.OnPublished(10, 10000);
-    const Mark m2 = w.IssueMark(t0);
+    const Mark m2 = TenOwedByBoth(w, t0);
     // A keeps answering, B is stuck: the source waits for B up to the timeout, then goes on.
     w.OnAck(kA, "a", m2.mark_seq, t0 + 1s);
     EXPECT_EQ(w.Credit(t0 + 4900ms), 0);
@@ -140,11 +146,7 @@ TEST(FlowWindow, AConsumerThatOwesNothingIsNeverDroppedForBeingQuiet) {
 TEST(FlowWindow, AConsumerThatLeavesIsNoLongerWaitedFor) {
     FlowWindow w(Options());
     const Time t0{};
-    const Mark m1 = w.IssueMark(t0);
-    w.OnAck(kA, "a", m1.mark_seq, t0);
-    w.OnAck(kB, "b", m1.mark_seq, t0);
-    w.OnPublished(10, 10000);
-    const Mark m2 = w.IssueMark(t0);
+    const Mark m2 = TenOwedByBoth(w, t0);
     w.OnAck(kA, "a", m2.mark_seq, t0);
     EXPECT_FALSE(w.AllAcked(m2.mark_seq));
     w.OnLeave(kB);
@@ -158,12 +160,8 @@ TEST(FlowWindow, AConsumerThatLeavesIsNoLongerWaitedFor) {
 TEST(FlowWindow, AConsumerWhoseProcessIsGoneIsLeftAtOnceAndSaidSo) {
     FlowWindow w(Options());
     const Time t0{};
-    const Mark m1 = w.IssueMark(t0);
-    w.OnAck(kA, "a", m1.mark_seq, t0);
-    w.OnAck(kB, "b", m1.mark_seq, t0);
-    w.OnPublished(10, 10000);
-    w.IssueMark(t0);
-    w.OnAck(kA, "a", m1.mark_seq + 1, t0);
+    const Mark m2 = TenOwedByBoth(w, t0);
+    w.OnAck(kA, "a", m2.mark_seq, t0);
     // Behind: only B owes data.
     ASSERT_EQ(w.Behind(), std::vector<ConsumerId>{kB});
     w.OnGone(kB);

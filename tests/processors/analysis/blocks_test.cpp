@@ -16,7 +16,7 @@ namespace {
 TEST(Motion, EncoderMovesAreTheLiveDetectorsGuarded) {
     // GIVEN an encoder (20000 counts/rev) at rest, dithering by one count, then turning 90 deg
     // from t = 4 s to 7 s, then at rest; gyro samples at 100 Hz
-    std::vector<EncoderSample> enc;
+    std::vector<motion::EncoderReading> enc;
     for (int i = 0; i < 1000; ++i) {
         const double t = i * 0.01;
         const double angle = t < 4.0 ? 0.0 : (t < 7.0 ? 30.0 * (t - 4.0) : 90.0);

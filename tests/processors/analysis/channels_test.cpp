@@ -50,7 +50,7 @@ bool Mentions(const std::vector<std::string>& v, const std::string& text) {
 //   turn 2: 250..254 s, -2500 counts (-45 deg in 4 s: 11.25 deg/s) -> 135 deg
 SensorRun SyntheticRun(std::vector<AirSample> air) {
     std::vector<GyroSample> raw;
-    std::vector<EncoderSample> enc;
+    std::vector<motion::EncoderReading> enc;
     for (int64_t k = 0; k < 40000; ++k) {
         const int64_t utime = k * 10'000;
         const double t = utime * 1e-6;

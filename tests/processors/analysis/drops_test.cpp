@@ -30,8 +30,8 @@ std::vector<GyroSample> Samples(int n, int skip_from = 0, int skip_to = 0) {
 }
 
 // An encoder at rest, 100 Hz for 400 s, 20000 counts/rev.
-std::vector<EncoderSample> RestingEncoder() {
-    std::vector<EncoderSample> enc;
+std::vector<motion::EncoderReading> RestingEncoder() {
+    std::vector<motion::EncoderReading> enc;
     for (int i = 0; i < 40000; ++i) enc.push_back({i * 10'000, 5000, 20000});
     return enc;
 }
@@ -45,19 +45,20 @@ PlateauInput Window(double start_s, double end_s) {
 
 TEST(Drops, EncoderReadingsNotAfterThePreviousOrWithoutCprAreCounted) {
     // GIVEN 40000 good readings, 7 repeating a time already read and 5 without counts_per_rev
-    std::vector<EncoderSample> enc = RestingEncoder();
+    std::vector<motion::EncoderReading> enc = RestingEncoder();
     for (int k = 0; k < 7; ++k) enc.push_back({k * 1'000'000, 5001, 20000});
     for (int k = 0; k < 5; ++k) enc.push_back({k * 1'000'000 + 5'000, 5000, 0});
     // THEN 12 are dropped and counted, on the raw path and on the incremental one
     int64_t bad = -1;
     MovesFromEncoder(enc, BuildOptions::Defaults(), &bad);
     EXPECT_EQ(bad, 12);
-    std::vector<EncoderSample> in_time = enc;
-    std::stable_sort(
-        in_time.begin(), in_time.end(),
-        [](const EncoderSample& a, const EncoderSample& b) { return a.utime < b.utime; });
+    std::vector<motion::EncoderReading> in_time = enc;
+    std::stable_sort(in_time.begin(), in_time.end(),
+                     [](const motion::EncoderReading& a, const motion::EncoderReading& b) {
+                         return a.utime < b.utime;
+                     });
     RunMotion motion(BuildOptions::Defaults());
-    for (const EncoderSample& e : in_time) motion.Add(e);
+    for (const motion::EncoderReading& e : in_time) motion.Add(e);
     EXPECT_EQ(motion.bad_readings(), 12);
     EXPECT_FALSE(motion.motion_unknown());
     const SensorRun run = BuildSensorRun("S01", Samples(40000), enc, {}, {});
@@ -98,8 +99,8 @@ TEST(Drops, BinsBelowTheFillLimitAreCountedWithTheirSamples) {
 TEST(Drops, AFailedEncoderMakesMotionUnknownAndKeepsOnlyPlateauWindows) {
     // GIVEN 400 s at 100 Hz, plateau windows [100 s, 150 s] and [300 s, 360 s], and an encoder
     // whose every reading lacks counts_per_rev
-    std::vector<EncoderSample> enc = RestingEncoder();
-    for (EncoderSample& e : enc) e.counts_per_rev = 0;
+    std::vector<motion::EncoderReading> enc = RestingEncoder();
+    for (motion::EncoderReading& e : enc) e.counts_per_rev = 0;
     const std::vector<PlateauInput> windows = {Window(100, 150), Window(300, 360)};
     const SensorRun run = BuildSensorRun("S01", Samples(40000), enc, windows, {});
     // THEN motion is unknown, every reading is counted, and only the 5 + 6 bins inside the
@@ -117,7 +118,7 @@ TEST(Drops, AFailedEncoderMakesMotionUnknownAndKeepsOnlyPlateauWindows) {
     EXPECT_TRUE(Mentions(r.notes, "40000 encoder readings with a time not after the previous"));
     // AND the incremental path does the same
     RunBinner b(IncrementalOptions::Defaults());
-    for (const EncoderSample& e : enc) b.AddEncoder(e);
+    for (const motion::EncoderReading& e : enc) b.AddEncoder(e);
     for (const GyroSample& s : Samples(40000)) b.AddGyro("S01", s);
     for (const PlateauInput& p : windows) b.AddPlateau("S01", p);
     b.Flush();

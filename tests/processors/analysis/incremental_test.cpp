@@ -35,7 +35,7 @@ using testing::SimRunOptions;
 struct Recorded {
     std::string id = "S01";
     std::vector<GyroSample> gyro;
-    std::vector<EncoderSample> encoder;
+    std::vector<motion::EncoderReading> encoder;
     std::vector<PowerRecord> power;
     std::vector<AirSample> air;
     std::vector<SensitivityInput> sensitivities;
@@ -232,9 +232,10 @@ TEST(IncrementalBins, ASnapshotMidRunHasTheDecidedBinsOfTheSamplesSoFar) {
     head.gyro.erase(std::remove_if(head.gyro.begin(), head.gyro.end(),
                                    [&](const GyroSample& g) { return g.utime > cut; }),
                     head.gyro.end());
-    head.encoder.erase(std::remove_if(head.encoder.begin(), head.encoder.end(),
-                                      [&](const EncoderSample& e) { return e.utime > cut; }),
-                       head.encoder.end());
+    head.encoder.erase(
+        std::remove_if(head.encoder.begin(), head.encoder.end(),
+                       [&](const motion::EncoderReading& e) { return e.utime > cut; }),
+        head.encoder.end());
     const SensorRun raw_run = RawRun(head);
     const BinnedRun raw(raw_run, BinOptions::Defaults());
     const BinSnapshot snap = b.Snapshot("S01");
@@ -287,7 +288,7 @@ TEST(IncrementalBins, MemoryPerUnitHourIsBoundedByBinsNotSamples) {
         1e-6 * static_cast<double>(r.gyro.back().utime - r.gyro.front().utime) / 3600.0;
     // The ramp fitter before: every sample (and encoder reading) in a vector.
     const double before = static_cast<double>(r.gyro.size() * sizeof(GyroSample) +
-                                              r.encoder.size() * sizeof(EncoderSample));
+                                              r.encoder.size() * sizeof(motion::EncoderReading));
     const double after = static_cast<double>(b.MemoryBytes());
     std::printf(
         "[ incremental ] %.2f h, %zu samples: raw %.2f MB/unit-hour, bins %.3f MB/unit-hour\n",

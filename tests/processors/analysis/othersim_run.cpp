@@ -19,7 +19,7 @@ OthersimRun MakeOthersimRun(othersim::Options o) {
     const othersim::UnitTruth& u = g.units.at(0);
     OthersimRun out;
     std::vector<GyroSample> gyro;
-    std::vector<EncoderSample> enc;
+    std::vector<motion::EncoderReading> enc;
     std::vector<AirSample> air;  // its chamber_c column, as the importer would publish it
     const int32_t cpr = 20000;   // the CSV importer's default
     int64_t seq = 0;

@@ -62,7 +62,7 @@ void WriteSimRun(const std::string& path, const std::string& run_id, const SimRu
         rows.push_back(r);
     }
     int64_t seq = 0;
-    for (const EncoderSample& e : s.encoder) {
+    for (const motion::EncoderReading& e : s.encoder) {
         st::EncoderRow r = RunRow<st::EncoderRow>(run_id, e.utime);
         r.encoder_id = "E";
         r.seq = seq++;

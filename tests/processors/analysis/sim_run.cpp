@@ -36,7 +36,7 @@ public:
     }
     std::vector<GyroSample> gyro;
     std::vector<double> truth_v, effect_v;  // SimRun::truth_offset_v, effect_offset_v
-    std::vector<EncoderSample> encoder;
+    std::vector<motion::EncoderReading> encoder;
     std::vector<AirSample> air;
 
 private:

@@ -57,7 +57,7 @@ struct SimRun {
     sim::RigConfig config;
     double duration_s = 0.0;
     std::vector<GyroSample> raw;  // every sample as recorded (for writing a database)
-    std::vector<EncoderSample> encoder;
+    std::vector<motion::EncoderReading> encoder;
     std::vector<PowerRecord> power;  // the unit's power-on (the rig's start)
     std::vector<AirSample> air;      // the chamber air as recorded (empty without record_air)
     // [V] per gyro sample (the order of run.samples): what the unit's true model gives at the

@@ -1,18 +1,36 @@
 #pragma once
 // The truth of the fitter's tests: offset and sensitivity quadratics (ADXRS610-like magnitudes)
 // and the messages a run of them sends the fitter (run events, plateaus, rotations).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "message_builders.hpp"
+#include "model/convert.hpp"
 
 namespace gyrocal::testing {
 
 inline double OffsetTruthV(double t) { return 2.5 + 4e-4 * (t - 25) + 3e-6 * (t - 25) * (t - 25); }
 inline double SensTruth(double t) {
     return 0.006 * (1 + 1e-4 * (t - 25) - 2e-6 * (t - 25) * (t - 25));
+}
+
+// A set fitted on the noise-free truth above reproduces it to rounding, -10..60 degC, both models
+// (1e-12 V is ~1e4 ulp of 2.5 V: far above rounding in a 3x3 solve, far below any fitting error
+// that matters).
+inline void ExpectTheTruth(const model::CoeffSet& set) {
+    model::Evaluator off(set.offset), sens(set.sensitivity);
+    for (double temp = -10; temp <= 60; temp += 7) {
+        model::ModelInputs in;
+        in.temp_c = temp;
+        EXPECT_NEAR(off.Value(in, model::RangePolicy::kExtrapolate), OffsetTruthV(temp), 1e-12)
+            << temp;
+        EXPECT_NEAR(sens.Value(in, model::RangePolicy::kExtrapolate), SensTruth(temp), 1e-12)
+            << temp;
+    }
 }
 
 inline run_event_t FitterRunEvent(const std::string& run_id, const std::string& what, int64_t utime,

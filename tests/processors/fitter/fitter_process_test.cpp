@@ -33,7 +33,6 @@ constexpr const char* kUrl = "udpm://239.255.76.67:7750?ttl=0&recv_buf_size=4194
 constexpr int64_t kT0Utime = 1'000'000'000'000'000;
 
 using testing::OffsetTruthV;
-using testing::SensTruth;
 
 struct Listener {
     Bus bus{BusOptions{kUrl}};
@@ -175,17 +174,8 @@ TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     EXPECT_EQ(set.offset.method, "3point");
     EXPECT_DOUBLE_EQ(set.offset.t0_c, -10.0);  // the seed's T0: the first plateau's temperature
     EXPECT_EQ(set.sensitivity.method, "wls");
-    // Noise-free quadratic truth: both fits reproduce it to rounding. 1e-12 V is ~1e4 ulp of 2.5 V,
-    // far above rounding in a 3x3 solve and far below any fitting error that matters.
-    model::Evaluator off(set.offset), sens(set.sensitivity);
-    for (double temp = -10; temp <= 60; temp += 7) {
-        model::ModelInputs in;
-        in.temp_c = temp;
-        EXPECT_NEAR(off.Value(in, model::RangePolicy::kExtrapolate), OffsetTruthV(temp), 1e-12)
-            << temp;
-        EXPECT_NEAR(sens.Value(in, model::RangePolicy::kExtrapolate), SensTruth(temp), 1e-12)
-            << temp;
-    }
+    // Noise-free quadratic truth: both fits reproduce it to rounding.
+    testing::ExpectTheTruth(set);
 
     const model::CoeffSet set2 = model::FromMsg(*last_of("S02"));
     EXPECT_EQ(set2.sensitivity.method, "nominal");

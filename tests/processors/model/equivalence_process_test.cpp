@@ -102,7 +102,8 @@ HandInputs HandInputsAt(int i) {
 double HandRate(const HandInputs& in) {
     const double dT = in.temp_c - 25;
     const double offset = 2.5 + 4e-4 * dT + 3e-6 * dT * dT - 2e-8 * dT * dT * dT +
-                          0.01 * in.rate_c_per_s + 5e-4 * in.branch + 0.02 * (in.supply_v - 5.0) +
+                          0.01 * in.rate_c_per_s + 5e-4 * in.branch +
+                          0.02 * (in.supply_v - model::kNominalSupplyV) +
                           3e-3 * std::exp(-in.since_power_s / 30);
     const double direction = in.gyro_v - offset > 0 ? 1.0 : -1.0;
     return (in.gyro_v - offset) / (0.005 + 1e-6 * dT + 2e-5 * direction);

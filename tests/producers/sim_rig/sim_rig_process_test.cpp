@@ -135,9 +135,10 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
         ASSERT_GT(samples.size(), 500u) << id;
         for (size_t i = 1; i < samples.size(); ++i) {
             ASSERT_EQ(samples[i].seq, samples[i - 1].seq + 1) << id << " seq gap at " << i;
-            ASSERT_EQ(samples[i].utime - samples[i - 1].utime, 10000) << id << " 100 Hz sim time";
+            ASSERT_EQ(samples[i].utime - samples[i - 1].utime, testing::kPeriodUs)
+                << id << " 100 Hz sim time";
         }
-        EXPECT_GE(samples.front().utime, int64_t{1'000'000'000'000'000}) << "sim clock";
+        EXPECT_GE(samples.front().utime, testing::kT0Utime) << "sim clock";
         EXPECT_TRUE(samples.back().has_adc);
         // Die (tau 10 s) and sensor follow the air toward 35 degC from 25 degC; a unit's sensor
         // has its own offset (2 degC sigma), so compare the change, not the level.

@@ -67,7 +67,7 @@ protected:
         moving.raw.resize(50);
         moving.run.plateaus.clear();
         moving.run.sensitivities.clear();
-        std::vector<EncoderSample> spinning;
+        std::vector<motion::EncoderReading> spinning;
         for (const GyroSample& g : moving.raw)
             spinning.push_back({g.utime, static_cast<int64_t>(g.seq) * 100, 20000});
         moving.encoder = spinning;
