@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <type_traits>
 #include <variant>
 
@@ -141,8 +142,27 @@ struct Analysed {
     std::vector<plot::Figure> plots;
 };
 
+// --binned: every sensor binned in one pass over the run as it is read (LoadBinnedRun): memory per
+// bin, not per sample, for runs too long to hold (a day of 16 units is ~9 GB of raw samples).
+Analysed AnalyseBinned(const an::AnalysisOptions& ao, st::Db& db, const st::RunDetail& detail,
+                       const std::vector<std::string>& sensors) {
+    const an::RunBinner binned =
+        LoadBinnedRun(db, detail, sensors, an::IncrementalOptions::For(ao));
+    Analysed a;
+    for (const std::string& id : sensors) {
+        const an::UnitBinner* unit = binned.unit(id);
+        if (!unit)
+            throw std::runtime_error("run '" + detail.run.run_id + "': sensor " + id +
+                                     " has no gyro samples");
+        a.results.push_back(binned.Snapshot(id).Analyze(ao));
+        a.end_utimes.push_back(unit->newest_utime());
+    }
+    return a;
+}
+
 Analysed AnalyseSensors(const AnalyzeOptions& o, const an::AnalysisOptions& ao, st::Db& db,
                         const st::RunDetail& detail, const std::vector<std::string>& sensors) {
+    if (o.binned) return AnalyseBinned(ao, db, detail, sensors);
     const std::map<std::string, an::SensorRun> runs = LoadSensorRuns(db, detail, sensors);
     Analysed a;
     for (const std::string& id : sensors) {
@@ -378,9 +398,16 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                     "[s] length of the held-out blocks (interleaved with the training data)")
         ->check(CLI::Range(60.0, 86400.0));
     AddThresholdOptions(*sub, *o);
-    sub->add_option("--plot", o->plot_dir,
-                    "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
-                    "created if its parent exists");
+    CLI::Option* plot =
+        sub->add_option("--plot", o->plot_dir,
+                        "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
+                        "created if its parent exists");
+    sub->add_flag("--binned", o->binned,
+                  "bin the run as it is read, every sensor in one pass (memory per 10 s bin, "
+                  "not per sample: for day-long runs of many units); the same analysis, the "
+                  "branch of untracked widths interpolated (processors/analysis/"
+                  "bins_incremental.hpp); no --plot")
+        ->excludes(plot);
     sub->add_flag("--publish", o->publish,
                   "publish each stored extended model on COEFFS_<id> for the live compensator");
     sub->add_option("--lcm-url", o->lcm_url,
@@ -401,7 +428,7 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                           std::to_string(o->holdout_block_s) + ThresholdArgs(*o) +
                           (o->json ? " --json" : "") +
                           (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
-                          (o->publish ? " --publish" : "");
+                          (o->binned ? " --binned" : "") + (o->publish ? " --publish" : "");
         action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };
     });
 }
