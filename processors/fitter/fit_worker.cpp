@@ -1,5 +1,6 @@
 #include "fit_worker.hpp"
 
+#include <algorithm>
 #include <exception>
 
 namespace gyrocal::fitter {
@@ -20,7 +21,21 @@ void FitWorker::Submit(std::vector<FitJob> jobs) {
     if (jobs.empty()) return;
     {
         std::lock_guard<std::mutex> lock(mu_);
-        for (FitJob& j : jobs) jobs_.push_back(std::move(j));
+        for (FitJob& j : jobs) {
+            // A refit still waiting for the worker is superseded by a newer job of its unit
+            // (newer bins; a final job supersedes it too): the queue holds at most one job per
+            // unit and run, so a fitter slower than the data skips refits instead of falling
+            // further behind (and holding ever more snapshots) until the final set comes late.
+            const auto queued = std::find_if(jobs_.begin(), jobs_.end(), [&](const FitJob& q) {
+                return !q.is_final && q.sensor_id == j.sensor_id && q.run_id == j.run_id;
+            });
+            if (queued != jobs_.end()) {
+                *queued = std::move(j);
+                ++superseded_;
+            } else {
+                jobs_.push_back(std::move(j));
+            }
+        }
     }
     wake_.notify_one();
 }
@@ -35,6 +50,11 @@ std::vector<RampFitResult> FitWorker::Take() {
 size_t FitWorker::outstanding() const {
     std::lock_guard<std::mutex> lock(mu_);
     return jobs_.size() + running_ + done_.size();
+}
+
+int64_t FitWorker::superseded() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return superseded_;
 }
 
 bool FitWorker::WaitIdle(std::chrono::milliseconds limit) {

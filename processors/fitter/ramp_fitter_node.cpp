@@ -54,6 +54,7 @@ void StillFitChannel::Submit(std::vector<fitter::FitJob> jobs) {
     if (jobs.empty()) return;
     worker_.Submit(std::move(jobs));
     status_.SetExtra("still_fits_outstanding", static_cast<double>(worker_.outstanding()));
+    status_.SetExtra("still_fits_superseded", static_cast<double>(worker_.superseded()));
     status_.SetExtra("still_bins_memory_bytes", static_cast<double>(fitter_.MemoryBytes()));
 }
 

@@ -405,7 +405,12 @@ std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {
            " b.first_rowid AND b.last_rowid AND g.run_id = b.run_id AND "
            " g.sensor_id = b.sensor_id AND g.utime BETWEEN v.start_utime AND v.end_utime "
            " WHERE b.run_id = v.run_id AND b.sensor_id = v.sensor_id AND "
-           " b.max_utime >= v.start_utime AND b.min_utime <= v.end_utime) "
+           " b.max_utime >= v.start_utime AND b.min_utime <= v.end_utime "
+           // Implied by the overlap (max_utime <= min_utime + the widest block's span), and
+           // bounds the index range on max_utime: without it every item of a day-long run
+           // scanned all of its unit's later blocks (gyrocal show: 129 s for 16 units x 24 h).
+           " AND b.max_utime <= v.end_utime + "
+           "   (SELECT coalesce(max(max_utime - min_utime), 0) FROM gyro_blocks)) "
            "FROM v_coeff_provenance v WHERE v.coeff_row_id = ? ORDER BY v.kind, v.item_id");
     s.Bind(1, coeff_row_id);
     std::vector<ProvenanceItem> out;

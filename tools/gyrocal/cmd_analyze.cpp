@@ -1,13 +1,18 @@
 #include "cmd_analyze.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <stdexcept>
+#include <thread>
 #include <type_traits>
 #include <variant>
 
@@ -141,8 +146,53 @@ struct Analysed {
     std::vector<plot::Figure> plots;
 };
 
+// Each unit's analysis on its own snapshot of the bins, two at a time (a day of one unit's
+// analysis peaks at about 0.45 GB; the two cores of the development machine), in `sensors` order.
+std::vector<an::SensorResult> AnalyseUnits(const an::AnalysisOptions& ao,
+                                           const an::RunBinner& binned,
+                                           const std::vector<std::string>& sensors) {
+    std::vector<an::SensorResult> results(sensors.size());
+    std::atomic<size_t> next{0};
+    std::mutex mu;
+    std::exception_ptr error;
+    auto work = [&] {
+        for (size_t i = next++; i < sensors.size(); i = next++) {
+            try {
+                results[i] = binned.Snapshot(sensors[i]).Analyze(ao);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(mu);
+                if (!error) error = std::current_exception();
+            }
+        }
+    };
+    std::thread other(work);
+    work();
+    other.join();
+    if (error) std::rethrow_exception(error);
+    return results;
+}
+
+// --binned: every sensor binned in one pass over the run as it is read (LoadBinnedRun): memory per
+// bin, not per sample, for runs too long to hold (a day of 16 units is ~9 GB of raw samples).
+Analysed AnalyseBinned(const an::AnalysisOptions& ao, st::Db& db, const st::RunDetail& detail,
+                       const std::vector<std::string>& sensors) {
+    const an::RunBinner binned =
+        LoadBinnedRun(db, detail, sensors, an::IncrementalOptions::For(ao));
+    Analysed a;
+    for (const std::string& id : sensors) {
+        const an::UnitBinner* unit = binned.unit(id);
+        if (!unit)
+            throw std::runtime_error("run '" + detail.run.run_id + "': sensor " + id +
+                                     " has no gyro samples");
+        a.end_utimes.push_back(unit->newest_utime());
+    }
+    a.results = AnalyseUnits(ao, binned, sensors);
+    return a;
+}
+
 Analysed AnalyseSensors(const AnalyzeOptions& o, const an::AnalysisOptions& ao, st::Db& db,
                         const st::RunDetail& detail, const std::vector<std::string>& sensors) {
+    if (o.binned) return AnalyseBinned(ao, db, detail, sensors);
     const std::map<std::string, an::SensorRun> runs = LoadSensorRuns(db, detail, sensors);
     Analysed a;
     for (const std::string& id : sensors) {
@@ -378,9 +428,16 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                     "[s] length of the held-out blocks (interleaved with the training data)")
         ->check(CLI::Range(60.0, 86400.0));
     AddThresholdOptions(*sub, *o);
-    sub->add_option("--plot", o->plot_dir,
-                    "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
-                    "created if its parent exists");
+    CLI::Option* plot =
+        sub->add_option("--plot", o->plot_dir,
+                        "directory for pictures (gnuplot PNG + SVG, with their data and scripts); "
+                        "created if its parent exists");
+    sub->add_flag("--binned", o->binned,
+                  "bin the run as it is read, every sensor in one pass (memory per 10 s bin, "
+                  "not per sample: for day-long runs of many units); the same analysis, the "
+                  "branch of untracked widths interpolated (processors/analysis/"
+                  "bins_incremental.hpp); no --plot")
+        ->excludes(plot);
     sub->add_flag("--publish", o->publish,
                   "publish each stored extended model on COEFFS_<id> for the live compensator");
     sub->add_option("--lcm-url", o->lcm_url,
@@ -401,7 +458,7 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                           std::to_string(o->holdout_block_s) + ThresholdArgs(*o) +
                           (o->json ? " --json" : "") +
                           (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
-                          (o->publish ? " --publish" : "");
+                          (o->binned ? " --binned" : "") + (o->publish ? " --publish" : "");
         action = [o] { return RunAnalyze(*o, std::cout, std::cerr); };
     });
 }

@@ -1,12 +1,14 @@
 #pragma once
 // `gyrocal analyze RUN [--sensor ID] [--json] [--db FILE] [--bin-s S] [--holdout-fraction F]
-//  [--no-store] [--plot DIR] [--publish [--lcm-url URL]] [threshold options]`:
+//  [--no-store] [--plot DIR | --binned] [--publish [--lcm-url URL]] [threshold options]`:
 // the closed-loop model discovery (processors/analysis) on a run recorded in the database.
 // Thin: reads the run's raw gyro and encoder samples, plateaus and sensitivity points through the
 // store's query library, builds the analysis input with analysis::BuildSensorRun, prints the
 // human report or the JSON (sensors[]), and (unless --no-store) keeps each sensor's result in the
 // database's analyses table with, when an effect was added, the extended model as a coefficient
 // set of source "analysis:<analysis_id>" (store::StoreAnalysis, one transaction per sensor).
+// --binned: the run binned as it is read, every sensor in one pass (run_loader.hpp LoadBinnedRun):
+// memory per bin, not per sample, for a day of many units; not with --plot (which draws samples).
 // --plot DIR: the data files, gnuplot scripts and their PNG + SVG pictures (analysis/plot.hpp) go
 // into DIR (created when its parent exists); gnuplot (Debian package gnuplot-nox) runs in DIR.
 // --publish [--lcm-url URL]: after storing, each stored extended model is published on COEFFS_<id>
@@ -49,6 +51,7 @@ struct AnalyzeOptions {
     uint64_t surrogate_seed = 1;
     bool store = true;         // keep the result in the database
     std::string plot_dir;      // "" = no pictures; else gnuplot PNG+SVG written here
+    bool binned = false;       // bin as read (LoadBinnedRun): memory per bin; no plot_dir
     bool publish = false;      // publish each stored extended set on COEFFS_<id>
     std::string lcm_url;       // "" = $GYROCAL_LCM_URL or the default
     std::string command_line;  // recorded with the stored analysis

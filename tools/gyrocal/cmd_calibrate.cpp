@@ -203,7 +203,8 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option(
            "--final-coeffs-wait-s", o->final_coeffs_wait_s,
-           "wall seconds to wait for final coefficients (the closed loop's get 60 s more per unit)")
+           "wall seconds to wait for final coefficients (the closed loop's and the ramp's get 60 s "
+           "more per unit: their final fits are on every still bin of the run)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd->add_option("--truth-out", o->truth_out,

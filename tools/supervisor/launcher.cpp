@@ -521,11 +521,12 @@ int Calibration::Watch() {
             // Give the end event a moment to arrive (a source's own end is seen before its event).
             if (!run_ended_ && SecondsSince(*ended_at_) < 2) continue;
             if (!WaitsForCoeffs() || HaveFinalCoeffs()) break;
-            // The closed loop fits each unit on every still bin after the plateau sets (seconds
-            // per unit on a busy machine): its wait grows with the units.
+            // The closed loop after the plateau sets, and the ramp at its stop, fit each unit on
+            // every still bin of the run (seconds per unit on a busy machine, more the longer
+            // the run: 6 s at 17 h of data): the wait grows with the units.
             const double wait_s =
                 o_.final_coeffs_wait_s +
-                (ClosedLoop() ? 60.0 * std::max<size_t>(1, Sensors().size()) : 0.0);
+                (ClosedLoop() || IsRamp() ? 60.0 * std::max<size_t>(1, Sensors().size()) : 0.0);
             if (SecondsSince(*ended_at_) > wait_s) {
                 std::cerr << "\ngyrocal calibrate: no final coefficient set within " << wait_s
                           << " s from every sensor\n";

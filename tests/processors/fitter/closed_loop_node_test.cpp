@@ -210,6 +210,59 @@ TEST(FitWorker, TheCallerNeverWaitsForAFitAndTakesItsResultLater) {
     EXPECT_EQ(w.outstanding(), 0u);
 }
 
+TEST(FitWorker, AQueuedRefitIsSupersededByANewerJobOfItsUnit) {
+    // GIVEN a worker whose first fit blocks until released, so that the rest queue behind it
+    std::mutex mu;
+    std::condition_variable cv;
+    bool release = false, started = false;
+    fitter::FitWorker w([&](const fitter::FitJob& j) {
+        std::unique_lock<std::mutex> lock(mu);
+        started = true;
+        cv.notify_all();
+        cv.wait(lock, [&] { return release; });
+        fitter::RampFitResult r;
+        r.sensor_id = j.sensor_id;
+        r.report.utime = j.utime;
+        r.report.is_final = j.is_final;
+        return r;
+    });
+    auto job = [](const char* id, int64_t utime, bool final) {
+        fitter::FitJob j;
+        j.sensor_id = id;
+        j.run_id = "R1";
+        j.utime = utime;
+        j.is_final = final;
+        return j;
+    };
+    w.Submit({job("S01", 1, false)});
+    {
+        std::unique_lock<std::mutex> lock(mu);
+        ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return started; }));
+    }
+    // WHEN S01's refits keep coming while the first is under way, S02's beside them, then
+    // S01's final
+    w.Submit({job("S01", 2, false), job("S02", 2, false)});
+    w.Submit({job("S01", 3, false)});
+    w.Submit({job("S01", 4, true)});
+    {
+        std::lock_guard<std::mutex> lock(mu);
+        release = true;
+    }
+    cv.notify_all();
+    ASSERT_TRUE(w.WaitIdle(10s));
+    // THEN the fit under way ends, S01's waiting refits gave way to its final (one job of S01
+    // waited at a time), S02's refit ran, and the two skipped refits are counted
+    const auto done = w.Take();
+    ASSERT_EQ(done.size(), 3u);
+    EXPECT_EQ(done[0].sensor_id, "S01");
+    EXPECT_EQ(done[0].report.utime, 1);
+    EXPECT_EQ(done[1].sensor_id, "S01");
+    EXPECT_EQ(done[1].report.utime, 4);
+    EXPECT_TRUE(done[1].report.is_final);
+    EXPECT_EQ(done[2].sensor_id, "S02");
+    EXPECT_EQ(w.superseded(), 2);
+}
+
 TEST(FitWorker, AFitThatThrowsIsAReportOfNoneWithTheReason) {
     fitter::FitWorker w([](const fitter::FitJob&) -> fitter::RampFitResult {
         throw std::runtime_error("broken bins");

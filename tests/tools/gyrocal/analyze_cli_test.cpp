@@ -149,6 +149,42 @@ TEST_F(AnalyzeCli, TheRunBinnedAsItIsReadGivesTheSameAnalysis) {
     EXPECT_EQ(a.n_bins, b.n_bins);
 }
 
+// `gyrocal analyze --binned` (the run binned as it is read, every sensor in one pass) prints the
+// verdict of the samples held whole (headline, added terms, outcome: the test above bounds the
+// models' difference), and refuses --plot (which draws samples) by name while parsing, before
+// reading.
+TEST_F(AnalyzeCli, BinnedPrintsTheSameVerdictAndRefusesPlot) {
+    std::ostringstream whole_out, whole_err, binned_out, binned_err;
+    ASSERT_EQ(cli::RunAnalyze(Options(false), whole_out, whole_err), 0) << whole_err.str();
+    cli::AnalyzeOptions binned = Options(false);
+    binned.binned = true;
+    ASSERT_EQ(cli::RunAnalyze(binned, binned_out, binned_err), 0) << binned_err.str();
+    // The verdict lines; the candidates' statistics differ in their last printed digit (the
+    // interpolated branch widths and bins' summation order: bins_incremental.hpp).
+    auto verdict = [](const std::string& report) {
+        std::istringstream in(report);
+        std::string line, kept;
+        while (std::getline(in, line))
+            if (line.rfind("sensor ", 0) == 0 || line.rfind("  added ", 0) == 0 ||
+                line.rfind("  outcome:", 0) == 0)
+                kept += line + "\n";
+        return kept;
+    };
+    EXPECT_NE(verdict(whole_out.str()).find("outcome: explained"), std::string::npos)
+        << whole_out.str();
+    EXPECT_EQ(verdict(binned_out.str()), verdict(whole_out.str()));
+
+    CLI::App app;
+    std::function<int()> action;
+    cli::AddAnalyzeCommand(app, action);
+    try {
+        app.parse(std::vector<std::string>{"out", "--plot", "--binned", "R1", "analyze"});
+        ADD_FAILURE() << "--binned with --plot was accepted";
+    } catch (const CLI::ExcludesError& e) {  // gyrocal's main: exit 2 (bad options)
+        EXPECT_NE(std::string(e.what()).find("--binned"), std::string::npos) << e.what();
+    }
+}
+
 TEST(AnalyzeCliOutside, AnUnexplainedResidualIsStoredWithoutAModel) {
     // GIVEN a recorded run with an offset drift outside the candidate list (the rig's aging,
     // 2 mV/h)
