@@ -112,6 +112,28 @@ bool Confirm(const Context& train, const BinnedRun& binned, const Split& split,
     return gain && drift_ok;
 }
 
+// A time shape that predicts the warm-up's held-out blocks at least as well (rule kRejected: not
+// attributed) or that the warm-up does not add to (kAmbiguous); what: the term and the rival's
+// share of the blocks' squared residual; feature: the rival's generic feature (time channel).
+void RivalVerdict(Decision rule, const std::string& what, const char* rival, const char* feature,
+                  const LocalizedCheck& c, CandidateResult& r, SensorResult& res) {
+    const std::string figures = " (" + what + " % of the squared residual, the warm-up " +
+                                text::Sig(100.0 * c.drop, 3) + " %";
+    const std::string sep = "to separate: " + SeparationFromTime("warmup", feature);
+    if (rule == Decision::kRejected) {
+        const std::string why =
+            "warmup" + figures + "; " + rival + " predicts them at least as well; " + sep + ")";
+        r.note = "not attributed: " + why + "; " + c.note;
+        res.not_attributed.push_back(why);
+    } else {
+        const std::string why = "warmup vs " + std::string(feature) + " [time]" + figures +
+                                "; the data do not tell one from the other): " + sep;
+        r.decision = Decision::kAmbiguous;
+        r.note = "ambiguous: " + why + "; " + c.note;
+        res.ambiguities.push_back(why);
+    }
+}
+
 // The warm-up's localized check (localized.hpp) on the chosen terms; the noise measured on their
 // residual over all bins.
 void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& warmup,
@@ -129,44 +151,16 @@ void WarmupStep(const BinnedRun& binned, const Context& train, const Candidate& 
         r.decision = Decision::kNotTested;
         res.could_not_test.push_back("warmup: " + c.note);
     } else if (c.drift_rule && *c.drift_rule != Decision::kAdded) {
-        const std::string what = " (" + c.term +
+        const std::string what = c.term +
                                  " at the upper end of its grid; on its held-out blocks a linear "
                                  "drift in time removes " +
-                                 text::Sig(100.0 * c.drift_drop, 3) +
-                                 " % of the squared residual, the warm-up " +
-                                 text::Sig(100.0 * c.drop, 3) + " %";
-        const std::string sep = "to separate: " + SeparationFromTime("warmup", "time since start");
-        if (*c.drift_rule == Decision::kRejected) {
-            const std::string why =
-                "warmup" + what + "; the drift predicts them at least as well; " + sep + ")";
-            r.note = "not attributed: " + why + "; " + c.note;
-            res.not_attributed.push_back(why);
-        } else {
-            const std::string why = "warmup vs time since start [time]" + what +
-                                    "; the data do not tell one from the other): " + sep;
-            r.decision = Decision::kAmbiguous;
-            r.note = "ambiguous: " + why + "; " + c.note;
-            res.ambiguities.push_back(why);
-        }
+                                 text::Sig(100.0 * c.drift_drop, 3);
+        RivalVerdict(*c.drift_rule, what, "the drift", "time since start", c, r, res);
     } else if (c.step_rule && *c.step_rule != Decision::kAdded) {
-        const std::string what = " (" + c.term + "; on its held-out blocks a one-time step at " +
+        const std::string what = c.term + "; on its held-out blocks a one-time step at " +
                                  text::Sig(c.step_s, 3) + " s from the start removes " +
-                                 text::Sig(100.0 * c.step_drop, 3) +
-                                 " % of the squared residual, the warm-up " +
-                                 text::Sig(100.0 * c.drop, 3) + " %";
-        const std::string sep = "to separate: " + SeparationFromTime("warmup", "step");
-        if (*c.step_rule == Decision::kRejected) {
-            const std::string why =
-                "warmup" + what + "; the step predicts them at least as well; " + sep + ")";
-            r.note = "not attributed: " + why + "; " + c.note;
-            res.not_attributed.push_back(why);
-        } else {
-            const std::string why = "warmup vs step [time]" + what +
-                                    "; the data do not tell one from the other): " + sep;
-            r.decision = Decision::kAmbiguous;
-            r.note = "ambiguous: " + why + "; " + c.note;
-            res.ambiguities.push_back(why);
-        }
+                                 text::Sig(100.0 * c.step_drop, 3);
+        RivalVerdict(*c.step_rule, what, "the step", "step", c, r, res);
     } else if (c.passes) {
         r.decision = Decision::kAdded;
         sel.terms.push_back(c.term);

@@ -1,5 +1,6 @@
 #include "validations.hpp"
 
+#include "central_url.hpp"
 #include "query.hpp"
 #include "utc_text.hpp"
 
@@ -16,9 +17,9 @@ int64_t InsertValidation(Db& db, const ValidationRow& r) {
            "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     s.BindAll(r.run_id, r.sensor_id,
               r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow(), r.software_version,
-              r.command_line, r.model_origin, r.coeff_row_id, r.model_run_id, r.n_bins,
-              r.offset_rms_v, r.rate_rms_dps, r.drift_dph, r.floor_rate_rms_dps, r.power_on,
-              r.result_json);
+              WithoutCredentialsIn(r.command_line), r.model_origin, r.coeff_row_id, r.model_run_id,
+              r.n_bins, r.offset_rms_v, r.rate_rms_dps, r.drift_dph, r.floor_rate_rms_dps,
+              r.power_on, r.result_json);
     s.Run();
     const int64_t id = db.LastInsertRowId();
     tx.Commit();

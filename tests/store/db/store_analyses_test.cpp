@@ -11,6 +11,7 @@
 #include "row_builders.hpp"
 #include "schema.hpp"
 #include "scratch_db.hpp"
+#include "validations.hpp"
 #include "writer.hpp"
 
 namespace gyrocal::store {
@@ -294,6 +295,26 @@ TEST(Analyses, RefusalsWriteNothing) {
     EXPECT_EQ(Count(db, "SELECT count(*) FROM coeff_sets"), 0);
     EXPECT_EQ(Count(db, "SELECT count(*) FROM runs WHERE run_id = 'NOPE'"), 0);
     EXPECT_THROW(OpenForUpdate(FreshDbPath("missing.db")), StoreError);
+}
+
+// A validation's command line is stored as an analysis' is: a password in a database URL on it
+// (gyrocal validate --db postgresql://user:pw@host/db) never reaches the database.
+TEST(Validations, TheCommandLineIsStoredWithoutItsPassword) {
+    const std::string path = FreshDbPath("validations_pw.db");
+    StoreWriter w(path, {"test", "h", 1});
+    w.Write({Start("R1")}, {});
+    ValidationRow v;
+    v.run_id = "R1";
+    v.sensor_id = "S01";
+    v.command_line = "gyrocal validate --db postgresql://lab:s3cret@central/gyrocal R1";
+    v.model_origin = "newest set";
+    InsertValidation(w.db(), v);
+    const std::vector<ValidationRow> stored = ListValidations(w.db(), "R1");
+    ASSERT_EQ(stored.size(), 1u);
+    EXPECT_EQ(stored[0].command_line.find("s3cret"), std::string::npos) << stored[0].command_line;
+    EXPECT_NE(stored[0].command_line.find("postgresql://lab:***@central/gyrocal"),
+              std::string::npos)
+        << stored[0].command_line;
 }
 
 TEST(CoeffSets, KeptOncePerKeyWhoeverWritesFirst) {
