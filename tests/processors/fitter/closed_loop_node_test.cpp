@@ -170,38 +170,51 @@ TEST(ClosedLoopNode, TheFinalSetIsFittedOnEveryStillSampleWithTheEffectAfterTheP
     EXPECT_NE(a.result_json.find("residual_bins"), std::string::npos);
 }
 
-TEST(FitWorker, TheCallerNeverWaitsForAFitAndTakesItsResultLater) {
-    // GIVEN a worker whose fit blocks until released
+// A fit that blocks until released, so that a test can hold the worker busy: started says the
+// fit is under way; its result carries the job's unit, time and finality.
+struct BlockedFit {
     std::mutex mu;
     std::condition_variable cv;
     bool release = false, started = false;
-    fitter::FitWorker w([&](const fitter::FitJob& j) {
+    fitter::RampFitResult operator()(const fitter::FitJob& j) {
         std::unique_lock<std::mutex> lock(mu);
         started = true;
         cv.notify_all();
         cv.wait(lock, [&] { return release; });
         fitter::RampFitResult r;
         r.sensor_id = j.sensor_id;
+        r.report.utime = j.utime;
+        r.report.is_final = j.is_final;
         return r;
-    });
+    }
+    bool WaitStarted() {
+        std::unique_lock<std::mutex> lock(mu);
+        return cv.wait_for(lock, 10s, [&] { return started; });
+    }
+    void Release() {
+        {
+            std::lock_guard<std::mutex> lock(mu);
+            release = true;
+        }
+        cv.notify_all();
+    }
+};
+
+TEST(FitWorker, TheCallerNeverWaitsForAFitAndTakesItsResultLater) {
+    // GIVEN a worker whose fit blocks until released
+    BlockedFit fit;
+    fitter::FitWorker w([&](const fitter::FitJob& j) { return fit(j); });
     fitter::FitJob job;
     job.sensor_id = "S01";
     // WHEN a job is submitted and the fit is under way
     w.Submit({job});
-    {
-        std::unique_lock<std::mutex> lock(mu);
-        ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return started; }));
-    }
+    ASSERT_TRUE(fit.WaitStarted());
     // THEN the caller goes on: nothing to take yet, one outstanding
     EXPECT_TRUE(w.Take().empty());
     EXPECT_EQ(w.outstanding(), 1u);
     EXPECT_FALSE(w.WaitIdle(10ms));
     // AND once the fit ends its result is there, with the wall time it took
-    {
-        std::lock_guard<std::mutex> lock(mu);
-        release = true;
-    }
-    cv.notify_all();
+    fit.Release();
     ASSERT_TRUE(w.WaitIdle(10s));
     const auto done = w.Take();
     ASSERT_EQ(done.size(), 1u);
@@ -212,20 +225,8 @@ TEST(FitWorker, TheCallerNeverWaitsForAFitAndTakesItsResultLater) {
 
 TEST(FitWorker, AQueuedRefitIsSupersededByANewerJobOfItsUnit) {
     // GIVEN a worker whose first fit blocks until released, so that the rest queue behind it
-    std::mutex mu;
-    std::condition_variable cv;
-    bool release = false, started = false;
-    fitter::FitWorker w([&](const fitter::FitJob& j) {
-        std::unique_lock<std::mutex> lock(mu);
-        started = true;
-        cv.notify_all();
-        cv.wait(lock, [&] { return release; });
-        fitter::RampFitResult r;
-        r.sensor_id = j.sensor_id;
-        r.report.utime = j.utime;
-        r.report.is_final = j.is_final;
-        return r;
-    });
+    BlockedFit fit;
+    fitter::FitWorker w([&](const fitter::FitJob& j) { return fit(j); });
     auto job = [](const char* id, int64_t utime, bool final) {
         fitter::FitJob j;
         j.sensor_id = id;
@@ -235,20 +236,13 @@ TEST(FitWorker, AQueuedRefitIsSupersededByANewerJobOfItsUnit) {
         return j;
     };
     w.Submit({job("S01", 1, false)});
-    {
-        std::unique_lock<std::mutex> lock(mu);
-        ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return started; }));
-    }
+    ASSERT_TRUE(fit.WaitStarted());
     // WHEN S01's refits keep coming while the first is under way, S02's beside them, then
     // S01's final
     w.Submit({job("S01", 2, false), job("S02", 2, false)});
     w.Submit({job("S01", 3, false)});
     w.Submit({job("S01", 4, true)});
-    {
-        std::lock_guard<std::mutex> lock(mu);
-        release = true;
-    }
-    cv.notify_all();
+    fit.Release();
     ASSERT_TRUE(w.WaitIdle(10s));
     // THEN the fit under way ends, S01's waiting refits gave way to its final (one job of S01
     // waited at a time), S02's refit ran, and the two skipped refits are counted
