@@ -156,10 +156,12 @@ void UnitBinner::Track(const GyroSample& s, Open& cell) {
         std::fill(memory_c_.begin(), memory_c_.end(), t);
         started_ = true;
     } else {
-        for (size_t j = 0; j < memory_c_.size(); ++j) {
-            if (t > memory_c_[j] + half_c_[j]) memory_c_[j] = t - half_c_[j];
-            if (t < memory_c_[j] - half_c_[j]) memory_c_[j] = t + half_c_[j];
-        }
+        // The memory clamped into [t - half, t + half]: the two ifs of the play operator, written
+        // as min/max so that the loop vectorises (a day of 16 units runs it 137M x ~150 times).
+        double* m = memory_c_.data();
+        const double* h = half_c_.data();
+        for (size_t j = 0; j < memory_c_.size(); ++j)
+            m[j] = std::min(std::max(m[j], t - h[j]), t + h[j]);
     }
     for (size_t j = 0; j < memory_c_.size(); ++j) cell.lead_sums[j] += t - memory_c_[j];
     incremental::CellSums& a = cell.sums;

@@ -241,6 +241,10 @@ public:
     void AddSensitivity(const std::string& sensor_id, const SensitivityInput& p);
     // The end of the readings: every cell still waiting is decided with what is known.
     void Flush();
+    // Takes over `other`'s units (a reader that bins the units in shards, each shard fed the same
+    // encoder and air: their motion is this one's). Throws std::invalid_argument when a unit is in
+    // both.
+    void Absorb(RunBinner&& other);
 
     // Throws std::out_of_range for a unit never heard.
     BinSnapshot Snapshot(const std::string& sensor_id) const;

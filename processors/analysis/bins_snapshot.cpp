@@ -289,6 +289,14 @@ void RunBinner::Flush() {
     for (auto& [id, u] : units_) u.Settle(motion_, true);
 }
 
+void RunBinner::Absorb(RunBinner&& other) {
+    for (auto& [id, u] : other.units_)
+        if (units_.count(id))
+            throw std::invalid_argument("incremental bins: unit " + id + " twice");
+    for (auto& [id, u] : other.units_) units_.emplace(id, std::move(u));
+    other.units_.clear();
+}
+
 BinSnapshot RunBinner::Snapshot(const std::string& id) const {
     return units_.at(id).Snapshot(motion_);
 }

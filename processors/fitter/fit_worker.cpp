@@ -1,5 +1,7 @@
 #include "fit_worker.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <exception>
 
@@ -86,6 +88,11 @@ void FitWorker::Loop() {
             r.report.reason = std::string("internal error in the fit: ") + e.what();
         }
         r.fit_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        job = FitJob{};
+        // A fit's working memory (~14 kB per bin of the unit: 0.12 GB at a day of 10 s bins) is
+        // freed, but glibc keeps freed heap pages in its arenas: without this the process's
+        // resident size stays at its largest fit's, and grows with the run (the day run: +618 MB).
+        malloc_trim(0);
         lock.lock();
         --running_;
         done_.push_back(std::move(r));

@@ -29,6 +29,12 @@ struct ReplayReader::Cursor {
                 g.supply_counts = s.IsNull(12) ? -1 : static_cast<int32_t>(s.Int(12));
                 return g;
             }
+            case 5: {  // GyroColumns::kAnalysis
+                GyroRow g;
+                s.Read(0, g.recv_utime, g.sensor_id, g.utime, g.seq, g.gyro_v, g.temp_c,
+                       g.supply_v);
+                return g;
+            }
             case 1: {
                 EncoderRow e;
                 s.Read(0, e.recv_utime, e.run_id, e.encoder_id, e.utime, e.seq, e.counts,
@@ -56,15 +62,18 @@ struct ReplayReader::Cursor {
     }
 };
 
-ReplayReader::ReplayReader(Db& db, const std::string& run_id) {
+ReplayReader::ReplayReader(Db& db, const std::string& run_id, GyroColumns gyro) {
     RequireRun(db, run_id);
+    const bool all = gyro == GyroColumns::kAll;
     cursors_.push_back(std::make_unique<Cursor>(
         db,
-        "SELECT recv_utime, run_id, sensor_id, utime, seq, gyro_v, temp_v, temp_c, supply_v, "
-        "has_adc, gyro_counts, temp_counts, supply_counts FROM gyro_samples WHERE run_id = ?1 "
-        "AND rowid BETWEEN (SELECT min(first_rowid) FROM gyro_blocks WHERE run_id = ?1) "
-        "AND (SELECT max(last_rowid) FROM gyro_blocks WHERE run_id = ?1) ORDER BY rowid",
-        run_id, 0));
+        std::string(all ? "SELECT recv_utime, run_id, sensor_id, utime, seq, gyro_v, temp_v, "
+                          "temp_c, supply_v, has_adc, gyro_counts, temp_counts, supply_counts "
+                        : "SELECT recv_utime, sensor_id, utime, seq, gyro_v, temp_c, supply_v ") +
+            "FROM gyro_samples WHERE run_id = ?1 "
+            "AND rowid BETWEEN (SELECT min(first_rowid) FROM gyro_blocks WHERE run_id = ?1) "
+            "AND (SELECT max(last_rowid) FROM gyro_blocks WHERE run_id = ?1) ORDER BY rowid",
+        run_id, all ? 0 : 5));
     cursors_.push_back(std::make_unique<Cursor>(
         db,
         "SELECT recv_utime, run_id, encoder_id, utime, seq, counts, counts_per_rev, angle_deg "

@@ -22,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <thread>
 #include <vector>
@@ -108,6 +109,67 @@ void Memory(double hours) {
         "  after  (incremental 10 s bins):               %7.3f MB per unit-hour (the bins count "
         "%.3f)\n",
         after / h / 1e6, counted / h / 1e6);
+}
+
+// [kB] a line of /proc/self/status ("VmRSS", "VmHWM").
+long StatusKb(const char* key) {
+    std::FILE* f = std::fopen("/proc/self/status", "r");
+    char line[256];
+    long kb = -1;
+    const size_t n = std::strlen(key);
+    while (f && std::fgets(line, sizeof line, f))
+        if (std::strncmp(line, key, n) == 0 && line[n] == ':') kb = std::atol(line + n + 1);
+    if (f) std::fclose(f);
+    return kb;
+}
+
+// Resets the peak resident size (VmHWM) to the current one (proc(5), clear_refs "5").
+void ResetPeak() {
+    if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+        std::fputs("5", f);
+        std::fclose(f);
+    }
+}
+
+// 3. A day-long unit: what the bins hold and what one fit over them needs. One unit at 100 Hz, a
+// triangle 25 -> -15 -> 55 -> 25 degC at 0.144 degC/min repeated (the day run's ramp rate), the
+// table still; after each `hours` of data, one fit (the final fit's work) with its peak resident
+// size above the resident size before it (VmHWM reset through clear_refs), and the heap in use
+// after it (what a fit leaves behind: nothing, when the fit frees what it took).
+void FitMemory(const std::vector<int>& hours) {
+    std::printf("\nfit memory, 1 unit at 100 Hz, ramp 0.144 degC/min, still table:\n");
+    std::printf("  %6s %10s %10s %12s %12s %10s %8s\n", "hours", "bins MB", "heap MB",
+                "fit peak MB", "after fit MB", "fit s", "terms");
+    fitter::RampFitter f(fitter::RampFitterOptions::Defaults());
+    f.StartRun("bench");
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> n(0.0, 1e-3);
+    const double rate_c_per_s = 0.144 / 60.0, hz = 100.0;
+    double t_c = 25.0, dir = -1.0;
+    int64_t seq = 0;
+    const size_t heap0 = HeapInUse();
+    for (const int h : hours) {
+        for (; seq < static_cast<int64_t>(h * 3600.0 * hz); ++seq) {
+            t_c += dir * rate_c_per_s / hz;
+            if (t_c < -15.0) dir = 1.0;
+            if (t_c > 55.0) dir = -1.0;
+            const double d = t_c - 25.0;
+            const int64_t u = 1'000'000 + seq * 10'000;
+            if (seq % 100 == 0) f.AddEncoder({u, 0, 20000});
+            f.AddGyro("U1", {u, seq, t_c, 2.5 + 5e-4 * d - 3e-6 * d * d + n(rng), 5.0});
+        }
+        const size_t heap = HeapInUse() - heap0;
+        ResetPeak();
+        const long rss_kb = StatusKb("VmRSS");
+        const auto t0 = Clock::now();
+        const fitter::RampFitResult r = f.Fit("U1", 1'000'000 + seq * 10'000, true);
+        const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+        const long peak_kb = StatusKb("VmHWM");
+        const size_t after = HeapInUse() - heap0;
+        std::printf("  %6d %10.1f %10.1f %12.1f %12.1f %10.2f %8zu\n", h, f.MemoryBytes() / 1e6,
+                    heap / 1e6, (peak_kb - rss_kb) / 1e3, after / 1e6, s,
+                    r.set ? r.set->offset.term_names.size() : 0);
+    }
 }
 
 struct Latency {
@@ -234,7 +296,12 @@ int main(int argc, char** argv) {
         return gyrocal::bench::Usage(argv,
                                      "[HOURS_MEMORY 1..48] [MSGS_PER_S 100..100000] [UNITS 1..16]");
     gyrocal::bench::PrintContext(argc, argv);
+    if (const char* fm = std::getenv("BENCH_FIT_MEMORY_ONLY"); fm && *fm) {
+        gyrocal::FitMemory({3, 6, 12, 24});
+        return 0;
+    }
     gyrocal::Memory(hours);
     gyrocal::Receive(rate, units);
+    gyrocal::FitMemory({3, 6, 12, 24});
     return 0;
 }

@@ -44,23 +44,26 @@ Row RunRow(const std::string& run_id, int64_t utime) {
 
 }  // namespace
 
-void WriteSimRun(const std::string& path, const std::string& run_id, const SimRun& s) {
+void WriteSimRun(const std::string& path, const std::string& run_id, const SimRun& s, int units) {
+    auto unit = [](int k) { return "S0" + std::to_string(k + 1); };
     st::StoreWriter w(path, {"test", "host", 1});
     std::vector<st::Row> rows;
     st::RunEventRow start = RunRow<st::RunEventRow>(run_id, s.raw.front().utime);
     start.event = "start";
-    start.sensor_ids = {"S01"};
+    for (int k = 0; k < units; ++k) start.sensor_ids.push_back(unit(k));
     start.setpoint_c = NAN;
     rows.push_back(start);
-    for (const GyroSample& g : s.raw) {
-        st::GyroRow r = RunRow<st::GyroRow>(run_id, g.utime);
-        r.seq = g.seq;
-        r.gyro_v = g.gyro_v;
-        r.temp_c = g.temp_c;
-        r.temp_v = NAN;
-        r.supply_v = g.supply_v;
-        rows.push_back(r);
-    }
+    for (const GyroSample& g : s.raw)
+        for (int k = 0; k < units; ++k) {
+            st::GyroRow r = RunRow<st::GyroRow>(run_id, g.utime);
+            r.sensor_id = unit(k);
+            r.seq = g.seq;
+            r.gyro_v = g.gyro_v + 1e-3 * k;
+            r.temp_c = g.temp_c;
+            r.temp_v = NAN;
+            r.supply_v = g.supply_v;
+            rows.push_back(r);
+        }
     int64_t seq = 0;
     for (const motion::EncoderReading& e : s.encoder) {
         st::EncoderRow r = RunRow<st::EncoderRow>(run_id, e.utime);
@@ -80,12 +83,14 @@ void WriteSimRun(const std::string& path, const std::string& run_id, const SimRu
         r.air_c = a.air_c;
         rows.push_back(r);
     }
-    for (const PowerRecord& p : s.power) {
-        st::PowerStateRow r = RunRow<st::PowerStateRow>(run_id, p.utime);
-        r.power_on_utime = p.power_on_utime;
-        r.source = p.source;
-        rows.push_back(r);
-    }
+    for (const PowerRecord& p : s.power)
+        for (int k = 0; k < units; ++k) {
+            st::PowerStateRow r = RunRow<st::PowerStateRow>(run_id, p.utime);
+            r.sensor_id = unit(k);
+            r.power_on_utime = p.power_on_utime;
+            r.source = p.source;
+            rows.push_back(r);
+        }
     for (const PlateauInput& p : s.run.plateaus) {
         st::PlateauRow r = RunRow<st::PlateauRow>(run_id, p.end_utime);
         r.plateau_id = p.plateau_id;

@@ -14,10 +14,12 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <variant>
 
 #include "analyses.hpp"
 #include "cmd_analyze.hpp"
 #include "query.hpp"
+#include "replay_reader.hpp"
 #include "run_db.hpp"
 #include "run_loader.hpp"
 #include "sim_run.hpp"
@@ -147,6 +149,59 @@ TEST_F(AnalyzeCli, TheRunBinnedAsItIsReadGivesTheSameAnalysis) {
     EXPECT_LT(std::sqrt(d.squaredNorm() / static_cast<double>(d.size())),
               0.25 * a.floor_offset_rms_v);
     EXPECT_EQ(a.n_bins, b.n_bins);
+}
+
+// Several units binned by the loader's shards (each shard a share of the units, every shard the
+// whole encoder and air stream) are binned exactly as one binner fed every row in the order they
+// were stored: the same bins, bit for bit, and each unit keeps its own samples (unit k is unit 0
+// plus k mV, so a unit given another's samples would be off by a whole mV).
+TEST(AnalyzeCliShards, ShardedReadBinsEveryUnitAsOneBinnerWould) {
+    testing::SimRunOptions o;
+    o.seed = 602;
+    o.setpoints_c = {-10.0, 50.0};
+    const std::string path =
+        (std::filesystem::temp_directory_path() / ("gyrocal_shards_" + std::to_string(::getpid())))
+            .string();
+    testing::RemoveRunDb(path);
+    testing::WriteSimRun(path, "R1", testing::MakeSimRun(o, true), 5);
+    auto db = st::OpenForQuery(path);
+    const st::RunDetail detail = st::ShowRun(*db, "R1");
+    const std::vector<std::string> units = {"S01", "S02", "S03", "S04", "S05"};
+    const IncrementalOptions opts = IncrementalOptions::Defaults();
+    const RunBinner sharded = cli::LoadBinnedRun(*db, detail, units, opts);
+    RunBinner one(opts);  // the reference: every row in stored order, one binner
+    st::ReplayReader reader(*db, "R1");
+    while (auto row = reader.Next()) {
+        if (const auto* g = std::get_if<st::GyroRow>(&*row))
+            one.AddGyro(g->sensor_id, {g->utime, g->seq, g->temp_c, g->gyro_v, g->supply_v});
+        else if (const auto* e = std::get_if<st::EncoderRow>(&*row))
+            one.AddEncoder({e->utime, e->counts, e->counts_per_rev});
+        else if (const auto* c = std::get_if<st::ChamberStateRow>(&*row))
+            one.AddAir({c->utime, c->air_c});
+        else if (const auto* p = std::get_if<st::PowerStateRow>(&*row))
+            one.AddPower(p->sensor_id, {p->utime, p->power_on_utime, p->source});
+    }
+    one.Flush();
+    ASSERT_EQ(sharded.sensors(), units);
+    const BinnedRun ref0 = one.Snapshot("S01").Binned(BinOptions::Defaults());
+    ASSERT_GT(ref0.bins().size(), 100u);
+    for (size_t k = 0; k < units.size(); ++k) {
+        const BinnedRun a = sharded.Snapshot(units[k]).Binned(BinOptions::Defaults());
+        const BinnedRun b = one.Snapshot(units[k]).Binned(BinOptions::Defaults());
+        ASSERT_EQ(a.bins().size(), b.bins().size()) << units[k];
+        for (size_t i = 0; i < a.bins().size(); ++i) {
+            EXPECT_EQ(a.bins()[i].n, b.bins()[i].n);
+            EXPECT_EQ(a.bins()[i].gyro_v, b.bins()[i].gyro_v) << units[k] << " bin " << i;
+            EXPECT_EQ(a.bins()[i].temp_c, b.bins()[i].temp_c);
+            EXPECT_EQ(a.bins()[i].air_c, b.bins()[i].air_c);
+            EXPECT_EQ(a.bins()[i].table_deg, b.bins()[i].table_deg);
+            // Its own samples: k mV above unit 0's (to the rounding of a mean of ~1000 values).
+            EXPECT_NEAR(a.bins()[i].gyro_v - ref0.bins()[i].gyro_v, 1e-3 * static_cast<double>(k),
+                        1e-12);
+        }
+    }
+    db.reset();
+    testing::RemoveRunDb(path);
 }
 
 // `gyrocal analyze --binned` (the run binned as it is read, every sensor in one pass) prints the
