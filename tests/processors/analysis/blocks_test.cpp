@@ -6,6 +6,7 @@
 
 #include "analysis/analyze.hpp"
 #include "analysis/bins.hpp"
+#include "analysis/null.hpp"
 #include "analysis/regress.hpp"
 #include "analysis/run_data.hpp"
 #include "model/inputs.hpp"
@@ -237,6 +238,40 @@ TEST(Analyze, SameRunWithoutTheSupplyFindsTempRate) {
     ASSERT_EQ(r.added.size(), 1u) << r.verdict;
     EXPECT_EQ(r.added[0].effect, "temp_rate");
     EXPECT_NEAR(r.added[0].coefficient, 0.005, 4 * r.added[0].stderr_ + 0.05 * 0.005);
+}
+
+// The held-out search predicts the held-out rows with the minimum-norm least-squares fit of the
+// training rows, also when the model's columns are rank-deficient (a column repeated): the
+// operator is formed without the n x n identity Eigen's pseudoInverse() solves against, and must
+// give what the pseudo-inverse gives, to rounding (1e-9 of residuals of order 1).
+TEST(HeldOutSearch, PredictsTheHeldOutRowsAsThePseudoInverseDoes) {
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> n(0.0, 1.0);
+    const Eigen::Index rows = 300;
+    Eigen::MatrixXd x(rows, 4);
+    for (Eigen::Index i = 0; i < rows; ++i) {
+        const double t = static_cast<double>(i) / rows;
+        x.row(i) << 1.0, t, t * t, t;  // the last column repeats the second: rank 3
+    }
+    Eigen::VectorXd y(rows);
+    for (Eigen::Index i = 0; i < rows; ++i) y(i) = 0.3 - 2.0 * x(i, 1) + n(rng);
+    std::vector<Eigen::Index> train, held;
+    for (Eigen::Index i = 0; i < rows; ++i) (i % 5 == 0 ? held : train).push_back(i);
+    detail::Family f;
+    f.name = "probe";
+    Eigen::MatrixXd c(rows, 1);
+    for (Eigen::Index i = 0; i < rows; ++i) c(i, 0) = std::sin(0.1 * static_cast<double>(i));
+    f.cols = {c};
+    const detail::HeldOutSearch search(x, train, held, {f});
+    ASSERT_TRUE(search.ok());
+    const std::vector<detail::FamilyFit> fits = search.Evaluate(y, true);
+    ASSERT_EQ(fits.size(), 1u);
+    const Eigen::MatrixXd x_t = x(train, Eigen::all);
+    const Eigen::VectorXd expected =
+        y(held) -
+        x(held, Eigen::all) * (x_t.completeOrthogonalDecomposition().pseudoInverse() * y(train));
+    ASSERT_EQ(fits[0].r0.size(), expected.size());
+    EXPECT_LT((fits[0].r0 - expected).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 }  // namespace
