@@ -82,6 +82,8 @@ std::string IncrementalOptions::Validate() const {
     if (!(encoder_wait_s >= 0.0 && encoder_wait_s <= 3600.0))
         return "encoder_wait_s must be in [0, 3600] s";
     if (!(air_wait_s >= 0.0 && air_wait_s <= 3600.0)) return "air_wait_s must be in [0, 3600] s";
+    if (!(max_cells == 0 || max_cells >= 64))
+        return "max_cells must be 0 (no limit) or at least 64";
     return "";
 }
 
@@ -298,19 +300,87 @@ void UnitBinner::ResolveAir(bool force) {
             incremental::AirFrom(air_, mid, static_cast<double>(bin_us_), complete);
         if (!air) return;
         c.sums.air_c = *air;
-        Append(c, tail_);
+        std::vector<float> lead(c.lead_sums.size());
+        for (size_t j = 0; j < lead.size(); ++j)
+            lead[j] = static_cast<float>(c.lead_sums[j] / c.sums.n);
+        Put(c.sums, c.sums.cell >> level_, c.rate_sums.data(), lead.data());
         awaiting_air_.pop_front();
-        if (tail_.cells.size() >= kChunkCells) {
-            full_.push_back(std::make_shared<const incremental::Chunk>(std::move(tail_)));
-            tail_ = incremental::Chunk{};
-        }
+        if (options_.max_cells > 0 && n_closed_ > static_cast<size_t>(options_.max_cells))
+            Coarsen();
     }
 }
 
+namespace {
+
+// Adds a closed cell to `to` at grid index `target`; merged into its last cell when that has the
+// same index (sums add; the lead means and the air weigh by the samples). Returns true when a
+// new cell was added.
+bool AddCell(incremental::Chunk& to, const incremental::CellSums& s, int64_t target,
+             const double* rate, const float* lead, size_t taus, size_t widths) {
+    if (to.cells.empty() || to.cells.back().cell != target) {
+        to.cells.push_back(s);
+        to.cells.back().cell = target;
+        to.rate_sums.insert(to.rate_sums.end(), rate, rate + taus);
+        to.lead_means.insert(to.lead_means.end(), lead, lead + widths);
+        return true;
+    }
+    incremental::CellSums& a = to.cells.back();
+    const double wa = a.n, wb = s.n, w = wa + wb;
+    if (std::isfinite(a.air_c) && std::isfinite(s.air_c)) {
+        a.air_c = (wa * a.air_c + wb * s.air_c) / w;
+    } else if (!std::isfinite(a.air_c)) {
+        a.air_c = s.air_c;
+    }
+    a.n += s.n;
+    a.n_supply += s.n_supply;
+    a.sum_utime += s.sum_utime;
+    a.sum_temp += s.sum_temp;
+    a.sum_gyro += s.sum_gyro;
+    a.sum_supply += s.sum_supply;
+    a.sum_rel_us += s.sum_rel_us;
+    a.sum_branch1 += s.sum_branch1;
+    a.sum_heating1 += s.sum_heating1;
+    const size_t k = to.cells.size() - 1;
+    for (size_t j = 0; j < taus; ++j) to.rate_sums[k * taus + j] += rate[j];
+    for (size_t j = 0; j < widths; ++j) {
+        float& m = to.lead_means[k * widths + j];
+        m = static_cast<float>((wa * m + wb * lead[j]) / w);
+    }
+    return false;
+}
+
+}  // namespace
+
+void UnitBinner::Put(const incremental::CellSums& s, int64_t target, const double* rate,
+                     const float* lead) {
+    if (tail_.cells.size() >= kChunkCells && tail_.cells.back().cell != target) {
+        full_.push_back(std::make_shared<const incremental::Chunk>(std::move(tail_)));
+        tail_ = incremental::Chunk{};
+    }
+    if (AddCell(tail_, s, target, rate, lead, rate_trackers_.size(), memory_c_.size())) ++n_closed_;
+}
+
+void UnitBinner::Coarsen() {
+    // The old chunks stay alive in the snapshots that share them; new ones are built.
+    std::vector<std::shared_ptr<const incremental::Chunk>> old = std::move(full_);
+    old.push_back(std::make_shared<const incremental::Chunk>(std::move(tail_)));
+    full_.clear();
+    tail_ = incremental::Chunk{};
+    n_closed_ = 0;
+    ++level_;
+    const size_t taus = rate_trackers_.size(), widths = memory_c_.size();
+    for (const auto& c : old)
+        for (size_t i = 0; i < c->cells.size(); ++i)
+            Put(c->cells[i], c->cells[i].cell >> 1, &c->rate_sums[i * taus],
+                &c->lead_means[i * widths]);
+}
+
 void UnitBinner::Append(const Open& c, incremental::Chunk& to) const {
-    to.cells.push_back(c.sums);
-    to.rate_sums.insert(to.rate_sums.end(), c.rate_sums.begin(), c.rate_sums.end());
-    for (double s : c.lead_sums) to.lead_means.push_back(static_cast<float>(s / c.sums.n));
+    std::vector<float> lead(c.lead_sums.size());
+    for (size_t j = 0; j < lead.size(); ++j)
+        lead[j] = static_cast<float>(c.lead_sums[j] / c.sums.n);
+    AddCell(to, c.sums, c.sums.cell >> level_, c.rate_sums.data(), lead.data(),
+            rate_trackers_.size(), memory_c_.size());
 }
 
 void UnitBinner::AddPower(const PowerRecord& p) {

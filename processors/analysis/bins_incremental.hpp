@@ -80,6 +80,13 @@ struct IncrementalOptions {
     double width_ratio = 1.03;    // [1] the grid's, as For() was given it (error <= (q - 1) / 2)
     double encoder_wait_s = 5.0;  // [s] data time a bin waits for a silent encoder (past its guard)
     double air_wait_s = 60.0;     // [s] data time a bin waits for an air reading after its middle
+    // 0: the cells stay bins.bin_s long. Else a unit's closed cells are held to at most this many:
+    // when one more would exceed it, each pair of neighbours on the grid is merged into one cell
+    // twice as long (sums add, means weigh by their samples: the same cell as binning at the
+    // doubled length from the start, but for the chamber air, the two halves' readings weighed
+    // instead of one reading at the merged mean time). Memory then stays bounded by max_cells
+    // whatever the run's length; the snapshot's bin_s() says the length (bin_s x 2^k).
+    int64_t max_cells = 0;
     // The bins and the grid the analysis with `analysis` reads.
     static IncrementalOptions For(const AnalysisOptions& analysis, double width_ratio = 1.03);
     static IncrementalOptions Defaults() { return For(AnalysisOptions::Defaults()); }
@@ -148,9 +155,10 @@ std::optional<double> AirFrom(const std::deque<AirSample>& air, double t, double
 // (no samples) and its closed cells, sharing the binner's full chunks.
 class BinSnapshot {
 public:
-    bool empty() const { return !run_; }  // default-constructed: no unit
-    const SensorRun& run() const;         // an empty run when empty()
-    size_t cells() const;                 // closed still cells (before the fill test)
+    bool empty() const { return !run_; }     // default-constructed: no unit
+    const SensorRun& run() const;            // an empty run when empty()
+    size_t cells() const;                    // closed still cells (before the fill test)
+    double bin_s() const { return bin_s_; }  // [s] their length (IncrementalOptions::max_cells)
     // The bins (the fill test done with the period so far). `snapshot` must outlive the result.
     BinnedRun Binned(const BinOptions& options) const;
     // Binned() and AnalyzeBinned.
@@ -199,6 +207,10 @@ private:
     void Close(Open& cell);
     void ResolveAir(bool force);
     void Append(const Open& cell, incremental::Chunk& to) const;
+    // A closed cell into tail_ at grid index `target` (merged into the last one when the same);
+    // a full tail_ becomes a shared chunk first, unless the cell merges into its last cell.
+    void Put(const incremental::CellSums& s, int64_t target, const double* rate, const float* lead);
+    void Coarsen();  // doubles the closed cells' length (max_cells)
     int64_t MedianSpacingUs() const;
 
     std::string sensor_id_;
@@ -223,6 +235,8 @@ private:
     bool any_air_ = false;
     std::vector<std::shared_ptr<const incremental::Chunk>> full_;
     incremental::Chunk tail_;
+    int level_ = 0;                   // closed cells are bin_us_ << level_ long
+    size_t n_closed_ = 0;             // closed cells in full_ and tail_
     std::vector<PowerRecord> power_;  // distinct power-on times (few)
     std::vector<PlateauInput> plateaus_;
     std::vector<SensitivityInput> sensitivities_;

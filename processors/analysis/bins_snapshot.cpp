@@ -227,7 +227,7 @@ BinSnapshot UnitBinner::Snapshot(const RunMotion& motion) const {
     run->n_bad_air = n_bad_air_;
     run->sample_period_s = 1e-6 * static_cast<double>(MedianSpacingUs());
     s.run_ = std::move(run);
-    s.bin_s_ = options_.bins.bin_s;
+    s.bin_s_ = options_.bins.bin_s * static_cast<double>(int64_t{1} << level_);
     s.grid_ = grid_;
     s.chunks_ = full_;
     // The open tail and the cells still waiting for air (given what is known of it) are copied:

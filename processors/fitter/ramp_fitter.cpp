@@ -1,5 +1,6 @@
 #include "ramp_fitter.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -35,6 +36,7 @@ fit_report_t EmptyReport(const FitJob& job, const std::string& source) {
 analysis::IncrementalOptions BinnerOptions(const RampFitterOptions& o) {
     analysis::IncrementalOptions b = analysis::IncrementalOptions::For(o.analysis, o.width_ratio);
     b.build = o.build;
+    b.max_cells = o.max_bins_per_unit;
     return b;
 }
 
@@ -58,6 +60,9 @@ std::string RampFitterOptions::Validate() const {
     if (!(width_ratio > 1.0 && width_ratio <= 2.0))
         return "width ratio " + std::to_string(width_ratio) + ": valid is (1, 2]";
     if (source.empty() || method.empty()) return "source and method must not be empty";
+    if (!(max_bins_per_unit == 0 || max_bins_per_unit >= 64))
+        return "max bins per unit " + std::to_string(max_bins_per_unit) +
+               ": valid is 0 (no limit) or at least 64";
     return "";
 }
 
@@ -162,9 +167,21 @@ RampFitResult RampFitter::Run(const FitJob& job) const {
         res.report.reason = "no samples of this unit";
         return res;
     }
-    const analysis::BinnedRun binned = job.bins.Binned(options_.analysis.bins);
+    // The analysis at the bins' length (longer than the options' once max_bins_per_unit merged
+    // them), its blocks at least as long as its checks need (10 bins held out, one bin early).
+    analysis::AnalysisOptions ao = options_.analysis;
+    if (job.bins.bin_s() != ao.bins.bin_s) {
+        ao.bins.bin_s = job.bins.bin_s();
+        ao.holdout_block_s = std::max(ao.holdout_block_s, 10.0 * ao.bins.bin_s);
+        ao.early_block_s = std::max(ao.early_block_s, ao.bins.bin_s);
+    }
+    const analysis::BinnedRun binned = job.bins.Binned(ao.bins);
     analysis::SensorResult& r =
-        res.analysis.emplace(analysis::AnalyzeBinned(job.bins.run(), binned, options_.analysis));
+        res.analysis.emplace(analysis::AnalyzeBinned(job.bins.run(), binned, ao));
+    if (ao.bins.bin_s != options_.analysis.bins.bin_s)
+        r.notes.push_back("bins merged to " + std::to_string(static_cast<int>(ao.bins.bin_s)) +
+                          " s to hold at most " + std::to_string(options_.max_bins_per_unit) +
+                          " bins per unit");
     for (const std::string& a : job.bins.Approximations())
         r.notes.push_back("incremental bins: " + a);
     res.residual = analysis::ResidualTable(binned, r);

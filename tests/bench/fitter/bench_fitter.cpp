@@ -166,9 +166,10 @@ void FitMemory(const std::vector<int>& hours) {
         const double s = std::chrono::duration<double>(Clock::now() - t0).count();
         const long peak_kb = StatusKb("VmHWM");
         const size_t after = HeapInUse() - heap0;
-        std::printf("  %6d %10.1f %10.1f %12.1f %12.1f %10.2f %8zu\n", h, f.MemoryBytes() / 1e6,
+        std::printf("  %6d %10.1f %10.1f %12.1f %12.1f %10.2f %8zu  %s\n", h, f.MemoryBytes() / 1e6,
                     heap / 1e6, (peak_kb - rss_kb) / 1e3, after / 1e6, s,
-                    r.set ? r.set->offset.term_names.size() : 0);
+                    r.set ? r.set->offset.term_names.size() : 0,
+                    r.set ? "" : r.report.reason.substr(0, 100).c_str());
     }
 }
 

@@ -50,8 +50,9 @@ SensorRun RawRun(const Recorded& r) {
 
 // The incremental path: every message in time order (a reading at the same time as a sample
 // after it), as the fitter would receive them; stop at `until_utime` (default: all, then flush).
-RunBinner Feed(const Recorded& r, int64_t until_utime = INT64_MAX) {
-    RunBinner b(IncrementalOptions::Defaults());
+RunBinner Feed(const Recorded& r, int64_t until_utime = INT64_MAX,
+               const IncrementalOptions& options = IncrementalOptions::Defaults()) {
+    RunBinner b(options);
     for (const PowerRecord& p : r.power) b.AddPower(r.id, p);
     for (const SensitivityInput& p : r.sensitivities) b.AddSensitivity(r.id, p);
     size_t e = 0, a = 0;
@@ -295,6 +296,59 @@ TEST(IncrementalBins, MemoryPerUnitHourIsBoundedByBinsNotSamples) {
         hours, r.gyro.size(), before / hours / 1e6, after / hours / 1e6);
     // THEN at least 20x less (the header's ~0.2 MB per unit-hour against ~14 MB)
     EXPECT_LT(after * 20.0, before);
+}
+
+// A unit's cells held to max_cells: once more would be closed, neighbours merge into cells twice
+// as long, as often as needed. The merged cells are the bins of the doubled length from the start
+// (the same samples, the same sums: n, means, time since power-on and every tracked input, to the
+// rounding of summing in two parts), but for the chamber air, whose two halves' interpolations are
+// weighed (within the air's own change around the bin), and the run's memory stops growing.
+TEST(IncrementalBins, CellsHeldToMaxCellsAreTheBinsOfTheDoubledLength) {
+    const SimRun s = SimWith("hysteresis", 1e-3, 4);
+    const Recorded r = FromSim(s);
+    IncrementalOptions capped = IncrementalOptions::Defaults();
+    capped.max_cells = 128;
+    const RunBinner b = Feed(r, INT64_MAX, capped);
+    const BinSnapshot snap = b.Snapshot("S01");
+    ASSERT_GT(snap.bin_s(), capped.bins.bin_s) << "the run must be long enough to merge";
+    EXPECT_LE(snap.cells(), 128u);
+    IncrementalOptions wide = IncrementalOptions::Defaults();
+    wide.bins.bin_s = snap.bin_s();
+    const RunBinner ref = Feed(r, INT64_MAX, wide);
+    BinOptions bo = BinOptions::Defaults();
+    bo.bin_s = snap.bin_s();
+    const BinnedRun a = ref.Snapshot("S01").Binned(bo), m = snap.Binned(bo);
+    ASSERT_GT(a.size(), 20u);
+    ASSERT_EQ(a.size(), m.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+        const Bin& x = a.bins()[i];
+        const Bin& y = m.bins()[i];
+        ASSERT_EQ(x.start_utime, y.start_utime) << i;
+        EXPECT_EQ(x.n, y.n) << i;
+        EXPECT_NEAR(x.temp_c, y.temp_c, 1e-9) << i;
+        EXPECT_NEAR(x.gyro_v, y.gyro_v, 1e-12) << i;
+        EXPECT_NEAR(x.mid_utime, y.mid_utime, 2.0) << i;  // [us] sums of ~1e18 in doubles
+        EXPECT_NEAR(x.time_since_power_s, y.time_since_power_s, 1e-9) << i;
+        // Both are interpolations of the readings around the bin: they differ by less than the
+        // air's own change over it (equal when the air is linear there).
+        double lo = 1e9, hi = -1e9;
+        for (const AirSample& air : r.air)
+            if (air.utime >= x.start_utime - 20'000'000 && air.utime <= x.end_utime + 20'000'000)
+                lo = std::min(lo, air.air_c), hi = std::max(hi, air.air_c);
+        EXPECT_LE(std::fabs(x.air_c - y.air_c), hi - lo + 1e-9) << i;
+        EXPECT_EQ(x.segment, y.segment) << i;
+        gyrocal_tracker_config_t c = gyrocal_tracker_config_default();
+        EXPECT_NEAR(a.Inputs(i, c).dtemp_dt_c_per_s, m.Inputs(i, c).dtemp_dt_c_per_s, 1e-12) << i;
+        EXPECT_NEAR(a.Inputs(i, c).branch, m.Inputs(i, c).branch, 1e-12) << i;
+        c.branch_width_c = 2.0;  // a grid width's mean, weighed by the halves' samples (float)
+        EXPECT_NEAR(a.Inputs(i, c).branch, m.Inputs(i, c).branch, 1e-5) << i;
+    }
+    // THEN memory held by the capped binner is below the uncapped one's at 10 s
+    const RunBinner full = Feed(r);
+    EXPECT_LT(b.MemoryBytes() * 2, full.MemoryBytes());
+    IncrementalOptions bad = IncrementalOptions::Defaults();
+    bad.max_cells = 10;
+    EXPECT_NE(bad.Validate().find("max_cells"), std::string::npos);
 }
 
 }  // namespace

@@ -99,6 +99,42 @@ TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
     EXPECT_TRUE(f.Finish(end + 2 * kS).empty());
 }
 
+// The bins held to a limit (max_bins_per_unit; 4096 by default, so a day is fitted on 40 s
+// bins): the same 140 min on at most 256 bins merges them twice (40 s), and the final set is
+// still the truth within 4 of its own standard uncertainties at every 5 degC, its uncertainty
+// about that of the 10 s bins' (the same samples averaged: within 1.5x of the bound above), and
+// the analysis says the bins were merged.
+TEST(RampFitter, BinsHeldToTheirLimitAreMergedAndStillFitTheTruth) {
+    RampFitterOptions o;
+    o.refit_interval_s = 1800.0;
+    o.min_span_s = 3600.0;
+    o.max_bins_per_unit = 256;
+    RampFitter f(o);
+    f.StartRun("R1");
+    std::vector<RampFitResult> during;
+    int64_t end = 0;
+    Feed(f, during, &end);
+    const auto final_fits = f.Finish(end + kS);
+    ASSERT_EQ(final_fits.size(), 1u);
+    const RampFitResult& r = final_fits[0];
+    ASSERT_TRUE(r.set.has_value()) << r.report.reason;
+    ASSERT_TRUE(r.analysis.has_value());
+    EXPECT_EQ(r.analysis->bin_s, 40.0);
+    EXPECT_LE(r.analysis->n_bins, 256);
+    bool noted = false;
+    for (const std::string& n : r.analysis->notes) noted |= n.find("bins merged to 40 s") == 0;
+    EXPECT_TRUE(noted);
+    const model::CoeffSet set = model::FromMsg(*r.set);
+    for (double t_c = set.offset.temp_min_c; t_c <= set.offset.temp_max_c; t_c += 5.0) {
+        const auto off = model::Evaluate(set.offset, model::SteadyStateInputs(set.offset, t_c),
+                                         model::RangePolicy::kClip);
+        EXPECT_NEAR(off.value, OffsetTrue(t_c), 4.0 * std::sqrt(off.variance)) << t_c << " C";
+        EXPECT_LT(std::sqrt(off.variance), 1.5 * 5.0 * kNoiseV / std::sqrt(kHz * 10.0));
+    }
+    o.max_bins_per_unit = 10;
+    EXPECT_NE(o.Validate().find("max bins per unit"), std::string::npos);
+}
+
 TEST(RampFitter, NoRunNoFitAndAUnitWithTooLittleDataSaysWhy) {
     RampFitter f(RampFitterOptions::Defaults());
     f.AddGyro("U1", {0, 0, 25.0, 2.5, 5.0});
