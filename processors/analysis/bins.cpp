@@ -45,6 +45,12 @@ double AirAt(const std::vector<AirSample>& air, double t, double tolerance_us, s
     while (next < air.size() && static_cast<double>(air[next].utime) <= t) ++next;
     const AirSample* before = next > 0 ? &air[next - 1] : nullptr;
     const AirSample* after = next < air.size() ? &air[next] : nullptr;
+    return AirBetween(before, after, t, tolerance_us);
+}
+
+}  // namespace
+
+double AirBetween(const AirSample* before, const AirSample* after, double t, double tolerance_us) {
     if (before && after) {
         const double w = (t - static_cast<double>(before->utime)) /
                          static_cast<double>(after->utime - before->utime);
@@ -54,8 +60,6 @@ double AirAt(const std::vector<AirSample>& air, double t, double tolerance_us, s
     if (near && std::fabs(static_cast<double>(near->utime) - t) <= tolerance_us) return near->air_c;
     return kNan;
 }
-
-}  // namespace
 
 // The table's state at rest in every bin: the last move that ended before it.
 void AddTableState(const SensorRun& run, std::vector<Bin>& bins) {

@@ -70,6 +70,11 @@ struct BinOptions {
 // without its samples (binned elsewhere: bins_incremental.hpp), its sample_period_s.
 double SamplePeriodS(const SensorRun& run);
 
+// Chamber air at t [us] from the readings around it (either may be null): linear between them,
+// else the nearest within tolerance_us, else NaN. The one rule of Bin::air_c, for the bins of a
+// whole run (bins.cpp) and for the bins built as the samples come (bins_incremental.cpp).
+double AirBetween(const AirSample* before, const AirSample* after, double t, double tolerance_us);
+
 // The bin means of the tracked inputs for one tracker configuration, one value per bin.
 struct TrackedInputs {
     std::vector<double> rate, branch, heating;

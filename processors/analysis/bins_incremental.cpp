@@ -107,12 +107,7 @@ void RunMotion::Add(const motion::EncoderReading& e) {
 
 std::vector<motion::TableMove> RunMotion::Moves() const {
     std::vector<motion::TableMove> all = moves_;
-    if (const auto start = detector_.current_start_utime()) {
-        motion::TableMove m;
-        m.start_utime = *start;
-        m.end_utime = last_utime_;
-        all.push_back(m);
-    }
+    if (const auto m = detector_.MoveUnderWay(last_utime_)) all.push_back(*m);
     return all;
 }
 
@@ -278,14 +273,7 @@ std::optional<double> incremental::AirFrom(const std::deque<AirSample>& air, dou
         }
     }
     if (!after && !complete) return std::nullopt;
-    if (before && after) {
-        const double w = (t - static_cast<double>(before->utime)) /
-                         static_cast<double>(after->utime - before->utime);
-        return before->air_c + w * (after->air_c - before->air_c);
-    }
-    const AirSample* near = before ? before : after;
-    if (near && std::fabs(static_cast<double>(near->utime) - t) <= tolerance_us) return near->air_c;
-    return kNan;
+    return AirBetween(before, after, t, tolerance_us);
 }
 
 void UnitBinner::ResolveAir(bool force) {

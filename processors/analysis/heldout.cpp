@@ -112,6 +112,24 @@ ErrorFigures ErrorsOn(const BinnedRun& binned, const VectorXd& r, const std::vec
     return e;
 }
 
+namespace {
+
+// The long-run sum of the score terms u (Bartlett weights up to hac_lag, products only within a
+// block), never below the white sum u'u: never more certain than white residuals would make it.
+double BlockHacSum(const VectorXd& u, const std::vector<int>& block, int hac_lag) {
+    const Index n = u.size();
+    double s = u.squaredNorm();
+    for (int l = 1; l <= hac_lag; ++l) {
+        const double w = 1.0 - l / (hac_lag + 1.0);
+        for (Index i = l; i < n; ++i)
+            if (block[static_cast<size_t>(i)] == block[static_cast<size_t>(i - l)])
+                s += 2.0 * w * u[i] * u[i - l];
+    }
+    return std::max(s, u.squaredNorm());
+}
+
+}  // namespace
+
 Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vector<int>& block,
                  int hac_lag) {
     Gain g;
@@ -125,15 +143,7 @@ Gain HeldOutGain(const VectorXd& before, const VectorXd& after, const std::vecto
     if (!(sdd > 0.0)) return g;
     g.slope = delta.dot(before) / sdd;
     const VectorXd u = delta.cwiseProduct(before - g.slope * delta);  // score terms
-    double s = u.squaredNorm();
-    for (int l = 1; l <= hac_lag; ++l) {
-        const double w = 1.0 - l / (hac_lag + 1.0);
-        for (Index i = l; i < n; ++i)
-            if (block[static_cast<size_t>(i)] == block[static_cast<size_t>(i - l)])
-                s += 2.0 * w * u[i] * u[i - l];
-    }
-    // Never more certain than white residuals would make it.
-    const double var = std::max(s, u.squaredNorm()) / (sdd * sdd);
+    const double var = BlockHacSum(u, block, hac_lag) / (sdd * sdd);
     g.z = g.slope / std::sqrt(var);
     return g;
 }
@@ -145,14 +155,7 @@ double LossDifferenceZ(const VectorXd& a, const VectorXd& b, const std::vector<i
     const VectorXd d = a.cwiseAbs2() - b.cwiseAbs2();
     const double mean = d.mean();
     const VectorXd u = d.array() - mean;
-    double s = u.squaredNorm();
-    for (int l = 1; l <= hac_lag; ++l) {
-        const double w = 1.0 - l / (hac_lag + 1.0);
-        for (Index i = l; i < n; ++i)
-            if (block[static_cast<size_t>(i)] == block[static_cast<size_t>(i - l)])
-                s += 2.0 * w * u[i] * u[i - l];
-    }
-    const double var = std::max(s, u.squaredNorm()) / (static_cast<double>(n) * n);
+    const double var = BlockHacSum(u, block, hac_lag) / (static_cast<double>(n) * n);
     return var > 0.0 ? mean / std::sqrt(var) : kNan;
 }
 

@@ -17,4 +17,17 @@ nlohmann::json ToJson(const std::vector<SensorResult>& results);
 
 std::string FormatReport(const SensorResult& result);
 
+// The before/after figures of a result and its floor into anything that names them as analysis_t
+// does: the ANALYSIS_<id> message (fitter) and the stored analysis row (gyrocal analyze).
+template <class Out>
+void CopyBeforeAfter(const SensorResult& r, Out& out) {
+    out.offset_rms_v_before = r.error_before.offset_rms_v;
+    out.offset_rms_v_after = r.error_after.offset_rms_v;
+    out.rate_rms_dps_before = r.error_before.rate_rms_dps;
+    out.rate_rms_dps_after = r.error_after.rate_rms_dps;
+    out.drift_dph_before = r.error_before.drift_dph;
+    out.drift_dph_after = r.error_after.drift_dph;
+    out.floor_rate_rms_dps = r.floor_rate_rms_dps;
+}
+
 }  // namespace gyrocal::analysis

@@ -25,12 +25,7 @@ std::vector<motion::TableMove> MovesFromEncoder(std::vector<motion::EncoderReadi
     }
     if (n_bad) *n_bad = bad;
     // A move still under way when the readings end lasts to the last reading.
-    if (const auto start = detector.current_start_utime()) {
-        motion::TableMove m;
-        m.start_utime = *start;
-        m.end_utime = last;
-        moves.push_back(m);
-    }
+    if (const auto m = detector.MoveUnderWay(last)) moves.push_back(*m);
     return moves;
 }
 

@@ -28,19 +28,15 @@
 #include <string>
 #include <vector>
 
+#include "motion/gyro_sample.hpp"
 #include "motion/table_motion.hpp"
 
 namespace gyrocal::analysis {
 
 inline constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-struct GyroSample {
-    int64_t utime = 0;       // [us]
-    int64_t seq = 0;         // producer sequence number
-    double temp_c = kNan;    // [degC] measured temperature
-    double gyro_v = kNan;    // [V] rate output
-    double supply_v = kNan;  // [V] measured supply; NaN when not recorded
-};
+// A gyro sample of the run (the one struct, motion/gyro_sample.hpp).
+using GyroSample = motion::GyroSample;
 
 struct PowerRecord {
     int64_t utime = 0;           // [us] when it was sent

@@ -28,6 +28,7 @@
 
 #include "model/convert.hpp"
 #include "model/inputs.hpp"
+#include "motion/gyro_sample.hpp"
 
 namespace gyrocal::compensate {
 
@@ -39,23 +40,12 @@ struct CompensatorOptions {
     static CompensatorOptions Defaults() { return {}; }
 };
 
-struct Sample {
-    int64_t utime = 0;                  // [us]
-    int64_t seq = 0;                    // [count]
-    double gyro_v = 0.0;                // [V]
-    double temp_c = 0.0;                // [degC]
-    double supply_v = model::kUnknown;  // [V] NaN when not measured
-};
-
-// The sample of a gyro reading: anything whose fields are named as gyro_sample_t's (the
-// message, the simulator's reading).
+// A gyro sample (the one struct, motion/gyro_sample.hpp) and its one conversion from a gyro
+// reading.
+using Sample = motion::GyroSample;
 template <class Gyro>
 Sample SampleOf(const Gyro& g) {
-    return Sample{.utime = g.utime,
-                  .seq = g.seq,
-                  .gyro_v = g.gyro_v,
-                  .temp_c = g.temp_c,
-                  .supply_v = g.supply_v};
+    return motion::GyroSampleOf(g);
 }
 
 struct Compensated {

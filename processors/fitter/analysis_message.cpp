@@ -34,13 +34,7 @@ std::optional<analysis_t> AnalysisMessage(const RampFitResult& res, const std::s
     m.is_final = res.report.is_final;
     m.outcome = analysis::ToString(r.outcome);
     m.headline = r.headline;
-    m.offset_rms_v_before = r.error_before.offset_rms_v;
-    m.offset_rms_v_after = r.error_after.offset_rms_v;
-    m.rate_rms_dps_before = r.error_before.rate_rms_dps;
-    m.rate_rms_dps_after = r.error_after.rate_rms_dps;
-    m.drift_dph_before = r.error_before.drift_dph;
-    m.drift_dph_after = r.error_after.drift_dph;
-    m.floor_rate_rms_dps = r.floor_rate_rms_dps;
+    analysis::CopyBeforeAfter(r, m);
     m.floor_drift_dph = r.floor_drift_dph;
     nlohmann::json j = analysis::ToJson(r);
     m.candidates_json = j["candidates"].dump();

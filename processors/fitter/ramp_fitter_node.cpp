@@ -24,7 +24,7 @@ StillFitChannel::StillFitChannel(Bus& bus, StatusReporter& status, fitter::RampF
                 // Guard: a sample the fit cannot use is counted, not kept.
                 if (!id || !std::isfinite(m.gyro_v) || !std::isfinite(m.temp_c))
                     return status_.Reject("bad_sample", ch + ": non-finite gyro_v or temp_c");
-                fitter_.AddGyro(*id, {m.utime, m.seq, m.temp_c, m.gyro_v, m.supply_v});
+                fitter_.AddGyro(*id, motion::GyroSampleOf(m));
                 if (m.utime > now_utime_) {
                     now_utime_ = m.utime;
                     Submit(fitter_.DueJobs(m.utime));

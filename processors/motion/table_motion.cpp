@@ -58,6 +58,14 @@ std::optional<int64_t> MoveDetector::current_start_utime() const {
     return current_.start_utime;
 }
 
+std::optional<TableMove> MoveDetector::MoveUnderWay(int64_t last_utime) const {
+    if (!moving_) return std::nullopt;
+    TableMove m;
+    m.start_utime = current_.start_utime;
+    m.end_utime = last_utime;
+    return m;
+}
+
 std::optional<int64_t> MoveDetector::watermark_utime() const {
     if (!have_) return std::nullopt;
     return last_.utime;

@@ -70,6 +70,9 @@ public:
     bool moving() const { return moving_; }
     // [us] start of the move under way; nullopt at rest.
     std::optional<int64_t> current_start_utime() const;
+    // The move under way taken to last until last_utime (the readings ended mid-move: it lasts to
+    // the last reading); nullopt at rest. Only its times are known.
+    std::optional<TableMove> MoveUnderWay(int64_t last_utime) const;
     // [us] newest reading; nullopt before any.
     std::optional<int64_t> watermark_utime() const;
 

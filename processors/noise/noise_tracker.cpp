@@ -40,9 +40,9 @@ void NoiseTracker::Reset() {
     bin_sum_ = bin_temp_ = bin_t_ = 0;
 }
 
-void NoiseTracker::Add(const NoiseSample& s) {
+void NoiseTracker::Add(const motion::GyroSample& s, bool moving) {
     newest_utime_ = s.utime;
-    if (s.moving) {
+    if (moving) {
         CloseStretch();
         return;
     }
@@ -61,7 +61,7 @@ void NoiseTracker::Add(const NoiseSample& s) {
     in_stretch_ = true;
     last_utime_ = s.utime;
     last_seq_ = s.seq;
-    bin_sum_ += s.value;
+    bin_sum_ += s.gyro_v;
     bin_temp_ += s.temp_c;
     bin_t_ += s.utime * 1e-6;
     ++bin_n_;

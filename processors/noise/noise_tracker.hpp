@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "allan.hpp"
+#include "motion/gyro_sample.hpp"
 
 namespace gyrocal::noise {
 
@@ -36,14 +37,6 @@ struct TrackerConfig {
     double max_tau_s = 2000.0;           // [s] grid limit
     static TrackerConfig Defaults() { return {}; }
     std::string Validate() const;  // "" when valid
-};
-
-struct NoiseSample {
-    int64_t utime = 0;  // [us]
-    int64_t seq = 0;
-    double value = 0;   // [unit] e.g. gyro_v
-    double temp_c = 0;  // [degC]
-    bool moving = false;
 };
 
 struct NoiseEstimate {
@@ -59,8 +52,9 @@ struct NoiseEstimate {
 class NoiseTracker {
 public:
     explicit NoiseTracker(const TrackerConfig& config);  // throws invalid_argument if invalid
-    // One sample, utime increasing (the caller guards order and finiteness).
-    void Add(const NoiseSample& s);
+    // One gyro sample, utime increasing (the caller guards order and finiteness); moving: the table
+    // moved within the guard interval (the sample closes the still stretch).
+    void Add(const motion::GyroSample& s, bool moving);
     // Forgets everything (a new run).
     void Reset();
     // The estimate over the closed segments and the still stretch under way.

@@ -51,6 +51,7 @@
 #include <string>
 #include <vector>
 
+#include "motion/gyro_sample.hpp"
 #include "numeric/line_fit.hpp"
 #include "numeric/series_stats.hpp"
 
@@ -75,13 +76,9 @@ struct PlateauConfig {
 enum class State { kWaiting, kSettling, kAveraging, kDone };
 const char* StateName(State s);
 
-struct Sample {
-    int64_t utime = 0;                                           // [us]
-    int64_t seq = 0;                                             // [count]
-    double temp_c = 0;                                           // [degC]
-    double gyro_v = 0;                                           // [V]
-    double temp_v = 0;                                           // [V]
-    double supply_v = std::numeric_limits<double>::quiet_NaN();  // [V] NaN = not measured
+// A gyro sample (the one struct, motion/gyro_sample.hpp) with what the detector needs beside it.
+struct Sample : motion::GyroSample {
+    double temp_v = 0;    // [V] temperature sensor output
     bool moving = false;  // table moved within the guard interval
 };
 
@@ -89,12 +86,7 @@ struct Sample {
 // message, the simulator's reading). Its motion is decided later (MotionClassifier).
 template <class Gyro>
 Sample SampleOf(const Gyro& g) {
-    return Sample{.utime = g.utime,
-                  .seq = g.seq,
-                  .temp_c = g.temp_c,
-                  .gyro_v = g.gyro_v,
-                  .temp_v = g.temp_v,
-                  .supply_v = g.supply_v};
+    return Sample{motion::GyroSampleOf(g), g.temp_v};
 }
 
 struct Plateau {

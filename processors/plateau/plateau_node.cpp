@@ -133,7 +133,7 @@ void PlateauNode::Drain(const std::string& id, Sensor& sensor) {
         plateau::Sample s = sensor.pending.front();
         sensor.pending.pop_front();
         s.moving = motion_.Moving(s.utime);
-        sensor.noise.Add({s.utime, s.seq, s.gyro_v, s.temp_c, s.moving});
+        sensor.noise.Add(s, s.moving);
         const plateau::Step step = sensor.detector.Feed(s);
         if (step.plateau || s.utime - sensor.last_noise_utime >= options_.noise_period_s * 1e6)
             PublishNoise(id, sensor);

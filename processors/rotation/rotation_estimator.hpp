@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "motion/gyro_sample.hpp"
 #include "motion/table_motion.hpp"
 
 namespace gyrocal::rotation {
@@ -54,12 +55,8 @@ struct RotationConfig {
     std::string Validate() const;
 };
 
-struct Sample {
-    int64_t utime = 0;  // [us]
-    int64_t seq = 0;    // [count]
-    double gyro_v = 0;  // [V]
-    double temp_c = 0;  // [degC]
-};
+// A gyro sample (the one struct, motion/gyro_sample.hpp); supply_v is not used here.
+using Sample = motion::GyroSample;
 
 struct Point {
     int64_t rotation_id = 0;                 // [us] = start_utime

@@ -53,7 +53,7 @@ void RotationNode::OnGyro(const std::string& id, const gyro_sample_t& m,
     Sensor& sensor = *it->second;
     if (!sensor.time.InOrder(m.utime, channel, status_)) return;
     sensor.time.Advance(m.utime);
-    sensor.estimator.AddSample(rotation::Sample{m.utime, m.seq, m.gyro_v, m.temp_c});
+    sensor.estimator.AddSample(motion::GyroSampleOf(m));
     PollAndPublish(id, sensor);
 }
 

@@ -218,13 +218,7 @@ st::AnalysisRow ToAnalysisRow(const AnalyzeOptions& o, const an::SensorResult& r
     const nlohmann::json j = an::ToJson(r);
     row.candidates_json = j["candidates"].dump();
     row.added_json = j["added"].dump();
-    row.offset_rms_v_before = r.error_before.offset_rms_v;
-    row.offset_rms_v_after = r.error_after.offset_rms_v;
-    row.rate_rms_dps_before = r.error_before.rate_rms_dps;
-    row.rate_rms_dps_after = r.error_after.rate_rms_dps;
-    row.drift_dph_before = r.error_before.drift_dph;
-    row.drift_dph_after = r.error_after.drift_dph;
-    row.floor_rate_rms_dps = r.floor_rate_rms_dps;
+    an::CopyBeforeAfter(r, row);
     row.result_json = j.dump();
     return row;
 }

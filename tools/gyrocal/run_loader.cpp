@@ -32,9 +32,7 @@ void ReadRun(st::Db& db, const std::string& run_id, const std::set<std::string>&
             [&](const auto& r) {
                 using T = std::decay_t<decltype(r)>;
                 if constexpr (std::is_same_v<T, st::GyroRow>) {
-                    if (wanted.count(r.sensor_id))
-                        on_gyro(r.sensor_id,
-                                an::GyroSample{r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
+                    if (wanted.count(r.sensor_id)) on_gyro(r.sensor_id, motion::GyroSampleOf(r));
                 } else if constexpr (std::is_same_v<T, st::EncoderRow>) {
                     on_encoder(motion::EncoderReading{r.utime, r.counts, r.counts_per_rev});
                 } else if constexpr (std::is_same_v<T, st::ChamberStateRow>) {

@@ -198,17 +198,17 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool 
         return channels::SensorOf(channels::kGyroPrefix, ch).value();
     };
     if (inline_fit) {
-        bus.Subscribe<gyro_sample_t>(
-            channels::AllSensors(channels::kGyroPrefix),
-            [&](const gyro_sample_t& m, const std::string& ch) {
-                f.AddGyro(unit_of(ch), {m.utime, m.seq, m.temp_c, m.gyro_v, m.supply_v});
-                if (m.utime <= now) return;
-                now = m.utime;
-                for (const auto& r : f.OnTime(m.utime)) {  // the fit, here
-                    if (r.set) bus.Publish(channels::Coeffs(r.sensor_id), *r.set);
-                    ++out.fits;
-                }
-            });
+        bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
+                                     [&](const gyro_sample_t& m, const std::string& ch) {
+                                         f.AddGyro(unit_of(ch), motion::GyroSampleOf(m));
+                                         if (m.utime <= now) return;
+                                         now = m.utime;
+                                         for (const auto& r : f.OnTime(m.utime)) {  // the fit, here
+                                             if (r.set)
+                                                 bus.Publish(channels::Coeffs(r.sensor_id), *r.set);
+                                             ++out.fits;
+                                         }
+                                     });
         bus.Subscribe<encoder_sample_t>(std::string(channels::kEncoder),
                                         [&](const encoder_sample_t& m, const std::string&) {
                                             f.AddEncoder({m.utime, m.counts, m.counts_per_rev});

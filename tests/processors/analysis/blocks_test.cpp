@@ -25,7 +25,9 @@ TEST(Motion, EncoderMovesAreTheLiveDetectorsGuarded) {
                        std::llround(angle / 360.0 * 20000) + (i % 7 == 0 ? 1 : 0), 20000});
     }
     std::vector<GyroSample> raw;
-    for (int i = 0; i < 1000; ++i) raw.push_back({i * 10'000, i, 25.0, 2.5, kNan});
+    for (int i = 0; i < 1000; ++i)
+        raw.push_back(
+            {.utime = i * 10'000, .seq = i, .gyro_v = 2.5, .temp_c = 25.0, .supply_v = kNan});
     const SensorRun run = BuildSensorRun("S01", raw, enc, {}, {});
     // THEN one move of 90 deg (the one-count dither is not a move), and the samples within the
     // 1 s guard of it are not still
@@ -49,7 +51,12 @@ SensorRun StillRun(std::vector<GyroSample> raw, std::vector<PowerRecord> power =
 TEST(Bins, MeansAndTrackedInputsFromEverySample) {
     // GIVEN 400 s at 100 Hz of a 0.1 degC/s ramp, gyro 2.5 V, supply 5 V, powered 100 s earlier
     std::vector<GyroSample> raw;
-    for (int i = 0; i < 40000; ++i) raw.push_back({i * 10'000, i, 10.0 + 0.1 * i * 0.01, 2.5, 5.0});
+    for (int i = 0; i < 40000; ++i)
+        raw.push_back({.utime = i * 10'000,
+                       .seq = i,
+                       .gyro_v = 2.5,
+                       .temp_c = 10.0 + 0.1 * i * 0.01,
+                       .supply_v = 5.0});
     const SensorRun run = StillRun(raw, {{0, -100'000'000, "test"}});
     const BinnedRun binned(run, BinOptions::Defaults());
     ASSERT_EQ(binned.size(), 40u);
@@ -161,7 +168,11 @@ SensorRun CollinearRun() {
         const int64_t utime = static_cast<int64_t>(std::llround(t * 1e6));
         const double tracked = tracker.Update(utime, temp, kNan).dtemp_dt_c_per_s;
         const double gyro = 2.5 + 5e-4 * dT + 3e-6 * dT * dT + 0.005 * tracked + 1e-3 * n01(rng);
-        raw.push_back({utime, seq++, temp, gyro, 5.0 + 0.02 * tracked});
+        raw.push_back({.utime = utime,
+                       .seq = seq++,
+                       .gyro_v = gyro,
+                       .temp_c = temp,
+                       .supply_v = 5.0 + 0.02 * tracked});
         t += dt_s;
     };
     for (int i = 0; i < 3000; ++i) emit();  // 300 s at 25 degC after power-on

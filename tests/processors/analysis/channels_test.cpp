@@ -54,7 +54,7 @@ SensorRun SyntheticRun(std::vector<AirSample> air) {
     for (int64_t k = 0; k < 40000; ++k) {
         const int64_t utime = k * 10'000;
         const double t = utime * 1e-6;
-        raw.push_back({utime, k, 25.0, 2.5, kNan});
+        raw.push_back({.utime = utime, .seq = k, .gyro_v = 2.5, .temp_c = 25.0, .supply_v = kNan});
         double counts = 25000;
         if (t >= 100) counts += 5000 * std::min(1.0, (t - 100) / 2.0);
         if (t >= 250) counts -= 2500 * std::min(1.0, (t - 250) / 4.0);

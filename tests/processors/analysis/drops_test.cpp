@@ -25,7 +25,9 @@ bool Mentions(const std::vector<std::string>& notes, const std::string& what) {
 std::vector<GyroSample> Samples(int n, int skip_from = 0, int skip_to = 0) {
     std::vector<GyroSample> raw;
     for (int i = 0; i < n; ++i)
-        if (i < skip_from || i >= skip_to) raw.push_back({i * 10'000, i, 25.0, 2.5, kNan});
+        if (i < skip_from || i >= skip_to)
+            raw.push_back(
+                {.utime = i * 10'000, .seq = i, .gyro_v = 2.5, .temp_c = 25.0, .supply_v = kNan});
     return raw;
 }
 

@@ -213,8 +213,11 @@ TEST(IncrementalBins, SameAnalysisOnOthersim) {
     int64_t seq = 0;
     for (const csv::CsvRow& row : f.rows) {
         const int64_t utime = csv::TimeUs(row.time_s);
-        r.gyro.push_back(
-            {utime, seq++, row.temp_c, row.gyro_v, row.supply_v ? *row.supply_v : kNan});
+        r.gyro.push_back({.utime = utime,
+                          .seq = seq++,
+                          .gyro_v = row.gyro_v,
+                          .temp_c = row.temp_c,
+                          .supply_v = row.supply_v ? *row.supply_v : kNan});
         r.encoder.push_back({utime, std::llround(*row.encoder_deg * 20000 / 360.0), 20000});
         if (row.chamber_c) r.air.push_back({utime, *row.chamber_c});
     }

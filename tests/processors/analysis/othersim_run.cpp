@@ -26,7 +26,11 @@ OthersimRun MakeOthersimRun(othersim::Options o) {
     const int64_t first_us = f.rows.empty() ? 0 : csv::TimeUs(f.rows.front().time_s);
     for (const csv::CsvRow& r : f.rows) {
         const int64_t utime = csv::TimeUs(r.time_s);
-        gyro.push_back({utime, seq++, r.temp_c, r.gyro_v, r.supply_v ? *r.supply_v : kNan});
+        gyro.push_back({.utime = utime,
+                        .seq = seq++,
+                        .gyro_v = r.gyro_v,
+                        .temp_c = r.temp_c,
+                        .supply_v = r.supply_v ? *r.supply_v : kNan});
         enc.push_back({utime, std::llround(*r.encoder_deg * cpr / 360.0), cpr});
         if (r.chamber_c) air.push_back({utime, *r.chamber_c});
         const double t_s = (utime - first_us) * 1e-6;

@@ -17,8 +17,11 @@ public:
         double extra = o_.outside_v ? o_.outside_v(t_s) : 0.0;
         if (o_.outside_channels_v)
             extra += o_.outside_channels_v({t_s, r.temp_c, air_c_, table_deg_});
-        gyro.push_back(
-            {r.utime, r.seq, r.temp_c, r.gyro_v + extra, o_.record_supply ? r.supply_v : kNan});
+        gyro.push_back({.utime = r.utime,
+                        .seq = r.seq,
+                        .gyro_v = r.gyro_v + extra,
+                        .temp_c = r.temp_c,
+                        .supply_v = o_.record_supply ? r.supply_v : kNan});
         const sim::UnitTruth& u = rig_.units()[0];
         effect_v.push_back(truth.effect_offset_v + extra);
         truth_v.push_back(u.OffsetV(r.temp_c - u.temp_sensor_offset_c) + effect_v.back());

@@ -188,12 +188,17 @@ TEST(Verdict, RunAtOneTemperatureIsNotTestable) {
     EXPECT_TRUE(r.added.empty());
 }
 
+// The simulated rig's run (seed `seed`) with the one effect `effect` of size `value` on, analysed.
+SensorResult AnalyzeRigWith(uint64_t seed, const std::string& effect, double value) {
+    SimRunOptions o;
+    o.seed = seed;
+    sim::SetEffect(o.effects, effect, value);
+    return Analyze(MakeSimRun(o).run);
+}
+
 TEST(Verdict, ExplainedWhenTheEffectIsACandidate) {
     // A warm-up inside the grid (the rig's own, 2 mV): named and the residual at the floor.
-    SimRunOptions o;
-    o.seed = 802;
-    sim::SetEffect(o.effects, "warmup", 2e-3);
-    const SensorResult r = Analyze(MakeSimRun(o).run);
+    const SensorResult r = AnalyzeRigWith(802, "warmup", 2e-3);
     SCOPED_TRACE(FormatReport(r));
     EXPECT_EQ(r.outcome, Outcome::kExplained);
     EXPECT_EQ(r.verdict.rfind("missing effect: warmup, explained", 0), 0u) << r.verdict;
@@ -248,10 +253,7 @@ TEST(Verdict, SupplyThatDriftsWithTimeIsAmbiguousWithADrift) {
 
 TEST(Verdict, JsonCarriesTheOutcomeAndTheDiagnostics) {
     // GIVEN the rig's null ageing at 2 mV/h (outside the candidate list), nothing else
-    SimRunOptions o;
-    o.seed = 804;
-    sim::SetEffect(o.effects, "aging", 2e-3);
-    const SensorResult r = Analyze(MakeSimRun(o).run);
+    const SensorResult r = AnalyzeRigWith(804, "aging", 2e-3);
     SCOPED_TRACE(FormatReport(r));
     const nlohmann::json j = ToJson(r);
     // THEN the verdict is the truth's: no candidate named, an unexplained residual traced to time

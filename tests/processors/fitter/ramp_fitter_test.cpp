@@ -38,7 +38,11 @@ void Feed(RampFitter& f, std::vector<RampFitResult>& during, int64_t* end_utime)
         for (double s = 0; s < legs[leg]; s += 1.0 / kHz, t_s += 1.0 / kHz) {
             t_c += dir * rate / kHz;
             const int64_t u = static_cast<int64_t>(std::llround(t_s * 1e6));
-            f.AddGyro("U1", {u, seq++, t_c, OffsetTrue(t_c) + kNoiseV * n(rng), 5.0});
+            f.AddGyro("U1", {.utime = u,
+                             .seq = seq++,
+                             .gyro_v = OffsetTrue(t_c) + kNoiseV * n(rng),
+                             .temp_c = t_c,
+                             .supply_v = 5.0});
             if (seq % static_cast<int64_t>(kHz) == 0) f.AddEncoder({u, 0, 10000});
             if (seq % static_cast<int64_t>(300 * kHz) == 0) {
                 for (int d : {1, -1})
@@ -137,7 +141,7 @@ TEST(RampFitter, BinsHeldToTheirLimitAreMergedAndStillFitTheTruth) {
 
 TEST(RampFitter, NoRunNoFitAndAUnitWithTooLittleDataSaysWhy) {
     RampFitter f(RampFitterOptions::Defaults());
-    f.AddGyro("U1", {0, 0, 25.0, 2.5, 5.0});
+    f.AddGyro("U1", {.utime = 0, .seq = 0, .gyro_v = 2.5, .temp_c = 25.0, .supply_v = 5.0});
     EXPECT_TRUE(f.OnTime(10000 * kS).empty()) << "outside a run";
     f.StartRun("R1");
     const auto out = f.Finish(kS);

@@ -58,7 +58,7 @@ TEST(Allan, FlickerFromShortSegmentsIsUnbiasedAndGivesTheSlowNoise) {
             for (int k = 0; k < 2 * 30000 + 1200 * 100; ++k) {
                 const bool moving = k >= 30000;  // 300 s still, 20 min not (a ramp and turns)
                 const double v = rn.Next();
-                if (!moving || k % 100 == 0) tr.Add({t_us, seq, v, 25.0, moving});
+                if (!moving || k % 100 == 0) tr.Add({t_us, seq, v, 25.0}, moving);
                 ++seq;
                 t_us += 10000;
                 if (k >= 30000 + 120000) break;
@@ -99,7 +99,7 @@ TEST(Tracker, RampsMotionAndGapsAreNotNoise) {
     auto run = [&](double seconds, double temp0, double slope_c_per_s, bool moving, int gap = 0) {
         for (int k = 0; k < static_cast<int>(seconds * 100); ++k) {
             const double temp = temp0 + slope_c_per_s * k * 0.01;
-            tr.Add({t_us, seq, 2.5 + 1e-3 * (temp - 25) + n(rng), temp, moving});
+            tr.Add({t_us, seq, 2.5 + 1e-3 * (temp - 25) + n(rng), temp}, moving);
             seq += 1 + (k == 0 ? gap : 0);
             t_us += 10000;
         }
@@ -134,10 +134,10 @@ TEST(Tracker, ASegmentWithAStepIsLeftOutAndOneSomewhatNoisierIsNot) {
         const double scale = s == 2 ? 1.3 : 1.0;
         for (int k = 0; k < 30000; ++k) {
             const double step = (s == 4 && k > 15000) ? 3e-3 : 0.0;
-            tr.Add({t_us, seq++, 2.5 + step + scale * n(rng), 25.0, false});
+            tr.Add({t_us, seq++, 2.5 + step + scale * n(rng), 25.0}, false);
             t_us += 10000;
         }
-        tr.Add({t_us, seq++, 2.5, 25.0, true});  // a turn between stretches
+        tr.Add({t_us, seq++, 2.5, 25.0}, true);  // a turn between stretches
         t_us += 10000;
     }
     const NoiseEstimate e = tr.Estimate();
@@ -171,10 +171,10 @@ NoiseEstimate FixedTrackerRun(int stretches) {
         for (int k = 0; k < 210000; ++k) {  // 2100 s still: quiet, then a 2 degC/min ramp
             if (k >= 200000) temp += 2.0 / 60.0 * 0.01;
             walk += 5e-7 * u();
-            tr.Add({t_us, seq++, 2.5 + 1e-3 * u() + walk + 1e-3 * (temp - 25.0), temp, false});
+            tr.Add({t_us, seq++, 2.5 + 1e-3 * u() + walk + 1e-3 * (temp - 25.0), temp}, false);
             t_us += 10000;
         }
-        tr.Add({t_us, seq++, 2.5, temp, true});  // a turn between stretches
+        tr.Add({t_us, seq++, 2.5, temp}, true);  // a turn between stretches
         t_us += 10000;
     }
     return tr.Estimate();

@@ -25,10 +25,16 @@
 namespace gyrocal {
 namespace {
 
-TEST(PlateauNode, PublishesPlateausAndCountsBadInput) {
+// The node's options for the scenario (plateau_scenario.hpp), in-process over memq://.
+PlateauOptions ScenarioOptions() {
     PlateauOptions o = PlateauOptions::Defaults();
     o.lcm_url = "memq://";
     testing::ApplyPlateauScenarioOptions(o);
+    return o;
+}
+
+TEST(PlateauNode, PublishesPlateausAndCountsBadInput) {
+    const PlateauOptions o = ScenarioOptions();
     ASSERT_EQ(o.Validate(), "");
     PlateauNode node(o);
     testing::StatusWatch status(node.bus(), "gyrocal-plateau");
@@ -40,9 +46,7 @@ TEST(PlateauNode, PublishesPlateausAndCountsBadInput) {
 // 20 standard errors of the window's slope (0.093 degC/min, plateau_scenario.hpp), so it is never
 // stable; S02, flat at the same noise, is the control that the same data do give a plateau.
 TEST(PlateauNode, NoPlateauWhileTheTemperatureRamps) {
-    PlateauOptions o = PlateauOptions::Defaults();
-    o.lcm_url = "memq://";
-    testing::ApplyPlateauScenarioOptions(o);
+    const PlateauOptions o = ScenarioOptions();
     ASSERT_EQ(o.Validate(), "");
     PlateauNode node(o);
     Bus& bus = node.bus();

@@ -85,7 +85,7 @@ TEST(Othersim, NoiseHasTheConfiguredAllanDeviation) {
     noise::NoiseTracker tracker(noise::TrackerConfig::Defaults());
     int64_t seq = 0;
     for (const auto& r : f.rows)
-        tracker.Add({csv::TimeUs(r.time_s), seq++, r.gyro_v, r.temp_c, false});
+        tracker.Add({csv::TimeUs(r.time_s), seq++, r.gyro_v, r.temp_c}, false);
     const noise::NoiseEstimate e = tracker.Estimate();
     const double s = g.units[0].SensitivityVPerDps(25.0 + g.units[0].self_heating_c);
     // THEN its Allan deviation (in deg/s, through the unit's sensitivity) is the theory's within

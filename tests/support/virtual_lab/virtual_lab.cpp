@@ -63,8 +63,8 @@ public:
         if (r.unit_index == 0) ++out_.samples_per_sensor;
         AdvanceTime(r.utime);
         Sensor& s = *sensors_[static_cast<size_t>(r.unit_index)];
-        if (ramp_) ramp_->AddGyro(s.id, {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
-        if (loop_) loop_->AddGyro(s.id, {r.utime, r.seq, r.temp_c, r.gyro_v, r.supply_v});
+        if (ramp_) ramp_->AddGyro(s.id, motion::GyroSampleOf(r));
+        if (loop_) loop_->AddGyro(s.id, motion::GyroSampleOf(r));
         // gyrocal-plateau: queue until the table's motion around the sample is known.
         s.pending.push_back(plateau::SampleOf(r));
         s.newest_utime = r.utime;
@@ -137,7 +137,7 @@ private:
             plateau::Sample ps = s.pending.front();
             s.pending.pop_front();
             ps.moving = motion_.Moving(ps.utime);
-            s.noise.Add({ps.utime, ps.seq, ps.gyro_v, ps.temp_c, ps.moving});
+            s.noise.Add(ps, ps.moving);
             const plateau::Step step = s.detector.Feed(ps);
             if (step.plateau) {
                 DeliverNoise(s);

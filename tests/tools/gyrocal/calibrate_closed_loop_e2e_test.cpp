@@ -29,31 +29,11 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     // keep it to ~1 simulated hour. The temperature sensor lag is made negligible (0.1 s) so the
     // only effect the declared model lacks is the one switched on: with the default 15 s lag the
     // analysis rightly also finds temp_rate (the lag makes the offset follow dT/dt).
-    ChildProcess cal({GYROCAL_CLI,
-                      "calibrate",
-                      "--profile",
-                      "five",
-                      "--sensors",
-                      "1",
-                      "--seed",
-                      "11",
-                      "--speed",
-                      "30",
-                      "--db",
-                      db,
-                      "--lcm-url",
-                      UdpmUrl(7789),
-                      "--log-dir",
-                      dir + "/logs",
-                      "--quiet",
-                      "--effect",
-                      "supply=0.05",
-                      "--rig-arg=--package-tau-s=40",
-                      "--rig-arg=--ramp-c-per-min=10",
-                      "--rig-arg=--sensor-tau-s=0.1",
-                      "--sequencer-arg=--ramp-rate-c-per-min=10",
-                      "--wall-timeout-s",
-                      "500"},
+    ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "five"},
+                             SimRunArgs("1", "11", "30", db, UdpmUrl(7789), dir + "/logs"),
+                             {"--effect", "supply=0.05"},
+                             kFastThermalArgs,
+                             {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
                      out, out);
     auto ended = cal.Wait(540s);
     ASSERT_TRUE(ended.has_value()) << ReadLog(out);

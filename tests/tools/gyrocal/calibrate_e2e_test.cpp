@@ -40,28 +40,10 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
     // Fast thermal constants keep the simulated run short (~25 simulated minutes); the speed
     // keeps every process far below the rate at which the loaded 2-core machine loses packets.
-    ChildProcess cal({GYROCAL_CLI,
-                      "calibrate",
-                      "--profile",
-                      "seed3",
-                      "--sensors",
-                      "2",
-                      "--seed",
-                      "7",
-                      "--speed",
-                      "40",
-                      "--db",
-                      db,
-                      "--lcm-url",
-                      kUrl,
-                      "--log-dir",
-                      dir + "/logs",
-                      "--quiet",
-                      "--rig-arg=--package-tau-s=40",
-                      "--rig-arg=--ramp-c-per-min=10",
-                      "--sequencer-arg=--ramp-rate-c-per-min=10",
-                      "--wall-timeout-s",
-                      "400"},
+    ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "seed3"},
+                             SimRunArgs("2", "7", "40", db, kUrl, dir + "/logs"),
+                             kFastThermalArgs,
+                             {"--wall-timeout-s", "400"}}),
                      out, out);
     auto ended = cal.Wait(std::chrono::seconds(420));
     ASSERT_TRUE(ended.has_value()) << "calibrate did not finish:\n" << ReadLog(out);

@@ -21,6 +21,22 @@ namespace {
 using namespace std::chrono_literals;
 using nlohmann::json;
 
+// No analysis of `run` stored an extended set: the only set an analysis points to is the fitter's
+// closed-loop one (the run's final set, every still sample), with the declared offset terms only.
+void ExpectOnlyTheDeclaredClosedLoopSet(Sql& sql, const std::string& run) {
+    EXPECT_EQ(sql.Int("SELECT count(*) FROM analyses a JOIN coeff_sets c USING(coeff_row_id) WHERE "
+                      "a.run_id='" +
+                      run + "' AND c.source != 'closed-loop'"),
+              0);
+    EXPECT_EQ(
+        sql.Rows("SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM coeff_terms t "
+                 "JOIN coeff_sets c USING(coeff_row_id) WHERE c.run_id='" +
+                 run + "' AND c.source='closed-loop' AND t.role='offset' ORDER BY term_index)")
+            .at(0)
+            .at(0),
+        "1,dT,dT^2");
+}
+
 std::string LineStartingWith(const std::string& text, const std::string& prefix) {
     std::istringstream in(text);
     std::string line;
@@ -40,31 +56,11 @@ std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& 
     // noise, analyze.hpp step 9), so a missed drift must show. The sensor lag is made negligible
     // (0.1 s) so that the declared model lacks nothing else (with the default 15 s lag temp_rate
     // is rightly found as well).
-    ChildProcess cal({GYROCAL_CLI,
-                      "calibrate",
-                      "--setpoints-c",
-                      setpoints,
-                      "--sensors",
-                      "1",
-                      "--seed",
-                      "12",
-                      "--speed",
-                      "30",
-                      "--db",
-                      db,
-                      "--lcm-url",
-                      UdpmUrl(port),
-                      "--log-dir",
-                      dir + "/logs",
-                      "--quiet",
-                      "--effect",
-                      "aging=0.004",
-                      "--rig-arg=--package-tau-s=40",
-                      "--rig-arg=--ramp-c-per-min=10",
-                      "--rig-arg=--sensor-tau-s=0.1",
-                      "--sequencer-arg=--ramp-rate-c-per-min=10",
-                      "--wall-timeout-s",
-                      "500"},
+    ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints},
+                             SimRunArgs("1", "12", "30", db, UdpmUrl(port), dir + "/logs"),
+                             {"--effect", "aging=0.004"},
+                             kFastThermalArgs,
+                             {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
                      out, out);
     auto ended = cal.Wait(540s);
     EXPECT_TRUE(ended.has_value()) << ReadLog(out);
@@ -121,17 +117,7 @@ TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
         0);
     // `gyrocal analyze` stored no extended set; the fitter's closed loop stored the run's final
     // set (every still sample, the declared terms only: nothing was added).
-    EXPECT_EQ(sql.Int("SELECT count(*) FROM analyses a JOIN coeff_sets c USING(coeff_row_id) WHERE "
-                      "a.run_id='" +
-                      run + "' AND c.source != 'closed-loop'"),
-              0);
-    EXPECT_EQ(
-        sql.Rows("SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM coeff_terms t "
-                 "JOIN coeff_sets c USING(coeff_row_id) WHERE c.run_id='" +
-                 run + "' AND c.source='closed-loop' AND t.role='offset' ORDER BY term_index)")
-            .at(0)
-            .at(0),
-        "1,dT,dT^2");
+    ExpectOnlyTheDeclaredClosedLoopSet(sql, run);
     // The diagnostic that points to it: what the residual correlates with is time-shaped.
     const auto at = verdict.find("correlates with");
     ASSERT_NE(at, std::string::npos) << verdict;
@@ -167,17 +153,7 @@ TEST(OutsideEffectEndToEnd, AgingOnAMonotonicProfileNamesNoCandidate) {
         EXPECT_TRUE(row.at(0) == "unexplained residual" || row.at(0) == "ambiguous") << row.at(0);
         EXPECT_EQ(row.at(1), "[]");
     }
-    EXPECT_EQ(sql.Int("SELECT count(*) FROM analyses a JOIN coeff_sets c USING(coeff_row_id) WHERE "
-                      "a.run_id='" +
-                      run + "' AND c.source != 'closed-loop'"),
-              0);
-    EXPECT_EQ(
-        sql.Rows("SELECT group_concat(term_name, ',') FROM (SELECT term_name FROM coeff_terms t "
-                 "JOIN coeff_sets c USING(coeff_row_id) WHERE c.run_id='" +
-                 run + "' AND c.source='closed-loop' AND t.role='offset' ORDER BY term_index)")
-            .at(0)
-            .at(0),
-        "1,dT,dT^2");
+    ExpectOnlyTheDeclaredClosedLoopSet(sql, run);
     // Traced to time: a time-shaped correlate, or a tie with a time shape.
     EXPECT_TRUE(verdict.find("correlates with time since start [time") != std::string::npos ||
                 verdict.find("[time") != std::string::npos ||

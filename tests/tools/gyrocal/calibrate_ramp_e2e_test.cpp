@@ -40,27 +40,11 @@ Ran RunRamp(const std::string& name, const std::string& url, std::vector<std::st
     Ran r;
     r.dir = FreshDir("gyrocal_ramp_" + name);
     const std::string out = r.dir + "/calibrate.out";
-    std::vector<std::string> argv = {GYROCAL_CLI,
-                                     "calibrate",
-                                     "--profile",
-                                     "ramp",
-                                     "--sensors",
-                                     "2",
-                                     "--seed",
-                                     "7",
-                                     "--speed",
-                                     "40",
-                                     "--db",
-                                     r.dir + "/run.db",
-                                     "--lcm-url",
-                                     url,
-                                     "--log-dir",
-                                     r.dir + "/logs",
-                                     "--quiet",
-                                     "--rig-arg=--package-tau-s=40",
-                                     "--wall-timeout-s",
-                                     "500"};
-    argv.insert(argv.end(), extra.begin(), extra.end());
+    const std::vector<std::string> argv =
+        Joined({{GYROCAL_CLI, "calibrate", "--profile", "ramp"},
+                SimRunArgs("2", "7", "40", r.dir + "/run.db", url, r.dir + "/logs"),
+                {"--rig-arg=--package-tau-s=40", "--wall-timeout-s", "500"},
+                extra});
     ChildProcess cal(argv, out, out);
     r.ended = cal.Wait(std::chrono::seconds(540));
     r.printed = ReadLog(out);

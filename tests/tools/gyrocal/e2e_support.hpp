@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,6 +28,29 @@ inline std::string FreshDir(const std::string& name) {
 inline std::string UdpmUrl(int port, int ttl = 0) {
     return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=" + std::to_string(ttl) +
            "&recv_buf_size=4194304";
+}
+
+// The `gyrocal calibrate` arguments every simulated end-to-end run gives: `sensors` units drawn
+// with `seed`, at `speed` times real time, stored in `db`, on the bus `url`, the logs (and the
+// rig's truth.json) in `log_dir`, no progress lines.
+inline std::vector<std::string> SimRunArgs(const std::string& sensors, const std::string& seed,
+                                           const std::string& speed, const std::string& db,
+                                           const std::string& url, const std::string& log_dir) {
+    return {"--sensors", sensors,     "--seed", seed,        "--speed", speed,    "--db",
+            db,          "--lcm-url", url,      "--log-dir", log_dir,   "--quiet"};
+}
+
+// Fast thermal constants that keep a simulated run short: the package lag 40 s, the chamber and
+// the sequencer ramping at 10 degC/min.
+inline const std::vector<std::string> kFastThermalArgs = {
+    "--rig-arg=--package-tau-s=40", "--rig-arg=--ramp-c-per-min=10",
+    "--sequencer-arg=--ramp-rate-c-per-min=10"};
+
+// The pieces of a command line, in order, as one.
+inline std::vector<std::string> Joined(std::initializer_list<std::vector<std::string>> pieces) {
+    std::vector<std::string> all;
+    for (const std::vector<std::string>& p : pieces) all.insert(all.end(), p.begin(), p.end());
+    return all;
 }
 
 // Per sensor of `run`: sensor_id, its gyro samples stored, the span of their seq (max - min + 1),

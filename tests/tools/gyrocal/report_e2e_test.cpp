@@ -161,31 +161,11 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     // WHEN the seed's 3-point procedure runs with those limits (fast thermal constants as in
     // calibrate_e2e_test.cpp)
     const std::string db = (dir / "run.db").string();
-    const int rc = Cli({"calibrate",
-                        "--profile",
-                        "seed3",
-                        "--sensors",
-                        "2",
-                        "--seed",
-                        "7",
-                        "--speed",
-                        "40",
-                        "--db",
-                        db,
-                        "--lcm-url",
-                        kUrl,
-                        "--log-dir",
-                        (dir / "logs").string(),
-                        "--quiet",
-                        "--rig-arg=--package-tau-s=40",
-                        "--rig-arg=--ramp-c-per-min=10",
-                        "--sequencer-arg=--ramp-rate-c-per-min=10",
-                        "--wall-timeout-s",
-                        "400",
-                        "--limits",
-                        limits.string(),
-                        "--report",
-                        (dir / "calibrate-report").string()},
+    const int rc = Cli(Joined({{"calibrate", "--profile", "seed3"},
+                               SimRunArgs("2", "7", "40", db, kUrl, (dir / "logs").string()),
+                               kFastThermalArgs,
+                               {"--wall-timeout-s", "400", "--limits", limits.string(), "--report",
+                                (dir / "calibrate-report").string()}}),
                        dir / "calibrate.out", 450s);
     const std::string printed = ReadLog((dir / "calibrate.out").string());
 
