@@ -63,8 +63,12 @@ std::vector<Sample> Triangle(double hz, double encoder_hz, double max_s) {
             t_c += (leg == 1 ? 1.0 : -1.0) * rate / hz;
             const double d = t_c - 25.0;
             const auto u = static_cast<int64_t>(std::llround(t_s * 1e6)) + 1'000'000;
-            out.push_back(
-                {{u, seq, t_c, 2.5 + 5e-4 * d - 3e-6 * d * d + n(rng), 5.0}, seq % every == 0});
+            out.push_back({{.utime = u,
+                            .seq = seq,
+                            .gyro_v = 2.5 + 5e-4 * d - 3e-6 * d * d + n(rng),
+                            .temp_c = t_c,
+                            .supply_v = 5.0},
+                           seq % every == 0});
             ++seq;
         }
     return out;
@@ -156,7 +160,11 @@ void FitMemory(const std::vector<int>& hours) {
             const double d = t_c - 25.0;
             const int64_t u = 1'000'000 + seq * 10'000;
             if (seq % 100 == 0) f.AddEncoder({u, 0, 20000});
-            f.AddGyro("U1", {u, seq, t_c, 2.5 + 5e-4 * d - 3e-6 * d * d + n(rng), 5.0});
+            f.AddGyro("U1", {.utime = u,
+                             .seq = seq,
+                             .gyro_v = 2.5 + 5e-4 * d - 3e-6 * d * d + n(rng),
+                             .temp_c = t_c,
+                             .supply_v = 5.0});
         }
         const size_t heap = HeapInUse() - heap0;
         ResetPeak();

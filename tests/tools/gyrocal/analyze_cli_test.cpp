@@ -173,7 +173,7 @@ TEST(AnalyzeCliShards, ShardedReadBinsEveryUnitAsOneBinnerWould) {
     st::ReplayReader reader(*db, "R1");
     while (auto row = reader.Next()) {
         if (const auto* g = std::get_if<st::GyroRow>(&*row))
-            one.AddGyro(g->sensor_id, {g->utime, g->seq, g->temp_c, g->gyro_v, g->supply_v});
+            one.AddGyro(g->sensor_id, motion::GyroSampleOf(*g));
         else if (const auto* e = std::get_if<st::EncoderRow>(&*row))
             one.AddEncoder({e->utime, e->counts, e->counts_per_rev});
         else if (const auto* c = std::get_if<st::ChamberStateRow>(&*row))
