@@ -26,8 +26,8 @@
 #include <optional>
 #include <string>
 
-#include "model/convert.hpp"
-#include "model/inputs.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::compensate {
 

@@ -1,9 +1,9 @@
-#include "ramp_fitter.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::fitter {
 namespace {

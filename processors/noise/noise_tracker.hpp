@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "allan.hpp"
+#include "processors/noise/allan.hpp"
 
 namespace gyrocal::noise {
 

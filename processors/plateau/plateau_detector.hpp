@@ -51,8 +51,8 @@
 #include <string>
 #include <vector>
 
-#include "numeric/line_fit.hpp"
-#include "numeric/series_stats.hpp"
+#include "processors/numeric/line_fit.hpp"
+#include "processors/numeric/series_stats.hpp"
 
 namespace gyrocal::plateau {
 

@@ -10,8 +10,8 @@ directory of the sources is the repository root (CMakeLists.txt). Only generated
 are not in the source tree, keep their names (GENERATED below: the LCM types `gyrocal/*_t.hpp`,
 `gyrocal/version.hpp`, the fuzz harness list, the firmware test's `gyrocal_coeffs.h`).
 
-Rewrite: each quoted include of the C/C++ sources (.cpp .hpp .h .c .cc; the files git tracks or
-would add, so no build folder) is resolved as the compiler resolves it today, then written as the
+Rewrite: each quoted include of the C/C++ sources (.cpp .hpp .h .c .cc, and their .in templates;
+the files git tracks or would add, so no build folder) is resolved as the compiler resolves it today, then written as the
 path of that file from the root. Resolution of "X" in file F:
   1. F's own folder: F's folder/X exists -> that file (the compiler looks there first);
   2. the files of the tree whose path is X or ends in /X: one -> that file; several -> the one
@@ -41,6 +41,9 @@ import subprocess
 import sys
 
 SOURCE_EXTENSIONS = (".cpp", ".hpp", ".h", ".c", ".cc")
+# configure_file templates of C/C++ sources (processors/model/c_source.cpp.in): the copy in the
+# build folder includes the same way.
+TEMPLATE_EXTENSIONS = tuple(e + ".in" for e in SOURCE_EXTENSIONS)
 
 # Headers written by the build (not in the source tree): their quoted names stay as they are.
 GENERATED = [
@@ -332,7 +335,7 @@ def main():
         for k in range(len(parts)):
             by_suffix.setdefault("/".join(parts[k:]), []).append(f)
 
-    sources = [f for f in files_list if f.endswith(SOURCE_EXTENSIONS)]
+    sources = [f for f in files_list if f.endswith(SOURCE_EXTENSIONS + TEMPLATE_EXTENSIONS)]
     errors, unrooted, edits = [], [], {}
     n_includes = n_generated = 0
     for f in sources:

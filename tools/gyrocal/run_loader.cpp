@@ -1,10 +1,10 @@
-#include "run_loader.hpp"
+#include "tools/gyrocal/run_loader.hpp"
 
 #include <set>
 #include <type_traits>
 #include <variant>
 
-#include "replay_reader.hpp"
+#include "store/db/replay_reader.hpp"
 
 namespace gyrocal::cli {
 
