@@ -10,9 +10,9 @@ directory of the sources is the repository root (CMakeLists.txt). Only generated
 are not in the source tree, keep their names (GENERATED below: the LCM types `gyrocal/*_t.hpp`,
 `gyrocal/version.hpp`, the fuzz harness list, the firmware test's `gyrocal_coeffs.h`).
 
-Rewrite: each quoted include of the C/C++ sources (.cpp .hpp .h .c .cc, and their .in templates;
-the files git tracks or would add, so no build folder) is resolved as the compiler resolves it today, then written as the
-path of that file from the root. Resolution of "X" in file F:
+Rewrite: each quoted include of the C/C++ sources (.cpp .hpp .h .c .cc and their .in templates;
+the files git tracks or would add, so no build folder) is resolved as the compiler resolves it
+today, then written as the path of that file from the root. Resolution of "X" in file F:
   1. F's own folder: F's folder/X exists -> that file (the compiler looks there first);
   2. the files of the tree whose path is X or ends in /X: one -> that file; several -> the one
      at the root (X is already rooted), else the ones the build's include directories reach
@@ -47,10 +47,14 @@ TEMPLATE_EXTENSIONS = tuple(e + ".in" for e in SOURCE_EXTENSIONS)
 
 # Headers written by the build (not in the source tree): their quoted names stay as they are.
 GENERATED = [
-    (re.compile(r"gyrocal/[a-z0-9_]+_t\.hpp"), "lcm-gen's C++ of lcmtypes/*.lcm (build/generated/lcmtypes)"),
-    (re.compile(r"gyrocal/version\.hpp"), "git describe (tools/version.cmake, build/generated)"),
-    (re.compile(r"fuzz_harnesses\.inc"), "the harness list of tests/fuzz/CMakeLists.txt (its build folder)"),
-    (re.compile(r"gyrocal_coeffs\.h"), "`gyrocal export --format c-header`, written by the firmware test"),
+    # lcm-gen's C++ of lcmtypes/*.lcm (build/generated/lcmtypes)
+    re.compile(r"gyrocal/[a-z0-9_]+_t\.hpp"),
+    # git describe (tools/version.cmake, build/generated)
+    re.compile(r"gyrocal/version\.hpp"),
+    # the harness list of tests/fuzz/CMakeLists.txt (in its build folder)
+    re.compile(r"fuzz_harnesses\.inc"),
+    # `gyrocal export --format c-header`, written by the firmware test into a scratch folder
+    re.compile(r"gyrocal_coeffs\.h"),
 ]
 
 INCLUDE_DIRECTIVE = re.compile(r'#[ \t]*include[ \t]*"([^"\n]*)"')
@@ -207,10 +211,7 @@ def _from_root(root, path):
 
 
 def generated(name):
-    for pattern, what in GENERATED:
-        if pattern.fullmatch(name):
-            return what
-    return None
+    return any(pattern.fullmatch(name) for pattern in GENERATED)
 
 
 def resolve(inc, files, by_suffix, dirs):
@@ -298,7 +299,8 @@ def cmake_source_exports(root, files):
                     continue
                 line = text.count("\n", 0, m.start()) + 1
                 problems.append("%s:%d: %s names %s: the sources' one include root is the "
-                                "repository root (top-level CMakeLists.txt)" % (f, line, m.group(1), a))
+                                "repository root (top-level CMakeLists.txt)"
+                                % (f, line, m.group(1), a))
     return problems
 
 
@@ -312,9 +314,9 @@ def main():
     ap.add_argument("--root", default=os.path.normpath(os.path.join(here, "..", "..")),
                     help="the repository root (default: the one holding this script)")
     ap.add_argument("--compile-commands", default=None,
-                    help="compile_commands.json of a configured build, used only to choose among "
-                         "several files of the same name (default: ROOT/build/compile_commands.json "
-                         "if it exists)")
+                    help="compile_commands.json of a configured build, used only to choose "
+                         "among several files of the same name (default: "
+                         "ROOT/build/compile_commands.json if it exists)")
     ap.add_argument("-v", "--verbose", action="store_true", help="print every rewrite")
     opt = ap.parse_args()
 
