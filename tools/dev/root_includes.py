@@ -189,8 +189,8 @@ class IncludeDirs:
                         break
                 k += 1
             f_rel = _from_root(root, os.path.join(where, e.get("file", "")))
-            if f_rel is not None:
-                self.per_file[f_rel] = dirs
+            if f_rel is not None:  # a file compiled by several targets has several lists
+                self.per_file.setdefault(f_rel, []).append(dirs)
             for d in dirs:
                 if d not in seen:
                     seen.add(d)
@@ -238,12 +238,19 @@ def resolve(inc, files, by_suffix, dirs):
     if key in files:
         return key, None  # already rooted
     if dirs.known():
-        search = dirs.per_file.get(inc.path)
-        if search is not None:
-            for d in search:  # the compiler's order
-                p = norm(os.path.join(d, key)) if d else key
-                if p in candidates:
-                    return p, None
+        searches = dirs.per_file.get(inc.path)
+        if searches is not None:
+            found = set()
+            for search in searches:
+                for d in search:  # the compiler's order
+                    p = norm(os.path.join(d, key)) if d else key
+                    if p in candidates:
+                        found.add(p)
+                        break
+            if len(found) == 1:
+                return found.pop(), None
+            if found:
+                candidates = sorted(found)
         else:
             reached = [c for c in candidates
                        if any((norm(os.path.join(d, key)) if d else key) == c for d in dirs.all)]
