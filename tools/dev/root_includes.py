@@ -14,11 +14,12 @@ Rewrite: each quoted include of the C/C++ sources (.cpp .hpp .h .c .cc and their
 the files git tracks or would add, so no build folder) is resolved as the compiler resolves it
 today, then written as the path of that file from the root. Resolution of "X" in file F:
   1. F's own folder: F's folder/X exists -> that file (the compiler looks there first);
-  2. the files of the tree whose path is X or ends in /X: one -> that file; several -> the one
+  2. X is a generated header (GENERATED) -> left as it is;
+  3. the files of the tree whose path is X or ends in /X: one -> that file; several -> the one
      at the root (X is already rooted), else the ones the build's include directories reach
      (compile_commands.json: for a compiled F exactly the compiler's order of -I/-iquote folders,
      for a header any translation unit's); still not one -> an error naming every candidate;
-  3. none -> a generated header (GENERATED) is left as it is; anything else is an error.
+     none -> an error.
 Then the rooted path must give back the same file with the root as the only include directory
 (F's folder must not hold a different file under that path), else it is an error.
 On any error nothing is written; the errors are listed (file:line) and the exit status is 1.
