@@ -26,13 +26,14 @@ packages=(build-essential cmake pkg-config git
           libgtest-dev libgmock-dev libbenchmark-dev
           default-jdk-headless libjchart2d-java xvfb xauth gnuplot-nox iproute2
           libssl-dev chromium clang libclang-rt-14-dev e2fsprogs ccache
-          postgresql libpqxx-dev clang-format)
+          postgresql libpqxx-dev clang-format python3)
 # libssl-dev: SHA-256 of CSV/log inputs. chromium: the report's browser test. clang,
 # libclang-rt-14-dev: libFuzzer for tools/run.sh fuzz. e2fsprogs: mkfs.ext4 and chattr for the
 # read-only database test (tests/store/recorder/storage_fault_test.cpp). ccache: a second build
 # of the same sources (CI's clean clone of a commit already built on this machine) compiles
 # nothing again; the cache is keyed relative to the clone (base dir, no cwd), so clones share it.
 # clang-format: tools/run.sh format-check (the whole tree against the committed .clang-format).
+# python3: tools/dev/root_includes.py (includes from the repository root; its --check is a test).
 # postgresql, libpqxx-dev: the lab's central database (gyrocal push; store/README.md); the tests
 # start a throwaway server of their own (initdb + pg_ctl in a temporary folder, as the
 # unprivileged user 'postgres' the package creates).

@@ -1,4 +1,4 @@
-#include "bus.hpp"
+#include "lcmtypes/bus/bus.hpp"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>

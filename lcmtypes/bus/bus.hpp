@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
-#include "batch.hpp"
-#include "decode.hpp"
-#include "seq_tracker.hpp"
+#include "lcmtypes/bus/batch.hpp"
+#include "lcmtypes/bus/decode.hpp"
+#include "lcmtypes/bus/seq_tracker.hpp"
 
 namespace gyrocal {
 

@@ -1,4 +1,4 @@
-#include "channels.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "sample_batcher.hpp"
+#include "lcmtypes/bus/sample_batcher.hpp"
 
 namespace gyrocal {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "bus.hpp"
+#include "lcmtypes/bus/bus.hpp"
 
 namespace gyrocal {
 

@@ -1,4 +1,4 @@
-#include "seq_tracker.hpp"
+#include "lcmtypes/bus/seq_tracker.hpp"
 
 #include <limits>
 

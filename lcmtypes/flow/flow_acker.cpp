@@ -1,11 +1,11 @@
-#include "flow_acker.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
 
 #include <unistd.h>
 
 #include <chrono>
 
-#include "bus/channels.hpp"
 #include "gyrocal/flow_ack_t.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal::flow {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <utility>
 
-#include "bus/bus.hpp"
 #include "gyrocal/flow_mark_t.hpp"
+#include "lcmtypes/bus/bus.hpp"
 
 namespace gyrocal::flow {
 

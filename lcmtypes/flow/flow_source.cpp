@@ -1,4 +1,4 @@
-#include "flow_source.hpp"
+#include "lcmtypes/flow/flow_source.hpp"
 
 #include <signal.h>
 #include <unistd.h>
@@ -6,11 +6,11 @@
 #include <cerrno>
 #include <cstdlib>
 
-#include "bus/channels.hpp"
-#include "flow_acker.hpp"
 #include "gyrocal/flow_ack_t.hpp"
 #include "gyrocal/flow_mark_t.hpp"
 #include "gyrocal/status_t.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
 
 namespace gyrocal::flow {
 

@@ -18,8 +18,8 @@
 #include <utility>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "flow_window.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/flow/flow_window.hpp"
 
 namespace gyrocal::flow {
 

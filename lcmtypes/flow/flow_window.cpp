@@ -1,4 +1,4 @@
-#include "flow_window.hpp"
+#include "lcmtypes/flow/flow_window.hpp"
 
 #include <algorithm>
 #include <cmath>

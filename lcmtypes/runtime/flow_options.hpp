@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string>
 
-#include "bus/batch.hpp"
-#include "flow/flow_window.hpp"
+#include "lcmtypes/bus/batch.hpp"
+#include "lcmtypes/flow/flow_window.hpp"
 
 namespace gyrocal {
 

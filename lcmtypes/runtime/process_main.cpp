@@ -1,9 +1,9 @@
-#include "process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
 
 #include <exception>
 #include <iostream>
 
-#include "shutdown.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
 
 namespace gyrocal {
 

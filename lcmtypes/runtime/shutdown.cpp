@@ -1,4 +1,4 @@
-#include "shutdown.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
 
 #include <atomic>
 #include <csignal>

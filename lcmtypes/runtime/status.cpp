@@ -1,12 +1,12 @@
-#include "status.hpp"
+#include "lcmtypes/runtime/status.hpp"
 
 #include <unistd.h>
 
 #include <iostream>
 
-#include "bus/channels.hpp"
 #include "gyrocal/status_t.hpp"
-#include "shutdown.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
 
 namespace gyrocal {
 

@@ -10,8 +10,8 @@
 #include <map>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "flow/flow_acker.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
 
 namespace gyrocal {
 

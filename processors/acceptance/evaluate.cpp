@@ -1,11 +1,11 @@
-#include "evaluate.hpp"
+#include "processors/acceptance/evaluate.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "model/inputs.hpp"
-#include "text/names.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::acceptance {
 

@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "acceptance/limits.hpp"
-#include "model/model.hpp"
+#include "processors/acceptance/limits.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::acceptance {
 

@@ -1,4 +1,4 @@
-#include "limits.hpp"
+#include "processors/acceptance/limits.hpp"
 
 #include <cmath>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "analyze.hpp"
+#include "processors/analysis/analyze.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,16 +6,16 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "candidates.hpp"
-#include "evidence.hpp"
-#include "heldout.hpp"
-#include "outcome.hpp"
-#include "regress.hpp"
-#include "residual.hpp"
-#include "selection.hpp"
-#include "sensitivity.hpp"
-#include "steps.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/candidates.hpp"
+#include "processors/analysis/evidence.hpp"
+#include "processors/analysis/heldout.hpp"
+#include "processors/analysis/outcome.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/analysis/residual.hpp"
+#include "processors/analysis/selection.hpp"
+#include "processors/analysis/sensitivity.hpp"
+#include "processors/analysis/steps.hpp"
 
 namespace gyrocal::analysis {
 

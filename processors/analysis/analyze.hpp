@@ -104,10 +104,10 @@
 #include <string>
 #include <vector>
 
-#include "bins.hpp"
-#include "model/convert.hpp"
-#include "model/model.hpp"
-#include "run_data.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::analysis {
 

@@ -1,4 +1,4 @@
-#include "bins.hpp"
+#include "processors/analysis/bins.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -27,8 +27,8 @@
 #include <utility>
 #include <vector>
 
-#include "model/inputs.hpp"
-#include "run_data.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::analysis {
 

@@ -1,12 +1,12 @@
-#include "bins_incremental.hpp"
+#include "processors/analysis/bins_incremental.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "model/terms.hpp"
-#include "steps.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/steps.hpp"
+#include "processors/model/terms.hpp"
 
 namespace gyrocal::analysis {
 

@@ -54,10 +54,10 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "motion/table_motion.hpp"
-#include "run_data.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "processors/motion/table_motion.hpp"
 
 namespace gyrocal::analysis {
 

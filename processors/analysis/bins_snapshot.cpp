@@ -3,8 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "bins_incremental.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/bins_incremental.hpp"
 
 namespace gyrocal::analysis {
 

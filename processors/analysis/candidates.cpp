@@ -1,11 +1,11 @@
-#include "candidates.hpp"
+#include "processors/analysis/candidates.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <set>
 
-#include "model/model.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
 
 namespace gyrocal::analysis::detail {
 

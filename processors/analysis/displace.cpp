@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "null.hpp"
-#include "regress.hpp"
-#include "residual.hpp"
-#include "steps.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/null.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/analysis/residual.hpp"
+#include "processors/analysis/steps.hpp"
 
 namespace gyrocal::analysis::detail {
 

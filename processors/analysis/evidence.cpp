@@ -1,11 +1,11 @@
-#include "evidence.hpp"
+#include "processors/analysis/evidence.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 
-#include "null.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/null.hpp"
 
 namespace gyrocal::analysis::detail {
 

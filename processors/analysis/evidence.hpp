@@ -19,9 +19,9 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "noise_model.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/noise_model.hpp"
 
 namespace gyrocal::analysis::detail {
 

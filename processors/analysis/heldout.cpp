@@ -1,11 +1,11 @@
-#include "heldout.hpp"
+#include "processors/analysis/heldout.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 
-#include "model/inputs.hpp"
-#include "numeric/least_squares.hpp"
+#include "processors/model/inputs.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "regress.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/regress.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -1,14 +1,14 @@
-#include "localized.hpp"
+#include "processors/analysis/localized.hpp"
 
 #include <cmath>
 #include <cstdlib>
 
-#include "heldout.hpp"
-#include "null.hpp"
-#include "numeric/least_squares.hpp"
-#include "regress.hpp"
-#include "residual.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/heldout.hpp"
+#include "processors/analysis/null.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/analysis/residual.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
 

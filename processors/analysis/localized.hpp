@@ -32,8 +32,8 @@
 #include <optional>
 #include <string>
 
-#include "candidates.hpp"
-#include "evidence.hpp"
+#include "processors/analysis/candidates.hpp"
+#include "processors/analysis/evidence.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -1,11 +1,11 @@
-#include "noise_model.hpp"
+#include "processors/analysis/noise_model.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 
-#include "noise/allan.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/noise/allan.hpp"
 
 namespace gyrocal::analysis::detail {
 

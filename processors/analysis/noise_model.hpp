@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "bins.hpp"
+#include "processors/analysis/bins.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -1,4 +1,4 @@
-#include "null.hpp"
+#include "processors/analysis/null.hpp"
 
 #include <algorithm>
 #include <cmath>

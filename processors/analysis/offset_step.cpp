@@ -3,12 +3,12 @@
 #include <cmath>
 #include <optional>
 
-#include "localized.hpp"
-#include "model/terms.hpp"
-#include "regress.hpp"
-#include "residual.hpp"
-#include "steps.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/localized.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/analysis/residual.hpp"
+#include "processors/analysis/steps.hpp"
+#include "processors/model/terms.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -3,8 +3,8 @@
 #include <string>
 #include <utility>
 
-#include "analyze.hpp"
-#include "text/names.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "processors/analysis/analyze.hpp"
 
 namespace gyrocal::analysis {
 

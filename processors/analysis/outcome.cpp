@@ -1,9 +1,9 @@
-#include "outcome.hpp"
+#include "processors/analysis/outcome.hpp"
 
 #include <cmath>
 
-#include "candidates.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/candidates.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -1,12 +1,12 @@
-#include "plot.hpp"
+#include "processors/analysis/plot.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 
-#include "bins.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/bins.hpp"
 
 namespace gyrocal::analysis {
 

@@ -24,10 +24,10 @@
 // white_hi).
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "plot/figure.hpp"
-#include "run_data.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "processors/plot/figure.hpp"
 
 namespace gyrocal::analysis {
 

@@ -1,9 +1,9 @@
-#include "regress.hpp"
+#include "processors/analysis/regress.hpp"
 
 #include <cmath>
 #include <limits>
 
-#include "numeric/least_squares.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis {
 

@@ -1,10 +1,10 @@
-#include "report.hpp"
+#include "processors/analysis/report.hpp"
 
 #include <cmath>
 #include <cstdio>
 
-#include "model/json.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/json.hpp"
 
 namespace gyrocal::analysis {
 

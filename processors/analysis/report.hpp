@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
+#include "processors/analysis/analyze.hpp"
 
 namespace gyrocal::analysis {
 

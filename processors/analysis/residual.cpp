@@ -1,14 +1,14 @@
-#include "residual.hpp"
+#include "processors/analysis/residual.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "model/terms.hpp"
-#include "null.hpp"
-#include "numeric/least_squares.hpp"
-#include "numeric/line_fit.hpp"
-#include "regress.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/null.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/model/terms.hpp"
+#include "processors/numeric/least_squares.hpp"
+#include "processors/numeric/line_fit.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -42,11 +42,11 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "candidates.hpp"
-#include "heldout.hpp"
-#include "null.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/candidates.hpp"
+#include "processors/analysis/heldout.hpp"
+#include "processors/analysis/null.hpp"
 
 namespace gyrocal::analysis::detail {
 

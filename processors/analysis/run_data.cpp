@@ -1,4 +1,4 @@
-#include "run_data.hpp"
+#include "processors/analysis/run_data.hpp"
 
 #include <algorithm>
 #include <cmath>

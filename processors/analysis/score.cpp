@@ -1,10 +1,10 @@
-#include "score.hpp"
+#include "processors/analysis/score.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "numeric/least_squares.hpp"
-#include "regress.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "candidates.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/candidates.hpp"
 
 namespace gyrocal::analysis::detail {
 

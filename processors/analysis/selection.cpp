@@ -1,4 +1,4 @@
-#include "selection.hpp"
+#include "processors/analysis/selection.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "numeric/least_squares.hpp"
-#include "regress.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
 

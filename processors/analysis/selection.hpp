@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "candidates.hpp"
-#include "score.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/candidates.hpp"
+#include "processors/analysis/score.hpp"
 
 namespace gyrocal::analysis::detail {
 

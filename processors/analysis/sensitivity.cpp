@@ -1,12 +1,12 @@
-#include "sensitivity.hpp"
+#include "processors/analysis/sensitivity.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "fit/fit.hpp"
-#include "fit/levels.hpp"
+#include "processors/fit/fit.hpp"
+#include "processors/fit/levels.hpp"
 
 namespace gyrocal::analysis {
 

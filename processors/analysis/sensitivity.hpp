@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "analyze.hpp"
-#include "fit/fit.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/fit/fit.hpp"
 
 namespace gyrocal::analysis {
 

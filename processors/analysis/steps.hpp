@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "analyze.hpp"
-#include "bins.hpp"
-#include "candidates.hpp"
-#include "evidence.hpp"
-#include "heldout.hpp"
-#include "selection.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/candidates.hpp"
+#include "processors/analysis/evidence.hpp"
+#include "processors/analysis/heldout.hpp"
+#include "processors/analysis/selection.hpp"
 
 namespace gyrocal::analysis::detail {
 

@@ -1,11 +1,11 @@
-#include "validate.hpp"
+#include "processors/analysis/validate.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "heldout.hpp"
-#include "model/json.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/heldout.hpp"
+#include "processors/model/json.hpp"
 
 namespace gyrocal::analysis {
 

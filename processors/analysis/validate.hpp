@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "bins.hpp"
-#include "model/convert.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::analysis {
 

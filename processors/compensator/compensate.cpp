@@ -1,10 +1,10 @@
-#include "compensate.hpp"
+#include "processors/compensator/compensate.hpp"
 
 #include <cmath>
 #include <cstdio>
 
-#include "text/names.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::compensate {
 

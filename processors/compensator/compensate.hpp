@@ -26,9 +26,9 @@
 #include <optional>
 #include <string>
 
-#include "model/convert.hpp"
-#include "model/inputs.hpp"
-#include "motion/gyro_sample.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/inputs.hpp"
+#include "processors/motion/gyro_sample.hpp"
 
 namespace gyrocal::compensate {
 

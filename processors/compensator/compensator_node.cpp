@@ -1,7 +1,7 @@
-#include "compensator/compensator_node.hpp"
+#include "processors/compensator/compensator_node.hpp"
 
-#include "bus/channels.hpp"
 #include "gyrocal/rate_t.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal {
 

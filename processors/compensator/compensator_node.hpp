@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "compensator/compensate.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/rate_t.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/compensator/compensate.hpp"
 
 namespace gyrocal {
 

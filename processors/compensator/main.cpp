@@ -2,9 +2,9 @@
 // RATE_<id>; the node is compensator_node.hpp.
 #include <CLI/CLI.hpp>
 
-#include "bus/channels.hpp"
-#include "compensator/compensator_node.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "processors/compensator/compensator_node.hpp"
 
 int main(int argc, char** argv) {
     constexpr const char* kProcess = "gyrocal-compensator";

@@ -1,9 +1,9 @@
-#include "offline.hpp"
+#include "processors/compensator/offline.hpp"
 
 #include <nlohmann/json.hpp>
 
-#include "model/json.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/json.hpp"
 
 namespace gyrocal::compensate {
 

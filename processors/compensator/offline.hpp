@@ -19,10 +19,10 @@
 #include <string>
 #include <vector>
 
-#include "compensate.hpp"
-#include "csv/row_messages.hpp"
-#include "csv/row_parser.hpp"
-#include "model/convert.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "processors/model/convert.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "producers/csv/row_parser.hpp"
 
 namespace gyrocal::compensate {
 

@@ -1,11 +1,11 @@
-#include "calibration_fit.hpp"
+#include "processors/fit/calibration_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "fit_util.hpp"
-#include "numeric/distributions.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/fit/fit_util.hpp"
+#include "processors/numeric/distributions.hpp"
 
 namespace gyrocal::fit {
 

@@ -1,9 +1,9 @@
-#include "fit.hpp"
+#include "processors/fit/fit.hpp"
 
 #include <cmath>
 
-#include "text/names.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::fit {
 

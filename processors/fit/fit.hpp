@@ -71,8 +71,8 @@
 #include <string>
 #include <vector>
 
-#include "levels.hpp"
-#include "model/model.hpp"
+#include "processors/fit/levels.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::fit {
 

@@ -1,11 +1,11 @@
-#include "fit_util.hpp"
+#include "processors/fit/fit_util.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "numeric/distributions.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/numeric/distributions.hpp"
 
 namespace gyrocal::fit::detail {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "fit.hpp"
+#include "processors/fit/fit.hpp"
 
 namespace gyrocal::fit::detail {
 

@@ -1,4 +1,4 @@
-#include "levels.hpp"
+#include "processors/fit/levels.hpp"
 
 #include <algorithm>
 #include <numeric>

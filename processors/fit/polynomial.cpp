@@ -3,8 +3,8 @@
 #include <limits>
 #include <sstream>
 
-#include "fit_util.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/fit/fit_util.hpp"
 
 namespace gyrocal::fit {
 

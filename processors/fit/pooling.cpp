@@ -1,9 +1,9 @@
-#include "pooling.hpp"
+#include "processors/fit/pooling.hpp"
 
 #include <algorithm>
 
-#include "numeric/distributions.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/numeric/distributions.hpp"
 
 namespace gyrocal::fit {
 

@@ -1,10 +1,10 @@
-#include "repeatability.hpp"
+#include "processors/fit/repeatability.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "fit_util.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/fit/fit_util.hpp"
 
 namespace gyrocal::fit {
 

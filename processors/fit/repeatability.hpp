@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "fit.hpp"
+#include "processors/fit/fit.hpp"
 
 namespace gyrocal::fit {
 

@@ -3,9 +3,9 @@
 #include <limits>
 #include <sstream>
 
-#include "fit_util.hpp"
-#include "numeric/least_squares.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/fit/fit_util.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::fit {
 

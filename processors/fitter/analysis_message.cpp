@@ -1,8 +1,8 @@
-#include "analysis_message.hpp"
+#include "processors/fitter/analysis_message.hpp"
 
 #include <cmath>
 
-#include "analysis/report.hpp"
+#include "processors/analysis/report.hpp"
 
 namespace gyrocal::fitter {
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "gyrocal/analysis_t.hpp"
-#include "ramp_fitter.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
 
 namespace gyrocal::fitter {
 

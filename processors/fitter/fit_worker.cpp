@@ -1,4 +1,4 @@
-#include "fit_worker.hpp"
+#include "processors/fitter/fit_worker.hpp"
 
 #include <malloc.h>
 

@@ -21,7 +21,7 @@
 #include <thread>
 #include <vector>
 
-#include "ramp_fitter.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
 
 namespace gyrocal::fitter {
 

@@ -1,11 +1,11 @@
-#include "fitter_core.hpp"
+#include "processors/fitter/fitter_core.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "fit/pooling.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/fit/pooling.hpp"
 
 namespace gyrocal::fitter {
 

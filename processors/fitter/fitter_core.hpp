@@ -45,15 +45,15 @@
 #include <string>
 #include <vector>
 
-#include "fit/calibration_fit.hpp"
-#include "fit/fit.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "model/model.hpp"
+#include "processors/fit/calibration_fit.hpp"
+#include "processors/fit/fit.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::fitter {
 

@@ -1,9 +1,9 @@
-#include "fitter_node.hpp"
+#include "processors/fitter/fitter_node.hpp"
 
 #include <algorithm>
 
-#include "bus/channels.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
 
 namespace gyrocal {
 

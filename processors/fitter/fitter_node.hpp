@@ -13,11 +13,11 @@
 #include <optional>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "fit_worker.hpp"
-#include "fitter_core.hpp"
-#include "ramp_fitter.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/fitter/fit_worker.hpp"
+#include "processors/fitter/fitter_core.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
 
 namespace gyrocal {
 

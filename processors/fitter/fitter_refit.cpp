@@ -3,12 +3,12 @@
 #include <cmath>
 #include <cstdio>
 
-#include "fit/pooling.hpp"
-#include "fit/repeatability.hpp"
-#include "fitter_core.hpp"
-#include "model/convert.hpp"
-#include "slow_noise.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/fit/pooling.hpp"
+#include "processors/fit/repeatability.hpp"
+#include "processors/fitter/fitter_core.hpp"
+#include "processors/fitter/slow_noise.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::fitter {
 

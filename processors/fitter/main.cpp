@@ -2,8 +2,8 @@
 // fitter_core.hpp for the decisions).
 #include <CLI/CLI.hpp>
 
-#include "fitter/fitter_node.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "processors/fitter/fitter_node.hpp"
 
 int main(int argc, char** argv) {
     gyrocal::FitterOptions o = gyrocal::FitterOptions::Defaults();

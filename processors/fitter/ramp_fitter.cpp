@@ -1,10 +1,10 @@
-#include "ramp_fitter.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::fitter {
 namespace {

@@ -31,12 +31,12 @@
 #include <string>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "analysis/bins_incremental.hpp"
-#include "analysis/plot.hpp"
-#include "analysis/run_data.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins_incremental.hpp"
+#include "processors/analysis/plot.hpp"
+#include "processors/analysis/run_data.hpp"
 
 namespace gyrocal::fitter {
 

@@ -1,13 +1,13 @@
 #include <cmath>
 
-#include "analysis_message.hpp"
-#include "bus/channels.hpp"
-#include "fitter_node.hpp"
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/fitter/analysis_message.hpp"
+#include "processors/fitter/fitter_node.hpp"
 
 namespace gyrocal {
 

@@ -1,11 +1,11 @@
-#include "slow_noise.hpp"
+#include "processors/fitter/slow_noise.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "noise/allan.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/noise/allan.hpp"
 
 namespace gyrocal::fitter {
 

@@ -1,4 +1,4 @@
-#include "convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::model {
 

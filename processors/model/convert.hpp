@@ -9,7 +9,7 @@
 
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/model_t.hpp"
-#include "model.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::model {
 

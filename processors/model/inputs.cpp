@@ -1,4 +1,4 @@
-#include "inputs.hpp"
+#include "processors/model/inputs.hpp"
 
 #include <limits>
 

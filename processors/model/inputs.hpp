@@ -14,8 +14,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "gyrocal_model.h"
-#include "model.hpp"
+#include "processors/model/gyrocal_model.h"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::model {
 

@@ -1,4 +1,4 @@
-#include "json.hpp"
+#include "processors/model/json.hpp"
 
 #include <cmath>
 

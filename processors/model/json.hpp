@@ -5,7 +5,7 @@
 // FromMsg and throws ModelError naming the JSON field.
 #include <nlohmann/json.hpp>
 
-#include "convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::model {
 

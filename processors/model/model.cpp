@@ -1,10 +1,10 @@
-#include "model.hpp"
+#include "processors/model/model.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 
-#include "text/names.hpp"
+#include "lcmtypes/text/names.hpp"
 
 namespace gyrocal::model {
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "terms.hpp"
+#include "processors/model/terms.hpp"
 
 namespace gyrocal::model {
 

@@ -1,10 +1,10 @@
-#include "terms.hpp"
+#include "processors/model/terms.hpp"
 
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::model {
 

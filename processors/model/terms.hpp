@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "gyrocal_model.h"
+#include "processors/model/gyrocal_model.h"
 
 namespace gyrocal::model {
 

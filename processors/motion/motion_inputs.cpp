@@ -1,9 +1,9 @@
-#include "motion/motion_inputs.hpp"
+#include "processors/motion/motion_inputs.hpp"
 
 #include <algorithm>
 #include <utility>
 
-#include "bus/channels.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal::motion {
 

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "motion/table_motion.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/motion/table_motion.hpp"
 
 namespace gyrocal::motion {
 

@@ -1,6 +1,6 @@
-#include "motion/motion_options.hpp"
+#include "processors/motion/motion_options.hpp"
 
-#include "bus/channels.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal::motion {
 

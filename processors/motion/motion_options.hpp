@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "motion/table_motion.hpp"
+#include "processors/motion/table_motion.hpp"
 
 namespace gyrocal::motion {
 

@@ -1,4 +1,4 @@
-#include "motion/table_motion.hpp"
+#include "processors/motion/table_motion.hpp"
 
 #include <cmath>
 #include <cstdlib>

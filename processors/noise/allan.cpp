@@ -1,11 +1,11 @@
-#include "allan.hpp"
+#include "processors/noise/allan.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 
-#include "numeric/distributions.hpp"
-#include "numeric/least_squares.hpp"
+#include "processors/numeric/distributions.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::noise {
 

@@ -1,8 +1,8 @@
-#include "allan_plot.hpp"
+#include "processors/noise/allan_plot.hpp"
 
 #include <cmath>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::noise {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "plot/figure.hpp"
+#include "processors/plot/figure.hpp"
 
 namespace gyrocal::noise {
 

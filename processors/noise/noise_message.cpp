@@ -1,4 +1,4 @@
-#include "noise_message.hpp"
+#include "processors/noise/noise_message.hpp"
 
 namespace gyrocal {
 

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "gyrocal/noise_t.hpp"
-#include "noise/noise_tracker.hpp"
+#include "processors/noise/noise_tracker.hpp"
 
 namespace gyrocal {
 

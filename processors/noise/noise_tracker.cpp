@@ -1,10 +1,10 @@
-#include "noise_tracker.hpp"
+#include "processors/noise/noise_tracker.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "numeric/line_fit.hpp"
+#include "processors/numeric/line_fit.hpp"
 
 namespace gyrocal::noise {
 

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "allan.hpp"
-#include "motion/gyro_sample.hpp"
+#include "processors/motion/gyro_sample.hpp"
+#include "processors/noise/allan.hpp"
 
 namespace gyrocal::noise {
 

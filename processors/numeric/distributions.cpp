@@ -1,4 +1,4 @@
-#include "distributions.hpp"
+#include "processors/numeric/distributions.hpp"
 
 #include <cmath>
 #include <functional>

@@ -1,4 +1,4 @@
-#include "numeric/least_squares.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 #include <cmath>
 #include <limits>

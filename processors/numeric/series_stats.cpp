@@ -1,10 +1,10 @@
-#include "numeric/series_stats.hpp"
+#include "processors/numeric/series_stats.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "numeric/line_fit.hpp"
+#include "processors/numeric/line_fit.hpp"
 
 namespace gyrocal::numeric {
 

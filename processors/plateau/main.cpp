@@ -2,9 +2,9 @@
 // and plateau_detector.hpp for the criterion and its defaults.
 #include <CLI/CLI.hpp>
 
-#include "motion/motion_options.hpp"
-#include "plateau_node.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "processors/motion/motion_options.hpp"
+#include "processors/plateau/plateau_node.hpp"
 
 namespace {
 

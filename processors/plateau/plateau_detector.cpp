@@ -1,11 +1,11 @@
-#include "plateau_detector.hpp"
+#include "processors/plateau/plateau_detector.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "text/names.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::plateau {
 

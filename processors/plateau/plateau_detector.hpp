@@ -51,9 +51,9 @@
 #include <string>
 #include <vector>
 
-#include "motion/gyro_sample.hpp"
-#include "numeric/line_fit.hpp"
-#include "numeric/series_stats.hpp"
+#include "processors/motion/gyro_sample.hpp"
+#include "processors/numeric/line_fit.hpp"
+#include "processors/numeric/series_stats.hpp"
 
 namespace gyrocal::plateau {
 

@@ -1,4 +1,4 @@
-#include "plateau_message.hpp"
+#include "processors/plateau/plateau_message.hpp"
 
 namespace gyrocal {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "gyrocal/plateau_t.hpp"
-#include "plateau_detector.hpp"
+#include "processors/plateau/plateau_detector.hpp"
 
 namespace gyrocal {
 

@@ -1,14 +1,14 @@
-#include "plateau_node.hpp"
+#include "processors/plateau/plateau_node.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "bus/channels.hpp"
 #include "gyrocal/plateau_state_t.hpp"
-#include "motion/motion_options.hpp"
-#include "noise/noise_message.hpp"
-#include "plateau_message.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/motion/motion_options.hpp"
+#include "processors/noise/noise_message.hpp"
+#include "processors/plateau/plateau_message.hpp"
 
 namespace gyrocal {
 

@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "motion/motion_inputs.hpp"
-#include "motion/table_motion.hpp"
-#include "noise/noise_tracker.hpp"
-#include "plateau_detector.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/motion/motion_inputs.hpp"
+#include "processors/motion/table_motion.hpp"
+#include "processors/noise/noise_tracker.hpp"
+#include "processors/plateau/plateau_detector.hpp"
 
 namespace gyrocal {
 

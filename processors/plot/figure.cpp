@@ -1,9 +1,9 @@
-#include "figure.hpp"
+#include "processors/plot/figure.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::plot {
 

@@ -1,4 +1,4 @@
-#include "gnuplot.hpp"
+#include "processors/plot/gnuplot.hpp"
 
 #include <unistd.h>
 
@@ -8,8 +8,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "launch/child_process.hpp"
-#include "plot/svg.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/plot/svg.hpp"
 
 namespace gyrocal::plot {
 

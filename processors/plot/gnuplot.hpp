@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "launch/child_process.hpp"
-#include "plot/figure.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/plot/figure.hpp"
 
 namespace gyrocal::plot {
 

@@ -1,4 +1,4 @@
-#include "svg.hpp"
+#include "processors/plot/svg.hpp"
 
 #include <set>
 

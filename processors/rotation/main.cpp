@@ -2,9 +2,9 @@
 // threads and rotation_estimator.hpp for the windows and the uncertainty.
 #include <CLI/CLI.hpp>
 
-#include "motion/motion_options.hpp"
-#include "rotation_node.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "processors/motion/motion_options.hpp"
+#include "processors/rotation/rotation_node.hpp"
 
 namespace {
 

@@ -1,13 +1,13 @@
-#include "rotation_estimator.hpp"
+#include "processors/rotation/rotation_estimator.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-#include "numeric/series_stats.hpp"
-#include "slip_check.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/numeric/series_stats.hpp"
+#include "processors/rotation/slip_check.hpp"
 
 namespace gyrocal::rotation {
 

@@ -36,8 +36,8 @@
 #include <string>
 #include <vector>
 
-#include "motion/gyro_sample.hpp"
-#include "motion/table_motion.hpp"
+#include "processors/motion/gyro_sample.hpp"
+#include "processors/motion/table_motion.hpp"
 
 namespace gyrocal::rotation {
 

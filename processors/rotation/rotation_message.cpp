@@ -1,4 +1,4 @@
-#include "rotation_message.hpp"
+#include "processors/rotation/rotation_message.hpp"
 
 namespace gyrocal {
 

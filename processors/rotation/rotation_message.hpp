@@ -5,7 +5,7 @@
 #include <string>
 
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "rotation_estimator.hpp"
+#include "processors/rotation/rotation_estimator.hpp"
 
 namespace gyrocal {
 

@@ -1,10 +1,10 @@
-#include "rotation_node.hpp"
+#include "processors/rotation/rotation_node.hpp"
 
 #include <cmath>
 
-#include "bus/channels.hpp"
-#include "motion/motion_options.hpp"
-#include "rotation_message.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/motion/motion_options.hpp"
+#include "processors/rotation/rotation_message.hpp"
 
 namespace gyrocal {
 

@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "motion/motion_inputs.hpp"
-#include "motion/table_motion.hpp"
-#include "rotation_estimator.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/motion/motion_inputs.hpp"
+#include "processors/motion/table_motion.hpp"
+#include "processors/rotation/rotation_estimator.hpp"
 
 namespace gyrocal {
 

@@ -1,10 +1,10 @@
-#include "slip_check.hpp"
+#include "processors/rotation/slip_check.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::rotation {
 

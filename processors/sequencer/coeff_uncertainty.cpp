@@ -1,10 +1,10 @@
-#include "coeff_uncertainty.hpp"
+#include "processors/sequencer/coeff_uncertainty.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "model/inputs.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::sequencer {
 

@@ -7,8 +7,8 @@
 //   sensitivity_pct = max_T 100 sd(S(T)) / |S(T)|             [%]
 // Outside the range the fit saw the polynomial is extrapolated with its covariance, so a set that
 // has seen half the range reports the (large) uncertainty of the other half.
-#include "model/convert.hpp"
-#include "procedure.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/sequencer/procedure.hpp"
 
 namespace gyrocal::sequencer {
 

@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "bus/channels.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
-#include "sequencer_options.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "processors/sequencer/sequencer_options.hpp"
 
 using namespace gyrocal::sequencer;
 

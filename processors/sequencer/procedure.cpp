@@ -1,10 +1,10 @@
-#include "procedure.hpp"
+#include "processors/sequencer/procedure.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "text/names.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

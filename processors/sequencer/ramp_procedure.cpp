@@ -1,10 +1,10 @@
-#include "ramp_procedure.hpp"
+#include "processors/sequencer/ramp_procedure.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "procedure.hpp"
+#include "processors/sequencer/procedure.hpp"
 
 namespace gyrocal::sequencer {
 

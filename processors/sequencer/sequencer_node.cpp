@@ -1,4 +1,4 @@
-#include "sequencer_node.hpp"
+#include "processors/sequencer/sequencer_node.hpp"
 
 #include <unistd.h>
 
@@ -9,8 +9,6 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "bus/channels.hpp"
-#include "coeff_uncertainty.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
@@ -20,7 +18,9 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "gyrocal/version.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "model/convert.hpp"
-#include "procedure.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/sequencer/procedure.hpp"
 
 namespace gyrocal::sequencer {
 

@@ -1,9 +1,9 @@
-#include "sequencer_options.hpp"
+#include "processors/sequencer/sequencer_options.hpp"
 
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "bus/channels.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

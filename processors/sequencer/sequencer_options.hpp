@@ -4,7 +4,7 @@
 #include <functional>
 #include <string>
 
-#include "sequencer_node.hpp"
+#include "processors/sequencer/sequencer_node.hpp"
 
 namespace gyrocal::sequencer {
 

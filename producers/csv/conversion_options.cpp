@@ -1,4 +1,4 @@
-#include "conversion_options.hpp"
+#include "producers/csv/conversion_options.hpp"
 
 namespace gyrocal::csv {
 

@@ -6,8 +6,8 @@
 #include <optional>
 #include <string>
 
-#include "row_messages.hpp"
-#include "sensor/temp_transfer.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "producers/sensor/temp_transfer.hpp"
 
 namespace gyrocal::csv {
 

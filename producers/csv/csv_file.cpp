@@ -1,6 +1,6 @@
-#include "csv_file.hpp"
+#include "producers/csv/csv_file.hpp"
 
-#include "fields.hpp"
+#include "producers/csv/fields.hpp"
 
 namespace gyrocal::csv {
 

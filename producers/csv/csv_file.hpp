@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "row_parser.hpp"
+#include "producers/csv/row_parser.hpp"
 
 namespace gyrocal::csv {
 

@@ -1,7 +1,7 @@
-#include "csv_header.hpp"
+#include "producers/csv/csv_header.hpp"
 
-#include "fields.hpp"
-#include "text/names.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "producers/csv/fields.hpp"
 
 namespace gyrocal::csv {
 

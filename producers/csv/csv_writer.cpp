@@ -1,10 +1,10 @@
-#include "csv_writer.hpp"
+#include "producers/csv/csv_writer.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <iterator>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::csv {
 

@@ -1,4 +1,4 @@
-#include "fields.hpp"
+#include "producers/csv/fields.hpp"
 
 #include <charconv>
 #include <cmath>

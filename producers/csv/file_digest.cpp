@@ -1,4 +1,4 @@
-#include "file_digest.hpp"
+#include "producers/csv/file_digest.hpp"
 
 #include <openssl/evp.h>
 

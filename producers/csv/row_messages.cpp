@@ -1,4 +1,4 @@
-#include "row_messages.hpp"
+#include "producers/csv/row_messages.hpp"
 
 #include <cmath>
 #include <cstdlib>

@@ -23,7 +23,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "row_parser.hpp"
+#include "producers/csv/row_parser.hpp"
 
 namespace gyrocal::csv {
 

@@ -1,10 +1,10 @@
-#include "row_parser.hpp"
+#include "producers/csv/row_parser.hpp"
 
 #include <cmath>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "fields.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "producers/csv/fields.hpp"
 
 namespace gyrocal::csv {
 

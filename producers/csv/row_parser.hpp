@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "csv_header.hpp"
-#include "sensor/temp_transfer.hpp"
+#include "producers/csv/csv_header.hpp"
+#include "producers/sensor/temp_transfer.hpp"
 
 namespace gyrocal::csv {
 

@@ -1,16 +1,16 @@
-#include "csv_record_node.hpp"
+#include "producers/csv_record/csv_record_node.hpp"
 
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
 
-#include "bus/channels.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "runtime/shutdown.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal {
 

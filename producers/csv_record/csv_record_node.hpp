@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "csv/csv_writer.hpp"
-#include "csv/row_messages.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "producers/csv/csv_writer.hpp"
+#include "producers/csv/row_messages.hpp"
 
 namespace gyrocal {
 

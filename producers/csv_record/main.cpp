@@ -4,10 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "csv_record_node.hpp"
-#include "producer_cli/producer_cli.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "producers/csv_record/csv_record_node.hpp"
+#include "producers/producer_cli/producer_cli.hpp"
 
 namespace {
 constexpr const char* kFooter = R"(

@@ -1,4 +1,4 @@
-#include "csv_source_node.hpp"
+#include "producers/csv_source/csv_source_node.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -8,10 +8,10 @@
 #include <optional>
 #include <thread>
 
-#include "bus/channels.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal {
 

@@ -16,14 +16,14 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/sample_batcher.hpp"
-#include "csv/conversion_options.hpp"
-#include "csv/csv_file.hpp"
-#include "csv/row_messages.hpp"
-#include "flow/flow_source.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/sample_batcher.hpp"
+#include "lcmtypes/flow/flow_source.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "producers/csv/conversion_options.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "producers/csv/row_messages.hpp"
 
 namespace gyrocal {
 

@@ -2,10 +2,10 @@
 // CHAMBER_STATE messages, the same messages a rig sends. See README.md.
 #include <CLI/CLI.hpp>
 
-#include "csv_source_node.hpp"
-#include "producer_cli/producer_cli.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "producers/csv_source/csv_source_node.hpp"
+#include "producers/producer_cli/producer_cli.hpp"
 
 namespace {
 

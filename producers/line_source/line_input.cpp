@@ -1,4 +1,4 @@
-#include "line_input.hpp"
+#include "producers/line_source/line_input.hpp"
 
 #include <poll.h>
 #include <unistd.h>

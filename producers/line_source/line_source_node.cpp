@@ -1,4 +1,4 @@
-#include "line_source_node.hpp"
+#include "producers/line_source/line_source_node.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -6,9 +6,9 @@
 #include <thread>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal {
 namespace {

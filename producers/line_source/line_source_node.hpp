@@ -15,15 +15,15 @@
 #include <optional>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "bus/sample_batcher.hpp"
-#include "csv/conversion_options.hpp"
-#include "csv/row_messages.hpp"
-#include "flow/flow_source.hpp"
-#include "line_input.hpp"
-#include "line_stream.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/sample_batcher.hpp"
+#include "lcmtypes/flow/flow_source.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "producers/csv/conversion_options.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "producers/line_source/line_input.hpp"
+#include "producers/line_source/line_stream.hpp"
 
 namespace gyrocal {
 

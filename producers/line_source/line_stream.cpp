@@ -1,6 +1,6 @@
-#include "line_stream.hpp"
+#include "producers/line_source/line_stream.hpp"
 
-#include "csv/fields.hpp"
+#include "producers/csv/fields.hpp"
 
 namespace gyrocal {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "csv/row_parser.hpp"
-#include "line_input.hpp"
+#include "producers/csv/row_parser.hpp"
+#include "producers/line_source/line_input.hpp"
 
 namespace gyrocal {
 

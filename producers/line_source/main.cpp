@@ -7,11 +7,11 @@
 #include <cstring>
 #include <iostream>
 
-#include "line_source_node.hpp"
-#include "producer_cli/producer_cli.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "producers/line_source/line_source_node.hpp"
+#include "producers/producer_cli/producer_cli.hpp"
 
 namespace {
 constexpr const char* kFooter = R"(

@@ -1,4 +1,4 @@
-#include "lcm_log.hpp"
+#include "producers/log_source/lcm_log.hpp"
 
 namespace gyrocal::lcmlog {
 

@@ -1,12 +1,12 @@
-#include "log_source_node.hpp"
+#include "producers/log_source/log_source_node.hpp"
 
 #include <algorithm>
 #include <iostream>
 #include <thread>
 
-#include "bus/channels.hpp"
-#include "runtime/shutdown.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal {
 

@@ -18,11 +18,11 @@
 #include <regex>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "flow/flow_source.hpp"
-#include "lcm_log.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/flow/flow_source.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "producers/log_source/lcm_log.hpp"
 
 namespace gyrocal {
 

@@ -3,11 +3,11 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "log_source_node.hpp"
-#include "producer_cli/producer_cli.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "producers/log_source/log_source_node.hpp"
+#include "producers/producer_cli/producer_cli.hpp"
 
 namespace {
 

@@ -1,6 +1,6 @@
-#include "producer_cli.hpp"
+#include "producers/producer_cli/producer_cli.hpp"
 
-#include "runtime/renamed_option.hpp"
+#include "lcmtypes/runtime/renamed_option.hpp"
 
 namespace gyrocal::csv {
 

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "csv/conversion_options.hpp"
+#include "producers/csv/conversion_options.hpp"
 
 namespace gyrocal::csv {
 

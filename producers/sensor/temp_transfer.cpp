@@ -1,4 +1,4 @@
-#include "sensor/temp_transfer.hpp"
+#include "producers/sensor/temp_transfer.hpp"
 
 #include <cmath>
 #include <sstream>

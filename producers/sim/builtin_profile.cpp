@@ -1,4 +1,4 @@
-#include "builtin_profile.hpp"
+#include "producers/sim/builtin_profile.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "rig.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::sim {
 

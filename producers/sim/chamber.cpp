@@ -1,4 +1,4 @@
-#include "chamber.hpp"
+#include "producers/sim/chamber.hpp"
 
 #include <algorithm>
 #include <cmath>

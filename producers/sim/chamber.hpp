@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string>
 
-#include "config.hpp"
-#include "rng.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/rng.hpp"
 
 namespace gyrocal::sim {
 

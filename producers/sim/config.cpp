@@ -1,11 +1,11 @@
-#include "config.hpp"
+#include "producers/sim/config.hpp"
 
 #include <cmath>
 #include <initializer_list>
 #include <string>
 
-#include "bus/channels.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::sim {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sensor/temp_transfer.hpp"
+#include "producers/sensor/temp_transfer.hpp"
 
 namespace gyrocal::sim {
 

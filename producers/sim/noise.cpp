@@ -1,4 +1,4 @@
-#include "noise.hpp"
+#include "producers/sim/noise.hpp"
 
 #include <cmath>
 

@@ -11,8 +11,8 @@
 // a unit's stream of numbers never depends on which components are switched on.
 #include <array>
 
-#include "config.hpp"
-#include "rng.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/rng.hpp"
 
 namespace gyrocal::sim {
 

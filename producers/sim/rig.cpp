@@ -1,4 +1,4 @@
-#include "rig.hpp"
+#include "producers/sim/rig.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -23,12 +23,12 @@
 #include <string>
 #include <vector>
 
-#include "chamber.hpp"
-#include "config.hpp"
-#include "noise.hpp"
-#include "rng.hpp"
-#include "turntable.hpp"
-#include "unit_model.hpp"
+#include "producers/sim/chamber.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/noise.hpp"
+#include "producers/sim/rng.hpp"
+#include "producers/sim/turntable.hpp"
+#include "producers/sim/unit_model.hpp"
 
 namespace gyrocal::sim {
 

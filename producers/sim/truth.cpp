@@ -1,4 +1,4 @@
-#include "truth.hpp"
+#include "producers/sim/truth.hpp"
 
 namespace gyrocal::sim {
 

@@ -7,7 +7,7 @@
 // configuration.
 #include <nlohmann/json.hpp>
 
-#include "rig.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::sim {
 

@@ -1,4 +1,4 @@
-#include "turntable.hpp"
+#include "producers/sim/turntable.hpp"
 
 #include <algorithm>
 #include <cmath>

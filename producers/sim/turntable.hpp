@@ -8,7 +8,7 @@
 #include <deque>
 #include <string>
 
-#include "config.hpp"
+#include "producers/sim/config.hpp"
 
 namespace gyrocal::sim {
 

@@ -1,4 +1,4 @@
-#include "unit_model.hpp"
+#include "producers/sim/unit_model.hpp"
 
 namespace gyrocal::sim {
 

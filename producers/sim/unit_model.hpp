@@ -12,8 +12,8 @@
 #include <array>
 #include <string>
 
-#include "config.hpp"
-#include "rng.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/rng.hpp"
 
 namespace gyrocal::sim {
 

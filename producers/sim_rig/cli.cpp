@@ -1,4 +1,4 @@
-#include "cli.hpp"
+#include "producers/sim_rig/cli.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "runtime/flow_options.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/renamed_option.hpp"
-#include "sim/builtin_profile.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/renamed_option.hpp"
+#include "producers/sim/builtin_profile.hpp"
 
 namespace gyrocal {
 

@@ -2,7 +2,7 @@
 // Command line of gyrocal-sim-rig: every option, its default and its valid range (--help).
 #include <optional>
 
-#include "rig_node.hpp"
+#include "producers/sim_rig/rig_node.hpp"
 
 namespace gyrocal {
 

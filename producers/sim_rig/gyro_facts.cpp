@@ -1,9 +1,9 @@
-#include "gyro_facts.hpp"
+#include "producers/sim_rig/gyro_facts.hpp"
 
 #include <cmath>
 
-#include "sim/config.hpp"
-#include "sim/noise.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/noise.hpp"
 
 namespace gyrocal::sim {
 

@@ -4,11 +4,11 @@
 #include <iostream>
 #include <string>
 
-#include "cli.hpp"
-#include "rig_node.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
-#include "truth_file.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "producers/sim_rig/cli.hpp"
+#include "producers/sim_rig/rig_node.hpp"
+#include "producers/sim_rig/truth_file.hpp"
 
 int main(int argc, char** argv) {
     gyrocal::SimRigOptions options = gyrocal::SimRigOptions::Defaults();

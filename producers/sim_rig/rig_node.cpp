@@ -1,14 +1,14 @@
-#include "rig_node.hpp"
+#include "producers/sim_rig/rig_node.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 
-#include "bus/channels.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal {
 

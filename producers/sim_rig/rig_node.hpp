@@ -18,15 +18,15 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/sample_batcher.hpp"
-#include "flow/flow_source.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/status.hpp"
-#include "sim/builtin_profile.hpp"
-#include "sim/rig.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/sample_batcher.hpp"
+#include "lcmtypes/flow/flow_source.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "producers/sim/builtin_profile.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal {
 

@@ -1,9 +1,9 @@
-#include "truth_file.hpp"
+#include "producers/sim_rig/truth_file.hpp"
 
 #include <cstdio>
 #include <fstream>
 
-#include "sim/truth.hpp"
+#include "producers/sim/truth.hpp"
 
 namespace gyrocal {
 

@@ -2,7 +2,7 @@
 // The truth sidecar file (--truth-out): written once, before the first sample, atomically.
 #include <string>
 
-#include "rig_node.hpp"
+#include "producers/sim_rig/rig_node.hpp"
 
 namespace gyrocal {
 

@@ -1,11 +1,11 @@
-#include "analyses.hpp"
+#include "store/db/analyses.hpp"
 
 #include <filesystem>
 
-#include "central_url.hpp"
-#include "query.hpp"
-#include "schema.hpp"
-#include "utc_text.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/query.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/utc_text.hpp"
 
 namespace gyrocal::store {
 namespace {

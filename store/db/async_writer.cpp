@@ -1,4 +1,4 @@
-#include "async_writer.hpp"
+#include "store/db/async_writer.hpp"
 
 #include <array>
 #include <map>

@@ -32,8 +32,8 @@
 #include <thread>
 #include <vector>
 
-#include "rows.hpp"
-#include "writer.hpp"
+#include "store/db/rows.hpp"
+#include "store/db/writer.hpp"
 
 namespace gyrocal::store {
 

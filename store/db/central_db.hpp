@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::store {
 

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "central_db.hpp"
-#include "pg_connection.hpp"
-#include "schema.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/pg_connection.hpp"
+#include "store/db/schema.hpp"
 
 namespace gyrocal::store {
 namespace {

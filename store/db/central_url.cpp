@@ -1,4 +1,4 @@
-#include "central_url.hpp"
+#include "store/db/central_url.hpp"
 
 #include <cctype>
 #include <vector>

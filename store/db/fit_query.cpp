@@ -1,4 +1,4 @@
-#include "fit_query.hpp"
+#include "store/db/fit_query.hpp"
 
 namespace gyrocal::store {
 

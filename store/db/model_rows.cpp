@@ -1,8 +1,8 @@
-#include "model_rows.hpp"
+#include "store/db/model_rows.hpp"
 
 #include <limits>
 
-#include "model/inputs.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::store {
 namespace {

@@ -8,11 +8,11 @@
 #include <optional>
 #include <string>
 
-#include "analyses.hpp"
 #include "gyrocal/coeff_set_t.hpp"
-#include "model/convert.hpp"
-#include "model/model.hpp"
-#include "rows.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/model.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/rows.hpp"
 
 namespace gyrocal::store {
 

@@ -8,10 +8,10 @@
 #include <cstdlib>
 #include <optional>
 
-#include "central_url.hpp"
-#include "db_backend.hpp"
-#include "pg_connection.hpp"
-#include "schema.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/db_backend.hpp"
+#include "store/db/pg_connection.hpp"
+#include "store/db/schema.hpp"
 
 namespace gyrocal::store {
 namespace {

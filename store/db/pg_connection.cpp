@@ -1,8 +1,8 @@
-#include "pg_connection.hpp"
+#include "store/db/pg_connection.hpp"
 
 #include <cstdlib>
 
-#include "central_url.hpp"
+#include "store/db/central_url.hpp"
 
 namespace gyrocal::store {
 namespace {

@@ -6,7 +6,7 @@
 #include <pqxx/pqxx>
 #include <string>
 
-#include "central_db.hpp"
+#include "store/db/central_db.hpp"
 
 namespace gyrocal::store {
 

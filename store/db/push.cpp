@@ -1,4 +1,4 @@
-#include "push.hpp"
+#include "store/db/push.hpp"
 
 #include <unistd.h>
 
@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <thread>
 
-#include "central_url.hpp"
-#include "pg_connection.hpp"
-#include "push_tables.hpp"
-#include "query.hpp"
-#include "schema.hpp"
-#include "utc_text.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/pg_connection.hpp"
+#include "store/db/push_tables.hpp"
+#include "store/db/query.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/utc_text.hpp"
 
 namespace gyrocal::store {
 namespace {

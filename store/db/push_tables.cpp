@@ -1,11 +1,11 @@
-#include "push_tables.hpp"
+#include "store/db/push_tables.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <map>
 #include <optional>
 
-#include "central_db.hpp"
+#include "store/db/central_db.hpp"
 
 namespace gyrocal::store::push {
 namespace {

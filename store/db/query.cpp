@@ -1,13 +1,13 @@
-#include "query.hpp"
+#include "store/db/query.hpp"
 
 #include <algorithm>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "central_db.hpp"
-#include "central_url.hpp"
-#include "schema.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/schema.hpp"
 
 namespace gyrocal::store {
 namespace {

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "analyses.hpp"
-#include "fit_query.hpp"
-#include "rows.hpp"
-#include "sqlite_db.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/fit_query.hpp"
+#include "store/db/rows.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::store {
 

@@ -1,6 +1,6 @@
-#include "replay_reader.hpp"
+#include "store/db/replay_reader.hpp"
 
-#include "query.hpp"
+#include "store/db/query.hpp"
 
 namespace gyrocal::store {
 

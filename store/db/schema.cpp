@@ -1,4 +1,4 @@
-#include "schema.hpp"
+#include "store/db/schema.hpp"
 
 #include <array>
 #include <chrono>

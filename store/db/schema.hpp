@@ -20,7 +20,7 @@
 #include <string>
 #include <string_view>
 
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::store {
 

@@ -1,11 +1,11 @@
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
-#include "db_backend.hpp"
+#include "store/db/db_backend.hpp"
 
 namespace gyrocal::store {
 

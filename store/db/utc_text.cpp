@@ -1,4 +1,4 @@
-#include "utc_text.hpp"
+#include "store/db/utc_text.hpp"
 
 #include <chrono>
 #include <ctime>

@@ -1,8 +1,8 @@
-#include "validations.hpp"
+#include "store/db/validations.hpp"
 
-#include "central_url.hpp"
-#include "query.hpp"
-#include "utc_text.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/query.hpp"
+#include "store/db/utc_text.hpp"
 
 namespace gyrocal::store {
 

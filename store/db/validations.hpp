@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::store {
 

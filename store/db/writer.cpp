@@ -1,4 +1,4 @@
-#include "writer.hpp"
+#include "store/db/writer.hpp"
 
 #include <unistd.h>
 
@@ -10,9 +10,9 @@
 #include <type_traits>
 #include <variant>
 
-#include "analyses.hpp"
-#include "central_url.hpp"
-#include "schema.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/schema.hpp"
 
 namespace gyrocal::store {
 

@@ -23,8 +23,8 @@
 #include <utility>
 #include <vector>
 
-#include "rows.hpp"
-#include "sqlite_db.hpp"
+#include "store/db/rows.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::store {
 

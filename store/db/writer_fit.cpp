@@ -2,8 +2,8 @@
 // so the statements are prepared per call (no effect on the sample path's rate).
 #include <limits>
 
-#include "analyses.hpp"
-#include "writer.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/writer.hpp"
 
 namespace gyrocal::store {
 

@@ -4,14 +4,14 @@
 #include <set>
 #include <sstream>
 
-#include "format.hpp"
-#include "format_util.hpp"
-#include "model/c_source.hpp"
-#include "model/inputs.hpp"
-#include "model/json.hpp"
-#include "model/terms.hpp"
-#include "model_rows.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/c_source.hpp"
+#include "processors/model/inputs.hpp"
+#include "processors/model/json.hpp"
+#include "processors/model/terms.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/format/format.hpp"
+#include "store/format/format_util.hpp"
 
 namespace gyrocal::store::format {
 namespace {

@@ -1,14 +1,14 @@
-#include "fleet.hpp"
+#include "store/format/fleet.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
 
-#include "format.hpp"
-#include "format_util.hpp"
-#include "model_rows.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/format/format.hpp"
+#include "store/format/format_util.hpp"
 
 namespace gyrocal::store::format {
 

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "plot/figure.hpp"
-#include "rows.hpp"
+#include "processors/plot/figure.hpp"
+#include "store/db/rows.hpp"
 
 namespace gyrocal::store::format {
 

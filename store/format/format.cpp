@@ -1,15 +1,15 @@
 // Human tables and JSON for runs, a run's detail and a sensor's history.
-#include "format.hpp"
+#include "store/format/format.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <sstream>
 
-#include "format_util.hpp"
-#include "model/convert.hpp"
-#include "show_fit.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/convert.hpp"
+#include "store/format/format_util.hpp"
+#include "store/format/show_fit.hpp"
 
 namespace gyrocal::store::format {
 

@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "query.hpp"
-#include "utc_text.hpp"
+#include "store/db/query.hpp"
+#include "store/db/utc_text.hpp"
 
 namespace gyrocal::store::format {
 

@@ -1,12 +1,12 @@
-#include "format_util.hpp"
+#include "store/format/format_util.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "format.hpp"
-#include "model_rows.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/format/format.hpp"
 
 namespace gyrocal::store::format::detail {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "rows.hpp"
+#include "store/db/rows.hpp"
 
 namespace gyrocal::store::format::detail {
 

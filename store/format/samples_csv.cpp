@@ -1,13 +1,13 @@
-#include "samples_csv.hpp"
+#include "store/format/samples_csv.hpp"
 
 #include <map>
 #include <type_traits>
 #include <variant>
 
-#include "csv/csv_writer.hpp"
-#include "csv/row_messages.hpp"
-#include "message_fields.hpp"
-#include "replay_reader.hpp"
+#include "producers/csv/csv_writer.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "store/db/replay_reader.hpp"
+#include "store/recorder/message_fields.hpp"
 
 namespace gyrocal::store::format {
 

@@ -10,7 +10,7 @@
 #include <ostream>
 #include <string>
 
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::store::format {
 

@@ -1,11 +1,11 @@
-#include "show_fit.hpp"
+#include "store/format/show_fit.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "format.hpp"
-#include "format_util.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "store/format/format.hpp"
+#include "store/format/format_util.hpp"
 
 namespace gyrocal::store::format {
 

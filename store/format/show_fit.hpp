@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "query.hpp"
+#include "store/db/query.hpp"
 
 namespace gyrocal::store::format {
 

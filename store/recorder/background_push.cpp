@@ -1,4 +1,4 @@
-#include "background_push.hpp"
+#include "store/recorder/background_push.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>

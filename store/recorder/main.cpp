@@ -5,9 +5,9 @@
 #include <memory>
 #include <string>
 
-#include "recorder_node.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "store/recorder/recorder_node.hpp"
 
 int main(int argc, char** argv) {
     using gyrocal::record::kRecorderProcess;

@@ -27,8 +27,8 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "model/convert.hpp"
-#include "rows.hpp"
+#include "processors/model/convert.hpp"
+#include "store/db/rows.hpp"
 
 namespace gyrocal::record {
 

@@ -1,8 +1,8 @@
-#include "open_run.hpp"
+#include "store/recorder/open_run.hpp"
 
 #include <nlohmann/json.hpp>
 
-#include "bus/bus.hpp"
+#include "lcmtypes/bus/bus.hpp"
 
 namespace gyrocal::record {
 

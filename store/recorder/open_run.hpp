@@ -6,7 +6,7 @@
 // other's runs.
 #include <string>
 
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::record {
 

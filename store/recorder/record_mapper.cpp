@@ -1,18 +1,18 @@
-#include "record_mapper.hpp"
+#include "store/recorder/record_mapper.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "bus/decode.hpp"
 #include "gyrocal/encoder_batch_t.hpp"
 #include "gyrocal/flow_ack_t.hpp"
 #include "gyrocal/flow_mark_t.hpp"
 #include "gyrocal/gyro_batch_t.hpp"
 #include "gyrocal/rate_batch_t.hpp"
-#include "message_fields.hpp"
-#include "model/convert.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/decode.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/convert.hpp"
+#include "store/recorder/message_fields.hpp"
 
 namespace gyrocal::record {
 namespace {

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "bus/seq_tracker.hpp"
-#include "rows.hpp"
+#include "lcmtypes/bus/seq_tracker.hpp"
+#include "store/db/rows.hpp"
 
 namespace gyrocal::record {
 

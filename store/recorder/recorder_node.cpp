@@ -1,4 +1,4 @@
-#include "recorder_node.hpp"
+#include "store/recorder/recorder_node.hpp"
 
 #include <glib.h>
 #include <unistd.h>
@@ -6,10 +6,10 @@
 #include <iostream>
 #include <variant>
 
-#include "bus/channels.hpp"
 #include "gyrocal/version.hpp"
-#include "open_run.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "store/recorder/open_run.hpp"
 
 namespace gyrocal::record {
 

@@ -16,13 +16,13 @@
 #include <memory>
 #include <string>
 
-#include "async_writer.hpp"
-#include "background_push.hpp"
-#include "bus/bus.hpp"
-#include "record_mapper.hpp"
-#include "runtime/status.hpp"
-#include "writer.hpp"
-#include "writer_watch.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "store/db/async_writer.hpp"
+#include "store/db/writer.hpp"
+#include "store/recorder/background_push.hpp"
+#include "store/recorder/record_mapper.hpp"
+#include "store/recorder/writer_watch.hpp"
 
 namespace gyrocal::record {
 

@@ -1,11 +1,11 @@
-#include "recovery.hpp"
+#include "store/recorder/recovery.hpp"
 
 #include <algorithm>
 
-#include "message_fields.hpp"
-#include "model/convert.hpp"
-#include "model_rows.hpp"
-#include "query.hpp"
+#include "processors/model/convert.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "store/recorder/message_fields.hpp"
 
 namespace gyrocal::record {
 

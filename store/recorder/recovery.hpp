@@ -10,7 +10,7 @@
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "sqlite_db.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::record {
 

@@ -1,9 +1,9 @@
-#include "replay_source.hpp"
+#include "store/recorder/replay_source.hpp"
 
 #include <stdexcept>
 
-#include "bus/channels.hpp"
-#include "message_fields.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "store/recorder/message_fields.hpp"
 
 namespace gyrocal::record {
 namespace {

@@ -1,6 +1,6 @@
-#include "writer_watch.hpp"
+#include "store/recorder/writer_watch.hpp"
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::record {
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "async_writer.hpp"
+#include "store/db/async_writer.hpp"
 
 namespace gyrocal::record {
 

@@ -4,10 +4,10 @@
 #include <iostream>
 #include <string>
 
-#include "replay_node.hpp"
-#include "runtime/flow_options.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "store/replay/replay_node.hpp"
 
 int main(int argc, char** argv) {
     using gyrocal::record::kReplayProcess;

@@ -1,4 +1,4 @@
-#include "replay_node.hpp"
+#include "store/replay/replay_node.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -6,9 +6,9 @@
 #include <thread>
 #include <variant>
 
-#include "query.hpp"
-#include "replay_source.hpp"
-#include "runtime/shutdown.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "store/db/query.hpp"
+#include "store/recorder/replay_source.hpp"
 
 namespace gyrocal::record {
 

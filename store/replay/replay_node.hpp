@@ -11,11 +11,11 @@
 #include <memory>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "flow/flow_source.hpp"
-#include "replay_reader.hpp"
-#include "runtime/flow_options.hpp"
-#include "sqlite_db.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/flow/flow_source.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "store/db/replay_reader.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::record {
 

@@ -1,15 +1,15 @@
-#include "build.hpp"
+#include "store/runreport/build.hpp"
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 
-#include "central_url.hpp"
-#include "figures.hpp"
-#include "html.hpp"
-#include "page.hpp"
-#include "plot/gnuplot.hpp"
-#include "utc_text.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/utc_text.hpp"
+#include "store/runreport/figures.hpp"
+#include "store/runreport/html.hpp"
+#include "store/runreport/page.hpp"
 
 namespace gyrocal::runreport {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "acceptance/limits.hpp"
-#include "unit_data.hpp"
+#include "processors/acceptance/limits.hpp"
+#include "store/runreport/unit_data.hpp"
 
 namespace gyrocal::runreport {
 

@@ -1,4 +1,4 @@
-#include "figures.hpp"
+#include "store/runreport/figures.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <optional>
 #include <tuple>
 
-#include "model/inputs.hpp"
-#include "model_rows.hpp"
+#include "processors/model/inputs.hpp"
+#include "store/db/model_rows.hpp"
 
 namespace gyrocal::runreport {
 

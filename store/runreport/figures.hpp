@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "plot/figure.hpp"
-#include "unit_data.hpp"
+#include "processors/plot/figure.hpp"
+#include "store/runreport/unit_data.hpp"
 
 namespace gyrocal::runreport {
 

@@ -1,10 +1,10 @@
-#include "html.hpp"
+#include "store/runreport/html.hpp"
 
 #include <cmath>
 
-#include "plot/svg.hpp"
-#include "text/names.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/names.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/plot/svg.hpp"
 
 namespace gyrocal::runreport::html {
 

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "acceptance/evaluate.hpp"
+#include "processors/acceptance/evaluate.hpp"
 
 namespace gyrocal::runreport::html {
 

@@ -1,7 +1,7 @@
-#include "page.hpp"
+#include "store/runreport/page.hpp"
 
-#include "html.hpp"
-#include "traceability.hpp"
+#include "store/runreport/html.hpp"
+#include "store/runreport/traceability.hpp"
 
 namespace gyrocal::runreport {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "acceptance/evaluate.hpp"
-#include "sections.hpp"
-#include "unit_data.hpp"
+#include "processors/acceptance/evaluate.hpp"
+#include "store/runreport/sections.hpp"
+#include "store/runreport/unit_data.hpp"
 
 namespace gyrocal::runreport {
 

@@ -1,13 +1,13 @@
-#include "sections.hpp"
+#include "store/runreport/sections.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "html.hpp"
-#include "model/convert.hpp"
-#include "model/terms.hpp"
-#include "text/number.hpp"
-#include "utc_text.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/terms.hpp"
+#include "store/db/utc_text.hpp"
+#include "store/runreport/html.hpp"
 
 namespace gyrocal::runreport {
 

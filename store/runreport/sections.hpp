@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "acceptance/evaluate.hpp"
-#include "traceability.hpp"
-#include "unit_data.hpp"
+#include "processors/acceptance/evaluate.hpp"
+#include "store/runreport/traceability.hpp"
+#include "store/runreport/unit_data.hpp"
 
 namespace gyrocal::runreport {
 

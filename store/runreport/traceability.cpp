@@ -1,10 +1,10 @@
-#include "traceability.hpp"
+#include "store/runreport/traceability.hpp"
 
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::runreport {
 

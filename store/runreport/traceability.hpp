@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "query.hpp"
+#include "store/db/query.hpp"
 
 namespace gyrocal::runreport {
 

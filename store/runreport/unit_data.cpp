@@ -1,11 +1,11 @@
-#include "unit_data.hpp"
+#include "store/runreport/unit_data.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 
-#include "model/convert.hpp"
-#include "model_rows.hpp"
+#include "processors/model/convert.hpp"
+#include "store/db/model_rows.hpp"
 
 namespace gyrocal::runreport {
 

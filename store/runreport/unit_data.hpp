@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "acceptance/evaluate.hpp"
-#include "acceptance/limits.hpp"
-#include "query.hpp"
+#include "processors/acceptance/evaluate.hpp"
+#include "processors/acceptance/limits.hpp"
+#include "store/db/query.hpp"
 
 namespace gyrocal::runreport {
 

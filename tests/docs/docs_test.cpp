@@ -18,7 +18,7 @@
 #include <set>
 #include <sstream>
 
-#include "markdown.hpp"
+#include "tests/docs/markdown.hpp"
 
 namespace gyrocal::docs {
 namespace {

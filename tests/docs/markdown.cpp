@@ -1,4 +1,4 @@
-#include "markdown.hpp"
+#include "tests/docs/markdown.hpp"
 
 #include <cctype>
 #include <map>

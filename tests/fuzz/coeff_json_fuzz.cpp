@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "compensator/offline.hpp"
-#include "fuzz_check.hpp"
+#include "processors/compensator/offline.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace gyrocal;

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "bus/decode.hpp"
-#include "csv/csv_file.hpp"
-#include "csv/row_messages.hpp"
-#include "fuzz_check.hpp"
+#include "lcmtypes/bus/decode.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include GYROCAL_FUZZ_HEADER
-#include "bus/decode.hpp"
-#include "fuzz_check.hpp"
+#include "lcmtypes/bus/decode.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
 

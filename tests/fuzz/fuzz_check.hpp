@@ -8,8 +8,8 @@
 #include <map>
 #include <string>
 
-#include "bus/channels.hpp"
-#include "csv/row_parser.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "producers/csv/row_parser.hpp"
 
 #define FUZZ_CHECK(cond, what)                                                                    \
     do {                                                                                          \

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "fuzz_check.hpp"
-#include "line_input.hpp"
-#include "line_stream.hpp"
+#include "producers/line_source/line_input.hpp"
+#include "producers/line_source/line_stream.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace gyrocal;

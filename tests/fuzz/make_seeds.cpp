@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "gyrocal/analysis_t.hpp"
-#include "message_builders.hpp"
-#include "model/convert.hpp"
-#include "model/json.hpp"
-#include "schema.hpp"
-#include "writer.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/json.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/writer.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "fuzz_check.hpp"
-#include "record_mapper.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "store/recorder/record_mapper.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace gyrocal;

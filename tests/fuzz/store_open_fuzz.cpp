@@ -11,9 +11,9 @@
 #include <fstream>
 #include <string>
 
-#include "fuzz_check.hpp"
-#include "query.hpp"
-#include "writer.hpp"
+#include "store/db/query.hpp"
+#include "store/db/writer.hpp"
+#include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
 

@@ -26,8 +26,8 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "message_headers.hpp"
-#include "test_model.hpp"
+#include "tests/lcmtypes/message_headers.hpp"
+#include "tests/lcmtypes/test_model.hpp"
 
 namespace gyrocal::testing {
 

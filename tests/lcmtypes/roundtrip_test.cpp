@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "gyrocal/analysis_t.hpp"
-#include "message_builders.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {
 namespace {

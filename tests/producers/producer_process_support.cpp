@@ -1,4 +1,4 @@
-#include "producer_process_support.hpp"
+#include "tests/producers/producer_process_support.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,10 +13,10 @@
 #include <sstream>
 #include <thread>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/status_t.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::test {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "csv/csv_file.hpp"
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "producers/csv/csv_file.hpp"
 
 namespace gyrocal::test {
 

@@ -1,4 +1,4 @@
-#include "pg_server.hpp"
+#include "tests/store/pg_server.hpp"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>

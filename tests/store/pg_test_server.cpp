@@ -5,7 +5,7 @@
 #include <iostream>
 #include <string>
 
-#include "pg_server.hpp"
+#include "tests/store/pg_server.hpp"
 
 int main(int argc, char** argv) {
     using gyrocal::testing::PgServer;

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "analyses.hpp"
-#include "message_headers.hpp"
-#include "rows.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/rows.hpp"
+#include "tests/lcmtypes/message_headers.hpp"
 
 namespace gyrocal::testing {
 

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <string>
 
-#include "schema.hpp"
-#include "sqlite_db.hpp"
-#include "wait_until.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/sqlite_db.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::testing {
 

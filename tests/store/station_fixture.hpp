@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "analyses.hpp"
-#include "row_builders.hpp"
-#include "test_model.hpp"
-#include "validations.hpp"
-#include "writer.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/validations.hpp"
+#include "store/db/writer.hpp"
+#include "tests/lcmtypes/test_model.hpp"
+#include "tests/store/row_builders.hpp"
 
 namespace gyrocal::testing {
 

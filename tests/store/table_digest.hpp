@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "central_db.hpp"
-#include "push_tables.hpp"
-#include "sqlite_db.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/push_tables.hpp"
+#include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::testing {
 

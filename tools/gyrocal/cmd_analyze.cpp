@@ -1,4 +1,4 @@
-#include "cmd_analyze.hpp"
+#include "tools/gyrocal/cmd_analyze.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -16,20 +16,20 @@
 #include <type_traits>
 #include <variant>
 
-#include "analysis/analyze.hpp"
-#include "analysis/plot.hpp"
-#include "analysis/report.hpp"
-#include "analysis/run_data.hpp"
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "command.hpp"
 #include "gyrocal/version.hpp"
-#include "model_rows.hpp"
-#include "noise/allan_plot.hpp"
-#include "plot/gnuplot.hpp"
-#include "query.hpp"
-#include "run_loader.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/plot.hpp"
+#include "processors/analysis/report.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "processors/noise/allan_plot.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "tools/gyrocal/command.hpp"
+#include "tools/gyrocal/run_loader.hpp"
 
 namespace gyrocal::cli {
 

@@ -1,4 +1,4 @@
-#include "cmd_calibrate.hpp"
+#include "tools/gyrocal/cmd_calibrate.hpp"
 
 #include <unistd.h>
 
@@ -6,12 +6,12 @@
 #include <memory>
 #include <sstream>
 
-#include "acceptance/limits.hpp"
-#include "gyro_facts.hpp"
-#include "plot/gnuplot.hpp"
-#include "procedure.hpp"
-#include "sim/config.hpp"
-#include "supervisor.hpp"
+#include "processors/acceptance/limits.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "processors/sequencer/procedure.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim_rig/gyro_facts.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::cli {
 namespace {

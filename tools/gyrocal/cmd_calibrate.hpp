@@ -2,7 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
-#include "supervisor.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::cli {
 // `gyrocal calibrate`: starts the whole process graph as separate OS processes, shows progress,

@@ -1,4 +1,4 @@
-#include "cmd_compensate.hpp"
+#include "tools/gyrocal/cmd_compensate.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -7,14 +7,14 @@
 #include <memory>
 #include <sstream>
 
-#include "command.hpp"
-#include "compensator/offline.hpp"
-#include "csv/conversion_options.hpp"
-#include "csv/csv_file.hpp"
-#include "model_rows.hpp"
-#include "query.hpp"
-#include "runtime/renamed_option.hpp"
-#include "sqlite_db.hpp"
+#include "lcmtypes/runtime/renamed_option.hpp"
+#include "processors/compensator/offline.hpp"
+#include "producers/csv/conversion_options.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "store/db/sqlite_db.hpp"
+#include "tools/gyrocal/command.hpp"
 
 namespace gyrocal::cli {
 

@@ -20,7 +20,7 @@
 #include <optional>
 #include <string>
 
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::cli {
 

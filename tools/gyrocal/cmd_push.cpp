@@ -1,7 +1,7 @@
 // `gyrocal push` and `gyrocal central`: thin CLI over the push library and the central schema
 // (store/db/push.hpp, central_db.hpp). Every message names the central database without its
 // credentials.
-#include "cmd_push.hpp"
+#include "tools/gyrocal/cmd_push.hpp"
 
 #include <cstdlib>
 #include <iostream>
@@ -9,11 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "central_db.hpp"
-#include "central_url.hpp"
-#include "command.hpp"
 #include "gyrocal/version.hpp"
-#include "push.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/push.hpp"
+#include "tools/gyrocal/command.hpp"
 
 namespace gyrocal::cli {
 namespace {

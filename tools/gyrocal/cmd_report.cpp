@@ -1,18 +1,18 @@
-#include "cmd_report.hpp"
+#include "tools/gyrocal/cmd_report.hpp"
 
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
 
-#include "acceptance/limits.hpp"
-#include "build.hpp"
-#include "cmd_analyze.hpp"
-#include "command.hpp"
 #include "gyrocal/version.hpp"
-#include "plot/gnuplot.hpp"
-#include "query.hpp"
-#include "unit_data.hpp"
+#include "processors/acceptance/limits.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "store/db/query.hpp"
+#include "store/runreport/build.hpp"
+#include "store/runreport/unit_data.hpp"
+#include "tools/gyrocal/cmd_analyze.hpp"
+#include "tools/gyrocal/command.hpp"
 
 namespace gyrocal::cli {
 

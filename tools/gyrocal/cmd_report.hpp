@@ -18,7 +18,7 @@
 #include <iosfwd>
 #include <string>
 
-#include "supervisor.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::cli {
 

@@ -1,4 +1,4 @@
-#include "cmd_spy.hpp"
+#include "tools/gyrocal/cmd_spy.hpp"
 
 #include <unistd.h>
 
@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "launch/child_process.hpp"
-#include "paths.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tools/supervisor/paths.hpp"
 
 namespace gyrocal::cli {
 namespace {

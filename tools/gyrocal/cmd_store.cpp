@@ -1,6 +1,6 @@
 // `gyrocal runs|show|history|export|fleet|replay`: thin CLI over the query library (store/db) and
 // the formatters (store/format). Errors are one line on stderr naming the command.
-#include "cmd_store.hpp"
+#include "tools/gyrocal/cmd_store.hpp"
 
 #include <unistd.h>
 
@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "central_url.hpp"
-#include "fleet.hpp"
-#include "format.hpp"
-#include "plot/gnuplot.hpp"
-#include "query.hpp"
-#include "runtime/flow_options.hpp"
-#include "samples_csv.hpp"
-#include "unit_data.hpp"
+#include "lcmtypes/runtime/flow_options.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/query.hpp"
+#include "store/format/fleet.hpp"
+#include "store/format/format.hpp"
+#include "store/format/samples_csv.hpp"
+#include "store/runreport/unit_data.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "cmd_validate.hpp"
+#include "tools/gyrocal/cmd_validate.hpp"
 
 #include <cmath>
 #include <iostream>
@@ -6,14 +6,14 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "analyses.hpp"
-#include "analysis/validate.hpp"
-#include "cmd_compensate.hpp"
-#include "command.hpp"
 #include "gyrocal/version.hpp"
-#include "query.hpp"
-#include "run_loader.hpp"
-#include "validations.hpp"
+#include "processors/analysis/validate.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/query.hpp"
+#include "store/db/validations.hpp"
+#include "tools/gyrocal/cmd_compensate.hpp"
+#include "tools/gyrocal/command.hpp"
+#include "tools/gyrocal/run_loader.hpp"
 
 namespace gyrocal::cli {
 

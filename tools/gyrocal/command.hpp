@@ -8,7 +8,7 @@
 #include <ostream>
 #include <string>
 
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
 
 namespace gyrocal::cli {
 

@@ -5,18 +5,18 @@
 #include <iostream>
 #include <sstream>
 
-#include "cmd_analyze.hpp"
-#include "cmd_calibrate.hpp"
-#include "cmd_compensate.hpp"
-#include "cmd_push.hpp"
-#include "cmd_report.hpp"
-#include "cmd_spy.hpp"
-#include "cmd_store.hpp"
-#include "cmd_validate.hpp"
-#include "command.hpp"
 #include "gyrocal/version.hpp"
-#include "query.hpp"
-#include "recovery.hpp"
+#include "store/db/query.hpp"
+#include "store/recorder/recovery.hpp"
+#include "tools/gyrocal/cmd_analyze.hpp"
+#include "tools/gyrocal/cmd_calibrate.hpp"
+#include "tools/gyrocal/cmd_compensate.hpp"
+#include "tools/gyrocal/cmd_push.hpp"
+#include "tools/gyrocal/cmd_report.hpp"
+#include "tools/gyrocal/cmd_spy.hpp"
+#include "tools/gyrocal/cmd_store.hpp"
+#include "tools/gyrocal/cmd_validate.hpp"
+#include "tools/gyrocal/command.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal: temperature calibration of analog MEMS gyros over LCM"};

@@ -1,4 +1,4 @@
-#include "run_loader.hpp"
+#include "tools/gyrocal/run_loader.hpp"
 
 #include <condition_variable>
 #include <deque>
@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <variant>
 
-#include "replay_reader.hpp"
+#include "store/db/replay_reader.hpp"
 
 namespace gyrocal::cli {
 

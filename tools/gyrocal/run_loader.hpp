@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "analysis/bins_incremental.hpp"
-#include "analysis/run_data.hpp"
-#include "query.hpp"
+#include "processors/analysis/bins_incremental.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "store/db/query.hpp"
 
 namespace gyrocal::cli {
 

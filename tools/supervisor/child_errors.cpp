@@ -1,8 +1,8 @@
-#include "child_errors.hpp"
+#include "tools/supervisor/child_errors.hpp"
 
 #include <sstream>
 
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
 
 namespace gyrocal::supervisor {
 

@@ -4,9 +4,9 @@
 // not explain or test.
 #include <nlohmann/json.hpp>
 
-#include "launcher.hpp"
-#include "model/convert.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/convert.hpp"
+#include "tools/supervisor/launcher.hpp"
 
 namespace gyrocal::supervisor {
 

@@ -1,13 +1,13 @@
-#include "coeff_table.hpp"
+#include "tools/supervisor/coeff_table.hpp"
 
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
-#include "model/convert.hpp"
-#include "model/inputs.hpp"
-#include "model/model.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/inputs.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -1,6 +1,6 @@
-#include "final_verdict.hpp"
+#include "tools/supervisor/final_verdict.hpp"
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::supervisor {
 

@@ -1,4 +1,4 @@
-#include "input_check.hpp"
+#include "tools/supervisor/input_check.hpp"
 
 #include <unistd.h>
 
@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <fstream>
 
-#include "child_errors.hpp"
-#include "launch/child_process.hpp"
-#include "paths.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "tools/supervisor/child_errors.hpp"
+#include "tools/supervisor/paths.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -10,7 +10,7 @@
 // own error line printed and stored (child_errors.hpp).
 #include <string>
 
-#include "supervisor.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::supervisor {
 

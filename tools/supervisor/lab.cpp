@@ -1,10 +1,10 @@
-#include "lab.hpp"
+#include "tools/supervisor/lab.hpp"
 
 #include <array>
 #include <stdexcept>
 
-#include "bus/bus.hpp"
-#include "text/names.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/text/names.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -1,4 +1,4 @@
-#include "launcher.hpp"
+#include "tools/supervisor/launcher.hpp"
 
 #include <unistd.h>
 
@@ -16,13 +16,6 @@
 #include <set>
 #include <sstream>
 
-#include "bus/batch.hpp"
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "child_errors.hpp"
-#include "coeff_table.hpp"
-#include "csv/file_digest.hpp"
-#include "final_verdict.hpp"
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
@@ -32,16 +25,23 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/version.hpp"
-#include "input_check.hpp"
-#include "launch/child_process.hpp"
-#include "model/convert.hpp"
-#include "paths.hpp"
-#include "procedure.hpp"
-#include "progress.hpp"
-#include "runtime/process_main.hpp"
-#include "runtime/shutdown.hpp"
-#include "runtime/status.hpp"
-#include "supervisor.hpp"
+#include "lcmtypes/bus/batch.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/sequencer/procedure.hpp"
+#include "producers/csv/file_digest.hpp"
+#include "tools/supervisor/child_errors.hpp"
+#include "tools/supervisor/coeff_table.hpp"
+#include "tools/supervisor/final_verdict.hpp"
+#include "tools/supervisor/input_check.hpp"
+#include "tools/supervisor/paths.hpp"
+#include "tools/supervisor/progress.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::supervisor {
 

@@ -10,17 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "final_verdict.hpp"
-#include "flow/flow_acker.hpp"
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lab.hpp"
-#include "launch/child_process.hpp"
-#include "progress.hpp"
-#include "supervisor.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tools/supervisor/final_verdict.hpp"
+#include "tools/supervisor/lab.hpp"
+#include "tools/supervisor/progress.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::supervisor {
 

@@ -1,4 +1,4 @@
-#include "paths.hpp"
+#include "tools/supervisor/paths.hpp"
 
 #include <cstdlib>
 #include <filesystem>

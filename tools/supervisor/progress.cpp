@@ -1,9 +1,9 @@
-#include "progress.hpp"
+#include "tools/supervisor/progress.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::supervisor {
 

@@ -5,12 +5,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "bus/channels.hpp"
-#include "child_errors.hpp"
 #include "gyrocal/version.hpp"
-#include "launcher.hpp"
-#include "runtime/shutdown.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "tools/supervisor/child_errors.hpp"
+#include "tools/supervisor/launcher.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -26,15 +26,15 @@
 #include <thread>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "analysis/bins.hpp"
-#include "analysis/sensitivity.hpp"
-#include "bench_args.hpp"
-#include "bench_context.hpp"
-#include "fit/fit.hpp"
-#include "fit/levels.hpp"
-#include "model/inputs.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/sensitivity.hpp"
+#include "processors/fit/fit.hpp"
+#include "processors/fit/levels.hpp"
+#include "processors/model/inputs.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 using namespace gyrocal;
 

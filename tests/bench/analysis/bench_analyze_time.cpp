@@ -10,10 +10,10 @@
 #include <ctime>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "sim_run.hpp"
-#include "support/bench_args.hpp"
-#include "support/bench_context.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 using namespace gyrocal;
 

@@ -12,10 +12,10 @@
 #include <map>
 #include <string>
 
-#include "analysis/analyze.hpp"
-#include "bench_args.hpp"
-#include "bench_context.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 using namespace gyrocal;
 

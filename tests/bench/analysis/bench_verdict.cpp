@@ -26,9 +26,9 @@
 #include <thread>
 #include <vector>
 
-#include "bench_args.hpp"
-#include "bench_context.hpp"
-#include "verdict_run.hpp"
+#include "tests/bench/analysis/verdict_run.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 using namespace gyrocal;
 using namespace gyrocal::bench;

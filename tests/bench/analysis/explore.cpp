@@ -3,9 +3,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "analysis/analyze.hpp"
-#include "analysis/report.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/report.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 using namespace gyrocal;
 int main(int argc, char** argv) {
     analysis::testing::SimRunOptions o;

@@ -1,10 +1,10 @@
-#include "verdict_effects.hpp"
+#include "tests/bench/analysis/verdict_effects.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 
-#include "model/terms.hpp"
+#include "processors/model/terms.hpp"
 
 namespace gyrocal::bench {
 

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/run_data.hpp"
+#include "processors/analysis/run_data.hpp"
 
 namespace gyrocal::bench {
 

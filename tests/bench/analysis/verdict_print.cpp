@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "verdict_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "tests/bench/analysis/verdict_run.hpp"
 
 namespace gyrocal::bench {
 

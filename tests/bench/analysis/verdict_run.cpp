@@ -1,4 +1,4 @@
-#include "verdict_run.hpp"
+#include "tests/bench/analysis/verdict_run.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,11 +7,11 @@
 #include <cstdlib>
 #include <map>
 
-#include "analysis/analyze.hpp"
-#include "analysis/bins.hpp"
-#include "numeric/least_squares.hpp"
-#include "othersim_run.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/numeric/least_squares.hpp"
+#include "tests/processors/analysis/othersim_run.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 namespace gyrocal::bench {
 

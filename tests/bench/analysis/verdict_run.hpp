@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "verdict_scenarios.hpp"
+#include "tests/bench/analysis/verdict_scenarios.hpp"
 
 namespace gyrocal::bench {
 

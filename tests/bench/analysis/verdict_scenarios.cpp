@@ -1,4 +1,4 @@
-#include "verdict_scenarios.hpp"
+#include "tests/bench/analysis/verdict_scenarios.hpp"
 
 #include <cmath>
 

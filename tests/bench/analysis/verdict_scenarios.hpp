@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/config.hpp"
-#include "verdict_effects.hpp"
+#include "producers/sim/config.hpp"
+#include "tests/bench/analysis/verdict_effects.hpp"
 
 namespace gyrocal::bench {
 

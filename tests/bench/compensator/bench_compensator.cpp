@@ -11,9 +11,9 @@
 
 #include <string>
 
-#include "bench_context.hpp"
-#include "bench_inputs.hpp"
-#include "compensator/compensate.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "tests/bench/compensator/bench_inputs.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 namespace {
 

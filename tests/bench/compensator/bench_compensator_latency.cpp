@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "bench_context.hpp"
-#include "latency_run.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "tests/bench/compensator/latency_run.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <regex>
 #include <string>
 
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
 
 namespace gyrocal {
 namespace {

@@ -1,9 +1,9 @@
-#include "bench_inputs.hpp"
+#include "tests/bench/compensator/bench_inputs.hpp"
 
 #include <cmath>
 #include <random>
 
-#include "model/inputs.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::bench {
 

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::bench {
 

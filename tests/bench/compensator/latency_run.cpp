@@ -1,4 +1,4 @@
-#include "latency_run.hpp"
+#include "tests/bench/compensator/latency_run.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -10,15 +10,15 @@
 #include <stdexcept>
 #include <thread>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "compensator/compensate.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "machine.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "tests/bench/support/machine.hpp"
 
 namespace gyrocal::bench {
 namespace {

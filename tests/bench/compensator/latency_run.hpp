@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "bench_inputs.hpp"
-#include "latency_stats.hpp"
+#include "tests/bench/compensator/bench_inputs.hpp"
+#include "tests/bench/compensator/latency_stats.hpp"
 
 namespace gyrocal::bench {
 

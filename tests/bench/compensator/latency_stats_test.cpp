@@ -1,5 +1,5 @@
 // Nearest-rank percentiles of the latency benchmark against values worked out by hand.
-#include "latency_stats.hpp"
+#include "tests/bench/compensator/latency_stats.hpp"
 
 #include <gtest/gtest.h>
 

@@ -27,16 +27,16 @@
 #include <thread>
 #include <vector>
 
-#include "bench_args.hpp"
-#include "bench_context.hpp"
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "fitter/fitter_node.hpp"
-#include "fitter/ramp_fitter.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/runtime/status.hpp"
+#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 namespace gyrocal {
 namespace {

@@ -20,10 +20,10 @@
 #include <thread>
 #include <vector>
 
-#include "bench_context.hpp"
-#include "launch/child_process.hpp"
-#include "machine.hpp"
-#include "proc_sampler.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/bench/graph/proc_sampler.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/bench/support/machine.hpp"
 
 namespace {
 

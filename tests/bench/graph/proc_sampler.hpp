@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "machine.hpp"
+#include "tests/bench/support/machine.hpp"
 
 namespace gyrocal::bench {
 

@@ -27,11 +27,11 @@
 #include <string>
 #include <vector>
 
-#include "bench_context.hpp"
-#include "closed_loop_common.hpp"
-#include "held_out.hpp"
-#include "text/number.hpp"
-#include "virtual_lab.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "tests/bench/procedure/closed_loop_common.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/support/virtual_lab/held_out.hpp"
+#include "tests/support/virtual_lab/virtual_lab.hpp"
 
 namespace {
 

@@ -28,18 +28,18 @@
 #include <string>
 #include <vector>
 
-#include "analysis/bins.hpp"
-#include "bench_args.hpp"
-#include "bench_context.hpp"
-#include "closed_loop_common.hpp"
-#include "compensator/compensate.hpp"
-#include "csv/csv_file.hpp"
-#include "generator.hpp"
-#include "launch/child_process.hpp"
-#include "model_rows.hpp"
-#include "physics.hpp"
-#include "query.hpp"
-#include "run_loader.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "tests/bench/procedure/closed_loop_common.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/support/othersim/generator.hpp"
+#include "tests/support/othersim/physics.hpp"
+#include "tools/gyrocal/run_loader.hpp"
 
 namespace gyrocal {
 namespace {

@@ -27,10 +27,10 @@
 #include <thread>
 #include <vector>
 
-#include "bench_context.hpp"
-#include "held_out.hpp"
-#include "text/number.hpp"
-#include "virtual_lab.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/support/virtual_lab/held_out.hpp"
+#include "tests/support/virtual_lab/virtual_lab.hpp"
 
 namespace {
 

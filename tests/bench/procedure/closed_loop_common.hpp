@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "analysis/bins.hpp"
-#include "held_out_row.hpp"
-#include "model/model.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/model/model.hpp"
+#include "tests/bench/procedure/held_out_row.hpp"
 
 namespace gyrocal::bench {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <thread>
 
-#include "bench_context.hpp"
-#include "sim/rig.hpp"
+#include "producers/sim/rig.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 namespace {
 

@@ -10,12 +10,12 @@
 #include <thread>
 #include <vector>
 
-#include "bench_context.hpp"
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "launch/child_process.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 namespace {}  // namespace
 

@@ -19,17 +19,17 @@
 #include <iostream>
 #include <vector>
 
-#include "bench_args.hpp"
-#include "bench_context.hpp"
-#include "central_db.hpp"
-#include "format.hpp"
-#include "machine.hpp"
-#include "pg_server.hpp"
-#include "push.hpp"
-#include "push_tables.hpp"
-#include "query.hpp"
-#include "scratch_db.hpp"
-#include "station_fixture.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/push.hpp"
+#include "store/db/push_tables.hpp"
+#include "store/db/query.hpp"
+#include "store/format/format.hpp"
+#include "tests/bench/support/bench_args.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/bench/support/machine.hpp"
+#include "tests/store/pg_server.hpp"
+#include "tests/store/scratch_db.hpp"
+#include "tests/store/station_fixture.hpp"
 
 namespace {
 

@@ -26,18 +26,18 @@
 #include <thread>
 #include <vector>
 
-#include "async_writer.hpp"
-#include "bench_context.hpp"
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "machine.hpp"
-#include "row_builders.hpp"
-#include "sqlite_db.hpp"
-#include "wait_until.hpp"
-#include "writer.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "store/db/async_writer.hpp"
+#include "store/db/sqlite_db.hpp"
+#include "store/db/writer.hpp"
+#include "tests/bench/support/bench_context.hpp"
+#include "tests/bench/support/machine.hpp"
+#include "tests/store/row_builders.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "bench_context.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 #include <sys/utsname.h>
 #include <sys/wait.h>
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "machine.hpp"
+#include "tests/bench/support/machine.hpp"
 
 namespace gyrocal::bench {
 namespace {

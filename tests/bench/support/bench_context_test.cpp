@@ -1,7 +1,7 @@
 // The benchmarks' header block (bench_context.hpp): every field there and well formed, the commit
 // the one git itself names for the tree (with "+dirty" exactly when a tracked file changed), and
 // "unknown" said outright where there is no checkout. Git is the truth here, run by the test.
-#include "bench_context.hpp"
+#include "tests/bench/support/bench_context.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,7 +15,7 @@
 #include <regex>
 #include <string>
 
-#include "machine.hpp"
+#include "tests/bench/support/machine.hpp"
 
 namespace fs = std::filesystem;
 using gyrocal::bench::ContextField;

@@ -8,10 +8,10 @@
 #include <chrono>
 #include <iostream>
 
-#include "bus/bus.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "runtime/shutdown.hpp"
-#include "runtime/status.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/runtime/status.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal-bus-probe: listen on a channel and report bus counters in STATUS"};

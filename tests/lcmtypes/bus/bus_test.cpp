@@ -1,14 +1,14 @@
 // The bus layer in one process over memq:// (LCM's in-process provider): typed delivery,
 // decode failures counted instead of lost on stderr, sequence gaps counted, and a handler's
 // exception surfaced from Handle() rather than thrown through LCM's C code.
-#include "bus/bus.hpp"
+#include "lcmtypes/bus/bus.hpp"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-#include "bus/channels.hpp"
-#include "message_builders.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
+#include "lcmtypes/bus/bus.hpp"
 
 namespace gyrocal::testing {
 

@@ -1,5 +1,5 @@
 // DecodeMessage: hostile payloads are refused before they size anything.
-#include "bus/decode.hpp"
+#include "lcmtypes/bus/decode.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "gyrocal/coeff_set_t.hpp"
-#include "message_builders.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {
 namespace {

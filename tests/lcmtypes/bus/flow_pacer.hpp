@@ -9,12 +9,12 @@
 #include <chrono>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "flow/flow_acker.hpp"
 #include "gyrocal/flow_ack_t.hpp"
 #include "gyrocal/flow_mark_t.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::testing {
 

@@ -8,13 +8,13 @@
 #include <cmath>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "message_builders.hpp"
-#include "status_watch.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::testing {
 

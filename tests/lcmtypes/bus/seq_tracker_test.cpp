@@ -1,5 +1,5 @@
 // SeqTracker: per-channel sequence gaps, producer restarts, and extreme seq values.
-#include "bus/seq_tracker.hpp"
+#include "lcmtypes/bus/seq_tracker.hpp"
 
 #include <gtest/gtest.h>
 

@@ -13,9 +13,9 @@
 #include <memory>
 #include <string>
 
-#include "bus/bus.hpp"
-#include "bus_wait.hpp"
-#include "flow_pacer.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/lcmtypes/bus/flow_pacer.hpp"
 
 namespace gyrocal::testing {
 

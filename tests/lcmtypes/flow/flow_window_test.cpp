@@ -1,7 +1,7 @@
 // FlowWindow (lcmtypes/flow/flow_window.hpp): the credit a source gets from its consumers'
 // answers, exactly, on a clock the test drives. Byte counts are chosen so that every expected
 // credit is a sum the test states: each datagram costs its payload plus kDatagramOverheadBytes.
-#include "flow/flow_window.hpp"
+#include "lcmtypes/flow/flow_window.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Child processes as the launcher and the end-to-end tests use them.
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "wait_until.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal {
 namespace {

@@ -1,6 +1,6 @@
 // The frame of every process's main(): the exit code and the message of each way a command line
 // can end, and of a node that returns or throws.
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The STATUS heartbeat over memq:// (LCM's in-process provider): what it carries, when Tick
 // publishes, the node loop's first and last heartbeat; and the rate-limited warnings.
-#include "runtime/status.hpp"
+#include "lcmtypes/runtime/status.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,8 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include "bus/channels.hpp"
 #include "gyrocal/status_t.hpp"
+#include "lcmtypes/bus/channels.hpp"
 
 namespace gyrocal {
 namespace {

@@ -1,4 +1,4 @@
-#include "text/names.hpp"
+#include "lcmtypes/text/names.hpp"
 
 #include <gtest/gtest.h>
 

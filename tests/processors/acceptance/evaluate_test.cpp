@@ -1,6 +1,6 @@
 // Each limit measured on models and points whose answer is known in closed form, and the
 // outcome rules: fail, pass, not evaluated (never a silent pass).
-#include "acceptance/evaluate.hpp"
+#include "processors/acceptance/evaluate.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The limits file: a valid file round-trips; every bad input is an error naming the key (or the
 // line and column) and what would be valid.
-#include "acceptance/limits.hpp"
+#include "processors/acceptance/limits.hpp"
 
 #include <gtest/gtest.h>
 

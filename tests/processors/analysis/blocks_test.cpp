@@ -4,12 +4,12 @@
 #include <cmath>
 #include <random>
 
-#include "analysis/analyze.hpp"
-#include "analysis/bins.hpp"
-#include "analysis/null.hpp"
-#include "analysis/regress.hpp"
-#include "analysis/run_data.hpp"
-#include "model/inputs.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/null.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::analysis {
 namespace {

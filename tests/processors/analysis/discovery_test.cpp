@@ -40,10 +40,10 @@
 #include <string>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "analysis/report.hpp"
-#include "sim/noise.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/report.hpp"
+#include "producers/sim/noise.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 namespace gyrocal::analysis {
 namespace {

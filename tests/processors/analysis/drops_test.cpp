@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "analysis/bins.hpp"
-#include "analysis/bins_incremental.hpp"
-#include "analysis/run_data.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/bins.hpp"
+#include "processors/analysis/bins_incremental.hpp"
+#include "processors/analysis/run_data.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -2,7 +2,7 @@
 // Reading an analysis result as the analysis tests ask about it.
 #include <string>
 
-#include "analysis/analyze.hpp"
+#include "processors/analysis/analyze.hpp"
 
 namespace gyrocal::analysis::testing {
 

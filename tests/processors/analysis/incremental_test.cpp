@@ -19,11 +19,11 @@
 #include <cstdio>
 #include <sstream>
 
-#include "analysis/bins_incremental.hpp"
-#include "csv/csv_file.hpp"
-#include "csv/row_messages.hpp"
-#include "generator.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/bins_incremental.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -1,11 +1,11 @@
-#include "othersim_run.hpp"
+#include "tests/processors/analysis/othersim_run.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "csv/csv_file.hpp"
-#include "csv/row_messages.hpp"
-#include "generator.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 namespace gyrocal::analysis::testing {
 

@@ -9,8 +9,8 @@
 // never sees it.
 #include <vector>
 
-#include "analysis/run_data.hpp"
-#include "options.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "tests/support/othersim/options.hpp"
 
 namespace gyrocal::analysis::testing {
 

@@ -1,12 +1,12 @@
-#include "run_db.hpp"
+#include "tests/processors/analysis/run_db.hpp"
 
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "sim_run.hpp"
-#include "writer.hpp"
+#include "store/db/writer.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 namespace gyrocal::analysis::testing {
 

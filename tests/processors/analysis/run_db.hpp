@@ -4,7 +4,7 @@
 // `gyrocal analyze` tests work on.
 #include <string>
 
-#include "sim_run.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 namespace gyrocal::analysis::testing {
 

@@ -1,4 +1,4 @@
-#include "sim_run.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 #include <cmath>
 

@@ -10,9 +10,9 @@
 #include <functional>
 #include <vector>
 
-#include "analysis/run_data.hpp"
-#include "sim/builtin_profile.hpp"
-#include "sim/rig.hpp"
+#include "processors/analysis/run_data.hpp"
+#include "producers/sim/builtin_profile.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::analysis::testing {
 

@@ -23,11 +23,11 @@
 #include <sstream>
 #include <string>
 
-#include "analysis/analyze.hpp"
-#include "analysis/report.hpp"
-#include "feature_lookup.hpp"
-#include "othersim_run.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/report.hpp"
+#include "tests/processors/analysis/feature_lookup.hpp"
+#include "tests/processors/analysis/othersim_run.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
 
 namespace gyrocal::testing {
 

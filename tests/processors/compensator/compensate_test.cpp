@@ -1,13 +1,13 @@
 // The live compensator's library: rate and angle against known truth, range policy, atomic swaps
 // and refusals of bad sets.
-#include "compensator/compensate.hpp"
+#include "processors/compensator/compensate.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "coeff_set_fixture.hpp"
+#include "tests/processors/compensator/coeff_set_fixture.hpp"
 
 namespace gyrocal::compensate {
 namespace {

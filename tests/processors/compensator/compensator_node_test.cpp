@@ -3,7 +3,7 @@
 // with an unknown term is refused and the old set stays in force; NaN, backwards and
 // mislabelled samples are refused and counted. The real process over UDP multicast is
 // compensator_process_test.cpp.
-#include "compensator/compensator_node.hpp"
+#include "processors/compensator/compensator_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "coeff_set_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
-#include "model/convert.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/processors/compensator/coeff_set_fixture.hpp"
 
 namespace gyrocal {
 namespace {

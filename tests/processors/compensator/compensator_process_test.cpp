@@ -11,16 +11,16 @@
 #include <fstream>
 #include <iterator>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "coeff_set_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "model/convert.hpp"
-#include "status_watch.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/processors/compensator/coeff_set_fixture.hpp"
 
 namespace gyrocal {
 namespace {

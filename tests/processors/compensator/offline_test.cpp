@@ -1,7 +1,7 @@
 // Offline compensation of CSV rows (compensator/offline.hpp): the rates are the live library's on
 // the same samples, the truth the rows were made from comes back, and bad input is refused naming
 // the line, sensor or JSON field.
-#include "compensator/offline.hpp"
+#include "processors/compensator/offline.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "coeff_set_fixture.hpp"
-#include "model/json.hpp"
+#include "processors/model/json.hpp"
+#include "tests/processors/compensator/coeff_set_fixture.hpp"
 
 namespace gyrocal::compensate {
 namespace {

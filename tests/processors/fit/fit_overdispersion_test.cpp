@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "fit/fit_util.hpp"
-#include "synth.hpp"
+#include "processors/fit/fit_util.hpp"
+#include "tests/processors/fit/synth.hpp"
 
 namespace gyrocal::fit {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "fit/pooling.hpp"
-#include "fit/repeatability.hpp"
+#include "processors/fit/pooling.hpp"
+#include "processors/fit/repeatability.hpp"
 
 namespace gyrocal::fit {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "fit/calibration_fit.hpp"
-#include "synth.hpp"
+#include "processors/fit/calibration_fit.hpp"
+#include "tests/processors/fit/synth.hpp"
 
 namespace gyrocal::fit {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "synth.hpp"
+#include "tests/processors/fit/synth.hpp"
 
 namespace gyrocal::fit {
 namespace {

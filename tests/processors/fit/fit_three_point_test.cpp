@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "fit/fit.hpp"
+#include "processors/fit/fit.hpp"
 
 namespace gyrocal::fit {
 namespace {

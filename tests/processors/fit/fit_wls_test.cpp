@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "model/terms.hpp"
-#include "synth.hpp"
+#include "processors/model/terms.hpp"
+#include "tests/processors/fit/synth.hpp"
 
 namespace gyrocal::fit {
 namespace {

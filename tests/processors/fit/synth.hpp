@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "fit/fit.hpp"
+#include "processors/fit/fit.hpp"
 
 namespace gyrocal::fit::testing {
 

@@ -14,10 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "fitter/fit_worker.hpp"
-#include "fitter/fitter_node.hpp"
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/coeff_set_t.hpp"
@@ -28,8 +24,12 @@
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "model/convert.hpp"
-#include "sim_run.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/fitter/fit_worker.hpp"
+#include "processors/fitter/fitter_node.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
 
 namespace gyrocal {
 namespace {

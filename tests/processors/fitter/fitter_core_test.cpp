@@ -1,6 +1,6 @@
 // The fitter's state machine without the bus: run scoping, when a set is emitted, what it holds,
 // and which inputs are refused with which reason.
-#include "fitter/fitter_core.hpp"
+#include "processors/fitter/fitter_core.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <random>
 #include <utility>
 
-#include "fitter_fixture.hpp"
-#include "model/convert.hpp"
-#include "noise/allan.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/noise/allan.hpp"
+#include "tests/processors/fitter/fitter_fixture.hpp"
 
 namespace gyrocal::fitter {
 namespace {

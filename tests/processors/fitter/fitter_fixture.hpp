@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "message_builders.hpp"
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::testing {
 

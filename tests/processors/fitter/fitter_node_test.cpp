@@ -2,7 +2,7 @@
 // plateaus, rotations and RUN_EVENT published into the node's own bus give COEFFS_<id> with
 // exactly the ids used and the truth's curves, and a FIT_<id> report; bad input is refused and
 // counted. The real process over UDP multicast is fitter_process_test.cpp.
-#include "fitter/fitter_node.hpp"
+#include "processors/fitter/fitter_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,16 +11,16 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "fitter_fixture.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "model/convert.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/processors/fitter/fitter_fixture.hpp"
 
 namespace gyrocal {
 namespace {

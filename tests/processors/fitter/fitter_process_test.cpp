@@ -9,11 +9,6 @@
 #include <optional>
 #include <random>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "fitter_fixture.hpp"
-#include "flow_pacer.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
@@ -21,9 +16,14 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "model/convert.hpp"
-#include "status_watch.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/lcmtypes/bus/flow_pacer.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/processors/fitter/fitter_fixture.hpp"
 
 namespace gyrocal {
 namespace {

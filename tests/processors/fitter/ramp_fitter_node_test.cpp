@@ -13,15 +13,15 @@
 #include <random>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "fitter/fitter_node.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "message_builders.hpp"
-#include "model/convert.hpp"
-#include "model/inputs.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "processors/fitter/fitter_node.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/inputs.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {
 namespace {

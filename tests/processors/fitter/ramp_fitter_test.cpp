@@ -1,14 +1,14 @@
 // The ramp fitter: a unit ramped through its range with known offset and sensitivity curves and
 // white noise; the fits it publishes during the run and at the stop, against that truth.
-#include "fitter/ramp_fitter.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "model/convert.hpp"
-#include "model/inputs.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/inputs.hpp"
 
 namespace gyrocal::fitter {
 namespace {

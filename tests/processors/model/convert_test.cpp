@@ -1,10 +1,10 @@
-#include "model/convert.hpp"
+#include "processors/model/convert.hpp"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "test_models.hpp"
+#include "tests/processors/model/test_models.hpp"
 
 namespace gyrocal::model {
 namespace {

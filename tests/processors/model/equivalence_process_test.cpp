@@ -24,14 +24,14 @@
 #include <thread>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "model/convert.hpp"
-#include "scratch_db.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/model/convert.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal {
 namespace {

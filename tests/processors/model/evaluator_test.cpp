@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "test_models.hpp"
+#include "tests/processors/model/test_models.hpp"
 
 namespace gyrocal::model {
 namespace {

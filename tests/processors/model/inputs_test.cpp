@@ -1,6 +1,6 @@
 // The model inputs with their state (model/inputs.hpp, gyrocal_model.h): dT/dt, branch, time
 // since power-on, against what they must be on inputs whose truth is known exactly.
-#include "model/inputs.hpp"
+#include "processors/model/inputs.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-#include "model/json.hpp"
+#include "processors/model/json.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "test_models.hpp"
+#include "tests/processors/model/test_models.hpp"
 
 namespace gyrocal::model {
 namespace {

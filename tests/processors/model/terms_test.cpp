@@ -1,10 +1,10 @@
-#include "model/terms.hpp"
+#include "processors/model/terms.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "model/model.hpp"
+#include "processors/model/model.hpp"
 
 namespace gyrocal::model {
 namespace {

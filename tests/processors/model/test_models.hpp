@@ -7,9 +7,9 @@
 #include <string>
 #include <tuple>
 
-#include "model/convert.hpp"
-#include "model/model.hpp"
-#include "test_model.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/model.hpp"
+#include "tests/lcmtypes/test_model.hpp"
 
 namespace gyrocal::model::testing {
 

@@ -1,5 +1,5 @@
 // Turntable move detection and sample classification from encoder readings.
-#include "motion/table_motion.hpp"
+#include "processors/motion/table_motion.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // gnuplot). The curve is built from known N, B, K, so every tabulated value has an exact truth
 // (tolerances are rounding only: the data file keeps 9 significant digits, checked at 1e-12
 // relative on the in-memory table).
-#include "noise/allan_plot.hpp"
+#include "processors/noise/allan_plot.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <regex>
 #include <set>
 
-#include "plot/gnuplot.hpp"
+#include "processors/plot/gnuplot.hpp"
 
 namespace gyrocal::noise {
 namespace {

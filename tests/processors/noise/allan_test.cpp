@@ -1,16 +1,16 @@
 // The Allan deviation library and the per-unit tracker (processors/noise) against series of
 // known noise: white (closed form), and othersim's OU-bank flicker (its own theory), plus the
 // tracker's stretch and quiet-segment rules.
-#include "noise/allan.hpp"
+#include "processors/noise/allan.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "noise/noise_tracker.hpp"
-#include "physics.hpp"
-#include "synthetic_noise.hpp"
+#include "processors/noise/noise_tracker.hpp"
+#include "tests/processors/numeric/synthetic_noise.hpp"
+#include "tests/support/othersim/physics.hpp"
 
 namespace gyrocal::noise {
 namespace {

@@ -1,6 +1,6 @@
 // The distribution functions behind the significance tests (numeric/distributions.hpp) against
 // tabulated values.
-#include "numeric/distributions.hpp"
+#include "processors/numeric/distributions.hpp"
 
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
 //     (condition ~10) differs between two orders of the same operations by a few ulp per
 //     element, far below it, while any change of method (another weighting, a missing scale, a
 //     different covariance) changes the figures at 1e-3 or more.
-#include "numeric/least_squares.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,9 +19,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "analysis/regress.hpp"
-#include "fit/fit.hpp"
-#include "synthetic_noise.hpp"
+#include "processors/analysis/regress.hpp"
+#include "processors/fit/fit.hpp"
+#include "tests/processors/numeric/synthetic_noise.hpp"
 
 namespace gyrocal {
 namespace {

@@ -1,6 +1,6 @@
 // Straight-line fits: the sliding line and the prefix sums against the closed-form fit of the same
 // points, and the closed form against a line known exactly.
-#include "numeric/line_fit.hpp"
+#include "processors/numeric/line_fit.hpp"
 
 #include <gtest/gtest.h>
 

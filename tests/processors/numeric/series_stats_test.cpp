@@ -1,6 +1,6 @@
 // Statistics of correlated series: the batch-means SEM and the pooled noise level against the
 // truth of correlated noise over many seeds.
-#include "numeric/series_stats.hpp"
+#include "processors/numeric/series_stats.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "synthetic_noise.hpp"
+#include "tests/processors/numeric/synthetic_noise.hpp"
 
 namespace gyrocal::numeric {
 namespace {

@@ -1,6 +1,6 @@
 // PlateauDetector on synthetic temperature traces with known truth. Noise: temperature white
 // sigma_T = 0.05 degC, gyro 2 mV rms, 100 Hz. Every tolerance below is derived from these.
-#include "plateau_detector.hpp"
+#include "processors/plateau/plateau_detector.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "synthetic_temperature.hpp"
+#include "tests/processors/plateau/synthetic_temperature.hpp"
 
 namespace gyrocal::plateau {
 namespace {

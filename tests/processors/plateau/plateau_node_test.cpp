@@ -2,7 +2,7 @@
 // of plateau_scenario.hpp (plateaus with motion excluded, states, bad input counted), driven with
 // bounded waits on conditions and no sleep; and no plateau while the temperature ramps. The real
 // process over UDP: plateau_process_test.cpp.
-#include "plateau_node.hpp"
+#include "processors/plateau/plateau_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,16 +11,16 @@
 #include <set>
 #include <string>
 
-#include "bus/channels.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "message_builders.hpp"
-#include "plateau_scenario.hpp"
-#include "status_watch.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/processors/plateau/plateau_scenario.hpp"
 
 namespace gyrocal {
 namespace {

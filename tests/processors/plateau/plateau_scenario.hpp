@@ -11,17 +11,17 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "message_builders.hpp"
-#include "sample_guards.hpp"
-#include "status_watch.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/sample_guards.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::testing {
 

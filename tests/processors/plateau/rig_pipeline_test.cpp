@@ -19,14 +19,14 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "sim/noise.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "producers/sim/noise.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal {
 namespace {

@@ -6,8 +6,8 @@
 #include <functional>
 #include <random>
 
-#include "plateau_detector.hpp"
-#include "synthetic_noise.hpp"
+#include "processors/plateau/plateau_detector.hpp"
+#include "tests/processors/numeric/synthetic_noise.hpp"
 
 namespace gyrocal::plateau::testing {
 

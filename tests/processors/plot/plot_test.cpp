@@ -9,9 +9,9 @@
 #include <regex>
 #include <set>
 
-#include "plot/figure.hpp"
-#include "plot/gnuplot.hpp"
-#include "plot/svg.hpp"
+#include "processors/plot/figure.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/svg.hpp"
 
 namespace gyrocal::plot {
 namespace {

@@ -1,13 +1,13 @@
 // RotationEstimator with the shared MoveDetector on synthetic moves with known sensitivity.
-#include "rotation_estimator.hpp"
+#include "processors/rotation/rotation_estimator.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "motion/table_motion.hpp"
-#include "synthetic_rotation.hpp"
+#include "processors/motion/table_motion.hpp"
+#include "tests/processors/rotation/synthetic_rotation.hpp"
 
 namespace gyrocal::rotation {
 namespace {

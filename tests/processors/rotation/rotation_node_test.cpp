@@ -2,13 +2,13 @@
 // of rotation_scenario.hpp (a point per move within the noise of the truth, bad input counted),
 // driven with bounded waits on conditions and no sleep. The real process over UDP:
 // rotation_process_test.cpp.
-#include "rotation_node.hpp"
+#include "processors/rotation/rotation_node.hpp"
 
 #include <gtest/gtest.h>
 
-#include "rotation_scenario.hpp"
-#include "status_watch.hpp"
-#include "wire.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/processors/rotation/rotation_scenario.hpp"
 
 namespace gyrocal {
 namespace {

@@ -8,11 +8,11 @@
 #include <chrono>
 #include <filesystem>
 
-#include "bus/bus.hpp"
-#include "launch/child_process.hpp"
-#include "rotation_scenario.hpp"
-#include "status_watch.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/processors/rotation/rotation_scenario.hpp"
 
 namespace gyrocal {
 namespace {

@@ -8,17 +8,17 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "message_builders.hpp"
-#include "sample_guards.hpp"
-#include "status_watch.hpp"
-#include "synthetic_rotation.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/lcmtypes/bus/sample_guards.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/processors/rotation/synthetic_rotation.hpp"
 
 namespace gyrocal::testing {
 

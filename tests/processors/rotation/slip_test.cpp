@@ -6,11 +6,11 @@
 #include <cmath>
 #include <sstream>
 
-#include "csv/csv_file.hpp"
-#include "generator.hpp"
-#include "motion/table_motion.hpp"
-#include "rotation_estimator.hpp"
-#include "slip_check.hpp"
+#include "processors/motion/table_motion.hpp"
+#include "processors/rotation/rotation_estimator.hpp"
+#include "processors/rotation/slip_check.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 namespace gyrocal::rotation {
 namespace {

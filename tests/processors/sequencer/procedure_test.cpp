@@ -1,5 +1,5 @@
 // The procedure state machine: order of commands, waiting on every sensor, data-time timeouts.
-#include "procedure.hpp"
+#include "processors/sequencer/procedure.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,13 +1,13 @@
 // The ramp procedure: legs through the waypoints without waiting for stability, turn pairs on a
 // data-time schedule, the dwell, timeouts, the early stop on coefficient uncertainty, and the
 // uncertainty figure itself.
-#include "ramp_procedure.hpp"
+#include "processors/sequencer/ramp_procedure.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "coeff_uncertainty.hpp"
+#include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
 
 namespace gyrocal {
 namespace {

@@ -4,25 +4,25 @@
 // point, then stops "completed"; messages it must not act on (a unit it does not await, a plateau
 // of another setpoint, a chamber fault) change nothing but what they should. Data time only: the
 // test moves it with gyro samples, no sleep and no wall clock.
-#include "sequencer_node.hpp"
+#include "processors/sequencer/sequencer_node.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "message_builders.hpp"
-#include "status_watch.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

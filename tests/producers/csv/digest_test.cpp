@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "csv/file_digest.hpp"
+#include "producers/csv/file_digest.hpp"
 
 namespace gyrocal::csv {
 namespace {

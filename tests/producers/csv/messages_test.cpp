@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "csv/row_messages.hpp"
+#include "producers/csv/row_messages.hpp"
 
 namespace gyrocal::csv {
 namespace {

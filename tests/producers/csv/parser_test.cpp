@@ -8,9 +8,9 @@
 #include <sstream>
 #include <string>
 
-#include "csv/conversion_options.hpp"
-#include "csv/csv_file.hpp"
-#include "csv/fields.hpp"
+#include "producers/csv/conversion_options.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "producers/csv/fields.hpp"
 
 namespace gyrocal::csv {
 namespace {

@@ -8,9 +8,9 @@
 #include <random>
 #include <sstream>
 
-#include "csv/csv_file.hpp"
-#include "csv/csv_writer.hpp"
-#include "csv/fields.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "producers/csv/csv_writer.hpp"
+#include "producers/csv/fields.hpp"
 
 namespace gyrocal::csv {
 namespace {

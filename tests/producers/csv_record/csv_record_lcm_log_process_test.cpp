@@ -11,10 +11,10 @@
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "producer_process_support.hpp"
-#include "wait_until.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/producers/producer_process_support.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::test {
 namespace {

@@ -4,7 +4,7 @@
 // encoder and chamber values are those in force at each sample's time, and the samples that
 // would not read back are refused and counted. Bounded waits on conditions, no sleep. The real
 // process over UDP: csv_record_process_test.cpp.
-#include "csv_record_node.hpp"
+#include "producers/csv_record/csv_record_node.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,13 +13,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bus/channels.hpp"
-#include "csv/csv_file.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "wire.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "tests/lcmtypes/bus/wire.hpp"
 
 namespace gyrocal {
 namespace {

@@ -6,11 +6,11 @@
 
 #include <cmath>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "csv/row_messages.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "producer_process_support.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "tests/producers/producer_process_support.hpp"
 
 namespace gyrocal::test {
 namespace {

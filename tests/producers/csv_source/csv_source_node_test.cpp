@@ -4,7 +4,7 @@
 // sensor; the encoder once per time step; POWER_<id> from time_since_power_s. No sleep: Run()
 // returns after the last row (--drain-s 0) and what it published last is handled after. The real
 // process (round trips, --max, bad rows, exit codes): csv_source_process_test.cpp.
-#include "csv_source_node.hpp"
+#include "producers/csv_source/csv_source_node.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,13 +16,13 @@
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "csv/csv_file.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal {
 namespace {

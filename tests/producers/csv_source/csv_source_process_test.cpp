@@ -5,7 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "producer_process_support.hpp"
+#include "tests/producers/producer_process_support.hpp"
 
 namespace gyrocal::test {
 namespace {

@@ -4,7 +4,7 @@
 // written in the lines. No sleep: Run() returns at the end of the input (--drain-s 0), and what
 // it published last is handled after. The real process (stdin, a FIFO with wall time, exit
 // codes): line_source_process_test.cpp.
-#include "line_source_node.hpp"
+#include "producers/line_source/line_source_node.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,13 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "csv/row_messages.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "text/number.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "producers/csv/row_messages.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal {
 namespace {

@@ -10,8 +10,8 @@
 
 #include <thread>
 
-#include "csv/csv_writer.hpp"
-#include "producer_process_support.hpp"
+#include "producers/csv/csv_writer.hpp"
+#include "tests/producers/producer_process_support.hpp"
 
 namespace gyrocal::test {
 namespace {

@@ -1,13 +1,13 @@
 // The LCM log reader (producers/log_source/lcm_log.hpp) on files written here byte by byte in the
 // format lcm-logger writes: events come back whole and in order; damage is an error that names
 // the file and the byte, never a huge allocation or a silent stop.
-#include "lcm_log.hpp"
+#include "producers/log_source/lcm_log.hpp"
 
 #include <gtest/gtest.h>
 
 #include <sstream>
 
-#include "log_writer.hpp"
+#include "tests/producers/log_source/log_writer.hpp"
 
 namespace gyrocal::lcmlog {
 namespace {

@@ -5,7 +5,7 @@
 // sleep: Run() returns after the last event (--drain-s 0) and what it published last is handled
 // after. The real process (flow control with gyrocal-csv-record, a damaged log):
 // log_source_process_test.cpp.
-#include "log_source_node.hpp"
+#include "producers/log_source/log_source_node.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "log_writer.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/producers/log_source/log_writer.hpp"
 
 namespace gyrocal {
 namespace {

@@ -7,9 +7,9 @@
 
 #include <fstream>
 
-#include "log_writer.hpp"
-#include "message_builders.hpp"
-#include "producer_process_support.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/producers/log_source/log_writer.hpp"
+#include "tests/producers/producer_process_support.hpp"
 
 namespace gyrocal::test {
 namespace {

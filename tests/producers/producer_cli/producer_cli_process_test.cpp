@@ -12,8 +12,8 @@
 #include <fstream>
 #include <string>
 
-#include "producer_process_support.hpp"
-#include "wait_until.hpp"
+#include "tests/producers/producer_process_support.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::test {
 namespace {

@@ -1,6 +1,6 @@
 // The temperature transfer: the datasheet's line, volts and degC inverse of each other, the presets
 // and the refusals that name the option.
-#include "sensor/temp_transfer.hpp"
+#include "producers/sensor/temp_transfer.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The built-in profile: setpoints in order, a dwell at each, +move and -move, then done.
-#include "sim/builtin_profile.hpp"
+#include "producers/sim/builtin_profile.hpp"
 
 #include <gtest/gtest.h>
 
-#include "sim/rig.hpp"
-#include "sim_test_support.hpp"
+#include "producers/sim/rig.hpp"
+#include "tests/producers/sim/sim_test_support.hpp"
 
 namespace gyrocal::sim {
 namespace {

@@ -1,12 +1,12 @@
 // Bad configuration is refused with a message naming the option and the valid range.
-#include "sim/config.hpp"
+#include "producers/sim/config.hpp"
 
 #include <gtest/gtest.h>
 
 #include <functional>
 
-#include "sim/builtin_profile.hpp"
-#include "sim/rig.hpp"
+#include "producers/sim/builtin_profile.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::sim {
 namespace {

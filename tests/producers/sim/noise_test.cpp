@@ -2,15 +2,15 @@
 // Tolerances: the overlapping Allan deviation at cluster size m from N samples has a relative
 // standard deviation below that of the non-overlapping estimator, 1/sqrt(2 (N/m - 1)); tests
 // allow 4 of those (false-failure chance ~1e-4 per check), plus any stated model bias.
-#include "sim/noise.hpp"
+#include "producers/sim/noise.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
-#include "sim/rig.hpp"
-#include "sim_test_support.hpp"
+#include "producers/sim/rig.hpp"
+#include "tests/producers/sim/sim_test_support.hpp"
 
 namespace gyrocal::sim {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "sim/rig.hpp"
-#include "sim_test_support.hpp"
+#include "producers/sim/rig.hpp"
+#include "tests/producers/sim/sim_test_support.hpp"
 
 namespace gyrocal::sim {
 namespace {

@@ -13,9 +13,9 @@
 #include <cstring>
 #include <functional>
 
-#include "sim/rig.hpp"
-#include "sim/truth.hpp"
-#include "sim_test_support.hpp"
+#include "producers/sim/rig.hpp"
+#include "producers/sim/truth.hpp"
+#include "tests/producers/sim/sim_test_support.hpp"
 
 namespace gyrocal::sim {
 namespace {

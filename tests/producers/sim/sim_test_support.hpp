@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/rig.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::sim::testing {
 

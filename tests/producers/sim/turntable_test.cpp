@@ -1,14 +1,14 @@
 // Turntable profile, encoder quantization, the gyro's view of a move, saturation and refusals.
 // The table and encoder are exact functions of time and noise-free; tolerances are one encoder
 // count or floating-point rounding unless stated.
-#include "sim/turntable.hpp"
+#include "producers/sim/turntable.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/rig.hpp"
-#include "sim_test_support.hpp"
+#include "producers/sim/rig.hpp"
+#include "tests/producers/sim/sim_test_support.hpp"
 
 namespace gyrocal::sim {
 namespace {

@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "rig_node.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "producers/sim_rig/rig_node.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal {
 namespace {

@@ -14,18 +14,18 @@
 #include <string>
 #include <thread>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "flow/flow_acker.hpp"
 #include "gyrocal/chamber_cmd_t.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "launch/child_process.hpp"
-#include "message_builders.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {
 namespace {

@@ -10,15 +10,15 @@
 #include <sstream>
 #include <thread>
 
-#include "central_db.hpp"
-#include "central_url.hpp"
-#include "pg_server.hpp"
-#include "push.hpp"
-#include "query.hpp"
-#include "schema.hpp"
-#include "scratch_db.hpp"
-#include "station_fixture.hpp"
-#include "table_digest.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/push.hpp"
+#include "store/db/query.hpp"
+#include "store/db/schema.hpp"
+#include "tests/store/pg_server.hpp"
+#include "tests/store/scratch_db.hpp"
+#include "tests/store/station_fixture.hpp"
+#include "tests/store/table_digest.hpp"
 
 namespace gyrocal::testing {
 namespace {

@@ -9,10 +9,10 @@
 #include <functional>
 #include <map>
 
-#include "async_writer.hpp"
-#include "scratch_db.hpp"
-#include "wait_until.hpp"
-#include "writer.hpp"
+#include "store/db/async_writer.hpp"
+#include "store/db/writer.hpp"
+#include "tests/store/scratch_db.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::store {
 namespace {

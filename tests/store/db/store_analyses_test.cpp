@@ -6,13 +6,13 @@
 #include <cmath>
 #include <filesystem>
 
-#include "analyses.hpp"
-#include "query.hpp"
-#include "row_builders.hpp"
-#include "schema.hpp"
-#include "scratch_db.hpp"
-#include "validations.hpp"
-#include "writer.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/query.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/validations.hpp"
+#include "store/db/writer.hpp"
+#include "tests/store/row_builders.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {

@@ -10,14 +10,14 @@
 #include <filesystem>
 #include <thread>
 
-#include "async_writer.hpp"
-#include "query.hpp"
-#include "replay_reader.hpp"
-#include "row_builders.hpp"
-#include "schema.hpp"
-#include "scratch_db.hpp"
-#include "wait_until.hpp"
-#include "writer.hpp"
+#include "store/db/async_writer.hpp"
+#include "store/db/query.hpp"
+#include "store/db/replay_reader.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/writer.hpp"
+#include "tests/store/row_builders.hpp"
+#include "tests/store/scratch_db.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::store {
 namespace {

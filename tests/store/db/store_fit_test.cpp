@@ -5,11 +5,11 @@
 #include <cmath>
 #include <filesystem>
 
-#include "fit_query.hpp"
-#include "query.hpp"
-#include "schema.hpp"
-#include "scratch_db.hpp"
-#include "writer.hpp"
+#include "store/db/fit_query.hpp"
+#include "store/db/query.hpp"
+#include "store/db/schema.hpp"
+#include "store/db/writer.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {

@@ -6,14 +6,14 @@
 #include <cmath>
 #include <filesystem>
 
-#include "model/convert.hpp"
-#include "model/inputs.hpp"
-#include "model_rows.hpp"
-#include "query.hpp"
-#include "row_builders.hpp"
-#include "scratch_db.hpp"
-#include "test_models.hpp"
-#include "writer.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/inputs.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "store/db/writer.hpp"
+#include "tests/processors/model/test_models.hpp"
+#include "tests/store/row_builders.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::store {
 namespace {

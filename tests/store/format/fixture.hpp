@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "analyses.hpp"
-#include "row_builders.hpp"
-#include "test_model.hpp"
-#include "writer.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/writer.hpp"
+#include "tests/lcmtypes/test_model.hpp"
+#include "tests/store/row_builders.hpp"
 
 namespace gyrocal::testing {
 

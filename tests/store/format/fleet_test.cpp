@@ -1,7 +1,7 @@
 // The fleet view's numbers (store/format/fleet.hpp) on units with known curves: the lot's centre
 // and spread, the unit outside it, a station's bias, valid ranges, too few units, the unit model
 // read from a run's configuration, and drawable figures.
-#include "fleet.hpp"
+#include "store/format/fleet.hpp"
 
 #include <gtest/gtest.h>
 

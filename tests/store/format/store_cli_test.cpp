@@ -12,14 +12,14 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "fixture.hpp"
-#include "format.hpp"
-#include "launch/child_process.hpp"
-#include "model/c_source.hpp"
-#include "model/json.hpp"
-#include "model/model.hpp"
-#include "model_rows.hpp"
-#include "sqlite_db.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/model/c_source.hpp"
+#include "processors/model/json.hpp"
+#include "processors/model/model.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/sqlite_db.hpp"
+#include "store/format/format.hpp"
+#include "tests/store/format/fixture.hpp"
 
 namespace gyrocal::testing {
 namespace {

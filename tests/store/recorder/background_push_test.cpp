@@ -10,15 +10,15 @@
 #include <fstream>
 #include <sstream>
 
-#include "bus/channels.hpp"
-#include "central_db.hpp"
-#include "flow_pacer.hpp"
-#include "message_builders.hpp"
-#include "pg_server.hpp"
-#include "query.hpp"
-#include "recorder_harness.hpp"
-#include "table_digest.hpp"
-#include "wait_until.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/query.hpp"
+#include "tests/lcmtypes/bus/flow_pacer.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/store/pg_server.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
+#include "tests/store/table_digest.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::testing {
 namespace {

@@ -8,9 +8,9 @@
 #include <random>
 #include <thread>
 
-#include "bus/channels.hpp"
-#include "message_builders.hpp"
-#include "recorder_harness.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
 
 namespace gyrocal::testing {
 namespace {

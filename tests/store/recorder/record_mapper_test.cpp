@@ -1,12 +1,12 @@
 // RecordMapper without sockets: encoded messages in, rows out.
-#include "record_mapper.hpp"
+#include "store/recorder/record_mapper.hpp"
 
 #include <gtest/gtest.h>
 
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
-#include "message_builders.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::record {
 namespace {

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "scratch_db.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::testing {
 

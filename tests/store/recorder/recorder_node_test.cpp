@@ -3,16 +3,16 @@
 // type that does not decode are counted as losses of the run in force; an unknown type is kept
 // whole in raw_events; a bad channel regex is refused before anything subscribes. The real
 // process over UDP multicast is recorder_process_test.cpp.
-#include "recorder_node.hpp"
+#include "store/recorder/recorder_node.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "message_builders.hpp"
-#include "recorder_harness.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
 
 namespace gyrocal::testing {
 namespace {

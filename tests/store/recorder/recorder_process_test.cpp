@@ -6,12 +6,12 @@
 #include <fstream>
 #include <iterator>
 
-#include "analyses.hpp"
-#include "bus/channels.hpp"
-#include "flow_pacer.hpp"
-#include "message_builders.hpp"
-#include "model_rows.hpp"
-#include "recorder_harness.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/model_rows.hpp"
+#include "tests/lcmtypes/bus/flow_pacer.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
 
 namespace gyrocal::testing {
 namespace {

@@ -2,18 +2,18 @@
 // the open run of the recorder's own bus (two chambers in one file never continue each other's
 // runs), plateaus and sensitivity points kept once however often they are heard, and the
 // recovery messages that rebuild a restarted fitter or compensator.
-#include "recovery.hpp"
+#include "store/recorder/recovery.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "open_run.hpp"
-#include "query.hpp"
-#include "row_builders.hpp"
-#include "scratch_db.hpp"
-#include "writer.hpp"
+#include "store/db/query.hpp"
+#include "store/db/writer.hpp"
+#include "store/recorder/open_run.hpp"
+#include "tests/store/row_builders.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::record {
 namespace {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocal/status_t.hpp"
-#include "recorder_harness.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
 
 namespace gyrocal::testing {
 namespace {

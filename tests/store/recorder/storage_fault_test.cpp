@@ -19,10 +19,10 @@
 #include <set>
 #include <thread>
 
-#include "bus/channels.hpp"
-#include "message_builders.hpp"
-#include "recorder_harness.hpp"
-#include "writer.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "store/db/writer.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
 
 namespace gyrocal::testing {
 namespace {

@@ -1,6 +1,6 @@
 // WriterWatch: the recorder's STATUS state and log lines through a storage fault, from a
 // sequence of AsyncWriter stats (GIVEN a time line, THEN what is said when).
-#include "writer_watch.hpp"
+#include "store/recorder/writer_watch.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

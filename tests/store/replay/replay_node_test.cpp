@@ -4,7 +4,7 @@
 // renames the run. No sleep: Run() returns after the last row and what it published last is
 // handled after. Its timing and a second recorder storing the same run again, with real
 // processes: replay_process_test.cpp.
-#include "replay_node.hpp"
+#include "store/replay/replay_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,14 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "scratch_db.hpp"
-#include "source_run.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/store/replay/source_run.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::testing {
 namespace {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "recorder_harness.hpp"
-#include "source_run.hpp"
-#include "writer.hpp"
+#include "store/db/writer.hpp"
+#include "tests/store/recorder/recorder_harness.hpp"
+#include "tests/store/replay/source_run.hpp"
 
 namespace gyrocal::testing {
 namespace {

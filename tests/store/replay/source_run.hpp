@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "rows.hpp"
-#include "writer.hpp"
+#include "store/db/rows.hpp"
+#include "store/db/writer.hpp"
 
 namespace gyrocal::testing {
 

@@ -1,10 +1,10 @@
-#include "report_fixture.hpp"
+#include "tests/store/runreport/report_fixture.hpp"
 
 #include <cmath>
 
-#include "analyses.hpp"
-#include "row_builders.hpp"
-#include "writer.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/writer.hpp"
+#include "tests/store/row_builders.hpp"
 
 namespace gyrocal::testing {
 

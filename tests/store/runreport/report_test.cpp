@@ -12,19 +12,19 @@
 #include <sstream>
 #include <utility>
 
-#include "acceptance/evaluate.hpp"
-#include "build.hpp"
-#include "cmd_report.hpp"
-#include "page.hpp"
-#include "plot/gnuplot.hpp"
-#include "query.hpp"
-#include "report_fixture.hpp"
-#include "run_db.hpp"
-#include "sections.hpp"
-#include "sqlite_db.hpp"
-#include "text/number.hpp"
-#include "traceability.hpp"
-#include "unit_data.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/acceptance/evaluate.hpp"
+#include "processors/plot/gnuplot.hpp"
+#include "store/db/query.hpp"
+#include "store/db/sqlite_db.hpp"
+#include "store/runreport/build.hpp"
+#include "store/runreport/page.hpp"
+#include "store/runreport/sections.hpp"
+#include "store/runreport/traceability.hpp"
+#include "store/runreport/unit_data.hpp"
+#include "tests/processors/analysis/run_db.hpp"
+#include "tests/store/runreport/report_fixture.hpp"
+#include "tools/gyrocal/cmd_report.hpp"
 
 namespace gyrocal::runreport {
 namespace {

@@ -1,4 +1,4 @@
-#include "netns_lab.hpp"
+#include "tests/support/netns/netns_lab.hpp"
 
 #include <fcntl.h>
 #include <sched.h>

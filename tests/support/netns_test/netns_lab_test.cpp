@@ -1,17 +1,17 @@
 // The test lab itself: two hosts (network namespaces) on the bridge exchange LCM multicast with
 // ttl=1 (this file's port 7804), a pulled cable stops it, and what was lost shows as the
 // receiver's sequence gaps, exactly.
-#include "netns_lab.hpp"
+#include "tests/support/netns/netns_lab.hpp"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <mutex>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "wait_until.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::testing {
 namespace {

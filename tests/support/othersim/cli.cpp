@@ -1,4 +1,4 @@
-#include "cli.hpp"
+#include "tests/support/othersim/cli.hpp"
 
 #include <sstream>
 #include <stdexcept>

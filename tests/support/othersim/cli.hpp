@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "options.hpp"
+#include "tests/support/othersim/options.hpp"
 
 namespace gyrocal::othersim {
 

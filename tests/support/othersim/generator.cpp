@@ -1,4 +1,4 @@
-#include "generator.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 #include <algorithm>
 #include <cmath>

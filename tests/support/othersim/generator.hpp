@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "options.hpp"
-#include "physics.hpp"
+#include "tests/support/othersim/options.hpp"
+#include "tests/support/othersim/physics.hpp"
 
 namespace gyrocal::othersim {
 

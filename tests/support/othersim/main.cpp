@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <exception>
 
-#include "cli.hpp"
-#include "generator.hpp"
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
+#include "tests/support/othersim/cli.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 int main(int argc, char** argv) {
     using namespace gyrocal::othersim;

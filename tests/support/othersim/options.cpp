@@ -1,4 +1,4 @@
-#include "options.hpp"
+#include "tests/support/othersim/options.hpp"
 
 #include <cmath>
 #include <sstream>

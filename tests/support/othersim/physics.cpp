@@ -1,4 +1,4 @@
-#include "physics.hpp"
+#include "tests/support/othersim/physics.hpp"
 
 #include <algorithm>
 #include <cmath>

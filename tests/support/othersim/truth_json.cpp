@@ -1,7 +1,7 @@
 // The truth sidecar of an othersim run (generator.hpp: TruthJson).
 #include <cmath>
 
-#include "generator.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 namespace gyrocal::othersim {
 

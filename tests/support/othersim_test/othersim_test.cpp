@@ -7,11 +7,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "cli.hpp"
-#include "csv/csv_file.hpp"
-#include "generator.hpp"
-#include "launch/child_process.hpp"
-#include "noise/noise_tracker.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/noise/noise_tracker.hpp"
+#include "producers/csv/csv_file.hpp"
+#include "tests/support/othersim/cli.hpp"
+#include "tests/support/othersim/generator.hpp"
 
 namespace gyrocal::othersim {
 namespace {

@@ -1,4 +1,4 @@
-#include "held_out.hpp"
+#include "tests/support/virtual_lab/held_out.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "text/number.hpp"
+#include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::virtual_lab {
 

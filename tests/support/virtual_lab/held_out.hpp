@@ -30,9 +30,9 @@
 #include <string>
 #include <vector>
 
-#include "compensator/compensate.hpp"
-#include "model/convert.hpp"
-#include "sim/rig.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "processors/model/convert.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::virtual_lab {
 

@@ -1,4 +1,4 @@
-#include "virtual_lab.hpp"
+#include "tests/support/virtual_lab/virtual_lab.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <variant>
 
-#include "coeff_uncertainty.hpp"
-#include "noise/noise_message.hpp"
-#include "plateau_message.hpp"
-#include "rotation_message.hpp"
+#include "processors/noise/noise_message.hpp"
+#include "processors/plateau/plateau_message.hpp"
+#include "processors/rotation/rotation_message.hpp"
+#include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::virtual_lab {
 

@@ -26,20 +26,20 @@
 #include <string>
 #include <vector>
 
-#include "fitter/fitter_core.hpp"
-#include "fitter/ramp_fitter.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "model/convert.hpp"
-#include "motion/table_motion.hpp"
-#include "noise/noise_tracker.hpp"
-#include "plateau_detector.hpp"
-#include "procedure.hpp"
-#include "rotation_estimator.hpp"
-#include "sim/rig.hpp"
+#include "processors/fitter/fitter_core.hpp"
+#include "processors/fitter/ramp_fitter.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/motion/table_motion.hpp"
+#include "processors/noise/noise_tracker.hpp"
+#include "processors/plateau/plateau_detector.hpp"
+#include "processors/rotation/rotation_estimator.hpp"
+#include "processors/sequencer/procedure.hpp"
+#include "producers/sim/rig.hpp"
 
 namespace gyrocal::virtual_lab {
 

@@ -18,7 +18,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "virtual_lab.hpp"
+#include "tests/support/virtual_lab/virtual_lab.hpp"
 
 namespace gyrocal::virtual_lab {
 namespace {

@@ -50,11 +50,11 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/analyze.hpp"
-#include "analysis/report.hpp"
-#include "held_out.hpp"
-#include "model/model.hpp"
-#include "sim_run.hpp"
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/report.hpp"
+#include "processors/model/model.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
+#include "tests/support/virtual_lab/held_out.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -14,7 +14,7 @@
 // - A sensitivity point states its own standard error (offset and noise propagated); the slow
 //   noise is removed by its straight-line offset through the rest windows either side, so
 //   |S_point - S_true(T_point - sensor_offset)| <= 4.5 stderr.
-#include "virtual_lab.hpp"
+#include "tests/support/virtual_lab/virtual_lab.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,8 +22,8 @@
 #include <cmath>
 #include <map>
 
-#include "held_out.hpp"
-#include "sim/noise.hpp"
+#include "producers/sim/noise.hpp"
+#include "tests/support/virtual_lab/held_out.hpp"
 
 namespace gyrocal::virtual_lab {
 namespace {

@@ -1,6 +1,6 @@
 // The example limits files shipped with the project validate: tools/acceptance/limits.json
 // (tools/run.sh calibrate judges by it) and strict.json.
-#include "acceptance/limits.hpp"
+#include "processors/acceptance/limits.hpp"
 
 #include <gtest/gtest.h>
 

@@ -16,14 +16,14 @@
 #include <sstream>
 #include <variant>
 
-#include "analyses.hpp"
-#include "cmd_analyze.hpp"
-#include "query.hpp"
-#include "replay_reader.hpp"
-#include "run_db.hpp"
-#include "run_loader.hpp"
-#include "sim_run.hpp"
-#include "writer.hpp"
+#include "store/db/analyses.hpp"
+#include "store/db/query.hpp"
+#include "store/db/replay_reader.hpp"
+#include "store/db/writer.hpp"
+#include "tests/processors/analysis/run_db.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
+#include "tools/gyrocal/cmd_analyze.hpp"
+#include "tools/gyrocal/run_loader.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -8,15 +8,15 @@
 #include <filesystem>
 #include <sstream>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "cmd_analyze.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
-#include "launch/child_process.hpp"
-#include "query.hpp"
-#include "run_db.hpp"
-#include "status_watch.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "store/db/query.hpp"
+#include "tests/lcmtypes/bus/status_watch.hpp"
+#include "tests/processors/analysis/run_db.hpp"
+#include "tools/gyrocal/cmd_analyze.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "e2e_support.hpp"
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 namespace {

@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "e2e_support.hpp"
-#include "launch/child_process.hpp"
-#include "sim/noise.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "producers/sim/noise.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 namespace {

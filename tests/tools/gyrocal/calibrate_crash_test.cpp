@@ -14,12 +14,12 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "e2e_support.hpp"
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "launch/child_process.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 namespace {

@@ -16,12 +16,12 @@
 #include <sstream>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "e2e_support.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 namespace {

@@ -13,13 +13,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "e2e_support.hpp"
 #include "gyrocal/model_t.hpp"
-#include "launch/child_process.hpp"
-#include "model/model.hpp"
-#include "sim/noise.hpp"
-#include "stored_model.hpp"
-#include "wait_until.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/model/model.hpp"
+#include "producers/sim/noise.hpp"
+#include "tests/support/wait/wait_until.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
+#include "tests/tools/gyrocal/stored_model.hpp"
 
 namespace gyrocal {
 namespace {

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "cmd_calibrate.hpp"
-#include "gyro_facts.hpp"
-#include "launch/child_process.hpp"
-#include "sim/config.hpp"
-#include "sim/noise.hpp"
-#include "supervisor.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/noise.hpp"
+#include "producers/sim_rig/gyro_facts.hpp"
+#include "tools/gyrocal/cmd_calibrate.hpp"
+#include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -30,22 +30,22 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "bus/bus.hpp"
-#include "bus/channels.hpp"
-#include "bus_wait.hpp"
-#include "compensator/compensate.hpp"
-#include "e2e_support.hpp"
-#include "flow/flow_acker.hpp"
-#include "generator.hpp"
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "launch/child_process.hpp"
-#include "model/convert.hpp"
-#include "model/model.hpp"
-#include "model_rows.hpp"
-#include "query.hpp"
+#include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "processors/model/convert.hpp"
+#include "processors/model/model.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/support/othersim/generator.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 namespace {

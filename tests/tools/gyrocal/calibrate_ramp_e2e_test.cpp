@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "e2e_support.hpp"
-#include "launch/child_process.hpp"
-#include "model/inputs.hpp"
-#include "model/model.hpp"
-#include "stored_model.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/model/inputs.hpp"
+#include "processors/model/model.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
+#include "tests/tools/gyrocal/stored_model.hpp"
 
 namespace gyrocal {
 namespace {

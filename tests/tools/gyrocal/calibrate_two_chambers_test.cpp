@@ -7,8 +7,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "e2e_support.hpp"
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 namespace {

@@ -12,13 +12,13 @@
 #include <random>
 #include <sstream>
 
-#include "cmd_compensate.hpp"
-#include "compensator/compensate.hpp"
-#include "format.hpp"
-#include "model_rows.hpp"
-#include "query.hpp"
-#include "text/number.hpp"
-#include "writer.hpp"
+#include "lcmtypes/text/number.hpp"
+#include "processors/compensator/compensate.hpp"
+#include "store/db/model_rows.hpp"
+#include "store/db/query.hpp"
+#include "store/db/writer.hpp"
+#include "store/format/format.hpp"
+#include "tools/gyrocal/cmd_compensate.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -1,4 +1,4 @@
-#include "headless_chromium.hpp"
+#include "tests/tools/gyrocal/headless_chromium.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include "launch/child_process.hpp"
-#include "plot/gnuplot.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "processors/plot/gnuplot.hpp"
 
 namespace gyrocal::testing {
 

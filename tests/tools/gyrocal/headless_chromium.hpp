@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "launch/child_process.hpp"
+#include "lcmtypes/launch/child_process.hpp"
 
 namespace gyrocal::testing {
 

@@ -23,15 +23,15 @@
 #include <thread>
 #include <vector>
 
-#include "central_db.hpp"
-#include "central_url.hpp"
-#include "launch/child_process.hpp"
-#include "pg_server.hpp"
-#include "query.hpp"
-#include "run_db.hpp"
-#include "scratch_db.hpp"
-#include "station_fixture.hpp"
-#include "table_digest.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "store/db/central_db.hpp"
+#include "store/db/central_url.hpp"
+#include "store/db/query.hpp"
+#include "tests/processors/analysis/run_db.hpp"
+#include "tests/store/pg_server.hpp"
+#include "tests/store/scratch_db.hpp"
+#include "tests/store/station_fixture.hpp"
+#include "tests/store/table_digest.hpp"
 
 namespace gyrocal::testing {
 namespace {

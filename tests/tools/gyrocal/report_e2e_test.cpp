@@ -13,11 +13,11 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "e2e_support.hpp"
-#include "headless_chromium.hpp"
-#include "launch/child_process.hpp"
-#include "sim/config.hpp"
-#include "sim/unit_model.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "producers/sim/config.hpp"
+#include "producers/sim/unit_model.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
+#include "tests/tools/gyrocal/headless_chromium.hpp"
 
 namespace gyrocal {
 namespace {

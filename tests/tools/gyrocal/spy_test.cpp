@@ -7,8 +7,8 @@
 #include <sstream>
 #include <thread>
 
-#include "launch/child_process.hpp"
-#include "wait_until.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal {
 namespace {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "e2e_support.hpp"
-#include "model/model.hpp"
+#include "processors/model/model.hpp"
+#include "tests/tools/gyrocal/e2e_support.hpp"
 
 namespace gyrocal {
 

@@ -18,12 +18,12 @@
 #include <string>
 #include <vector>
 
-#include "launch/child_process.hpp"
-#include "run_db.hpp"
-#include "scratch_db.hpp"
-#include "sim/noise.hpp"
-#include "sim_run.hpp"
-#include "writer.hpp"
+#include "lcmtypes/launch/child_process.hpp"
+#include "producers/sim/noise.hpp"
+#include "store/db/writer.hpp"
+#include "tests/processors/analysis/run_db.hpp"
+#include "tests/processors/analysis/sim_run.hpp"
+#include "tests/store/scratch_db.hpp"
 
 namespace gyrocal::analysis {
 namespace {

@@ -1,11 +1,11 @@
 // What calibrate surfaces of a failed child: its own error lines (the one shape every process
 // writes, lcmtypes/runtime/process_main.hpp), else the last line of its log.
-#include "child_errors.hpp"
+#include "tools/supervisor/child_errors.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "runtime/process_main.hpp"
+#include "lcmtypes/runtime/process_main.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -1,11 +1,11 @@
 // calibrate's final verdict (tools/gyrocal/final_verdict): from the sets and FIT_<id> reports a
 // run left, which units are complete, what the table marks, and what exit 3 explains. Pure
 // bookkeeping over messages; every case below has one right answer.
-#include "final_verdict.hpp"
+#include "tools/supervisor/final_verdict.hpp"
 
 #include <gtest/gtest.h>
 
-#include "message_builders.hpp"
+#include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::supervisor {
 namespace {

@@ -1,5 +1,5 @@
 // The lab layout and crash policy of `gyrocal calibrate` (lab.hpp): pure rules.
-#include "lab.hpp"
+#include "tools/supervisor/lab.hpp"
 
 #include <gtest/gtest.h>
 

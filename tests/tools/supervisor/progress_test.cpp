@@ -1,5 +1,5 @@
 // The progress line and the time-left estimate of `gyrocal calibrate`.
-#include "progress.hpp"
+#include "tools/supervisor/progress.hpp"
 
 #include <gtest/gtest.h>
 
