@@ -52,11 +52,15 @@ struct RampFitterOptions {
     std::string source = "fitter";  // coeff_set_t.source of the sets ("closed-loop": plateau mode)
     std::string method = "ramp";    // model_t.method of their models
     double width_ratio = 1.03;      // [1] branch widths tracked (bins_incremental.hpp)
-    // Each unit's still bins held to at most this many: beyond it, neighbours merge into bins
-    // twice as long (IncrementalOptions::max_cells): 4096 bins of 10 s are 11.4 h, so a day is
-    // fitted on 40 s bins, and the fitter's memory no longer grows with the run (about 3 MB of bins
-    // per unit and one fit's working set at 4096 bins). 0: no limit (10 s bins however long).
-    int64_t max_bins_per_unit = 4096;
+    // Each unit's still bins held to at most this many (0: no limit, the default): beyond it,
+    // neighbours merge into bins twice as long (IncrementalOptions::max_cells), so the fitter's
+    // memory stops growing with the run (4096: about 3 MB of bins per unit and one fit over them;
+    // a day is then fitted on 40 s bins). Not the default: on the day-long rig run the analysis
+    // on 40 s bins calls windows "far from the floor" that the 10 s bins of `gyrocal analyze`
+    // call adequate (`gyrocal analyze --bin-s 40` says the same: the window check's noise bound
+    // depends on the bin length), so a capped final set's verdict would differ from the run's
+    // analysis (lcmtypes/flow/README.md, the fourth day run).
+    int64_t max_bins_per_unit = 0;
     static RampFitterOptions Defaults() { return {}; }
     // The plateau mode's closed loop: the final set only, source "closed-loop", method "analysis".
     static RampFitterOptions ClosedLoop();
