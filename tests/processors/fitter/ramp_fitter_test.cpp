@@ -56,11 +56,16 @@ void Feed(RampFitter& f, std::vector<RampFitResult>& during, int64_t* end_utime)
     }
 }
 
-TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
+// The fits the tests watch: one per 1800 s of data once 3600 s are in.
+RampFitterOptions WatchedOptions() {
     RampFitterOptions o;
     o.refit_interval_s = 1800.0;
     o.min_span_s = 3600.0;
-    RampFitter f(o);
+    return o;
+}
+
+TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
+    RampFitter f(WatchedOptions());
     f.StartRun("R1");
     std::vector<RampFitResult> during;
     int64_t end = 0;
@@ -109,9 +114,7 @@ TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
 // about that of the 10 s bins' (the same samples averaged: within 1.5x of the bound above), and
 // the analysis says the bins were merged.
 TEST(RampFitter, BinsHeldToTheirLimitAreMergedAndStillFitTheTruth) {
-    RampFitterOptions o;
-    o.refit_interval_s = 1800.0;
-    o.min_span_s = 3600.0;
+    RampFitterOptions o = WatchedOptions();
     o.max_bins_per_unit = 256;
     RampFitter f(o);
     f.StartRun("R1");
