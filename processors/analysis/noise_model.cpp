@@ -45,11 +45,15 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
     const std::vector<std::vector<double>> stretches = Stretches(bins, residual);
     size_t longest = 0;
     for (const auto& s : stretches) longest = std::max(longest, s.size());
+    // Taus from one bin to a quarter of the longest stretch, and at least 3 bins: N and B need
+    // three points. Each stretch of 4 bins or more adds every m up to half its bins (pooled over
+    // the run's stretches there are terms enough), so bins merged to a length near the stretches'
+    // (40 s bins between turns 300 s apart) still measure the same N and B as 10 s bins do.
     const std::vector<int64_t> grid =
-        noise::TauGrid(std::max<int64_t>(1, static_cast<int64_t>(longest / 4)));
+        noise::TauGrid(std::max<int64_t>(3, static_cast<int64_t>(longest / 4)));
     std::vector<noise::SegmentSums> sums;
     for (const auto& s : stretches)
-        if (s.size() >= 8) sums.push_back(noise::SumSegment(s, bin_s, grid));
+        if (s.size() >= 4) sums.push_back(noise::SumSegment(s, bin_s, grid, 2));
     std::string screened;
     const std::vector<noise::SegmentSums> kept =
         sums.size() >= 3 ? noise::ScreenSegments(sums, bin_s, grid, 0.01, screened) : sums;
@@ -57,14 +61,24 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
     if (!t.ok || !std::isfinite(floor_v) || !(floor_v > 0)) {
         m.note = "the Allan terms of the residual could not be fitted (" +
                  std::to_string(kept.size()) +
-                 " stretches of 8 bins or more): slow noise assumed "
+                 " stretches of 4 bins or more): slow noise assumed "
                  "as large as the floor (k = 1)";
+        // The surrogates carry the slow noise assumed (a flicker level giving k = 1), so the
+        // window and feature nulls are not stricter than the floor bound.
+        const double unit = noise::SlowNoiseVariance(1.0, 0.0, bin_s, SpanS(bins));
+        if (std::isfinite(floor_v) && floor_v > 0 && unit > 0) {
+            m.flicker_v = floor_v / std::sqrt(unit);
+            m.slow_v2 = floor_v * floor_v;
+        }
         return m;
     }
     auto sq = [](double x) { return std::isfinite(x) ? x * x : 0.0; };
     m.measured = true;
     m.white_v2 = sq(t.arw) / bin_s;
     m.flicker_v = std::isfinite(t.bias) ? t.bias : 0.0;
+    m.arw_v_rthz = t.arw;
+    m.arw_se = t.arw_se;
+    m.flicker_se_v = t.bias_se;
     m.rrw_v_rts = std::isfinite(t.rrw) ? t.rrw : 0.0;
     m.slow_v2 = noise::SlowNoiseVariance(m.flicker_v, m.rrw_v_rts, bin_s, SpanS(bins));
     m.k = std::sqrt(m.slow_v2) / floor_v;

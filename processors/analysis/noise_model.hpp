@@ -4,7 +4,8 @@
 // Measured: the overlapping Allan deviation (noise/allan.hpp) of a model's residual over the
 // still bins, per contiguous stretch (a move or a gap starts another; stretches that disagree
 // with the rest - a knock, a step - screened out as the noise library does), from the bin length
-// to a quarter of the longest stretch, and the IEEE 952 terms fitted to it:
+// to a quarter of the longest stretch (at least 3 bins; each stretch up to half its length), and
+// the IEEE 952 terms fitted to it:
 //     AVAR(tau) = N^2 / tau + B^2 + K^2 tau / 3      (white, flicker level B, rate random walk K).
 // What a perfect model would leave in a bin beyond its white scatter - the slow noise - is then
 // the variance of a bin mean of flicker B and random walk K about the run's mean over its span
@@ -29,13 +30,16 @@
 namespace gyrocal::analysis::detail {
 
 struct NoiseModel {
-    bool measured = false;   // false: the Allan terms could not be fitted (then k assumed 1)
-    double white_v2 = 0.0;   // [V^2] N^2 / bin_s: white variance of one bin mean
-    double flicker_v = 0.0;  // [V] B
-    double rrw_v_rts = 0.0;  // [V/sqrt(s)] K
-    double slow_v2 = 0.0;    // [V^2] slow noise of a bin mean about the run's mean
-    double k = 1.0;          // [1] sqrt(slow_v2) / floor (floor bound, step 9)
-    std::string note;        // how it was measured, or why not
+    bool measured = false;       // false: not fitted (k assumed 1, flicker_v set to give it)
+    double white_v2 = 0.0;       // [V^2] N^2 / bin_s: white variance of one bin mean
+    double flicker_v = 0.0;      // [V] B
+    double rrw_v_rts = 0.0;      // [V/sqrt(s)] K
+    double arw_v_rthz = kNan;    // [V/sqrt(Hz)] N (NaN when not measured)
+    double arw_se = kNan;        // [V/sqrt(Hz)] standard error of N (jackknife over stretches)
+    double flicker_se_v = kNan;  // [V] standard error of B
+    double slow_v2 = 0.0;        // [V^2] slow noise of a bin mean about the run's mean
+    double k = 1.0;              // [1] sqrt(slow_v2) / floor (floor bound, step 9)
+    std::string note;            // how it was measured, or why not
 };
 
 // residual: per bin (bins' order); floor_v: the Allan deviation at the bin length.

@@ -114,7 +114,7 @@ std::vector<int64_t> TauGrid(int64_t max_m) {
 }
 
 SegmentSums SumSegment(const std::vector<double>& y, double tau0_s,
-                       const std::vector<int64_t>& grid) {
+                       const std::vector<int64_t>& grid, int64_t bins_per_m) {
     SegmentSums s;
     const auto m_bins = static_cast<int64_t>(y.size());
     s.bins = m_bins;
@@ -124,7 +124,7 @@ SegmentSums SumSegment(const std::vector<double>& y, double tau0_s,
     for (int64_t m : grid) {
         double sum = 0;
         int64_t terms = 0;
-        if (4 * m <= m_bins) {
+        if (bins_per_m * m <= m_bins) {
             for (int64_t k = 0; k + 2 * m <= m_bins; ++k) {
                 const double d = x[k + 2 * m] - 2.0 * x[k + m] + x[k];
                 sum += d * d;

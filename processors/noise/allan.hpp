@@ -69,9 +69,11 @@ struct NoiseTerms {
 // The tau grid: m = 1, 2, 3, 4, 6, 8, 11, 16, ... (about two per octave) up to max_m.
 std::vector<int64_t> TauGrid(int64_t max_m);
 
-// The sums of one segment of bins y (length tau0_s each) at each m of `grid`.
+// The sums of one segment of bins y (length tau0_s each) at each m of `grid` with
+// m <= M / bins_per_m (4: the header's rule for one segment standing alone; pooled over many
+// short stretches, 2 still leaves every m terms enough: M - 2m + 1 >= 1 per segment).
 SegmentSums SumSegment(const std::vector<double>& y, double tau0_s,
-                       const std::vector<int64_t>& grid);
+                       const std::vector<int64_t>& grid, int64_t bins_per_m = 4);
 
 // Segments that disagree with the others: a disturbance inside a still stretch (a knock, a step
 // of the offset) inflates that segment's Allan variance by orders of magnitude and would make the
