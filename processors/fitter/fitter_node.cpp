@@ -53,6 +53,10 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
                    "--mode ramp: [s] data time between fits during the run, 10..86400");
     app.add_option("--min-span-s", o.ramp.min_span_s,
                    "--mode ramp: [s] of a unit's data before its first fit, 0..86400");
+    app.add_option("--max-bins-per-unit", o.ramp.max_bins_per_unit,
+                   "--mode ramp and the closed loop: each unit's still bins held to this many "
+                   "(beyond it neighbours merge into bins twice as long, so memory stops growing "
+                   "with the run); 0 = no limit, else at least 64");
     app.add_option("--closed-loop", o.closed_loop,
                    "--mode plateau: at the stop, also fit each unit on every still sample with the "
                    "terms the data confirm and publish it as the run's final set (source "
@@ -75,6 +79,7 @@ fitter::RampFitterOptions ClosedLoopOptions(const FitterOptions& o) {
     fitter::RampFitterOptions c = fitter::RampFitterOptions::ClosedLoop();
     c.analysis = o.ramp.analysis;
     c.build = o.ramp.build;
+    c.max_bins_per_unit = o.ramp.max_bins_per_unit;
     return c;
 }
 

@@ -52,15 +52,13 @@ struct RampFitterOptions {
     std::string source = "fitter";  // coeff_set_t.source of the sets ("closed-loop": plateau mode)
     std::string method = "ramp";    // model_t.method of their models
     double width_ratio = 1.03;      // [1] branch widths tracked (bins_incremental.hpp)
-    // Each unit's still bins held to at most this many (0: no limit, the default): beyond it,
-    // neighbours merge into bins twice as long (IncrementalOptions::max_cells), so the fitter's
-    // memory stops growing with the run (4096: about 3 MB of bins per unit and one fit over them;
-    // a day is then fitted on 40 s bins). Not the default: on the day-long rig run the analysis
-    // on 40 s bins calls windows "far from the floor" that the 10 s bins of `gyrocal analyze`
-    // call adequate (`gyrocal analyze --bin-s 40` says the same: the window check's noise bound
-    // depends on the bin length), so a capped final set's verdict would differ from the run's
-    // analysis (lcmtypes/flow/README.md, the fourth day run).
-    int64_t max_bins_per_unit = 0;
+    // Each unit's still bins held to at most this many (0: no limit): beyond it, neighbours
+    // merge into bins twice as long (IncrementalOptions::max_cells), so the fitter's memory
+    // stops growing with the run (4096: about 3 MB of bins per unit and one fit over them; a run
+    // shorter than 11.4 h keeps its 10 s bins, a day is fitted on 40 s bins). The analysis
+    // measures the run's noise the same at either length (processors/analysis/noise_model.hpp),
+    // so the merged bins' verdict is the 10 s bins' (processors/fitter/README.md).
+    int64_t max_bins_per_unit = 4096;
     static RampFitterOptions Defaults() { return {}; }
     // The plateau mode's closed loop: the final set only, source "closed-loop", method "analysis".
     static RampFitterOptions ClosedLoop();
