@@ -45,15 +45,20 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
     const std::vector<std::vector<double>> stretches = Stretches(bins, residual);
     size_t longest = 0;
     for (const auto& s : stretches) longest = std::max(longest, s.size());
-    // Taus from one bin to a quarter of the longest stretch, and at least 3 bins: N and B need
-    // three points. Each stretch of 4 bins or more adds every m up to half its bins (pooled over
-    // the run's stretches there are terms enough), so bins merged to a length near the stretches'
-    // (40 s bins between turns 300 s apart) still measure the same N and B as 10 s bins do.
+    // Each stretch adds the taus up to a quarter of its length (an Allan estimate of one stretch
+    // alone), from one bin to a quarter of the longest. When that gives fewer than three taus (N
+    // and B need three points: bins merged to near the stretches' length, 40 s bins between turns
+    // 300 s apart), every stretch of 4 bins or more adds the taus up to half its length, to 3
+    // bins at least: pooled over the run's stretches there are terms enough, and the same N and B
+    // are measured as with shorter bins.
+    const bool short_stretches = longest < 12;
+    const int64_t per_m = short_stretches ? 2 : 4;
     const std::vector<int64_t> grid =
-        noise::TauGrid(std::max<int64_t>(3, static_cast<int64_t>(longest / 4)));
+        noise::TauGrid(short_stretches ? 3 : static_cast<int64_t>(longest / 4));
     std::vector<noise::SegmentSums> sums;
     for (const auto& s : stretches)
-        if (s.size() >= 4) sums.push_back(noise::SumSegment(s, bin_s, grid, 2));
+        if (s.size() >= static_cast<size_t>(2 * per_m))
+            sums.push_back(noise::SumSegment(s, bin_s, grid, per_m));
     std::string screened;
     const std::vector<noise::SegmentSums> kept =
         sums.size() >= 3 ? noise::ScreenSegments(sums, bin_s, grid, 0.01, screened) : sums;
@@ -61,7 +66,7 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
     if (!t.ok || !std::isfinite(floor_v) || !(floor_v > 0)) {
         m.note = "the Allan terms of the residual could not be fitted (" +
                  std::to_string(kept.size()) +
-                 " stretches of 4 bins or more): slow noise assumed "
+                 " stretches long enough): slow noise assumed "
                  "as large as the floor (k = 1)";
         // The surrogates carry the slow noise assumed (a flicker level giving k = 1), so the
         // window and feature nulls are not stricter than the floor bound.
