@@ -37,15 +37,11 @@ template <class To, class From, class Row, class Msg>
 concept RowAndMessage = (std::same_as<To, Row> && std::same_as<From, Msg>) ||
                         (std::same_as<To, Msg> && std::same_as<From, Row>);
 
-// What a verdict on a coefficient set (an analysis, a fit report) names it by, the set's key
-// (run, sensor, coeff_set_id, source), with when it was given and whether it is the final one.
+// What a verdict on a coefficient set (an analysis, a fit report) names it by: the set's key
+// (run, sensor, coeff_set_id, source), when it was given and whether it is the final one.
 template <class To, class From>
 void CopyVerdictKey(To& to, const From& from) {
-    to.utime = from.utime;
-    to.sensor_id = from.sensor_id;
-    to.run_id = from.run_id;
-    to.coeff_set_id = from.coeff_set_id;
-    to.source = from.source;
+    model::CopySetKey(to, from);
     to.is_final = from.is_final;
 }
 

@@ -177,26 +177,24 @@ Mapped MapV5(RecordMapper& m, const std::string& channel, const Msg& msg) {
 // The key a verdict names its set by (message_fields.hpp), shared by analyses and fit reports:
 // all six fields across, both ways, and nothing else.
 TEST(RecordMapper, VerdictKeyIsTheSetsKeyWithTimeAndFinality) {
+    const auto expect_key = [](const auto& to) {
+        EXPECT_EQ(to.utime, 11);
+        EXPECT_EQ(to.sensor_id, "U1");
+        EXPECT_EQ(to.run_id, "R1");
+        EXPECT_EQ(to.coeff_set_id, 42);
+        EXPECT_EQ(to.source, "fitter");
+        EXPECT_TRUE(to.is_final);
+    };
     fit_report_t f{};
     f.utime = 11, f.sensor_id = "U1", f.run_id = "R1", f.coeff_set_id = 42;
     f.source = "fitter", f.is_final = true, f.status = "ok";
     store::FitReportRow row;
     CopyVerdictKey(row, f);
-    EXPECT_EQ(row.utime, 11);
-    EXPECT_EQ(row.sensor_id, "U1");
-    EXPECT_EQ(row.run_id, "R1");
-    EXPECT_EQ(row.coeff_set_id, 42);
-    EXPECT_EQ(row.source, "fitter");
-    EXPECT_TRUE(row.is_final);
+    expect_key(row);
     EXPECT_EQ(row.status, "");
     analysis_t a{};
     CopyVerdictKey(a, row);
-    EXPECT_EQ(a.utime, 11);
-    EXPECT_EQ(a.sensor_id, "U1");
-    EXPECT_EQ(a.run_id, "R1");
-    EXPECT_EQ(a.coeff_set_id, 42);
-    EXPECT_EQ(a.source, "fitter");
-    EXPECT_TRUE(a.is_final);
+    expect_key(a);
     EXPECT_EQ(a.outcome, "");
 }
 
