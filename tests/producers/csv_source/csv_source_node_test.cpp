@@ -23,6 +23,7 @@
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/csv_file.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/producers/source_output.hpp"
 
 namespace gyrocal {
 namespace {
@@ -71,12 +72,8 @@ TEST(CsvSourceNode, PublishesEveryRowWithItsValuesAtItsDataTime) {
     }
     ASSERT_EQ(check.rows, 20);
     CsvSourceNode node(o, check);
-    std::vector<gyro_sample_t> gyro;
-    std::vector<encoder_sample_t> encoder;
-    std::vector<power_state_t> power;
-    testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
-    testing::CollectInto(node.bus(), std::string(channels::kEncoder), encoder);
-    testing::CollectInto(node.bus(), channels::AllSensors(channels::kPowerPrefix), power);
+    testing::SourceOutput out(node.bus());
+    const auto& [gyro, encoder, chamber, power] = out;
     // WHEN the node publishes it
     EXPECT_EQ(node.Run(), 0);
     ASSERT_TRUE(testing::HandleUntil(

@@ -22,6 +22,7 @@
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/producers/source_output.hpp"
 
 namespace gyrocal {
 namespace {
@@ -75,12 +76,8 @@ TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
         }
     }
     LineSourceNode node(NodeOptions(), PipeOf(text));
-    std::vector<gyro_sample_t> gyro;
-    std::vector<encoder_sample_t> encoder;
-    std::vector<chamber_state_t> chamber;
-    testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
-    testing::CollectInto(node.bus(), std::string(channels::kEncoder), encoder);
-    testing::CollectInto(node.bus(), std::string(channels::kChamberState), chamber);
+    testing::SourceOutput out(node.bus());
+    const auto& [gyro, encoder, chamber, power] = out;
     // WHEN the node reads it to the end
     EXPECT_EQ(node.Run(), 0);
     DrainBus(node.bus());
