@@ -6,8 +6,6 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <tuple>
-#include <vector>
 
 #include "processors/acceptance/limits.hpp"
 #include "processors/plot/gnuplot.hpp"
@@ -212,18 +210,9 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
         ->capture_default_str();
     cmd->add_option("--truth-out", o->truth_out,
                     "where the rig writes its truth sidecar (default: in --log-dir)");
-    // Each child's pass-through arguments, in the order --help lists them.
-    const std::vector<std::tuple<const char*, std::vector<std::string>*, const char*>> child_args =
-        {{"--rig-arg", &o->rig_args, "gyrocal-sim-rig (repeatable)"},
-         {"--plateau-arg", &o->plateau_args, "gyrocal-plateau"},
-         {"--rotation-arg", &o->rotation_args, "gyrocal-rotation"},
-         {"--fitter-arg", &o->fitter_args, "gyrocal-fitter"},
-         {"--compensator-arg", &o->compensator_args, "gyrocal-compensator"},
-         {"--sequencer-arg", &o->sequencer_args, "gyrocal-sequencer"},
-         {"--recorder-arg", &o->recorder_args, "gyrocal-recorder"},
-         {"--source-arg", &o->source_args, "the measured-data source"}};
-    for (const auto& [name, args, child] : child_args)
-        cmd->add_option(name, *args, std::string("extra argument for ") + child)
+    for (const ChildArgs& c : kChildArgs)
+        cmd->add_option("--" + std::string(c.name) + "-arg", (*o).*c.args,
+                        std::string("extra argument for ") + c.child)
             ->allow_extra_args(false);
     cmd->add_flag("--quiet", o->quiet, "no progress line");
     AddAfterRunOptions(cmd, *o);

@@ -367,14 +367,8 @@ std::string Calibration::ConfigJson() const {
         j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);
         j["acceptance_limits_file"] = o_.limits_file;
     }
-    j["args"] = {{"rig", o_.rig_args},
-                 {"plateau", o_.plateau_args},
-                 {"rotation", o_.rotation_args},
-                 {"fitter", o_.fitter_args},
-                 {"compensator", o_.compensator_args},
-                 {"sequencer", o_.sequencer_args},
-                 {"recorder", o_.recorder_args},
-                 {"source", o_.source_args}};
+    nlohmann::json& args = j["args"] = nlohmann::json::object();
+    for (const ChildArgs& c : kChildArgs) args[c.name] = o_.*c.args;
     return j.dump();
 }
 
