@@ -138,6 +138,10 @@ private:
     std::exception_ptr pending_;
 };
 
+// [us] since 1970 by the wall clock, now: the utime of a message stamped as it is sent (STATUS,
+// flow marks and answers, the launcher's run events) and of a line read from a live stream.
+int64_t WallClockUtime();
+
 template <class Msg, class Handler>
 void Bus::Deliver(const Msg& msg, const std::string& channel, const Handler& handler) {
     ++counters_.received;

@@ -376,9 +376,7 @@ void Calibration::AnnounceRun(const std::string& event, const std::string& reaso
     // Without a sequencer (measured data, the rig's own procedure) the launcher owns the run and
     // announces it; it also ends a run it must abort (a source died).
     run_event_t e;
-    e.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch())
-                  .count();
+    e.utime = WallClockUtime();
     if (run_id_.empty()) {
         char buf[32];
         std::time_t t = std::time(nullptr);
