@@ -12,9 +12,11 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 #include "gyrocal/version.hpp"
 #include "lcmtypes/bus/bus.hpp"
@@ -309,71 +311,73 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
 
 namespace {
 
+// The verdict's thresholds as options (the surrogates aside), in the order --help lists them: each
+// option's name, the field of the analysis options it sets, what it means and why its default
+// (processors/analysis/README.md#thresholds-from-the-run-itself), and its valid values.
+struct ThresholdOption {
+    const char* name;
+    double an::AnalysisOptions::*field;
+    const char* help;
+    CLI::Validator valid;
+};
+
+const std::vector<ThresholdOption>& ThresholdOptions() {
+    using A = an::AnalysisOptions;
+    static const std::vector<ThresholdOption> options = {
+        {"--min-z2", &A::min_z2,
+         "a candidate's coefficient^2 over its autocorrelation-robust variance must exceed this "
+         "(25: 5 sigma, several candidates and searched shapes per step)",
+         CLI::PositiveNumber},
+        {"--min-cv-gain", &A::min_cv_gain,
+         "relative drop of the blocked cross-validation error a candidate must give",
+         CLI::Range(0.0, 0.99)},
+        {"--max-collinearity", &A::max_collinearity,
+         "above this |projected correlation| two candidates are ambiguous", CLI::Range(0.01, 0.99)},
+        {"--min-pair-member-z2", &A::min_pair_member_z2,
+         "each member of a collinear pair kept whole needs this z^2 with the other in",
+         CLI::Range(0.0, 1e6)},
+        {"--min-effect-floor-ratio", &A::min_effect_floor_ratio,
+         "an added term's or explaining feature's size over the 10 s-bin noise floor",
+         CLI::Range(0.0, 100.0)},
+        {"--gate-min-z", &A::gate_min_z,
+         "held-out improvement the chosen terms need, in its standard errors",
+         CLI::Range(0.0, 100.0)},
+        {"--max-untested-fraction", &A::max_untested_fraction,
+         "'not testable' when more than this fraction of the candidates cannot be tested",
+         CLI::Range(0.0, 1.0)},
+        {"--slow-noise-floor-ratio", &A::slow_noise_floor_ratio,
+         "k of the floor bound (slow noise over the floor); negative: measured from the run's "
+         "Allan deviation",
+         CLI::Range(-1.0, 10.0)},
+        {"--feature-fpr", &A::feature_fpr,
+         "family-wise false-positive rate of the generic features (null from surrogates of the "
+         "run's noise)",
+         CLI::Range(0.001, 0.49)},
+        {"--window-fpr", &A::window_fpr,
+         "family-wise false-positive rate of the time windows and temperature bands",
+         CLI::Range(0.001, 0.49)},
+        {"--warmup-fpr", &A::warmup_fpr, "false-positive rate of the warm-up's localized check",
+         CLI::Range(0.001, 0.49)},
+        {"--min-feature-drop", &A::min_feature_drop,
+         "fraction of the held-out squared residual a feature must also remove (0: the calibrated "
+         "null alone decides)",
+         CLI::Range(0.0, 0.99)}};
+    return options;
+}
+
 // The thresholds as options, for the stored command line.
 std::string ThresholdArgs(const AnalyzeOptions& o) {
     std::string s;
-    auto add = [&](const char* name, double v) {
-        s += std::string(" ") + name + " " + text::Sig(v, 6);
-    };
-    add("--min-z2", o.analysis.min_z2);
-    add("--min-cv-gain", o.analysis.min_cv_gain);
-    add("--max-collinearity", o.analysis.max_collinearity);
-    add("--min-pair-member-z2", o.analysis.min_pair_member_z2);
-    add("--min-effect-floor-ratio", o.analysis.min_effect_floor_ratio);
-    add("--gate-min-z", o.analysis.gate_min_z);
-    add("--max-untested-fraction", o.analysis.max_untested_fraction);
-    add("--slow-noise-floor-ratio", o.analysis.slow_noise_floor_ratio);
-    add("--feature-fpr", o.analysis.feature_fpr);
-    add("--window-fpr", o.analysis.window_fpr);
-    add("--warmup-fpr", o.analysis.warmup_fpr);
-    add("--min-feature-drop", o.analysis.min_feature_drop);
+    for (const ThresholdOption& t : ThresholdOptions())
+        s += std::string(" ") + t.name + " " + text::Sig(o.analysis.*t.field, 6);
     return s + " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
            std::to_string(o.analysis.surrogate_seed);
 }
 
-// Every threshold of the verdict, with what it means and why its default
-// (processors/analysis/README.md#thresholds-from-the-run-itself).
+// Every threshold of the verdict, and the surrogates its nulls are built from.
 void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
-    sub.add_option("--min-z2", o.analysis.min_z2,
-                   "a candidate's coefficient^2 over its autocorrelation-robust variance must "
-                   "exceed this (25: 5 sigma, several candidates and searched shapes per step)")
-        ->check(CLI::PositiveNumber);
-    sub.add_option("--min-cv-gain", o.analysis.min_cv_gain,
-                   "relative drop of the blocked cross-validation error a candidate must give")
-        ->check(CLI::Range(0.0, 0.99));
-    sub.add_option("--max-collinearity", o.analysis.max_collinearity,
-                   "above this |projected correlation| two candidates are ambiguous")
-        ->check(CLI::Range(0.01, 0.99));
-    sub.add_option("--min-pair-member-z2", o.analysis.min_pair_member_z2,
-                   "each member of a collinear pair kept whole needs this z^2 with the other in")
-        ->check(CLI::Range(0.0, 1e6));
-    sub.add_option("--min-effect-floor-ratio", o.analysis.min_effect_floor_ratio,
-                   "an added term's or explaining feature's size over the 10 s-bin noise floor")
-        ->check(CLI::Range(0.0, 100.0));
-    sub.add_option("--gate-min-z", o.analysis.gate_min_z,
-                   "held-out improvement the chosen terms need, in its standard errors")
-        ->check(CLI::Range(0.0, 100.0));
-    sub.add_option("--max-untested-fraction", o.analysis.max_untested_fraction,
-                   "'not testable' when more than this fraction of the candidates cannot be tested")
-        ->check(CLI::Range(0.0, 1.0));
-    sub.add_option("--slow-noise-floor-ratio", o.analysis.slow_noise_floor_ratio,
-                   "k of the floor bound (slow noise over the floor); negative: measured from the "
-                   "run's Allan deviation")
-        ->check(CLI::Range(-1.0, 10.0));
-    sub.add_option("--feature-fpr", o.analysis.feature_fpr,
-                   "family-wise false-positive rate of the generic features (null from surrogates "
-                   "of the run's noise)")
-        ->check(CLI::Range(0.001, 0.49));
-    sub.add_option("--window-fpr", o.analysis.window_fpr,
-                   "family-wise false-positive rate of the time windows and temperature bands")
-        ->check(CLI::Range(0.001, 0.49));
-    sub.add_option("--warmup-fpr", o.analysis.warmup_fpr,
-                   "false-positive rate of the warm-up's localized check")
-        ->check(CLI::Range(0.001, 0.49));
-    sub.add_option("--min-feature-drop", o.analysis.min_feature_drop,
-                   "fraction of the held-out squared residual a feature must also remove (0: the "
-                   "calibrated null alone decides)")
-        ->check(CLI::Range(0.0, 0.99));
+    for (const ThresholdOption& t : ThresholdOptions())
+        sub.add_option(t.name, o.analysis.*t.field, t.help)->check(t.valid);
     sub.add_option("--surrogates", o.analysis.surrogates,
                    "surrogates of the run's noise the nulls are built from")
         ->check(CLI::Range(20, 10000));
