@@ -158,4 +158,10 @@ void Bus::NoteSeq(const std::string& channel, int64_t seq) {
     counters_.seq_backwards += r.backwards ? 1 : 0;
 }
 
+int64_t WallClockUtime() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+
 }  // namespace gyrocal

@@ -125,6 +125,10 @@ private:
     void NoteSeq(const std::string& channel, int64_t seq);
     template <class Msg, class Handler>
     void Deliver(const Msg& msg, const std::string& channel, const Handler& handler);
+    // Decodes `rbuf` as a T (a message or its batch); false, counted as a decode error that names
+    // the channel and the type, when it is not one.
+    template <class T>
+    bool DecodeCounted(T& out, const lcm::ReceiveBuffer& rbuf, const std::string& channel);
 
     std::string url_;
     std::unique_ptr<lcm::LCM> lcm_;
@@ -134,6 +138,10 @@ private:
     std::exception_ptr pending_;
 };
 
+// [us] since 1970 by the wall clock, now: the utime of a message stamped as it is sent (STATUS,
+// flow marks and answers, the launcher's run events) and of a line read from a live stream.
+int64_t WallClockUtime();
+
 template <class Msg, class Handler>
 void Bus::Deliver(const Msg& msg, const std::string& channel, const Handler& handler) {
     ++counters_.received;
@@ -141,35 +149,32 @@ void Bus::Deliver(const Msg& msg, const std::string& channel, const Handler& han
     handler(msg, channel);
 }
 
+template <class T>
+bool Bus::DecodeCounted(T& out, const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+    if (DecodeMessage(out, rbuf.data, static_cast<int>(rbuf.data_size))) return true;
+    ++counters_.decode_errors;
+    counters_.last_decode_error =
+        "channel " + channel + ": payload is not a valid " + T::getTypeName();
+    return false;
+}
+
 template <class Msg>
 void Bus::Subscribe(const std::string& channel_regex,
                     std::function<void(const Msg&, const std::string& channel)> handler) {
     AddSubscription(channel_regex, [this, handler = std::move(handler)](
                                        const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
-        const int size = static_cast<int>(rbuf.data_size);
         if constexpr (HasBatch<Msg>) {
             using Batch = typename BatchTraits<Msg>::Batch;
-            if (IsOfType<Batch>(rbuf.data, size)) {
+            if (IsOfType<Batch>(rbuf.data, static_cast<int>(rbuf.data_size))) {
                 Batch batch;
-                if (!DecodeMessage(batch, rbuf.data, size)) {
-                    ++counters_.decode_errors;
-                    counters_.last_decode_error =
-                        "channel " + channel + ": payload is not a valid " + Batch::getTypeName();
-                    return;
-                }
+                if (!DecodeCounted(batch, rbuf, channel)) return;
                 ++counters_.batches;
                 for (const Msg& msg : batch.samples) Deliver(msg, channel, handler);
                 return;
             }
         }
         Msg msg;
-        if (!DecodeMessage(msg, rbuf.data, size)) {
-            ++counters_.decode_errors;
-            counters_.last_decode_error =
-                "channel " + channel + ": payload is not a valid " + Msg::getTypeName();
-            return;
-        }
-        Deliver(msg, channel, handler);
+        if (DecodeCounted(msg, rbuf, channel)) Deliver(msg, channel, handler);
     });
 }
 

@@ -48,9 +48,7 @@ void FlowAcker::Leave() {
 
 void FlowAcker::Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq, bool leaving) {
     flow_ack_t a;
-    a.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch())
-                  .count();
+    a.utime = WallClockUtime();
     a.process = process_;
     a.host = host_;
     a.pid = pid_;

@@ -17,11 +17,6 @@ namespace gyrocal::flow {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-int64_t WallUtime() {
-    return std::chrono::duration_cast<std::chrono::microseconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
 }  // namespace
 
 FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
@@ -51,7 +46,7 @@ FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
                                  if (s.pid == pid_ && s.host == host_) return;  // itself
                                  // A heartbeat from the past is a replay (a log, a stored run),
                                  // not a process: 30 s covers clocks of hosts on one LAN.
-                                 if (std::abs(s.utime - WallUtime()) > 30'000'000) return;
+                                 if (std::abs(s.utime - WallClockUtime()) > 30'000'000) return;
                                  window_.OnHeartbeat({s.host, s.pid}, s.process, Clock::now());
                              });
     seen_published_ = bus_.counters().published;
@@ -61,7 +56,7 @@ FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
 void FlowSource::PublishMark(int64_t data_utime) {
     const Mark m = window_.IssueMark(Clock::now());
     flow_mark_t f;
-    f.utime = WallUtime();
+    f.utime = WallClockUtime();
     f.source = process_;
     f.host = host_;
     f.pid = pid_;

@@ -50,9 +50,7 @@ void StatusReporter::PublishNow() {
     last_ = std::chrono::steady_clock::now();
     const BusCounters& c = bus_.counters();
     status_t s;
-    s.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch())
-                  .count();
+    s.utime = WallClockUtime();
     s.process = process_;
     s.host = host_;
     s.pid = static_cast<int32_t>(getpid());

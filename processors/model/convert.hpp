@@ -51,15 +51,22 @@ void CopyModelScalars(To& to, const From& from) {
     to.method = from.method;
 }
 
-// The same for a set's identity and evidence (CoeffSet, coeff_set_t, CoeffSetRow); the models
-// and the message's length fields are each conversion's own.
+// A set's key (run, sensor, coeff_set_id, source) and time, as a set carries them and as what
+// names a set carries them (a fit report, an analysis: store/recorder/message_fields.hpp).
 template <class To, class From>
-void CopySetIdentity(To& to, const From& from) {
+void CopySetKey(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
     to.run_id = from.run_id;
     to.coeff_set_id = from.coeff_set_id;
     to.source = from.source;
+}
+
+// The same for a set's identity and evidence (CoeffSet, coeff_set_t, CoeffSetRow); the models
+// and the message's length fields are each conversion's own.
+template <class To, class From>
+void CopySetIdentity(To& to, const From& from) {
+    CopySetKey(to, from);
     to.plateau_ids = from.plateau_ids;
     to.rotation_ids = from.rotation_ids;
 }

@@ -49,9 +49,7 @@ int64_t LineSourceNode::Utime(const csv::CsvRow& row) {
     }
     // Wall time at reception; kept strictly increasing so that two lines read in the same
     // microsecond still give every sensor increasing utimes.
-    const int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
-                            std::chrono::system_clock::now().time_since_epoch())
-                            .count();
+    const int64_t now = WallClockUtime();
     last_wall_utime_ = std::max(now, last_wall_utime_ + 1);
     return last_wall_utime_;
 }

@@ -42,31 +42,36 @@ void BuiltinProfile::Enter(Phase phase, int64_t utime) {
     phase_start_utime_ = utime;
 }
 
+void BuiltinProfile::OrderSetpoint(Rig& rig, int64_t utime) {
+    rig.ChamberCommand(index_ + 1, config_.setpoints_c[index_], 0.0);
+    Enter(Phase::kRamping, utime);
+}
+
+void BuiltinProfile::OrderTurn(Rig& rig, double move_deg, Phase moving, int64_t utime) {
+    rig.TurntableCommand(next_table_cmd_id_++, move_deg, 0.0, 0.0);
+    Enter(moving, utime);
+}
+
 void BuiltinProfile::OnChamber(const ChamberReading& r, Rig& rig) {
     const double in_phase_s = (r.utime - phase_start_utime_) * 1e-6;
     switch (phase_) {
         case Phase::kStart:
-            rig.ChamberCommand(index_ + 1, config_.setpoints_c[index_], 0.0);
-            Enter(Phase::kRamping, r.utime);
+            OrderSetpoint(rig, r.utime);
             break;
         case Phase::kRamping:
             // The reading was taken before this order took effect when both are at one instant.
             if (r.cmd_id == index_ + 1 && r.at_setpoint) Enter(Phase::kDwell, r.utime);
             break;
         case Phase::kDwell:
-            if (in_phase_s >= config_.dwell_s) {
-                rig.TurntableCommand(next_table_cmd_id_++, config_.move_deg, 0.0, 0.0);
-                Enter(Phase::kMovePlus, r.utime);
-            }
+            if (in_phase_s >= config_.dwell_s)
+                OrderTurn(rig, config_.move_deg, Phase::kMovePlus, r.utime);
             break;
         case Phase::kMovePlus:
             if (!rig.table_busy()) Enter(Phase::kRestPlus, r.utime);
             break;
         case Phase::kRestPlus:
-            if (in_phase_s >= config_.rest_s) {
-                rig.TurntableCommand(next_table_cmd_id_++, -config_.move_deg, 0.0, 0.0);
-                Enter(Phase::kMoveMinus, r.utime);
-            }
+            if (in_phase_s >= config_.rest_s)
+                OrderTurn(rig, -config_.move_deg, Phase::kMoveMinus, r.utime);
             break;
         case Phase::kMoveMinus:
             if (!rig.table_busy()) Enter(Phase::kRestMinus, r.utime);
@@ -74,12 +79,10 @@ void BuiltinProfile::OnChamber(const ChamberReading& r, Rig& rig) {
         case Phase::kRestMinus:
             if (in_phase_s >= config_.rest_s) {
                 ++index_;
-                if (index_ >= static_cast<int>(config_.setpoints_c.size())) {
+                if (index_ >= static_cast<int>(config_.setpoints_c.size()))
                     Enter(Phase::kDone, r.utime);
-                } else {
-                    rig.ChamberCommand(index_ + 1, config_.setpoints_c[index_], 0.0);
-                    Enter(Phase::kRamping, r.utime);
-                }
+                else
+                    OrderSetpoint(rig, r.utime);
             }
             break;
         case Phase::kDone:

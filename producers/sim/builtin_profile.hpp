@@ -44,6 +44,10 @@ private:
         kDone
     };
     void Enter(Phase phase, int64_t utime);
+    // Orders the chamber to setpoint index_ and waits for it (kRamping).
+    void OrderSetpoint(Rig& rig, int64_t utime);
+    // Orders a turn of `move_deg` and enters `moving` (kMovePlus or kMoveMinus).
+    void OrderTurn(Rig& rig, double move_deg, Phase moving, int64_t utime);
 
     ProfileConfig config_;
     Phase phase_ = Phase::kStart;

@@ -37,6 +37,14 @@ template <class To, class From, class Row, class Msg>
 concept RowAndMessage = (std::same_as<To, Row> && std::same_as<From, Msg>) ||
                         (std::same_as<To, Msg> && std::same_as<From, Row>);
 
+// What a verdict on a coefficient set (an analysis, a fit report) names it by: the set's key
+// (run, sensor, coeff_set_id, source), when it was given and whether it is the final one.
+template <class To, class From>
+void CopyVerdictKey(To& to, const From& from) {
+    model::CopySetKey(to, from);
+    to.is_final = from.is_final;
+}
+
 template <class To, class From>
 requires RowAndMessage<To, From, store::GyroRow, gyro_sample_t>
 void CopyFields(To& to, const From& from) {
@@ -174,12 +182,7 @@ void CopyFields(To& to, const From& from) {
 template <class To, class From>
 requires RowAndMessage<To, From, store::ClosedLoopRow, analysis_t>
 void CopyFields(To& to, const From& from) {
-    to.utime = from.utime;
-    to.sensor_id = from.sensor_id;
-    to.run_id = from.run_id;
-    to.coeff_set_id = from.coeff_set_id;
-    to.source = from.source;
-    to.is_final = from.is_final;
+    CopyVerdictKey(to, from);
     to.outcome = from.outcome;
     to.headline = from.headline;
     to.offset_rms_v_before = from.offset_rms_v_before;
@@ -275,12 +278,7 @@ void CopyFields(To& to, const From& from) {
 template <class To, class From>
 requires RowAndMessage<To, From, store::FitReportRow, fit_report_t>
 void CopyFields(To& to, const From& from) {
-    to.utime = from.utime;
-    to.sensor_id = from.sensor_id;
-    to.run_id = from.run_id;
-    to.coeff_set_id = from.coeff_set_id;
-    to.source = from.source;
-    to.is_final = from.is_final;
+    CopyVerdictKey(to, from);
     to.status = from.status;
     to.reason = from.reason;
     to.offset_detail = from.offset_detail;

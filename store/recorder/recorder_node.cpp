@@ -13,16 +13,6 @@
 
 namespace gyrocal::record {
 
-namespace {
-
-int64_t WallUtime() {
-    return std::chrono::duration_cast<std::chrono::microseconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
-}
-
-}  // namespace
-
 std::string LcmChannelRegexProblem(const std::string& text) {
     const std::string anchored = "^" + text + "$";
     GError* error = nullptr;
@@ -52,7 +42,7 @@ RecorderNode::RecorderNode(const RecorderOptions& o, std::unique_ptr<store::Stor
                                                  std::chrono::milliseconds(o.batch_ms)}),
       watch_(o.queue_rows),
       push_(o.push_to, o.db_path) {
-    store_->BeginSession(WallUtime(), mapper_.current_run());
+    store_->BeginSession(WallClockUtime(), mapper_.current_run());
     if (!mapper_.current_run().empty()) {
         SeedSeqs(mapper_.current_run());
         std::cerr << kRecorderProcess << ": continuing run '" << mapper_.current_run()
@@ -91,7 +81,7 @@ int RecorderNode::Finish() {
         }
         return 1;
     }
-    store_->EndSession(WallUtime());
+    store_->EndSession(WallClockUtime());
     return 0;
 }
 

@@ -51,9 +51,7 @@ ReportResult WriteReport(const ReportOptions& o) {
 
     in.software_version = o.software_version;
     in.database = store::WithoutCredentials(o.db);
-    const int64_t now_us = std::chrono::duration_cast<std::chrono::microseconds>(
-                               std::chrono::system_clock::now().time_since_epoch())
-                               .count();
+    const int64_t now_us = store::WallUtimeNow();
     in.generated_utc = store::UtcText(now_us);
     const std::string page = ReportHtml(in);
 

@@ -26,6 +26,19 @@ inline store::GyroRow GyroSample(const std::string& run, const std::string& sens
             .recv_utime = recv_utime};
 }
 
+// A model of `quantity` in powers of dT = T - 25 degC ("1", "dT", "dT^2": up to three
+// coefficients), its covariance zero: each fixture sets its own uncertainties and fit figures.
+inline store::ModelRow PolynomialModel(const std::string& quantity,
+                                       const std::vector<double>& coeffs) {
+    store::ModelRow m;
+    m.quantity = quantity;
+    const std::vector<std::string> names = {"1", "dT", "dT^2"};
+    for (size_t i = 0; i < coeffs.size(); ++i) m.term_names.push_back(names.at(i));
+    m.coeffs = coeffs;
+    m.covariance.assign(coeffs.size(), std::vector<double>(coeffs.size(), 0.0));
+    return m;
+}
+
 // A run event as the sequencer sends it (no setpoint), received when sent.
 inline store::RunEventRow RunEvent(const std::string& run, const std::string& event,
                                    std::vector<std::string> sensors, int64_t utime) {

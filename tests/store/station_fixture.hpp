@@ -41,12 +41,7 @@ inline std::string TrickyText(const std::string& what) {
 }
 
 inline store::ModelRow StationModel(const std::string& quantity, std::vector<double> coeffs) {
-    store::ModelRow m;
-    m.quantity = quantity;
-    const std::vector<std::string> names = {"1", "dT", "dT^2"};
-    for (size_t i = 0; i < coeffs.size(); ++i) m.term_names.push_back(names[i]);
-    m.coeffs = coeffs;
-    m.covariance.assign(coeffs.size(), std::vector<double>(coeffs.size(), 0.0));
+    store::ModelRow m = PolynomialModel(quantity, coeffs);
     for (size_t i = 0; i < coeffs.size(); ++i) m.covariance[i][i] = 1e-10 * (i + 1);
     m.covariance[0][1] = m.covariance[1][0] = 3e-12;
     SetTestModelScalars(m, {.residual_rms = 1.25e-4, .n_points = 6, .condition_number = 7.5});

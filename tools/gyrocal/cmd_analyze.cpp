@@ -12,9 +12,11 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 #include "gyrocal/version.hpp"
 #include "lcmtypes/bus/bus.hpp"
@@ -81,24 +83,7 @@ std::optional<int> CheckPlotDir(const AnalyzeOptions& o, std::string& gnuplot, s
 std::optional<int> PrepareAnalyze(const AnalyzeOptions& o, an::AnalysisOptions& ao,
                                   std::string& gnuplot, std::unique_ptr<Bus>& bus,
                                   std::ostream& err) {
-    ao = an::AnalysisOptions::Defaults();
-    ao.bins.bin_s = o.bin_s;
-    ao.holdout_fraction = o.holdout_fraction;
-    ao.holdout_block_s = o.holdout_block_s;
-    ao.min_z2 = o.min_z2;
-    ao.min_cv_gain = o.min_cv_gain;
-    ao.max_collinearity = o.max_collinearity;
-    ao.min_pair_member_z2 = o.min_pair_member_z2;
-    ao.min_effect_floor_ratio = o.min_effect_floor_ratio;
-    ao.gate_min_z = o.gate_min_z;
-    ao.max_untested_fraction = o.max_untested_fraction;
-    ao.slow_noise_floor_ratio = o.slow_noise_floor_ratio;
-    ao.feature_fpr = o.feature_fpr;
-    ao.window_fpr = o.window_fpr;
-    ao.warmup_fpr = o.warmup_fpr;
-    ao.min_feature_drop = o.min_feature_drop;
-    ao.surrogates = o.surrogates;
-    ao.surrogate_seed = o.surrogate_seed;
+    ao = o.analysis;
     if (const std::string p = ao.Validate(); !p.empty()) {
         err << "gyrocal analyze: " << p << "\n";
         return 2;
@@ -326,75 +311,77 @@ int RunAnalyze(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
 
 namespace {
 
+// The verdict's thresholds as options (the surrogates aside), in the order --help lists them: each
+// option's name, the field of the analysis options it sets, what it means and why its default
+// (processors/analysis/README.md#thresholds-from-the-run-itself), and its valid values.
+struct ThresholdOption {
+    const char* name;
+    double an::AnalysisOptions::*field;
+    const char* help;
+    CLI::Validator valid;
+};
+
+const std::vector<ThresholdOption>& ThresholdOptions() {
+    using A = an::AnalysisOptions;
+    static const std::vector<ThresholdOption> options = {
+        {"--min-z2", &A::min_z2,
+         "a candidate's coefficient^2 over its autocorrelation-robust variance must exceed this "
+         "(25: 5 sigma, several candidates and searched shapes per step)",
+         CLI::PositiveNumber},
+        {"--min-cv-gain", &A::min_cv_gain,
+         "relative drop of the blocked cross-validation error a candidate must give",
+         CLI::Range(0.0, 0.99)},
+        {"--max-collinearity", &A::max_collinearity,
+         "above this |projected correlation| two candidates are ambiguous", CLI::Range(0.01, 0.99)},
+        {"--min-pair-member-z2", &A::min_pair_member_z2,
+         "each member of a collinear pair kept whole needs this z^2 with the other in",
+         CLI::Range(0.0, 1e6)},
+        {"--min-effect-floor-ratio", &A::min_effect_floor_ratio,
+         "an added term's or explaining feature's size over the 10 s-bin noise floor",
+         CLI::Range(0.0, 100.0)},
+        {"--gate-min-z", &A::gate_min_z,
+         "held-out improvement the chosen terms need, in its standard errors",
+         CLI::Range(0.0, 100.0)},
+        {"--max-untested-fraction", &A::max_untested_fraction,
+         "'not testable' when more than this fraction of the candidates cannot be tested",
+         CLI::Range(0.0, 1.0)},
+        {"--slow-noise-floor-ratio", &A::slow_noise_floor_ratio,
+         "k of the floor bound (slow noise over the floor); negative: measured from the run's "
+         "Allan deviation",
+         CLI::Range(-1.0, 10.0)},
+        {"--feature-fpr", &A::feature_fpr,
+         "family-wise false-positive rate of the generic features (null from surrogates of the "
+         "run's noise)",
+         CLI::Range(0.001, 0.49)},
+        {"--window-fpr", &A::window_fpr,
+         "family-wise false-positive rate of the time windows and temperature bands",
+         CLI::Range(0.001, 0.49)},
+        {"--warmup-fpr", &A::warmup_fpr, "false-positive rate of the warm-up's localized check",
+         CLI::Range(0.001, 0.49)},
+        {"--min-feature-drop", &A::min_feature_drop,
+         "fraction of the held-out squared residual a feature must also remove (0: the calibrated "
+         "null alone decides)",
+         CLI::Range(0.0, 0.99)}};
+    return options;
+}
+
 // The thresholds as options, for the stored command line.
 std::string ThresholdArgs(const AnalyzeOptions& o) {
     std::string s;
-    auto add = [&](const char* name, double v) {
-        s += std::string(" ") + name + " " + text::Sig(v, 6);
-    };
-    add("--min-z2", o.min_z2);
-    add("--min-cv-gain", o.min_cv_gain);
-    add("--max-collinearity", o.max_collinearity);
-    add("--min-pair-member-z2", o.min_pair_member_z2);
-    add("--min-effect-floor-ratio", o.min_effect_floor_ratio);
-    add("--gate-min-z", o.gate_min_z);
-    add("--max-untested-fraction", o.max_untested_fraction);
-    add("--slow-noise-floor-ratio", o.slow_noise_floor_ratio);
-    add("--feature-fpr", o.feature_fpr);
-    add("--window-fpr", o.window_fpr);
-    add("--warmup-fpr", o.warmup_fpr);
-    add("--min-feature-drop", o.min_feature_drop);
-    return s + " --surrogates " + std::to_string(o.surrogates) + " --surrogate-seed " +
-           std::to_string(o.surrogate_seed);
+    for (const ThresholdOption& t : ThresholdOptions())
+        s += std::string(" ") + t.name + " " + text::Sig(o.analysis.*t.field, 6);
+    return s + " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
+           std::to_string(o.analysis.surrogate_seed);
 }
 
-// Every threshold of the verdict, with what it means and why its default
-// (processors/analysis/README.md#thresholds-from-the-run-itself).
+// Every threshold of the verdict, and the surrogates its nulls are built from.
 void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
-    sub.add_option("--min-z2", o.min_z2,
-                   "a candidate's coefficient^2 over its autocorrelation-robust variance must "
-                   "exceed this (25: 5 sigma, several candidates and searched shapes per step)")
-        ->check(CLI::PositiveNumber);
-    sub.add_option("--min-cv-gain", o.min_cv_gain,
-                   "relative drop of the blocked cross-validation error a candidate must give")
-        ->check(CLI::Range(0.0, 0.99));
-    sub.add_option("--max-collinearity", o.max_collinearity,
-                   "above this |projected correlation| two candidates are ambiguous")
-        ->check(CLI::Range(0.01, 0.99));
-    sub.add_option("--min-pair-member-z2", o.min_pair_member_z2,
-                   "each member of a collinear pair kept whole needs this z^2 with the other in")
-        ->check(CLI::Range(0.0, 1e6));
-    sub.add_option("--min-effect-floor-ratio", o.min_effect_floor_ratio,
-                   "an added term's or explaining feature's size over the 10 s-bin noise floor")
-        ->check(CLI::Range(0.0, 100.0));
-    sub.add_option("--gate-min-z", o.gate_min_z,
-                   "held-out improvement the chosen terms need, in its standard errors")
-        ->check(CLI::Range(0.0, 100.0));
-    sub.add_option("--max-untested-fraction", o.max_untested_fraction,
-                   "'not testable' when more than this fraction of the candidates cannot be tested")
-        ->check(CLI::Range(0.0, 1.0));
-    sub.add_option("--slow-noise-floor-ratio", o.slow_noise_floor_ratio,
-                   "k of the floor bound (slow noise over the floor); negative: measured from the "
-                   "run's Allan deviation")
-        ->check(CLI::Range(-1.0, 10.0));
-    sub.add_option("--feature-fpr", o.feature_fpr,
-                   "family-wise false-positive rate of the generic features (null from surrogates "
-                   "of the run's noise)")
-        ->check(CLI::Range(0.001, 0.49));
-    sub.add_option("--window-fpr", o.window_fpr,
-                   "family-wise false-positive rate of the time windows and temperature bands")
-        ->check(CLI::Range(0.001, 0.49));
-    sub.add_option("--warmup-fpr", o.warmup_fpr,
-                   "false-positive rate of the warm-up's localized check")
-        ->check(CLI::Range(0.001, 0.49));
-    sub.add_option("--min-feature-drop", o.min_feature_drop,
-                   "fraction of the held-out squared residual a feature must also remove (0: the "
-                   "calibrated null alone decides)")
-        ->check(CLI::Range(0.0, 0.99));
-    sub.add_option("--surrogates", o.surrogates,
+    for (const ThresholdOption& t : ThresholdOptions())
+        sub.add_option(t.name, o.analysis.*t.field, t.help)->check(t.valid);
+    sub.add_option("--surrogates", o.analysis.surrogates,
                    "surrogates of the run's noise the nulls are built from")
         ->check(CLI::Range(20, 10000));
-    sub.add_option("--surrogate-seed", o.surrogate_seed,
+    sub.add_option("--surrogate-seed", o.analysis.surrogate_seed,
                    "seed of the surrogates (the same run and seed give the same verdict)");
 }
 
@@ -412,13 +399,13 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
                     "analyse only this sensor (default: every sensor of the run)");
     sub->add_option("--db", o->db, "SQLite database the recorder wrote");
     sub->add_flag("--json", o->json, "print JSON (sensors[]) instead of the table");
-    sub->add_option("--bin-s", o->bin_s, "[s] bin length of the still data")
+    sub->add_option("--bin-s", o->analysis.bins.bin_s, "[s] bin length of the still data")
         ->check(CLI::Range(0.5, 600.0));
-    sub->add_option("--holdout-fraction", o->holdout_fraction,
+    sub->add_option("--holdout-fraction", o->analysis.holdout_fraction,
                     "fraction of the still data held out for the before/after figures and the "
                     "confirmation of added terms: one block of --holdout-block-s in round(1/F)")
         ->check(CLI::Range(0.05, 0.5));
-    sub->add_option("--holdout-block-s", o->holdout_block_s,
+    sub->add_option("--holdout-block-s", o->analysis.holdout_block_s,
                     "[s] length of the held-out blocks (interleaved with the training data)")
         ->check(CLI::Range(60.0, 86400.0));
     AddThresholdOptions(*sub, *o);
@@ -447,9 +434,9 @@ void AddAnalyzeCommand(CLI::App& app, std::function<int()>& action) {
         // What was asked, as the options were understood (recorded with the stored analysis).
         o->command_line = "gyrocal analyze " + o->run_id + " --db " + o->db +
                           (o->sensor_id.empty() ? "" : " --sensor " + o->sensor_id) + " --bin-s " +
-                          std::to_string(o->bin_s) + " --holdout-fraction " +
-                          std::to_string(o->holdout_fraction) + " --holdout-block-s " +
-                          std::to_string(o->holdout_block_s) + ThresholdArgs(*o) +
+                          std::to_string(o->analysis.bins.bin_s) + " --holdout-fraction " +
+                          std::to_string(o->analysis.holdout_fraction) + " --holdout-block-s " +
+                          std::to_string(o->analysis.holdout_block_s) + ThresholdArgs(*o) +
                           (o->json ? " --json" : "") +
                           (o->plot_dir.empty() ? "" : " --plot " + o->plot_dir) +
                           (o->binned ? " --binned" : "") + (o->publish ? " --publish" : "");

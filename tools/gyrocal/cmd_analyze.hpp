@@ -19,10 +19,11 @@
 // or sensor unknown, no samples, storing failed, gnuplot missing or failing), 2 bad options (incl.
 // a --plot DIR whose parent does not exist).
 #include <CLI/CLI.hpp>
-#include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <string>
+
+#include "processors/analysis/analyze.hpp"
 
 namespace gyrocal::cli {
 
@@ -31,24 +32,9 @@ struct AnalyzeOptions {
     std::string sensor_id;  // "" = every sensor of the run
     std::string db = "gyrocal.db";
     bool json = false;
-    double bin_s = 10.0;  // [s]
-    double holdout_fraction = 0.25;
-    double holdout_block_s = 600.0;  // [s]
-    // The verdict's thresholds (analysis::AnalysisOptions; defaults there).
-    double min_z2 = 25.0;
-    double min_cv_gain = 0.02;
-    double max_collinearity = 0.9;
-    double min_pair_member_z2 = 4.0;
-    double min_effect_floor_ratio = 1.0;
-    double gate_min_z = 2.0;
-    double max_untested_fraction = 0.5;
-    double slow_noise_floor_ratio = -1.0;  // < 0: measured from the run
-    double feature_fpr = 0.02;
-    double window_fpr = 0.01;
-    double warmup_fpr = 0.01;
-    double min_feature_drop = 0.0;
-    int surrogates = 200;
-    uint64_t surrogate_seed = 1;
+    // The analysis' options with their defaults (one place: processors/analysis/analyze.hpp);
+    // --bin-s (analysis.bins.bin_s), the held-out stretch and the verdict's thresholds set them.
+    gyrocal::analysis::AnalysisOptions analysis = gyrocal::analysis::AnalysisOptions::Defaults();
     bool store = true;         // keep the result in the database
     std::string plot_dir;      // "" = no pictures; else gnuplot PNG+SVG written here
     bool binned = false;       // bin as read (LoadBinnedRun): memory per bin; no plot_dir

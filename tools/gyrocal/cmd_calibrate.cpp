@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 #include <sstream>
+#include <string>
 
 #include "processors/acceptance/limits.hpp"
 #include "processors/plot/gnuplot.hpp"
@@ -209,23 +210,10 @@ void AddProcessOptions(CLI::App* cmd, CalibrateOptions* o) {
         ->capture_default_str();
     cmd->add_option("--truth-out", o->truth_out,
                     "where the rig writes its truth sidecar (default: in --log-dir)");
-    cmd->add_option("--rig-arg", o->rig_args, "extra argument for gyrocal-sim-rig (repeatable)")
-        ->allow_extra_args(false);
-    cmd->add_option("--plateau-arg", o->plateau_args, "extra argument for gyrocal-plateau")
-        ->allow_extra_args(false);
-    cmd->add_option("--rotation-arg", o->rotation_args, "extra argument for gyrocal-rotation")
-        ->allow_extra_args(false);
-    cmd->add_option("--fitter-arg", o->fitter_args, "extra argument for gyrocal-fitter")
-        ->allow_extra_args(false);
-    cmd->add_option("--compensator-arg", o->compensator_args,
-                    "extra argument for gyrocal-compensator")
-        ->allow_extra_args(false);
-    cmd->add_option("--sequencer-arg", o->sequencer_args, "extra argument for gyrocal-sequencer")
-        ->allow_extra_args(false);
-    cmd->add_option("--recorder-arg", o->recorder_args, "extra argument for gyrocal-recorder")
-        ->allow_extra_args(false);
-    cmd->add_option("--source-arg", o->source_args, "extra argument for the measured-data source")
-        ->allow_extra_args(false);
+    for (const ChildArgs& c : kChildArgs)
+        cmd->add_option("--" + std::string(c.name) + "-arg", (*o).*c.args,
+                        std::string("extra argument for ") + c.child)
+            ->allow_extra_args(false);
     cmd->add_flag("--quiet", o->quiet, "no progress line");
     AddAfterRunOptions(cmd, *o);
     cmd->footer(

@@ -367,14 +367,8 @@ std::string Calibration::ConfigJson() const {
         j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);
         j["acceptance_limits_file"] = o_.limits_file;
     }
-    j["args"] = {{"rig", o_.rig_args},
-                 {"plateau", o_.plateau_args},
-                 {"rotation", o_.rotation_args},
-                 {"fitter", o_.fitter_args},
-                 {"compensator", o_.compensator_args},
-                 {"sequencer", o_.sequencer_args},
-                 {"recorder", o_.recorder_args},
-                 {"source", o_.source_args}};
+    nlohmann::json& args = j["args"] = nlohmann::json::object();
+    for (const ChildArgs& c : kChildArgs) args[c.name] = o_.*c.args;
     return j.dump();
 }
 
@@ -382,9 +376,7 @@ void Calibration::AnnounceRun(const std::string& event, const std::string& reaso
     // Without a sequencer (measured data, the rig's own procedure) the launcher owns the run and
     // announces it; it also ends a run it must abort (a source died).
     run_event_t e;
-    e.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch())
-                  .count();
+    e.utime = WallClockUtime();
     if (run_id_.empty()) {
         char buf[32];
         std::time_t t = std::time(nullptr);

@@ -167,9 +167,7 @@ void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int prev
         {Recovery::kResumeSequence, "the run resumed at its current setpoint"}};
     const Recovery r = RecoveryOf(c.name);
     run_event_t e;
-    e.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                  std::chrono::system_clock::now().time_since_epoch())
-                  .count();
+    e.utime = WallClockUtime();
     e.run_id = run_id_;
     e.event = "restart";
     e.reason =

@@ -95,6 +95,24 @@ struct CalibrateOptions {
     static CalibrateOptions Defaults() { return {}; }
 };
 
+// Each child's pass-through arguments, in the order `gyrocal calibrate --help` lists them: the
+// child's short name (its option --<name>-arg and its key under "args" in the run's
+// configuration), the child as the help names it, and the list in CalibrateOptions.
+struct ChildArgs {
+    const char* name;
+    const char* child;
+    std::vector<std::string> CalibrateOptions::*args;
+};
+inline constexpr ChildArgs kChildArgs[] = {
+    {"rig", "gyrocal-sim-rig (repeatable)", &CalibrateOptions::rig_args},
+    {"plateau", "gyrocal-plateau", &CalibrateOptions::plateau_args},
+    {"rotation", "gyrocal-rotation", &CalibrateOptions::rotation_args},
+    {"fitter", "gyrocal-fitter", &CalibrateOptions::fitter_args},
+    {"compensator", "gyrocal-compensator", &CalibrateOptions::compensator_args},
+    {"sequencer", "gyrocal-sequencer", &CalibrateOptions::sequencer_args},
+    {"recorder", "gyrocal-recorder", &CalibrateOptions::recorder_args},
+    {"source", "the measured-data source", &CalibrateOptions::source_args}};
+
 // The value gyrocal-fitter gets for --plateau-slow-noise-dps (the auto rule resolved); < 0: none
 // is passed and the fitter takes each unit's from the run's Allan deviation.
 double EffectivePlateauSlowNoiseDps(const CalibrateOptions& o);

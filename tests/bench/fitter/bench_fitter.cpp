@@ -22,7 +22,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <random>
 #include <thread>
 #include <vector>
@@ -37,6 +36,7 @@
 #include "processors/fitter/ramp_fitter.hpp"
 #include "tests/bench/support/bench_args.hpp"
 #include "tests/bench/support/bench_context.hpp"
+#include "tests/bench/support/machine.hpp"
 
 namespace gyrocal {
 namespace {
@@ -115,18 +115,6 @@ void Memory(double hours) {
         after / h / 1e6, counted / h / 1e6);
 }
 
-// [kB] a line of /proc/self/status ("VmRSS", "VmHWM").
-long StatusKb(const char* key) {
-    std::FILE* f = std::fopen("/proc/self/status", "r");
-    char line[256];
-    long kb = -1;
-    const size_t n = std::strlen(key);
-    while (f && std::fgets(line, sizeof line, f))
-        if (std::strncmp(line, key, n) == 0 && line[n] == ':') kb = std::atol(line + n + 1);
-    if (f) std::fclose(f);
-    return kb;
-}
-
 // Resets the peak resident size (VmHWM) to the current one (proc(5), clear_refs "5").
 void ResetPeak() {
     if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
@@ -168,11 +156,11 @@ void FitMemory(const std::vector<int>& hours) {
         }
         const size_t heap = HeapInUse() - heap0;
         ResetPeak();
-        const long rss_kb = StatusKb("VmRSS");
+        const int64_t rss_kb = bench::ReadProcStats(getpid()).rss_kb;
         const auto t0 = Clock::now();
         const fitter::RampFitResult r = f.Fit("U1", 1'000'000 + seq * 10'000, true);
         const double s = std::chrono::duration<double>(Clock::now() - t0).count();
-        const long peak_kb = StatusKb("VmHWM");
+        const int64_t peak_kb = bench::ReadProcStats(getpid()).hwm_kb;
         const size_t after = HeapInUse() - heap0;
         std::printf("  %6d %10.1f %10.1f %12.1f %12.1f %10.2f %8zu  %s\n", h, f.MemoryBytes() / 1e6,
                     heap / 1e6, (peak_kb - rss_kb) / 1e3, after / 1e6, s,

@@ -14,6 +14,7 @@
 #include <map>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "tests/bench/support/machine.hpp"
 
@@ -152,4 +153,22 @@ TEST(BenchContext, NoCheckoutSaysUnknown) {
 TEST(BenchContext, FormatAlignsTheValuesOneFieldALine) {
     EXPECT_EQ(FormatContext({{"date", "D"}, {"command", "C x"}, {"load", "1 2 3"}}),
               "date:    D\ncommand: C x\nload:    1 2 3\n");
+}
+
+// machine.hpp's /proc reader, which the benchmarks use for their children and for themselves:
+// touching 32 MiB raises this process' resident set by about that much (the allocator and page
+// rounding may take a little less from it, hence 7/8), the peak is never below the current, and a
+// process that does not exist reads as cpu_s -1.
+TEST(ReadProcStats, SeesThisProcessGrowByWhatItTouches) {
+    using gyrocal::bench::ReadProcStats;
+    const gyrocal::bench::ProcStats before = ReadProcStats(getpid());
+    ASSERT_GE(before.cpu_s, 0.0);
+    ASSERT_GT(before.rss_kb, 0);
+    constexpr size_t kBytes = 32u << 20;
+    std::vector<char> touched(kBytes, 1);
+    const gyrocal::bench::ProcStats after = ReadProcStats(getpid());
+    EXPECT_GE(after.rss_kb - before.rss_kb, static_cast<int64_t>(kBytes / 1024 * 7 / 8));
+    EXPECT_GE(after.hwm_kb, after.rss_kb);
+    EXPECT_EQ(touched[kBytes - 1], 1);
+    EXPECT_EQ(ReadProcStats(-1).cpu_s, -1.0);
 }

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdint>
 #include <stdexcept>
 
 #include "lcmtypes/bus/channels.hpp"
@@ -162,6 +164,22 @@ TEST(Bus, AStringLengthOfIntMinIsADecodeErrorNotASegfault) {
 }
 
 // What tells one bus from another: group and port; TTL and buffer options do not.
+// The wall clock's utime is the system clock in microseconds since 1970: read between two
+// readings of it, it lies between them (whole microseconds, so the bounds are inclusive).
+TEST(Bus, WallClockUtimeIsTheSystemClockInMicroseconds) {
+    const auto us = [] {
+        return std::chrono::duration_cast<std::chrono::microseconds>(
+                   std::chrono::system_clock::now().time_since_epoch())
+            .count();
+    };
+    const int64_t before = us();
+    const int64_t utime = WallClockUtime();
+    const int64_t after = us();
+    EXPECT_LE(before, utime);
+    EXPECT_LE(utime, after);
+    EXPECT_GT(utime, 1'700'000'000'000'000) << "after 2023: microseconds, not seconds";
+}
+
 TEST(UdpmUrl, GroupAndPortAreTheBus) {
     auto a = ParseUdpm("udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
     ASSERT_TRUE(a.has_value());

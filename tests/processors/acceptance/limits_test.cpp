@@ -6,6 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace gyrocal::acceptance {
 namespace {
@@ -51,30 +54,23 @@ TEST(Limits, UnknownKeyIsNamedWithTheValidKeys) {
 }
 
 TEST(Limits, WrongTypesAndInvalidValuesNameTheKeyAndWhatIsValid) {
-    std::string e = ErrorOf(R"({"max_offset_change_dps": "3"})");
-    EXPECT_NE(e.find("key 'max_offset_change_dps': expected a number >= 0, got string"),
-              std::string::npos)
-        << e;
-    e = ErrorOf(R"({"max_offset_change_dps": -1})");
-    EXPECT_NE(e.find("key 'max_offset_change_dps': -1 is not valid; expected a number >= 0"),
-              std::string::npos)
-        << e;
-    e = ErrorOf(R"({"min_plateaus": 2.5})");
-    EXPECT_NE(e.find("key 'min_plateaus': expected a whole number >= 1"), std::string::npos) << e;
-    e = ErrorOf(R"({"min_turns": 0})");
-    EXPECT_NE(e.find("key 'min_turns': 0 is not valid; expected a whole number from 1"),
-              std::string::npos)
-        << e;
-    e = ErrorOf(R"({"no_unexplained_residual": "yes"})");
-    EXPECT_NE(e.find("key 'no_unexplained_residual': expected true or false, got string"),
-              std::string::npos)
-        << e;
-    e = ErrorOf(R"({"max_heldout_drift_dph": -2})");
-    EXPECT_NE(e.find("key 'max_heldout_drift_dph': -2 is not valid; expected a number >= 0"),
-              std::string::npos)
-        << e;
-    e = ErrorOf(R"({"description": 3, "min_turns": 1})");
-    EXPECT_NE(e.find("key 'description': expected a string"), std::string::npos) << e;
+    // (the file's text, what its error says)
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"max_offset_change_dps": "3"})",
+         "key 'max_offset_change_dps': expected a number >= 0, got string"},
+        {R"({"max_offset_change_dps": -1})",
+         "key 'max_offset_change_dps': -1 is not valid; expected a number >= 0"},
+        {R"({"min_plateaus": 2.5})", "key 'min_plateaus': expected a whole number >= 1"},
+        {R"({"min_turns": 0})", "key 'min_turns': 0 is not valid; expected a whole number from 1"},
+        {R"({"no_unexplained_residual": "yes"})",
+         "key 'no_unexplained_residual': expected true or false, got string"},
+        {R"({"max_heldout_drift_dph": -2})",
+         "key 'max_heldout_drift_dph': -2 is not valid; expected a number >= 0"},
+        {R"({"description": 3, "min_turns": 1})", "key 'description': expected a string"}};
+    for (const auto& [text, says] : cases) {
+        const std::string e = ErrorOf(text);
+        EXPECT_NE(e.find(says), std::string::npos) << text << ": " << e;
+    }
 }
 
 TEST(Limits, NotAnObjectNoLimitOrNotJsonAreRefused) {

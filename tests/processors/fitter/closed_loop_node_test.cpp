@@ -30,6 +30,7 @@
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/processors/analysis/sim_run.hpp"
+#include "tests/processors/fitter/memq_fitter.hpp"
 
 namespace gyrocal {
 namespace {
@@ -120,15 +121,9 @@ TEST(ClosedLoopNode, TheFinalSetIsFittedOnEveryStillSampleWithTheEffectAfterTheP
     so.seed = 21;
     sim::SetEffect(so.effects, "supply", 0.05);
     const analysis::testing::SimRun s = analysis::testing::MakeSimRun(so, true);
-    auto o = FitterOptions::Defaults();
-    o.lcm_url = "memq://";
-    FitterNode node(o);
-    Bus& bus = node.bus();
-    std::vector<coeff_set_t> coeffs;
-    std::vector<fit_report_t> reports;
+    testing::MemqFitter<> fitter;
+    auto& [node, bus, coeffs, reports] = fitter;
     std::vector<analysis_t> analyses;
-    testing::CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);
-    testing::CollectInto(bus, channels::AllSensors(channels::kFitPrefix), reports);
     testing::CollectInto(bus, channels::AllSensors(channels::kAnalysisPrefix), analyses);
     // WHEN the run is published and stops
     PublishRun(bus, node, s);

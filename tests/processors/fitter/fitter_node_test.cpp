@@ -21,6 +21,7 @@
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/processors/fitter/fitter_fixture.hpp"
+#include "tests/processors/fitter/memq_fitter.hpp"
 
 namespace gyrocal {
 namespace {
@@ -40,14 +41,8 @@ sensitivity_point_t Rotation(double temp_c, int64_t start_utime, int dir, bool a
 }
 
 TEST(FitterNode, FinalSetIsTheTruthWithExactIdsAndBadInputIsRefused) {
-    auto o = FitterOptions::Defaults();
-    o.lcm_url = "memq://";
-    FitterNode node(o);
-    Bus& bus = node.bus();
-    std::vector<coeff_set_t> coeffs;
-    std::vector<fit_report_t> reports;
-    testing::CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);
-    testing::CollectInto(bus, channels::AllSensors(channels::kFitPrefix), reports);
+    testing::MemqFitter<> fitter;
+    auto& [node, bus, coeffs, reports] = fitter;
 
     // GIVEN a run of S01 with plateaus at three temperatures, two accepted rotations at each and
     // one not accepted

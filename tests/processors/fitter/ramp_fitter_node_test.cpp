@@ -10,7 +10,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include "gyrocal/coeff_set_t.hpp"
@@ -22,33 +21,21 @@
 #include "processors/model/inputs.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
+#include "tests/processors/fitter/memq_fitter.hpp"
+#include "tests/processors/fitter/ramp_truth.hpp"
 
 namespace gyrocal {
 namespace {
 
 constexpr int64_t kT0 = 1'000'000'000'000'000;  // [us]
-constexpr double kNoiseV = 1e-3;                // [V] white noise per sample
-constexpr double kSensSeV = 5e-6;               // [V/(deg/s)] standard error of a point
-constexpr double kHz = 10.0;                    // samples per second
-
-double OffsetTrue(double t_c) {
-    const double d = t_c - 25.0;
-    return 2.5 + 5e-4 * d - 3e-6 * d * d;
-}
-double SensTrue(double t_c) { return 5e-3 + 2e-6 * (t_c - 25.0); }
 
 TEST(RampFitterNode, TheFinalSetOfARampIsTheTruthWithinItsStatedUncertainty) {
     FitterOptions o = FitterOptions::Defaults();
-    o.lcm_url = "memq://";
     o.mode = "ramp";
     o.ramp.refit_interval_s = 1800.0;
     o.ramp.min_span_s = 3600.0;
-    RampFitterNode node(o);
-    Bus& bus = node.bus();
-    std::vector<coeff_set_t> sets;
-    std::vector<fit_report_t> reports;
-    testing::CollectInto(bus, channels::Coeffs("U1"), sets);
-    testing::CollectInto(bus, channels::Fit("U1"), reports);
+    testing::MemqFitter<RampFitterNode> fitter(o);
+    auto& [node, bus, sets, reports] = fitter;
     auto drain = [&] {
         while (bus.Handle(std::chrono::milliseconds(0))) {
         }
@@ -58,45 +45,36 @@ TEST(RampFitterNode, TheFinalSetOfARampIsTheTruthWithinItsStatedUncertainty) {
     start.utime = kT0;
     bus.Publish(std::string(channels::kRunEvent), start);
 
-    // GIVEN the ramp (the generator of ramp_fitter_test.cpp, as messages)
-    std::mt19937_64 rng(42);
-    std::normal_distribution<double> n(0.0, 1.0);
-    const double rate = 1.0 / 60.0;
-    const double legs[] = {40.0 / rate, 70.0 / rate, 30.0 / rate};
-    double t_c = 25.0, t_s = 0.0;
-    int64_t seq = 0, rot = 0, u = kT0;
-    for (int leg = 0; leg < 3; ++leg) {
-        const double dir = leg == 1 ? 1.0 : -1.0;
-        for (double s = 0; s < legs[leg]; s += 1.0 / kHz, t_s += 1.0 / kHz) {
-            t_c += dir * rate / kHz;
-            u = kT0 + static_cast<int64_t>(std::llround(t_s * 1e6));
-            gyro_sample_t g =
-                testing::GyroSample("U1", u, seq++, OffsetTrue(t_c) + kNoiseV * n(rng), t_c);
+    // GIVEN the ramp (ramp_truth.hpp, as ramp_fitter_test.cpp feeds it), as messages
+    int64_t u = kT0;
+    testing::FeedRamp(
+        [&](const testing::RampSample& s) {
+            u = kT0 + s.t_us;
+            gyro_sample_t g = testing::GyroSample("U1", u, s.seq, s.gyro_v, s.temp_c);
             g.supply_v = 5.0;
             bus.Publish(channels::Gyro("U1"), g);
-            if (seq % static_cast<int64_t>(kHz) == 0)
-                bus.Publish(std::string(channels::kEncoder),
-                            testing::TableEncoder(u, seq, 0, 10000));
-            if (seq % static_cast<int64_t>(300 * kHz) == 0) {
-                for (int d : {1, -1}) {
-                    sensitivity_point_t p{};
-                    p.utime = u;
-                    p.sensor_id = "U1";
-                    p.run_id = "R1";
-                    p.rotation_id = ++rot;
-                    p.start_utime = u;
-                    p.end_utime = u;
-                    p.direction = static_cast<int8_t>(d);
-                    p.temp_c = t_c;
-                    p.sensitivity_v_per_dps = SensTrue(t_c) + kSensSeV * n(rng);
-                    p.sensitivity_stderr_v_per_dps = kSensSeV;
-                    p.accepted = true;
-                    bus.Publish(channels::Sensitivity("U1"), p);
-                }
-            }
-            if (seq % 1000 == 0) drain();
-        }
-    }
+        },
+        [&](int64_t, int64_t count) {
+            bus.Publish(std::string(channels::kEncoder), testing::TableEncoder(u, count, 0, 10000));
+        },
+        [&](const testing::RampPoint& r) {
+            sensitivity_point_t p{};
+            p.utime = u;
+            p.sensor_id = "U1";
+            p.run_id = "R1";
+            p.rotation_id = r.rotation_id;
+            p.start_utime = u;
+            p.end_utime = u;
+            p.direction = static_cast<int8_t>(r.direction);
+            p.temp_c = r.temp_c;
+            p.sensitivity_v_per_dps = r.sensitivity_v_per_dps;
+            p.sensitivity_stderr_v_per_dps = testing::kRampSensSeV;
+            p.accepted = true;
+            bus.Publish(channels::Sensitivity("U1"), p);
+        },
+        [&](int64_t count, int64_t) {
+            if (count % 1000 == 0) drain();
+        });
     // WHEN the run stops
     run_event_t stop = testing::RunEvent("R1", "stop", {"U1"});
     stop.utime = u + 1'000'000;
@@ -128,15 +106,7 @@ TEST(RampFitterNode, TheFinalSetOfARampIsTheTruthWithinItsStatedUncertainty) {
     // The range the fit saw (its bin means: just inside -15..55).
     EXPECT_NEAR(set.offset.temp_min_c, -15.0, 0.2);
     EXPECT_NEAR(set.offset.temp_max_c, 55.0, 0.2);
-    for (double tc = set.offset.temp_min_c; tc <= set.offset.temp_max_c; tc += 5.0) {
-        const auto off = model::Evaluate(set.offset, model::SteadyStateInputs(set.offset, tc),
-                                         model::RangePolicy::kClip);
-        EXPECT_NEAR(off.value, OffsetTrue(tc), 4.0 * std::sqrt(off.variance)) << tc << " C";
-        const auto sens =
-            model::Evaluate(set.sensitivity, model::SteadyStateInputs(set.sensitivity, tc),
-                            model::RangePolicy::kClip);
-        EXPECT_NEAR(sens.value, SensTrue(tc), 4.0 * std::sqrt(sens.variance)) << tc << " C";
-    }
+    testing::ExpectTheRampTruth(set);
 }
 
 }  // namespace

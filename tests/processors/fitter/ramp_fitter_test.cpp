@@ -9,51 +9,37 @@
 
 #include "processors/model/convert.hpp"
 #include "processors/model/inputs.hpp"
+#include "tests/processors/fitter/ramp_truth.hpp"
 
 namespace gyrocal::fitter {
 namespace {
 
 constexpr int64_t kS = 1'000'000;
-constexpr double kNoiseV = 1e-3;   // [V] white noise per sample
-constexpr double kSensSeV = 5e-6;  // [V/(deg/s)] standard error of a sensitivity point
-constexpr double kHz = 10.0;       // samples per second (fewer than a rig's, same statistics)
+using testing::kRampHz;
+using testing::kRampNoiseV;
 
-double OffsetTrue(double t_c) {
-    const double d = t_c - 25.0;
-    return 2.5 + 5e-4 * d - 3e-6 * d * d;
-}
-double SensTrue(double t_c) { return 5e-3 + 2e-6 * (t_c - 25.0); }
-
-// Triangle 25 -> -15 -> 55 -> 25 degC at 1 degC/min (140 min), the table still (one encoder
-// reading per second, no move), a sensitivity point of each direction every 300 s.
+// The ramp (ramp_truth.hpp) into the fitter, its time told every 10 s of data.
 void Feed(RampFitter& f, std::vector<RampFitResult>& during, int64_t* end_utime) {
-    std::mt19937_64 rng(42);
-    std::normal_distribution<double> n(0.0, 1.0);
-    const double rate = 1.0 / 60.0;
-    const double legs[] = {40.0 / rate, 70.0 / rate, 30.0 / rate};
-    double t_c = 25.0, t_s = 0.0;
-    int64_t seq = 0, rot = 0;
-    for (int leg = 0; leg < 3; ++leg) {
-        const double dir = leg == 1 ? 1.0 : -1.0;
-        for (double s = 0; s < legs[leg]; s += 1.0 / kHz, t_s += 1.0 / kHz) {
-            t_c += dir * rate / kHz;
-            const int64_t u = static_cast<int64_t>(std::llround(t_s * 1e6));
-            f.AddGyro("U1", {.utime = u,
-                             .seq = seq++,
-                             .gyro_v = OffsetTrue(t_c) + kNoiseV * n(rng),
-                             .temp_c = t_c,
+    testing::FeedRamp(
+        [&](const testing::RampSample& g) {
+            f.AddGyro("U1", {.utime = g.t_us,
+                             .seq = g.seq,
+                             .gyro_v = g.gyro_v,
+                             .temp_c = g.temp_c,
                              .supply_v = 5.0});
-            if (seq % static_cast<int64_t>(kHz) == 0) f.AddEncoder({u, 0, 10000});
-            if (seq % static_cast<int64_t>(300 * kHz) == 0) {
-                for (int d : {1, -1})
-                    f.AddSensitivity("U1", {++rot, u, t_c, d, SensTrue(t_c) + kSensSeV * n(rng),
-                                            kSensSeV, true});
-            }
-            if (seq % static_cast<int64_t>(10 * kHz) == 0)
-                for (auto& r : f.OnTime(u)) during.push_back(std::move(r));
-            *end_utime = u;
-        }
-    }
+        },
+        [&](int64_t t_us, int64_t) {
+            f.AddEncoder({t_us, 0, 10000});
+        },
+        [&](const testing::RampPoint& p) {
+            f.AddSensitivity("U1", {p.rotation_id, p.t_us, p.temp_c, p.direction,
+                                    p.sensitivity_v_per_dps, testing::kRampSensSeV, true});
+        },
+        [&](int64_t count, int64_t t_us) {
+            if (count % static_cast<int64_t>(10 * kRampHz) == 0)
+                for (auto& r : f.OnTime(t_us)) during.push_back(std::move(r));
+            *end_utime = t_us;
+        });
 }
 
 // The fits the tests watch: one per 1800 s of data once 3600 s are in.
@@ -87,22 +73,12 @@ TEST(RampFitter, FitsTheCurvesOnEveryStillWindowWithinTheirStatedUncertainty) {
     EXPECT_EQ(r.set->num_rotations, 2 * 28);  // one pair per 300 s of 8400 s
     const model::CoeffSet set = model::FromMsg(*r.set);
     EXPECT_EQ(set.offset.method, "ramp");
-    // The truth at steady state over the range the fit saw (its bin means: just inside -15..55),
-    // within 4 sigma of the fit's own uncertainty: with white noise alone the analysis' robust
-    // covariance is the honest spread of the fit.
+    // The truth over the range the fit saw (its bin means: just inside -15..55), the offset's
+    // uncertainty below 5 x the noise of one 10 s bin's mean.
     EXPECT_NEAR(set.offset.temp_min_c, -15.0, 0.2);
     EXPECT_NEAR(set.offset.temp_max_c, 55.0, 0.2);
-    for (double t_c = set.offset.temp_min_c; t_c <= set.offset.temp_max_c; t_c += 5.0) {
-        const auto off = model::Evaluate(set.offset, model::SteadyStateInputs(set.offset, t_c),
-                                         model::RangePolicy::kClip);
-        EXPECT_NEAR(off.value, OffsetTrue(t_c), 4.0 * std::sqrt(off.variance)) << t_c << " C";
-        EXPECT_LT(std::sqrt(off.variance), 5.0 * kNoiseV / std::sqrt(kHz * 10.0))
-            << "fit, not noise";
-        const auto s =
-            model::Evaluate(set.sensitivity, model::SteadyStateInputs(set.sensitivity, t_c),
-                            model::RangePolicy::kClip);
-        EXPECT_NEAR(s.value, SensTrue(t_c), 4.0 * std::sqrt(s.variance)) << t_c << " C";
-    }
+    testing::ExpectTheRampTruth(
+        set, {.max_offset_sigma_v = 5.0 * kRampNoiseV / std::sqrt(kRampHz * 10.0)});
     // The run's data are dropped at the stop.
     EXPECT_EQ(f.samples("U1"), 0u);
     EXPECT_TRUE(f.Finish(end + 2 * kS).empty());
@@ -132,12 +108,9 @@ TEST(RampFitter, BinsHeldToTheirLimitAreMergedAndStillFitTheTruth) {
     for (const std::string& n : r.analysis->notes) noted |= n.find("bins merged to 40 s") == 0;
     EXPECT_TRUE(noted);
     const model::CoeffSet set = model::FromMsg(*r.set);
-    for (double t_c = set.offset.temp_min_c; t_c <= set.offset.temp_max_c; t_c += 5.0) {
-        const auto off = model::Evaluate(set.offset, model::SteadyStateInputs(set.offset, t_c),
-                                         model::RangePolicy::kClip);
-        EXPECT_NEAR(off.value, OffsetTrue(t_c), 4.0 * std::sqrt(off.variance)) << t_c << " C";
-        EXPECT_LT(std::sqrt(off.variance), 1.5 * 5.0 * kNoiseV / std::sqrt(kHz * 10.0));
-    }
+    testing::ExpectTheRampTruth(
+        set, {.max_offset_sigma_v = 1.5 * 5.0 * kRampNoiseV / std::sqrt(kRampHz * 10.0),
+              .sensitivity = false});
     o.max_bins_per_unit = 10;
     EXPECT_NE(o.Validate().find("max bins per unit"), std::string::npos);
 }

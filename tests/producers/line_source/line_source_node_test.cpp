@@ -22,6 +22,7 @@
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/producers/source_output.hpp"
 
 namespace gyrocal {
 namespace {
@@ -45,12 +46,6 @@ LineSourceOptions NodeOptions() {
 }
 
 // The messages the node published and has not yet dispatched to its own bus.
-void DrainBus(Bus& bus) {
-    ASSERT_TRUE(testing::HandleUntil(
-        bus, [&] { return !bus.Handle(std::chrono::milliseconds(0)); },
-        std::chrono::milliseconds(10'000), std::chrono::milliseconds(0)));
-}
-
 TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
     // GIVEN a stream of two sensors, 10 rows each 10 ms apart, with the table turning by 1 deg
     // per row and the chamber at 30 degC; a NaN gyro_v after the 4th row and a garbage line
@@ -75,31 +70,21 @@ TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
         }
     }
     LineSourceNode node(NodeOptions(), PipeOf(text));
-    std::vector<gyro_sample_t> gyro;
-    std::vector<encoder_sample_t> encoder;
-    std::vector<chamber_state_t> chamber;
-    testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
-    testing::CollectInto(node.bus(), std::string(channels::kEncoder), encoder);
-    testing::CollectInto(node.bus(), std::string(channels::kChamberState), chamber);
+    testing::SourceOutput out(node.bus());
+    const auto& [gyro, encoder, chamber, power] = out;
     // WHEN the node reads it to the end
     EXPECT_EQ(node.Run(), 0);
-    DrainBus(node.bus());
+    testing::DrainBus(node.bus());
     // THEN every good row is a sample with its values, at start + time_s, in order, numbered
     // per sensor; the two bad lines are counted and nothing of them is published
     EXPECT_EQ(node.rows_published(), 20);
     EXPECT_EQ(node.bad_lines(), 2);
-    ASSERT_EQ(gyro.size(), rows.size());
-    std::map<std::string, int64_t> seq;
-    for (size_t i = 0; i < rows.size(); ++i) {
-        SCOPED_TRACE(i);
-        EXPECT_EQ(gyro[i].sensor_id, rows[i].id);
-        EXPECT_EQ(gyro[i].utime, csv::kDefaultStartUtime + rows[i].us);
-        EXPECT_EQ(gyro[i].gyro_v, rows[i].gyro_v);  // 17 significant digits: exact
-        EXPECT_EQ(gyro[i].temp_v, 2.4);
-        EXPECT_EQ(gyro[i].temp_c, 25.0);
-        EXPECT_EQ(gyro[i].supply_v, 5.0);
-        EXPECT_EQ(gyro[i].seq, seq[rows[i].id]++);
-    }
+    // (gyro_v written with 17 significant digits: exact)
+    testing::ExpectSamplesOfRows(gyro, rows, [](const gyro_sample_t& g, size_t) {
+        EXPECT_EQ(g.temp_v, 2.4);
+        EXPECT_EQ(g.temp_c, 25.0);
+        EXPECT_EQ(g.supply_v, 5.0);
+    });
     // One encoder reading per time step (the second sensor's row at the same time adds none),
     // the chamber once: its period is 1 s of data time and the stream holds 0.09 s.
     ASSERT_EQ(encoder.size(), 10u);
@@ -116,7 +101,7 @@ TEST(LineSourceNode, AStreamWithoutAHeaderFails) {
     std::vector<gyro_sample_t> gyro;
     testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
     EXPECT_EQ(node.Run(), 1);
-    DrainBus(node.bus());
+    testing::DrainBus(node.bus());
     EXPECT_EQ(node.rows_published(), 0);
     EXPECT_TRUE(gyro.empty());
 }

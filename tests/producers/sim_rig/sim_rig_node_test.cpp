@@ -22,6 +22,7 @@
 #include "lcmtypes/bus/channels.hpp"
 #include "producers/sim_rig/rig_node.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
+#include "tests/producers/sim_rig/rig_orders.hpp"
 
 namespace gyrocal {
 namespace {
@@ -47,14 +48,8 @@ TEST(SimRigNode, ObeysATurnRefusesAnImpossibleOrderAndPublishesContiguousSamples
     testing::CollectInto(bus, std::string(channels::kChamberState), chamber);
     // GIVEN a +90 deg turn, then an impossible chamber order (200 degC, outside -45..90); the
     // fault field says the last order's refusal (an accepted order clears it)
-    turntable_cmd_t move{};
-    move.cmd_id = 1;
-    move.move_deg = 90.0;
-    bus.Publish(std::string(channels::kTurntableCmd), move);
-    chamber_cmd_t bad{};
-    bad.cmd_id = 6;
-    bad.setpoint_c = 200.0;
-    bus.Publish(std::string(channels::kChamberCmd), bad);
+    bus.Publish(std::string(channels::kTurntableCmd), testing::QuarterTurn());
+    bus.Publish(std::string(channels::kChamberCmd), testing::ImpossibleChamberOrder());
     // WHEN the rig runs 6 s of simulated time
     EXPECT_EQ(node.Run(), 0);
     ASSERT_TRUE(testing::HandleUntil(

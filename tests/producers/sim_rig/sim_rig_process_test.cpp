@@ -26,6 +26,7 @@
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
+#include "tests/producers/sim_rig/rig_orders.hpp"
 
 namespace gyrocal {
 namespace {
@@ -82,10 +83,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
     EXPECT_EQ(seen.chamber.front().cmd_id, -1);
 
     // WHEN orders arrive
-    chamber_cmd_t bad{};
-    bad.cmd_id = 6;
-    bad.setpoint_c = 200.0;  // outside -45..90: refused
-    bus.Publish(std::string(channels::kChamberCmd), bad);
+    bus.Publish(std::string(channels::kChamberCmd), testing::ImpossibleChamberOrder());
     ASSERT_TRUE(HandleUntil(
         bus, [&] { return !seen.chamber.back().fault.empty(); }, std::chrono::seconds(5)));
     chamber_cmd_t cmd{};
@@ -93,10 +91,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
     cmd.setpoint_c = 35.0;
     cmd.ramp_rate_c_per_min = 0.0;
     bus.Publish(std::string(channels::kChamberCmd), cmd);
-    turntable_cmd_t move{};
-    move.cmd_id = 1;
-    move.move_deg = 90.0;
-    bus.Publish(std::string(channels::kTurntableCmd), move);
+    bus.Publish(std::string(channels::kTurntableCmd), testing::QuarterTurn());
 
     // THEN the chamber follows: cmd echoed, air within tolerance of 35 degC (10 K at 60 K/min)
     ASSERT_TRUE(HandleUntil(

@@ -86,6 +86,24 @@ TEST(ModelRows, SteadyStateValueIsTheSharedEvaluatorAtSteadyInputs) {
     EXPECT_FALSE(SteadyStateValue(bad, 25));
 }
 
+// The fixtures' polynomial model (row_builders.hpp) is the polynomial it names: with the test
+// model's range, the shared evaluator gives c0 + c1 dT + c2 dT^2 (to a few ulps of 2.5).
+TEST(ModelRows, FixturesPolynomialModelIsThePolynomialItNames) {
+    ModelRow row = testing::PolynomialModel(model::kOffsetQuantity, {2.5, 1e-3, -2e-5});
+    testing::SetTestModelScalars(row);
+    EXPECT_EQ(row.term_names, (std::vector<std::string>{"1", "dT", "dT^2"}));
+    ASSERT_EQ(row.covariance.size(), 3u);
+    EXPECT_EQ(row.covariance[2], (std::vector<double>{0.0, 0.0, 0.0}));
+    for (double temp_c : {-10.0, 25.0, 60.0}) {
+        const double dT = temp_c - 25;
+        const auto got = SteadyStateValue(row, temp_c);
+        ASSERT_TRUE(got);
+        EXPECT_NEAR(*got, 2.5 + 1e-3 * dT - 2e-5 * dT * dT, 1e-15 * 4);
+    }
+    EXPECT_EQ(testing::PolynomialModel("offset_v", {2.5}).term_names,
+              (std::vector<std::string>{"1"}));
+}
+
 TEST(ModelRows, StoreAnalysisWithAModelCoeffSetAndWithAMessage) {
     const std::string path = FreshDbPath("model_rows.db");
     StoreWriter w(path, {"test", "h", 1});

@@ -6,6 +6,7 @@
 #include "gyrocal/analysis_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/noise_t.hpp"
+#include "store/recorder/message_fields.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal::record {
@@ -173,6 +174,30 @@ Mapped MapV5(RecordMapper& m, const std::string& channel, const Msg& msg) {
 }
 
 // NOISE_<id> and FIT_<id> keep the run they carry and are never dropped by the queue.
+// The key a verdict names its set by (message_fields.hpp), shared by analyses and fit reports:
+// all six fields across, both ways, and nothing else.
+TEST(RecordMapper, VerdictKeyIsTheSetsKeyWithTimeAndFinality) {
+    const auto expect_key = [](const auto& to) {
+        EXPECT_EQ(to.utime, 11);
+        EXPECT_EQ(to.sensor_id, "U1");
+        EXPECT_EQ(to.run_id, "R1");
+        EXPECT_EQ(to.coeff_set_id, 42);
+        EXPECT_EQ(to.source, "fitter");
+        EXPECT_TRUE(to.is_final);
+    };
+    fit_report_t f{};
+    f.utime = 11, f.sensor_id = "U1", f.run_id = "R1", f.coeff_set_id = 42;
+    f.source = "fitter", f.is_final = true, f.status = "ok";
+    store::FitReportRow row;
+    CopyVerdictKey(row, f);
+    expect_key(row);
+    EXPECT_EQ(row.status, "");
+    analysis_t a{};
+    CopyVerdictKey(a, row);
+    expect_key(a);
+    EXPECT_EQ(a.outcome, "");
+}
+
 TEST(RecordMapper, TheClosedLoopsAnalysisKeepsItsRunAndIsEssential) {
     // GIVEN the run in force R9 and an ANALYSIS_ message of run R1 (sent after R1's stop)
     RecordMapper m(MapperOptions::Defaults(), "R9");

@@ -19,12 +19,7 @@ double Poly(const std::vector<double>& c, double temp_c) {
 
 store::ModelRow Model(const std::string& quantity, const std::vector<double>& c,
                       const std::string& method) {
-    store::ModelRow m;
-    m.quantity = quantity;
-    const std::vector<std::string> names = {"1", "dT", "dT^2"};
-    for (size_t i = 0; i < c.size(); ++i) m.term_names.push_back(names[i]);
-    m.coeffs = c;
-    m.covariance.assign(c.size(), std::vector<double>(c.size(), 0.0));
+    store::ModelRow m = PolynomialModel(quantity, c);
     for (size_t i = 0; i < c.size(); ++i) m.covariance[i][i] = std::pow(1e-3 * std::abs(c[i]), 2);
     m.t0_c = 25;
     m.temp_min_c = -40;

@@ -67,12 +67,13 @@ TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
         const char* says;
         void (*set)(cli::AnalyzeOptions&);
     };
-    for (const Bad& b : {Bad{"feature_fpr", [](cli::AnalyzeOptions& o) { o.feature_fpr = 0.7; }},
-                         Bad{"window_fpr", [](cli::AnalyzeOptions& o) { o.window_fpr = 0.0; }},
-                         Bad{"warmup_fpr", [](cli::AnalyzeOptions& o) { o.warmup_fpr = -1; }},
-                         Bad{"surrogates", [](cli::AnalyzeOptions& o) { o.surrogates = 5; }},
-                         Bad{"max_untested_fraction",
-                             [](cli::AnalyzeOptions& o) { o.max_untested_fraction = 2; }}}) {
+    for (const Bad& b :
+         {Bad{"feature_fpr", [](cli::AnalyzeOptions& o) { o.analysis.feature_fpr = 0.7; }},
+          Bad{"window_fpr", [](cli::AnalyzeOptions& o) { o.analysis.window_fpr = 0.0; }},
+          Bad{"warmup_fpr", [](cli::AnalyzeOptions& o) { o.analysis.warmup_fpr = -1; }},
+          Bad{"surrogates", [](cli::AnalyzeOptions& o) { o.analysis.surrogates = 5; }},
+          Bad{"max_untested_fraction",
+              [](cli::AnalyzeOptions& o) { o.analysis.max_untested_fraction = 2; }}}) {
         cli::AnalyzeOptions o = Options();
         b.set(o);
         std::ostringstream out, err;
@@ -301,7 +302,7 @@ TEST_F(AnalyzeCli, UnknownRunSensorOrDatabaseFailsWithTheReason) {
     EXPECT_EQ(cli::RunAnalyze(o, out, err), 1);
     EXPECT_FALSE(err.str().empty());
     o.db = *path_;
-    o.holdout_fraction = 0.99;
+    o.analysis.holdout_fraction = 0.99;
     err.str("");
     EXPECT_EQ(cli::RunAnalyze(o, out, err), 2);
     EXPECT_NE(err.str().find("holdout_fraction"), std::string::npos) << err.str();

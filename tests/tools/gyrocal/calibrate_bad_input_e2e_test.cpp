@@ -59,63 +59,59 @@ std::string FirstLines(const std::string& text, int n) {
     return text.substr(0, pos == std::string::npos ? text.size() : pos);
 }
 
+// `input` refused before any process starts: exit 2, each of `says` printed (on the first screen,
+// the first three lines, when `first_screen`), and no run recorded (no database).
+Outcome ExpectRefusedUpFront(const std::string& dir, const std::string& source,
+                             const std::string& input, const std::vector<std::string>& says,
+                             bool first_screen = false) {
+    const Outcome o = Calibrate(dir, source, input);
+    EXPECT_EQ(o.code, 2) << o.printed;
+    const std::string shown = first_screen ? FirstLines(o.printed, 3) : o.printed;
+    for (const std::string& said : says)
+        EXPECT_NE(shown.find(said), std::string::npos) << said << "\n" << o.printed;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/run.db")) << o.printed;
+    return o;
+}
+
 TEST(CalibrateBadInput, EmptyCsvIsRefusedBeforeAnyProcessStarts) {
     const std::string dir = FreshDir("gyrocal_bad_empty");
     std::ofstream(dir + "/empty.csv").close();
-    const Outcome o = Calibrate(dir, "csv", dir + "/empty.csv");
-    EXPECT_EQ(o.code, 2) << o.printed;
-    EXPECT_NE(FirstLines(o.printed, 3)
-                  .find("gyrocal calibrate: error: " + dir +
-                        "/empty.csv:1: column time_s: no header row: the "
-                        "file is empty"),
-              std::string::npos)
-        << o.printed;
+    const Outcome o =
+        ExpectRefusedUpFront(dir, "csv", dir + "/empty.csv",
+                             {"gyrocal calibrate: error: " + dir +
+                              "/empty.csv:1: column time_s: no header row: the file is empty"},
+                             true);
     EXPECT_NE(o.printed.find("no run was started"), std::string::npos) << o.printed;
-    // No process graph, so no database and no logs folder.
-    EXPECT_FALSE(std::filesystem::exists(dir + "/run.db")) << o.printed;
+    // No process graph, so no database (above) and no logs folder.
     EXPECT_FALSE(std::filesystem::exists(dir + "/logs")) << o.printed;
 }
 
 TEST(CalibrateBadInput, HeaderWithoutTheRequiredColumnsIsRefusedBeforeAnyProcessStarts) {
     const std::string dir = FreshDir("gyrocal_bad_header");
     std::ofstream(dir + "/abc.csv") << "a,b,c\n1,2,3\n";
-    const Outcome o = Calibrate(dir, "csv", dir + "/abc.csv");
-    EXPECT_EQ(o.code, 2) << o.printed;
     // The line names the file, the line, the missing column and the columns that are required.
-    const std::string first = FirstLines(o.printed, 3);
-    EXPECT_NE(first.find(dir + "/abc.csv:1: column time_s"), std::string::npos) << o.printed;
-    EXPECT_NE(first.find("time_s, sensor_id, gyro_v, temp_v"), std::string::npos) << o.printed;
-    EXPECT_FALSE(std::filesystem::exists(dir + "/run.db")) << o.printed;
+    ExpectRefusedUpFront(dir, "csv", dir + "/abc.csv",
+                         {dir + "/abc.csv:1: column time_s", "time_s, sensor_id, gyro_v, temp_v"},
+                         true);
 }
 
 TEST(CalibrateBadInput, HeaderOnlyCsvIsRefusedBeforeAnyProcessStarts) {
     const std::string dir = FreshDir("gyrocal_bad_norows");
     std::ofstream(dir + "/head.csv") << "time_s,sensor_id,gyro_v,temp_v\n";
-    const Outcome o = Calibrate(dir, "csv", dir + "/head.csv");
-    EXPECT_EQ(o.code, 2) << o.printed;
-    EXPECT_NE(o.printed.find(dir + "/head.csv: no data rows: the header names the columns but no "
-                                   "row follows"),
-              std::string::npos)
-        << o.printed;
-    EXPECT_FALSE(std::filesystem::exists(dir + "/run.db")) << o.printed;
+    ExpectRefusedUpFront(
+        dir, "csv", dir + "/head.csv",
+        {dir + "/head.csv: no data rows: the header names the columns but no row follows"});
 }
 
 TEST(CalibrateBadInput, FileThatIsNotAnLcmLogIsRefusedBeforeAnyProcessStarts) {
     const std::string dir = FreshDir("gyrocal_bad_log");
     std::ofstream(dir + "/notalog.lcm") << "time_s,sensor_id\n";
-    const Outcome o = Calibrate(dir, "log", dir + "/notalog.lcm");
-    EXPECT_EQ(o.code, 2) << o.printed;
-    EXPECT_NE(o.printed.find(dir + "/notalog.lcm: not an LCM log: it starts with 0x74696D65; an "
-                                   "LCM log (written by lcm-logger) starts with the sync word "
-                                   "0xEDA1DA01"),
-              std::string::npos)
-        << o.printed;
+    ExpectRefusedUpFront(dir, "log", dir + "/notalog.lcm",
+                         {dir + "/notalog.lcm: not an LCM log: it starts with 0x74696D65; an LCM "
+                                "log (written by lcm-logger) starts with the sync word "
+                                "0xEDA1DA01"});
     std::ofstream(dir + "/empty.lcm").close();
-    const Outcome e = Calibrate(dir, "log", dir + "/empty.lcm");
-    EXPECT_EQ(e.code, 2) << e.printed;
-    EXPECT_NE(e.printed.find(dir + "/empty.lcm: the file is empty"), std::string::npos)
-        << e.printed;
-    EXPECT_FALSE(std::filesystem::exists(dir + "/run.db"));
+    ExpectRefusedUpFront(dir, "log", dir + "/empty.lcm", {dir + "/empty.lcm: the file is empty"});
 }
 
 TEST(CalibrateBadInput, BadRowMidFileEndsTheRunWithTheSourcesOwnLinePrintedAndStored) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,33 @@ TEST(CalibrateOptions, PlateauSlowNoiseIsTheSimulatedGyrosOnlyForTheRig) {
     o.source = "sim";
     o.plateau_slow_noise_dps = 0.0;
     EXPECT_EQ(EffectivePlateauSlowNoiseDps(o), 0.0);
+}
+
+// The children's pass-through lists (kChildArgs, which both the options and the run's
+// configuration take them from): one entry per list of CalibrateOptions, and each given to
+// `gyrocal calibrate` as --<name>-arg with the child named in the help.
+TEST(CalibrateOptions, EachChildsPassThroughListIsOneEntryAndOneOption) {
+    CalibrateOptions o;
+    std::set<std::string> names;
+    for (const ChildArgs& c : kChildArgs) {
+        (o.*c.args).push_back(c.name);
+        names.insert(c.name);
+    }
+    EXPECT_EQ(names.size(), 8u);
+    for (const ChildArgs& c : kChildArgs)
+        EXPECT_EQ(o.*c.args, std::vector<std::string>{c.name}) << "a list shared with another";
+    EXPECT_EQ(o.source_args, std::vector<std::string>{"source"});
+    const std::string out = ::testing::TempDir() + "gyrocal_cal_help_" + std::to_string(getpid());
+    ChildProcess p({GYROCAL_CLI, "calibrate", "--help"}, out, out);
+    const auto st = p.Wait(std::chrono::seconds(10));
+    ASSERT_TRUE(st.has_value() && st->exited && st->code == 0);
+    const std::string help = ReadLog(out);
+    std::filesystem::remove(out);
+    for (const ChildArgs& c : kChildArgs) {
+        EXPECT_NE(help.find("--" + std::string(c.name) + "-arg"), std::string::npos) << c.name;
+        EXPECT_NE(help.find(std::string("extra argument for ") + c.child), std::string::npos)
+            << c.child;
+    }
 }
 
 // Bad options of the real CLI: exit 2 with the option named, before any process starts; a child

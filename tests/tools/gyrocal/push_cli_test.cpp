@@ -90,6 +90,27 @@ std::string Normalized(std::string text, const std::vector<std::string>& names) 
     return StationIds(text);
 }
 
+// A push cut short (killed, or its server restarted) leaves every run at the centre `url` whole
+// or absent: each run there has the station's samples, all of them.
+void ExpectRunsWholeOrAbsent(const std::string& url, st::Db& station) {
+    auto c = st::OpenForQuery(url);
+    for (const auto& r : st::ListRuns(*c, {})) {
+        if (r.run_id.empty()) continue;
+        EXPECT_EQ(r.gyro_samples, st::GetRun(station, r.run_id).gyro_samples) << r.run_id;
+    }
+}
+
+// A push started again after that ends with exactly the station's rows of `runs` at the centre.
+void ExpectPushAgainCompletes(const std::string& url, const std::string& station_path,
+                              st::Db& station, const std::vector<std::string>& runs,
+                              const std::string& trace) {
+    const Cli again = Gyrocal({"push", "--to", url, "--db", station_path});
+    ASSERT_EQ(again.code, 0) << again.err;
+    auto c = st::OpenForQuery(url);
+    for (const std::string& run : runs)
+        EXPECT_EQ(RunDigests(*c, station, run), RunDigests(station, station, run)) << trace << run;
+}
+
 // The server and the roles are shared (CTest runs each test in a process of its own); each test
 // makes its own central database and station files.
 class PushCli : public ::testing::Test {
@@ -244,18 +265,9 @@ TEST_F(PushCli, APushKilledAtRandomPointsAndResumedEndsWithExactlyTheStationsRow
         const auto status = p.Wait(30s);
         ASSERT_TRUE(status.has_value());
         cut += status->exited ? 0 : 1;
-        {
-            auto c = st::OpenForQuery(url);
-            for (const auto& r : st::ListRuns(*c, {})) {
-                if (r.run_id.empty()) continue;
-                EXPECT_EQ(r.gyro_samples, st::GetRun(*s, r.run_id).gyro_samples) << r.run_id;
-            }
-        }
-        const Cli resumed = Gyrocal({"push", "--to", url, "--db", station});
-        ASSERT_EQ(resumed.code, 0) << resumed.err;
-        auto c = st::OpenForQuery(url);
-        for (const char* run : {"K-R1", "K-R2", "K-R3"})
-            EXPECT_EQ(RunDigests(*c, *s, run), RunDigests(*s, *s, run)) << round << " " << run;
+        ExpectRunsWholeOrAbsent(url, *s);
+        ExpectPushAgainCompletes(url, station, *s, {"K-R1", "K-R2", "K-R3"},
+                                 std::to_string(round) + " ");
     }
     EXPECT_GE(cut, 3) << "most kills should land inside a push of " << whole.count() << " ns";
 }
@@ -292,18 +304,8 @@ TEST_F(PushCli, AServerRestartedInTheMiddleOfAPushLosesNothing) {
     EXPECT_NE(err.find("gyrocal push: error: central database"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     auto s_db = st::OpenForQuery(station);
-    {
-        auto c = st::OpenForQuery(url);
-        for (const auto& r : st::ListRuns(*c, {})) {
-            if (r.run_id.empty()) continue;
-            EXPECT_EQ(r.gyro_samples, st::GetRun(*s_db, r.run_id).gyro_samples) << r.run_id;
-        }
-    }
-    const Cli again = Gyrocal({"push", "--to", url, "--db", station});
-    ASSERT_EQ(again.code, 0) << again.err;
-    auto c = st::OpenForQuery(url);
-    for (const char* run : {"Z-R1", "Z-R2", "Z-R3"})
-        EXPECT_EQ(RunDigests(*c, *s_db, run), RunDigests(*s_db, *s_db, run)) << run;
+    ExpectRunsWholeOrAbsent(url, *s_db);
+    ExpectPushAgainCompletes(url, station, *s_db, {"Z-R1", "Z-R2", "Z-R3"}, "");
 }
 
 TEST_F(PushCli, BadInputIsOneLineAndExitOneAndThePasswordIsNeverPrinted) {
