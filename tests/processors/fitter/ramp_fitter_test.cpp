@@ -124,7 +124,7 @@ TEST(RampFitter, BinsHeldToTheirLimitAreMergedAndStillFitTheTruth) {
 void FeedWithTurnsAndSlowNoise(RampFitter& f, int64_t* end_utime) {
     std::mt19937_64 rng(11);
     std::normal_distribution<double> n(0.0, 1.0);
-    const double rate = 1.0 / 60.0, dt_s = 1.0 / kHz, ou_tau_s = 120.0, ou_sd_v = 1e-4;
+    const double rate = 1.0 / 60.0, dt_s = 1.0 / kRampHz, ou_tau_s = 120.0, ou_sd_v = 1e-4;
     const double phi = std::exp(-dt_s / ou_tau_s);
     const double legs[] = {40.0 / rate, 70.0 / rate, 30.0 / rate};
     constexpr int32_t kCountsPerRev = 36000;
@@ -144,12 +144,13 @@ void FeedWithTurnsAndSlowNoise(RampFitter& f, int64_t* end_utime) {
             const int64_t u = static_cast<int64_t>(std::llround(t_s * 1e6));
             f.AddGyro("U1", {.utime = u,
                              .seq = seq++,
-                             .gyro_v = OffsetTrue(t_c) + SensTrue(t_c) * rate_dps + ou_v +
-                                       kNoiseV * n(rng),
+                             .gyro_v = testing::RampOffsetTrue(t_c) +
+                                       testing::RampSensTrue(t_c) * rate_dps + ou_v +
+                                       kRampNoiseV * n(rng),
                              .temp_c = t_c,
                              .supply_v = 5.0});
             f.AddEncoder({u, std::llround(angle_deg * kCountsPerRev / 360.0), kCountsPerRev});
-            if (seq % static_cast<int64_t>(10 * kHz) == 0) f.OnTime(u);
+            if (seq % static_cast<int64_t>(10 * kRampHz) == 0) f.OnTime(u);
             *end_utime = u;
         }
     }
