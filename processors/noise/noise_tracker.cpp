@@ -57,6 +57,7 @@ void NoiseTracker::Add(const motion::GyroSample& s, bool moving) {
         per_bin_ = std::max(1, static_cast<int>(std::lround(config_.bin_s * 1e6 / interval_us_)));
         tau0_s_ = per_bin_ * interval_us_ * 1e-6;
         grid_ = TauGrid(static_cast<int64_t>(config_.max_tau_s / tau0_s_));
+        max_held_bins_ = static_cast<size_t>(std::ceil(4.0 * config_.max_tau_s / tau0_s_));
     }
     in_stretch_ = true;
     last_utime_ = s.utime;
@@ -69,6 +70,11 @@ void NoiseTracker::Add(const motion::GyroSample& s, bool moving) {
         bins_.push_back({bin_t_ / bin_n_, bin_sum_ / bin_n_, bin_temp_ / bin_n_});
         bin_n_ = 0;
         bin_sum_ = bin_temp_ = bin_t_ = 0;
+        if (max_held_bins_ > 0 && bins_.size() >= max_held_bins_) {
+            // Long enough for every tau of the grid: a segment of its own, the stretch goes on.
+            Segment(bins_, closed_);
+            bins_.clear();
+        }
     }
 }
 

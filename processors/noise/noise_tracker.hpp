@@ -14,6 +14,11 @@
 // segment's smoothed temperature (a line), before the Allan sums are formed. Segments whose Allan
 // variance is far above the others' (a disturbance inside them) are left out (allan.hpp:
 // ScreenSegments, alpha 0.01) and the estimate's note says so.
+// A stretch longer than 4 max_tau_s (8000 s by default: a ramp or a dwell without a turn) is
+// closed as a segment every 4 max_tau_s and goes on as the next: a segment that long already
+// reaches every tau of the grid (allan.hpp: a segment adds taus up to a quarter of its length),
+// and keeping all of it would grow with the rest (0.86 MB per unit-hour at 0.1 s bins). So the
+// stretch under way holds at most 4 max_tau_s / bin_s bins (1.9 MB per unit by default).
 // Quiet threshold 0.1 degC/min: twice the plateau criterion's slope limit, so the settling tails
 // before each plateau count (5-15 minutes per setpoint instead of the plateau's 1-2); the sensor
 // lag of a 15 s temperature line then misstates the die by at most 0.025 degC, which the
@@ -60,6 +65,8 @@ public:
     // The estimate over the closed segments and the still stretch under way.
     NoiseEstimate Estimate() const;
     int64_t newest_utime() const { return newest_utime_; }
+    // Bins of the stretch under way (at most 4 max_tau_s / bin_s).
+    size_t held_bins() const { return bins_.size(); }
 
 private:
     struct Bin {
@@ -80,6 +87,7 @@ private:
     double bin_sum_ = 0, bin_temp_ = 0, bin_t_ = 0;
     int bin_n_ = 0;
     double tau0_s_ = 0;
+    size_t max_held_bins_ = 0;  // 4 max_tau_s / tau0: the stretch under way is closed there
     int64_t newest_utime_ = 0;
 };
 

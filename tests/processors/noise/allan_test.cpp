@@ -215,6 +215,33 @@ TEST(Tracker, QuietStretchesAndTermsGiveTheFiguresTheyGaveBeforeSharingTheNumeri
     }
 }
 
+// A rest of 6 h without a turn (a long dwell, a slow ramp of a measured run): the tracker holds
+// at most 4 max_tau_s of 0.1 s bins (80 000: 1.9 MB) however long the rest, closing a segment every
+// 8000 s, and still measures the white noise as one long segment would: N within 2 % (the tau =
+// 1 s point alone has edf ~40 000) and the grid's longest tau reached (2000 s).
+TEST(Tracker, ALongRestIsHeldToFourLongestTausAndMeasuredAlike) {
+    std::mt19937_64 rng(9);
+    std::normal_distribution<double> n(0.0, 2e-3);
+    const TrackerConfig cfg = TrackerConfig::Defaults();
+    NoiseTracker tr(cfg);
+    const size_t limit = static_cast<size_t>(4.0 * cfg.max_tau_s / cfg.bin_s);
+    size_t most = 0;
+    int64_t seq = 0;
+    for (int64_t k = 0; k < 6 * 3600 * 100; ++k, ++seq) {
+        tr.Add({.utime = k * 10000, .seq = seq, .gyro_v = 2.5 + n(rng), .temp_c = 25.0}, false);
+        most = std::max(most, tr.held_bins());
+    }
+    EXPECT_LT(most, limit);  // the bin that reaches the limit closes the segment
+    EXPECT_EQ(most, limit - 1) << "the rest is longer than the limit: it was reached";
+    const NoiseEstimate e = tr.Estimate();
+    EXPECT_EQ(e.segments, 3);  // 8000 + 8000 + 5600 s
+    EXPECT_NEAR(e.still_s, 6 * 3600.0, 1.0);
+    ASSERT_TRUE(e.terms.ok) << e.terms.note;
+    EXPECT_NEAR(e.terms.arw, 2e-3 * 0.1, 0.02 * 2e-4);
+    ASSERT_FALSE(e.adev.empty());
+    EXPECT_NEAR(e.adev.back().tau_s, cfg.max_tau_s, 0.5 * cfg.max_tau_s);
+}
+
 TEST(Tracker, BadConfigurationIsRefusedNamingTheOption) {
     TrackerConfig c;
     c.quiet_slope_c_per_min = 0;
