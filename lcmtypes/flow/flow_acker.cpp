@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "gyrocal/flow_ack_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::flow {
 

@@ -9,7 +9,7 @@
 #include "gyrocal/flow_ack_t.hpp"
 #include "gyrocal/flow_mark_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/flow/flow_acker.hpp"
 
 namespace gyrocal::flow {

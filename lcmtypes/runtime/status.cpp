@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "gyrocal/status_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 
 namespace gyrocal {

@@ -1,7 +1,7 @@
 #include "processors/compensator/compensator_node.hpp"
 
 #include "gyrocal/rate_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal {
 

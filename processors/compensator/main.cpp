@@ -2,7 +2,7 @@
 // RATE_<id>; the node is compensator_node.hpp.
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/process_main.hpp"
 #include "processors/compensator/compensator_node.hpp"
 

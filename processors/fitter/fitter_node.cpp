@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/process_main.hpp"
 
 namespace gyrocal {

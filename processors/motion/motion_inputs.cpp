@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::motion {
 

@@ -1,6 +1,6 @@
 #include "processors/motion/motion_options.hpp"
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::motion {
 

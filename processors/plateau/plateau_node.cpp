@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "gyrocal/plateau_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/motion_options.hpp"
 #include "processors/noise/noise_message.hpp"
 #include "processors/plateau/plateau_message.hpp"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/motion_options.hpp"
 #include "processors/rotation/rotation_message.hpp"
 

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/process_main.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "processors/sequencer/sequencer_options.hpp"

@@ -18,7 +18,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "gyrocal/version.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"
 

@@ -3,7 +3,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::sequencer {
 namespace {

@@ -8,7 +8,7 @@
 #include <optional>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/process_main.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"

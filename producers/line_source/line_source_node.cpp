@@ -6,7 +6,7 @@
 #include <thread>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 

@@ -4,7 +4,7 @@
 #include <iostream>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 

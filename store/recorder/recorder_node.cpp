@@ -7,7 +7,7 @@
 #include <variant>
 
 #include "gyrocal/version.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "store/recorder/open_run.hpp"
 

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/recorder/message_fields.hpp"
 
 namespace gyrocal::record {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/recorder/record_mapper.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
 

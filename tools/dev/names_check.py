@@ -4,7 +4,7 @@
     tools/dev/names_check.py [--root DIR]            list every mismatch, exit 1 on a new one
     tools/dev/names_check.py --all [--root DIR]      the same, listing the allowed ones too
 
-The rule (docs/developing.md, "Names"): a library of the layers lcmtypes/ producers/ processors/
+The rule (docs/developing.md#names): a library of the layers lcmtypes/ producers/ processors/
 store/ tools/ lives alone in its folder (one add_library per CMakeLists.txt), and for the folder
 LAYER/a/b:
   target     gyrocal_a_b       (the folder's path below the layer, "/" -> "_")

@@ -18,7 +18,7 @@
 
 #include "gyrocal/version.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/text/number.hpp"
 #include "processors/analysis/analyze.hpp"
 #include "processors/analysis/plot.hpp"

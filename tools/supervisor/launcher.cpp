@@ -27,7 +27,7 @@
 #include "gyrocal/version.hpp"
 #include "lcmtypes/bus/batch.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "lcmtypes/runtime/process_main.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"

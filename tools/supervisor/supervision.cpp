@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocal/version.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/shutdown.hpp"
 #include "lcmtypes/runtime/status.hpp"
 #include "tools/supervisor/child_errors.hpp"

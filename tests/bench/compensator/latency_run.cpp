@@ -15,7 +15,7 @@
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/compensator/compensate.hpp"
 #include "tests/bench/support/machine.hpp"

@@ -31,7 +31,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/runtime/status.hpp"
 #include "processors/fitter/fitter_node.hpp"
 #include "processors/fitter/ramp_fitter.hpp"

@@ -29,7 +29,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "store/db/async_writer.hpp"
 #include "store/db/sqlite_db.hpp"

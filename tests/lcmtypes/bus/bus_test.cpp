@@ -7,7 +7,7 @@
 
 #include <stdexcept>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {

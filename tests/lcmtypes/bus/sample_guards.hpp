@@ -11,7 +11,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
 #include "tests/lcmtypes/message_builders.hpp"

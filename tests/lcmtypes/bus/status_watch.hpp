@@ -8,7 +8,7 @@
 
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::testing {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "gyrocal/status_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal {
 namespace {

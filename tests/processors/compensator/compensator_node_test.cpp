@@ -16,7 +16,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/processors/compensator/coeff_set_fixture.hpp"

@@ -16,7 +16,7 @@
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"

@@ -24,7 +24,7 @@
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/fitter/fit_worker.hpp"
 #include "processors/fitter/fitter_node.hpp"
 #include "processors/model/convert.hpp"

@@ -28,7 +28,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/store/scratch_db.hpp"

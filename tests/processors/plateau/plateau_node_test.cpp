@@ -16,7 +16,7 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
 #include "tests/lcmtypes/message_builders.hpp"

@@ -17,7 +17,7 @@
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/sample_guards.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"

@@ -23,7 +23,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "producers/sim/noise.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"

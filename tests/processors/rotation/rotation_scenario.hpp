@@ -12,7 +12,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/lcmtypes/bus/sample_guards.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"

@@ -18,7 +18,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"

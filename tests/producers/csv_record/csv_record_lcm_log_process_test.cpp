@@ -12,7 +12,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/producers/producer_process_support.hpp"
 #include "tests/support/wait/wait_until.hpp"
 

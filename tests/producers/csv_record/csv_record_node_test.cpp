@@ -17,7 +17,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/csv_file.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
 

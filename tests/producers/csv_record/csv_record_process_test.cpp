@@ -8,7 +8,7 @@
 
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/producers/producer_process_support.hpp"
 

@@ -19,7 +19,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/csv_file.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"

@@ -18,7 +18,7 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"

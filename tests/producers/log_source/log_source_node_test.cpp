@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/producers/log_source/log_writer.hpp"
 

@@ -19,7 +19,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/sim_rig/rig_node.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 

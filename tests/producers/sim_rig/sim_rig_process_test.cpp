@@ -21,7 +21,7 @@
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/flow/flow_acker.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/db/central_db.hpp"
 #include "store/db/query.hpp"
 #include "tests/lcmtypes/bus/flow_pacer.hpp"

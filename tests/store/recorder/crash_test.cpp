@@ -8,7 +8,7 @@
 #include <random>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 #include "tests/store/recorder/recorder_harness.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 #include "tests/store/recorder/recorder_harness.hpp"
 

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/db/analyses.hpp"
 #include "store/db/model_rows.hpp"
 #include "tests/lcmtypes/bus/flow_pacer.hpp"

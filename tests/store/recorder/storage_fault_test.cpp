@@ -19,7 +19,7 @@
 #include <set>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/db/writer.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 #include "tests/store/recorder/recorder_harness.hpp"

@@ -17,7 +17,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/store/replay/source_run.hpp"
 #include "tests/store/scratch_db.hpp"

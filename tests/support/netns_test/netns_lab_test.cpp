@@ -10,7 +10,7 @@
 
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::testing {

@@ -11,7 +11,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "store/db/query.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"

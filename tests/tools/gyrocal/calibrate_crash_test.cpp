@@ -17,7 +17,7 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/tools/gyrocal/e2e_support.hpp"
 

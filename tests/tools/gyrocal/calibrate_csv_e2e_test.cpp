@@ -18,7 +18,7 @@
 
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/tools/gyrocal/e2e_support.hpp"

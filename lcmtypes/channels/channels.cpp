@@ -1,4 +1,4 @@
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 #include <stdexcept>
 

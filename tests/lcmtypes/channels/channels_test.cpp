@@ -1,5 +1,5 @@
 // Channel names: per-sensor names, their validation, and the sensor id back from a channel.
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 #include <gtest/gtest.h>
 
