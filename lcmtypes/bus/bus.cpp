@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 std::string BusOptions::ResolvedUrl() const {
     if (!url.empty()) return url;
@@ -158,4 +158,4 @@ void Bus::NoteSeq(const std::string& channel, int64_t seq) {
     counters_.seq_backwards += r.backwards ? 1 : 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

@@ -15,7 +15,7 @@ std::string ThisHost() {
     return buf;
 }
 
-FlowAcker::FlowAcker(Bus& bus, std::string process)
+FlowAcker::FlowAcker(bus::Bus& bus, std::string process)
     : bus_(bus), process_(std::move(process)), host_(ThisHost()), pid_(getpid()) {
     bus_.Subscribe<flow_mark_t>(std::string(channels::kFlowMark),
                                 [this](const flow_mark_t& m, const std::string&) { OnMark(m); });

@@ -24,7 +24,7 @@ int64_t WallUtime() {
 }
 }  // namespace
 
-FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
+FlowSource::FlowSource(bus::Bus& bus, std::string process, WindowOptions options)
     : bus_(bus),
       process_(std::move(process)),
       host_(ThisHost()),
@@ -86,7 +86,7 @@ void FlowSource::Discover(std::chrono::milliseconds limit) {
 
 void FlowSource::Sync(int64_t data_utime) {
     data_utime_ = data_utime;
-    const BusCounters& c = bus_.counters();
+    const bus::BusCounters& c = bus_.counters();
     window_.OnPublished(c.published - seen_published_, c.published_bytes - seen_bytes_);
     seen_published_ = c.published;
     seen_bytes_ = c.published_bytes;

@@ -40,9 +40,9 @@ void Run(const std::string& gnuplot, const std::string& dir,
     const std::string log = (fs::path(dir) / "gnuplot.log").string();
     std::vector<std::string> args = {gnuplot};
     args.insert(args.end(), scripts.begin(), scripts.end());
-    ExitStatus status;
+    launch::ExitStatus status;
     try {
-        status = ChildProcess(args, ChildOptions{log, log, dir, {}}).Wait();
+        status = launch::ChildProcess(args, launch::ChildOptions{log, log, dir, {}}).Wait();
     } catch (const std::runtime_error& e) {
         throw GnuplotError(e.what());
     }

@@ -4,8 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "producers/csv_record/csv_record_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -40,10 +40,10 @@ int main(int argc, char** argv) {
                    "utime [us] written as time_s = 0 (default 1e15)");
     app.add_option("--idle-exit-s", o.idle_exit_s,
                    "exit after this many seconds without messages; 0 = never (default 0)");
-    if (auto exit_code =
-            ParseCommandLine(app, argc, argv, "gyrocal-csv-record", [&] { return o.Validate(); }))
+    if (auto exit_code = process::ParseCommandLine(app, argc, argv, "gyrocal-csv-record",
+                                                   [&] { return o.Validate(); }))
         return *exit_code;
-    InstallStopHandlers();
+    process::InstallStopHandlers();
     try {
         CsvRecordNode node(o);
         return node.Run();

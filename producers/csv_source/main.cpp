@@ -2,8 +2,8 @@
 // CHAMBER_STATE messages, the same messages a rig sends. See README.md.
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "producers/csv_source/csv_source_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -52,12 +52,12 @@ int main(int argc, char** argv) {
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "CSV file to replay")->required();
     csv::AddLcmUrlOption(app, o.lcm_url);
-    AddPacingOptions(app, o.speed, o.max,
-                     "data seconds per wall second, > 0 (default 1 = real time)");
+    process::AddPacingOptions(app, o.speed, o.max,
+                              "data seconds per wall second, > 0 (default 1 = real time)");
     app.add_option("--max-rate-hz", o.max_rate_hz,
                    "--max when no consumer answers: message-rate cap [msg/s], 1..1e7 "
                    "(default 20000)");
-    AddSourceFlowOptions(app, o.flow);
+    process::AddSourceFlowOptions(app, o.flow);
     std::string on_error = "stop";
     app.add_option("--on-error", on_error, "stop|skip: what a bad row does (default stop)");
     csv::AddConversionOptions(app, o.conversion,
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
                         {{"stop", csv::OnError::kStop}, {"skip", csv::OnError::kSkip}}, o.on_error);
         return err.empty() ? o.Validate() : err;
     };
-    if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-csv-source", validate))
+    if (auto exit_code = process::ParseCommandLine(app, argc, argv, "gyrocal-csv-source", validate))
         return *exit_code;
     return ReplayCsvFile(o);
 }

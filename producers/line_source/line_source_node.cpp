@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "lcmtypes/channels/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
 namespace gyrocal {
@@ -32,7 +32,7 @@ std::string LineSourceOptions::Validate() const {
 LineSourceNode::LineSourceNode(const LineSourceOptions& options, std::unique_ptr<LineInput> input)
     : options_(options),
       input_(std::move(input)),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-line-source"),
       stream_(input_->name(), TransferOf(options.conversion)),
       builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)),
@@ -137,7 +137,7 @@ bool LineSourceNode::AtEnd() {
 
 int LineSourceNode::Run() {
     try {
-        RunLoop(
+        process::RunLoop(
             bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
     } catch (const std::runtime_error& e) {
         std::cerr << "gyrocal-line-source: error: " << e.what() << "\n";

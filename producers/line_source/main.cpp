@@ -7,9 +7,9 @@
 #include <cstring>
 #include <iostream>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "producers/line_source/line_source_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -54,24 +54,26 @@ int main(int argc, char** argv) {
     app.add_flag("--flow", o.flow,
                  "not a live stream: read only as fast as every consumer keeps up (flow control; "
                  "a fast writer is held back by its pipe); needs --time stream");
-    AddSourceFlowOptions(app, o.flow_options);
+    process::AddSourceFlowOptions(app, o.flow_options);
     const auto validate = [&] {
         const std::string err = csv::Choose(
             "--time", time, {{"stream", TimeSource::kStream}, {"wall", TimeSource::kWall}}, o.time);
         return err.empty() ? o.Validate() : err;
     };
-    if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-line-source", validate))
+    if (auto exit_code =
+            process::ParseCommandLine(app, argc, argv, "gyrocal-line-source", validate))
         return *exit_code;
-    InstallStopHandlers();  // before a FIFO open that may wait for its writer
+    process::InstallStopHandlers();  // before a FIFO open that may wait for its writer
     int fd = 0;
     std::string name = "stdin";
     if (!o.device.empty()) {
         fd = open(o.device.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC);
         if (fd < 0) {
-            if (errno == EINTR && StopRequested()) return 0;
-            PrintError("gyrocal-line-source", "--device '" + o.device +
-                                                  "' cannot be opened: " + std::strerror(errno) +
-                                                  "; give a readable serial device, FIFO or file");
+            if (errno == EINTR && process::StopRequested()) return 0;
+            process::PrintError("gyrocal-line-source",
+                                "--device '" + o.device +
+                                    "' cannot be opened: " + std::strerror(errno) +
+                                    "; give a readable serial device, FIFO or file");
             return 2;
         }
         name = o.device;
@@ -80,7 +82,7 @@ int main(int argc, char** argv) {
         LineSourceNode node(o, std::make_unique<LineInput>(fd, name));
         return node.Run();
     } catch (const std::exception& e) {
-        PrintError("gyrocal-line-source", e.what());
+        process::PrintError("gyrocal-line-source", e.what());
         return 1;
     }
 }

@@ -5,7 +5,7 @@
 #include <thread>
 
 #include "lcmtypes/channels/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
 namespace gyrocal {
@@ -48,7 +48,7 @@ LogSourceNode::LogSourceNode(const LogSourceOptions& options, int64_t events)
       channels_(options.channels),
       in_(options.file, std::ios::binary),
       reader_(in_, options.file),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
       events_total_(events) {
     if (!in_) throw std::runtime_error("--file '" + options.file + "' cannot be read again");
@@ -131,12 +131,12 @@ bool LogSourceNode::Step() {
 }
 
 int LogSourceNode::Run() {
-    RunLoop(
+    process::RunLoop(
         bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
     std::cerr << kProcess << ": published " << published_ << " of " << events_total_
               << " events from " << options_.file << " (" << skipped_ << " not on --channels "
               << "or flow control)";
-    if (StopRequested() && next_) std::cerr << "; stopped by signal";
+    if (process::StopRequested() && next_) std::cerr << "; stopped by signal";
     std::cerr << "\n";
     if (!error_.empty()) {
         std::cerr << kProcess << ": error: " << error_ << "\n";

@@ -20,8 +20,8 @@
 
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/flow/flow_source.hpp"
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "producers/log_source/lcm_log.hpp"
 
 namespace gyrocal {
@@ -33,7 +33,7 @@ struct LogSourceOptions {
     bool max = false;             // as fast as the consumers keep up
     std::string channels = ".*";  // regex (ECMAScript, whole name) of the channels to publish
     double drain_s = 0.5;         // [s] after the last event, without consumers answering
-    SourceFlowOptions flow = SourceFlowOptions::Defaults();
+    process::SourceFlowOptions flow = process::SourceFlowOptions::Defaults();
     static LogSourceOptions Defaults() { return {}; }
     std::string Validate() const;  // "" or one line naming the option and what is valid
 };
@@ -50,7 +50,7 @@ public:
     int Run();
     // The node's bus: tests subscribe to it over memq:// (Handle it after Run() for the last
     // messages).
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     int64_t published() const { return published_; }
 
 private:
@@ -63,8 +63,8 @@ private:
     std::regex channels_;
     std::ifstream in_;
     lcmlog::LogReader reader_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     std::unique_ptr<flow::FlowSource> flow_;
     std::optional<lcmlog::Event> next_;
     int64_t events_total_ = 0, published_ = 0, skipped_ = 0;

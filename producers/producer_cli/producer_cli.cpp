@@ -1,6 +1,6 @@
 #include "producers/producer_cli/producer_cli.hpp"
 
-#include "lcmtypes/runtime/renamed_option.hpp"
+#include "lcmtypes/process/renamed_option.hpp"
 
 namespace gyrocal::csv {
 
@@ -19,7 +19,7 @@ void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
     CLI::Option* slope = app.add_option("--temp-v-per-c", conversion.temp_v_per_c,
                                         "temperature output slope [V/degC] (preset: 0.009), > 0 "
                                         "and <= 1");
-    AddOldOptionName<double>(app, slope, "--temp-v-per-k", conversion.temp_v_per_c);
+    process::AddOldOptionName<double>(app, slope, "--temp-v-per-k", conversion.temp_v_per_c);
     app.add_option("--encoder-counts-per-rev", conversion.encoder_counts_per_rev,
                    "encoder counts per revolution incl. quadrature (default 20000), >= 1");
 }

@@ -5,8 +5,8 @@
 #include <memory>
 #include <string>
 
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "store/recorder/recorder_node.hpp"
 
 int main(int argc, char** argv) {
@@ -46,22 +46,22 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 60000))
         ->capture_default_str();
     // The options check themselves (CLI::Range, the channel regex); --db is checked by opening it.
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kRecorderProcess))
+    if (auto exit_code = gyrocal::process::ParseCommandLine(app, argc, argv, kRecorderProcess))
         return *exit_code;
 
     std::unique_ptr<gyrocal::store::StoreWriter> writer;
     try {
         writer = gyrocal::record::OpenRecorderDatabase(o.db_path);
     } catch (const std::exception& e) {
-        gyrocal::PrintError(kRecorderProcess, std::string("--db: ") + e.what());
+        gyrocal::process::PrintError(kRecorderProcess, std::string("--db: ") + e.what());
         return 2;
     }
     try {
-        gyrocal::InstallStopHandlers();
+        gyrocal::process::InstallStopHandlers();
         gyrocal::record::RecorderNode node(o, std::move(writer));
         return node.Run();
     } catch (const std::exception& e) {
-        gyrocal::PrintError(kRecorderProcess, e.what());
+        gyrocal::process::PrintError(kRecorderProcess, e.what());
         return 1;
     }
 }

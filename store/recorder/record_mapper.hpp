@@ -63,7 +63,7 @@ private:
 
     MapperOptions options_;
     std::string run_id_;
-    SeqTracker seq_;
+    bus::SeqTracker seq_;
 };
 
 // The first 8 bytes as LCM writes a type hash (big-endian), or nullopt when size < 8.

@@ -8,7 +8,7 @@
 
 #include "gyrocal/version.hpp"
 #include "lcmtypes/channels/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "store/recorder/open_run.hpp"
 
 namespace gyrocal::record {
@@ -40,11 +40,12 @@ std::string LcmChannelRegexProblem(const std::string& text) {
 
 std::unique_ptr<store::StoreWriter> OpenRecorderDatabase(const std::string& db_path) {
     return std::make_unique<store::StoreWriter>(
-        db_path, store::WriterInfo{kSoftwareVersion, HostName(), static_cast<int32_t>(getpid())});
+        db_path,
+        store::WriterInfo{kSoftwareVersion, process::HostName(), static_cast<int32_t>(getpid())});
 }
 
 RecorderNode::RecorderNode(const RecorderOptions& o, std::unique_ptr<store::StoreWriter> writer)
-    : bus_(BusOptions{o.lcm_url}),
+    : bus_(bus::BusOptions{o.lcm_url}),
       status_(bus_, kRecorderProcess),
       store_(std::move(writer)),
       mapper_(MapperOptions{!o.no_rates}, OpenRunOnBus(store_->db(), bus_.url())),
@@ -69,7 +70,7 @@ RecorderNode::RecorderNode(const RecorderOptions& o, std::unique_ptr<store::Stor
 }
 
 int RecorderNode::Run() {
-    RunLoop(bus_, status_, [this] { return Poll(); });
+    process::RunLoop(bus_, status_, [this] { return Poll(); });
     return Finish();
 }
 

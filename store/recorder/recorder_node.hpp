@@ -17,7 +17,7 @@
 #include <string>
 
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "store/db/async_writer.hpp"
 #include "store/db/writer.hpp"
 #include "store/recorder/background_push.hpp"
@@ -60,7 +60,7 @@ public:
     // the session. Returns the exit code as Run() does.
     int Finish();
     // The node's bus: tests publish into it over memq://.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
 
 private:
     void SeedSeqs(const std::string& run_id);
@@ -68,8 +68,8 @@ private:
     bool Poll();
     void Publish();
 
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     std::unique_ptr<store::StoreWriter> store_;
     RecordMapper mapper_;
     store::AsyncWriter writer_;

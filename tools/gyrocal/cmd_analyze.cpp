@@ -79,7 +79,7 @@ std::optional<int> CheckPlotDir(const AnalyzeOptions& o, std::string& gnuplot, s
 // gnuplot, and for --publish the store and the bus (opened now: a bad --lcm-url fails at once,
 // not after minutes). Returns the exit code when the command must end now.
 std::optional<int> PrepareAnalyze(const AnalyzeOptions& o, an::AnalysisOptions& ao,
-                                  std::string& gnuplot, std::unique_ptr<Bus>& bus,
+                                  std::string& gnuplot, std::unique_ptr<bus::Bus>& bus,
                                   std::ostream& err) {
     ao = an::AnalysisOptions::Defaults();
     ao.bins.bin_s = o.bin_s;
@@ -113,7 +113,7 @@ std::optional<int> PrepareAnalyze(const AnalyzeOptions& o, an::AnalysisOptions& 
     }
     if (o.publish) {
         try {
-            bus = std::make_unique<Bus>(BusOptions{o.lcm_url});
+            bus = std::make_unique<bus::Bus>(bus::BusOptions{o.lcm_url});
         } catch (const std::exception& e) {
             err << "gyrocal analyze: --lcm-url: " << e.what() << "\n";
             return 1;
@@ -225,8 +225,9 @@ st::AnalysisRow ToAnalysisRow(const AnalyzeOptions& o, const an::SensorResult& r
 
 // Publishes the stored extended model `set` on COEFFS_<id> under its stored source. Returns
 // false when publishing failed (said on `err`).
-bool PublishStored(Bus& bus, const an::SensorResult& r, const std::optional<model::CoeffSet>& set,
-                   const st::StoredAnalysis& stored, std::ostream& err) {
+bool PublishStored(bus::Bus& bus, const an::SensorResult& r,
+                   const std::optional<model::CoeffSet>& set, const st::StoredAnalysis& stored,
+                   std::ostream& err) {
     if (!set || !stored.coeff_row_id) {
         err << "gyrocal analyze: " << r.sensor_id
             << ": nothing published (no effect added: the declared model stands)\n";
@@ -248,7 +249,7 @@ bool PublishStored(Bus& bus, const an::SensorResult& r, const std::optional<mode
 
 // Keeps each result (and its extended model) in the database and, with a bus, publishes the
 // stored extended models. Returns the exit code: 0, or 1 when publishing failed.
-int StoreResults(const AnalyzeOptions& o, const Analysed& a, Bus* bus, std::ostream& err) {
+int StoreResults(const AnalyzeOptions& o, const Analysed& a, bus::Bus* bus, std::ostream& err) {
     std::unique_ptr<st::Db> rw = st::OpenForUpdate(o.db);
     for (size_t i = 0; i < a.results.size(); ++i) {
         const an::SensorResult& r = a.results[i];
@@ -292,7 +293,7 @@ int DrawPlots(const AnalyzeOptions& o, const std::string& gnuplot,
 int AnalyzeRun(const AnalyzeOptions& o, std::ostream& out, std::ostream& err) {
     an::AnalysisOptions ao;
     std::string gnuplot;
-    std::unique_ptr<Bus> bus;
+    std::unique_ptr<bus::Bus> bus;
     if (const auto code = PrepareAnalyze(o, ao, gnuplot, bus, err)) return *code;
     std::unique_ptr<st::Db> db = st::OpenForQuery(o.db);
     const st::RunDetail detail = st::ShowRun(*db, o.run_id);

@@ -7,7 +7,7 @@
 #include <memory>
 #include <sstream>
 
-#include "lcmtypes/runtime/renamed_option.hpp"
+#include "lcmtypes/process/renamed_option.hpp"
 #include "processors/compensator/offline.hpp"
 #include "producers/csv/conversion_options.hpp"
 #include "producers/csv/csv_file.hpp"
@@ -178,7 +178,7 @@ void AddCompensateCommand(CLI::App& app, std::function<int()>& action) {
         ->capture_default_str();
     auto* a = sub->add_option("--temp-v-at-25c", *v25, "[V] temperature output at 25 degC");
     auto* k = sub->add_option("--temp-v-per-c", *vpc, "[V/degC] temperature output slope");
-    auto* old_k = AddOldOptionName<double>(*sub, k, "--temp-v-per-k", *vpc);
+    auto* old_k = process::AddOldOptionName<double>(*sub, k, "--temp-v-per-k", *vpc);
     sub->footer(
         "Exit codes: 0 written, 1 failure (bad CSV, bad or missing coefficients, a sensor without "
         "a set, database unreadable, output not writable), 2 bad options.");

@@ -37,11 +37,11 @@ int RunSpy(const SpyOptions& o) {
             return 1;
         }
     }
-    if (FindOnPath(o.java).empty()) {
+    if (launch::FindOnPath(o.java).empty()) {
         std::cerr << "gyrocal spy: '" << o.java << "' not found: apt-get install default-jre\n";
         return 1;
     }
-    const std::string url = BusOptions{o.lcm_url}.ResolvedUrl();
+    const std::string url = bus::BusOptions{o.lcm_url}.ResolvedUrl();
     std::vector<std::string> args = {o.java,
                                      "-Djava.net.preferIPv4Stack=true",
                                      "-Xmx256m",

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/process/flow_options.hpp"
 #include "processors/plot/gnuplot.hpp"
 #include "store/db/central_url.hpp"
 #include "store/db/query.hpp"
@@ -382,7 +382,7 @@ void AddReplay(CLI::App& app, std::function<int()>& action) {
     sub->footer(kExitCodes);
     sub->add_option("run", *run, "run id")->required();
     AddDb(sub, *c);
-    gyrocal::AddPacingOptions(*sub, *speed, *max, "recorded seconds per wall second")
+    gyrocal::process::AddPacingOptions(*sub, *speed, *max, "recorded seconds per wall second")
         ->check(CLI::Range(1e-3, 1e6))
         ->capture_default_str();
     sub->add_option("--lcm-url", *url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");

@@ -8,7 +8,7 @@
 #include <ostream>
 #include <string>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 
 namespace gyrocal::cli {
 
@@ -23,7 +23,7 @@ inline int ParseAndRun(CLI::App& app, int argc, char** argv, const std::function
         return rc == 0 ? 0 : 2;
     }
     if (!action) return 2;
-    return CheckOnly() ? 0 : action();  // GYROCAL_CHECK_ONLY=1: the command line is valid
+    return process::CheckOnly() ? 0 : action();  // GYROCAL_CHECK_ONLY=1: the command line is valid
 }
 
 // Runs a command's `body` and returns its exit code; an exception that escapes it (the database,

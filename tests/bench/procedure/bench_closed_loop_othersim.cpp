@@ -71,7 +71,7 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
     Sets s;
     const std::string csv = dir + "/cal.csv", db_path = dir + "/cal.db";
     othersim::WriteRun(o, csv, dir + "/cal.truth.json");
-    ChildProcess cal(
+    launch::ChildProcess cal(
         {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv, "--db", db_path,
          "--lcm-url", "udpm://239.255.76.67:7960?ttl=0&recv_buf_size=4194304", "--log-dir",
          dir + "/logs", "--quiet", "--source-arg=--max", "--source-arg=--max-rate-hz=20000",

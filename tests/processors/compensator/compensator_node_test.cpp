@@ -50,7 +50,7 @@ struct MemqCompensator {
 
 TEST(CompensatorNode, RatesAreTheTruthAndBadInputIsRefused) {
     MemqCompensator c(CompensatorNodeOptions::Defaults());
-    Bus& bus = c.node.bus();
+    bus::Bus& bus = c.node.bus();
     // GIVEN samples before any coefficient set: not published
     int64_t seq = 0;
     for (; seq < 5; ++seq) bus.Publish(channels::Gyro("S01"), Sample(seq, 20.0, 10.0));

@@ -48,7 +48,7 @@ run_event_t Event(const std::string& what, int64_t utime) {
 }
 
 // Every message of the run into `bus`, in time order, handling as it goes (memq queues them).
-void PublishRun(Bus& bus, FitterNode& node, const analysis::testing::SimRun& s) {
+void PublishRun(bus::Bus& bus, FitterNode& node, const analysis::testing::SimRun& s) {
     struct Timed {
         int64_t utime;
         std::function<void()> send;
@@ -123,7 +123,7 @@ TEST(ClosedLoopNode, TheFinalSetIsFittedOnEveryStillSampleWithTheEffectAfterTheP
     auto o = FitterOptions::Defaults();
     o.lcm_url = "memq://";
     FitterNode node(o);
-    Bus& bus = node.bus();
+    bus::Bus& bus = node.bus();
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
     std::vector<analysis_t> analyses;

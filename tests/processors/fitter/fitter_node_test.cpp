@@ -43,7 +43,7 @@ TEST(FitterNode, FinalSetIsTheTruthWithExactIdsAndBadInputIsRefused) {
     auto o = FitterOptions::Defaults();
     o.lcm_url = "memq://";
     FitterNode node(o);
-    Bus& bus = node.bus();
+    bus::Bus& bus = node.bus();
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
     testing::CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);

@@ -44,7 +44,7 @@ TEST(RampFitterNode, TheFinalSetOfARampIsTheTruthWithinItsStatedUncertainty) {
     o.ramp.refit_interval_s = 1800.0;
     o.ramp.min_span_s = 3600.0;
     RampFitterNode node(o);
-    Bus& bus = node.bus();
+    bus::Bus& bus = node.bus();
     std::vector<coeff_set_t> sets;
     std::vector<fit_report_t> reports;
     testing::CollectInto(bus, channels::Coeffs("U1"), sets);

@@ -20,7 +20,7 @@ namespace {
 constexpr const char* kUrl = "udpm://239.255.76.67:7740?ttl=0&recv_buf_size=4194304";
 
 TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
-    Bus bus(BusOptions{kUrl});
+    bus::Bus bus(bus::BusOptions{kUrl});
     testing::StatusWatch status(bus, "gyrocal-plateau");
     const testing::Wire wire = testing::ForProcess(bus, "gyrocal-plateau");
     const auto dir =
@@ -29,11 +29,11 @@ TEST(PlateauProcess, PublishesPlateausAndCountsBadInput) {
     std::vector<std::string> argv = {GYROCAL_PLATEAU_BIN, "--lcm-url", kUrl};
     argv.insert(argv.end(), testing::kPlateauScenarioFlags.begin(),
                 testing::kPlateauScenarioFlags.end());
-    ChildProcess child(argv, (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
+    launch::ChildProcess child(argv, (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
     ASSERT_TRUE(wire.until([&] { return status.seen; }, std::chrono::seconds(10)))
         << "no STATUS from gyrocal-plateau";
     testing::PlateauScenario(bus, wire, status);
-    const ExitStatus st = child.Stop();
+    const launch::ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);
 }

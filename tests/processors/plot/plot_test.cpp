@@ -90,7 +90,7 @@ TEST(Svg, InlineSvgPrefixesIdsAndReferencesAndDropsTheProlog) {
 class Gnuplot : public ::testing::Test {
 protected:
     void SetUp() override {
-        gnuplot_ = FindOnPath("gnuplot");
+        gnuplot_ = launch::FindOnPath("gnuplot");
         if (gnuplot_.empty())
             GTEST_SKIP()
                 << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";

@@ -20,18 +20,18 @@ namespace {
 constexpr const char* kUrl = "udpm://239.255.76.67:7741?ttl=0&recv_buf_size=4194304";
 
 TEST(RotationProcess, PublishesOnePointPerMoveAndCountsBadInput) {
-    Bus bus(BusOptions{kUrl});
+    bus::Bus bus(bus::BusOptions{kUrl});
     testing::StatusWatch status(bus, "gyrocal-rotation");
     const testing::Wire wire = testing::ForProcess(bus, "gyrocal-rotation");
     const auto dir = std::filesystem::temp_directory_path() /
                      ("gyrocal_rotation_mp_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
-    ChildProcess child({GYROCAL_ROTATION_BIN, "--lcm-url", kUrl, "--sensors", "S01"},
-                       (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
+    launch::ChildProcess child({GYROCAL_ROTATION_BIN, "--lcm-url", kUrl, "--sensors", "S01"},
+                               (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
     ASSERT_TRUE(wire.until([&] { return status.seen; }, std::chrono::seconds(10)))
         << "no STATUS from gyrocal-rotation";
     testing::RotationScenario(bus, wire, status);
-    const ExitStatus st = child.Stop();
+    const launch::ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);
 }

@@ -32,7 +32,7 @@ using gyrocal::testing::kT0Utime;
 class MemqSequencer {
 public:
     MemqSequencer() : node_(Options()), wire_(gyrocal::testing::ForNode(node_)) {
-        Bus& bus = node_.bus();
+        bus::Bus& bus = node_.bus();
         gyrocal::testing::CollectInto(bus, std::string(channels::kRunEvent), events);
         gyrocal::testing::CollectInto(bus, std::string(channels::kChamberCmd), chamber);
         gyrocal::testing::CollectInto(bus, std::string(channels::kTurntableCmd), turns);

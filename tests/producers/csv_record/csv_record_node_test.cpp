@@ -62,7 +62,7 @@ TEST(CsvRecordNode, WritesEachSampleWithTheValuesInForceAndRefusesWhatWouldNotRe
     o.sensors = {"S01"};
     ASSERT_EQ(o.Validate(), "");
     CsvRecordNode node(o);
-    Bus& bus = node.bus();
+    bus::Bus& bus = node.bus();
 
     // GIVEN the unit powered 60 s before t0, the chamber at 25 degC, the table at 0 deg, turned
     // to 90 deg at t0 + 15 ms

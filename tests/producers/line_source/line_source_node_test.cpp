@@ -45,7 +45,7 @@ LineSourceOptions NodeOptions() {
 }
 
 // The messages the node published and has not yet dispatched to its own bus.
-void DrainBus(Bus& bus) {
+void DrainBus(bus::Bus& bus) {
     ASSERT_TRUE(testing::HandleUntil(
         bus, [&] { return !bus.Handle(std::chrono::milliseconds(0)); },
         std::chrono::milliseconds(10'000), std::chrono::milliseconds(0)));

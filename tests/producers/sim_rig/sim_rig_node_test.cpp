@@ -36,7 +36,7 @@ TEST(SimRigNode, ObeysATurnRefusesAnImpossibleOrderAndPublishesContiguousSamples
     o.rig.num_units = 2;
     o.rig.seed = 11;
     SimRigNode node(o);
-    Bus& bus = node.bus();
+    bus::Bus& bus = node.bus();
     std::map<std::string, std::vector<gyro_sample_t>> gyro;
     std::vector<encoder_sample_t> encoder;
     std::vector<chamber_state_t> chamber;

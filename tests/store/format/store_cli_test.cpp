@@ -54,7 +54,7 @@ protected:
     static Result Run(std::vector<std::string> args) {
         args.insert(args.begin(), std::string(GYROCAL_BIN_DIR) + "/store_cli_driver");
         const std::string out = dir_ + "/out.txt", err = dir_ + "/err.txt";
-        ChildProcess p(args, out, err);
+        launch::ChildProcess p(args, out, err);
         const auto st = p.Wait(30s);
         Result r;
         r.code = st && st->exited ? st->code : -1;
@@ -394,12 +394,12 @@ std::string CompileAndRun(const std::string& dir, const std::string& header,
     std::ofstream(c) << "#include <stdio.h>\n#include \"" << header << "\"\n"
                      << "int main(void) {\n"
                      << main_body << "  return 0;\n}\n";
-    ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wno-unused-const-variable",
-                     "-o", exe, c, "-lm"},
-                    "", dir + "/cc.err");
+    launch::ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror",
+                             "-Wno-unused-const-variable", "-o", exe, c, "-lm"},
+                            "", dir + "/cc.err");
     const auto st = cc.Wait(60s);
     EXPECT_TRUE(st && st->exited && st->code == 0) << Slurp(dir + "/cc.err");
-    ChildProcess run({exe}, dir + "/use.out", "");
+    launch::ChildProcess run({exe}, dir + "/use.out", "");
     EXPECT_TRUE(run.Wait(10s));
     return Slurp(dir + "/use.out");
 }

@@ -30,7 +30,7 @@ TEST(RecorderNode, RecordsTheRunAndCountsWhatWasLost) {
     const std::string db = FreshDbPath("recorder_node_rows");
     {
         record::RecorderNode node(MemqOptions(db), record::OpenRecorderDatabase(db));
-        Bus& bus = node.bus();
+        bus::Bus& bus = node.bus();
         // WHEN a run starts, S01 sends seq 0..9 except 4 and 5 (2 lost), S02 sends 0..4, a
         // foreign type arrives, a gyro sample is cut short (known fingerprint, no decode), and
         // the run stops

@@ -23,7 +23,7 @@ using namespace std::chrono_literals;
 // UDP).
 class Publisher {
 public:
-    explicit Publisher(Bus& bus) : bus_(bus), pacer_(bus, "gyrocal-recorder") {}
+    explicit Publisher(bus::Bus& bus) : bus_(bus), pacer_(bus, "gyrocal-recorder") {}
     template <class Msg>
     void Send(const std::string& channel, const Msg& m) {
         ASSERT_TRUE(bus_.Publish(channel, m));
@@ -39,7 +39,7 @@ public:
     int64_t count(const std::string& channel) { return count_[channel]; }
 
 private:
-    Bus& bus_;
+    bus::Bus& bus_;
     FlowPacer pacer_;
     std::map<std::string, int64_t> count_;
     int64_t n_ = 0;
@@ -94,7 +94,7 @@ TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
     // WHEN the recorder has committed it all and is stopped normally
     const int64_t gyro_total = (kBefore + kIn + kAfter) * 3;
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples", gyro_total, 10s), gyro_total);
-    const ExitStatus st = r.rec.Stop();
+    const launch::ExitStatus st = r.rec.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
 
     // THEN each channel's count equals what was published, in the right run
@@ -192,9 +192,9 @@ TEST(RecorderProcess, RestartedRecorderContinuesTheOpenRunAndNoRatesSkipsRates) 
 }
 
 TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
-                      "/nonexistent-dir/x.db", "--lcm-url", UrlForPort(7762)},
-                     "", FreshDbPath("unwritable.err"));
+    launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
+                              "/nonexistent-dir/x.db", "--lcm-url", UrlForPort(7762)},
+                             "", FreshDbPath("unwritable.err"));
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_TRUE(st->exited);
@@ -207,9 +207,9 @@ TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
         store::Db d(db, store::Db::Mode::kReadWriteCreate);
         d.Exec("CREATE TABLE t(x)");
     }
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url",
-                      UrlForPort(7762)},
-                     "", db + ".err");
+    launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
+                              "--lcm-url", UrlForPort(7762)},
+                             "", db + ".err");
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_EQ(st->code, 2);
@@ -264,7 +264,7 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
 TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
     const std::string err = FreshDbPath("bad_regex.err");
     for (const std::string bad : {"GYRO_(", "*", "[a-"}) {
-        ChildProcess rec(
+        launch::ChildProcess rec(
             {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
              FreshDbPath("bad_regex.db"), "--channels", bad, "--lcm-url", UrlForPort(7762)},
             "", err);

@@ -31,9 +31,9 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
     const std::string log = (std::filesystem::temp_directory_path() /
                              ("gyrocal_analysis_publish_" + std::to_string(::getpid()) + ".log"))
                                 .string();
-    ChildProcess comp({GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl}, log, log);
+    launch::ChildProcess comp({GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl}, log, log);
 
-    Bus bus(BusOptions{kUrl});
+    bus::Bus bus(bus::BusOptions{kUrl});
     gyrocal::testing::StatusWatch status(bus, "gyrocal-compensator");
     int64_t last_set_id = -2;
     int n_rates = 0;
@@ -93,7 +93,7 @@ TEST(AnalyzePublish, LiveCompensatorAppliesThePublishedExtendedModel) {
     EXPECT_EQ(last_set_id, stored_id) << n_rates << " RATE_S01 messages; compensator log " << log;
     EXPECT_GT(n_rates, 0);
 
-    const ExitStatus ended = comp.Stop();
+    const launch::ExitStatus ended = comp.Stop();
     EXPECT_TRUE(ended.exited && ended.code == 0) << ended.Describe();
     testing::RemoveRunDb(db);
     std::filesystem::remove(log);

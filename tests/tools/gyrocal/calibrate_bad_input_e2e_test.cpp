@@ -38,13 +38,13 @@ struct Outcome {
 
 Outcome Calibrate(const std::string& dir, const std::string& source, const std::string& input) {
     const std::string out = dir + "/calibrate.out";
-    ChildProcess cal({GYROCAL_CLI, "calibrate", "--source", source, "--input", input, "--db",
-                      dir + "/run.db", "--lcm-url", UdpmUrl(kPort), "--log-dir", dir + "/logs",
-                      "--quiet", "--wall-timeout-s", "120"},
-                     out, out);
+    launch::ChildProcess cal({GYROCAL_CLI, "calibrate", "--source", source, "--input", input,
+                              "--db", dir + "/run.db", "--lcm-url", UdpmUrl(kPort), "--log-dir",
+                              dir + "/logs", "--quiet", "--wall-timeout-s", "120"},
+                             out, out);
     const auto end = cal.Wait(150s);
     Outcome o;
-    o.printed = ReadLog(out);
+    o.printed = launch::ReadLog(out);
     if (end && end->exited) o.code = end->code;
     return o;
 }
@@ -144,19 +144,19 @@ TEST(CalibrateBadInput, BadRowMidFileEndsTheRunWithTheSourcesOwnLinePrintedAndSt
     EXPECT_NE(run[0][2].find("is not a number"), std::string::npos) << run[0][2];
 
     // ... and shown by `gyrocal show` and on the report's first lines.
-    ChildProcess show({GYROCAL_CLI, "show", run[0][0], "--db", dir + "/run.db"}, dir + "/show.out",
-                      dir + "/show.out");
+    launch::ChildProcess show({GYROCAL_CLI, "show", run[0][0], "--db", dir + "/run.db"},
+                              dir + "/show.out", dir + "/show.out");
     ASSERT_TRUE(show.Wait(60s).has_value());
-    EXPECT_NE(ReadLog(dir + "/show.out").find(cause), std::string::npos)
-        << ReadLog(dir + "/show.out");
-    ChildProcess report(
+    EXPECT_NE(launch::ReadLog(dir + "/show.out").find(cause), std::string::npos)
+        << launch::ReadLog(dir + "/show.out");
+    launch::ChildProcess report(
         {GYROCAL_CLI, "report", run[0][0], "--db", dir + "/run.db", "--out", dir + "/report"},
         dir + "/report.out", dir + "/report.out");
     ASSERT_TRUE(report.Wait(120s).has_value());
     std::string html;
     for (const auto& f : std::filesystem::directory_iterator(dir + "/report"))
-        if (f.path().extension() == ".html") html = ReadLog(f.path().string());
-    ASSERT_FALSE(html.empty()) << ReadLog(dir + "/report.out");
+        if (f.path().extension() == ".html") html = launch::ReadLog(f.path().string());
+    ASSERT_FALSE(html.empty()) << launch::ReadLog(dir + "/report.out");
     const size_t header_end = html.find("</header>");
     ASSERT_NE(header_end, std::string::npos);
     EXPECT_NE(html.substr(0, header_end).find("bad.csv:1002: column temp_v: &#39;abc&#39;"),

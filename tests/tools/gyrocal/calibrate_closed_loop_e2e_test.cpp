@@ -29,26 +29,26 @@ TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     // keep it to ~1 simulated hour. The temperature sensor lag is made negligible (0.1 s) so the
     // only effect the declared model lacks is the one switched on: with the default 15 s lag the
     // analysis rightly also finds temp_rate (the lag makes the offset follow dT/dt).
-    ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "five"},
-                             SimRunArgs("1", "11", "30", db, UdpmUrl(7789), dir + "/logs"),
-                             {"--effect", "supply=0.05"},
-                             kFastThermalArgs,
-                             {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
-                     out, out);
+    launch::ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "five"},
+                                     SimRunArgs("1", "11", "30", db, UdpmUrl(7789), dir + "/logs"),
+                                     {"--effect", "supply=0.05"},
+                                     kFastThermalArgs,
+                                     {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
+                             out, out);
     auto ended = cal.Wait(540s);
-    ASSERT_TRUE(ended.has_value()) << ReadLog(out);
-    ASSERT_EQ(ended->code, 0) << ReadLog(out);
+    ASSERT_TRUE(ended.has_value()) << launch::ReadLog(out);
+    ASSERT_EQ(ended->code, 0) << launch::ReadLog(out);
     const std::string run = Sql(db).Text("SELECT run_id FROM runs WHERE run_id <> ''");
     ASSERT_FALSE(run.empty());
 
     const std::string report = dir + "/analysis.json";
-    ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db, "--json"}, report,
-                    dir + "/analyze.err");
+    launch::ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db, "--json"}, report,
+                            dir + "/analyze.err");
     auto an_end = an.Wait(120s);
     ASSERT_TRUE(an_end.has_value());
-    ASSERT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");
-    const json result = json::parse(ReadLog(report));
-    const json truth = json::parse(ReadLog(dir + "/logs/truth.json"));
+    ASSERT_EQ(an_end->code, 0) << launch::ReadLog(dir + "/analyze.err");
+    const json result = json::parse(launch::ReadLog(report));
+    const json truth = json::parse(launch::ReadLog(dir + "/logs/truth.json"));
     const double k_true = truth.at("effects").at("supply").at("value");
 
     ASSERT_EQ(result.at("sensors").size(), 1u);

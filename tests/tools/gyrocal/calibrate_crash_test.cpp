@@ -89,10 +89,10 @@ bool EventAt(const run_event_t* e, const char* event, int setpoint,
 }
 
 // Watches the run on `url` and kills each process at its moment; returns how calibrate ended.
-std::optional<ExitStatus> RunAndKill(ChildProcess& cal, const std::string& url,
-                                     std::vector<Kill>& kills,
-                                     const std::function<void(const Kill&)>& before_kill) {
-    Bus bus(BusOptions{url});
+std::optional<launch::ExitStatus> RunAndKill(launch::ChildProcess& cal, const std::string& url,
+                                             std::vector<Kill>& kills,
+                                             const std::function<void(const Kill&)>& before_kill) {
+    bus::Bus bus(bus::BusOptions{url});
     int setpoint = -1;
     auto check = [&](const run_event_t* e, const plateau_state_t* s) {
         for (Kill& k : kills) {
@@ -149,7 +149,8 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
         {"gyrocal-compensator", [](auto* e, auto*) { return EventAt(e, "setpoint", 3); },
          "setpoint 4 ordered", false},
     };
-    ChildProcess cal(CalibrateArgs(dir, port, "15,30,45,30"), dir + "/out.txt", dir + "/out.txt");
+    launch::ChildProcess cal(CalibrateArgs(dir, port, "15,30,45,30"), dir + "/out.txt",
+                             dir + "/out.txt");
     int64_t committed_rowid = -1, committed_rows = -1;
     const auto st = RunAndKill(
         cal, "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0", kills, [&](const Kill& k) {
@@ -158,7 +159,7 @@ TEST(CalibrateCrash, EveryRecoverableProcessKilledMidRunIsRestartedAndTheRunComp
             committed_rowid = before.Int("SELECT coalesce(max(rowid), 0) FROM gyro_samples");
             committed_rows = before.Int("SELECT count(*) FROM gyro_samples");
         });
-    const std::string printed = ReadLog(dir + "/out.txt");
+    const std::string printed = launch::ReadLog(dir + "/out.txt");
     ASSERT_TRUE(st.has_value()) << "calibrate did not end:\n" << printed;
     for (const Kill& k : kills)
         EXPECT_TRUE(k.done) << k.process << " was never killed (" << k.moment << ")";
@@ -267,10 +268,11 @@ TEST(CalibrateCrash, KilledRigAbortsTheRunWithTheReasonAndKeepsWhatWasRecorded) 
     const int port = 7809;
     std::vector<Kill> kills = {{"gyrocal-sim-rig", [](auto*, auto* s) { return Averaging(s, 0); },
                                 "setpoint 1, averaging", false}};
-    ChildProcess cal(CalibrateArgs(dir, port, "15,30,45"), dir + "/out.txt", dir + "/out.txt");
+    launch::ChildProcess cal(CalibrateArgs(dir, port, "15,30,45"), dir + "/out.txt",
+                             dir + "/out.txt");
     const auto st = RunAndKill(cal, "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0",
                                kills, [](const Kill&) {});
-    const std::string printed = ReadLog(dir + "/out.txt");
+    const std::string printed = launch::ReadLog(dir + "/out.txt");
     ASSERT_TRUE(st.has_value()) << printed;
     ASSERT_TRUE(kills[0].done);
     EXPECT_TRUE(st->exited && st->code == 3) << st->Describe() << "\n" << printed;
@@ -285,16 +287,16 @@ TEST(CalibrateCrash, KilledRigAbortsTheRunWithTheReasonAndKeepsWhatWasRecorded) 
     EXPECT_NE(run.at(2).find("simulated chamber and units went with it"), std::string::npos)
         << run.at(2);
     // The cause is where the user looks: `gyrocal show` prints the stored reason.
-    ChildProcess show({GYROCAL_CLI, "show", run.at(0), "--db", dir + "/run.db"}, dir + "/show.txt",
-                      dir + "/show.txt");
+    launch::ChildProcess show({GYROCAL_CLI, "show", run.at(0), "--db", dir + "/run.db"},
+                              dir + "/show.txt", dir + "/show.txt");
     ASSERT_TRUE(show.Wait(std::chrono::seconds(60)).has_value());
-    EXPECT_NE(
-        ReadLog(dir + "/show.txt").find("gyrocal-sim-rig ended unexpectedly (killed by signal 9"),
-        std::string::npos)
-        << ReadLog(dir + "/show.txt");
+    EXPECT_NE(launch::ReadLog(dir + "/show.txt")
+                  .find("gyrocal-sim-rig ended unexpectedly (killed by signal 9"),
+              std::string::npos)
+        << launch::ReadLog(dir + "/show.txt");
     // One abort: the sequencer ended on the supervisor's, without one of its own.
     EXPECT_EQ(sql.Int("SELECT count(*) FROM run_events WHERE event IN ('stop', 'abort')"), 1);
-    EXPECT_EQ(ReadLog(dir + "/logs/gyrocal-sequencer.log").find("operator stop"),
+    EXPECT_EQ(launch::ReadLog(dir + "/logs/gyrocal-sequencer.log").find("operator stop"),
               std::string::npos);
     // Everything the rig published before it died was recorded: no gap in any stream.
     EXPECT_EQ(sql.Int("SELECT coalesce(sum(seq_gaps + queue_drops), 0) FROM losses"), 0);

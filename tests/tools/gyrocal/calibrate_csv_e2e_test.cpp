@@ -48,9 +48,9 @@ std::string Fields(const std::string& line, int n) {
 // A gyrocal-csv-record on `url` as its STATUS heartbeats show it: rows_written of each (-1
 // before its first flush). Build it before the recorder starts.
 struct CsvRecordWatch {
-    Bus bus;
+    bus::Bus bus;
     std::vector<double> rows;
-    explicit CsvRecordWatch(const std::string& url) : bus(BusOptions{url}) {
+    explicit CsvRecordWatch(const std::string& url) : bus(bus::BusOptions{url}) {
         bus.Subscribe<status_t>(std::string(channels::kStatus),
                                 [this](const status_t& m, const std::string&) {
                                     if (m.process != "gyrocal-csv-record") return;
@@ -88,39 +88,40 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     // GIVEN a simulated five-setpoint run (one unit, fast thermal constants, negligible sensor
     // lag, an undeclared supply effect) written to CSV
     CsvRecordWatch watch_a(url_a);
-    ChildProcess rec_a({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_a, "--lcm-url", url_a},
-                       dir + "/rec_a.log", dir + "/rec_a.log");
+    launch::ChildProcess rec_a(
+        {GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_a, "--lcm-url", url_a}, dir + "/rec_a.log",
+        dir + "/rec_a.log");
     // The recorder subscribes before the rig's first sample.
-    ASSERT_TRUE(watch_a.Listening()) << ReadLog(dir + "/rec_a.log");
-    ChildProcess rig({GYROCAL_BIN "/gyrocal-sim-rig",
-                      "--mode",
-                      "builtin",
-                      "--units",
-                      "1",
-                      "--seed",
-                      "3",
-                      "--speed",
-                      "60",
-                      "--profile=-30,0,30,60,80",
-                      "--dwell-s",
-                      "500",
-                      "--package-tau-s",
-                      "40",
-                      "--ramp-c-per-min",
-                      "10",
-                      "--sensor-tau-s",
-                      "0.1",
-                      "--effect",
-                      "supply=0.05",
-                      "--lcm-url",
-                      url_a,
-                      "--truth-out",
-                      dir + "/truth.json"},
-                     dir + "/rig.log", dir + "/rig.log");
+    ASSERT_TRUE(watch_a.Listening()) << launch::ReadLog(dir + "/rec_a.log");
+    launch::ChildProcess rig({GYROCAL_BIN "/gyrocal-sim-rig",
+                              "--mode",
+                              "builtin",
+                              "--units",
+                              "1",
+                              "--seed",
+                              "3",
+                              "--speed",
+                              "60",
+                              "--profile=-30,0,30,60,80",
+                              "--dwell-s",
+                              "500",
+                              "--package-tau-s",
+                              "40",
+                              "--ramp-c-per-min",
+                              "10",
+                              "--sensor-tau-s",
+                              "0.1",
+                              "--effect",
+                              "supply=0.05",
+                              "--lcm-url",
+                              url_a,
+                              "--truth-out",
+                              dir + "/truth.json"},
+                             dir + "/rig.log", dir + "/rig.log");
     auto rig_end = rig.Wait(300s);
-    ASSERT_TRUE(rig_end.has_value()) << ReadLog(dir + "/rig.log");
-    ASSERT_EQ(rig_end->code, 0) << ReadLog(dir + "/rig.log");
-    ASSERT_TRUE(watch_a.Settled()) << ReadLog(dir + "/rec_a.log");
+    ASSERT_TRUE(rig_end.has_value()) << launch::ReadLog(dir + "/rig.log");
+    ASSERT_EQ(rig_end->code, 0) << launch::ReadLog(dir + "/rig.log");
+    ASSERT_TRUE(watch_a.Settled()) << launch::ReadLog(dir + "/rec_a.log");
     rec_a.Stop();
     const auto rows_a = Lines(csv_a);
     ASSERT_GT(rows_a.size(), 100000u) << "the recording is too short";
@@ -132,18 +133,19 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
 
     // WHEN it is calibrated as measured data, with a second recorder listening to the replay
     CsvRecordWatch watch_b(url_b);
-    ChildProcess rec_b({GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_b, "--lcm-url", url_b},
-                       dir + "/rec_b.log", dir + "/rec_b.log");
-    ASSERT_TRUE(watch_b.Listening()) << ReadLog(dir + "/rec_b.log");
+    launch::ChildProcess rec_b(
+        {GYROCAL_BIN "/gyrocal-csv-record", "--out", csv_b, "--lcm-url", url_b}, dir + "/rec_b.log",
+        dir + "/rec_b.log");
+    ASSERT_TRUE(watch_b.Listening()) << launch::ReadLog(dir + "/rec_b.log");
     const std::string db = dir + "/lab.db", out = dir + "/calibrate.out";
-    ChildProcess cal(
+    launch::ChildProcess cal(
         {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv_a, "--db", db,
          "--lcm-url", url_b, "--log-dir", dir + "/logs", "--quiet", "--source-arg=--max",
          "--source-arg=--max-rate-hz=10000", "--wall-timeout-s", "300"},
         out, out);
     auto cal_end = cal.Wait(330s);
-    ASSERT_TRUE(cal_end.has_value()) << ReadLog(out);
-    EXPECT_EQ(cal_end->code, 0) << ReadLog(out);
+    ASSERT_TRUE(cal_end.has_value()) << launch::ReadLog(out);
+    EXPECT_EQ(cal_end->code, 0) << launch::ReadLog(out);
     rec_b.Stop();
 
     // THEN the run is recorded like any other: every row, its plateaus and rotations, a fit
@@ -155,7 +157,8 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
     EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM plateaus"), 5);
     EXPECT_EQ(Sql(db).Int("SELECT count(*) FROM sensitivity_points WHERE accepted=1"), 2 * 5);
     EXPECT_GE(Sql(db).Int("SELECT count(*) FROM coeff_sets"), 1);
-    EXPECT_NE(ReadLog(out).find("stop: end of data"), std::string::npos) << ReadLog(out);
+    EXPECT_NE(launch::ReadLog(out).find("stop: end of data"), std::string::npos)
+        << launch::ReadLog(out);
     // ... and the replayed samples are the recorded ones: time, sensor, gyro_v, temp_v, temp_c,
     // supply_v, encoder_deg identical as text (chamber_c is re-published at most once a second
     // of data time, so its latest value may trail by up to a second and is not compared).
@@ -181,16 +184,16 @@ TEST(CalibrateFromCsv, SimulatedRunExportedThenCalibratedAsMeasuredData) {
         nlohmann::json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)));
     sqlite3_finalize(st);
     sqlite3_close(h);
-    ChildProcess sum({"sha256sum", csv_a}, dir + "/sha256.txt", dir + "/sha256.err");
+    launch::ChildProcess sum({"sha256sum", csv_a}, dir + "/sha256.txt", dir + "/sha256.err");
     ASSERT_TRUE(sum.Wait(60s).has_value());
-    EXPECT_EQ(config.value("input_sha256", ""), ReadLog(dir + "/sha256.txt").substr(0, 64))
+    EXPECT_EQ(config.value("input_sha256", ""), launch::ReadLog(dir + "/sha256.txt").substr(0, 64))
         << config.dump();
-    ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", run, "--db", db, "--json"},
-                    dir + "/analysis.json", dir + "/analyze.err");
+    launch::ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", run, "--db", db, "--json"},
+                            dir + "/analysis.json", dir + "/analyze.err");
     auto an_end = an.Wait(120s);
     ASSERT_TRUE(an_end.has_value());
-    ASSERT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");
-    const auto result = nlohmann::json::parse(ReadLog(dir + "/analysis.json"));
+    ASSERT_EQ(an_end->code, 0) << launch::ReadLog(dir + "/analyze.err");
+    const auto result = nlohmann::json::parse(launch::ReadLog(dir + "/analysis.json"));
     const auto& sensor = result.at("sensors").at(0);
     ASSERT_EQ(sensor.at("added").size(), 1u) << sensor.dump(2);
     EXPECT_EQ(sensor.at("added").at(0).at("effect"), "supply");

@@ -40,19 +40,20 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
     // Fast thermal constants keep the simulated run short (~25 simulated minutes); the speed
     // keeps every process far below the rate at which the loaded 2-core machine loses packets.
-    ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "seed3"},
-                             SimRunArgs("2", "7", "40", db, kUrl, dir + "/logs"),
-                             kFastThermalArgs,
-                             {"--wall-timeout-s", "400"}}),
-                     out, out);
+    launch::ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "seed3"},
+                                     SimRunArgs("2", "7", "40", db, kUrl, dir + "/logs"),
+                                     kFastThermalArgs,
+                                     {"--wall-timeout-s", "400"}}),
+                             out, out);
     auto ended = cal.Wait(std::chrono::seconds(420));
-    ASSERT_TRUE(ended.has_value()) << "calibrate did not finish:\n" << ReadLog(out);
-    ASSERT_TRUE(ended->exited && ended->code == 0) << ended->Describe() << "\n" << ReadLog(out);
-    const std::string printed = ReadLog(out);
+    ASSERT_TRUE(ended.has_value()) << "calibrate did not finish:\n" << launch::ReadLog(out);
+    ASSERT_TRUE(ended->exited && ended->code == 0) << ended->Describe() << "\n"
+                                                   << launch::ReadLog(out);
+    const std::string printed = launch::ReadLog(out);
     EXPECT_NE(printed.find("stop: completed"), std::string::npos) << printed;
     EXPECT_NE(printed.find("fitted vs true"), std::string::npos) << printed;
 
-    const json truth = json::parse(ReadLog(dir + "/logs/truth.json"));
+    const json truth = json::parse(launch::ReadLog(dir + "/logs/truth.json"));
     const json& noise = truth.at("config").at("noise");
     Sql sql(db);
     const std::string run =
@@ -177,7 +178,7 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
 
 bool AnyProcessMentions(const std::string& needle) {
     for (const auto& e : std::filesystem::directory_iterator("/proc")) {
-        const std::string cmd = ReadLog(e.path().string() + "/cmdline");
+        const std::string cmd = launch::ReadLog(e.path().string() + "/cmdline");
         if (cmd.find(needle) != std::string::npos &&
             e.path().filename() != std::to_string(getpid()))
             return true;
@@ -191,18 +192,18 @@ TEST(CalibrateEndToEnd, InterruptAbortsTheRunCleanly) {
     const std::string dir = FreshDir("gyrocal_e2e_int");
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
     const std::string url = UdpmUrl(7782);
-    ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--speed", "20", "--db", db,
-                      "--lcm-url", url, "--log-dir", dir + "/logs", "--quiet"},
-                     out, out);
+    launch::ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--speed", "20", "--db",
+                              db, "--lcm-url", url, "--log-dir", dir + "/logs", "--quiet"},
+                             out, out);
     // Wait (bounded) until the run has started, as a person would before pressing Ctrl-C, and
     // is recording: samples of it are in the database.
     ASSERT_TRUE(testing::WaitUntil(
         [&] {
-            return ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint") !=
+            return launch::ReadLog(dir + "/logs/gyrocal-sequencer.log").find("setpoint") !=
                    std::string::npos;
         },
         30s, 100ms))
-        << ReadLog(out);
+        << launch::ReadLog(out);
     ASSERT_TRUE(testing::WaitUntil(
         [&] {
             try {
@@ -212,12 +213,12 @@ TEST(CalibrateEndToEnd, InterruptAbortsTheRunCleanly) {
             }
         },
         30s, 100ms))
-        << ReadLog(out);
+        << launch::ReadLog(out);
     cal.Signal(SIGINT);
     auto ended = cal.Wait(60s);
-    ASSERT_TRUE(ended.has_value()) << ReadLog(out);
+    ASSERT_TRUE(ended.has_value()) << launch::ReadLog(out);
     EXPECT_TRUE(ended->exited);
-    EXPECT_EQ(ended->code, 3) << ReadLog(out);
+    EXPECT_EQ(ended->code, 3) << launch::ReadLog(out);
     Sql sql(db);
     const auto run = sql.Rows("SELECT outcome, reason FROM runs WHERE run_id <> ''");
     ASSERT_EQ(run.size(), 1u);

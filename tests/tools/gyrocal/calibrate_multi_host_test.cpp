@@ -59,7 +59,7 @@ std::vector<std::string> Common(const std::string& procedure, const std::string&
 }
 
 struct Roles {
-    std::unique_ptr<ChildProcess> recorder, processors, producers;
+    std::unique_ptr<launch::ChildProcess> recorder, processors, producers;
     std::string dir;
 };
 
@@ -89,8 +89,8 @@ void ExpectAllEndedWell(Roles& r) {
                                  : p == &r.processors ? "processors"
                                                       : "recorder") +
                                 ".out";
-        ASSERT_TRUE(st.has_value()) << "did not end:\n" << ReadLog(log);
-        EXPECT_TRUE(st->exited && st->code == 0) << st->Describe() << "\n" << ReadLog(log);
+        ASSERT_TRUE(st.has_value()) << "did not end:\n" << launch::ReadLog(log);
+        EXPECT_TRUE(st->exited && st->code == 0) << st->Describe() << "\n" << launch::ReadLog(log);
     }
 }
 
@@ -116,9 +116,9 @@ TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
                                          dir + "/single.db", "--log-dir",  dir + "/single",
                                          "--lcm-url",        UdpmUrl(7805)};
         argv.insert(argv.end(), common.begin(), common.end());
-        ChildProcess single(argv, dir + "/single.out", dir + "/single.out");
+        launch::ChildProcess single(argv, dir + "/single.out", dir + "/single.out");
         const auto st = single.Wait(450s);
-        ASSERT_TRUE(st && st->exited && st->code == 0) << ReadLog(dir + "/single.out");
+        ASSERT_TRUE(st && st->exited && st->code == 0) << launch::ReadLog(dir + "/single.out");
     }
     // WHEN the same options run as three hosts' roles
     NetnsLab lab("gcmh", 3, 202);
@@ -192,8 +192,9 @@ TEST(MultiHost, ThreeHostsRecordTheSameRunAsOneHostSampleForSample) {
     auto show =
         lab.Start(3, {GYROCAL_CLI, "show", run, "--db", dir + "/lab.db"}, dir + "/show.out");
     const auto st = show->Wait(60s);
-    ASSERT_TRUE(st && st->exited && st->code == 0) << ReadLog(dir + "/show.out");
-    EXPECT_NE(ReadLog(dir + "/show.out").find("none recorded"), std::string::npos) << "no losses";
+    ASSERT_TRUE(st && st->exited && st->code == 0) << launch::ReadLog(dir + "/show.out");
+    EXPECT_NE(launch::ReadLog(dir + "/show.out").find("none recorded"), std::string::npos)
+        << "no losses";
 }
 
 // Watches the bus from the recorder's host and pulls the producers' cable twice: during an
@@ -209,7 +210,7 @@ struct CablePuller {
     std::string log;
 
     void Run(const std::string& url) {
-        Bus bus(BusOptions{url});
+        bus::Bus bus(bus::BusOptions{url});
         int stage = 0;  // 0: wait setpoint 2 averaging; 1: wait turn at setpoint 3; 2: done
         int setpoint = -1;
         bool cut_now = false;
@@ -322,9 +323,9 @@ TEST(MultiHost, CableOutDuringAPlateauAndATurnIsCountedRefusedAndTakenAgain) {
     auto show =
         lab.Start(3, {GYROCAL_CLI, "show", run, "--db", dir + "/lab.db"}, dir + "/show.out");
     ASSERT_TRUE(show->Wait(60s));
-    const std::string shown = ReadLog(dir + "/show.out");
+    const std::string shown = launch::ReadLog(dir + "/show.out");
     EXPECT_NE(shown.find("GYRO_S01"), std::string::npos) << shown;
-    const std::string printed = ReadLog(dir + "/recorder.out");
+    const std::string printed = launch::ReadLog(dir + "/recorder.out");
     const std::string said =
         "losses seen on the bus (sequence gaps + decode errors + queue drops + handler errors): ";
     const size_t at = printed.find(said);

@@ -90,12 +90,12 @@ TEST(CalibrateOptions, BadOptionsAreRefusedBeforeOrAtStartUp) {
         if (std::find(c.args.begin(), c.args.end(), "--lcm-url") == c.args.end())
             argv.insert(argv.end(), {"--lcm-url", "udpm://239.255.76.67:7797?ttl=0"});
         argv.insert(argv.end(), c.args.begin(), c.args.end());
-        ChildProcess p(argv, "/dev/null", err);
+        launch::ChildProcess p(argv, "/dev/null", err);
         // The child's failure is seen within the start-up poll, far below the 20 s heartbeat wait.
         const auto st = p.Wait(15s);
         ASSERT_TRUE(st.has_value()) << c.args[0] << ": still running";
         EXPECT_TRUE(st->exited && st->code == c.code) << c.args[0] << ": " << st->Describe();
-        EXPECT_NE(ReadLog(err).find(c.says), std::string::npos) << ReadLog(err);
+        EXPECT_NE(launch::ReadLog(err).find(c.says), std::string::npos) << launch::ReadLog(err);
     }
     std::filesystem::remove_all(dir);
 }

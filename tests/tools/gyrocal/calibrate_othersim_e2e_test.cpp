@@ -73,20 +73,20 @@ Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
     std::vector<std::string> gen = {GYROCAL_BIN "/gyrocal-othersim", "--out", lab.csv};
     gen.insert(gen.end(), kScale.begin(), kScale.end());
     gen.insert(gen.end(), args.begin(), args.end());
-    ChildProcess g(gen, lab.dir + "/gen.log", lab.dir + "/gen.log");
+    launch::ChildProcess g(gen, lab.dir + "/gen.log", lab.dir + "/gen.log");
     const auto g_end = g.Wait(120s);
-    EXPECT_TRUE(g_end && g_end->code == 0) << ReadLog(lab.dir + "/gen.log");
+    EXPECT_TRUE(g_end && g_end->code == 0) << launch::ReadLog(lab.dir + "/gen.log");
     std::ifstream truth(lab.truth_path);
     lab.truth = nlohmann::json::parse(truth);
     const std::string url = UdpmUrl(port);
     lab.out = lab.dir + "/calibrate.out";
-    ChildProcess cal(
+    launch::ChildProcess cal(
         {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", lab.csv, "--db", lab.db,
          "--lcm-url", url, "--log-dir", lab.dir + "/logs", "--quiet", "--source-arg=--max",
          "--source-arg=--max-rate-hz=20000", "--wall-timeout-s", "1200"},
         lab.out, lab.out);
     const auto cal_end = cal.Wait(1300s);
-    EXPECT_TRUE(cal_end.has_value()) << ReadLog(lab.out);
+    EXPECT_TRUE(cal_end.has_value()) << launch::ReadLog(lab.out);
     lab.exit_code = cal_end ? cal_end->code : -1;
     auto db = store::OpenForQuery(lab.db);
     for (const store::RunInfo& r : store::ListRuns(*db, {}))
@@ -96,13 +96,13 @@ Lab RunLab(const std::string& name, std::vector<std::string> args, int port) {
                                          lab.db};
         if (json) show.push_back("--json");
         const std::string file = lab.dir + (json ? "/show.json" : "/show.txt");
-        ChildProcess s(show, file, lab.dir + "/show.err");
+        launch::ChildProcess s(show, file, lab.dir + "/show.err");
         const auto s_end = s.Wait(120s);
-        EXPECT_TRUE(s_end && s_end->code == 0) << ReadLog(lab.dir + "/show.err");
+        EXPECT_TRUE(s_end && s_end->code == 0) << launch::ReadLog(lab.dir + "/show.err");
         if (json)
-            lab.detail = nlohmann::json::parse(ReadLog(file));
+            lab.detail = nlohmann::json::parse(launch::ReadLog(file));
         else
-            lab.show = ReadLog(file);
+            lab.show = launch::ReadLog(file);
     }
     return lab;
 }
@@ -169,12 +169,12 @@ double BeyondQuadraticRms(const std::function<double(double)>& f) {
 // quadratic fitted over the run leaves that much in the bins, and the verdict's tests are built
 // to see 3x the floor (processors/analysis/README.md).
 void ExpectVerdictAgainstTruth(const Lab& lab) {
-    ChildProcess an(
+    launch::ChildProcess an(
         {GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store", "--json"},
         lab.dir + "/verdict.json", lab.dir + "/verdict.err");
     const auto end = an.Wait(600s);
-    ASSERT_TRUE(end && end->code == 0) << ReadLog(lab.dir + "/verdict.err");
-    const nlohmann::json j = nlohmann::json::parse(ReadLog(lab.dir + "/verdict.json"));
+    ASSERT_TRUE(end && end->code == 0) << launch::ReadLog(lab.dir + "/verdict.err");
+    const nlohmann::json j = nlohmann::json::parse(launch::ReadLog(lab.dir + "/verdict.json"));
     for (const auto& s : j.at("sensors")) {
         const std::string id = s.at("sensor_id");
         othersim::UnitTruth u;
@@ -217,7 +217,7 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
         EXPECT_TRUE(close) << id << ": the data do not reproduce the issue's close levels";
     }
     // THEN the run ends with exit 0 and complete sets spanning every plateau
-    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ASSERT_EQ(lab.exit_code, 0) << launch::ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
     // AND the return to 25 degC is reported as repeatability, the Allan figures are shown
     for (const std::string id : {"U1", "U2"}) {
@@ -265,14 +265,14 @@ TEST(OthersimCalibration, ReturnToStartProfileCalibratesBothUnitsOverTheWholeRan
     // AND gyrocal analyze --plot draws each unit's Allan deviation (gnuplot-nox, tools/run.sh)
     if (::access("/usr/bin/gnuplot", X_OK) != 0)
         GTEST_SKIP() << "gnuplot is not installed: the Allan plot is not checked";
-    ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db, "--no-store",
-                     "--plot", lab.dir + "/plots"},
-                    lab.dir + "/analyze.out", lab.dir + "/analyze.out");
+    launch::ChildProcess an({GYROCAL_BIN "/gyrocal", "analyze", lab.run_id, "--db", lab.db,
+                             "--no-store", "--plot", lab.dir + "/plots"},
+                            lab.dir + "/analyze.out", lab.dir + "/analyze.out");
     const auto an_end = an.Wait(600s);
-    ASSERT_TRUE(an_end && an_end->code == 0) << ReadLog(lab.dir + "/analyze.out");
+    ASSERT_TRUE(an_end && an_end->code == 0) << launch::ReadLog(lab.dir + "/analyze.out");
     for (const std::string id : {"U1", "U2"}) {
         EXPECT_GT(std::filesystem::file_size(lab.dir + "/plots/" + id + "_allan.png"), 1000u);
-        const std::string gp = ReadLog(lab.dir + "/plots/" + id + "_allan.gp");
+        const std::string gp = launch::ReadLog(lab.dir + "/plots/" + id + "_allan.gp");
         EXPECT_NE(gp.find("set logscale x\n"), std::string::npos);
         EXPECT_NE(gp.find("set logscale y\n"), std::string::npos);
         EXPECT_NE(gp.find("slope -1/2"), std::string::npos);
@@ -284,7 +284,7 @@ TEST(OthersimCalibration, RepeatedSetpointsAreDataAndTheirRepeatabilityIsReporte
     // GIVEN every setpoint visited twice, from both sides
     const Lab lab = RunLab(
         "repeat", {"--units", "1", "--seed", "9", "--setpoints-c", "-10,30,70,30,-10,70"}, 7892);
-    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ASSERT_EQ(lab.exit_code, 0) << launch::ReadLog(lab.out);
     // THEN the set is complete over the range and uses all six plateaus
     ExpectCompleteAcrossTheRange(lab, {"U1"});
     const auto sets = SetsOf(lab, "fitter");
@@ -305,7 +305,7 @@ TEST(OthersimCalibration, AnOutlierPlateauIsExcludedNamedAndLeavesTheOtherUnitAl
     // GIVEN U2's offset shifted by 3 mV (~40 of its plateau errors) through its 30 degC dwell
     const Lab lab =
         RunLab("outlier", {"--units", "2", "--seed", "8", "--disturb", "3:U2:0.003:0:480"}, 7893);
-    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ASSERT_EQ(lab.exit_code, 0) << launch::ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1", "U2"});
     // THEN U2's report excludes exactly the plateau averaged inside the disturbance
     const auto& fault = lab.truth.at("faults").at(0);
@@ -332,7 +332,7 @@ TEST(OthersimCalibration, AnOutlierPlateauIsExcludedNamedAndLeavesTheOtherUnitAl
 TEST(OthersimCalibration, AnEncoderSlipRejectsThatTurnWithItsReasonAndTheSetStaysComplete) {
     // GIVEN the encoder losing 2 deg in the sixth turn (dwell 2's -90)
     const Lab lab = RunLab("slip", {"--units", "1", "--seed", "4", "--slip", "5:2"}, 7894);
-    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ASSERT_EQ(lab.exit_code, 0) << launch::ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1"});
     // THEN that rotation is rejected as an encoder slip, and only that one
     int slips = 0, accepted = 0;
@@ -362,8 +362,8 @@ TEST(OthersimCalibration,
     const Lab lab =
         RunLab("partial", {"--units", "1", "--seed", "3", "--setpoints-c", "25,28"}, 7895);
     // THEN exit 3; the explanation names the unit, why, and the constant set that was published
-    EXPECT_EQ(lab.exit_code, 3) << ReadLog(lab.out);
-    const std::string out = ReadLog(lab.out);
+    EXPECT_EQ(lab.exit_code, 3) << launch::ReadLog(lab.out);
+    const std::string out = launch::ReadLog(lab.out);
     EXPECT_NE(out.find("unit U1: PARTIAL calibration: offset: temperature model refused "
                        "(too_few_temperatures"),
               std::string::npos)
@@ -414,7 +414,7 @@ struct Compensated {
 Compensated CompensateLive(const std::string& dir, const std::string& csv, const coeff_set_t& set,
                            int port) {
     const std::string url = UdpmUrl(port);
-    Bus bus(BusOptions{url});
+    bus::Bus bus(bus::BusOptions{url});
     Compensated c;
     int64_t applied = -1;
     testing::CollectInto(bus, channels::Rate("U1"), c.rates);
@@ -428,8 +428,8 @@ Compensated CompensateLive(const std::string& dir, const std::string& csv, const
                                     if (s.extra_names[i] == "U1.coeff_set_id")
                                         applied = std::llround(s.extra_values[i]);
                             });
-    ChildProcess comp({GYROCAL_BIN "/gyrocal-compensator", "--lcm-url", url}, dir + "/comp.log",
-                      dir + "/comp.log");
+    launch::ChildProcess comp({GYROCAL_BIN "/gyrocal-compensator", "--lcm-url", url},
+                              dir + "/comp.log", dir + "/comp.log");
     // The set, again every second until the compensator's STATUS says it is in force.
     auto last = std::chrono::steady_clock::time_point{};
     const bool in_force = testing::HandleUntil(
@@ -442,13 +442,13 @@ Compensated CompensateLive(const std::string& dir, const std::string& csv, const
             return applied == set.coeff_set_id;
         },
         30s);
-    EXPECT_TRUE(in_force) << ReadLog(dir + "/comp.log");
+    EXPECT_TRUE(in_force) << launch::ReadLog(dir + "/comp.log");
     // This process acks the source's flow marks like every gyrocal process, so the source paces
     // on it too (flow_acker.hpp) and its socket is never overrun by the record.
     flow::FlowAcker acker(bus, "calibrate_othersim_e2e_test");
-    ChildProcess src({GYROCAL_BIN "/gyrocal-csv-source", csv, "--lcm-url", url, "--max",
-                      "--max-rate-hz", "20000"},
-                     dir + "/src.log", dir + "/src.log");
+    launch::ChildProcess src({GYROCAL_BIN "/gyrocal-csv-source", csv, "--lcm-url", url, "--max",
+                              "--max-rate-hz", "20000"},
+                             dir + "/src.log", dir + "/src.log");
     while (!src.Poll()) {
         bus.Handle(20ms);
         acker.Poll();
@@ -485,7 +485,7 @@ TEST(OthersimCalibration,
     // 0.3 deg/s, of offset no temperature model can follow)
     const Lab lab =
         RunLab("loop", {"--units", "1", "--seed", "6", "--supply-v-per-v", "0.1"}, 7896);
-    ASSERT_EQ(lab.exit_code, 0) << ReadLog(lab.out);
+    ASSERT_EQ(lab.exit_code, 0) << launch::ReadLog(lab.out);
     ExpectCompleteAcrossTheRange(lab, {"U1"});
     // THEN the run's final published set is the closed loop's and carries the supply term, within
     // 5 of its stated standard errors (autocorrelation-robust) of othersim's 0.1 V/V
@@ -505,7 +505,7 @@ TEST(OthersimCalibration,
     // AND calibrate printed the outcome naming supply and the held-out error before and after:
     // after below half of before (the supply effect is most of it) and within 3x the floor bound's
     // floor part (what is left: slow noise, the prediction error, othersim's non-polynomial curve)
-    const std::string out = ReadLog(lab.out);
+    const std::string out = launch::ReadLog(lab.out);
     const size_t line = out.find("\nU1: ", out.find("final sets (source closed-loop"));
     ASSERT_NE(line, std::string::npos) << out;
     EXPECT_NE(out.substr(line, out.find('\n', line + 1) - line).find("supply"), std::string::npos)
@@ -532,7 +532,7 @@ TEST(OthersimCalibration,
                                     "--setpoints-c",
                                     "25,-5,60,25"};
     gen.insert(gen.end(), kScale.begin(), kScale.end());
-    ChildProcess g(gen, lab.dir + "/held.log", lab.dir + "/held.log");
+    launch::ChildProcess g(gen, lab.dir + "/held.log", lab.dir + "/held.log");
     ASSERT_TRUE(g.Wait(120s).has_value());
     const Compensated live = CompensateLive(lab.dir, held, model::ToMsg(final_set), 7897);
     ASSERT_GT(live.samples.size(), 1000u);

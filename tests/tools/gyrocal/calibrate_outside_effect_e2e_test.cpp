@@ -56,32 +56,32 @@ std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& 
     // noise, analyze.hpp step 9), so a missed drift must show. The sensor lag is made negligible
     // (0.1 s) so that the declared model lacks nothing else (with the default 15 s lag temp_rate
     // is rightly found as well).
-    ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints},
-                             SimRunArgs("1", "12", "30", db, UdpmUrl(port), dir + "/logs"),
-                             {"--effect", "aging=0.004"},
-                             kFastThermalArgs,
-                             {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
-                     out, out);
+    launch::ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints},
+                                     SimRunArgs("1", "12", "30", db, UdpmUrl(port), dir + "/logs"),
+                                     {"--effect", "aging=0.004"},
+                                     kFastThermalArgs,
+                                     {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
+                             out, out);
     auto ended = cal.Wait(540s);
-    EXPECT_TRUE(ended.has_value()) << ReadLog(out);
+    EXPECT_TRUE(ended.has_value()) << launch::ReadLog(out);
     if (!ended) return "";
-    EXPECT_EQ(ended->code, 0) << ReadLog(out);
+    EXPECT_EQ(ended->code, 0) << launch::ReadLog(out);
     const auto runs = Sql(db).Rows("SELECT run_id FROM runs WHERE run_id <> ''");
     EXPECT_EQ(runs.size(), 1u);
     if (runs.empty()) return "";
     run = runs[0][0];
     // The truth file says the effect was on and is outside the candidate list.
-    const json truth = json::parse(ReadLog(dir + "/logs/truth.json"));
+    const json truth = json::parse(launch::ReadLog(dir + "/logs/truth.json"));
     EXPECT_EQ(truth.at("effects").at("aging").at("value"), 0.004);
     EXPECT_EQ(truth.at("effects").at("aging").at("analysis"), "outside the list");
 
-    ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db}, dir + "/analyze.out",
-                    dir + "/analyze.err");
+    launch::ChildProcess an({GYROCAL_CLI, "analyze", run, "--db", db}, dir + "/analyze.out",
+                            dir + "/analyze.err");
     auto an_end = an.Wait(180s);
     EXPECT_TRUE(an_end.has_value());
     if (!an_end) return "";
-    EXPECT_EQ(an_end->code, 0) << ReadLog(dir + "/analyze.err");
-    const std::string printed = ReadLog(dir + "/analyze.out");
+    EXPECT_EQ(an_end->code, 0) << launch::ReadLog(dir + "/analyze.err");
+    const std::string printed = launch::ReadLog(dir + "/analyze.out");
     std::printf("%s", printed.c_str());
     return printed;
 }
@@ -170,13 +170,14 @@ TEST(OutsideEffectEndToEnd, BadEffectIsRefusedBeforeAnyProcessStarts) {
              {"compressor_period_s=0", "compressor_period_s"},
              {"agin=0.001", "aging"}}) {
         const std::string out = dir + "/bad.out";
-        ChildProcess cal({GYROCAL_CLI, "calibrate", "--sensors", "1", "--db", dir + "/bad.db",
-                          "--lcm-url", "udpm://239.255.76.67:8002?ttl=0", "--effect", effect},
-                         out, out);
+        launch::ChildProcess cal(
+            {GYROCAL_CLI, "calibrate", "--sensors", "1", "--db", dir + "/bad.db", "--lcm-url",
+             "udpm://239.255.76.67:8002?ttl=0", "--effect", effect},
+            out, out);
         auto ended = cal.Wait(60s);
         ASSERT_TRUE(ended.has_value());
         EXPECT_NE(ended->code, 0) << effect;
-        const std::string printed = ReadLog(out);
+        const std::string printed = launch::ReadLog(out);
         EXPECT_NE(printed.find(named), std::string::npos) << effect << ": " << printed;
         EXPECT_FALSE(std::filesystem::exists(dir + "/bad.db")) << "nothing started for " << effect;
     }

@@ -32,7 +32,7 @@ double Poly(const json& curve, double die_c) {
 
 struct Ran {
     std::string dir, printed;
-    std::optional<ExitStatus> ended;
+    std::optional<launch::ExitStatus> ended;
 };
 
 // 2 units; the package lag shortened (40 s) so that the dwell at each waypoint can be short.
@@ -45,9 +45,9 @@ Ran RunRamp(const std::string& name, const std::string& url, std::vector<std::st
                 SimRunArgs("2", "7", "40", r.dir + "/run.db", url, r.dir + "/logs"),
                 {"--rig-arg=--package-tau-s=40", "--wall-timeout-s", "500"},
                 extra});
-    ChildProcess cal(argv, out, out);
+    launch::ChildProcess cal(argv, out, out);
     r.ended = cal.Wait(std::chrono::seconds(540));
-    r.printed = ReadLog(out);
+    r.printed = launch::ReadLog(out);
     return r;
 }
 
@@ -61,7 +61,7 @@ TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
     ASSERT_TRUE(r.ended->exited && r.ended->code == 0) << r.ended->Describe() << "\n" << r.printed;
     EXPECT_NE(r.printed.find("stop: completed"), std::string::npos) << r.printed;
 
-    const json truth = json::parse(ReadLog(r.dir + "/logs/truth.json"));
+    const json truth = json::parse(launch::ReadLog(r.dir + "/logs/truth.json"));
     Sql sql(r.dir + "/run.db");
     const std::string run =
         sql.Rows("SELECT run_id FROM runs WHERE run_id <> '' ORDER BY started_utime DESC")
@@ -163,12 +163,12 @@ TEST(RampEndToEnd, BadRampOptionsAreRefusedBeforeAnythingStarts) {
                                          "--lcm-url", "udpm://239.255.76.67:7961?ttl=0"};
         argv.insert(argv.end(), c.args.begin(), c.args.end());
         const std::string out = dir + "/out";
-        ChildProcess p(argv, out, out);
+        launch::ChildProcess p(argv, out, out);
         const auto ended = p.Wait(std::chrono::seconds(60));
         ASSERT_TRUE(ended.has_value());
         EXPECT_TRUE(ended->exited && ended->code == 2)
             << ended->Describe() << " for " << c.args.back();
-        EXPECT_NE(ReadLog(out).find(c.says), std::string::npos) << ReadLog(out);
+        EXPECT_NE(launch::ReadLog(out).find(c.says), std::string::npos) << launch::ReadLog(out);
     }
     EXPECT_FALSE(std::filesystem::exists(dir + "/x.db")) << "nothing is created for bad options";
 }

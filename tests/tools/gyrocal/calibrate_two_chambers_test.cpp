@@ -20,7 +20,7 @@ TEST(TwoChambers, SimultaneousCalibrationsAreTwoRunsThatShareNothing) {
     const std::string db = dir + "/lab.db";
     auto chamber = [&](int n, const std::string& ids, const std::string& seed) {
         const std::string tag = "c" + std::to_string(n);
-        return std::make_unique<ChildProcess>(
+        return std::make_unique<launch::ChildProcess>(
             std::vector<std::string>{GYROCAL_CLI,
                                      "calibrate",
                                      "--chamber",
@@ -52,7 +52,7 @@ TEST(TwoChambers, SimultaneousCalibrationsAreTwoRunsThatShareNothing) {
     auto two = chamber(2, "B1,B2", "22");
     for (auto* c : {one.get(), two.get()}) {
         const auto st = c->Wait(450s);
-        const std::string out = ReadLog(dir + (c == one.get() ? "/c1.out" : "/c2.out"));
+        const std::string out = launch::ReadLog(dir + (c == one.get() ? "/c1.out" : "/c2.out"));
         ASSERT_TRUE(st.has_value()) << out;
         EXPECT_TRUE(st->exited && st->code == 0) << st->Describe() << "\n" << out;
     }

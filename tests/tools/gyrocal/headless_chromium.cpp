@@ -39,9 +39,9 @@ HeadlessChromium::HeadlessChromium(const std::string& exe, const std::string& us
                                      "--user-data-dir=" + user_data_dir,
                                      "about:blank"};
     // fd 3: what the browser reads; fd 4: what it writes.
-    const ChildOptions options{log_path, log_path, "", {to[0], from[1]}};
+    const launch::ChildOptions options{log_path, log_path, "", {to[0], from[1]}};
     try {
-        child_ = std::make_unique<ChildProcess>(args, options);
+        child_ = std::make_unique<launch::ChildProcess>(args, options);
     } catch (...) {
         for (int fd : {to[0], to[1], from[0], from[1]}) ::close(fd);
         throw;

@@ -55,7 +55,7 @@ public:
 private:
     nlohmann::json Read(std::chrono::steady_clock::time_point deadline);  // next message
 
-    std::unique_ptr<ChildProcess> child_;  // its own process group, dies with the test
+    std::unique_ptr<launch::ChildProcess> child_;  // its own process group, dies with the test
     int to_browser_ = -1, from_browser_ = -1;
     std::string buffer_;
     int next_id_ = 0;

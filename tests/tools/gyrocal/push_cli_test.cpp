@@ -59,9 +59,10 @@ std::string Dir() {
 Cli Gyrocal(const std::vector<std::string>& args) {
     std::vector<std::string> argv = {GYROCAL_CLI};
     argv.insert(argv.end(), args.begin(), args.end());
-    ChildProcess p(argv, Dir() + "/cli.out", Dir() + "/cli.err");
+    launch::ChildProcess p(argv, Dir() + "/cli.out", Dir() + "/cli.err");
     const auto s = p.Wait(240s);
-    return {s ? s->code : -1, ReadLog(Dir() + "/cli.out"), ReadLog(Dir() + "/cli.err")};
+    return {s ? s->code : -1, launch::ReadLog(Dir() + "/cli.out"),
+            launch::ReadLog(Dir() + "/cli.err")};
 }
 
 // A central id (run_key * 10^12 + station id: 13 digits, zeros after the first) as the station's.
@@ -235,8 +236,8 @@ TEST_F(PushCli, APushKilledAtRandomPointsAndResumedEndsWithExactlyTheStationsRow
     int cut = 0;
     for (int round = 0; round < 5; ++round) {
         const std::string url = fresh_centre();
-        ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station}, Dir() + "/kill.out",
-                       Dir() + "/kill.err");
+        launch::ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station},
+                               Dir() + "/kill.out", Dir() + "/kill.err");
         // Time itself: the kill lands at a random point of the push's duration.
         std::this_thread::sleep_for(
             std::chrono::duration_cast<std::chrono::milliseconds>(whole * fraction(rng)));
@@ -269,8 +270,8 @@ TEST_F(PushCli, AServerRestartedInTheMiddleOfAPushLosesNothing) {
     ASSERT_EQ(Gyrocal({"central", "init", "--db", url}).code, 0);
     const std::string station = Dir() + "/restart.db";
     WriteStation(station, {.prefix = "Z", .runs = 3, .samples_per_sensor = 100000});
-    ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station}, Dir() + "/restart.out",
-                   Dir() + "/restart.err");
+    launch::ChildProcess p({GYROCAL_CLI, "push", "--to", url, "--db", station},
+                           Dir() + "/restart.out", Dir() + "/restart.err");
     // The restart lands inside the push on any machine: the server is restarted as soon as the
     // push's first run is visible there (each run is one central transaction), with two runs of
     // 100k samples per sensor still to go, instead of after a fixed sleep that a fast machine
@@ -282,13 +283,13 @@ TEST_F(PushCli, AServerRestartedInTheMiddleOfAPushLosesNothing) {
     }
     ASSERT_FALSE(p.Wait(0ms).has_value())
         << "the push ended before the server could be restarted inside it: "
-        << ReadLog(Dir() + "/restart.out");
+        << launch::ReadLog(Dir() + "/restart.out");
     own->Restart();
     const auto s = p.Wait(60s);
     ASSERT_TRUE(s.has_value());
-    const std::string err = ReadLog(Dir() + "/restart.err");
+    const std::string err = launch::ReadLog(Dir() + "/restart.err");
     EXPECT_EQ(s->code, 1) << "the push went on through the restart: "
-                          << ReadLog(Dir() + "/restart.out");
+                          << launch::ReadLog(Dir() + "/restart.out");
     EXPECT_NE(err.find("gyrocal push: error: central database"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     auto s_db = st::OpenForQuery(station);

@@ -37,9 +37,9 @@ std::vector<std::vector<std::string>> Rows(const std::string& db, const std::str
 int Cli(const std::vector<std::string>& args, const fs::path& out, std::chrono::seconds limit) {
     std::vector<std::string> argv = {GYROCAL_CLI};
     argv.insert(argv.end(), args.begin(), args.end());
-    ChildProcess p(argv, out.string(), out.string());
+    launch::ChildProcess p(argv, out.string(), out.string());
     const auto end = p.Wait(limit);
-    if (!end) throw std::runtime_error("gyrocal did not finish: " + ReadLog(out.string()));
+    if (!end) throw std::runtime_error("gyrocal did not finish: " + launch::ReadLog(out.string()));
     return end->exited ? end->code : 128 + end->signal;
 }
 
@@ -91,7 +91,7 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
             Cli({"calibrate", "--limits", file.string(), "--db", db.string(), "--lcm-url",
                  kUnusedUrl, "--log-dir", (dir / "logs").string(), "--quiet"},
                 dir / "out.txt", 60s);
-        const std::string out = ReadLog((dir / "out.txt").string());
+        const std::string out = launch::ReadLog((dir / "out.txt").string());
         EXPECT_EQ(rc, 2) << out;
         EXPECT_NE(out.find("--limits"), std::string::npos) << out;
         EXPECT_NE(out.find(expected), std::string::npos) << out;
@@ -101,7 +101,7 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
     EXPECT_EQ(Cli({"calibrate", "--limits", (dir / "missing.json").string(), "--db", db.string()},
                   dir / "out.txt", 60s),
               2);
-    EXPECT_NE(ReadLog((dir / "out.txt").string()).find("missing.json: cannot be read"),
+    EXPECT_NE(launch::ReadLog((dir / "out.txt").string()).find("missing.json: cannot be read"),
               std::string::npos);
     // A report directory that cannot be made is refused as early.
     std::ofstream(dir / "limits.json") << R"({"min_turns": 6})";
@@ -110,11 +110,11 @@ TEST(CalibrateLimits, ABadLimitsFileStopsEverythingBeforeItStarts) {
                    "--log-dir", (dir / "logs").string()},
                   dir / "out.txt", 60s),
               2);
-    EXPECT_NE(ReadLog((dir / "out.txt").string()).find("--report"), std::string::npos);
+    EXPECT_NE(launch::ReadLog((dir / "out.txt").string()).find("--report"), std::string::npos);
     EXPECT_FALSE(fs::exists(db));
     // gyrocal report needs a run or --latest.
     EXPECT_EQ(Cli({"report", "--db", db.string()}, dir / "out.txt", 60s), 2);
-    EXPECT_NE(ReadLog((dir / "out.txt").string()).find("--latest"), std::string::npos);
+    EXPECT_NE(launch::ReadLog((dir / "out.txt").string()).find("--latest"), std::string::npos);
     fs::remove_all(dir);
 }
 
@@ -167,7 +167,7 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
                                {"--wall-timeout-s", "400", "--limits", limits.string(), "--report",
                                 (dir / "calibrate-report").string()}}),
                        dir / "calibrate.out", 450s);
-    const std::string printed = ReadLog((dir / "calibrate.out").string());
+    const std::string printed = launch::ReadLog((dir / "calibrate.out").string());
 
     // THEN the exit code says a unit did not pass, and the failing unit and limit are named
     ASSERT_EQ(rc, 4) << printed;
@@ -192,7 +192,7 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
 
     // AND gyrocal show prints the outcome per unit
     ASSERT_EQ(Cli({"show", run, "--db", db}, dir / "show.out", 60s), 0);
-    const std::string shown = ReadLog((dir / "show.out").string());
+    const std::string shown = launch::ReadLog((dir / "show.out").string());
     EXPECT_NE(shown.find("Acceptance (limits stored with run " + run), std::string::npos) << shown;
     EXPECT_NE(shown.find("  " + failing + ": FAIL: max_offset_change_dps"), std::string::npos)
         << shown;
@@ -202,9 +202,9 @@ TEST(CalibrateLimits, AFailingUnitGivesExitCodeFourAndAReportThatSaysSoInABrowse
     ASSERT_EQ(Cli({"report", run, "--db", db, "--out", (dir / "report").string()},
                   dir / "report.out", 120s),
               0)
-        << ReadLog((dir / "report.out").string());
+        << launch::ReadLog((dir / "report.out").string());
     const fs::path page = dir / "report" / ("report-" + run + ".html");
-    EXPECT_NE(ReadLog((dir / "report.out").string()).find("report: " + page.string()),
+    EXPECT_NE(launch::ReadLog((dir / "report.out").string()).find("report: " + page.string()),
               std::string::npos);
     ASSERT_TRUE(fs::exists(page));
 

@@ -27,7 +27,7 @@ TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
         GTEST_SKIP() << "xvfb-run is not installed (apt-get install xvfb xauth); no display to "
                         "start lcm-spy on";
     const std::string log = ::testing::TempDir() + "spy.log";
-    ChildProcess spy(
+    launch::ChildProcess spy(
         {"xvfb-run", "-a", GYROCAL_CLI, "spy", "--lcm-url", "udpm://239.255.76.67:7706?ttl=0"}, log,
         log);
     const std::string expected = "Found " + std::to_string(CountLcmFiles()) + " LCM types";
@@ -35,7 +35,7 @@ TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
     bool ended = false;
     testing::WaitUntil(
         [&] {
-            out = ReadLog(log);
+            out = launch::ReadLog(log);
             ended = spy.Poll().has_value();
             return ended || out.find(expected) != std::string::npos;
         },
@@ -45,18 +45,19 @@ TEST(Spy, StartsUnderXvfbAndFindsEveryProjectType) {
     // Still running a moment later: the window is up, not an exception at start. Time itself:
     // what is tested is that it stays up for a second.
     std::this_thread::sleep_for(1s);
-    EXPECT_FALSE(spy.Poll().has_value()) << ReadLog(log);
-    EXPECT_EQ(ReadLog(log).find("Exception"), std::string::npos) << ReadLog(log);
+    EXPECT_FALSE(spy.Poll().has_value()) << launch::ReadLog(log);
+    EXPECT_EQ(launch::ReadLog(log).find("Exception"), std::string::npos) << launch::ReadLog(log);
 }
 
 TEST(Spy, MissingTypesJarIsAClearError) {
     const std::string log = ::testing::TempDir() + "spy_nojar.log";
-    ChildProcess spy({"env", "GYROCAL_TYPES_JAR=/nonexistent/types.jar", GYROCAL_CLI, "spy"}, log,
-                     log);
+    launch::ChildProcess spy(
+        {"env", "GYROCAL_TYPES_JAR=/nonexistent/types.jar", GYROCAL_CLI, "spy"}, log, log);
     auto s = spy.Wait(10s);
     ASSERT_TRUE(s.has_value());
     EXPECT_EQ(s->code, 1);
-    EXPECT_NE(ReadLog(log).find("/nonexistent/types.jar"), std::string::npos) << ReadLog(log);
+    EXPECT_NE(launch::ReadLog(log).find("/nonexistent/types.jar"), std::string::npos)
+        << launch::ReadLog(log);
 }
 
 }  // namespace

@@ -39,9 +39,10 @@ struct Cli {
 Cli Gyrocal(const std::vector<std::string>& args, const std::string& dir) {
     std::vector<std::string> argv = {GYROCAL_CLI};
     argv.insert(argv.end(), args.begin(), args.end());
-    ChildProcess p(argv, dir + "/cli.out", dir + "/cli.err");
+    launch::ChildProcess p(argv, dir + "/cli.out", dir + "/cli.err");
     const auto st = p.Wait(120s);
-    return {st ? st->code : -1, ReadLog(dir + "/cli.out"), ReadLog(dir + "/cli.err")};
+    return {st ? st->code : -1, launch::ReadLog(dir + "/cli.out"),
+            launch::ReadLog(dir + "/cli.err")};
 }
 
 using gyrocal::testing::Count;

@@ -1,11 +1,11 @@
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 
 #include <exception>
 #include <iostream>
 
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 
-namespace gyrocal {
+namespace gyrocal::process {
 
 std::string ErrorLine(const std::string& process, const std::string& what) {
     return process + kErrorTag + what;
@@ -49,4 +49,4 @@ int RunUntilStopped(const std::string& process, const std::function<void()>& run
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

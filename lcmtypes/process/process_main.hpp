@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-namespace gyrocal {
+namespace gyrocal::process {
 
 // The one shape of every process's fatal message, so the launcher can surface it as it is:
 //   "<process>: error: <where>: <what>; <what would be valid>"
@@ -62,4 +62,4 @@ int NodeMain(int argc, char** argv, const std::string& process, const std::strin
     return RunUntilStopped(process, [&] { Node(options).Run(); });
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

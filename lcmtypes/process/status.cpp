@@ -1,4 +1,4 @@
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 
 #include <unistd.h>
 
@@ -6,9 +6,9 @@
 
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 
-namespace gyrocal {
+namespace gyrocal::process {
 
 void RateLimitedLog::Warn(const std::string& key, const std::string& text) {
     auto now = std::chrono::steady_clock::now();
@@ -27,7 +27,7 @@ void RateLimitedLog::Warn(const std::string& key, const std::string& text) {
 
 std::string HostName() { return flow::ThisHost(); }
 
-StatusReporter::StatusReporter(Bus& bus, std::string process, std::chrono::milliseconds period)
+StatusReporter::StatusReporter(bus::Bus& bus, std::string process, std::chrono::milliseconds period)
     : bus_(bus),
       process_(std::move(process)),
       host_(HostName()),
@@ -48,7 +48,7 @@ void StatusReporter::Tick() {
 
 void StatusReporter::PublishNow() {
     last_ = std::chrono::steady_clock::now();
-    const BusCounters& c = bus_.counters();
+    const bus::BusCounters& c = bus_.counters();
     status_t s;
     s.utime = std::chrono::duration_cast<std::chrono::microseconds>(
                   std::chrono::system_clock::now().time_since_epoch())
@@ -82,7 +82,7 @@ void StatusReporter::PublishNow() {
     bus_.Publish(std::string(channels::kStatus), s);
 }
 
-void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done,
+void RunLoop(bus::Bus& bus, StatusReporter& status, const std::function<bool()>& done,
              std::chrono::milliseconds poll) {
     if (status.state() == "starting") status.set_state("running");
     status.PublishNow();
@@ -102,4 +102,4 @@ void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done
     status.acker().Leave();
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

@@ -1,6 +1,6 @@
 // The STATUS heartbeat over memq:// (LCM's in-process provider): what it carries, when Tick
 // publishes, the node loop's first and last heartbeat; and the rate-limited warnings.
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,7 +21,7 @@ using namespace std::chrono_literals;
 // Every STATUS delivered on `bus` from construction on, in order.
 class Heartbeats {
 public:
-    explicit Heartbeats(Bus& bus) : bus_(bus) {
+    explicit Heartbeats(bus::Bus& bus) : bus_(bus) {
         bus.Subscribe<status_t>(
             std::string(channels::kStatus),
             [this](const status_t& s, const std::string&) { seen_.push_back(s); });
@@ -33,14 +33,14 @@ public:
     }
 
 private:
-    Bus& bus_;
+    bus::Bus& bus_;
     std::vector<status_t> seen_;
 };
 
 TEST(StatusReporter, AHeartbeatCarriesTheProcessItsStateAndEveryCount) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     Heartbeats heartbeats(bus);
-    StatusReporter status(bus, "gyrocal-test", 1h);
+    process::StatusReporter status(bus, "gyrocal-test", 1h);
     status.set_state("waiting");
     status.Reject("range", "10 C narrower than 20 C");
     status.AddQueueDrops(2);
@@ -52,7 +52,7 @@ TEST(StatusReporter, AHeartbeatCarriesTheProcessItsStateAndEveryCount) {
     ASSERT_EQ(seen.size(), 1u);
     const status_t& s = seen[0];
     EXPECT_EQ(s.process, "gyrocal-test");
-    EXPECT_EQ(s.host, HostName());
+    EXPECT_EQ(s.host, process::HostName());
     EXPECT_EQ(s.pid, getpid());
     EXPECT_EQ(s.state, "waiting");
     EXPECT_EQ(s.rejected, 1);
@@ -73,13 +73,13 @@ TEST(StatusReporter, AHeartbeatCarriesTheProcessItsStateAndEveryCount) {
 // Issue 27: a handler's failure stops the node loop as before, but its last heartbeat counts it,
 // in all and per channel, and says what it was.
 TEST(RunLoop, AFailedHandlerIsCountedInTheLastHeartbeat) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     Heartbeats heartbeats(bus);
     bus.Subscribe<status_t>(
         "BOOM", [](const status_t&, const std::string&) { throw std::runtime_error("boom"); });
     bus.Publish("BOOM", status_t{});
-    StatusReporter status(bus, "gyrocal-test", 1h);
-    EXPECT_THROW(RunLoop(bus, status, {}, 1ms), std::runtime_error);
+    process::StatusReporter status(bus, "gyrocal-test", 1h);
+    EXPECT_THROW(process::RunLoop(bus, status, {}, 1ms), std::runtime_error);
     const std::vector<status_t>& seen = heartbeats.Drain();
     ASSERT_EQ(seen.size(), 2u);
     EXPECT_EQ(seen[0].state, "running");
@@ -94,9 +94,9 @@ TEST(RunLoop, AFailedHandlerIsCountedInTheLastHeartbeat) {
 }
 
 TEST(StatusReporter, TickPublishesOncePerPeriod) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     Heartbeats heartbeats(bus);
-    StatusReporter status(bus, "gyrocal-test", 200ms);
+    process::StatusReporter status(bus, "gyrocal-test", 200ms);
     status.Tick();                       // the first: nothing published yet
     status.Tick();                       // within the period
     std::this_thread::sleep_for(250ms);  // time itself: what is tested is the period
@@ -105,11 +105,11 @@ TEST(StatusReporter, TickPublishesOncePerPeriod) {
 }
 
 TEST(RunLoop, SaysRunningAtTheStartAndPublishesAgainWhenDone) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     Heartbeats heartbeats(bus);
-    StatusReporter status(bus, "gyrocal-test", 1h);
+    process::StatusReporter status(bus, "gyrocal-test", 1h);
     int polls = 0;
-    RunLoop(
+    process::RunLoop(
         bus, status, [&polls] { return ++polls > 3; }, 1ms);
     EXPECT_EQ(polls, 4);
     const std::vector<status_t>& seen = heartbeats.Drain();
@@ -119,7 +119,7 @@ TEST(RunLoop, SaysRunningAtTheStartAndPublishesAgainWhenDone) {
 }
 
 TEST(RateLimitedLog, RepeatsWithinASecondAreCountedAndSaidWithTheNext) {
-    RateLimitedLog log("gyrocal-test");
+    process::RateLimitedLog log("gyrocal-test");
     ::testing::internal::CaptureStderr();
     log.Warn("gap", "first");
     log.Warn("gap", "second");            // within the second: suppressed

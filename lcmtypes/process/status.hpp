@@ -13,7 +13,7 @@
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/flow/flow_acker.hpp"
 
-namespace gyrocal {
+namespace gyrocal::process {
 
 // Prints a warning at most once per second per key, then says how many were suppressed.
 class RateLimitedLog {
@@ -32,7 +32,7 @@ private:
 
 class StatusReporter {
 public:
-    StatusReporter(Bus& bus, std::string process,
+    StatusReporter(bus::Bus& bus, std::string process,
                    std::chrono::milliseconds period = std::chrono::milliseconds(1000));
 
     void set_state(std::string state) { state_ = std::move(state); }
@@ -64,7 +64,7 @@ public:
     void PublishNow();  // e.g. on state changes and just before exit
 
 private:
-    Bus& bus_;
+    bus::Bus& bus_;
     std::string process_;
     std::string host_;
     std::chrono::milliseconds period_;
@@ -82,9 +82,9 @@ private:
 
 // The loop every node runs: dispatch messages, heartbeat, until SIGINT/SIGTERM or done(); at
 // the end, the last heartbeat and the last flow answers (no source waits for it any more).
-void RunLoop(Bus& bus, StatusReporter& status, const std::function<bool()>& done = {},
+void RunLoop(bus::Bus& bus, StatusReporter& status, const std::function<bool()>& done = {},
              std::chrono::milliseconds poll = std::chrono::milliseconds(50));
 
 std::string HostName();
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

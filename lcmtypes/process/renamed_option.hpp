@@ -4,7 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-namespace gyrocal {
+namespace gyrocal::process {
 
 // Adds `old_name` as a hidden option that parses a `T` into `value`, the variable `current`
 // sets. Giving both names is a bad option (a CLI11 ValidationError naming both, exit 2), as
@@ -26,4 +26,4 @@ CLI::Option* AddOldOptionName(CLI::App& app, const CLI::Option* current,
         ->group("");
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

@@ -10,7 +10,7 @@
 #include "lcmtypes/bus/batch.hpp"
 #include "lcmtypes/flow/flow_window.hpp"
 
-namespace gyrocal {
+namespace gyrocal::process {
 
 struct SourceFlowOptions {
     double window_kb = 2048;         // [KiB] unacknowledged buffer bytes per consumer
@@ -63,8 +63,8 @@ inline void AddSourceFlowOptions(CLI::App& app, SourceFlowOptions& o) {
                    "(default 10)");
     app.add_option("--batch-samples", o.batch_samples,
                    "gyro/encoder samples per message (1 = alone; " +
-                       std::to_string(kDefaultBatchSamples) +
+                       std::to_string(bus::kDefaultBatchSamples) +
                        " fits an Ethernet frame) (default 1)");
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

@@ -1,9 +1,9 @@
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 
 #include <atomic>
 #include <csignal>
 
-namespace gyrocal {
+namespace gyrocal::process {
 namespace {
 std::atomic<bool> g_stop{false};
 extern "C" void OnStopSignal(int) { g_stop.store(true); }
@@ -20,4 +20,4 @@ void InstallStopHandlers() {
 bool StopRequested() { return g_stop.load(); }
 void RequestStop() { g_stop.store(true); }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::process

@@ -1,6 +1,6 @@
 // The frame of every process's main(): the exit code and the message of each way a command line
 // can end, and of a node that returns or throws.
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 
 #include <gtest/gtest.h>
 
@@ -48,8 +48,8 @@ TEST(ParseCommandLine, HelpBadOptionsAndFailedChecksEndTheProcessWithTheirCode) 
         ::testing::internal::CaptureStdout();
         ::testing::internal::CaptureStderr();
         const std::optional<int> code =
-            ParseCommandLine(app, static_cast<int>(argv.size()), argv.data(), "gyrocal-test",
-                             [&c] { return c.validation_error; });
+            process::ParseCommandLine(app, static_cast<int>(argv.size()), argv.data(),
+                                      "gyrocal-test", [&c] { return c.validation_error; });
         const std::string out = ::testing::internal::GetCapturedStdout();
         EXPECT_EQ(code, c.exit_code);
         const std::string err = ::testing::internal::GetCapturedStderr();
@@ -73,20 +73,21 @@ TEST(ParseCommandLine, HelpBadOptionsAndFailedChecksEndTheProcessWithTheirCode) 
 
 TEST(RunUntilStopped, ZeroWhenTheNodeReturnsOneNamingTheProcessWhenItThrows) {
     bool ran = false;
-    EXPECT_EQ(RunUntilStopped("gyrocal-test", [&ran] { ran = true; }), 0);
+    EXPECT_EQ(process::RunUntilStopped("gyrocal-test", [&ran] { ran = true; }), 0);
     EXPECT_TRUE(ran);
     ::testing::internal::CaptureStderr();
-    EXPECT_EQ(RunUntilStopped("gyrocal-test", [] { throw std::runtime_error("LCM cannot open"); }),
+    EXPECT_EQ(process::RunUntilStopped("gyrocal-test",
+                                       [] { throw std::runtime_error("LCM cannot open"); }),
               1);
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "gyrocal-test: error: LCM cannot open\n");
 }
 
 TEST(ErrorLine, OneShapeAndItsRecognition) {
-    EXPECT_EQ(ErrorLine("gyrocal-x", "f.csv:3: column a: bad; valid: b"),
+    EXPECT_EQ(process::ErrorLine("gyrocal-x", "f.csv:3: column a: bad; valid: b"),
               "gyrocal-x: error: f.csv:3: column a: bad; valid: b");
-    EXPECT_TRUE(IsErrorLineOf("gyrocal-x", ErrorLine("gyrocal-x", "w")));
-    EXPECT_FALSE(IsErrorLineOf("gyrocal-x", ErrorLine("gyrocal-xy", "w")));
-    EXPECT_FALSE(IsErrorLineOf("gyrocal-x", "gyrocal-x: warning: w"));
+    EXPECT_TRUE(process::IsErrorLineOf("gyrocal-x", process::ErrorLine("gyrocal-x", "w")));
+    EXPECT_FALSE(process::IsErrorLineOf("gyrocal-x", process::ErrorLine("gyrocal-xy", "w")));
+    EXPECT_FALSE(process::IsErrorLineOf("gyrocal-x", "gyrocal-x: warning: w"));
 }
 
 }  // namespace
