@@ -30,7 +30,7 @@
 #include "processors/model/convert.hpp"
 #include "store/db/rows.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 // True when {To, From} is {Row, Msg} in either order: the list serves both directions.
 template <class To, class From, class Row, class Msg>
@@ -38,7 +38,7 @@ concept RowAndMessage = (std::same_as<To, Row> && std::same_as<From, Msg>) ||
                         (std::same_as<To, Msg> && std::same_as<From, Row>);
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::GyroRow, gyro_sample_t>
+requires RowAndMessage<To, From, db::GyroRow, gyro_sample_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -54,7 +54,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::EncoderRow, encoder_sample_t>
+requires RowAndMessage<To, From, db::EncoderRow, encoder_sample_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.encoder_id = from.encoder_id;
@@ -65,7 +65,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::ChamberStateRow, chamber_state_t>
+requires RowAndMessage<To, From, db::ChamberStateRow, chamber_state_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.seq = from.seq;
@@ -77,7 +77,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::PowerStateRow, power_state_t>
+requires RowAndMessage<To, From, db::PowerStateRow, power_state_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -88,7 +88,7 @@ void CopyFields(To& to, const From& from) {
 
 // The command's own run_id is stored as msg_run_id (the row's run_id is the run in force).
 template <class To, class From>
-requires RowAndMessage<To, From, store::ChamberCmdRow, chamber_cmd_t>
+requires RowAndMessage<To, From, db::ChamberCmdRow, chamber_cmd_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.cmd_id = from.cmd_id;
@@ -97,7 +97,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::TurntableCmdRow, turntable_cmd_t>
+requires RowAndMessage<To, From, db::TurntableCmdRow, turntable_cmd_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.cmd_id = from.cmd_id;
@@ -107,7 +107,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::PlateauStateRow, plateau_state_t>
+requires RowAndMessage<To, From, db::PlateauStateRow, plateau_state_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -121,7 +121,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::PlateauRow, plateau_t>
+requires RowAndMessage<To, From, db::PlateauRow, plateau_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -147,7 +147,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::SensitivityRow, sensitivity_point_t>
+requires RowAndMessage<To, From, db::SensitivityRow, sensitivity_point_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -172,7 +172,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::ClosedLoopRow, analysis_t>
+requires RowAndMessage<To, From, db::ClosedLoopRow, analysis_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -197,11 +197,11 @@ void CopyFields(To& to, const From& from) {
 
 // The models are the conversion's own (a row's ModelRow, a message's model_t with length fields).
 template <class To, class From>
-requires RowAndMessage<To, From, store::CoeffSetRow, coeff_set_t>
+requires RowAndMessage<To, From, db::CoeffSetRow, coeff_set_t>
 void CopyFields(To& to, const From& from) { model::CopySetIdentity(to, from); }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::RateRow, rate_t>
+requires RowAndMessage<To, From, db::RateRow, rate_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -215,7 +215,7 @@ void CopyFields(To& to, const From& from) {
 
 // The extra values are stored as one JSON object (extra_json).
 template <class To, class From>
-requires RowAndMessage<To, From, store::StatusRow, status_t>
+requires RowAndMessage<To, From, db::StatusRow, status_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.process = from.process;
@@ -232,7 +232,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::RunEventRow, run_event_t>
+requires RowAndMessage<To, From, db::RunEventRow, run_event_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.run_id = from.run_id;
@@ -248,7 +248,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::NoiseRow, noise_t>
+requires RowAndMessage<To, From, db::NoiseRow, noise_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -273,7 +273,7 @@ void CopyFields(To& to, const From& from) {
 
 // The exclusions and repeatability lists are the conversion's own (other element types).
 template <class To, class From>
-requires RowAndMessage<To, From, store::FitReportRow, fit_report_t>
+requires RowAndMessage<To, From, db::FitReportRow, fit_report_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -290,4 +290,4 @@ void CopyFields(To& to, const From& from) {
     to.slow_noise_source = from.slow_noise_source;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -4,11 +4,11 @@
 
 #include "lcmtypes/bus/bus.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
-std::string OpenRunOnBus(store::Db& db, const std::string& lcm_url) {
+std::string OpenRunOnBus(db::Db& db, const std::string& lcm_url) {
     const std::optional<bus::UdpmAddress> mine = bus::ParseUdpm(lcm_url);
-    store::Stmt s(
+    db::Stmt s(
         db,
         "SELECT run_id, config_json FROM runs WHERE run_id != '' AND started_utime IS NOT NULL "
         "AND stopped_utime IS NULL AND outcome = 'running' "
@@ -25,4 +25,4 @@ std::string OpenRunOnBus(store::Db& db, const std::string& lcm_url) {
     return "";
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

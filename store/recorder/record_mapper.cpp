@@ -14,10 +14,10 @@
 #include "processors/model/convert.hpp"
 #include "store/recorder/message_fields.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
-using namespace gyrocal::store;
+using namespace gyrocal::db;
 
 // What a row holds beyond the fields it shares with its message (message_fields.hpp): nothing
 // for most types.
@@ -204,4 +204,4 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
     return out;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

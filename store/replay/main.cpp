@@ -10,8 +10,8 @@
 #include "store/replay/replay_node.hpp"
 
 int main(int argc, char** argv) {
-    using gyrocal::record::kReplayProcess;
-    auto o = gyrocal::record::ReplayOptions::Defaults();
+    using gyrocal::replay::kReplayProcess;
+    auto o = gyrocal::replay::ReplayOptions::Defaults();
     CLI::App app{
         "gyrocal-replay: publishes a stored run (GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT) back\n"
         "onto LCM with its original reception timing.\n"
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
                                                             [&] { return o.flow.Validate(); }))
         return *exit_code;
     try {
-        gyrocal::record::ReplayNode node(o);
+        gyrocal::replay::ReplayNode node(o);
         gyrocal::process::InstallStopHandlers();
         return node.Run();
     } catch (const std::exception& e) {

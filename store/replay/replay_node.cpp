@@ -10,11 +10,11 @@
 #include "store/db/query.hpp"
 #include "store/recorder/replay_source.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::replay {
 
 namespace {
 
-int64_t RecvUtimeOf(const store::Row& row) {
+int64_t RecvUtimeOf(const db::Row& row) {
     return std::visit([](const auto& r) { return r.recv_utime; }, row);
 }
 
@@ -22,7 +22,7 @@ int64_t RecvUtimeOf(const store::Row& row) {
 
 ReplayNode::ReplayNode(const ReplayOptions& o)
     : options_(o),
-      db_(store::OpenForQuery(o.db_path)),
+      db_(db::OpenForQuery(o.db_path)),
       reader_(*db_, o.run_id),
       bus_(bus::BusOptions{o.lcm_url}) {
     if (o.max) flow_ = std::make_unique<flow::FlowSource>(bus_, kReplayProcess, o.flow.Window());
@@ -56,7 +56,7 @@ int ReplayNode::Run() {
     wall0_ = std::chrono::steady_clock::now();
     int64_t last_recv = 0;
     while (!process::StopRequested()) {
-        std::optional<store::Row> row = reader_.Next();
+        std::optional<db::Row> row = reader_.Next();
         if (!row) break;
         last_recv = RecvUtimeOf(*row);
         if (flow_) {
@@ -64,10 +64,10 @@ int ReplayNode::Run() {
         } else {
             WaitUntilDue(last_recv);
         }
-        if (auto* ev = std::get_if<store::RunEventRow>(&*row); ev && !options_.as_run.empty()) {
+        if (auto* ev = std::get_if<db::RunEventRow>(&*row); ev && !options_.as_run.empty()) {
             ev->run_id = options_.as_run;
         }
-        const auto msg = EncodeForReplay(*row);
+        const auto msg = recorder::EncodeForReplay(*row);
         if (!msg) continue;
         if (bus_.PublishRaw(msg->channel, msg->bytes.data(), static_cast<int>(msg->bytes.size()))) {
             ++published_;
@@ -81,4 +81,4 @@ int ReplayNode::Run() {
     return bus_.counters().publish_errors == 0 ? 0 : 1;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::replay

@@ -17,7 +17,7 @@
 #include "store/db/replay_reader.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::replay {
 
 inline constexpr const char* kReplayProcess = "gyrocal-replay";
 
@@ -48,8 +48,8 @@ private:
     void WaitForRoom(int64_t recv_utime);  // max: until the consumers have room (flow control)
 
     ReplayOptions options_;
-    std::unique_ptr<store::Db> db_;
-    store::ReplayReader reader_;
+    std::unique_ptr<db::Db> db_;
+    db::ReplayReader reader_;
     bus::Bus bus_;
     std::unique_ptr<flow::FlowSource> flow_;  // max
     std::chrono::steady_clock::time_point wall0_{};
@@ -57,4 +57,4 @@ private:
     int64_t published_ = 0;
 };
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::replay

@@ -13,8 +13,8 @@
 namespace gyrocal::testing {
 
 // A sample of a unit at rest at 25 degC: 2.5 V, its supply not measured (NaN, no ADC code).
-inline store::GyroRow GyroSample(const std::string& run, const std::string& sensor, int64_t seq,
-                                 int64_t utime, int64_t recv_utime) {
+inline db::GyroRow GyroSample(const std::string& run, const std::string& sensor, int64_t seq,
+                              int64_t utime, int64_t recv_utime) {
     return {.run_id = run,
             .sensor_id = sensor,
             .utime = utime,
@@ -27,9 +27,9 @@ inline store::GyroRow GyroSample(const std::string& run, const std::string& sens
 }
 
 // A run event as the sequencer sends it (no setpoint), received when sent.
-inline store::RunEventRow RunEvent(const std::string& run, const std::string& event,
-                                   std::vector<std::string> sensors, int64_t utime) {
-    store::RunEventRow e;
+inline db::RunEventRow RunEvent(const std::string& run, const std::string& event,
+                                std::vector<std::string> sensors, int64_t utime) {
+    db::RunEventRow e;
     e.run_id = run;
     e.event = event;
     e.sensor_ids = std::move(sensors);
@@ -50,18 +50,17 @@ Row OverWindow(const std::string& run, const std::string& sensor, int64_t start_
 }
 
 // A plateau, its supply not measured.
-inline store::PlateauRow Plateau(const std::string& run, const std::string& sensor,
-                                 int64_t start_utime, int64_t end_utime) {
-    store::PlateauRow p = OverWindow<store::PlateauRow>(run, sensor, start_utime, end_utime);
+inline db::PlateauRow Plateau(const std::string& run, const std::string& sensor,
+                              int64_t start_utime, int64_t end_utime) {
+    db::PlateauRow p = OverWindow<db::PlateauRow>(run, sensor, start_utime, end_utime);
     p.supply_mean_v = std::nan("");
     return p;
 }
 
 // An accepted rotation (sensitivity point).
-inline store::SensitivityRow Rotation(const std::string& run, const std::string& sensor,
-                                      int64_t start_utime, int64_t end_utime) {
-    store::SensitivityRow s =
-        OverWindow<store::SensitivityRow>(run, sensor, start_utime, end_utime);
+inline db::SensitivityRow Rotation(const std::string& run, const std::string& sensor,
+                                   int64_t start_utime, int64_t end_utime) {
+    db::SensitivityRow s = OverWindow<db::SensitivityRow>(run, sensor, start_utime, end_utime);
     s.accepted = true;
     return s;
 }
@@ -72,7 +71,7 @@ struct BeforeAfter {
 };
 
 // Sets an analysis' errors: residual offset RMS [V], rate RMS [deg/s], integrated drift [deg/h].
-inline void SetErrors(store::AnalysisRow& a, BeforeAfter offset_rms_v, BeforeAfter rate_rms_dps,
+inline void SetErrors(db::AnalysisRow& a, BeforeAfter offset_rms_v, BeforeAfter rate_rms_dps,
                       BeforeAfter drift_dph) {
     a.offset_rms_v_before = offset_rms_v.before;
     a.offset_rms_v_after = offset_rms_v.after;

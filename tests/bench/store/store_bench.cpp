@@ -43,7 +43,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 using gyrocal::bench::ProcStats;
 using gyrocal::bench::ReadProcStats;
 

@@ -1,5 +1,5 @@
-// gyrocal-recorder --push-to (store/recorder/background_push.hpp): the real recorder process on
-// its own multicast port (7765) and a real PostgreSQL server (tests/store/pg_server.hpp). When a
+// gyrocal-recorder --push-to (store/recorder/node/background_push.hpp): the real recorder process
+// on its own multicast port (7765) and a real PostgreSQL server (tests/store/pg_server.hpp). When a
 // run ends on the bus the recorder starts `gyrocal push` in the background and goes on recording:
 // the ended run arrives at the centre whole (every table equal to the station's) while the next
 // run's samples, published meanwhile, are all stored; the URL's password is nowhere in the
@@ -24,7 +24,7 @@ namespace gyrocal::testing {
 namespace {
 
 using namespace std::chrono_literals;
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 
 // Publishes `n` samples of each unit, each 10 handled by the recorder before the next (its
 // answer to a flow mark), so the kernel's socket buffer never overflows.

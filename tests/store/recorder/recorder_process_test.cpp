@@ -204,7 +204,7 @@ TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
 TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
     const std::string db = FreshDbPath("foreign.db");
     {
-        store::Db d(db, store::Db::Mode::kReadWriteCreate);
+        db::Db d(db, db::Db::Mode::kReadWriteCreate);
         d.Exec("CREATE TABLE t(x)");
     }
     launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
@@ -228,14 +228,14 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
 
     // GIVEN an analysis stored, with its extended set, while the recorder writes the same file
     coeff_set_t extended = Coeffs("S01", "R5", 77, {}, {});
-    store::AnalysisRow a;
+    db::AnalysisRow a;
     a.run_id = "R5";
     a.sensor_id = "S01";
     a.verdict = "added temp_rate";
-    store::StoredAnalysis stored;
+    db::StoredAnalysis stored;
     {
-        auto rw = store::OpenForUpdate(db);
-        stored = store::StoreAnalysis(*rw, a, &extended);
+        auto rw = db::OpenForUpdate(db);
+        stored = db::StoreAnalysis(*rw, a, &extended);
     }
     ASSERT_TRUE(stored.coeff_row_id);
     // WHEN it is published (twice), and the fitter's set with the same id (twice)

@@ -183,7 +183,7 @@ protected:
 TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
     StartAndStore(FreshDbPath("fault_locked.db"), 7850);
     {
-        store::Db blocker(db_, store::Db::Mode::kReadWrite);
+        db::Db blocker(db_, db::Db::Mode::kReadWrite);
         blocker.Exec("BEGIN IMMEDIATE");  // as another writer would, e.g. a long import
         Publish(2000);
         ASSERT_TRUE(WaitStatus([&] {
@@ -202,7 +202,7 @@ TEST_F(Fault, AtTheMemoryBoundWhatIsDroppedIsCountedInLosses) {
     Start(FreshDbPath("fault_bound.db"), 7851, {"--queue-rows", "1000"});
     Publish(100);
     ExpectAllStored();
-    store::Db blocker(db_, store::Db::Mode::kReadWrite);
+    db::Db blocker(db_, db::Db::Mode::kReadWrite);
     blocker.Exec("BEGIN IMMEDIATE");
     Publish(3000);
     ASSERT_TRUE(WaitStatus([&] { return status_.extra["rows_dropped"] > 0; }));
@@ -281,7 +281,7 @@ TEST(FaultAtStart, ADatabaseOnAReadOnlyFileSystemIsAClearErrorAndExitTwo) {
         GTEST_SKIP() << why;
     }
     const std::string db = m.dir() + "/gyrocal.db";
-    { store::StoreWriter w(db, {}); }  // a valid gyrocal database, then the mount goes read-only
+    { db::StoreWriter w(db, {}); }  // a valid gyrocal database, then the mount goes read-only
     ASSERT_EQ(ScratchMount::Run("mount -o remount,ro " + m.dir()), "");
     const std::string err_path = FreshDbPath("fault_rostart.err");  // not on the read-only mount
     launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,

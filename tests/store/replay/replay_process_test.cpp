@@ -44,12 +44,12 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
                     "AND config_json = '{\"k\":1}'"),
               1);
     // Same values: seq, utime, gyro_v of every sample; NaN supply is NaN (NULL) again.
-    store::Db a(src, store::Db::Mode::kReadOnly);
-    store::Db b(dst, store::Db::Mode::kReadOnly);
+    db::Db a(src, db::Db::Mode::kReadOnly);
+    db::Db b(dst, db::Db::Mode::kReadOnly);
     const char* q =
         "SELECT sensor_id, seq, utime, gyro_v, supply_v IS NULL FROM gyro_samples "
         "ORDER BY sensor_id, seq";
-    store::Stmt sa(a, q), sb(b, q);
+    db::Stmt sa(a, q), sb(b, q);
     int64_t compared = 0;
     while (sa.Step()) {
         ASSERT_TRUE(sb.Step());
