@@ -12,7 +12,7 @@
 #include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_record {
 
 std::string CsvRecordOptions::Validate() const {
     if (out.empty()) return "--out is required: the CSV file to write";
@@ -137,4 +137,4 @@ int CsvRecordNode::Finish() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_record

@@ -19,7 +19,7 @@
 #include "producers/csv/csv_writer.hpp"
 #include "producers/csv/row_messages.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_record {
 
 struct CsvRecordOptions {
     std::string out;
@@ -69,4 +69,4 @@ private:
     Clock::time_point last_flush_ = Clock::now();
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_record

@@ -29,11 +29,11 @@ Exit codes: 0 normal stop; 1 runtime failure (cannot write, LCM failure); 2 bad 
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    CsvRecordOptions o = CsvRecordOptions::Defaults();
+    csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     CLI::App app{"gyrocal-csv-record: record gyro samples to a measured-data CSV file"};
     app.footer(kFooter);
     app.add_option("--out", o.out, "CSV file to write (overwritten)")->required();
-    csv::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
     app.add_option("--sensors", o.sensors, "only these sensor ids, comma separated (default all)")
         ->delimiter(',');
     app.add_option("--time-origin-utime", o.time_origin_utime,
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
         return *exit_code;
     process::InstallStopHandlers();
     try {
-        CsvRecordNode node(o);
+        csv_record::CsvRecordNode node(o);
         return node.Run();
     } catch (const std::runtime_error& e) {
         std::cerr << "gyrocal-csv-record: error: " << e.what() << "\n";

@@ -13,7 +13,7 @@
 #include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_source {
 
 namespace {
 
@@ -278,4 +278,4 @@ int CsvSourceNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_source

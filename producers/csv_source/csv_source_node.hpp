@@ -25,7 +25,7 @@
 #include "producers/csv/csv_file.hpp"
 #include "producers/csv/row_messages.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_source {
 
 // --max's default rate: well below what our receivers (bus layer, unbounded queues) kept up with,
 // so that a pipeline of several processes has room; lcm-logger 1.3.1 (30-message subscription
@@ -106,4 +106,4 @@ private:
     double tokens_ = 1.0;            // --max: messages that may go out now
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_source

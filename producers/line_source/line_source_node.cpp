@@ -10,7 +10,7 @@
 #include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 namespace {
 sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
     std::string err;
@@ -157,4 +157,4 @@ int LineSourceNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

@@ -25,7 +25,7 @@
 #include "producers/line_source/line_input.hpp"
 #include "producers/line_source/line_stream.hpp"
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 
 enum class TimeSource { kStream, kWall };
 
@@ -75,4 +75,4 @@ private:
     std::string fatal_;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

@@ -41,14 +41,14 @@ not a valid header; 2 bad options (out-of-range value, unknown preset, unopenabl
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    LineSourceOptions o = LineSourceOptions::Defaults();
+    line_source::LineSourceOptions o = line_source::LineSourceOptions::Defaults();
     CLI::App app{"gyrocal-line-source: publish a live CSV line stream onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("--device", o.device, "serial device or FIFO to read (default: stdin)");
-    csv::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
     std::string time = "stream";
     app.add_option("--time", time, "stream|wall: where utime comes from (default stream)");
-    csv::AddConversionOptions(
+    producer_cli::AddConversionOptions(
         app, o.conversion, "utime [us] of time_s = 0 with --time stream (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after end of input before exit [s] (default 0.2)");
     app.add_flag("--flow", o.flow,
@@ -56,8 +56,10 @@ int main(int argc, char** argv) {
                  "a fast writer is held back by its pipe); needs --time stream");
     process::AddSourceFlowOptions(app, o.flow_options);
     const auto validate = [&] {
-        const std::string err = csv::Choose(
-            "--time", time, {{"stream", TimeSource::kStream}, {"wall", TimeSource::kWall}}, o.time);
+        const std::string err = producer_cli::Choose("--time", time,
+                                                     {{"stream", line_source::TimeSource::kStream},
+                                                      {"wall", line_source::TimeSource::kWall}},
+                                                     o.time);
         return err.empty() ? o.Validate() : err;
     };
     if (auto exit_code =
@@ -79,7 +81,7 @@ int main(int argc, char** argv) {
         name = o.device;
     }
     try {
-        LineSourceNode node(o, std::make_unique<LineInput>(fd, name));
+        line_source::LineSourceNode node(o, std::make_unique<line_source::LineInput>(fd, name));
         return node.Run();
     } catch (const std::exception& e) {
         process::PrintError("gyrocal-line-source", e.what());

@@ -8,7 +8,7 @@
 #include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::log_source {
 
 namespace {
 constexpr const char* kProcess = "gyrocal-log-source";
@@ -37,7 +37,7 @@ std::string LogSourceOptions::Validate() const {
 int64_t CheckLog(const std::string& file) {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw std::runtime_error("--file '" + file + "' cannot be opened");
-    lcmlog::LogReader reader(in, file);
+    log_source::LogReader reader(in, file);
     int64_t n = 0;
     while (reader.Next()) ++n;
     return n;
@@ -61,7 +61,7 @@ LogSourceNode::LogSourceNode(const LogSourceOptions& options, int64_t events)
 void LogSourceNode::Fetch() {
     next_.reset();
     try {
-        while (std::optional<lcmlog::Event> e = reader_.Next()) {
+        while (std::optional<log_source::Event> e = reader_.Next()) {
             if (IsFlowControl(e->channel) || !std::regex_match(e->channel, channels_)) {
                 ++skipped_;
                 continue;
@@ -69,12 +69,12 @@ void LogSourceNode::Fetch() {
             next_ = std::move(e);
             return;
         }
-    } catch (const lcmlog::LogError& e) {
+    } catch (const log_source::LogError& e) {
         error_ = e.what();  // the file changed since it was checked
     }
 }
 
-void LogSourceNode::Publish(const lcmlog::Event& e) {
+void LogSourceNode::Publish(const log_source::Event& e) {
     if (first_utime_ < 0) first_utime_ = e.utime;
     last_utime_ = e.utime;
     if (bus_.PublishRaw(e.channel, e.data.data(), static_cast<int>(e.data.size()))) ++published_;
@@ -150,4 +150,4 @@ int LogSourceNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::log_source

@@ -24,7 +24,7 @@
 #include "lcmtypes/process/status.hpp"
 #include "producers/log_source/lcm_log.hpp"
 
-namespace gyrocal {
+namespace gyrocal::log_source {
 
 struct LogSourceOptions {
     std::string file;
@@ -39,7 +39,7 @@ struct LogSourceOptions {
 };
 
 // The first pass: every event header of the file read and its data skipped. Returns the number
-// of events; throws lcmlog::LogError naming the offset of the first damage.
+// of events; throws log_source::LogError naming the offset of the first damage.
 int64_t CheckLog(const std::string& file);
 
 class LogSourceNode {
@@ -56,17 +56,17 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     bool Step();  // true when finished
-    void Publish(const lcmlog::Event& e);
+    void Publish(const log_source::Event& e);
     void Fetch();  // the next event to publish (skipping filtered channels) into next_
 
     LogSourceOptions options_;
     std::regex channels_;
     std::ifstream in_;
-    lcmlog::LogReader reader_;
+    log_source::LogReader reader_;
     bus::Bus bus_;
     process::StatusReporter status_;
     std::unique_ptr<flow::FlowSource> flow_;
-    std::optional<lcmlog::Event> next_;
+    std::optional<log_source::Event> next_;
     int64_t events_total_ = 0, published_ = 0, skipped_ = 0;
     int64_t first_utime_ = -1, last_utime_ = 0;
     bool started_ = false;
@@ -74,4 +74,4 @@ private:
     std::string error_;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::log_source

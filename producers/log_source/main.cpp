@@ -30,11 +30,11 @@ publish failure; 2 bad options (unknown option, out-of-range value, unreadable f
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    LogSourceOptions o = LogSourceOptions::Defaults();
+    log_source::LogSourceOptions o = log_source::LogSourceOptions::Defaults();
     CLI::App app{"gyrocal-log-source: publish an LCM log onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "LCM log file (lcm-logger's)")->required();
-    csv::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
     process::AddPacingOptions(app, o.speed, o.max,
                               "recorded seconds per wall second, > 0 (default 1 = as recorded)");
     app.add_option("--channels", o.channels,
@@ -48,8 +48,8 @@ int main(int argc, char** argv) {
         return *exit_code;
     int64_t events = 0;
     try {
-        events = CheckLog(o.file);
-    } catch (const lcmlog::LogError& e) {
+        events = log_source::CheckLog(o.file);
+    } catch (const log_source::LogError& e) {
         std::cerr << "gyrocal-log-source: error: " << e.what()
                   << "\ngyrocal-log-source: nothing published\n";
         return 1;
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
     }
     process::InstallStopHandlers();
     try {
-        LogSourceNode node(o, events);
+        log_source::LogSourceNode node(o, events);
         return node.Run();
     } catch (const std::exception& e) {
         std::cerr << "gyrocal-log-source: error: " << e.what() << "\n";

@@ -2,14 +2,14 @@
 
 #include "lcmtypes/process/renamed_option.hpp"
 
-namespace gyrocal::csv {
+namespace gyrocal::producer_cli {
 
 void AddLcmUrlOption(CLI::App& app, std::string& lcm_url) {
     app.add_option("--lcm-url", lcm_url,
                    "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
 }
 
-void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
+void AddConversionOptions(CLI::App& app, csv::ConversionOptions& conversion,
                           const std::string& start_utime_help) {
     app.add_option("--start-utime", conversion.start_utime, start_utime_help);
     app.add_option("--preset", conversion.preset,
@@ -24,4 +24,4 @@ void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
                    "encoder counts per revolution incl. quadrature (default 20000), >= 1");
 }
 
-}  // namespace gyrocal::csv
+}  // namespace gyrocal::producer_cli

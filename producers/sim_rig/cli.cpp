@@ -11,7 +11,7 @@
 #include "lcmtypes/process/renamed_option.hpp"
 #include "producers/sim/builtin_profile.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 namespace {
 
@@ -279,4 +279,4 @@ std::optional<int> ParseSimRigOptions(int argc, char** argv, SimRigOptions& opti
     return ParseInto(app, argc, argv, options);
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

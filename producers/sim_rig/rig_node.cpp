@@ -10,7 +10,7 @@
 #include "gyrocal/power_state_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 namespace {
 const char* kProcess = "gyrocal-sim-rig";
@@ -227,4 +227,4 @@ int SimRigNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

@@ -28,7 +28,7 @@
 #include "producers/sim/builtin_profile.hpp"
 #include "producers/sim/rig.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 struct SimRigOptions {
     std::string lcm_url;              // "" = $GYROCAL_LCM_URL or the default
@@ -86,4 +86,4 @@ private:
     bool finished_ = false;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

@@ -10,7 +10,7 @@
 #include "processors/plot/gnuplot.hpp"
 #include "processors/sequencer/procedure.hpp"
 #include "producers/sim/config.hpp"
-#include "producers/sim_rig/gyro_facts.hpp"
+#include "producers/sim/gyro_facts.hpp"
 #include "tools/supervisor/supervisor.hpp"
 
 namespace gyrocal::cli {

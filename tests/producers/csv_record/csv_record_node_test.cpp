@@ -56,12 +56,12 @@ TEST(CsvRecordNode, WritesEachSampleWithTheValuesInForceAndRefusesWhatWouldNotRe
     const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                       ("gyrocal_csv_record_node_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
-    CsvRecordOptions o = CsvRecordOptions::Defaults();
+    csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     o.out = (dir / "out.csv").string();
     o.lcm_url = "memq://";
     o.sensors = {"S01"};
     ASSERT_EQ(o.Validate(), "");
-    CsvRecordNode node(o);
+    csv_record::CsvRecordNode node(o);
     bus::Bus& bus = node.bus();
 
     // GIVEN the unit powered 60 s before t0, the chamber at 25 degC, the table at 0 deg, turned
@@ -124,11 +124,11 @@ TEST(CsvRecordNode, WritesEachSampleWithTheValuesInForceAndRefusesWhatWouldNotRe
 }
 
 TEST(CsvRecordNode, AnOutFileThatCannotBeCreatedIsAnOptionError) {
-    CsvRecordOptions o = CsvRecordOptions::Defaults();
+    csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     o.out = "/nonexistent-dir/out.csv";
     o.lcm_url = "memq://";
     try {
-        CsvRecordNode node(o);
+        csv_record::CsvRecordNode node(o);
         FAIL() << "no error";
     } catch (const std::runtime_error& e) {
         EXPECT_EQ(std::string(e.what()), "--out '/nonexistent-dir/out.csv' cannot be created");

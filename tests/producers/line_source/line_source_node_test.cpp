@@ -28,17 +28,17 @@ namespace {
 
 // A LineInput reading `text` from a pipe whose write end is closed (the text must fit the pipe's
 // buffer, 64 KiB on Linux): the stream ends after it.
-std::unique_ptr<LineInput> PipeOf(const std::string& text) {
+std::unique_ptr<line_source::LineInput> PipeOf(const std::string& text) {
     int fds[2];
     if (pipe(fds) != 0) throw std::runtime_error("pipe() failed");
     const ssize_t n = write(fds[1], text.data(), text.size());
     close(fds[1]);
     if (n != static_cast<ssize_t>(text.size())) throw std::runtime_error("short write to pipe");
-    return std::make_unique<LineInput>(fds[0], "test-pipe");
+    return std::make_unique<line_source::LineInput>(fds[0], "test-pipe");
 }
 
-LineSourceOptions NodeOptions() {
-    LineSourceOptions o = LineSourceOptions::Defaults();
+line_source::LineSourceOptions NodeOptions() {
+    line_source::LineSourceOptions o = line_source::LineSourceOptions::Defaults();
     o.lcm_url = "memq://";
     o.drain_s = 0.0;
     return o;
@@ -74,7 +74,7 @@ TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
             if (rows.size() == 12) text += "garbage\n";
         }
     }
-    LineSourceNode node(NodeOptions(), PipeOf(text));
+    line_source::LineSourceNode node(NodeOptions(), PipeOf(text));
     std::vector<gyro_sample_t> gyro;
     std::vector<encoder_sample_t> encoder;
     std::vector<chamber_state_t> chamber;
@@ -112,7 +112,7 @@ TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
 }
 
 TEST(LineSourceNode, AStreamWithoutAHeaderFails) {
-    LineSourceNode node(NodeOptions(), PipeOf("0,S01,2.5,2.5\n"));
+    line_source::LineSourceNode node(NodeOptions(), PipeOf("0,S01,2.5,2.5\n"));
     std::vector<gyro_sample_t> gyro;
     testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
     EXPECT_EQ(node.Run(), 1);

@@ -29,13 +29,13 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(SimRigNode, ObeysATurnRefusesAnImpossibleOrderAndPublishesContiguousSamples) {
-    SimRigOptions o = SimRigOptions::Defaults();
+    sim_rig::SimRigOptions o = sim_rig::SimRigOptions::Defaults();
     o.lcm_url = "memq://";
     o.speed = 100;
     o.duration_s = 6;
     o.rig.num_units = 2;
     o.rig.seed = 11;
-    SimRigNode node(o);
+    sim_rig::SimRigNode node(o);
     bus::Bus& bus = node.bus();
     std::map<std::string, std::vector<gyro_sample_t>> gyro;
     std::vector<encoder_sample_t> encoder;

@@ -15,8 +15,8 @@
 
 #include "lcmtypes/launch/child_process.hpp"
 #include "producers/sim/config.hpp"
+#include "producers/sim/gyro_facts.hpp"
 #include "producers/sim/noise.hpp"
-#include "producers/sim_rig/gyro_facts.hpp"
 #include "tools/cli/cmd_calibrate.hpp"
 #include "tools/supervisor/supervisor.hpp"
 

@@ -1,4 +1,4 @@
-#include "producers/sim_rig/gyro_facts.hpp"
+#include "producers/sim/gyro_facts.hpp"
 
 #include <cmath>
 
