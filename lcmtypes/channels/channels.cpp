@@ -14,8 +14,8 @@ bool IsValidSensorId(std::string_view id) {
     return true;
 }
 
-std::string SensorIdsProblem(const std::vector<std::string>& sensor_ids,
-                             const std::string& option) {
+std::string ValidateSensorIds(const std::vector<std::string>& sensor_ids,
+                              const std::string& option) {
     for (const std::string& id : sensor_ids)
         if (!IsValidSensorId(id))
             return option + ": '" + id +

@@ -33,7 +33,8 @@ inline constexpr std::string_view kFlowAck = "FLOW_ACK";
 // only (LCM subscribes by regular expression; anything else would need escaping), 1..32 chars.
 bool IsValidSensorId(std::string_view sensor_id);
 // "" when every id is valid, else "<option>: '<id>' is not a valid sensor id (...)".
-std::string SensorIdsProblem(const std::vector<std::string>& sensor_ids, const std::string& option);
+std::string ValidateSensorIds(const std::vector<std::string>& sensor_ids,
+                              const std::string& option);
 
 // Throws std::invalid_argument naming the id and the valid form when it is not valid.
 std::string PerSensor(std::string_view prefix, std::string_view sensor_id);

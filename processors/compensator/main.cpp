@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
         const auto p = gyrocal::model::ParseRangePolicy(policy);
         if (!p) return "--out-of-range '" + policy + "' is not valid: use clip or extrapolate";
         o.core.range_policy = *p;
-        return gyrocal::channels::SensorIdsProblem(o.sensors, "--sensor");
+        return gyrocal::channels::ValidateSensorIds(o.sensors, "--sensor");
     };
     if (auto exit_code = gyrocal::process::ParseCommandLine(app, argc, argv, kProcess, validate))
         return *exit_code;

@@ -58,7 +58,7 @@ std::vector<std::string> DrawInto(const std::string& gnuplot, const std::string&
                                   const std::vector<Terminal>& terminals) {
     std::vector<std::string> scripts;
     for (const Figure& f : figures) {
-        if (const std::string p = Problem(f); !p.empty()) throw GnuplotError(p);
+        if (const std::string p = Validate(f); !p.empty()) throw GnuplotError(p);
         for (const File& file : Files(f, terminals)) {
             const fs::path path = fs::path(dir) / file.name;
             std::ofstream out(path, std::ios::binary | std::ios::trunc);

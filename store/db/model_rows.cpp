@@ -9,7 +9,7 @@ namespace {
 
 void CheckModels(const model::CoeffSet& set) {
     for (const model::Model* m : {&set.offset, &set.sensitivity}) {
-        const std::string problem = model::Problem(*m);
+        const std::string problem = model::Validate(*m);
         if (!problem.empty()) throw model::ModelError("coefficient set: " + problem);
     }
 }

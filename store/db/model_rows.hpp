@@ -17,7 +17,7 @@
 namespace gyrocal::db {
 
 ModelRow ToModelRow(const model::Model& m);
-// No validation here: model::Evaluator (or model::Problem) says whether the model is usable.
+// No validation here: model::Evaluator (or model::Validate) says whether the model is usable.
 model::Model ToModel(const ModelRow& m);
 
 // recv_utime [us]: wall clock recorded with the set (<= 0 = when it is stored).
@@ -29,7 +29,7 @@ model::CoeffSet ToCoeffSet(const CoeffSetRow& row);
 // What `gyrocal analyze` calls to keep its result: the analysis row and, when
 // given, its extended model as a coefficient set with source "analysis:<analysis_id>" (the
 // returned `source`; set it on the coeff_set_t before publishing it for a live compensator, the
-// recorder then keeps it once). Both models are checked with model::Problem first; a model that
+// recorder then keeps it once). Both models are checked with model::Validate first; a model that
 // is not usable throws model::ModelError and nothing is written. Other failures: see
 // db::StoreAnalysis (NotFound for an unknown run, StoreError).
 StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const model::CoeffSet* extended);

@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
     app.add_option("--lcm-url", o.lcm_url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
     app.add_option("--channels", o.channels, "LCM channel regex to record")
         ->check(CLI::Validator(
-            [](std::string& text) { return gyrocal::recorder::node::LcmChannelRegexProblem(text); },
+            [](std::string& text) {
+                return gyrocal::recorder::node::ValidateLcmChannelRegex(text);
+            },
             "REGEX"))
         ->capture_default_str();
     app.add_flag("--no-rates", o.no_rates, "do not store RATE_* (compensated rate) messages");

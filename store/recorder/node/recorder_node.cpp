@@ -23,7 +23,7 @@ int64_t WallUtime() {
 
 }  // namespace
 
-std::string LcmChannelRegexProblem(const std::string& text) {
+std::string ValidateLcmChannelRegex(const std::string& text) {
     const std::string anchored = "^" + text + "$";
     GError* error = nullptr;
     GRegex* re = g_regex_new(anchored.c_str(), static_cast<GRegexCompileFlags>(0),

@@ -43,7 +43,7 @@ struct RecorderOptions {
 // "" when `text` compiles as LCM compiles a channel regex (GLib regex, anchored "^(...)$"), else
 // why not and what would be valid; so a bad --channels is a bad option, not a subscription that
 // silently never matches.
-std::string LcmChannelRegexProblem(const std::string& text);
+std::string ValidateLcmChannelRegex(const std::string& text);
 
 // Opens (creating when missing) the database the recorder writes, as this process (software
 // version, host, pid). Throws when it cannot be opened or is not a gyrocal database.

@@ -49,7 +49,7 @@ std::optional<std::pair<int, double>> ParseCase(const std::string& text) {
     return std::make_pair(sensors, hz);
 }
 
-std::string Problem(const Options& o) {
+std::string Validate(const Options& o) {
     for (const std::string& c : o.cases)
         if (!ParseCase(c))
             return "--case '" + c +
@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
     app.add_option("--lcm-url", o.lcm_url, "udpm:// URL with ttl=0");
     app.footer("Exit codes: 0 done, 1 a case failed, 2 bad options.");
     if (auto code = gyrocal::process::ParseCommandLine(app, argc, argv, kProcess,
-                                                       [&] { return Problem(o); }))
+                                                       [&] { return Validate(o); }))
         return *code;
     gyrocal::bench::PrintContext(argc, argv);
     return RunAll(o);

@@ -126,7 +126,7 @@ TEST(Fleet, FiguresAreDrawableAndNameTheUnitOutside) {
     const auto groups = FleetSpread(Lot(), {});
     const auto figures = FleetFigures(groups, {});
     ASSERT_EQ(figures.size(), 2u);
-    for (const auto& f : figures) EXPECT_EQ(plot::Problem(f), "") << f.name;
+    for (const auto& f : figures) EXPECT_EQ(plot::Validate(f), "") << f.name;
     bool named = false;
     for (const auto& s : figures[0].series) named = named || s.title == "ODD (outside)";
     EXPECT_TRUE(named);

@@ -99,9 +99,9 @@ TEST(RecorderNode, ChannelRegexIsRecordedOnly) {
 }
 
 TEST(RecorderNode, BadChannelRegexIsExplained) {
-    EXPECT_EQ(recorder::node::LcmChannelRegexProblem(".*"), "");
-    EXPECT_EQ(recorder::node::LcmChannelRegexProblem("GYRO_.*|RUN_EVENT"), "");
-    const std::string why = recorder::node::LcmChannelRegexProblem("(");
+    EXPECT_EQ(recorder::node::ValidateLcmChannelRegex(".*"), "");
+    EXPECT_EQ(recorder::node::ValidateLcmChannelRegex("GYRO_.*|RUN_EVENT"), "");
+    const std::string why = recorder::node::ValidateLcmChannelRegex("(");
     EXPECT_NE(why.find("'(' is not a valid channel regex"), std::string::npos) << why;
     EXPECT_NE(why.find("e.g. '.*'"), std::string::npos) << why;
 }
