@@ -16,7 +16,7 @@
 #include "gyrocal/rate_batch_t.hpp"
 #include "gyrocal/rate_t.hpp"
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 // Samples per batch that keep one gyro batch (and its LCM header) inside a 1500-byte Ethernet
 // frame with sensor ids up to 8 characters: 16 x 73 B + 40 B. Larger batches still work (LCM
@@ -69,4 +69,4 @@ bool IsOfType(const void* data, int size) {
     return v == static_cast<uint64_t>(Msg::getHash());
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

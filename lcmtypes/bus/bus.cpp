@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 std::string BusOptions::ResolvedUrl() const {
     if (!url.empty()) return url;
@@ -164,4 +164,4 @@ int64_t WallClockUtime() {
         .count();
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

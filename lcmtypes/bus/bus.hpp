@@ -28,7 +28,7 @@
 #include "lcmtypes/bus/decode.hpp"
 #include "lcmtypes/bus/seq_tracker.hpp"
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 // The default URL: LCM's group and port, TTL 0 (never leaves this host) and a 4 MB receive
 // buffer, so that bursts are not dropped by the kernel (its measured throughput:
@@ -196,4 +196,4 @@ bool Bus::PublishSamples(const std::string& channel, std::vector<Msg> samples) {
     return Publish(channel, MakeBatch<typename BatchTraits<Msg>::Batch>(std::move(samples)));
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

@@ -10,7 +10,7 @@
 // a receive handler must never throw through LCM's C stack.
 #include <exception>
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 // Decodes `size` bytes (8-byte type hash first) into `out`. Returns false, with `out` in an
 // unspecified state, when the bytes are not a valid Msg (wrong hash, short, bad lengths).
@@ -24,4 +24,4 @@ bool DecodeMessage(Msg& out, const void* data, int size) {
     }
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

@@ -1,6 +1,6 @@
 #include "lcmtypes/bus/sample_batcher.hpp"
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 void SampleBatcher::Add(const std::string& channel, const gyro_sample_t& m) {
     if (max_ <= 1) {
@@ -43,4 +43,4 @@ bool SampleBatcher::Flush() {
     return ok;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

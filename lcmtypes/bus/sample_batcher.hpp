@@ -13,7 +13,7 @@
 
 #include "lcmtypes/bus/bus.hpp"
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 class SampleBatcher {
 public:
@@ -41,4 +41,4 @@ private:
     bool full_ = false;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

@@ -2,7 +2,7 @@
 
 #include <limits>
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 namespace {
 
@@ -45,4 +45,4 @@ int64_t SeqTracker::missing_of(const std::string& stream) const {
     return it == missing_.end() ? 0 : it->second;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-namespace gyrocal {
+namespace gyrocal::bus {
 
 struct SeqReport {
     int64_t missing = 0;     // samples skipped by this step (0 when in order)
@@ -31,4 +31,4 @@ private:
     int64_t total_backwards_ = 0;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::bus

@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "gyrocal/flow_ack_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::flow {
 
@@ -15,7 +15,7 @@ std::string ThisHost() {
     return buf;
 }
 
-FlowAcker::FlowAcker(Bus& bus, std::string process)
+FlowAcker::FlowAcker(bus::Bus& bus, std::string process)
     : bus_(bus), process_(std::move(process)), host_(ThisHost()), pid_(getpid()) {
     bus_.Subscribe<flow_mark_t>(std::string(channels::kFlowMark),
                                 [this](const flow_mark_t& m, const std::string&) { OnMark(m); });
@@ -48,7 +48,7 @@ void FlowAcker::Leave() {
 
 void FlowAcker::Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq, bool leaving) {
     flow_ack_t a;
-    a.utime = WallClockUtime();
+    a.utime = bus::WallClockUtime();
     a.process = process_;
     a.host = host_;
     a.pid = pid_;

@@ -20,7 +20,7 @@ namespace gyrocal::flow {
 
 class FlowAcker {
 public:
-    FlowAcker(Bus& bus, std::string process);
+    FlowAcker(bus::Bus& bus, std::string process);
 
     // While it returns false, marks are held (the newest per source) instead of answered.
     void SetGate(std::function<bool()> may_ack) { gate_ = std::move(may_ack); }
@@ -34,7 +34,7 @@ private:
     void OnMark(const flow_mark_t& m);
     void Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq, bool leaving);
 
-    Bus& bus_;
+    bus::Bus& bus_;
     std::string process_;
     std::string host_;
     int32_t pid_;

@@ -9,7 +9,7 @@
 #include "gyrocal/flow_ack_t.hpp"
 #include "gyrocal/flow_mark_t.hpp"
 #include "gyrocal/status_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/flow/flow_acker.hpp"
 
 namespace gyrocal::flow {
@@ -19,7 +19,7 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
+FlowSource::FlowSource(bus::Bus& bus, std::string process, WindowOptions options)
     : bus_(bus),
       process_(std::move(process)),
       host_(ThisHost()),
@@ -46,7 +46,7 @@ FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
                                  if (s.pid == pid_ && s.host == host_) return;  // itself
                                  // A heartbeat from the past is a replay (a log, a stored run),
                                  // not a process: 30 s covers clocks of hosts on one LAN.
-                                 if (std::abs(s.utime - WallClockUtime()) > 30'000'000) return;
+                                 if (std::abs(s.utime - bus::WallClockUtime()) > 30'000'000) return;
                                  window_.OnHeartbeat({s.host, s.pid}, s.process, Clock::now());
                              });
     seen_published_ = bus_.counters().published;
@@ -56,7 +56,7 @@ FlowSource::FlowSource(Bus& bus, std::string process, WindowOptions options)
 void FlowSource::PublishMark(int64_t data_utime) {
     const Mark m = window_.IssueMark(Clock::now());
     flow_mark_t f;
-    f.utime = WallClockUtime();
+    f.utime = bus::WallClockUtime();
     f.source = process_;
     f.host = host_;
     f.pid = pid_;
@@ -81,7 +81,7 @@ void FlowSource::Discover(std::chrono::milliseconds limit) {
 
 void FlowSource::Sync(int64_t data_utime) {
     data_utime_ = data_utime;
-    const BusCounters& c = bus_.counters();
+    const bus::BusCounters& c = bus_.counters();
     window_.OnPublished(c.published - seen_published_, c.published_bytes - seen_bytes_);
     seen_published_ = c.published;
     seen_bytes_ = c.published_bytes;

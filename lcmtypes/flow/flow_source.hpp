@@ -25,7 +25,7 @@ namespace gyrocal::flow {
 
 class FlowSource {
 public:
-    FlowSource(Bus& bus, std::string process, WindowOptions options);
+    FlowSource(bus::Bus& bus, std::string process, WindowOptions options);
 
     // Hears who is there before the first data: a first mark, then the bus dispatched until
     // the acks settle (200 ms without a new consumer after the first ack), no ack came in
@@ -55,7 +55,7 @@ private:
     void PublishMark(int64_t data_utime);
     void ForgetEndedProcesses();  // consumers on this host whose process is gone
 
-    Bus& bus_;
+    bus::Bus& bus_;
     std::string process_;
     std::string host_;
     int32_t pid_;

@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
-namespace gyrocal {
+namespace gyrocal::launch {
 
 namespace {
 // What the child reports through the close-on-exec pipe when it cannot start.
@@ -188,4 +188,4 @@ ExitStatus ChildProcess::Stop(std::chrono::milliseconds grace) {
     return *Wait(std::chrono::milliseconds(5000));
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::launch

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace gyrocal {
+namespace gyrocal::launch {
 
 struct ExitStatus {
     bool exited = false;  // true: normal exit with code; false: killed by signal
@@ -72,4 +72,4 @@ std::string FindOnPath(const std::string& program);
 // The whole text of a file, "" when it cannot be read: what a child wrote to its log.
 std::string ReadLog(const std::string& path);
 
-}  // namespace gyrocal
+}  // namespace gyrocal::launch

@@ -21,7 +21,7 @@ constexpr text::NameTable<ApplyStatus, 5> kApplyStatusNames{
 
 const char* ToString(ApplyStatus s) { return text::NameOf(kApplyStatusNames, s); }
 
-std::string SensitivityProblem(const model::Evaluator& s) {
+std::string ValidateSensitivity(const model::Evaluator& s) {
     // Sample the valid range densely (the models are low-order polynomials plus bounded terms),
     // at rest and at both extremes of the branch and direction terms.
     const model::Model& m = s.model();
@@ -90,7 +90,7 @@ SetResult SensorCompensator::SetCoefficients(const model::CoeffSet& set) {
     } catch (const model::ModelError& e) {
         return {SetOutcome::kRejected, e.what()};
     }
-    if (const std::string p = SensitivityProblem(next->sensitivity); !p.empty())
+    if (const std::string p = ValidateSensitivity(next->sensitivity); !p.empty())
         return {SetOutcome::kRejected, p};
     next->offset_c = next->offset.CView();
     next->sensitivity_c = next->sensitivity.CView();

@@ -108,6 +108,6 @@ private:
 };
 
 // Empty when the sensitivity model is usable for division across its valid range.
-std::string SensitivityProblem(const model::Evaluator& sensitivity);
+std::string ValidateSensitivity(const model::Evaluator& sensitivity);
 
 }  // namespace gyrocal::compensate

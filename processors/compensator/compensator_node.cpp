@@ -1,7 +1,7 @@
 #include "processors/compensator/compensator_node.hpp"
 
 #include "gyrocal/rate_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal {
 
@@ -11,7 +11,7 @@ constexpr const char* kProcess = "gyrocal-compensator";
 
 CompensatorNode::CompensatorNode(const CompensatorNodeOptions& o)
     : options_(o),
-      bus_(BusOptions{o.lcm_url}),
+      bus_(bus::BusOptions{o.lcm_url}),
       status_(bus_, kProcess),
       only_(o.sensors.begin(), o.sensors.end()) {
     bus_.Subscribe<gyro_sample_t>(
@@ -29,7 +29,7 @@ CompensatorNode::CompensatorNode(const CompensatorNodeOptions& o)
 
 void CompensatorNode::Run() {
     // The loop's done() hook refreshes the STATUS counters between dispatches (never stops it).
-    RunLoop(bus_, status_, [this] {
+    process::RunLoop(bus_, status_, [this] {
         FlushRates();
         UpdateStatus();
         return false;

@@ -14,7 +14,7 @@
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/compensator/compensate.hpp"
 
 namespace gyrocal {
@@ -34,8 +34,8 @@ public:
     // One dispatch round (tests): at most one message handled, its rates published; whether one
     // was.
     bool HandleFor(int timeout_ms);
-    const StatusReporter& status() const { return status_; }
-    Bus& bus() { return bus_; }  // tests publish into it over memq://
+    const process::StatusReporter& status() const { return status_; }
+    bus::Bus& bus() { return bus_; }  // tests publish into it over memq://
 
 private:
     void OnCoeffs(const coeff_set_t& m, const std::string& channel);
@@ -52,8 +52,8 @@ private:
     void FlushRates();
 
     CompensatorNodeOptions options_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     std::set<std::string> only_;
     std::map<std::string, compensate::SensorCompensator> comps_;
     std::map<std::string, std::vector<rate_t>> pending_rates_;  // channel -> rates not yet sent

@@ -2,8 +2,8 @@
 // RATE_<id>; the node is compensator_node.hpp.
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "processors/compensator/compensator_node.hpp"
 
 int main(int argc, char** argv) {
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
         kProcess};
     app.add_option(
         "--lcm-url", o.lcm_url,
-        "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(gyrocal::kDefaultLcmUrl) + ")");
+        "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(gyrocal::bus::kDefaultLcmUrl) + ")");
     app.add_option("--out-of-range", policy,
                    "outside a model's valid temperature range: extrapolate (continue the fitted "
                    "polynomial; default) or clip (evaluate at the nearest bound). Either way "
@@ -26,14 +26,14 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--sensor", o.sensors,
                    "compensate only these sensor ids (repeatable); default: all");
-    app.footer(gyrocal::kNodeExitCodes);
+    app.footer(gyrocal::process::kNodeExitCodes);
     const auto validate = [&]() -> std::string {
         const auto p = gyrocal::model::ParseRangePolicy(policy);
         if (!p) return "--out-of-range '" + policy + "' is not valid: use clip or extrapolate";
         o.core.range_policy = *p;
-        return gyrocal::channels::SensorIdsProblem(o.sensors, "--sensor");
+        return gyrocal::channels::ValidateSensorIds(o.sensors, "--sensor");
     };
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kProcess, validate))
+    if (auto exit_code = gyrocal::process::ParseCommandLine(app, argc, argv, kProcess, validate))
         return *exit_code;
-    return gyrocal::RunUntilStopped(kProcess, [&] { gyrocal::CompensatorNode(o).Run(); });
+    return gyrocal::process::RunUntilStopped(kProcess, [&] { gyrocal::CompensatorNode(o).Run(); });
 }

@@ -2,7 +2,7 @@
 // Offline compensation: a stored coefficient set, or its JSON export, applied to measured data
 // read from a CSV (producers/csv), with the live compensator's library, so that a model can be
 // judged on data it never saw and the numbers equal what gyrocal-compensator would have published
-// for the same samples. The command (`gyrocal compensate`) is built in tools/gyrocal.
+// for the same samples. The command (`gyrocal compensate`) is built in tools/cli.
 //
 // Same path as live: each CSV row becomes the gyro_sample_t a CSV source would publish
 // (csv::MessageBuilder: seq per sensor from 0; utime = start_utime + time_s on the microsecond

@@ -35,7 +35,7 @@ struct Repeat {
 };
 
 // offset: the unit's fitted offset model; sensitivity: its sensitivity model (converts to deg/s).
-// Both must be usable (model::Problem empty); points need finite values and sigma > 0.
+// Both must be usable (model::Validate empty); points need finite values and sigma > 0.
 std::vector<Repeat> Repeatability(const std::vector<FitPoint>& points, const model::Model& offset,
                                   const model::Model& sensitivity, double tolerance_c = 2.0,
                                   double z_limit = 3.0);

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/process_main.hpp"
 
 namespace gyrocal {
 
@@ -13,8 +13,9 @@ constexpr const char* kProcess = "gyrocal-fitter";
 
 std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
     app.option_defaults()->always_capture_default();  // --help shows every option's default
-    app.add_option("--lcm-url", o.lcm_url,
-                   "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(kDefaultLcmUrl) + ")");
+    app.add_option(
+        "--lcm-url", o.lcm_url,
+        "LCM URL (default: $GYROCAL_LCM_URL or " + std::string(bus::kDefaultLcmUrl) + ")");
     app.add_option("--method", o.method,
                    "auto (3point with exactly 3 points, else wls), 3point, wls");
     app.add_option(
@@ -61,7 +62,7 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
                    "--mode plateau: at the stop, also fit each unit on every still sample with the "
                    "terms the data confirm and publish it as the run's final set (source "
                    "closed-loop) after the plateau set; false for the seed's 3-point method");
-    app.footer(kNodeExitCodes);
+    app.footer(process::kNodeExitCodes);
     return [&o]() -> std::string {
         if (o.mode != "plateau" && o.mode != "ramp")
             return "--mode '" + o.mode + "' is not valid: use plateau or ramp";
@@ -86,7 +87,7 @@ fitter::RampFitterOptions ClosedLoopOptions(const FitterOptions& o) {
 }  // namespace
 
 FitterNode::FitterNode(const FitterOptions& o)
-    : bus_(BusOptions{o.lcm_url}), status_(bus_, kProcess), core_(o.core) {
+    : bus_(bus::BusOptions{o.lcm_url}), status_(bus_, kProcess), core_(o.core) {
     if (o.closed_loop) {
         loop_.emplace(ClosedLoopOptions(o));
         loop_channel_.emplace(bus_, status_, *loop_);
@@ -135,7 +136,7 @@ FitterNode::FitterNode(const FitterOptions& o)
 }
 
 void FitterNode::Run() {
-    RunLoop(bus_, status_, [this] {
+    process::RunLoop(bus_, status_, [this] {
         if (loop_channel_) loop_channel_->Publish();
         return false;
     });

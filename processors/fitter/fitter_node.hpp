@@ -14,7 +14,7 @@
 #include <string>
 
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/fitter/fit_worker.hpp"
 #include "processors/fitter/fitter_core.hpp"
 #include "processors/fitter/ramp_fitter.hpp"
@@ -42,15 +42,15 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o);
 // called, on the node's thread.
 class StillFitChannel {
 public:
-    StillFitChannel(Bus& bus, StatusReporter& status, fitter::RampFitter& fitter);
+    StillFitChannel(bus::Bus& bus, process::StatusReporter& status, fitter::RampFitter& fitter);
     void Submit(std::vector<fitter::FitJob> jobs);
     // Publishes the results done so far; returns how many.
     size_t Publish();
     fitter::FitWorker& worker() { return worker_; }
 
 private:
-    Bus& bus_;
-    StatusReporter& status_;
+    bus::Bus& bus_;
+    process::StatusReporter& status_;
     fitter::RampFitter& fitter_;
     fitter::FitWorker worker_;
     int64_t now_utime_ = 0;
@@ -62,8 +62,8 @@ class FitterNode {
 public:
     explicit FitterNode(const FitterOptions& o);  // throws BusError when LCM cannot open
     void Run();
-    Bus& bus() { return bus_; }  // tests publish into it over memq://
-    const StatusReporter& status() const { return status_; }
+    bus::Bus& bus() { return bus_; }  // tests publish into it over memq://
+    const process::StatusReporter& status() const { return status_; }
     // One dispatch round and the closed loop's results (tests).
     void HandleFor(int timeout_ms);
 
@@ -71,8 +71,8 @@ private:
     void Apply(const fitter::CoreOutput& out);
     void UpdateStatus();
 
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     fitter::FitterCore core_;
     std::optional<fitter::RampFitter> loop_;  // the closed loop (FitterOptions::closed_loop)
     std::optional<StillFitChannel> loop_channel_;
@@ -85,13 +85,13 @@ class RampFitterNode {
 public:
     explicit RampFitterNode(const FitterOptions& o);  // throws BusError when LCM cannot open
     void Run();
-    Bus& bus() { return bus_; }      // tests publish into it over memq://
-    void HandleFor(int timeout_ms);  // one dispatch round and the fits done (tests)
+    bus::Bus& bus() { return bus_; }  // tests publish into it over memq://
+    void HandleFor(int timeout_ms);   // one dispatch round and the fits done (tests)
     StillFitChannel& channel() { return *channel_; }
 
 private:
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     fitter::RampFitter fitter_;
     std::optional<StillFitChannel> channel_;
 };

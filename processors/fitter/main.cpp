@@ -2,7 +2,7 @@
 // fitter_core.hpp for the decisions).
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "processors/fitter/fitter_node.hpp"
 
 int main(int argc, char** argv) {
@@ -14,10 +14,12 @@ int main(int argc, char** argv) {
         "repeatability). --mode ramp fits every still window of a ramp run instead.",
         "gyrocal-fitter"};
     const auto validate = gyrocal::AddFitterOptions(app, o);
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-fitter", validate))
+    if (auto exit_code =
+            gyrocal::process::ParseCommandLine(app, argc, argv, "gyrocal-fitter", validate))
         return *exit_code;
     if (o.mode == "ramp")
-        return gyrocal::RunUntilStopped("gyrocal-fitter",
-                                        [&] { gyrocal::RampFitterNode(o).Run(); });
-    return gyrocal::RunUntilStopped("gyrocal-fitter", [&] { gyrocal::FitterNode(o).Run(); });
+        return gyrocal::process::RunUntilStopped("gyrocal-fitter",
+                                                 [&] { gyrocal::RampFitterNode(o).Run(); });
+    return gyrocal::process::RunUntilStopped("gyrocal-fitter",
+                                             [&] { gyrocal::FitterNode(o).Run(); });
 }

@@ -5,13 +5,14 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/fitter/analysis_message.hpp"
 #include "processors/fitter/fitter_node.hpp"
 
 namespace gyrocal {
 
-StillFitChannel::StillFitChannel(Bus& bus, StatusReporter& status, fitter::RampFitter& fitter)
+StillFitChannel::StillFitChannel(bus::Bus& bus, process::StatusReporter& status,
+                                 fitter::RampFitter& fitter)
     : bus_(bus),
       status_(status),
       fitter_(fitter),
@@ -90,7 +91,7 @@ size_t StillFitChannel::Publish() {
 }
 
 RampFitterNode::RampFitterNode(const FitterOptions& o)
-    : bus_(BusOptions{o.lcm_url}), status_(bus_, "gyrocal-fitter"), fitter_(o.ramp) {
+    : bus_(bus::BusOptions{o.lcm_url}), status_(bus_, "gyrocal-fitter"), fitter_(o.ramp) {
     channel_.emplace(bus_, status_, fitter_);
     bus_.Subscribe<sensitivity_point_t>(
         channels::AllSensors(channels::kSensitivityPrefix),
@@ -116,7 +117,7 @@ RampFitterNode::RampFitterNode(const FitterOptions& o)
 }
 
 void RampFitterNode::Run() {
-    RunLoop(bus_, status_, [this] {
+    process::RunLoop(bus_, status_, [this] {
         if (channel_->Publish() > 0) status_.set_state("fitted (ramp mode)");
         return false;
     });

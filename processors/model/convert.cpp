@@ -26,13 +26,13 @@ Model FromMsg(const gyrocal::model_t& msg) {
             m.covariance(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
                 msg.covariance[i][j];
     }
-    const std::string problem = Problem(m);
+    const std::string problem = Validate(m);
     if (!problem.empty()) throw ModelError(problem);
     return m;
 }
 
 gyrocal::model_t ToMsg(const Model& m) {
-    const std::string problem = Problem(m);
+    const std::string problem = Validate(m);
     if (!problem.empty()) throw ModelError(problem);
     gyrocal::model_t msg;
     const auto n = static_cast<size_t>(m.term_names.size());

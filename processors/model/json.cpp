@@ -91,7 +91,7 @@ Model ModelFromJsonAt(const nlohmann::json& j, const std::string& where) {
     m.n_points = static_cast<int32_t>(GetInt(j, "n_points", where));
     m.condition_number = GetNum(j, "condition_number", where);
     m.method = GetStr(j, "method", where);
-    const std::string problem = Problem(m);
+    const std::string problem = Validate(m);
     if (!problem.empty()) throw ModelError(where + ": " + problem);
     return m;
 }

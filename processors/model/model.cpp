@@ -21,7 +21,7 @@ std::optional<RangePolicy> ParseRangePolicy(const std::string& name) {
 
 const char* ToString(RangePolicy policy) { return text::NameOf(kRangePolicyNames, policy); }
 
-std::string Problem(const Model& m) {
+std::string Validate(const Model& m) {
     const auto n = static_cast<Eigen::Index>(m.term_names.size());
     const std::string q = m.quantity.empty() ? "model" : m.quantity;
     if (n == 0) return q + ": no terms (num_terms must be >= 1)";
@@ -66,7 +66,7 @@ Eigen::VectorXd TermValues(const std::vector<ResolvedTerm>& terms, double t0_c,
 }
 
 Evaluator::Evaluator(Model model) : model_(std::move(model)) {
-    const std::string problem = Problem(model_);
+    const std::string problem = Validate(model_);
     if (!problem.empty()) throw ModelError(problem);
     terms_ = ResolveTerms(model_.term_names);
     for (const ResolvedTerm& t : terms_) c_terms_.push_back(t.c);

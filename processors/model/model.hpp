@@ -62,7 +62,7 @@ const char* ToString(RangePolicy policy);
 
 // Empty when usable; otherwise why not (naming the field): sizes consistent, term names known and
 // unique, coefficients and t0 finite, range finite and ordered, covariance square (NaN allowed).
-std::string Problem(const Model& model);
+std::string Validate(const Model& model);
 
 struct Evaluation {
     double value = kUnknown;     // [unit of y]
@@ -75,7 +75,7 @@ struct Evaluation {
 // order); the variance phi' C phi is computed beside it.
 class Evaluator {
 public:
-    // Throws ModelError (with Problem()'s text) when the model is not usable.
+    // Throws ModelError (with Validate()'s text) when the model is not usable.
     explicit Evaluator(Model model);
 
     Evaluation Evaluate(const ModelInputs& in, RangePolicy policy) const;

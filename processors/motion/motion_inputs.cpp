@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <utility>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::motion {
 
-bool StreamTime::InOrder(int64_t utime, const std::string& stream, StatusReporter& status) const {
+bool StreamTime::InOrder(int64_t utime, const std::string& stream,
+                         process::StatusReporter& status) const {
     if (any_ && utime <= newest_utime_) {
         status.Reject("out-of-order", stream + ": utime " + std::to_string(utime) +
                                           " is not after " + std::to_string(newest_utime_));
@@ -16,8 +17,9 @@ bool StreamTime::InOrder(int64_t utime, const std::string& stream, StatusReporte
     return true;
 }
 
-MotionInputs::MotionInputs(Bus& bus, StatusReporter& status, std::vector<std::string> sensors,
-                           std::string encoder_id, Handler& handler)
+MotionInputs::MotionInputs(bus::Bus& bus, process::StatusReporter& status,
+                           std::vector<std::string> sensors, std::string encoder_id,
+                           Handler& handler)
     : status_(status),
       sensors_(std::move(sensors)),
       encoder_id_(std::move(encoder_id)),

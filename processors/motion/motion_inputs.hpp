@@ -14,7 +14,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/motion/table_motion.hpp"
 
 namespace gyrocal::motion {
@@ -22,7 +22,7 @@ namespace gyrocal::motion {
 // Wraps a bus handler so that an exception never reaches LCM: it is counted as a refusal with
 // its text.
 template <class Fn>
-auto Guarded(StatusReporter& status, Fn fn) {
+auto Guarded(process::StatusReporter& status, Fn fn) {
     return [&status, fn](const auto& m, const std::string& channel) {
         try {
             fn(m, channel);
@@ -36,7 +36,7 @@ auto Guarded(StatusReporter& status, Fn fn) {
 class StreamTime {
 public:
     // True when utime is after the newest so far; else counted in `status` as out-of-order.
-    bool InOrder(int64_t utime, const std::string& stream, StatusReporter& status) const;
+    bool InOrder(int64_t utime, const std::string& stream, process::StatusReporter& status) const;
     void Advance(int64_t utime) {
         any_ = true;
         newest_utime_ = utime;
@@ -66,7 +66,7 @@ public:
     };
 
     // Subscribes GYRO_*, ENCODER and RUN_EVENT on `bus`; `sensors` empty = every valid id.
-    MotionInputs(Bus& bus, StatusReporter& status, std::vector<std::string> sensors,
+    MotionInputs(bus::Bus& bus, process::StatusReporter& status, std::vector<std::string> sensors,
                  std::string encoder_id, Handler& handler);
     // The subscriptions point at this object.
     MotionInputs(const MotionInputs&) = delete;
@@ -76,7 +76,7 @@ private:
     void OnGyro(const gyro_sample_t& m, const std::string& channel);
     void OnEncoder(const encoder_sample_t& m);
 
-    StatusReporter& status_;
+    process::StatusReporter& status_;
     std::vector<std::string> sensors_;
     std::string encoder_id_;
     Handler& handler_;

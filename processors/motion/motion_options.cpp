@@ -1,6 +1,6 @@
 #include "processors/motion/motion_options.hpp"
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::motion {
 
@@ -23,7 +23,7 @@ void AddMoveOptions(CLI::App& app, MoveDetectorConfig& move, const std::string& 
 }
 
 std::string ValidateInput(const std::vector<std::string>& sensors, const std::string& encoder_id) {
-    if (std::string e = channels::SensorIdsProblem(sensors, "--sensors"); !e.empty()) return e;
+    if (std::string e = channels::ValidateSensorIds(sensors, "--sensors"); !e.empty()) return e;
     if (encoder_id.empty()) return "--encoder-id must not be empty";
     return "";
 }

@@ -2,7 +2,7 @@
 // and plateau_detector.hpp for the criterion and its defaults.
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "processors/motion/motion_options.hpp"
 #include "processors/plateau/plateau_node.hpp"
 
@@ -46,7 +46,7 @@ void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return gyrocal::NodeMain<gyrocal::PlateauNode>(
+    return gyrocal::process::NodeMain<gyrocal::PlateauNode>(
         argc, argv, "gyrocal-plateau",
         "gyrocal-plateau: stability (plateau) detector per sensor.\n"
         "Subscribes GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT; publishes PLATEAU_<id>,\n"

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "gyrocal/plateau_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/motion_options.hpp"
 #include "processors/noise/noise_message.hpp"
 #include "processors/plateau/plateau_message.hpp"
@@ -35,7 +35,7 @@ std::string PlateauOptions::Validate() const {
 
 PlateauNode::PlateauNode(const PlateauOptions& options)
     : options_(options),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
       inputs_(bus_, status_, options.sensors, options.encoder_id, *this),
       motion_(options.move, options.motion_guard_s, options.encoder_stale_s),
@@ -50,7 +50,7 @@ void PlateauNode::Run() {
     status_.set_state("running");
     // Malformed payloads (wrong type, hostile array lengths) are counted by the bus as decode
     // errors and never reach a handler; anything else thrown here is a bug and ends the process.
-    RunLoop(bus_, status_);
+    process::RunLoop(bus_, status_);
 }
 
 PlateauNode::Sensor& PlateauNode::SensorFor(const std::string& id) {

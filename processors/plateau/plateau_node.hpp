@@ -21,7 +21,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/motion/motion_inputs.hpp"
 #include "processors/motion/table_motion.hpp"
 #include "processors/noise/noise_tracker.hpp"
@@ -52,7 +52,7 @@ public:
     void Run();
     // Tests drive the node in-process over memq://: they publish into its bus, dispatch with
     // Handle, and see its STATUS (counters, per-sensor state) after PublishStatus.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     void PublishStatus() { status_.PublishNow(); }
     int64_t plateaus_published() const { return plateaus_; }
 
@@ -78,8 +78,8 @@ private:
     void PublishNoise(const std::string& id, Sensor& sensor);
 
     PlateauOptions options_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     motion::MotionInputs inputs_;
     motion::TableMotion motion_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;

@@ -71,7 +71,7 @@ std::string Literal(const std::string& text) {
     return out + "'";
 }
 
-std::string Problem(const Figure& f) {
+std::string Validate(const Figure& f) {
     if (!SafeName(f.name)) return "figure name '" + f.name + "' is not a plain file stem";
     if (f.series.empty()) return "figure " + f.name + " has no series";
     for (const Table& t : f.tables) {

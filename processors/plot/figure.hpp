@@ -51,13 +51,13 @@ const char* Extension(Terminal t);  // "png", "svg"
 // "" when the figure can be drawn; else what is wrong (naming the table/series): unsafe names,
 // a series naming an unknown table, a column out of range or too few columns for its style, rows
 // of the wrong width, no series.
-std::string Problem(const Figure& figure);
+std::string Validate(const Figure& figure);
 
 // The text of <table>.dat.
 std::string DataFileText(const Table& table);
 
 // The text of <figure>.gp, writing one picture per terminal (in the given order).
-// Precondition: Problem(figure) is "".
+// Precondition: Validate(figure) is "".
 std::string Script(const Figure& figure, const std::vector<Terminal>& terminals);
 
 // Every file a figure needs beside its pictures: the .dat files and the .gp script.

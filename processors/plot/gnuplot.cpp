@@ -40,9 +40,9 @@ void Run(const std::string& gnuplot, const std::string& dir,
     const std::string log = (fs::path(dir) / "gnuplot.log").string();
     std::vector<std::string> args = {gnuplot};
     args.insert(args.end(), scripts.begin(), scripts.end());
-    ExitStatus status;
+    launch::ExitStatus status;
     try {
-        status = ChildProcess(args, ChildOptions{log, log, dir, {}}).Wait();
+        status = launch::ChildProcess(args, launch::ChildOptions{log, log, dir, {}}).Wait();
     } catch (const std::runtime_error& e) {
         throw GnuplotError(e.what());
     }
@@ -58,7 +58,7 @@ std::vector<std::string> DrawInto(const std::string& gnuplot, const std::string&
                                   const std::vector<Terminal>& terminals) {
     std::vector<std::string> scripts;
     for (const Figure& f : figures) {
-        if (const std::string p = Problem(f); !p.empty()) throw GnuplotError(p);
+        if (const std::string p = Validate(f); !p.empty()) throw GnuplotError(p);
         for (const File& file : Files(f, terminals)) {
             const fs::path path = fs::path(dir) / file.name;
             std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -20,7 +20,7 @@ public:
 
 // Full path of `program` found on $PATH; "" when absent: the project's one PATH search
 // (lcmtypes/launch), by the name its callers here have always used.
-using ::gyrocal::FindOnPath;
+using ::gyrocal::launch::FindOnPath;
 
 // What to tell someone without gnuplot.
 inline constexpr const char* kGnuplotMissing =

@@ -2,7 +2,7 @@
 // threads and rotation_estimator.hpp for the windows and the uncertainty.
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "processors/motion/motion_options.hpp"
 #include "processors/rotation/rotation_node.hpp"
 
@@ -31,7 +31,7 @@ void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return gyrocal::NodeMain<gyrocal::RotationNode>(
+    return gyrocal::process::NodeMain<gyrocal::RotationNode>(
         argc, argv, "gyrocal-rotation",
         "gyrocal-rotation: sensitivity from encoder-measured rotations, per sensor.\n"
         "Subscribes GYRO_*, ENCODER, RUN_EVENT; publishes SENSITIVITY_<id> (one per move,\n"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/motion_options.hpp"
 #include "processors/rotation/rotation_message.hpp"
 
@@ -21,7 +21,7 @@ std::string RotationOptions::Validate() const {
 
 RotationNode::RotationNode(const RotationOptions& options)
     : options_(options),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
       inputs_(bus_, status_, options.sensors, options.encoder_id, *this),
       detector_(options.move) {}
@@ -30,7 +30,7 @@ void RotationNode::Run() {
     status_.set_state("running");
     // Malformed payloads (wrong type, hostile array lengths) are counted by the bus as decode
     // errors and never reach a handler; anything else thrown here is a bug and ends the process.
-    RunLoop(bus_, status_);
+    process::RunLoop(bus_, status_);
 }
 
 rotation::MotionView RotationNode::View() const {

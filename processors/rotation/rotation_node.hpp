@@ -15,7 +15,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/motion/motion_inputs.hpp"
 #include "processors/motion/table_motion.hpp"
 #include "processors/rotation/rotation_estimator.hpp"
@@ -40,7 +40,7 @@ public:
     void Run();
     // Tests drive the node in-process over memq://: they publish into its bus, dispatch with
     // Handle, and see its STATUS (counters, per-sensor state) after PublishStatus.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     void PublishStatus() { status_.PublishNow(); }
 
 private:
@@ -57,8 +57,8 @@ private:
     rotation::MotionView View() const;
 
     RotationOptions options_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     motion::MotionInputs inputs_;
     motion::MoveDetector detector_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;

@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "processors/sequencer/sequencer_options.hpp"
 
 using namespace gyrocal::sequencer;
@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
         "rotations)",
         "gyrocal-sequencer"};
     const auto validate = AddSequencerOptions(app, o);
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, "gyrocal-sequencer", validate))
+    if (auto exit_code =
+            gyrocal::process::ParseCommandLine(app, argc, argv, "gyrocal-sequencer", validate))
         return *exit_code;
     if (o.command_line.empty()) {
         std::ostringstream cl;
@@ -31,11 +32,11 @@ int main(int argc, char** argv) {
         o.command_line = cl.str();
     }
     try {
-        gyrocal::InstallStopHandlers();
+        gyrocal::process::InstallStopHandlers();
         SequencerNode node(o);
         return node.Run();
     } catch (const std::exception& e) {
-        gyrocal::PrintError("gyrocal-sequencer", e.what());
+        gyrocal::process::PrintError("gyrocal-sequencer", e.what());
         return 1;
     }
 }

@@ -18,8 +18,8 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "gyrocal/version.hpp"
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::sequencer {
@@ -30,7 +30,7 @@ std::string GeneratedRunId() {
     std::time_t t = std::time(nullptr);
     char buf[32];
     std::strftime(buf, sizeof buf, "%Y%m%dT%H%M%SZ", std::gmtime(&t));
-    return std::string(buf) + "-" + HostName() + "-" + std::to_string(getpid());
+    return std::string(buf) + "-" + process::HostName() + "-" + std::to_string(getpid());
 }
 
 }  // namespace
@@ -43,7 +43,7 @@ SequencerOptions SequencerOptions::Defaults() {
 
 SequencerNode::SequencerNode(SequencerOptions options)
     : options_(std::move(options)),
-      bus_(BusOptions{options_.lcm_url}),
+      bus_(bus::BusOptions{options_.lcm_url}),
       status_(bus_, "gyrocal-sequencer") {
     if (options_.run_id.empty()) options_.run_id = GeneratedRunId();
     nlohmann::json config = nlohmann::json::object();
@@ -184,14 +184,14 @@ void SequencerNode::PublishOrder(const RunEventOrder& r) {
     m.software_version = kSoftwareVersion;
     m.config_json = config_json_;
     m.command_line = options_.command_line;
-    m.host = HostName();
+    m.host = process::HostName();
     bus_.Publish(std::string(channels::kRunEvent), m);
     std::cout << "gyrocal-sequencer: " << r.event << " " << r.reason << std::endl;
 }
 
 int SequencerNode::Run() {
     status_.set_state("discovering sensors");
-    RunLoop(bus_, status_, [this] { return procedure_ && procedure_->done(); });
+    process::RunLoop(bus_, status_, [this] { return procedure_ && procedure_->done(); });
     if (procedure_ && !procedure_->done()) Publish(procedure_->Abort("operator stop (signal)"));
     if (!procedure_) {
         std::cerr << "gyrocal-sequencer: stopped before any sensor was seen; no run was started\n";

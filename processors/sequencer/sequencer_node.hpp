@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/model/convert.hpp"
 #include "processors/sequencer/procedure.hpp"
 
@@ -33,7 +33,7 @@ public:
     int Run();
     // Tests drive the node in-process over memq://: they publish into its bus and dispatch with
     // Handle; done() once the procedure has ended.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     void PublishStatus() { status_.PublishNow(); }
     bool done() const { return procedure_ && procedure_->done(); }
 
@@ -56,8 +56,8 @@ private:
     void OnCoeffs(const std::string& sensor_id, int64_t utime, const model::CoeffSet& set);
 
     SequencerOptions options_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     std::unique_ptr<Runner> procedure_;
     std::set<std::string> discovered_;
     int64_t first_utime_ = -1;

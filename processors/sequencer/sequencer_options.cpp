@@ -3,7 +3,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
@@ -85,7 +85,7 @@ std::string ValidateProcedure(const SequencerOptions& o) {
 
 std::string Validate(SequencerOptions& o, const Raw& raw) {
     if (std::string e = ResolveProfile(o, raw); !e.empty()) return e;
-    if (std::string e = gyrocal::channels::SensorIdsProblem(o.procedure.sensor_ids, "--sensors");
+    if (std::string e = gyrocal::channels::ValidateSensorIds(o.procedure.sensor_ids, "--sensors");
         !e.empty())
         return e;
     if (o.procedure.resume_setpoint_index >= 0 &&

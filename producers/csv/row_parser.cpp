@@ -3,7 +3,7 @@
 #include <cmath>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/fields.hpp"
 
 namespace gyrocal::csv {

@@ -8,11 +8,11 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_record {
 
 std::string CsvRecordOptions::Validate() const {
     if (out.empty()) return "--out is required: the CSV file to write";
@@ -32,7 +32,7 @@ std::string CsvRecordOptions::Validate() const {
 CsvRecordNode::CsvRecordNode(const CsvRecordOptions& options)
     : options_(options),
       out_(options.out, std::ios::out | std::ios::trunc),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-csv-record") {
     if (!out_) throw std::runtime_error("--out '" + options.out + "' cannot be created");
     out_ << csv::kRecordHeader << '\n';
@@ -121,7 +121,7 @@ void CsvRecordNode::PublishStatus() {
 }
 
 int CsvRecordNode::Run() {
-    RunLoop(
+    process::RunLoop(
         bus_, status_, [this] { return Idle(); }, std::chrono::milliseconds(20));
     return Finish();
 }
@@ -137,4 +137,4 @@ int CsvRecordNode::Finish() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_record

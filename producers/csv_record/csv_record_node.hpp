@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "producers/csv/csv_writer.hpp"
 #include "producers/csv/row_messages.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_record {
 
 struct CsvRecordOptions {
     std::string out;
@@ -41,7 +41,7 @@ public:
     int Finish();
 
     // In-process use: the node's bus (publish to it, Handle it), its STATUS on demand.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     void PublishStatus();
     int64_t rows_written() const { return rows_; }
     int64_t rejected() const { return status_.rejected(); }
@@ -56,8 +56,8 @@ private:
 
     CsvRecordOptions options_;
     std::ofstream out_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     csv::LatestAt encoder_deg_;
     csv::LatestAt chamber_c_;
     std::map<std::string, int64_t> power_on_utime_;  // [us] newest POWER_<id> per sensor
@@ -69,4 +69,4 @@ private:
     Clock::time_point last_flush_ = Clock::now();
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_record

@@ -4,8 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "producers/csv_record/csv_record_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -29,23 +29,23 @@ Exit codes: 0 normal stop; 1 runtime failure (cannot write, LCM failure); 2 bad 
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    CsvRecordOptions o = CsvRecordOptions::Defaults();
+    csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     CLI::App app{"gyrocal-csv-record: record gyro samples to a measured-data CSV file"};
     app.footer(kFooter);
     app.add_option("--out", o.out, "CSV file to write (overwritten)")->required();
-    csv::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
     app.add_option("--sensors", o.sensors, "only these sensor ids, comma separated (default all)")
         ->delimiter(',');
     app.add_option("--time-origin-utime", o.time_origin_utime,
                    "utime [us] written as time_s = 0 (default 1e15)");
     app.add_option("--idle-exit-s", o.idle_exit_s,
                    "exit after this many seconds without messages; 0 = never (default 0)");
-    if (auto exit_code =
-            ParseCommandLine(app, argc, argv, "gyrocal-csv-record", [&] { return o.Validate(); }))
+    if (auto exit_code = process::ParseCommandLine(app, argc, argv, "gyrocal-csv-record",
+                                                   [&] { return o.Validate(); }))
         return *exit_code;
-    InstallStopHandlers();
+    process::InstallStopHandlers();
     try {
-        CsvRecordNode node(o);
+        csv_record::CsvRecordNode node(o);
         return node.Run();
     } catch (const std::runtime_error& e) {
         std::cerr << "gyrocal-csv-record: error: " << e.what() << "\n";

@@ -8,12 +8,12 @@
 #include <optional>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_source {
 
 namespace {
 
@@ -28,8 +28,9 @@ sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
 std::optional<CsvCheck> CheckWholeFile(const CsvSourceOptions& o, int* exit_code) {
     std::ifstream in(o.file);
     if (!in) {
-        PrintError(kCsvSourceProcess, "--file '" + o.file + "' cannot be opened: " +
-                                          std::strerror(errno) + "; give a readable CSV file");
+        process::PrintError(kCsvSourceProcess, "--file '" + o.file +
+                                                   "' cannot be opened: " + std::strerror(errno) +
+                                                   "; give a readable CSV file");
         *exit_code = 2;
         return std::nullopt;
     }
@@ -42,7 +43,7 @@ std::optional<CsvCheck> CheckWholeFile(const CsvSourceOptions& o, int* exit_code
         c.skipped = reader.skipped();
         return c;
     } catch (const csv::CsvError& e) {
-        PrintError(kCsvSourceProcess, e.what());
+        process::PrintError(kCsvSourceProcess, e.what());
         std::cerr << kCsvSourceProcess
                   << ": nothing published (--on-error stop; use --on-error skip to drop bad "
                      "rows)\n";
@@ -77,13 +78,14 @@ int ReplayCsvFile(const CsvSourceOptions& o) {
     if (!check) return exit_code;
     ReportReadProblems(o, *check);
     if (check->rows == 0) {  // nothing to replay is a bad file, not an empty run
-        PrintError(kCsvSourceProcess,
-                   o.file + ": no data rows: " +
-                       (check->skipped > 0 ? "every one of the " + std::to_string(check->skipped) +
-                                                 " rows was bad (--on-error skip); fix them"
-                                           : std::string("the header names the columns but no "
-                                                         "row follows; give at least one row "
-                                                         "of samples")));
+        process::PrintError(
+            kCsvSourceProcess,
+            o.file + ": no data rows: " +
+                (check->skipped > 0 ? "every one of the " + std::to_string(check->skipped) +
+                                          " rows was bad (--on-error skip); fix them"
+                                    : std::string("the header names the columns but no "
+                                                  "row follows; give at least one row "
+                                                  "of samples")));
         return 1;
     }
     if (o.check_rows >= 0) {
@@ -92,12 +94,12 @@ int ReplayCsvFile(const CsvSourceOptions& o) {
                   << o.check_rows << "; nothing published)\n";
         return 0;
     }
-    InstallStopHandlers();
+    process::InstallStopHandlers();
     try {
         CsvSourceNode node(o, std::move(*check));
         return node.Run();
     } catch (const std::exception& e) {
-        PrintError(kCsvSourceProcess, e.what());
+        process::PrintError(kCsvSourceProcess, e.what());
         return 1;
     }
 }
@@ -123,7 +125,7 @@ CsvSourceNode::CsvSourceNode(const CsvSourceOptions& options, CsvCheck check)
       check_(std::move(check)),
       in_(options.file),
       reader_(in_, options.file, TransferOf(options.conversion), options.on_error),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-csv-source"),
       builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)),
       batcher_(bus_, options.flow.batch_samples) {
@@ -259,20 +261,21 @@ bool CsvSourceNode::Step() {
 
 int CsvSourceNode::Run() {
     if (!More()) finished_ = Clock::now();
-    RunLoop(
+    process::RunLoop(
         bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
-    const BusCounters& c = bus_.counters();
+    const bus::BusCounters& c = bus_.counters();
     std::cerr << "gyrocal-csv-source: published " << next_ << " of " << check_.rows << " rows ("
               << messages_ << " messages) from " << options_.file;
     if (check_.skipped > 0) std::cerr << "; skipped " << check_.skipped << " bad rows";
-    if (StopRequested() && More()) std::cerr << "; stopped by signal";
+    if (process::StopRequested() && More()) std::cerr << "; stopped by signal";
     std::cerr << "\n";
     if (c.publish_errors > 0) {
-        PrintError(kCsvSourceProcess, std::to_string(c.publish_errors) +
-                                          " messages could not be sent (LCM publish failed)");
+        process::PrintError(
+            kCsvSourceProcess,
+            std::to_string(c.publish_errors) + " messages could not be sent (LCM publish failed)");
         return 1;
     }
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_source

@@ -19,13 +19,13 @@
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/bus/sample_batcher.hpp"
 #include "lcmtypes/flow/flow_source.hpp"
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "producers/csv/conversion_options.hpp"
 #include "producers/csv/csv_file.hpp"
 #include "producers/csv/row_messages.hpp"
 
-namespace gyrocal {
+namespace gyrocal::csv_source {
 
 // --max's default rate: well below what our receivers (bus layer, unbounded queues) kept up with,
 // so that a pipeline of several processes has room; lcm-logger 1.3.1 (30-message subscription
@@ -39,7 +39,7 @@ struct CsvSourceOptions {
     double speed = 1.0;                      // [data s / wall s]
     bool max = false;                        // pace by max_rate_hz instead of data time
     double max_rate_hz = kDefaultMaxRateHz;  // [msg/s] cap of --max when no consumer answers
-    SourceFlowOptions flow = SourceFlowOptions::Defaults();
+    process::SourceFlowOptions flow = process::SourceFlowOptions::Defaults();
     csv::OnError on_error = csv::OnError::kStop;
     double drain_s = 0.5;  // [s] wait after the last row before exiting
     long check_rows = -1;  // >= 0: check the header and this many rows, publish nothing
@@ -72,7 +72,7 @@ public:
     // Returns the exit code: 0 done or stopped, 1 when publishing failed.
     int Run();
     // The node's bus: tests subscribe to it over memq://.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
 
 private:
     using Clock = std::chrono::steady_clock;
@@ -91,10 +91,10 @@ private:
     csv::CsvReader reader_;
     std::optional<csv::CsvRow> next_row_;
     double first_time_s_ = 0;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     csv::MessageBuilder builder_;
-    SampleBatcher batcher_;
+    bus::SampleBatcher batcher_;
     std::unique_ptr<flow::FlowSource> flow_;  // --max only
     int64_t last_utime_ = 0;                  // [us] data time of the newest row published
     size_t next_ = 0;
@@ -106,4 +106,4 @@ private:
     double tokens_ = 1.0;            // --max: messages that may go out now
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::csv_source

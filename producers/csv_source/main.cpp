@@ -2,8 +2,8 @@
 // CHAMBER_STATE messages, the same messages a rig sends. See README.md.
 #include <CLI/CLI.hpp>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "producers/csv_source/csv_source_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -47,33 +47,33 @@ or unreadable file). With --check-rows: 0 valid, 1 malformed (or no data row), 2
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    CsvSourceOptions o = CsvSourceOptions::Defaults();
+    csv_source::CsvSourceOptions o = csv_source::CsvSourceOptions::Defaults();
     CLI::App app{"gyrocal-csv-source: replay a measured-data CSV file onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "CSV file to replay")->required();
-    csv::AddLcmUrlOption(app, o.lcm_url);
-    AddPacingOptions(app, o.speed, o.max,
-                     "data seconds per wall second, > 0 (default 1 = real time)");
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
+    process::AddPacingOptions(app, o.speed, o.max,
+                              "data seconds per wall second, > 0 (default 1 = real time)");
     app.add_option("--max-rate-hz", o.max_rate_hz,
                    "--max when no consumer answers: message-rate cap [msg/s], 1..1e7 "
                    "(default 20000)");
-    AddSourceFlowOptions(app, o.flow);
+    process::AddSourceFlowOptions(app, o.flow);
     std::string on_error = "stop";
     app.add_option("--on-error", on_error, "stop|skip: what a bad row does (default stop)");
-    csv::AddConversionOptions(app, o.conversion,
-                              "utime [us] of time_s = 0 (default 1e15), 0..4e18");
+    producer_cli::AddConversionOptions(app, o.conversion,
+                                       "utime [us] of time_s = 0 (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after the last row before exit [s] (default 0.5)");
     app.add_option("--check-rows", o.check_rows,
                    "only check the header and the first N rows, publish nothing, exit 0 valid or "
                    "1 malformed (gyrocal calibrate's check before a run), 0..1e9")
         ->check(CLI::Range(0L, 1000000000L));
     const auto validate = [&] {
-        const std::string err =
-            csv::Choose("--on-error", on_error,
-                        {{"stop", csv::OnError::kStop}, {"skip", csv::OnError::kSkip}}, o.on_error);
+        const std::string err = producer_cli::Choose(
+            "--on-error", on_error, {{"stop", csv::OnError::kStop}, {"skip", csv::OnError::kSkip}},
+            o.on_error);
         return err.empty() ? o.Validate() : err;
     };
-    if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-csv-source", validate))
+    if (auto exit_code = process::ParseCommandLine(app, argc, argv, "gyrocal-csv-source", validate))
         return *exit_code;
-    return ReplayCsvFile(o);
+    return csv_source::ReplayCsvFile(o);
 }

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 
 LineInput::LineInput(int fd, std::string name) : fd_(fd), name_(std::move(name)) {
     if (isatty(fd_)) {
@@ -61,4 +61,4 @@ bool LineInput::Read(int timeout_ms, std::vector<InputLine>* lines) {
     return true;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 
 struct InputLine {
     std::string text;       // without the newline
@@ -40,4 +40,4 @@ private:
     std::optional<termios> saved_tty_;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

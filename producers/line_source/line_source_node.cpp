@@ -6,11 +6,11 @@
 #include <thread>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 namespace {
 sensor::TempTransfer TransferOf(const csv::ConversionOptions& conversion) {
     std::string err;
@@ -32,7 +32,7 @@ std::string LineSourceOptions::Validate() const {
 LineSourceNode::LineSourceNode(const LineSourceOptions& options, std::unique_ptr<LineInput> input)
     : options_(options),
       input_(std::move(input)),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, "gyrocal-line-source"),
       stream_(input_->name(), TransferOf(options.conversion)),
       builder_(static_cast<int32_t>(options.conversion.encoder_counts_per_rev)),
@@ -49,7 +49,7 @@ int64_t LineSourceNode::Utime(const csv::CsvRow& row) {
     }
     // Wall time at reception; kept strictly increasing so that two lines read in the same
     // microsecond still give every sensor increasing utimes.
-    const int64_t now = WallClockUtime();
+    const int64_t now = bus::WallClockUtime();
     last_wall_utime_ = std::max(now, last_wall_utime_ + 1);
     return last_wall_utime_;
 }
@@ -135,7 +135,7 @@ bool LineSourceNode::AtEnd() {
 
 int LineSourceNode::Run() {
     try {
-        RunLoop(
+        process::RunLoop(
             bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
     } catch (const std::runtime_error& e) {
         std::cerr << "gyrocal-line-source: error: " << e.what() << "\n";
@@ -155,4 +155,4 @@ int LineSourceNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

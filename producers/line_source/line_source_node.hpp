@@ -18,14 +18,14 @@
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/bus/sample_batcher.hpp"
 #include "lcmtypes/flow/flow_source.hpp"
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "producers/csv/conversion_options.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "producers/line_source/line_input.hpp"
 #include "producers/line_source/line_stream.hpp"
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 
 enum class TimeSource { kStream, kWall };
 
@@ -35,7 +35,7 @@ struct LineSourceOptions {
     TimeSource time = TimeSource::kStream;
     double drain_s = 0.2;  // [s] after end of input (without consumers answering)
     bool flow = false;     // read only while the consumers keep up (not for live streams)
-    SourceFlowOptions flow_options = SourceFlowOptions::Defaults();
+    process::SourceFlowOptions flow_options = process::SourceFlowOptions::Defaults();
     csv::ConversionOptions conversion = csv::ConversionOptions::Defaults();
     static LineSourceOptions Defaults() { return {}; }
     std::string Validate() const;
@@ -49,7 +49,7 @@ public:
 
     // In-process use (tests over memq://): the node's bus, to subscribe to what it publishes
     // (Handle it after Run() for the last messages), and its counts.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     int64_t rows_published() const { return published_rows_; }
     int64_t bad_lines() const { return bad_lines_; }
 
@@ -61,11 +61,11 @@ private:
 
     LineSourceOptions options_;
     std::unique_ptr<LineInput> input_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     LineStream stream_;
     csv::MessageBuilder builder_;
-    SampleBatcher batcher_;
+    bus::SampleBatcher batcher_;
     std::unique_ptr<flow::FlowSource> flow_;  // --flow
     int64_t last_utime_ = 0;
     int64_t published_rows_ = 0;
@@ -75,4 +75,4 @@ private:
     std::string fatal_;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

@@ -2,7 +2,7 @@
 
 #include "producers/csv/fields.hpp"
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 
 LineStream::LineStream(std::string name, sensor::TempTransfer transfer)
     : name_(std::move(name)), transfer_(transfer) {}
@@ -50,4 +50,4 @@ LineOutcome LineStream::Feed(const InputLine& line) {
     return out;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

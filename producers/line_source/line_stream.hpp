@@ -12,7 +12,7 @@
 #include "producers/csv/row_parser.hpp"
 #include "producers/line_source/line_input.hpp"
 
-namespace gyrocal {
+namespace gyrocal::line_source {
 
 struct LineOutcome {
     enum class Kind { kIgnored, kHeader, kRow, kBad, kFatal };
@@ -41,4 +41,4 @@ private:
     bool fatal_ = false;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::line_source

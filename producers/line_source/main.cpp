@@ -7,9 +7,9 @@
 #include <cstring>
 #include <iostream>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "producers/line_source/line_source_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -41,46 +41,50 @@ not a valid header; 2 bad options (out-of-range value, unknown preset, unopenabl
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    LineSourceOptions o = LineSourceOptions::Defaults();
+    line_source::LineSourceOptions o = line_source::LineSourceOptions::Defaults();
     CLI::App app{"gyrocal-line-source: publish a live CSV line stream onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("--device", o.device, "serial device or FIFO to read (default: stdin)");
-    csv::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
     std::string time = "stream";
     app.add_option("--time", time, "stream|wall: where utime comes from (default stream)");
-    csv::AddConversionOptions(
+    producer_cli::AddConversionOptions(
         app, o.conversion, "utime [us] of time_s = 0 with --time stream (default 1e15), 0..4e18");
     app.add_option("--drain-s", o.drain_s, "wait after end of input before exit [s] (default 0.2)");
     app.add_flag("--flow", o.flow,
                  "not a live stream: read only as fast as every consumer keeps up (flow control; "
                  "a fast writer is held back by its pipe); needs --time stream");
-    AddSourceFlowOptions(app, o.flow_options);
+    process::AddSourceFlowOptions(app, o.flow_options);
     const auto validate = [&] {
-        const std::string err = csv::Choose(
-            "--time", time, {{"stream", TimeSource::kStream}, {"wall", TimeSource::kWall}}, o.time);
+        const std::string err = producer_cli::Choose("--time", time,
+                                                     {{"stream", line_source::TimeSource::kStream},
+                                                      {"wall", line_source::TimeSource::kWall}},
+                                                     o.time);
         return err.empty() ? o.Validate() : err;
     };
-    if (auto exit_code = ParseCommandLine(app, argc, argv, "gyrocal-line-source", validate))
+    if (auto exit_code =
+            process::ParseCommandLine(app, argc, argv, "gyrocal-line-source", validate))
         return *exit_code;
-    InstallStopHandlers();  // before a FIFO open that may wait for its writer
+    process::InstallStopHandlers();  // before a FIFO open that may wait for its writer
     int fd = 0;
     std::string name = "stdin";
     if (!o.device.empty()) {
         fd = open(o.device.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC);
         if (fd < 0) {
-            if (errno == EINTR && StopRequested()) return 0;
-            PrintError("gyrocal-line-source", "--device '" + o.device +
-                                                  "' cannot be opened: " + std::strerror(errno) +
-                                                  "; give a readable serial device, FIFO or file");
+            if (errno == EINTR && process::StopRequested()) return 0;
+            process::PrintError("gyrocal-line-source",
+                                "--device '" + o.device +
+                                    "' cannot be opened: " + std::strerror(errno) +
+                                    "; give a readable serial device, FIFO or file");
             return 2;
         }
         name = o.device;
     }
     try {
-        LineSourceNode node(o, std::make_unique<LineInput>(fd, name));
+        line_source::LineSourceNode node(o, std::make_unique<line_source::LineInput>(fd, name));
         return node.Run();
     } catch (const std::exception& e) {
-        PrintError("gyrocal-line-source", e.what());
+        process::PrintError("gyrocal-line-source", e.what());
         return 1;
     }
 }

@@ -1,6 +1,6 @@
 #include "producers/log_source/lcm_log.hpp"
 
-namespace gyrocal::lcmlog {
+namespace gyrocal::log_source {
 
 namespace {
 
@@ -58,4 +58,4 @@ std::optional<Event> LogReader::Next() {
     return e;
 }
 
-}  // namespace gyrocal::lcmlog
+}  // namespace gyrocal::log_source

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace gyrocal::lcmlog {
+namespace gyrocal::log_source {
 
 inline constexpr uint32_t kSyncWord = 0xEDA1DA01;
 // Limits that only a damaged file exceeds: a channel name of LCM's own maximum, and a message
@@ -46,4 +46,4 @@ private:
     int64_t offset_ = 0;
 };
 
-}  // namespace gyrocal::lcmlog
+}  // namespace gyrocal::log_source

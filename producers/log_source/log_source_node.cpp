@@ -4,11 +4,11 @@
 #include <iostream>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal {
+namespace gyrocal::log_source {
 
 namespace {
 constexpr const char* kProcess = "gyrocal-log-source";
@@ -37,7 +37,7 @@ std::string LogSourceOptions::Validate() const {
 int64_t CheckLog(const std::string& file) {
     std::ifstream in(file, std::ios::binary);
     if (!in) throw std::runtime_error("--file '" + file + "' cannot be opened");
-    lcmlog::LogReader reader(in, file);
+    log_source::LogReader reader(in, file);
     int64_t n = 0;
     while (reader.Next()) ++n;
     return n;
@@ -48,7 +48,7 @@ LogSourceNode::LogSourceNode(const LogSourceOptions& options, int64_t events)
       channels_(options.channels),
       in_(options.file, std::ios::binary),
       reader_(in_, options.file),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
       events_total_(events) {
     if (!in_) throw std::runtime_error("--file '" + options.file + "' cannot be read again");
@@ -61,7 +61,7 @@ LogSourceNode::LogSourceNode(const LogSourceOptions& options, int64_t events)
 void LogSourceNode::Fetch() {
     next_.reset();
     try {
-        while (std::optional<lcmlog::Event> e = reader_.Next()) {
+        while (std::optional<log_source::Event> e = reader_.Next()) {
             if (IsFlowControl(e->channel) || !std::regex_match(e->channel, channels_)) {
                 ++skipped_;
                 continue;
@@ -69,12 +69,12 @@ void LogSourceNode::Fetch() {
             next_ = std::move(e);
             return;
         }
-    } catch (const lcmlog::LogError& e) {
+    } catch (const log_source::LogError& e) {
         error_ = e.what();  // the file changed since it was checked
     }
 }
 
-void LogSourceNode::Publish(const lcmlog::Event& e) {
+void LogSourceNode::Publish(const log_source::Event& e) {
     if (first_utime_ < 0) first_utime_ = e.utime;
     last_utime_ = e.utime;
     if (bus_.PublishRaw(e.channel, e.data.data(), static_cast<int>(e.data.size()))) ++published_;
@@ -131,12 +131,12 @@ bool LogSourceNode::Step() {
 }
 
 int LogSourceNode::Run() {
-    RunLoop(
+    process::RunLoop(
         bus_, status_, [this] { return Step(); }, std::chrono::milliseconds(0));
     std::cerr << kProcess << ": published " << published_ << " of " << events_total_
               << " events from " << options_.file << " (" << skipped_ << " not on --channels "
               << "or flow control)";
-    if (StopRequested() && next_) std::cerr << "; stopped by signal";
+    if (process::StopRequested() && next_) std::cerr << "; stopped by signal";
     std::cerr << "\n";
     if (!error_.empty()) {
         std::cerr << kProcess << ": error: " << error_ << "\n";
@@ -150,4 +150,4 @@ int LogSourceNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::log_source

@@ -20,11 +20,11 @@
 
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/flow/flow_source.hpp"
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "producers/log_source/lcm_log.hpp"
 
-namespace gyrocal {
+namespace gyrocal::log_source {
 
 struct LogSourceOptions {
     std::string file;
@@ -33,13 +33,13 @@ struct LogSourceOptions {
     bool max = false;             // as fast as the consumers keep up
     std::string channels = ".*";  // regex (ECMAScript, whole name) of the channels to publish
     double drain_s = 0.5;         // [s] after the last event, without consumers answering
-    SourceFlowOptions flow = SourceFlowOptions::Defaults();
+    process::SourceFlowOptions flow = process::SourceFlowOptions::Defaults();
     static LogSourceOptions Defaults() { return {}; }
     std::string Validate() const;  // "" or one line naming the option and what is valid
 };
 
 // The first pass: every event header of the file read and its data skipped. Returns the number
-// of events; throws lcmlog::LogError naming the offset of the first damage.
+// of events; throws log_source::LogError naming the offset of the first damage.
 int64_t CheckLog(const std::string& file);
 
 class LogSourceNode {
@@ -50,23 +50,23 @@ public:
     int Run();
     // The node's bus: tests subscribe to it over memq:// (Handle it after Run() for the last
     // messages).
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
     int64_t published() const { return published_; }
 
 private:
     using Clock = std::chrono::steady_clock;
     bool Step();  // true when finished
-    void Publish(const lcmlog::Event& e);
+    void Publish(const log_source::Event& e);
     void Fetch();  // the next event to publish (skipping filtered channels) into next_
 
     LogSourceOptions options_;
     std::regex channels_;
     std::ifstream in_;
-    lcmlog::LogReader reader_;
-    Bus bus_;
-    StatusReporter status_;
+    log_source::LogReader reader_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     std::unique_ptr<flow::FlowSource> flow_;
-    std::optional<lcmlog::Event> next_;
+    std::optional<log_source::Event> next_;
     int64_t events_total_ = 0, published_ = 0, skipped_ = 0;
     int64_t first_utime_ = -1, last_utime_ = 0;
     bool started_ = false;
@@ -74,4 +74,4 @@ private:
     std::string error_;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::log_source

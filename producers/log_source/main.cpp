@@ -3,9 +3,9 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "producers/log_source/log_source_node.hpp"
 #include "producers/producer_cli/producer_cli.hpp"
 
@@ -30,26 +30,26 @@ publish failure; 2 bad options (unknown option, out-of-range value, unreadable f
 
 int main(int argc, char** argv) {
     using namespace gyrocal;
-    LogSourceOptions o = LogSourceOptions::Defaults();
+    log_source::LogSourceOptions o = log_source::LogSourceOptions::Defaults();
     CLI::App app{"gyrocal-log-source: publish an LCM log onto the gyrocal bus"};
     app.footer(kFooter);
     app.add_option("file,--file", o.file, "LCM log file (lcm-logger's)")->required();
-    csv::AddLcmUrlOption(app, o.lcm_url);
-    AddPacingOptions(app, o.speed, o.max,
-                     "recorded seconds per wall second, > 0 (default 1 = as recorded)");
+    producer_cli::AddLcmUrlOption(app, o.lcm_url);
+    process::AddPacingOptions(app, o.speed, o.max,
+                              "recorded seconds per wall second, > 0 (default 1 = as recorded)");
     app.add_option("--channels", o.channels,
                    "regular expression of the channels to publish, the whole name (default .*)");
     app.add_option("--drain-s", o.drain_s,
                    "wait after the last event before exit [s] (default 0.5)");
-    AddSourceFlowOptions(app, o.flow);
+    process::AddSourceFlowOptions(app, o.flow);
     app.remove_option(app.get_option("--batch-samples"));  // events go out as recorded
-    if (auto exit_code =
-            ParseCommandLine(app, argc, argv, "gyrocal-log-source", [&] { return o.Validate(); }))
+    if (auto exit_code = process::ParseCommandLine(app, argc, argv, "gyrocal-log-source",
+                                                   [&] { return o.Validate(); }))
         return *exit_code;
     int64_t events = 0;
     try {
-        events = CheckLog(o.file);
-    } catch (const lcmlog::LogError& e) {
+        events = log_source::CheckLog(o.file);
+    } catch (const log_source::LogError& e) {
         std::cerr << "gyrocal-log-source: error: " << e.what()
                   << "\ngyrocal-log-source: nothing published\n";
         return 1;
@@ -57,9 +57,9 @@ int main(int argc, char** argv) {
         std::cerr << "gyrocal-log-source: " << e.what() << "; give a readable LCM log file\n";
         return 2;
     }
-    InstallStopHandlers();
+    process::InstallStopHandlers();
     try {
-        LogSourceNode node(o, events);
+        log_source::LogSourceNode node(o, events);
         return node.Run();
     } catch (const std::exception& e) {
         std::cerr << "gyrocal-log-source: error: " << e.what() << "\n";

@@ -1,15 +1,15 @@
 #include "producers/producer_cli/producer_cli.hpp"
 
-#include "lcmtypes/runtime/renamed_option.hpp"
+#include "lcmtypes/process/renamed_option.hpp"
 
-namespace gyrocal::csv {
+namespace gyrocal::producer_cli {
 
 void AddLcmUrlOption(CLI::App& app, std::string& lcm_url) {
     app.add_option("--lcm-url", lcm_url,
                    "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
 }
 
-void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
+void AddConversionOptions(CLI::App& app, csv::ConversionOptions& conversion,
                           const std::string& start_utime_help) {
     app.add_option("--start-utime", conversion.start_utime, start_utime_help);
     app.add_option("--preset", conversion.preset,
@@ -19,9 +19,9 @@ void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
     CLI::Option* slope = app.add_option("--temp-v-per-c", conversion.temp_v_per_c,
                                         "temperature output slope [V/degC] (preset: 0.009), > 0 "
                                         "and <= 1");
-    AddOldOptionName<double>(app, slope, "--temp-v-per-k", conversion.temp_v_per_c);
+    process::AddOldOptionName<double>(app, slope, "--temp-v-per-k", conversion.temp_v_per_c);
     app.add_option("--encoder-counts-per-rev", conversion.encoder_counts_per_rev,
                    "encoder counts per revolution incl. quadrature (default 20000), >= 1");
 }
 
-}  // namespace gyrocal::csv
+}  // namespace gyrocal::producer_cli

@@ -8,7 +8,7 @@
 
 #include "producers/csv/conversion_options.hpp"
 
-namespace gyrocal::csv {
+namespace gyrocal::producer_cli {
 
 // --lcm-url: the LCM provider ("" = $GYROCAL_LCM_URL, else the default).
 void AddLcmUrlOption(CLI::App& app, std::string& lcm_url);
@@ -16,7 +16,7 @@ void AddLcmUrlOption(CLI::App& app, std::string& lcm_url);
 // --start-utime (`start_utime_help`: what time_s = 0 means differs per source), --preset,
 // --temp-v-at-25c, --temp-v-per-c (also as its old name --temp-v-per-k, hidden),
 // --encoder-counts-per-rev.
-void AddConversionOptions(CLI::App& app, ConversionOptions& conversion,
+void AddConversionOptions(CLI::App& app, csv::ConversionOptions& conversion,
                           const std::string& start_utime_help);
 
 // Sets `value` to the choice named `text`: "" when found, else the one-line error naming
@@ -35,4 +35,4 @@ std::string Choose(const std::string& option, const std::string& text,
     return option + " '" + text + "' is unknown; valid: " + valid;
 }
 
-}  // namespace gyrocal::csv
+}  // namespace gyrocal::producer_cli

@@ -4,7 +4,7 @@
 #include <initializer_list>
 #include <string>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::sim {

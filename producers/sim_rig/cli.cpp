@@ -6,12 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/renamed_option.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/renamed_option.hpp"
 #include "producers/sim/builtin_profile.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 namespace {
 
@@ -78,7 +78,7 @@ CLI::Option* AddShown(CLI::App& app, const std::string& name, T& value, const st
 template <class T>
 void AddRenamed(CLI::App& app, const std::string& name, const std::string& old_name, T& value,
                 const std::string& help) {
-    AddOldOptionName<T>(app, AddShown(app, name, value, help), old_name, value);
+    process::AddOldOptionName<T>(app, AddShown(app, name, value, help), old_name, value);
 }
 
 // How the process runs: bus, pacing, truth file and seeds.
@@ -95,7 +95,7 @@ void AddRunOptions(CLI::App& app, SimRigOptions& o, RawOptions& raw) {
     AddShown(app, "--max-msgs-per-s", o.max_msgs_per_s,
              "publication cap in messages per wall second (0 = none); past it the simulation "
              "slows down rather than flood subscribers");
-    AddSourceFlowOptions(app, o.flow);
+    process::AddSourceFlowOptions(app, o.flow);
     app.add_option("--truth-out", o.truth_out, "write the truth sidecar JSON to this file");
     AddShown(app, "--seed", raw.seed, "random seed: same seed, same output");
     AddShown(app, "--noise-seed", raw.noise_seed,
@@ -263,8 +263,8 @@ std::optional<int> ParseInto(CLI::App& app, int argc, char** argv, SimRigOptions
     AddHardwareOptions(app, o.rig);
     AddShapeAndProfileOptions(app, o, raw);
     app.footer(kFooter);
-    return ParseCommandLine(app, argc, argv, "gyrocal-sim-rig",
-                            [&] { return ResolveOptions(raw, o); });
+    return process::ParseCommandLine(app, argc, argv, "gyrocal-sim-rig",
+                                     [&] { return ResolveOptions(raw, o); });
 }
 
 }  // namespace
@@ -279,4 +279,4 @@ std::optional<int> ParseSimRigOptions(int argc, char** argv, SimRigOptions& opti
     return ParseInto(app, argc, argv, options);
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

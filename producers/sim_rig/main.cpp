@@ -4,31 +4,32 @@
 #include <iostream>
 #include <string>
 
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "producers/sim_rig/cli.hpp"
 #include "producers/sim_rig/rig_node.hpp"
 #include "producers/sim_rig/truth_file.hpp"
 
 int main(int argc, char** argv) {
-    gyrocal::SimRigOptions options = gyrocal::SimRigOptions::Defaults();
-    if (const auto exit_code = gyrocal::ParseSimRigOptions(argc, argv, options)) return *exit_code;
+    gyrocal::sim_rig::SimRigOptions options = gyrocal::sim_rig::SimRigOptions::Defaults();
+    if (const auto exit_code = gyrocal::sim_rig::ParseSimRigOptions(argc, argv, options))
+        return *exit_code;
     if (!options.truth_out.empty()) {
         std::string error;
-        if (!gyrocal::WriteTruthFile(options.truth_out, options, error)) {
-            gyrocal::PrintError("gyrocal-sim-rig", error);
+        if (!gyrocal::sim_rig::WriteTruthFile(options.truth_out, options, error)) {
+            gyrocal::process::PrintError("gyrocal-sim-rig", error);
             return 2;
         }
     }
-    gyrocal::InstallStopHandlers();
+    gyrocal::process::InstallStopHandlers();
     try {
-        gyrocal::SimRigNode node(options);
+        gyrocal::sim_rig::SimRigNode node(options);
         return node.Run();
     } catch (const gyrocal::sim::ConfigError& e) {
-        gyrocal::PrintError("gyrocal-sim-rig", e.what());
+        gyrocal::process::PrintError("gyrocal-sim-rig", e.what());
         return 2;
     } catch (const std::exception& e) {
-        gyrocal::PrintError("gyrocal-sim-rig", e.what());
+        gyrocal::process::PrintError("gyrocal-sim-rig", e.what());
         return 1;
     }
 }

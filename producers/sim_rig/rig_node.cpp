@@ -8,9 +8,9 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 namespace {
 const char* kProcess = "gyrocal-sim-rig";
@@ -25,7 +25,7 @@ constexpr int64_t kPowerRepeatUs = 10'000'000;
 
 SimRigNode::SimRigNode(const SimRigOptions& options)
     : options_(options),
-      bus_(BusOptions{options.lcm_url}),
+      bus_(bus::BusOptions{options.lcm_url}),
       status_(bus_, kProcess),
       rig_(options.rig),
       batcher_(bus_, options.flow.batch_samples) {
@@ -217,7 +217,7 @@ int SimRigNode::Run() {
     status_.set_state(profile_ ? "builtin" : "commanded");
     const auto poll =
         std::chrono::milliseconds(std::max<int64_t>(1, std::llround(options_.tick_ms)));
-    RunLoop(
+    process::RunLoop(
         bus_, status_, [this] { return Advance(); }, poll);
     batcher_.Flush();
     // Finished on its own: every consumer has everything before the process goes.
@@ -227,4 +227,4 @@ int SimRigNode::Run() {
     return 0;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

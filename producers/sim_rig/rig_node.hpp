@@ -23,12 +23,12 @@
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/bus/sample_batcher.hpp"
 #include "lcmtypes/flow/flow_source.hpp"
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "producers/sim/builtin_profile.hpp"
 #include "producers/sim/rig.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 struct SimRigOptions {
     std::string lcm_url;              // "" = $GYROCAL_LCM_URL or the default
@@ -38,7 +38,8 @@ struct SimRigOptions {
     std::string truth_out;            // truth sidecar JSON; "" = none
     double tick_ms = 5.0;             // [ms] wall time between publication batches
     double max_msgs_per_s = 30000.0;  // [1/s] wall-clock publication cap; 0 = none
-    SourceFlowOptions flow = SourceFlowOptions::Defaults();  // --speed 0; batching always
+    process::SourceFlowOptions flow =
+        process::SourceFlowOptions::Defaults();  // --speed 0; batching always
     sim::RigConfig rig = sim::RigConfig::Defaults();
     sim::ProfileConfig profile = sim::ProfileConfig::Defaults();
     static SimRigOptions Defaults() { return {}; }
@@ -52,7 +53,7 @@ public:
     int Run();
     // The node's bus: tests publish commands to it and subscribe to it over memq:// (Handle it
     // after Run() for the last messages).
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
 
 private:
     // Guard: a built-in profile drives the rig itself; a command on the bus (`what`, e.g.
@@ -71,12 +72,12 @@ private:
     void PublishPower(int64_t utime);
 
     SimRigOptions options_;
-    Bus bus_;
-    StatusReporter status_;
+    bus::Bus bus_;
+    process::StatusReporter status_;
     sim::Rig rig_;
     std::optional<sim::BuiltinProfile> profile_;
     std::vector<std::string> gyro_channels_;
-    SampleBatcher batcher_;
+    bus::SampleBatcher batcher_;
     std::unique_ptr<flow::FlowSource> flow_;  // --speed 0
     int64_t power_seq_ = 0;
     int64_t next_power_utime_ = 0;  // [us] sim time of the next POWER_<id> repeat
@@ -85,4 +86,4 @@ private:
     bool finished_ = false;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

@@ -5,7 +5,7 @@
 
 #include "producers/sim/truth.hpp"
 
-namespace gyrocal {
+namespace gyrocal::sim_rig {
 
 bool WriteTruthFile(const std::string& path, const SimRigOptions& o, std::string& error) {
     // Written before the first sample, atomically (temp file + rename), so a reader never sees
@@ -34,4 +34,4 @@ bool WriteTruthFile(const std::string& path, const SimRigOptions& o, std::string
     return true;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::sim_rig

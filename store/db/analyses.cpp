@@ -7,7 +7,7 @@
 #include "store/db/schema.hpp"
 #include "store/db/utc_text.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 void InsertModel(Db& db, int64_t coeff_row_id, const char* role, const ModelRow& m) {
@@ -182,4 +182,4 @@ std::vector<AnalysisRow> ListAnalyses(Db& db, const std::string& run_id,
     return out;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -1,7 +1,7 @@
 #pragma once
 // Closed-loop analyses stored with their run (table `analyses`, view `v_analyses`), and
 // coefficient sets stored directly (not heard on the bus), e.g. the extended model an analysis
-// produced. SQLite only; the model-typed overloads are in model_rows.hpp (gyrocal_store_model).
+// produced. SQLite only; the model-typed overloads are in model_rows.hpp (gyrocal_db).
 //
 // Once per key: a coefficient set is identified by (run_id, sensor_id, coeff_set_id, source).
 // Storing one that is already there (the analysis stored it directly and then published it,
@@ -18,7 +18,7 @@
 #include "store/db/rows.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // One analysis of one sensor of a run. Figures are NaN (stored NULL) when not computed.
 struct AnalysisRow {
@@ -87,4 +87,4 @@ struct CoeffInsert {
 };
 CoeffInsert InsertCoeffSetOnce(Db& db, const CoeffSetRow& set);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

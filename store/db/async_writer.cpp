@@ -3,7 +3,7 @@
 #include <array>
 #include <map>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 namespace {
 
@@ -197,4 +197,4 @@ bool AsyncWriter::TryWrite(const std::vector<Row>& batch, const LossMap& losses,
     return true;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -35,7 +35,7 @@
 #include "store/db/rows.hpp"
 #include "store/db/writer.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 struct AsyncWriterOptions {
     size_t queue_rows = 100000;  // rows held in memory (queued or waiting) before Push() drops
@@ -110,4 +110,4 @@ private:
 // "R1 gyro_samples 4000, R1 status 12": the rows by run and table, for messages.
 std::string SummarizeRows(const std::vector<Row>& rows);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -14,7 +14,7 @@
 
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 inline constexpr int64_t kRunKeyScale = 1'000'000'000'000;  // 10^12 station rows per run key
 
@@ -69,4 +69,4 @@ std::string CentralStep(int from_version);
 // quoted names and comments left alone).
 std::string ToDollarParams(const std::string& sql);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

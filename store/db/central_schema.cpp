@@ -20,7 +20,7 @@
 #include "store/db/pg_connection.hpp"
 #include "store/db/schema.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 constexpr const char* kCompat = R"sql(
@@ -258,4 +258,4 @@ CentralStatus ReadCentralStatus(const std::string& url) {
     return s;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

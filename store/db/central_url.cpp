@@ -3,7 +3,7 @@
 #include <cctype>
 #include <vector>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 constexpr const char* kMask = "***";
@@ -131,4 +131,4 @@ std::string WithoutCredentialsIn(const std::string& text) {
     return out;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

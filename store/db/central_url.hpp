@@ -8,7 +8,7 @@
 // WithoutCredentials, and error text from the server through RedactCredentials.
 #include <string>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // True for "postgresql://..." and "postgres://..." (what libpq takes as a URI).
 bool IsCentralUrl(const std::string& s);
@@ -25,4 +25,4 @@ std::string RedactCredentials(const std::string& text, const std::string& url);
 // postgresql://... token is passed through WithoutCredentials.
 std::string WithoutCredentialsIn(const std::string& text);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // The start of a statement on one line (whitespace runs collapsed, cut at 100 characters with
 // "..."): how a failure of either engine names its statement.
@@ -49,4 +49,4 @@ public:
     virtual void Rollback() = 0;
 };
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -1,6 +1,6 @@
 #include "store/db/fit_query.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 namespace {
 
@@ -85,4 +85,4 @@ std::vector<NoiseInfo> RunNoise(Db& db, const std::string& run_id) {
     return out;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -9,7 +9,7 @@
 #include "store/db/rows.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 struct FitReportInfo {
     int64_t fit_report_row_id = 0;
@@ -28,4 +28,4 @@ std::vector<FitReportInfo> RunFitReports(Db& db, const std::string& run_id);
 // The newest noise estimate of each sensor of a run (v_noise), by sensor.
 std::vector<NoiseInfo> RunNoise(Db& db, const std::string& run_id);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -4,12 +4,12 @@
 
 #include "processors/model/inputs.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 void CheckModels(const model::CoeffSet& set) {
     for (const model::Model* m : {&set.offset, &set.sensitivity}) {
-        const std::string problem = model::Problem(*m);
+        const std::string problem = model::Validate(*m);
         if (!problem.empty()) throw model::ModelError("coefficient set: " + problem);
     }
 }
@@ -65,21 +65,21 @@ model::CoeffSet ToCoeffSet(const CoeffSetRow& r) {
 }
 
 StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const model::CoeffSet* extended) {
-    if (!extended) return store::StoreAnalysis(db, row, static_cast<const CoeffSetRow*>(nullptr));
+    if (!extended) return db::StoreAnalysis(db, row, static_cast<const CoeffSetRow*>(nullptr));
     CheckModels(*extended);
     const CoeffSetRow set = ToCoeffSetRow(*extended, 0);
-    return store::StoreAnalysis(db, row, &set);
+    return db::StoreAnalysis(db, row, &set);
 }
 
 StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const gyrocal::coeff_set_t* extended) {
-    if (!extended) return store::StoreAnalysis(db, row, static_cast<const CoeffSetRow*>(nullptr));
+    if (!extended) return db::StoreAnalysis(db, row, static_cast<const CoeffSetRow*>(nullptr));
     const model::CoeffSet set = model::FromMsg(*extended);
     return StoreAnalysis(db, row, &set);
 }
 
 int64_t StoreCoeffSet(Db& db, const model::CoeffSet& set, int64_t recv_utime) {
     CheckModels(set);
-    return store::StoreCoeffSet(db, ToCoeffSetRow(set, recv_utime));
+    return db::StoreCoeffSet(db, ToCoeffSetRow(set, recv_utime));
 }
 
 int64_t StoreCoeffSet(Db& db, const gyrocal::coeff_set_t& set, int64_t recv_utime) {
@@ -97,4 +97,4 @@ std::optional<double> SteadyStateValue(const ModelRow& m, double temp_c) {
     }
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

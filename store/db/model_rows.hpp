@@ -2,8 +2,8 @@
 // The bridge between the store's rows and the shared model library (processors/model): the
 // conversions, the model-typed ways to store an analysis and a coefficient set, and the
 // evaluation of a stored model by THE evaluator (model::Evaluator), so the history, the exports
-// and every other consumer compute the same number. Library gyrocal_store_model (links
-// gyrocal_store and gyrocal_model; no LCM runtime, only the generated message structs).
+// and every other consumer compute the same number. Library gyrocal_db (links
+// gyrocal_db and gyrocal_model; no LCM runtime, only the generated message structs).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -14,10 +14,10 @@
 #include "store/db/analyses.hpp"
 #include "store/db/rows.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 ModelRow ToModelRow(const model::Model& m);
-// No validation here: model::Evaluator (or model::Problem) says whether the model is usable.
+// No validation here: model::Evaluator (or model::Validate) says whether the model is usable.
 model::Model ToModel(const ModelRow& m);
 
 // recv_utime [us]: wall clock recorded with the set (<= 0 = when it is stored).
@@ -29,9 +29,9 @@ model::CoeffSet ToCoeffSet(const CoeffSetRow& row);
 // What `gyrocal analyze` calls to keep its result: the analysis row and, when
 // given, its extended model as a coefficient set with source "analysis:<analysis_id>" (the
 // returned `source`; set it on the coeff_set_t before publishing it for a live compensator, the
-// recorder then keeps it once). Both models are checked with model::Problem first; a model that
+// recorder then keeps it once). Both models are checked with model::Validate first; a model that
 // is not usable throws model::ModelError and nothing is written. Other failures: see
-// store::StoreAnalysis (NotFound for an unknown run, StoreError).
+// db::StoreAnalysis (NotFound for an unknown run, StoreError).
 StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const model::CoeffSet* extended);
 StoredAnalysis StoreAnalysis(Db& db, const AnalysisRow& row, const gyrocal::coeff_set_t* extended);
 
@@ -45,4 +45,4 @@ int64_t StoreCoeffSet(Db& db, const gyrocal::coeff_set_t& set, int64_t recv_utim
 // valid range; nullopt when the model is not usable (unknown term, no terms, bad range ...).
 std::optional<double> SteadyStateValue(const ModelRow& m, double temp_c);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

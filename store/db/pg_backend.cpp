@@ -13,7 +13,7 @@
 #include "store/db/pg_connection.hpp"
 #include "store/db/schema.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 // True for a statement that may return a run's worth of rows: it reads a table of samples (the
@@ -360,4 +360,4 @@ std::unique_ptr<Db> OpenCentralForQuery(const std::string& url) {
     return std::make_unique<Db>(name, std::move(backend));
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -4,7 +4,7 @@
 
 #include "store/db/central_url.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 // The URL with a connect timeout, unless it or the environment already sets one: an unreachable
@@ -76,4 +76,4 @@ int CentralSchemaVersion(pqxx::transaction_base& tx) {
     return v.empty() ? 0 : std::atoi(v[0][0].c_str());
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -8,7 +8,7 @@
 
 #include "store/db/central_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 class CentralConnection {
 public:
@@ -37,4 +37,4 @@ std::string OneLine(const std::string& message);
 // gyrocal schema; -1 when it holds tables but none of gyrocal's (not a gyrocal database).
 int CentralSchemaVersion(pqxx::transaction_base& tx);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -13,7 +13,7 @@
 #include "store/db/schema.hpp"
 #include "store/db/utc_text.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 // A run refused on its own (the others go on).
@@ -257,4 +257,4 @@ PushReport Push(const PushOptions& o) {
     return report;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 struct PushOptions {
     std::string station_db;            // the station's SQLite file
@@ -75,4 +75,4 @@ bool WaitUntilEnded(const std::string& station_db, const std::string& run_id, do
 std::vector<std::string> RunsToPush(const std::string& station_db, const std::string& central_url,
                                     bool include_open);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

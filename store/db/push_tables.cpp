@@ -7,7 +7,7 @@
 
 #include "store/db/central_db.hpp"
 
-namespace gyrocal::store::push {
+namespace gyrocal::db::push {
 namespace {
 
 struct Known {
@@ -445,4 +445,4 @@ void CopyTable(const Table& t, RunCopy& run) {
     }
 }
 
-}  // namespace gyrocal::store::push
+}  // namespace gyrocal::db::push

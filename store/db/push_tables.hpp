@@ -11,7 +11,7 @@
 
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store::push {
+namespace gyrocal::db::push {
 
 // Which of a table's rows are a run's.
 enum class Scope {
@@ -72,4 +72,4 @@ void LoadWatermarks(const std::vector<Table>& tables, RunCopy& run);
 // Sends the run's rows of `t` that the centre does not have yet.
 void CopyTable(const Table& t, RunCopy& run);
 
-}  // namespace gyrocal::store::push
+}  // namespace gyrocal::db::push

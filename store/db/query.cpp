@@ -9,7 +9,7 @@
 #include "store/db/central_url.hpp"
 #include "store/db/schema.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 // Column list shared by GetRun/ListRuns; the counts use the (run_id, ...) indexes.
@@ -423,4 +423,4 @@ std::vector<ProvenanceItem> CoeffProvenance(Db& db, int64_t coeff_row_id) {
     return out;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -13,7 +13,7 @@
 #include "store/db/rows.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // Thrown when a run or sensor named by the user is not in the database.
 class NotFound : public StoreError {
@@ -115,4 +115,4 @@ inline constexpr const char* kRunEventColumns =
 // Reads kRunEventColumns from column `first` on (recv_utime is left 0).
 RunEventRow ReadRunEvent(const Stmt& s, int first);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -2,7 +2,7 @@
 
 #include "store/db/query.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // One table's rows of a run in insertion (= reception) order.
 struct ReplayReader::Cursor {
@@ -113,4 +113,4 @@ std::optional<Row> ReplayReader::Next() {
     return r;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -8,7 +8,7 @@
 #include "store/db/rows.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // Streams the replayable messages of a run (gyro, encoder, chamber state, run events, power) in
 // reception order (merged by recv_utime). Throws NotFound.
@@ -28,4 +28,4 @@ private:
     std::vector<std::unique_ptr<Cursor>> cursors_;
 };
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -8,7 +8,7 @@
 #include <variant>
 #include <vector>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 struct GyroRow {
     std::string run_id, sensor_id;
@@ -226,4 +226,4 @@ using Row =
                  PlateauStateRow, PlateauRow, SensitivityRow, CoeffSetRow, RateRow, StatusRow,
                  RunEventRow, RawEventRow, PowerStateRow, NoiseRow, FitReportRow, ClosedLoopRow>;
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -5,7 +5,7 @@
 #include <string_view>
 #include <thread>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 // v0 -> v1. Columns carry their unit in the name; NaN is stored as NULL.
@@ -561,4 +561,4 @@ void Migrate(Db& db, int target_version) {
     }
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -22,7 +22,7 @@
 
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 inline constexpr int kSchemaVersion = 9;
 
@@ -39,4 +39,4 @@ std::string_view SchemaStep(int from_version);
 // refuses a row because its run is unknown).
 void ConfigureConnection(Db& db);
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -7,7 +7,7 @@
 
 #include "store/db/db_backend.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 bool IsStorageFault(int code) {
     switch (code & 0xff) {
@@ -304,4 +304,4 @@ void Transaction::Commit() {
     done_ = true;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -19,7 +19,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 class StoreError : public std::runtime_error {
 public:
@@ -180,4 +180,4 @@ private:
     bool done_ = false;
 };
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <ctime>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 int64_t WallUtimeNow() {
     return std::chrono::duration_cast<std::chrono::microseconds>(
@@ -21,4 +21,4 @@ std::string UtcText(std::optional<int64_t> utime) {
     return buf;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

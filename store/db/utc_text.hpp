@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // The UTC date and time of a wall-clock utime [us]; "-" when absent.
 std::string UtcText(std::optional<int64_t> utime);
@@ -12,4 +12,4 @@ std::string UtcText(std::optional<int64_t> utime);
 // Now on the wall clock [us since 1970]: what a row written without a time is stamped with.
 int64_t WallUtimeNow();
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

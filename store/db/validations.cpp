@@ -4,7 +4,7 @@
 #include "store/db/query.hpp"
 #include "store/db/utc_text.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 int64_t InsertValidation(Db& db, const ValidationRow& r) {
     if (r.sensor_id.empty()) throw StoreError("validation: sensor_id is empty");
@@ -47,4 +47,4 @@ std::vector<ValidationRow> ListValidations(Db& db, const std::string& run_id,
     return out;
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -9,7 +9,7 @@
 
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 struct ValidationRow {
     int64_t validation_id = 0;       // set by the database (ignored on insert)
@@ -36,4 +36,4 @@ int64_t InsertValidation(Db& db, const ValidationRow& row);
 std::vector<ValidationRow> ListValidations(Db& db, const std::string& run_id,
                                            const std::string& sensor_id = "");
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -14,7 +14,7 @@
 #include "store/db/central_url.hpp"
 #include "store/db/schema.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 namespace {
 
@@ -455,4 +455,4 @@ void StoreWriter::WriteCoeffSet(const CoeffSetRow& r) {
     InsertCoeffSetOnce(*db_, r);
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -26,7 +26,7 @@
 #include "store/db/rows.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 struct WriterInfo {
     std::string recorder_version;  // stored with each run the recorder sees start
@@ -96,4 +96,4 @@ private:
     int64_t session_id_ = -1;
 };
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

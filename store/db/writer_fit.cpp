@@ -5,7 +5,7 @@
 #include "store/db/analyses.hpp"
 #include "store/db/writer.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 void StoreWriter::WriteNoise(const NoiseRow& r) {
     Stmt s(*db_,
@@ -63,9 +63,9 @@ void StoreWriter::WriteFitReport(const FitReportRow& r) {
     }
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 
 // The fitter's closed loop: one analyses row per message, linked to the set it made when that set
 // is stored (the fitter publishes the set first, so it is in this batch or an earlier one).
@@ -99,4 +99,4 @@ void StoreWriter::WriteClosedLoop(const ClosedLoopRow& r) {
     InsertAnalysisRow(*db_, a);
 }
 
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -10,7 +10,7 @@
 #include "store/format/format.hpp"
 #include "store/format/format_util.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
 using namespace detail;
 
@@ -34,11 +34,11 @@ std::vector<double> Grid(const FleetOptions& o) {
 }
 
 // The unit's model evaluated on the grid, inside its valid range only.
-std::vector<std::optional<double>> Curve(const ModelRow& m, const std::vector<double>& grid) {
+std::vector<std::optional<double>> Curve(const db::ModelRow& m, const std::vector<double>& grid) {
     std::vector<std::optional<double>> out;
     for (double t : grid) {
         const bool inside = t >= m.temp_min_c - 1e-9 && t <= m.temp_max_c + 1e-9;
-        const auto v = inside ? SteadyStateValue(m, t) : std::nullopt;
+        const auto v = inside ? db::SteadyStateValue(m, t) : std::nullopt;
         out.push_back(v && std::isfinite(*v) ? v : std::nullopt);
     }
     return out;
@@ -310,4 +310,4 @@ std::vector<plot::Figure> FleetFigures(const std::vector<FleetGroup>& groups,
     return out;
 }
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

@@ -4,7 +4,7 @@
 // units' coefficient sets in, numbers, text, JSON and figures out.
 //
 // Each unit is represented by its newest coefficient set. Its curves are evaluated by the shared
-// evaluator at steady state (store::SteadyStateValue) on a temperature grid, only inside the
+// evaluator at steady state (db::SteadyStateValue) on a temperature grid, only inside the
 // set's valid range (an extrapolated curve is not a measurement). At each temperature the lot's
 // centre is the median over units and its spread the robust standard deviation 1.4826 x MAD
 // (median absolute deviation): one odd unit moves neither, so it cannot hide itself by widening
@@ -21,12 +21,12 @@
 #include "processors/plot/figure.hpp"
 #include "store/db/rows.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
 struct FleetUnit {
     std::string sensor_id, model, station, run_id;
     int64_t coeff_row_id = 0;
-    CoeffSetRow set;
+    db::CoeffSetRow set;
 };
 
 // The unit model a run's configuration (runs.config_json) gives a unit: "unit_models":
@@ -81,4 +81,4 @@ nlohmann::json FleetJson(const std::vector<FleetGroup>& groups, const FleetOptio
 std::vector<plot::Figure> FleetFigures(const std::vector<FleetGroup>& groups,
                                        const FleetOptions& options);
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

@@ -11,7 +11,7 @@
 #include "store/format/format_util.hpp"
 #include "store/format/show_fit.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
 using namespace detail;
 
@@ -76,7 +76,7 @@ std::optional<std::vector<double>> ParseTemps(const std::string& text) {
     return out;
 }
 
-std::string RunsTable(const std::vector<RunInfo>& runs) {
+std::string RunsTable(const std::vector<db::RunInfo>& runs) {
     // The station column only where runs came from stations (a central database).
     bool stations = false;
     for (const auto& r : runs) stations = stations || !r.station.empty();
@@ -88,7 +88,7 @@ std::string RunsTable(const std::vector<RunInfo>& runs) {
     for (const auto& r : runs) {
         std::vector<std::string> row = {RunLabel(r.run_id),
                                         r.outcome,
-                                        UtcText(r.first_recv_utime),
+                                        db::UtcText(r.first_recv_utime),
                                         Join(r.sensor_ids, ","),
                                         std::to_string(r.gyro_samples),
                                         std::to_string(r.plateaus),
@@ -104,7 +104,7 @@ std::string RunsTable(const std::vector<RunInfo>& runs) {
     return t.str();
 }
 
-static nlohmann::json RunJson(const RunInfo& r) {
+static nlohmann::json RunJson(const db::RunInfo& r) {
     nlohmann::json j;
     j["run_id"] = r.run_id;
     j["outcome"] = r.outcome;
@@ -132,7 +132,7 @@ static nlohmann::json RunJson(const RunInfo& r) {
     return j;
 }
 
-nlohmann::json RunsJson(const std::vector<RunInfo>& runs) {
+nlohmann::json RunsJson(const std::vector<db::RunInfo>& runs) {
     nlohmann::json a = nlohmann::json::array();
     for (const auto& r : runs) a.push_back(RunJson(r));
     return a;
@@ -171,14 +171,14 @@ static const ProvenanceSummary* FindProv(const std::vector<ProvenanceSummary>& p
 }
 
 // The run's identity, provenance and what was recorded.
-static void RunHeaderText(std::ostream& out, const RunDetail& d) {
-    const RunInfo& r = d.run;
+static void RunHeaderText(std::ostream& out, const db::RunDetail& d) {
+    const db::RunInfo& r = d.run;
     out << "Run " << Printable(RunLabel(r.run_id)) << "\n";
     out << "  outcome:          " << Printable(r.outcome)
         << (r.reason.empty() ? "" : " (" + Printable(r.reason) + ")") << "\n";
     out << "  started_utime:    " << Opt(r.started_utime) << "\n";
     out << "  stopped_utime:    " << Opt(r.stopped_utime) << "\n";
-    out << "  first seen (UTC): " << UtcText(r.first_recv_utime) << "\n";
+    out << "  first seen (UTC): " << db::UtcText(r.first_recv_utime) << "\n";
     out << "  software_version: " << Printable(r.software_version) << "\n";
     out << "  host:             " << Printable(r.host) << "\n";
     out << "  command_line:     " << Printable(r.command_line) << "\n";
@@ -191,7 +191,7 @@ static void RunHeaderText(std::ostream& out, const RunDetail& d) {
 }
 
 // The run configuration as recorded (pretty JSON when it parses).
-static void ConfigText(std::ostream& out, const RunInfo& r) {
+static void ConfigText(std::ostream& out, const db::RunInfo& r) {
     out << "\nConfiguration\n";
     const auto cfg = nlohmann::json::parse(r.config_json, nullptr, false);
     if (r.config_json.empty()) {
@@ -205,7 +205,7 @@ static void ConfigText(std::ostream& out, const RunInfo& r) {
 }
 
 // Every plateau of the run.
-static void PlateausText(std::ostream& out, const RunDetail& d) {
+static void PlateausText(std::ostream& out, const db::RunDetail& d) {
     out << "\nPlateaus (" << d.plateaus.size() << ")\n";
     if (!d.plateaus.empty()) {
         Table t({"SENSOR", "PLATEAU_ID", "SETPOINT_C", "TEMP_MEAN_C", "TEMP_SLOPE_C_PER_MIN",
@@ -222,7 +222,7 @@ static void PlateausText(std::ostream& out, const RunDetail& d) {
 }
 
 // Every sensitivity point (rotation), accepted or not.
-static void SensitivityPointsText(std::ostream& out, const RunDetail& d) {
+static void SensitivityPointsText(std::ostream& out, const db::RunDetail& d) {
     out << "\nSensitivity points (" << d.sensitivity_points.size() << ")\n";
     if (!d.sensitivity_points.empty()) {
         Table t({"SENSOR", "ROTATION_ID", "DIR", "TEMP_C", "ENCODER_ANGLE_DEG",
@@ -239,7 +239,7 @@ static void SensitivityPointsText(std::ostream& out, const RunDetail& d) {
 }
 
 // Which set a plateau run's closed loop made and which it keeps beside it (model/convert.hpp).
-static std::string SetRole(const RunDetail& d, const CoeffSetInfo& c) {
+static std::string SetRole(const db::RunDetail& d, const db::CoeffSetInfo& c) {
     if (c.set.source == model::kClosedLoopSource)
         return "  final set: every still sample, the terms the data confirm";
     if (c.set.source != model::kFitterSource) return "";
@@ -250,7 +250,7 @@ static std::string SetRole(const RunDetail& d, const CoeffSetInfo& c) {
 }
 
 // The final set of each sensor and source, with what it came from.
-static void CoeffSetsText(std::ostream& out, const RunDetail& d,
+static void CoeffSetsText(std::ostream& out, const db::RunDetail& d,
                           const std::vector<ProvenanceSummary>& provenance) {
     out << "\nCoefficient sets (final of each sensor and source: " << d.coeff_sets.size() << ")\n";
     for (const auto& c : d.coeff_sets) {
@@ -277,14 +277,14 @@ static void CoeffSetsText(std::ostream& out, const RunDetail& d,
 }
 
 // The stored analyses, before -> after.
-static void AnalysesText(std::ostream& out, const RunDetail& d) {
+static void AnalysesText(std::ostream& out, const db::RunDetail& d) {
     out << "\nAnalyses (" << d.analyses.size() << ")\n";
     if (!d.analyses.empty()) {
         Table t({"ANALYSIS_ID", "SENSOR", "CREATED (UTC)", "OUTCOME", "VERDICT", "ADDED",
                  "OFFSET_RMS_V", "RATE_RMS_DPS", "DRIFT_DPH", "FLOOR_RATE_RMS_DPS",
                  "COEFF_ROW_ID"});
         for (const auto& a : d.analyses) {
-            t.Add({std::to_string(a.analysis_id), a.sensor_id, UtcText(a.created_wall_utime),
+            t.Add({std::to_string(a.analysis_id), a.sensor_id, db::UtcText(a.created_wall_utime),
                    a.outcome.value_or("-"), a.verdict, AddedEffects(a.added_json),
                    BeforeAfter(a.offset_rms_v_before, a.offset_rms_v_after, 3),
                    BeforeAfter(a.rate_rms_dps_before, a.rate_rms_dps_after, 3),
@@ -300,7 +300,7 @@ static void AnalysesText(std::ostream& out, const RunDetail& d) {
 }
 
 // Loss by channel as the recorder counted it.
-static void LossesText(std::ostream& out, const RunDetail& d) {
+static void LossesText(std::ostream& out, const db::RunDetail& d) {
     out << "\nLosses\n";
     if (d.losses.empty()) {
         out << "  none recorded\n";
@@ -316,7 +316,7 @@ static void LossesText(std::ostream& out, const RunDetail& d) {
 }
 
 // The last STATUS of each process.
-static void ProcessesText(std::ostream& out, const RunDetail& d) {
+static void ProcessesText(std::ostream& out, const db::RunDetail& d) {
     out << "\nProcesses (last STATUS of each in this run: their own view of loss and refusals)\n";
     if (d.processes.empty()) {
         out << "  none recorded\n";
@@ -333,8 +333,9 @@ static void ProcessesText(std::ostream& out, const RunDetail& d) {
     }
 }
 
-std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
-    const RunInfo& r = d.run;
+std::string RunDetailText(const db::RunDetail& d,
+                          const std::vector<ProvenanceSummary>& provenance) {
+    const db::RunInfo& r = d.run;
     std::ostringstream out;
     RunHeaderText(out, d);
     ConfigText(out, r);
@@ -349,7 +350,7 @@ std::string RunDetailText(const RunDetail& d, const std::vector<ProvenanceSummar
 }
 
 // Every plateau with its window, counts and statistics.
-static nlohmann::json PlateausJson(const RunDetail& d) {
+static nlohmann::json PlateausJson(const db::RunDetail& d) {
     nlohmann::json plateaus = nlohmann::json::array();
     for (const auto& p : d.plateaus) {
         plateaus.push_back({{"sensor_id", p.sensor_id},
@@ -374,7 +375,7 @@ static nlohmann::json PlateausJson(const RunDetail& d) {
 }
 
 // Every sensitivity point, accepted or not.
-static nlohmann::json SensitivityPointsJson(const RunDetail& d) {
+static nlohmann::json SensitivityPointsJson(const db::RunDetail& d) {
     nlohmann::json points = nlohmann::json::array();
     for (const auto& s : d.sensitivity_points) {
         points.push_back({{"sensor_id", s.sensor_id},
@@ -394,7 +395,7 @@ static nlohmann::json SensitivityPointsJson(const RunDetail& d) {
 }
 
 // The final sets with the provenance of each (what it was fitted from).
-static nlohmann::json CoeffSetsJson(const RunDetail& d,
+static nlohmann::json CoeffSetsJson(const db::RunDetail& d,
                                     const std::vector<ProvenanceSummary>& provenance) {
     nlohmann::json sets = nlohmann::json::array();
     for (const auto& c : d.coeff_sets) {
@@ -418,7 +419,7 @@ static nlohmann::json CoeffSetsJson(const RunDetail& d,
 }
 
 // Loss by channel as the recorder counted it.
-static nlohmann::json LossesJson(const RunDetail& d) {
+static nlohmann::json LossesJson(const db::RunDetail& d) {
     nlohmann::json losses = nlohmann::json::array();
     for (const auto& l : d.losses) {
         losses.push_back({{"channel", l.channel},
@@ -431,7 +432,7 @@ static nlohmann::json LossesJson(const RunDetail& d) {
 }
 
 // The run events.
-static nlohmann::json EventsJson(const RunDetail& d) {
+static nlohmann::json EventsJson(const db::RunDetail& d) {
     nlohmann::json events = nlohmann::json::array();
     for (const auto& e : d.events) {
         events.push_back({{"utime", e.utime},
@@ -444,7 +445,7 @@ static nlohmann::json EventsJson(const RunDetail& d) {
 }
 
 // The last STATUS of each process.
-static nlohmann::json ProcessesJson(const RunDetail& d) {
+static nlohmann::json ProcessesJson(const db::RunDetail& d) {
     nlohmann::json procs = nlohmann::json::array();
     for (const auto& p : d.processes) {
         procs.push_back({{"process", p.process},
@@ -465,15 +466,15 @@ static nlohmann::json ProcessesJson(const RunDetail& d) {
 
 // The source of the set an analysis made: the stored set's (the closed loop's), else the one
 // gyrocal analyze gives it.
-static nlohmann::json CoeffSourceJson(const RunDetail& d, const AnalysisRow& a) {
+static nlohmann::json CoeffSourceJson(const db::RunDetail& d, const db::AnalysisRow& a) {
     if (!a.coeff_row_id) return nullptr;
     for (const auto& c : d.coeff_sets)
         if (c.coeff_row_id == *a.coeff_row_id) return c.set.source;
-    return AnalysisSource(a.analysis_id);
+    return db::AnalysisSource(a.analysis_id);
 }
 
 // The stored analyses with their before/after errors.
-static nlohmann::json AnalysesJson(const RunDetail& d) {
+static nlohmann::json AnalysesJson(const db::RunDetail& d) {
     nlohmann::json analyses = nlohmann::json::array();
     for (const auto& a : d.analyses) {
         analyses.push_back(
@@ -502,7 +503,8 @@ static nlohmann::json AnalysesJson(const RunDetail& d) {
     return analyses;
 }
 
-nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSummary>& provenance) {
+nlohmann::json RunDetailJson(const db::RunDetail& d,
+                             const std::vector<ProvenanceSummary>& provenance) {
     nlohmann::json j = RunJson(d.run);
     const auto cfg = nlohmann::json::parse(d.run.config_json, nullptr, false);
     j["config"] = cfg.is_discarded() ? nlohmann::json(d.run.config_json) : cfg;
@@ -517,7 +519,7 @@ nlohmann::json RunDetailJson(const RunDetail& d, const std::vector<ProvenanceSum
     return j;
 }
 
-std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSetInfo>& sets,
+std::string HistoryTable(const std::string& sensor_id, const std::vector<db::CoeffSetInfo>& sets,
                          const std::vector<double>& ref_temps_c) {
     std::ostringstream out;
     out << "Sensor " << Printable(sensor_id) << ": " << sets.size() << " coefficient set"
@@ -533,7 +535,7 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
         head.push_back(h);
     Table t(head);
     for (size_t k = 0; k < sets.size(); ++k) {
-        const CoeffSetRow& c = sets[k].set;
+        const db::CoeffSetRow& c = sets[k].set;
         for (double temp : ref_temps_c) {
             const auto off = Eval(c.offset, temp);
             const auto sens = Eval(c.sensitivity, temp);
@@ -545,7 +547,7 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
                 if (sens && p_sens && *p_sens != 0)
                     d_sens = text::SigOrDash((*sens / *p_sens - 1) * 100, 4);
             }
-            std::vector<std::string> row = {UtcText(c.recv_utime), RunLabel(c.run_id)};
+            std::vector<std::string> row = {db::UtcText(c.recv_utime), RunLabel(c.run_id)};
             if (stations) row.push_back(sets[k].station);
             for (std::string v :
                  {std::to_string(c.coeff_set_id), c.source, text::SigOrDash(temp, 4),
@@ -562,7 +564,7 @@ std::string HistoryTable(const std::string& sensor_id, const std::vector<CoeffSe
     return out.str();
 }
 
-nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<CoeffSetInfo>& sets,
+nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<db::CoeffSetInfo>& sets,
                            const std::vector<double>& ref_temps_c) {
     nlohmann::json j;
     j["sensor_id"] = sensor_id;
@@ -587,4 +589,4 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<Coeff
     return j;
 }
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

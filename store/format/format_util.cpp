@@ -8,7 +8,7 @@
 #include "store/db/model_rows.hpp"
 #include "store/format/format.hpp"
 
-namespace gyrocal::store::format::detail {
+namespace gyrocal::format::detail {
 
 Table::Table(std::vector<std::string> headers) { rows_.push_back(std::move(headers)); }
 
@@ -61,7 +61,7 @@ std::string Join(const std::vector<std::string>& v, const std::string& sep) {
     return out;
 }
 
-std::string Terms(const ModelRow& m) {
+std::string Terms(const db::ModelRow& m) {
     std::vector<std::string> parts;
     for (size_t i = 0; i < m.term_names.size(); ++i) {
         parts.push_back(m.term_names[i] + "=" +
@@ -70,6 +70,8 @@ std::string Terms(const ModelRow& m) {
     return Join(parts, " ");
 }
 
-std::optional<double> Eval(const ModelRow& m, double temp_c) { return SteadyStateValue(m, temp_c); }
+std::optional<double> Eval(const db::ModelRow& m, double temp_c) {
+    return db::SteadyStateValue(m, temp_c);
+}
 
-}  // namespace gyrocal::store::format::detail
+}  // namespace gyrocal::format::detail

@@ -8,7 +8,7 @@
 
 #include "store/db/rows.hpp"
 
-namespace gyrocal::store::format::detail {
+namespace gyrocal::format::detail {
 
 // Column-aligned text table; cells are made printable (untrusted text).
 class Table {
@@ -26,9 +26,9 @@ nlohmann::json OptJson(std::optional<int64_t> v);
 nlohmann::json Finite(double v);                  // null when not finite (JSON has no NaN)
 std::string RunLabel(const std::string& run_id);  // "(no run)" for ''
 std::string Join(const std::vector<std::string>& v, const std::string& sep);
-std::string Terms(const ModelRow& m);  // "1=2.5 dT=0.001"
+std::string Terms(const db::ModelRow& m);  // "1=2.5 dT=0.001"
 // The model at temp_c [degC] by the shared evaluator, at steady state (SteadyStateInputs),
 // extrapolated outside its valid range; nullopt when the model is not usable.
-std::optional<double> Eval(const ModelRow& m, double temp_c);
+std::optional<double> Eval(const db::ModelRow& m, double temp_c);
 
-}  // namespace gyrocal::store::format::detail
+}  // namespace gyrocal::format::detail

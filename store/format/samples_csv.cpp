@@ -9,11 +9,11 @@
 #include "store/db/replay_reader.hpp"
 #include "store/recorder/message_fields.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
-int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string& sensor_id,
+int64_t WriteRunSamplesCsv(db::Db& db, const std::string& run_id, const std::string& sensor_id,
                            std::ostream& out) {
-    ReplayReader reader(db, run_id);
+    db::ReplayReader reader(db, run_id);
     csv::LatestAt encoder_deg, chamber_c;
     std::map<std::string, int64_t> power_on;
     int64_t rows = 0;
@@ -22,16 +22,16 @@ int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string&
         std::visit(
             [&](const auto& r) {
                 using T = std::decay_t<decltype(r)>;
-                if constexpr (std::is_same_v<T, EncoderRow>) {
+                if constexpr (std::is_same_v<T, db::EncoderRow>) {
                     encoder_deg.Add(r.utime, r.angle_deg);
-                } else if constexpr (std::is_same_v<T, ChamberStateRow>) {
+                } else if constexpr (std::is_same_v<T, db::ChamberStateRow>) {
                     chamber_c.Add(r.utime, r.air_c);
-                } else if constexpr (std::is_same_v<T, PowerStateRow>) {
+                } else if constexpr (std::is_same_v<T, db::PowerStateRow>) {
                     power_on[r.sensor_id] = r.power_on_utime;
-                } else if constexpr (std::is_same_v<T, GyroRow>) {
+                } else if constexpr (std::is_same_v<T, db::GyroRow>) {
                     if (!sensor_id.empty() && r.sensor_id != sensor_id) return;
                     gyro_sample_t s;
-                    record::CopyFields(s, r);
+                    recorder::CopyFields(s, r);
                     const auto p = power_on.find(r.sensor_id);
                     out << csv::FormatRecordRow(
                                s, csv::kDefaultStartUtime, encoder_deg.At(r.utime),
@@ -46,4 +46,4 @@ int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string&
     return rows;
 }
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

@@ -12,11 +12,11 @@
 
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
 // sensor_id "" = every sensor. Returns the rows written; throws NotFound for an unknown run and
 // StoreError on a database error.
-int64_t WriteRunSamplesCsv(Db& db, const std::string& run_id, const std::string& sensor_id,
+int64_t WriteRunSamplesCsv(db::Db& db, const std::string& run_id, const std::string& sensor_id,
                            std::ostream& out);
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

@@ -7,7 +7,7 @@
 #include "store/format/format.hpp"
 #include "store/format/format_util.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
 using namespace detail;
 
@@ -19,7 +19,7 @@ std::string PlusMinus(double v, double se, int precision) {
 
 std::string Approach(int a) { return a > 0 ? "from colder" : a < 0 ? "from hotter" : "run start"; }
 
-void ReportBlock(std::ostringstream& out, const FitReportRow& r) {
+void ReportBlock(std::ostringstream& out, const db::FitReportRow& r) {
     out << "  " << Printable(r.sensor_id) << " (" << Printable(r.source) << ", set "
         << (r.coeff_set_id < 0 ? std::string("none") : std::to_string(r.coeff_set_id))
         << (r.is_final ? ", final" : ", not final: the run's stop made no report") << "): ";
@@ -28,19 +28,19 @@ void ReportBlock(std::ostringstream& out, const FitReportRow& r) {
     out << "\n    slow noise added to each plateau: " << text::SigOrDash(r.slow_noise_dps, 3)
         << " deg/s (" << text::SigOrDash(r.slow_noise_v, 3) << " V), from "
         << Printable(r.slow_noise_source) << "\n";
-    for (const FitExclusionRow& e : r.excluded)
+    for (const db::FitExclusionRow& e : r.excluded)
         out << "    EXCLUDED " << Printable(e.kind) << " " << e.item_id << " at "
             << text::PrintfOrDash("%.2f", e.temp_c) << " C: " << Printable(e.reason) << "\n";
     out << "    offset: " << Printable(r.offset_detail) << "\n";
     out << "    sensitivity: " << Printable(r.sensitivity_detail) << "\n";
 }
 
-std::string RepeatabilityText(const RunDetail& d) {
+std::string RepeatabilityText(const db::RunDetail& d) {
     Table t({"SENSOR", "TEMP_C", "FIRST_PLATEAU", "SECOND_PLATEAU", "APPROACHES", "OFFSET_DIFF_MV",
              "OFFSET_DIFF_DPS", "Z", "VERDICT"});
     int n = 0;
-    for (const FitReportInfo& f : d.fit_reports)
-        for (const RepeatabilityRow& r : f.report.repeats) {
+    for (const db::FitReportInfo& f : d.fit_reports)
+        for (const db::RepeatabilityRow& r : f.report.repeats) {
             ++n;
             t.Add({f.report.sensor_id, text::PrintfOrDash("%.2f", r.temp_c),
                    std::to_string(r.first_plateau_id), std::to_string(r.second_plateau_id),
@@ -55,13 +55,13 @@ std::string RepeatabilityText(const RunDetail& d) {
            "taken out; +- 1 sigma of both plateaus' errors)\n";
 }
 
-std::string NoiseText(const RunDetail& d) {
+std::string NoiseText(const db::RunDetail& d) {
     if (d.noise.empty()) return "  none recorded\n";
     Table t({"SENSOR", "STILL_S", "SEGMENTS", "LONGEST_S", "ARW_DPS_RTHZ", "BIAS_INSTAB_DPS",
              "RRW_DPS_RTS", "ARW_V_RTHZ", "BIAS_INSTAB_V", "RRW_V_RTS"});
     std::string notes;
-    for (const NoiseInfo& ni : d.noise) {
-        const NoiseRow& n = ni.noise;
+    for (const db::NoiseInfo& ni : d.noise) {
+        const db::NoiseRow& n = ni.noise;
         const double s = ni.sensitivity_v_per_dps.value_or(NAN);
         t.Add({n.sensor_id, text::SigOrDash(n.still_s, 5), std::to_string(n.n_segments),
                text::SigOrDash(n.longest_segment_s, 4),
@@ -82,9 +82,9 @@ std::string NoiseText(const RunDetail& d) {
 
 }  // namespace
 
-std::string SetStatusLabel(const RunDetail& d, const CoeffSetInfo& c) {
-    for (const FitReportInfo& f : d.fit_reports) {
-        const FitReportRow& r = f.report;
+std::string SetStatusLabel(const db::RunDetail& d, const db::CoeffSetInfo& c) {
+    for (const db::FitReportInfo& f : d.fit_reports) {
+        const db::FitReportRow& r = f.report;
         if (r.sensor_id != c.set.sensor_id || r.source != c.set.source ||
             r.coeff_set_id != c.set.coeff_set_id)
             continue;
@@ -95,22 +95,22 @@ std::string SetStatusLabel(const RunDetail& d, const CoeffSetInfo& c) {
     return "";
 }
 
-std::string FitSectionsText(const RunDetail& d) {
+std::string FitSectionsText(const db::RunDetail& d) {
     std::ostringstream out;
     out << "\nFit reports (final of each sensor and source: " << d.fit_reports.size() << ")\n";
     if (d.fit_reports.empty()) out << "  none recorded\n";
-    for (const FitReportInfo& f : d.fit_reports) ReportBlock(out, f.report);
+    for (const db::FitReportInfo& f : d.fit_reports) ReportBlock(out, f.report);
     out << "\nRepeatability (temperatures the run visited again)\n" << RepeatabilityText(d);
     out << "\nNoise (Allan deviation per unit)\n" << NoiseText(d);
     return out.str();
 }
 
-void AddFitJson(nlohmann::json& j, const RunDetail& d) {
+void AddFitJson(nlohmann::json& j, const db::RunDetail& d) {
     nlohmann::json reports = nlohmann::json::array();
-    for (const FitReportInfo& f : d.fit_reports) {
-        const FitReportRow& r = f.report;
+    for (const db::FitReportInfo& f : d.fit_reports) {
+        const db::FitReportRow& r = f.report;
         nlohmann::json excluded = nlohmann::json::array(), repeats = nlohmann::json::array();
-        for (const FitExclusionRow& e : r.excluded)
+        for (const db::FitExclusionRow& e : r.excluded)
             excluded.push_back({{"kind", e.kind},
                                 {"item_id", e.item_id},
                                 {"temp_c", Finite(e.temp_c)},
@@ -120,7 +120,7 @@ void AddFitJson(nlohmann::json& j, const RunDetail& d) {
                                 {"statistic", Finite(e.statistic)},
                                 {"threshold", Finite(e.threshold)},
                                 {"reason", e.reason}});
-        for (const RepeatabilityRow& x : r.repeats)
+        for (const db::RepeatabilityRow& x : r.repeats)
             repeats.push_back({{"temp_c", Finite(x.temp_c)},
                                {"first_plateau_id", x.first_plateau_id},
                                {"second_plateau_id", x.second_plateau_id},
@@ -148,8 +148,8 @@ void AddFitJson(nlohmann::json& j, const RunDetail& d) {
     }
     j["fit_reports"] = reports;
     nlohmann::json noise = nlohmann::json::array();
-    for (const NoiseInfo& ni : d.noise) {
-        const NoiseRow& n = ni.noise;
+    for (const db::NoiseInfo& ni : d.noise) {
+        const db::NoiseRow& n = ni.noise;
         nlohmann::json adev = nlohmann::json::array();
         for (size_t i = 0; i < n.tau_s.size(); ++i)
             adev.push_back({{"tau_s", n.tau_s[i]},
@@ -177,4 +177,4 @@ void AddFitJson(nlohmann::json& j, const RunDetail& d) {
     j["noise"] = noise;
 }
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

@@ -7,13 +7,13 @@
 
 #include "store/db/query.hpp"
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 
 // " COMPLETE", " PARTIAL: why", or "" when no report names this set.
-std::string SetStatusLabel(const RunDetail& d, const CoeffSetInfo& c);
+std::string SetStatusLabel(const db::RunDetail& d, const db::CoeffSetInfo& c);
 // "Fit reports", "Repeatability" and "Noise" sections (each says "none recorded" when empty).
-std::string FitSectionsText(const RunDetail& d);
+std::string FitSectionsText(const db::RunDetail& d);
 // The same as "fit_reports" and "noise" members of `j`.
-void AddFitJson(nlohmann::json& j, const RunDetail& d);
+void AddFitJson(nlohmann::json& j, const db::RunDetail& d);
 
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

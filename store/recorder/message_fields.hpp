@@ -30,7 +30,7 @@
 #include "processors/model/convert.hpp"
 #include "store/db/rows.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 // True when {To, From} is {Row, Msg} in either order: the list serves both directions.
 template <class To, class From, class Row, class Msg>
@@ -46,7 +46,7 @@ void CopyVerdictKey(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::GyroRow, gyro_sample_t>
+requires RowAndMessage<To, From, db::GyroRow, gyro_sample_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -62,7 +62,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::EncoderRow, encoder_sample_t>
+requires RowAndMessage<To, From, db::EncoderRow, encoder_sample_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.encoder_id = from.encoder_id;
@@ -73,7 +73,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::ChamberStateRow, chamber_state_t>
+requires RowAndMessage<To, From, db::ChamberStateRow, chamber_state_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.seq = from.seq;
@@ -85,7 +85,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::PowerStateRow, power_state_t>
+requires RowAndMessage<To, From, db::PowerStateRow, power_state_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -96,7 +96,7 @@ void CopyFields(To& to, const From& from) {
 
 // The command's own run_id is stored as msg_run_id (the row's run_id is the run in force).
 template <class To, class From>
-requires RowAndMessage<To, From, store::ChamberCmdRow, chamber_cmd_t>
+requires RowAndMessage<To, From, db::ChamberCmdRow, chamber_cmd_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.cmd_id = from.cmd_id;
@@ -105,7 +105,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::TurntableCmdRow, turntable_cmd_t>
+requires RowAndMessage<To, From, db::TurntableCmdRow, turntable_cmd_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.cmd_id = from.cmd_id;
@@ -115,7 +115,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::PlateauStateRow, plateau_state_t>
+requires RowAndMessage<To, From, db::PlateauStateRow, plateau_state_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -129,7 +129,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::PlateauRow, plateau_t>
+requires RowAndMessage<To, From, db::PlateauRow, plateau_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -155,7 +155,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::SensitivityRow, sensitivity_point_t>
+requires RowAndMessage<To, From, db::SensitivityRow, sensitivity_point_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -180,7 +180,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::ClosedLoopRow, analysis_t>
+requires RowAndMessage<To, From, db::ClosedLoopRow, analysis_t>
 void CopyFields(To& to, const From& from) {
     CopyVerdictKey(to, from);
     to.outcome = from.outcome;
@@ -200,11 +200,11 @@ void CopyFields(To& to, const From& from) {
 
 // The models are the conversion's own (a row's ModelRow, a message's model_t with length fields).
 template <class To, class From>
-requires RowAndMessage<To, From, store::CoeffSetRow, coeff_set_t>
+requires RowAndMessage<To, From, db::CoeffSetRow, coeff_set_t>
 void CopyFields(To& to, const From& from) { model::CopySetIdentity(to, from); }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::RateRow, rate_t>
+requires RowAndMessage<To, From, db::RateRow, rate_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -218,7 +218,7 @@ void CopyFields(To& to, const From& from) {
 
 // The extra values are stored as one JSON object (extra_json).
 template <class To, class From>
-requires RowAndMessage<To, From, store::StatusRow, status_t>
+requires RowAndMessage<To, From, db::StatusRow, status_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.process = from.process;
@@ -235,7 +235,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::RunEventRow, run_event_t>
+requires RowAndMessage<To, From, db::RunEventRow, run_event_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.run_id = from.run_id;
@@ -251,7 +251,7 @@ void CopyFields(To& to, const From& from) {
 }
 
 template <class To, class From>
-requires RowAndMessage<To, From, store::NoiseRow, noise_t>
+requires RowAndMessage<To, From, db::NoiseRow, noise_t>
 void CopyFields(To& to, const From& from) {
     to.utime = from.utime;
     to.sensor_id = from.sensor_id;
@@ -276,7 +276,7 @@ void CopyFields(To& to, const From& from) {
 
 // The exclusions and repeatability lists are the conversion's own (other element types).
 template <class To, class From>
-requires RowAndMessage<To, From, store::FitReportRow, fit_report_t>
+requires RowAndMessage<To, From, db::FitReportRow, fit_report_t>
 void CopyFields(To& to, const From& from) {
     CopyVerdictKey(to, from);
     to.status = from.status;
@@ -288,4 +288,4 @@ void CopyFields(To& to, const From& from) {
     to.slow_noise_source = from.slow_noise_source;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -8,9 +8,9 @@
 
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 // "" when there is none.
-std::string OpenRunOnBus(store::Db& db, const std::string& lcm_url);
+std::string OpenRunOnBus(db::Db& db, const std::string& lcm_url);
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -14,10 +14,10 @@
 #include "processors/model/convert.hpp"
 #include "store/recorder/message_fields.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
-using namespace gyrocal::store;
+using namespace gyrocal::db;
 
 // What a row holds beyond the fields it shares with its message (message_fields.hpp): nothing
 // for most types.
@@ -113,7 +113,7 @@ void RecordMapper::MapDecoded(const Msg& msg, R row, const std::string& channel,
         out.run_id = run_id_;
     }
     if constexpr (requires { msg.seq; }) {
-        const SeqReport rep = seq_.Observe(channel, msg.seq);
+        const bus::SeqReport rep = seq_.Observe(channel, msg.seq);
         out.loss.seq_gaps += rep.missing;
         out.loss.seq_backwards += rep.backwards ? 1 : 0;
     }
@@ -156,7 +156,7 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
     // Decodes as Msg when the fingerprint is Msg's; true when this type claimed the message.
     auto decoded = [&]<class Msg>(Msg& msg) -> bool {
         if (!fp || *fp != static_cast<uint64_t>(Msg::getHash())) return false;
-        if (DecodeMessage(msg, data, size)) return true;
+        if (bus::DecodeMessage(msg, data, size)) return true;
         raw("decode_error");
         out.loss.decode_errors = 1;
         return false;
@@ -204,4 +204,4 @@ Mapped RecordMapper::Map(const std::string& channel, const void* data, int size,
     return out;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

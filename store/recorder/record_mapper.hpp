@@ -26,7 +26,7 @@
 #include "lcmtypes/bus/seq_tracker.hpp"
 #include "store/db/rows.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 struct MapperOptions {
     bool store_rates = true;  // false: RATE_* messages are counted but not stored
@@ -34,11 +34,11 @@ struct MapperOptions {
 };
 
 struct Mapped {
-    std::optional<store::Row> row;  // nothing for skipped messages (rates when off, flow control)
-    std::vector<store::Row> more;   // a batch's samples after the first, in order
-    bool essential = false;  // run events, coefficient sets, fit reports, noise: never dropped
-    std::string run_id;      // run the loss below belongs to
-    store::LossDelta loss;   // seq gaps / decode errors this message revealed
+    std::optional<db::Row> row;  // nothing for skipped messages (rates when off, flow control)
+    std::vector<db::Row> more;   // a batch's samples after the first, in order
+    bool essential = false;      // run events, coefficient sets, fit reports, noise: never dropped
+    std::string run_id;          // run the loss below belongs to
+    db::LossDelta loss;          // seq gaps / decode errors this message revealed
     // Flow control (flow_mark_t, flow_ack_t) or an empty batch: handled, nothing to store. The
     // pacing a source did is recorded through its STATUS (flow_* counters).
     bool control = false;
@@ -63,11 +63,11 @@ private:
 
     MapperOptions options_;
     std::string run_id_;
-    SeqTracker seq_;
+    bus::SeqTracker seq_;
 };
 
 // The first 8 bytes as LCM writes a type hash (big-endian), or nullopt when size < 8.
 std::optional<uint64_t> Fingerprint(const void* data, int size);
 std::string FingerprintHex(const void* data, int size);
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

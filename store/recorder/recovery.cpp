@@ -7,9 +7,9 @@
 #include "store/db/query.hpp"
 #include "store/recorder/message_fields.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
-using namespace gyrocal::store;
+using namespace gyrocal::db;
 
 RecoveredRun ReadRecovery(Db& db, const std::string& run_id) {
     const RunDetail d = ShowRun(db, run_id);
@@ -27,4 +27,4 @@ RecoveredRun ReadRecovery(Db& db, const std::string& run_id) {
     return out;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -12,7 +12,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 struct RecoveredRun {
     std::vector<plateau_t> plateaus;             // in acquisition order
@@ -20,7 +20,7 @@ struct RecoveredRun {
     std::vector<coeff_set_t> newest_coeffs;      // one per sensor
 };
 
-// Throws store::NotFound when the run is not in the database, StoreError when it cannot be read.
-RecoveredRun ReadRecovery(store::Db& db, const std::string& run_id);
+// Throws db::NotFound when the run is not in the database, StoreError when it cannot be read.
+RecoveredRun ReadRecovery(db::Db& db, const std::string& run_id);
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

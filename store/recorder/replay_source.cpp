@@ -2,10 +2,10 @@
 
 #include <stdexcept>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/recorder/message_fields.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
 // The message `row` was recorded from, encoded for `channel`.
@@ -27,23 +27,23 @@ EncodedMessage Encode(std::string channel, const R& row) {
 
 }  // namespace
 
-std::optional<EncodedMessage> EncodeForReplay(const store::Row& row) {
-    if (const auto* g = std::get_if<store::GyroRow>(&row)) {
+std::optional<EncodedMessage> EncodeForReplay(const db::Row& row) {
+    if (const auto* g = std::get_if<db::GyroRow>(&row)) {
         return Encode<gyro_sample_t>(channels::Gyro(g->sensor_id), *g);
     }
-    if (const auto* e = std::get_if<store::EncoderRow>(&row)) {
+    if (const auto* e = std::get_if<db::EncoderRow>(&row)) {
         return Encode<encoder_sample_t>(std::string(channels::kEncoder), *e);
     }
-    if (const auto* p = std::get_if<store::PowerStateRow>(&row)) {
+    if (const auto* p = std::get_if<db::PowerStateRow>(&row)) {
         return Encode<power_state_t>(channels::Power(p->sensor_id), *p);
     }
-    if (const auto* c = std::get_if<store::ChamberStateRow>(&row)) {
+    if (const auto* c = std::get_if<db::ChamberStateRow>(&row)) {
         return Encode<chamber_state_t>(std::string(channels::kChamberState), *c);
     }
-    if (const auto* r = std::get_if<store::RunEventRow>(&row)) {
+    if (const auto* r = std::get_if<db::RunEventRow>(&row)) {
         return Encode<run_event_t>(std::string(channels::kRunEvent), *r);
     }
     return std::nullopt;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -8,7 +8,7 @@
 
 #include "store/db/rows.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 struct EncodedMessage {
     std::string channel;
@@ -17,6 +17,6 @@ struct EncodedMessage {
 
 // Gyro, encoder, chamber-state and run-event rows; nullopt for other row types. Throws
 // std::invalid_argument when a stored sensor id cannot form a channel name.
-std::optional<EncodedMessage> EncodeForReplay(const store::Row& row);
+std::optional<EncodedMessage> EncodeForReplay(const db::Row& row);
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -2,7 +2,7 @@
 
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 namespace {
 
@@ -23,7 +23,7 @@ std::string StateWord(const std::string& fault) {
 WriterWatch::WriterWatch(size_t bound_rows, std::chrono::seconds repeat)
     : bound_rows_(bound_rows), repeat_(repeat) {}
 
-WatchReport WriterWatch::Update(const store::AsyncWriterStats& s, Clock::time_point now) {
+WatchReport WriterWatch::Update(const db::AsyncWriterStats& s, Clock::time_point now) {
     WatchReport r;
     const double blocked_s = s.blocked ? Seconds(now - s.blocked_since) : 0.0;
     r.state = s.blocked ? StateWord(s.blocked_reason) : "recording";
@@ -63,4 +63,4 @@ WatchReport WriterWatch::Update(const store::AsyncWriterStats& s, Clock::time_po
     return r;
 }
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -15,7 +15,7 @@
 
 #include "store/db/async_writer.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 
 struct WatchReport {
     std::string state;
@@ -28,7 +28,7 @@ public:
     using Clock = std::chrono::steady_clock;
     explicit WriterWatch(size_t bound_rows, std::chrono::seconds repeat = std::chrono::seconds(10));
 
-    WatchReport Update(const store::AsyncWriterStats& s, Clock::time_point now);
+    WatchReport Update(const db::AsyncWriterStats& s, Clock::time_point now);
 
 private:
     size_t bound_rows_;
@@ -40,4 +40,4 @@ private:
     Clock::time_point last_log_{};
 };
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

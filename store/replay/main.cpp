@@ -4,14 +4,14 @@
 #include <iostream>
 #include <string>
 
-#include "lcmtypes/runtime/flow_options.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
+#include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
 #include "store/replay/replay_node.hpp"
 
 int main(int argc, char** argv) {
-    using gyrocal::record::kReplayProcess;
-    auto o = gyrocal::record::ReplayOptions::Defaults();
+    using gyrocal::replay::kReplayProcess;
+    auto o = gyrocal::replay::ReplayOptions::Defaults();
     CLI::App app{
         "gyrocal-replay: publishes a stored run (GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT) back\n"
         "onto LCM with its original reception timing.\n"
@@ -25,22 +25,23 @@ int main(int argc, char** argv) {
     app.add_option("--as-run", o.as_run,
                    "publish the run events under this run id instead (keeps a replay recorded "
                    "into the same database apart from the original)");
-    gyrocal::AddPacingOptions(app, o.speed, o.max, "recorded seconds per wall second",
-                              "as fast as every consumer keeps up (flow control: each gyrocal "
-                              "process answers the replay's FLOW_MARK messages; with none "
-                              "answering, no timing at all)")
+    gyrocal::process::AddPacingOptions(
+        app, o.speed, o.max, "recorded seconds per wall second",
+        "as fast as every consumer keeps up (flow control: each gyrocal "
+        "process answers the replay's FLOW_MARK messages; with none "
+        "answering, no timing at all)")
         ->check(CLI::Range(1e-3, 1e6));
-    gyrocal::AddSourceFlowOptions(app, o.flow);
+    gyrocal::process::AddSourceFlowOptions(app, o.flow);
     app.remove_option(app.get_option("--batch-samples"));  // stored rows go out one by one
-    if (auto exit_code = gyrocal::ParseCommandLine(app, argc, argv, kReplayProcess,
-                                                   [&] { return o.flow.Validate(); }))
+    if (auto exit_code = gyrocal::process::ParseCommandLine(app, argc, argv, kReplayProcess,
+                                                            [&] { return o.flow.Validate(); }))
         return *exit_code;
     try {
-        gyrocal::record::ReplayNode node(o);
-        gyrocal::InstallStopHandlers();
+        gyrocal::replay::ReplayNode node(o);
+        gyrocal::process::InstallStopHandlers();
         return node.Run();
     } catch (const std::exception& e) {
-        gyrocal::PrintError(kReplayProcess, e.what());
+        gyrocal::process::PrintError(kReplayProcess, e.what());
         return 1;
     }
 }

@@ -13,11 +13,11 @@
 
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/flow/flow_source.hpp"
-#include "lcmtypes/runtime/flow_options.hpp"
+#include "lcmtypes/process/flow_options.hpp"
 #include "store/db/replay_reader.hpp"
 #include "store/db/sqlite_db.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::replay {
 
 inline constexpr const char* kReplayProcess = "gyrocal-replay";
 
@@ -28,7 +28,7 @@ struct ReplayOptions {
     std::string as_run;   // "" = the stored run id
     double speed = 1.0;   // [1] recorded seconds per wall second
     bool max = false;     // as fast as the consumers keep up (flow control)
-    SourceFlowOptions flow = SourceFlowOptions::Defaults();  // with max
+    process::SourceFlowOptions flow = process::SourceFlowOptions::Defaults();  // with max
     static ReplayOptions Defaults() { return {}; }
 };
 
@@ -41,20 +41,20 @@ public:
     int Run();
     int64_t published() const { return published_; }
     // The node's bus: tests subscribe to it over memq://.
-    Bus& bus() { return bus_; }
+    bus::Bus& bus() { return bus_; }
 
 private:
     void WaitUntilDue(int64_t recv_utime);
     void WaitForRoom(int64_t recv_utime);  // max: until the consumers have room (flow control)
 
     ReplayOptions options_;
-    std::unique_ptr<store::Db> db_;
-    store::ReplayReader reader_;
-    Bus bus_;
+    std::unique_ptr<db::Db> db_;
+    db::ReplayReader reader_;
+    bus::Bus bus_;
     std::unique_ptr<flow::FlowSource> flow_;  // max
     std::chrono::steady_clock::time_point wall0_{};
     int64_t recv0_ = -1;
     int64_t published_ = 0;
 };
 
-}  // namespace gyrocal::record
+}  // namespace gyrocal::replay

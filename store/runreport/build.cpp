@@ -24,9 +24,9 @@ std::string ReportFileName(const std::string& run_id) {
 }
 
 ReportResult WriteReport(const ReportOptions& o) {
-    auto db = store::OpenForQuery(o.db);
+    auto db = db::OpenForQuery(o.db);
     ReportInput in;
-    in.detail = store::ShowRun(*db, o.run_id);
+    in.detail = db::ShowRun(*db, o.run_id);
     db.reset();
     in.units = Units(in.detail);
     in.plateau_slow_noise_dps = PlateauSlowNoiseDps(in.detail.run);
@@ -50,9 +50,9 @@ ReportResult WriteReport(const ReportOptions& o) {
     result.figures = static_cast<int>(figures.size());
 
     in.software_version = o.software_version;
-    in.database = store::WithoutCredentials(o.db);
-    const int64_t now_us = store::WallUtimeNow();
-    in.generated_utc = store::UtcText(now_us);
+    in.database = db::WithoutCredentials(o.db);
+    const int64_t now_us = db::WallUtimeNow();
+    in.generated_utc = db::UtcText(now_us);
     const std::string page = ReportHtml(in);
 
     const std::filesystem::path path = std::filesystem::path(o.out_dir) / ReportFileName(o.run_id);

@@ -31,7 +31,7 @@ struct ReportResult {
 // "report-<run id>.html" with characters other than letters, digits, '.', '_', '-' made '_'.
 std::string ReportFileName(const std::string& run_id);
 
-// Throws store::NotFound (unknown run), store::StoreError, plot::GnuplotError, plot::SvgError, or
+// Throws db::NotFound (unknown run), db::StoreError, plot::GnuplotError, plot::SvgError, or
 // std::runtime_error naming the file when it cannot be written.
 ReportResult WriteReport(const ReportOptions& options);
 

@@ -21,9 +21,9 @@ model::ModelInputs At(const model::Evaluator& e, double temp_c) {
     return model::SteadyStateInputs(e.model(), temp_c);
 }
 
-std::optional<model::Evaluator> EvaluatorOf(const store::ModelRow& row) {
+std::optional<model::Evaluator> EvaluatorOf(const db::ModelRow& row) {
     try {
-        return model::Evaluator(store::ToModel(row));
+        return model::Evaluator(db::ToModel(row));
     } catch (const model::ModelError&) {
         return std::nullopt;  // not drawn; the coefficient section says why
     }
@@ -77,7 +77,7 @@ plot::Figure Base(const std::string& name, const std::string& title, const std::
 }
 
 // [V] a plateau's uncertainty as the fitter weighted it.
-double PlateauSigmaV(const store::PlateauRow& p, double slow_dps,
+double PlateauSigmaV(const db::PlateauRow& p, double slow_dps,
                      const std::optional<model::Evaluator>& sens) {
     const double s =
         sens ? std::abs(sens->Value(At(*sens, p.temp_mean_c), model::RangePolicy::kClip)) : NAN;
@@ -90,7 +90,7 @@ bool Used(const std::vector<int64_t>& ids, int64_t id) {
 
 }  // namespace
 
-int64_t TimeOrigin(const store::RunDetail& d) {
+int64_t TimeOrigin(const db::RunDetail& d) {
     int64_t t0 = std::numeric_limits<int64_t>::max();
     for (const auto& p : d.plateaus) t0 = std::min(t0, p.start_utime);
     for (const auto& s : d.sensitivity_points) t0 = std::min(t0, s.start_utime);

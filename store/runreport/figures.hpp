@@ -28,7 +28,7 @@ inline constexpr double kBandSigmas = 2.0;
 
 // [us] the origin of the time axes: the run's start (message time) when it precedes the
 // earliest plateau or turn window by less than a week, else that window's start.
-int64_t TimeOrigin(const store::RunDetail& detail);
+int64_t TimeOrigin(const db::RunDetail& detail);
 
 // `stem`: a plain file stem unique in the report (e.g. "u1"); the sensor id goes in the titles.
 std::vector<plot::Figure> UnitFigures(const UnitData& unit, const std::string& stem,

@@ -8,7 +8,7 @@ namespace gyrocal::runreport {
 namespace {
 
 std::string Header(const ReportInput& in) {
-    const store::RunInfo& r = in.detail.run;
+    const db::RunInfo& r = in.detail.run;
     std::string s = "<header>\n<h1>Calibration report</h1>\n<p>Run <code data-run-id>" +
                     html::Esc(r.run_id) + "</code> &middot; " + html::Esc(OutcomeText(r)) +
                     " &middot; " + std::to_string(in.units.size()) + " unit" +

@@ -16,7 +16,7 @@
 namespace gyrocal::runreport {
 
 struct ReportInput {
-    store::RunDetail detail;
+    db::RunDetail detail;
     std::vector<UnitData> units;
     std::vector<std::string> stems;            // figure stem of each unit (same order)
     std::map<std::string, std::string> svgs;   // figure name -> inline SVG

@@ -78,7 +78,7 @@ Section Residuals(const UnitContext& c) {
     return s;
 }
 
-std::string ModelTable(const store::ModelRow& m) {
+std::string ModelTable(const db::ModelRow& m) {
     html::Table t({"term", "coefficient", "standard uncertainty", "unit"}, "coeffs");
     for (size_t i = 0; i < m.term_names.size(); ++i) {
         const double var =
@@ -97,7 +97,7 @@ std::string ModelTable(const store::ModelRow& m) {
            ", condition number " + text::PrintfOrDash("%.3g", m.condition_number) + "</p>\n";
 }
 
-std::string SetHtml(const store::CoeffSetInfo& set, const std::string& role) {
+std::string SetHtml(const db::CoeffSetInfo& set, const std::string& role) {
     return "<h4>" + Esc(role) + ": coefficient set " + std::to_string(set.set.coeff_set_id) +
            " (source " + Esc(set.set.source) + ", stored row " + std::to_string(set.coeff_row_id) +
            ")</h4>\n" + "<div data-coeff-row=\"" + std::to_string(set.coeff_row_id) + "\">" +
@@ -105,7 +105,7 @@ std::string SetHtml(const store::CoeffSetInfo& set, const std::string& role) {
 }
 
 // What a set is, for people (model/convert.hpp names the sources).
-std::string Role(const UnitContext& c, const store::CoeffSetInfo& set) {
+std::string Role(const UnitContext& c, const db::CoeffSetInfo& set) {
     const bool final = c.unit.calibration && set.coeff_row_id == c.unit.calibration->coeff_row_id;
     if (set.set.source == model::kClosedLoopSource)
         return final ? "Final set (closed loop: every still sample, the terms the data confirm)"
@@ -212,7 +212,7 @@ Section Analysis(const UnitContext& c) {
         return s;
     }
     // The analysis that made the final set (the calibration's closed loop), else the newest.
-    const store::AnalysisRow& a =
+    const db::AnalysisRow& a =
         c.unit.final_analysis ? *c.unit.final_analysis : c.unit.analyses.back();
     const auto j = nlohmann::json::parse(a.result_json, nullptr, false);
     const auto expected = [&](const char* key) -> double {
@@ -222,7 +222,7 @@ Section Analysis(const UnitContext& c) {
         return v.is_number() ? v.get<double>() : NAN;
     };
     s.html = "<p>Analysis " + std::to_string(a.analysis_id) + " (" +
-             Esc(store::UtcText(a.created_wall_utime)) + " UTC, " + Esc(a.software_version) +
+             Esc(db::UtcText(a.created_wall_utime)) + " UTC, " + Esc(a.software_version) +
              "): outcome <strong data-outcome>" +
              Esc(a.outcome.value_or("not stored (an analysis older than outcomes)")) +
              "</strong>, verdict <strong data-verdict>" + Esc(a.verdict) + "</strong></p>\n";
@@ -305,8 +305,8 @@ std::string CoeffUnit(const std::string& quantity, const std::string& term) {
            (compound ? "(" + u + ")" : u);
 }
 
-std::string TraceabilityHtml(const store::RunDetail& d, const std::string& version) {
-    const store::RunInfo& r = d.run;
+std::string TraceabilityHtml(const db::RunDetail& d, const std::string& version) {
+    const db::RunInfo& r = d.run;
     std::vector<std::pair<std::string, std::string>> kv = {
         {"run id", r.run_id},
         {"outcome", OutcomeText(r)},
@@ -324,7 +324,7 @@ std::string TraceabilityHtml(const store::RunDetail& d, const std::string& versi
          r.started_utime && r.stopped_utime
              ? text::PrintfOrDash("%.3g", (*r.stopped_utime - *r.started_utime) / 3.6e9) + " h"
              : "-"},
-        {"first seen by the recorder (UTC)", store::UtcText(r.first_recv_utime)},
+        {"first seen by the recorder (UTC)", db::UtcText(r.first_recv_utime)},
         {"sensors",
          [&] {
              std::string s;
@@ -403,7 +403,7 @@ std::string AcceptanceHtml(const LimitsInfo& l,
     return s + defs.str() + "</section>\n";
 }
 
-std::string LossesHtml(const store::RunDetail& d) {
+std::string LossesHtml(const db::RunDetail& d) {
     std::string s = "<section id=\"losses\">\n<h2>Losses per channel</h2>\n";
     if (d.losses.empty())
         return s +
@@ -419,7 +419,7 @@ std::string LossesHtml(const store::RunDetail& d) {
     return s + t.str() + "</section>\n";
 }
 
-std::string ProcessesHtml(const store::RunDetail& d) {
+std::string ProcessesHtml(const db::RunDetail& d) {
     std::string s =
         "<section id=\"processes\">\n<h2>Processes</h2>\n<p class=\"note\">The last STATUS of each "
         "process in "

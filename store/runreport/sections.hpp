@@ -15,7 +15,7 @@
 namespace gyrocal::runreport {
 
 struct UnitContext {
-    const store::RunDetail& run;
+    const db::RunDetail& run;
     const UnitData& unit;
     std::string stem;                                // figure-name stem of this unit (figures.hpp)
     const std::map<std::string, std::string>& svgs;  // figure name -> inline SVG
@@ -41,12 +41,12 @@ struct LimitsInfo {
     std::string origin;                          // where they came from
     std::string problem;                         // stored limits that could not be read
 };
-std::string TraceabilityHtml(const store::RunDetail& detail,
+std::string TraceabilityHtml(const db::RunDetail& detail,
                              const std::string& software_version_of_report);
 std::string AcceptanceHtml(const LimitsInfo& limits,
                            const std::vector<acceptance::UnitVerdict>& verdicts);
-std::string LossesHtml(const store::RunDetail& detail);
-std::string ProcessesHtml(const store::RunDetail& detail);
+std::string LossesHtml(const db::RunDetail& detail);
+std::string ProcessesHtml(const db::RunDetail& detail);
 
 // Unit of a coefficient: "V/degC^2" for term dT^2 of an offset (y unit / term unit).
 std::string CoeffUnit(const std::string& quantity, const std::string& term);

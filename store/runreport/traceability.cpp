@@ -28,7 +28,7 @@ void Add(DataSource& s, const nlohmann::json& c, const std::string& key, const s
 
 }  // namespace
 
-DataSource SourceOf(const store::RunInfo& run) {
+DataSource SourceOf(const db::RunInfo& run) {
     DataSource s;
     const auto c = nlohmann::json::parse(run.config_json, nullptr, false);
     if (!c.is_object() || !c.contains("source")) {
@@ -70,7 +70,7 @@ DataSource SourceOf(const store::RunInfo& run) {
     return s;
 }
 
-std::vector<std::pair<std::string, std::string>> Hosts(const store::RunDetail& d) {
+std::vector<std::pair<std::string, std::string>> Hosts(const db::RunDetail& d) {
     std::map<std::string, std::set<std::string>> roles;
     if (!d.run.host.empty()) roles[d.run.host].insert("run announced");
     if (!d.run.recorder_host.empty()) roles[d.run.recorder_host].insert("gyrocal-recorder");
@@ -85,7 +85,7 @@ std::vector<std::pair<std::string, std::string>> Hosts(const store::RunDetail& d
     return out;
 }
 
-std::string OutcomeText(const store::RunInfo& run) {
+std::string OutcomeText(const db::RunInfo& run) {
     if (run.outcome.empty()) return "not recorded";
     return run.outcome + (run.reason.empty() ? "" : ": " + run.reason);
 }

@@ -18,12 +18,12 @@ struct DataSource {
     std::string kind;  // "simulated rig", "CSV file", "LCM log", "line stream", "not recorded"
     std::vector<std::pair<std::string, std::string>> details;  // label, value
 };
-DataSource SourceOf(const store::RunInfo& run);
+DataSource SourceOf(const db::RunInfo& run);
 
 // Each host with what ran there: "chamber-pc: run announced, gyrocal-fitter, gyrocal-recorder".
-std::vector<std::pair<std::string, std::string>> Hosts(const store::RunDetail& detail);
+std::vector<std::pair<std::string, std::string>> Hosts(const db::RunDetail& detail);
 
 // The first start event's setpoints and the run's reason, for the header: "stop: completed".
-std::string OutcomeText(const store::RunInfo& run);
+std::string OutcomeText(const db::RunInfo& run);
 
 }  // namespace gyrocal::runreport

@@ -13,14 +13,14 @@ namespace {
 
 bool IsAnalysisSource(const std::string& source) { return source.rfind("analysis:", 0) == 0; }
 
-nlohmann::json Config(const store::RunInfo& run) {
+nlohmann::json Config(const db::RunInfo& run) {
     const auto j = nlohmann::json::parse(run.config_json, nullptr, false);
     return j.is_object() ? j : nlohmann::json::object();
 }
 
 }  // namespace
 
-std::vector<UnitData> Units(const store::RunDetail& d) {
+std::vector<UnitData> Units(const db::RunDetail& d) {
     std::set<std::string> ids(d.run.sensor_ids.begin(), d.run.sensor_ids.end());
     for (const auto& p : d.plateaus) ids.insert(p.sensor_id);
     for (const auto& s : d.sensitivity_points) ids.insert(s.sensor_id);
@@ -61,7 +61,7 @@ std::vector<UnitData> Units(const store::RunDetail& d) {
     return units;
 }
 
-double PlateauSlowNoiseDps(const store::RunInfo& run) {
+double PlateauSlowNoiseDps(const db::RunInfo& run) {
     const nlohmann::json c = Config(run);
     const auto it = c.find("plateau_slow_noise_dps");
     if (it == c.end() || !it->is_number()) return 0.0;
@@ -91,19 +91,19 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
     e.sensor_id = u.sensor_id;
     e.plateau_slow_noise_dps = slow_noise_dps;
     if (u.calibration) {
-        const store::CoeffSetRow& set = u.calibration->set;
+        const db::CoeffSetRow& set = u.calibration->set;
         e.has_calibration = true;
-        e.offset = store::ToModel(set.offset);
-        e.sensitivity = store::ToModel(set.sensitivity);
+        e.offset = db::ToModel(set.offset);
+        e.sensitivity = db::ToModel(set.sensitivity);
         e.n_turns = static_cast<int>(set.rotation_ids.size());
         // What is about the plateaus is judged on the plateau set (header).
-        const store::CoeffSetRow& plateau = u.plateau_set ? u.plateau_set->set : set;
-        e.plateau_offset = store::ToModel(plateau.offset);
-        e.plateau_sensitivity = store::ToModel(plateau.sensitivity);
+        const db::CoeffSetRow& plateau = u.plateau_set ? u.plateau_set->set : set;
+        e.plateau_offset = db::ToModel(plateau.offset);
+        e.plateau_sensitivity = db::ToModel(plateau.sensitivity);
         e.n_plateaus = static_cast<int>(plateau.plateau_ids.size());
         for (int64_t id : plateau.plateau_ids) {
             // A re-published plateau id keeps its newest row (the fitter keeps the newest too).
-            const store::PlateauRow* found = nullptr;
+            const db::PlateauRow* found = nullptr;
             for (const auto& p : u.plateaus)
                 if (p.plateau_id == id) found = &p;
             if (found)
@@ -123,7 +123,7 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
             "loop): its held-out error is not known";
     }
     if (!u.analyses.empty()) {
-        const store::AnalysisRow& a = u.analyses.back();
+        const db::AnalysisRow& a = u.analyses.back();
         e.analysis_verdict = a.verdict;
         e.analysis_outcome = a.outcome;
         e.analysis_to_test = ToTest(a.result_json);
@@ -132,7 +132,7 @@ acceptance::UnitEvidence Evidence(const UnitData& u, double slow_noise_dps) {
     return e;
 }
 
-RunLimits StoredLimits(const store::RunInfo& run) {
+RunLimits StoredLimits(const db::RunInfo& run) {
     RunLimits out;
     const nlohmann::json c = Config(run);
     const auto it = c.find(kLimitsKey);
@@ -149,7 +149,7 @@ RunLimits StoredLimits(const store::RunInfo& run) {
     return out;
 }
 
-std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& d,
+std::vector<acceptance::UnitVerdict> Accept(const db::RunDetail& d,
                                             const acceptance::Limits& limits) {
     const double slow = PlateauSlowNoiseDps(d.run);
     std::vector<acceptance::UnitVerdict> out;
@@ -174,7 +174,7 @@ acceptance::Outcome RunOutcome(const std::vector<acceptance::UnitVerdict>& verdi
 
 namespace gyrocal::runreport {
 
-RunAcceptance AcceptRun(const store::RunDetail& d, const std::optional<acceptance::Limits>& given,
+RunAcceptance AcceptRun(const db::RunDetail& d, const std::optional<acceptance::Limits>& given,
                         const std::string& given_origin) {
     RunAcceptance a;
     if (given) {

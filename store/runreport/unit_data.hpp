@@ -1,7 +1,7 @@
 #pragma once
 // A run as the report and the acceptance check see it: per unit, everything the store holds
 // about it (plateaus, turns, the calibration, other coefficient sets, analyses), taken from
-// store::RunDetail (the query library: ShowRun). Pure: structs in, structs out.
+// db::RunDetail (the query library: ShowRun). Pure: structs in, structs out.
 //
 // The calibration judged is the unit's final coefficient set from the fitter (the newest set whose
 // source is not "analysis:<id>"): on a plateau run with the closed loop, the set fitted on every
@@ -22,23 +22,23 @@ namespace gyrocal::runreport {
 
 struct UnitData {
     std::string sensor_id;
-    std::vector<store::PlateauRow> plateaus;         // every plateau of the unit in the run
-    std::vector<store::SensitivityRow> turns;        // every turn, accepted or not
-    std::optional<store::CoeffSetInfo> calibration;  // the final set
-    std::optional<store::CoeffSetInfo> plateau_set;  // the newest set of source "fitter", when
-                                                     // the final set is another (closed loop)
-    std::vector<store::CoeffSetInfo> other_sets;     // every other set (older ones, analyses)
+    std::vector<db::PlateauRow> plateaus;         // every plateau of the unit in the run
+    std::vector<db::SensitivityRow> turns;        // every turn, accepted or not
+    std::optional<db::CoeffSetInfo> calibration;  // the final set
+    std::optional<db::CoeffSetInfo> plateau_set;  // the newest set of source "fitter", when
+                                                  // the final set is another (closed loop)
+    std::vector<db::CoeffSetInfo> other_sets;     // every other set (older ones, analyses)
     // The analysis that made the final set (closed loop, ramp fit), when stored.
-    std::optional<store::AnalysisRow> final_analysis;
-    std::vector<store::AnalysisRow> analyses;  // oldest first
+    std::optional<db::AnalysisRow> final_analysis;
+    std::vector<db::AnalysisRow> analyses;  // oldest first
 };
 
 // The units of a run, by sensor id: those the run declared and any other with data in it.
-std::vector<UnitData> Units(const store::RunDetail& detail);
+std::vector<UnitData> Units(const db::RunDetail& detail);
 
 // [deg/s] the plateau slow noise the run declared (configuration plateau_slow_noise_dps; the
 // fitter added it to each plateau's standard error); 0 when the run did not declare one.
-double PlateauSlowNoiseDps(const store::RunInfo& run);
+double PlateauSlowNoiseDps(const db::RunInfo& run);
 
 acceptance::UnitEvidence Evidence(const UnitData& unit, double plateau_slow_noise_dps);
 
@@ -49,13 +49,13 @@ struct RunLimits {
     std::string origin;   // where they came from, for people
     std::string problem;  // "" when fine
 };
-RunLimits StoredLimits(const store::RunInfo& run);
+RunLimits StoredLimits(const db::RunInfo& run);
 
 // Key of the run configuration that holds the limits (and of their file name and hash).
 inline constexpr const char* kLimitsKey = "acceptance_limits";
 inline constexpr const char* kLimitsFileKey = "acceptance_limits_file";
 
-std::vector<acceptance::UnitVerdict> Accept(const store::RunDetail& detail,
+std::vector<acceptance::UnitVerdict> Accept(const db::RunDetail& detail,
                                             const acceptance::Limits& limits);
 
 // "pass" when every unit passed; else "FAIL" when any failed; else "not evaluated".
@@ -72,7 +72,7 @@ struct RunAcceptance {
 };
 // `given`: limits handed in by the caller (e.g. gyrocal report --limits FILE) instead of the
 // stored ones; `given_origin` says where they came from.
-RunAcceptance AcceptRun(const store::RunDetail& detail,
+RunAcceptance AcceptRun(const db::RunDetail& detail,
                         const std::optional<acceptance::Limits>& given = {},
                         const std::string& given_origin = "");
 

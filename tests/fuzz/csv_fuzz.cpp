@@ -25,7 +25,7 @@ void CheckEncodes(const Msg& m) {
     FUZZ_CHECK(m.encode(buf.data(), 0, static_cast<int>(buf.size())) > 0,
                "message does not encode");
     Msg back{};
-    FUZZ_CHECK(DecodeMessage(back, buf.data(), static_cast<int>(buf.size())),
+    FUZZ_CHECK(bus::DecodeMessage(back, buf.data(), static_cast<int>(buf.size())),
                "message does not decode");
 }
 

@@ -29,14 +29,14 @@ std::vector<uint8_t> Encode(const Msg& m, int* written) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > static_cast<size_t>(INT_MAX)) return 0;
     Msg msg{};
-    if (!gyrocal::DecodeMessage(msg, data, static_cast<int>(size))) return 0;
+    if (!gyrocal::bus::DecodeMessage(msg, data, static_cast<int>(size))) return 0;
     FUZZ_CHECK(msg.getEncodedSize() <= static_cast<int>(size),
                "decoded message is larger than its payload");
     int n1 = 0;
     const std::vector<uint8_t> b1 = Encode(msg, &n1);
     FUZZ_CHECK(n1 > 0, "a decoded message does not encode");
     Msg again{};
-    FUZZ_CHECK(gyrocal::DecodeMessage(again, b1.data(), static_cast<int>(b1.size())),
+    FUZZ_CHECK(gyrocal::bus::DecodeMessage(again, b1.data(), static_cast<int>(b1.size())),
                "a re-encoded message does not decode");
     int n2 = 0;
     const std::vector<uint8_t> b2 = Encode(again, &n2);

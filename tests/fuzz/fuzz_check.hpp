@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/row_parser.hpp"
 
 #define FUZZ_CHECK(cond, what)                                                                    \

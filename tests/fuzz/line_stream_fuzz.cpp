@@ -20,9 +20,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(fd > 0, "memfd_create failed");
     FUZZ_CHECK(write(fd, data, size) == static_cast<ssize_t>(size), "memfd write failed");
     lseek(fd, 0, SEEK_SET);
-    std::vector<InputLine> lines;
+    std::vector<line_source::InputLine> lines;
     {
-        LineInput input(fd, "fuzz-stream");  // owns and closes fd
+        line_source::LineInput input(fd, "fuzz-stream");  // owns and closes fd
         while (input.Read(0, &lines)) {
         }
     }
@@ -35,17 +35,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK(joined == std::string(reinterpret_cast<const char*>(data), size),
                "the lines do not give back the input");
 
-    LineStream stream("fuzz-stream", sensor::TempTransfer{});
+    line_source::LineStream stream("fuzz-stream", sensor::TempTransfer{});
     std::map<std::string, long long> last_us;
     bool fatal = false;
-    for (const InputLine& line : lines) {
-        const LineOutcome o = stream.Feed(line);
-        FUZZ_CHECK(!fatal || o.kind == LineOutcome::Kind::kFatal,
+    for (const line_source::InputLine& line : lines) {
+        const line_source::LineOutcome o = stream.Feed(line);
+        FUZZ_CHECK(!fatal || o.kind == line_source::LineOutcome::Kind::kFatal,
                    "a line was read after a fatal one");
-        fatal = o.kind == LineOutcome::Kind::kFatal;
-        FUZZ_CHECK(o.row.has_value() == (o.kind == LineOutcome::Kind::kRow), "row without kRow");
+        fatal = o.kind == line_source::LineOutcome::Kind::kFatal;
+        FUZZ_CHECK(o.row.has_value() == (o.kind == line_source::LineOutcome::Kind::kRow),
+                   "row without kRow");
         if (o.row) fuzz::CheckRow(*o.row, last_us);
-        if (o.kind == LineOutcome::Kind::kBad || fatal) {
+        if (o.kind == line_source::LineOutcome::Kind::kBad || fatal) {
             FUZZ_CHECK(!o.message.empty(), "a bad line without a reason");
         }
     }

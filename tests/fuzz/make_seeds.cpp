@@ -117,16 +117,16 @@ void DbSeeds() {
     const fs::path tmp = fs::temp_directory_path() / "gyrocal_make_seeds.db";
     for (const char* ext : {"", "-wal", "-shm"}) fs::remove(tmp.string() + ext);
     {
-        store::StoreWriter w(tmp.string(), store::WriterInfo{"seed", "seedhost", 1});
-        std::vector<store::Row> rows;
-        store::RunEventRow e;
+        db::StoreWriter w(tmp.string(), db::WriterInfo{"seed", "seedhost", 1});
+        std::vector<db::Row> rows;
+        db::RunEventRow e;
         e.run_id = "R1";
         e.event = "start";
         e.sensor_ids = {"S01"};
         e.config_json = "{}";
         rows.push_back(e);
         for (int64_t s = 0; s < 5; ++s) {
-            store::GyroRow g;
+            db::GyroRow g;
             g.run_id = "R1";
             g.sensor_id = "S01";
             g.utime = kT0Utime + s * kPeriodUs;
@@ -134,24 +134,24 @@ void DbSeeds() {
             g.gyro_v = 2.5;
             rows.push_back(g);
         }
-        w.Write(rows, {{{"R1", "GYRO_S01"}, store::LossDelta{2, 0, 0, 1}}});
+        w.Write(rows, {{{"R1", "GYRO_S01"}, db::LossDelta{2, 0, 0, 1}}});
         w.db().Exec("PRAGMA wal_checkpoint(TRUNCATE)");
         w.db().Exec("PRAGMA journal_mode = DELETE");
         w.db().Exec("PRAGMA page_size = 512");
         w.db().Exec("VACUUM");
     }
-    Put("store_open", "gyrocal_v" + std::to_string(store::kSchemaVersion), ReadFile(tmp));
+    Put("store_open", "gyrocal_v" + std::to_string(db::kSchemaVersion), ReadFile(tmp));
     for (const char* ext : {"", "-wal", "-shm"}) fs::remove(tmp.string() + ext);
     {
-        store::Db db(tmp.string(), store::Db::Mode::kReadWriteCreate);
+        db::Db db(tmp.string(), db::Db::Mode::kReadWriteCreate);
         db.Exec("PRAGMA page_size = 512");
-        store::Migrate(db, 1);
+        db::Migrate(db, 1);
         db.Exec("VACUUM");
     }
     Put("store_open", "gyrocal_v1", ReadFile(tmp));
     for (const char* ext : {"", "-wal", "-shm"}) fs::remove(tmp.string() + ext);
     {
-        store::Db db(tmp.string(), store::Db::Mode::kReadWriteCreate);
+        db::Db db(tmp.string(), db::Db::Mode::kReadWriteCreate);
         db.Exec("PRAGMA page_size = 512; CREATE TABLE t(a, b); INSERT INTO t VALUES (1, 'x')");
     }
     Put("store_open", "foreign_sqlite", ReadFile(tmp));

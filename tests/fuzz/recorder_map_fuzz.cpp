@@ -1,5 +1,5 @@
 // Fuzz the recorder's view of the bus: a sequence of received messages through
-// record::RecordMapper::Map, as gyrocal-recorder maps every message it receives (fingerprint,
+// recorder::RecordMapper::Map, as gyrocal-recorder maps every message it receives (fingerprint,
 // decode, run in force, seq gaps).
 // Input: records of [channel: 1 byte, an index into kChannels][length: 2 bytes, big-endian]
 // [payload: length bytes]; a record cut short by the end of the input takes what is left.
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/recorder/record_mapper.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
 
@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                                        channels::Power("S01"),
                                                        channels::Noise("S01"),
                                                        channels::Fit("S01")};
-    record::RecordMapper mapper(record::MapperOptions::Defaults(), "R0");
+    recorder::RecordMapper mapper(recorder::MapperOptions::Defaults(), "R0");
     size_t at = 0;
     int64_t recv_utime = 1;
     while (at < size) {
@@ -42,7 +42,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         at += len;
 
         const std::string run_before = mapper.current_run();
-        const record::Mapped m = mapper.Map(channel, payload, static_cast<int>(len), recv_utime++);
+        const recorder::Mapped m =
+            mapper.Map(channel, payload, static_cast<int>(len), recv_utime++);
         if (m.control) {
             FUZZ_CHECK(!m.row && m.more.empty() && m.loss.decode_errors == 0,
                        "flow control or an empty batch became rows");
@@ -50,9 +51,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             continue;
         }
         FUZZ_CHECK(m.row.has_value(), "a message became no row (rates are stored here)");
-        for (const store::Row& r : m.more)
+        for (const db::Row& r : m.more)
             FUZZ_CHECK(r.index() == m.row->index(), "a batch's rows are of different types");
-        const auto* raw = std::get_if<store::RawEventRow>(&*m.row);
+        const auto* raw = std::get_if<db::RawEventRow>(&*m.row);
         if (m.loss.decode_errors > 0) {
             FUZZ_CHECK(raw && raw->reason == "decode_error", "decode error without its raw event");
         }
@@ -62,7 +63,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             FUZZ_CHECK((raw->reason == "decode_error") == (m.loss.decode_errors == 1),
                        "raw event reason and decode error count disagree");
         }
-        if (!std::holds_alternative<store::RunEventRow>(*m.row)) {
+        if (!std::holds_alternative<db::RunEventRow>(*m.row)) {
             FUZZ_CHECK(mapper.current_run() == run_before, "run changed without a run event");
         }
     }

@@ -1,8 +1,8 @@
 // Fuzz opening a file that is said to be a gyrocal database: the bytes written to a file, then
-// the readers' path (store::OpenForQuery, which migrates an older gyrocal file; ListRuns,
+// the readers' path (db::OpenForQuery, which migrates an older gyrocal file; ListRuns,
 // ShowRun and SensorHistory, as `gyrocal runs/show/history` call them) and the recorder's
 // (StoreWriter: open, migrate, OpenRunId, LastSeqs, one batch written).
-// Contract: every failure is a store::StoreError, which the commands print as one line and exit
+// Contract: every failure is a db::StoreError, which the commands print as one line and exit
 // non-zero on; nothing else is thrown and nothing crashes.
 #include <unistd.h>
 
@@ -17,7 +17,7 @@
 
 namespace {
 
-using namespace gyrocal::store;
+using namespace gyrocal::db;
 
 std::string FuzzPath() {
     namespace fs = std::filesystem;

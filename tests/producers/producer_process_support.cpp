@@ -15,7 +15,7 @@
 
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::test {
@@ -88,33 +88,34 @@ void WriteText(const std::string& path, const std::string& text) {
     out << text;
 }
 
-ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url, const std::string& out,
-                            const std::string& err, const std::vector<std::string>& extra) {
+launch::ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url,
+                                    const std::string& out, const std::string& err,
+                                    const std::vector<std::string>& extra) {
     std::vector<std::string> argv = {
         Bin("gyrocal-csv-record"), "--out", dir.Path(out), "--lcm-url", url, "--idle-exit-s", "3"};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    return ChildProcess(argv, "", dir.Path(err));
+    return launch::ChildProcess(argv, "", dir.Path(err));
 }
 
-ChildProcess StartCsvSource(const Scratch& dir, const std::string& url, const std::string& csv,
-                            const std::vector<std::string>& extra) {
+launch::ChildProcess StartCsvSource(const Scratch& dir, const std::string& url,
+                                    const std::string& csv, const std::vector<std::string>& extra) {
     std::vector<std::string> argv = {Bin("gyrocal-csv-source"), dir.Path(csv), "--lcm-url", url};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    return ChildProcess(argv, "", dir.Path("source.err"));
+    return launch::ChildProcess(argv, "", dir.Path("source.err"));
 }
 
-bool WaitForStatus(const std::string& url, const std::vector<const ChildProcess*>& children,
+bool WaitForStatus(const std::string& url, const std::vector<const launch::ChildProcess*>& children,
                    std::chrono::milliseconds timeout) {
-    Bus bus(BusOptions{url});
+    bus::Bus bus(bus::BusOptions{url});
     std::set<int32_t> waiting;
-    for (const ChildProcess* c : children) waiting.insert(static_cast<int32_t>(c->pid()));
+    for (const launch::ChildProcess* c : children) waiting.insert(static_cast<int32_t>(c->pid()));
     bus.Subscribe<status_t>(std::string(channels::kStatus),
                             [&](const status_t& s, const std::string&) { waiting.erase(s.pid); });
     return testing::HandleUntil(
         bus, [&] { return waiting.empty(); }, timeout);
 }
 
-ExitStatus WaitExit(ChildProcess& child, std::chrono::milliseconds timeout) {
+launch::ExitStatus WaitExit(launch::ChildProcess& child, std::chrono::milliseconds timeout) {
     if (auto s = child.Wait(timeout)) return *s;
     ADD_FAILURE() << child.name() << " still running after " << timeout.count() << " ms";
     return child.Stop();

@@ -48,24 +48,26 @@ void WriteText(const std::string& path, const std::string& text);
 
 // Waits (bounded) for a STATUS of each child on `url`: they have subscribed by then. Heartbeats
 // come once a second, so this can take ~1 s: give recorders an --idle-exit-s well above that.
-bool WaitForStatus(const std::string& url, const std::vector<const ChildProcess*>& children,
+bool WaitForStatus(const std::string& url, const std::vector<const launch::ChildProcess*>& children,
                    std::chrono::milliseconds timeout = std::chrono::seconds(10));
-inline bool WaitForStatus(const std::string& url, const ChildProcess& child) {
-    return WaitForStatus(url, std::vector<const ChildProcess*>{&child});
+inline bool WaitForStatus(const std::string& url, const launch::ChildProcess& child) {
+    return WaitForStatus(url, std::vector<const launch::ChildProcess*>{&child});
 }
 
 // gyrocal-csv-record writing `out` (a file of `dir`) from `url`, its stderr in `err` (of `dir`),
 // leaving after 3 s without samples; `extra` options follow.
-ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url,
-                            const std::string& out = "out.csv", const std::string& err = "rec.err",
-                            const std::vector<std::string>& extra = {});
+launch::ChildProcess StartCsvRecord(const Scratch& dir, const std::string& url,
+                                    const std::string& out = "out.csv",
+                                    const std::string& err = "rec.err",
+                                    const std::vector<std::string>& extra = {});
 // gyrocal-csv-source publishing `csv` (a file of `dir`) on `url`, its stderr in source.err of
 // `dir`; `extra` options follow.
-ChildProcess StartCsvSource(const Scratch& dir, const std::string& url, const std::string& csv,
-                            const std::vector<std::string>& extra = {});
+launch::ChildProcess StartCsvSource(const Scratch& dir, const std::string& url,
+                                    const std::string& csv,
+                                    const std::vector<std::string>& extra = {});
 
 // Waits for exit; a child still running after `timeout` is stopped and reported as failed.
-ExitStatus WaitExit(ChildProcess& child, std::chrono::milliseconds timeout);
+launch::ExitStatus WaitExit(launch::ChildProcess& child, std::chrono::milliseconds timeout);
 
 // Expects `recorded` to hold exactly the samples of `original` (per sensor, in order): same
 // count, time_s to the microsecond, and every value bit-identical; temp_c must equal the

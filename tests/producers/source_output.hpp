@@ -15,14 +15,14 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::testing {
 
 struct SourceOutput {
-    explicit SourceOutput(Bus& bus) {
+    explicit SourceOutput(bus::Bus& bus) {
         CollectInto(bus, channels::AllSensors(channels::kGyroPrefix), gyro);
         CollectInto(bus, std::string(channels::kEncoder), encoder);
         CollectInto(bus, std::string(channels::kChamberState), chamber);
@@ -38,7 +38,7 @@ struct SourceOutput {
 };
 
 // Dispatches until nothing more is pending (10 s at the most).
-inline void DrainBus(Bus& bus) {
+inline void DrainBus(bus::Bus& bus) {
     ASSERT_TRUE(HandleUntil(
         bus, [&] { return !bus.Handle(std::chrono::milliseconds(0)); },
         std::chrono::milliseconds(10'000), std::chrono::milliseconds(0)));

@@ -13,8 +13,8 @@
 namespace gyrocal::testing {
 
 // A sample of a unit at rest at 25 degC: 2.5 V, its supply not measured (NaN, no ADC code).
-inline store::GyroRow GyroSample(const std::string& run, const std::string& sensor, int64_t seq,
-                                 int64_t utime, int64_t recv_utime) {
+inline db::GyroRow GyroSample(const std::string& run, const std::string& sensor, int64_t seq,
+                              int64_t utime, int64_t recv_utime) {
     return {.run_id = run,
             .sensor_id = sensor,
             .utime = utime,
@@ -28,9 +28,9 @@ inline store::GyroRow GyroSample(const std::string& run, const std::string& sens
 
 // A model of `quantity` in powers of dT = T - 25 degC ("1", "dT", "dT^2": up to three
 // coefficients), its covariance zero: each fixture sets its own uncertainties and fit figures.
-inline store::ModelRow PolynomialModel(const std::string& quantity,
-                                       const std::vector<double>& coeffs) {
-    store::ModelRow m;
+inline db::ModelRow PolynomialModel(const std::string& quantity,
+                                    const std::vector<double>& coeffs) {
+    db::ModelRow m;
     m.quantity = quantity;
     const std::vector<std::string> names = {"1", "dT", "dT^2"};
     for (size_t i = 0; i < coeffs.size(); ++i) m.term_names.push_back(names.at(i));
@@ -40,9 +40,9 @@ inline store::ModelRow PolynomialModel(const std::string& quantity,
 }
 
 // A run event as the sequencer sends it (no setpoint), received when sent.
-inline store::RunEventRow RunEvent(const std::string& run, const std::string& event,
-                                   std::vector<std::string> sensors, int64_t utime) {
-    store::RunEventRow e;
+inline db::RunEventRow RunEvent(const std::string& run, const std::string& event,
+                                std::vector<std::string> sensors, int64_t utime) {
+    db::RunEventRow e;
     e.run_id = run;
     e.event = event;
     e.sensor_ids = std::move(sensors);
@@ -63,18 +63,17 @@ Row OverWindow(const std::string& run, const std::string& sensor, int64_t start_
 }
 
 // A plateau, its supply not measured.
-inline store::PlateauRow Plateau(const std::string& run, const std::string& sensor,
-                                 int64_t start_utime, int64_t end_utime) {
-    store::PlateauRow p = OverWindow<store::PlateauRow>(run, sensor, start_utime, end_utime);
+inline db::PlateauRow Plateau(const std::string& run, const std::string& sensor,
+                              int64_t start_utime, int64_t end_utime) {
+    db::PlateauRow p = OverWindow<db::PlateauRow>(run, sensor, start_utime, end_utime);
     p.supply_mean_v = std::nan("");
     return p;
 }
 
 // An accepted rotation (sensitivity point).
-inline store::SensitivityRow Rotation(const std::string& run, const std::string& sensor,
-                                      int64_t start_utime, int64_t end_utime) {
-    store::SensitivityRow s =
-        OverWindow<store::SensitivityRow>(run, sensor, start_utime, end_utime);
+inline db::SensitivityRow Rotation(const std::string& run, const std::string& sensor,
+                                   int64_t start_utime, int64_t end_utime) {
+    db::SensitivityRow s = OverWindow<db::SensitivityRow>(run, sensor, start_utime, end_utime);
     s.accepted = true;
     return s;
 }
@@ -85,7 +84,7 @@ struct BeforeAfter {
 };
 
 // Sets an analysis' errors: residual offset RMS [V], rate RMS [deg/s], integrated drift [deg/h].
-inline void SetErrors(store::AnalysisRow& a, BeforeAfter offset_rms_v, BeforeAfter rate_rms_dps,
+inline void SetErrors(db::AnalysisRow& a, BeforeAfter offset_rms_v, BeforeAfter rate_rms_dps,
                       BeforeAfter drift_dph) {
     a.offset_rms_v_before = offset_rms_v.before;
     a.offset_rms_v_after = offset_rms_v.after;

@@ -26,14 +26,14 @@ inline std::string FreshDbPath(const std::string& name) {
 }
 
 // The first column of the first row of `sql`, -1 when there is no row.
-inline int64_t Count(store::Db& db, const std::string& sql) {
-    store::Stmt s(db, sql);
+inline int64_t Count(db::Db& db, const std::string& sql) {
+    db::Stmt s(db, sql);
     return s.Step() ? s.Int(0) : -1;
 }
 
 // The same on a read-only connection of its own to the file at `db_path`.
 inline int64_t Count(const std::string& db_path, const std::string& sql) {
-    store::Db db(db_path, store::Db::Mode::kReadOnly);
+    db::Db db(db_path, db::Db::Mode::kReadOnly);
     return Count(db, sql);
 }
 
@@ -55,10 +55,10 @@ inline int64_t WaitForCount(const std::string& db_path, const std::string& sql, 
 }
 
 // A new database at schema `version`, as an older gyrocal left it, for a test to fill.
-struct OldDatabase : store::Db {
-    OldDatabase(const std::string& path, int version) : store::Db(path, Mode::kReadWriteCreate) {
-        store::ConfigureConnection(*this);
-        store::Migrate(*this, version);
+struct OldDatabase : db::Db {
+    OldDatabase(const std::string& path, int version) : db::Db(path, Mode::kReadWriteCreate) {
+        db::ConfigureConnection(*this);
+        db::Migrate(*this, version);
     }
 };
 

@@ -40,8 +40,8 @@ inline std::string TrickyText(const std::string& what) {
     return what + ": tab\there, new\nline, back\\slash, 'quote' \"dq\", \xc3\xbcml\xc3\xa4ut";
 }
 
-inline store::ModelRow StationModel(const std::string& quantity, std::vector<double> coeffs) {
-    store::ModelRow m = PolynomialModel(quantity, coeffs);
+inline db::ModelRow StationModel(const std::string& quantity, std::vector<double> coeffs) {
+    db::ModelRow m = PolynomialModel(quantity, coeffs);
     for (size_t i = 0; i < coeffs.size(); ++i) m.covariance[i][i] = 1e-10 * (i + 1);
     m.covariance[0][1] = m.covariance[1][0] = 3e-12;
     SetTestModelScalars(m, {.residual_rms = 1.25e-4, .n_points = 6, .condition_number = 7.5});
@@ -51,11 +51,11 @@ inline store::ModelRow StationModel(const std::string& quantity, std::vector<dou
 }
 
 // The run's rows but its analysis and validation, written in batches of `batch` rows.
-inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int k, int64_t t0,
+inline void WriteStationRun(db::StoreWriter& w, const StationSpec& spec, int k, int64_t t0,
                             bool open) {
     const std::string run = spec.prefix + "-R" + std::to_string(k);
-    std::vector<store::Row> rows;
-    store::RunEventRow start = RunEvent(run, "start", spec.sensors, t0);
+    std::vector<db::Row> rows;
+    db::RunEventRow start = RunEvent(run, "start", spec.sensors, t0);
     start.software_version = "v9.9.9-test";
     start.config_json = R"({"unit_model":")" + spec.unit_model + R"(","setpoints_c":[-40,25,85]})";
     start.command_line = "gyrocal calibrate --db station.db";
@@ -68,7 +68,7 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
         const int64_t utime = 1'000'000 + s * 10'000, recv = t0 + 1000 + s * 10;
         const double temp_c = -40 + 125.0 * static_cast<double>(s) / static_cast<double>(n);
         for (size_t u = 0; u < spec.sensors.size(); ++u) {
-            store::GyroRow g = GyroSample(run, spec.sensors[u], s, utime, recv);
+            db::GyroRow g = GyroSample(run, spec.sensors[u], s, utime, recv);
             g.temp_c = temp_c;
             g.gyro_v = 2.5 + 0.001 * std::sin(0.01 * static_cast<double>(s + u)) + 1e-9 * s;
             g.temp_v = 1.0 + temp_c / 100;
@@ -81,13 +81,12 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
             }
             rows.push_back(g);
             if (s % 10 == 0)
-                rows.push_back(store::RateRow{run, spec.sensors[u], utime, s, 0.01 * u, 90.0,
-                                              temp_c, 2, 0, recv});
+                rows.push_back(db::RateRow{run, spec.sensors[u], utime, s, 0.01 * u, 90.0, temp_c,
+                                           2, 0, recv});
         }
         if (s % 5 == 0) {
-            rows.push_back(
-                store::EncoderRow{run, "ENC", utime, s / 5, s * 7, 36000, s * 0.07, recv});
-            store::ChamberStateRow c{run, utime, s / 5, 1, 25, temp_c, true, "", recv};
+            rows.push_back(db::EncoderRow{run, "ENC", utime, s / 5, s * 7, 36000, s * 0.07, recv});
+            db::ChamberStateRow c{run, utime, s / 5, 1, 25, temp_c, true, "", recv};
             if (s % 50 == 0) c.air_c = std::nan("");
             rows.push_back(c);
         }
@@ -96,13 +95,13 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
             rows.clear();
         }
     }
-    rows.push_back(store::ChamberCmdRow{run, run, 5, 1, 25, 3, t0 + 2});
-    rows.push_back(store::TurntableCmdRow{run, run, 6, 2, 90, 30, 100, t0 + 3});
-    rows.push_back(store::PlateauStateRow{run, spec.sensors[0], 7, "stable", 25, 0.01, 0.02, 120,
-                                          0.5, 1, t0 + 4});
+    rows.push_back(db::ChamberCmdRow{run, run, 5, 1, 25, 3, t0 + 2});
+    rows.push_back(db::TurntableCmdRow{run, run, 6, 2, 90, 30, 100, t0 + 3});
+    rows.push_back(db::PlateauStateRow{run, spec.sensors[0], 7, "stable", 25, 0.01, 0.02, 120, 0.5,
+                                       1, t0 + 4});
     for (const std::string& id : spec.sensors) {
-        rows.push_back(store::PowerStateRow{run, id, 8, 1, 500, "rig", t0 + 5});
-        store::StatusRow st;
+        rows.push_back(db::PowerStateRow{run, id, 8, 1, 500, "rig", t0 + 5});
+        db::StatusRow st;
         st.run_id = run;
         st.process = "gyrocal-plateau";
         st.host = spec.prefix + "-host";
@@ -114,18 +113,18 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
         st.recv_utime = t0 + 6;
         rows.push_back(st);
     }
-    rows.push_back(store::RawEventRow{run,
-                                      "ODD_CHANNEL",
-                                      t0 + 9,
-                                      "00ff10090a5c2700",
-                                      "unknown_type",
-                                      {0, 255, 16, 9, 10, 92, 39, 0, 1}});
+    rows.push_back(db::RawEventRow{run,
+                                   "ODD_CHANNEL",
+                                   t0 + 9,
+                                   "00ff10090a5c2700",
+                                   "unknown_type",
+                                   {0, 255, 16, 9, 10, 92, 39, 0, 1}});
     for (size_t u = 0; u < spec.sensors.size(); ++u) {
         const std::string& id = spec.sensors[u];
         const double off =
             2.5 + spec.station_offset_v + spec.unit_offset_v * static_cast<double>(u);
         for (int p = 1; p <= 3; ++p) {
-            store::PlateauRow pl = Plateau(run, id, p * 1'000'000, p * 1'000'000 + 600'000);
+            db::PlateauRow pl = Plateau(run, id, p * 1'000'000, p * 1'000'000 + 600'000);
             pl.setpoint_c = -40 + 60.0 * p;
             pl.temp_mean_c = pl.setpoint_c + 0.01;
             pl.gyro_mean_v = off + 1e-3 * (pl.temp_mean_c - 25);
@@ -133,13 +132,13 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
             rows.push_back(pl);
         }
         for (int r = 1; r <= 2; ++r) {
-            store::SensitivityRow sp = Rotation(run, id, r * 2'000'000, r * 2'000'000 + 500'000);
+            db::SensitivityRow sp = Rotation(run, id, r * 2'000'000, r * 2'000'000 + 500'000);
             sp.direction = r == 1 ? 1 : -1;
             sp.sensitivity_v_per_dps = 0.0067;
             sp.reject_reason = r == 2 ? TrickyText("why") : "";
             rows.push_back(sp);
         }
-        store::CoeffSetRow c;
+        db::CoeffSetRow c;
         c.run_id = run;
         c.sensor_id = id;
         c.source = "fitter";
@@ -158,28 +157,28 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
         c.rotation_ids = {2'000'000, 4'000'000};
         c.recv_utime = t0 + 21;
         rows.push_back(c);
-        store::NoiseRow nz{run,
-                           id,
-                           9'500'000,
-                           1800,
-                           600,
-                           0.01,
-                           3,
-                           1e-4,
-                           1e-5,
-                           2e-5,
-                           2e-6,
-                           3e-7,
-                           3e-8,
-                           TrickyText("note"),
-                           {0.1, 1, 10},
-                           {1e-4, 3e-5, 2e-5},
-                           {9e-5, 2e-5, 1e-5},
-                           {1.1e-4, 4e-5, 3e-5},
-                           {100, 10, 1},
-                           t0 + 22};
+        db::NoiseRow nz{run,
+                        id,
+                        9'500'000,
+                        1800,
+                        600,
+                        0.01,
+                        3,
+                        1e-4,
+                        1e-5,
+                        2e-5,
+                        2e-6,
+                        3e-7,
+                        3e-8,
+                        TrickyText("note"),
+                        {0.1, 1, 10},
+                        {1e-4, 3e-5, 2e-5},
+                        {9e-5, 2e-5, 1e-5},
+                        {1.1e-4, 4e-5, 3e-5},
+                        {100, 10, 1},
+                        t0 + 22};
         rows.push_back(nz);
-        store::FitReportRow f;
+        db::FitReportRow f;
         f.run_id = run;
         f.sensor_id = id;
         f.source = "fitter";
@@ -197,7 +196,7 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
         f.recv_utime = t0 + 23;
         rows.push_back(f);
     }
-    store::LossMap losses;
+    db::LossMap losses;
     losses[{run, "GYRO_" + spec.sensors[0]}].seq_gaps = 3 + k;
     losses[{run, ""}].queue_drops = 1;
     if (!open) rows.push_back(RunEvent(run, "stop", spec.sensors, t0 + 30));
@@ -206,9 +205,9 @@ inline void WriteStationRun(store::StoreWriter& w, const StationSpec& spec, int 
 
 // The analysis of the run's first unit (with its extended model) and, from the second run on, a
 // validation of the previous run's final set of that unit on this run.
-inline void AnalyseStationRun(store::Db& db, const StationSpec& spec, int k, int64_t t0) {
+inline void AnalyseStationRun(db::Db& db, const StationSpec& spec, int k, int64_t t0) {
     const std::string run = spec.prefix + "-R" + std::to_string(k);
-    store::AnalysisRow a;
+    db::AnalysisRow a;
     a.run_id = run;
     a.sensor_id = spec.sensors[0];
     a.created_wall_utime = t0 + 40;
@@ -219,7 +218,7 @@ inline void AnalyseStationRun(store::Db& db, const StationSpec& spec, int k, int
     a.added_json = R"([{"effect":"temp_rate","term":"dTdt","coefficient":0.02}])";
     a.result_json = R"({"outcome":"explained","note":"a\tb"})";
     SetErrors(a, {2e-4, 4e-5}, {0.03, 0.006}, {95, 21});
-    store::CoeffSetRow ext;
+    db::CoeffSetRow ext;
     ext.sensor_id = spec.sensors[0];
     ext.coeff_set_id = 3;
     ext.utime = 9'900'000;
@@ -228,15 +227,15 @@ inline void AnalyseStationRun(store::Db& db, const StationSpec& spec, int k, int
     ext.offset.coeffs.push_back(0.02);
     ext.offset.covariance.assign(4, std::vector<double>(4, 0.0));
     ext.sensitivity = StationModel("sensitivity_v_per_dps", {0.0067, 1e-6});
-    store::StoreAnalysis(db, a, &ext);
+    db::StoreAnalysis(db, a, &ext);
     if (k == 1) return;
     const std::string previous = spec.prefix + "-R" + std::to_string(k - 1);
-    store::Stmt s(db,
-                  "SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id = ? AND sensor_id = ? "
-                  "AND source = 'fitter'");
+    db::Stmt s(db,
+               "SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id = ? AND sensor_id = ? "
+               "AND source = 'fitter'");
     s.Bind(1, previous).Bind(2, spec.sensors[0]);
     s.Step();
-    store::ValidationRow v;
+    db::ValidationRow v;
     v.run_id = run;
     v.sensor_id = spec.sensors[0];
     v.created_wall_utime = t0 + 41;
@@ -250,11 +249,11 @@ inline void AnalyseStationRun(store::Db& db, const StationSpec& spec, int k, int
     v.floor_rate_rms_dps = 0.01;
     v.power_on = "rig";
     v.result_json = "{}";
-    store::InsertValidation(db, v);
+    db::InsertValidation(db, v);
 }
 
 inline void WriteStation(const std::string& path, const StationSpec& spec) {
-    store::StoreWriter w(path, {"test", spec.prefix + "-host", 1});
+    db::StoreWriter w(path, {"test", spec.prefix + "-host", 1});
     for (int k = 1; k <= spec.runs; ++k) {
         const int64_t t0 = spec.wall0_utime + k * 3600LL * 1000000LL;
         const bool open = spec.last_open && k == spec.runs;

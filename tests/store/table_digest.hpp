@@ -58,17 +58,17 @@ inline std::string RunRowsWhere(const std::string& table) {
 }
 
 // Every pushed table's digest for `run_id`; the column lists come from the station file.
-inline std::map<std::string, TableDigest> RunDigests(store::Db& db, store::Db& station,
+inline std::map<std::string, TableDigest> RunDigests(db::Db& db, db::Db& station,
                                                      const std::string& run_id) {
     std::map<std::string, TableDigest> out;
-    for (const store::push::Table& t : store::push::StationTables(station)) {
-        if (t.scope == store::push::Scope::kLocal) continue;
+    for (const db::push::Table& t : db::push::StationTables(station)) {
+        if (t.scope == db::push::Scope::kLocal) continue;
         std::string cols, order;
         for (const auto& c : t.columns) cols += (cols.empty() ? "" : ", ") + c.name;
         // Station order: by row id, which the centre keeps (offset) in `rowid` or the key.
         const std::string id = t.id_is_key ? t.id_column : "rowid";
-        store::Stmt s(db, "SELECT " + cols + " FROM " + t.name + " WHERE " + RunRowsWhere(t.name) +
-                              " ORDER BY " + id);
+        db::Stmt s(db, "SELECT " + cols + " FROM " + t.name + " WHERE " + RunRowsWhere(t.name) +
+                           " ORDER BY " + id);
         s.Bind(1, run_id);
         TableDigest& d = out[t.name];
         while (s.Step()) {
@@ -79,7 +79,7 @@ inline std::map<std::string, TableDigest> RunDigests(store::Db& db, store::Db& s
                 if (s.IsNull(col)) {
                     Mix(d, "\x01NULL");
                 } else if (IsIdColumn(c.name)) {
-                    Mix(d, std::to_string(s.Int(col) % store::kRunKeyScale));
+                    Mix(d, std::to_string(s.Int(col) % db::kRunKeyScale));
                 } else if (c.kind == 'i') {
                     Mix(d, std::to_string(s.Int(col)));
                 } else if (c.kind == 'r') {
@@ -92,7 +92,7 @@ inline std::map<std::string, TableDigest> RunDigests(store::Db& db, store::Db& s
                     std::string v = s.Text(col);
                     if (c.name == "source" && v.rfind("analysis:", 0) == 0)
                         v = "analysis:" +
-                            std::to_string(std::stoll(v.substr(9)) % store::kRunKeyScale);
+                            std::to_string(std::stoll(v.substr(9)) % db::kRunKeyScale);
                     Mix(d, v);
                 }
             }

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 
 namespace gyrocal::supervisor {
 
@@ -11,12 +11,12 @@ std::vector<std::string> ErrorLinesOf(const std::string& log_text, const std::st
     std::vector<std::string> errors;
     std::string last;
     std::istringstream in(log_text);
-    const size_t prefix = ErrorLine(process, "").size();
+    const size_t prefix = process::ErrorLine(process, "").size();
     for (std::string line; std::getline(in, line);) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.find_first_not_of(" \t") == std::string::npos) continue;
         last = line;
-        if (IsErrorLineOf(process, line)) errors.push_back(line.substr(prefix));
+        if (process::IsErrorLineOf(process, line)) errors.push_back(line.substr(prefix));
     }
     if (errors.empty()) {
         if (last.empty()) return {};

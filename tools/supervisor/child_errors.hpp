@@ -1,7 +1,7 @@
 #pragma once
 // What a child process said when it failed, for the line that ends a run: every gyrocal process
 // writes its fatal messages in one shape ("<process>: error: <where>: <what>; <valid>",
-// lcmtypes/runtime/process_main.hpp), so the launcher can surface them as they are instead of
+// lcmtypes/process/process_main.hpp), so the launcher can surface them as they are instead of
 // pointing at a log file.
 #include <string>
 #include <vector>

@@ -33,15 +33,15 @@ std::string CsvProblem(const CalibrateOptions& o) {
                                      std::to_string(kCheckRows)};
     argv.insert(argv.end(), o.source_args.begin(), o.source_args.end());
     ScratchLog log;
-    ChildProcess check(argv, log.path, log.path);
-    const std::optional<ExitStatus> how = check.Wait(std::chrono::seconds(60));
+    launch::ChildProcess check(argv, log.path, log.path);
+    const std::optional<launch::ExitStatus> how = check.Wait(std::chrono::seconds(60));
     if (!how) {
         check.Stop();
         return o.input + ": the check of its first " + std::to_string(kCheckRows) +
                " rows did not end within 60 s";
     }
     if (how->exited && how->code == 0) return "";
-    const std::vector<std::string> lines = ErrorLinesOf(ReadLog(log.path), kCsvSource, 1);
+    const std::vector<std::string> lines = ErrorLinesOf(launch::ReadLog(log.path), kCsvSource, 1);
     return lines.empty() ? std::string(kCsvSource) + " --check-rows " + how->Describe()
                          : lines.back();
 }

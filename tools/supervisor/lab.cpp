@@ -77,7 +77,7 @@ std::string ChamberUrl(const std::string& url, int chamber) {
     if (chamber < 1 || chamber > 100)
         throw std::invalid_argument("--chamber " + std::to_string(chamber) + ": valid is 1..100");
     if (chamber == 1) return url;
-    std::optional<UdpmAddress> a = ParseUdpm(url);
+    std::optional<bus::UdpmAddress> a = bus::ParseUdpm(url);
     if (!a)
         throw std::invalid_argument("--chamber " + std::to_string(chamber) +
                                     " needs a udpm:// LCM URL with a port "
@@ -87,7 +87,7 @@ std::string ChamberUrl(const std::string& url, int chamber) {
     if (a->port > 65535)
         throw std::invalid_argument("--chamber " + std::to_string(chamber) + ": port " +
                                     std::to_string(a->port) + " of '" + url + "' is past 65535");
-    return FormatUdpm(*a);
+    return bus::FormatUdpm(*a);
 }
 
 }  // namespace gyrocal::supervisor

@@ -27,11 +27,11 @@
 #include "gyrocal/version.hpp"
 #include "lcmtypes/bus/batch.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
-#include "lcmtypes/runtime/process_main.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/process_main.hpp"
+#include "lcmtypes/process/shutdown.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/model/convert.hpp"
 #include "processors/sequencer/procedure.hpp"
 #include "producers/csv/file_digest.hpp"
@@ -80,7 +80,7 @@ std::string TailOf(const std::string& path, int lines) {
 }
 
 std::string EffectiveLcmUrl(const CalibrateOptions& o) {
-    return ChamberUrl(BusOptions{o.lcm_url}.ResolvedUrl(), o.chamber);
+    return ChamberUrl(bus::BusOptions{o.lcm_url}.ResolvedUrl(), o.chamber);
 }
 
 namespace {
@@ -112,7 +112,7 @@ Calibration::Calibration(CalibrateOptions o, StoreServices services)
       services_(std::move(services)),
       source_kind_(ParseSource(o_.source)),
       role_(*ParseRole(o_.role)),
-      bus_(BusOptions{o_.lcm_url}),
+      bus_(bus::BusOptions{o_.lcm_url}),
       acker_(bus_, "gyrocal calibrate"),
       budget_(o_.max_restarts) {
     url_ = bus_.url();
@@ -251,7 +251,7 @@ bool Calibration::StartProducers() {
 // set the pace (flow control); a given --speed is the rig's fixed speed, samples alone.
 std::vector<std::string> Calibration::SimPace() const {
     if (o_.speed > 0) return {"--speed", std::to_string(o_.speed)};
-    return {"--speed", "0", "--batch-samples", std::to_string(kDefaultBatchSamples)};
+    return {"--speed", "0", "--batch-samples", std::to_string(bus::kDefaultBatchSamples)};
 }
 
 void Calibration::StartSim() {
@@ -309,7 +309,7 @@ void Calibration::StartMeasured() {
             // its samples batched, unless the caller chose a pace.
             std::vector<std::string> pace;
             if (!PaceGiven(o_.source_args))
-                pace = {"--max", "--batch-samples", std::to_string(kDefaultBatchSamples)};
+                pace = {"--max", "--batch-samples", std::to_string(bus::kDefaultBatchSamples)};
             pace.insert(pace.begin(), o_.input);
             pace.insert(pace.end(), o_.source_args.begin(), o_.source_args.end());
             source_ = &Start(SiblingExecutable("gyrocal-csv-source"), pace);
@@ -376,12 +376,12 @@ void Calibration::AnnounceRun(const std::string& event, const std::string& reaso
     // Without a sequencer (measured data, the rig's own procedure) the launcher owns the run and
     // announces it; it also ends a run it must abort (a source died).
     run_event_t e;
-    e.utime = WallClockUtime();
+    e.utime = bus::WallClockUtime();
     if (run_id_.empty()) {
         char buf[32];
         std::time_t t = std::time(nullptr);
         std::strftime(buf, sizeof buf, "%Y%m%dT%H%M%SZ", std::gmtime(&t));
-        run_id_ = std::string(buf) + "-" + HostName() + "-" + std::to_string(getpid());
+        run_id_ = std::string(buf) + "-" + process::HostName() + "-" + std::to_string(getpid());
     }
     e.run_id = run_id_;
     e.event = event;
@@ -392,7 +392,7 @@ void Calibration::AnnounceRun(const std::string& event, const std::string& reaso
     e.software_version = kSoftwareVersion;
     e.config_json = ConfigJson();
     e.command_line = o_.command_line;
-    e.host = HostName();
+    e.host = process::HostName();
     bus_.Publish(std::string(channels::kRunEvent), e);
 }
 
@@ -497,7 +497,7 @@ int Calibration::Watch() {
         bus_.Handle(50ms);
         ShowProgress(false);
         RecoverDue();
-        if (StopRequested()) {
+        if (process::StopRequested()) {
             std::cout << "\ngyrocal calibrate: interrupted; stopping the run\n";
             if (sequencer_) sequencer_->proc->Signal(SIGTERM);  // it records the abort
             if (!sequencer_ && source_) AnnounceRun("abort", "operator stop (signal)");
@@ -582,7 +582,7 @@ int Calibration::Finish(int code) {
 }
 
 int RunCalibration(const CalibrateOptions& options, const StoreServices& services) {
-    InstallStopHandlers();
+    process::InstallStopHandlers();
     CalibrateOptions o = options;
     if (o.command_line.empty()) {
         // The command line as the kernel has it (NUL-separated), recorded with the run.
@@ -593,7 +593,7 @@ int RunCalibration(const CalibrateOptions& options, const StoreServices& service
     // Measured input that cannot be replayed is refused before any process starts (no run).
     if (RoleRuns(*ParseRole(o.role), "gyrocal-sim-rig")) {
         if (const std::string problem = MeasuredInputProblem(o); !problem.empty()) {
-            PrintError("gyrocal calibrate", problem);
+            process::PrintError("gyrocal calibrate", problem);
             std::cerr << "gyrocal calibrate: no run was started (the input was checked before "
                          "the process graph)\n";
             return 2;
@@ -603,7 +603,7 @@ int RunCalibration(const CalibrateOptions& options, const StoreServices& service
         o.lcm_url = EffectiveLcmUrl(o);
         Calibration c(o, services);
         return c.Run();
-    } catch (const BusError& e) {
+    } catch (const bus::BusError& e) {
         std::cerr << "gyrocal calibrate: " << e.what() << "\n";
         return 1;
     } catch (const std::exception& e) {

@@ -36,7 +36,7 @@ private:
         std::string name;               // executable file name
         std::vector<std::string> argv;  // as first started
         std::string log;
-        std::unique_ptr<ChildProcess> proc;
+        std::unique_ptr<launch::ChildProcess> proc;
         int instance = 0;                         // restarts so far
         std::vector<std::string> previous_cause;  // error lines of the instance last restarted
     };
@@ -77,10 +77,10 @@ private:
     bool AwaitPid(const Child& c, std::chrono::seconds limit);
     // Handles children that ended; an exit code when this launcher must end now.
     std::optional<int> Supervise();
-    std::optional<int> HandleCrash(Child& c, const ExitStatus& how);
-    bool Restart(Child& c, const ExitStatus& how);
+    std::optional<int> HandleCrash(Child& c, const launch::ExitStatus& how);
+    bool Restart(Child& c, const launch::ExitStatus& how);
     std::vector<std::string> ResumeArgs(const Child& c) const;
-    void PublishRestart(const Child& c, const ExitStatus& how, int previous_pid);
+    void PublishRestart(const Child& c, const launch::ExitStatus& how, int previous_pid);
     int AbortRun(const std::string& reason);
     // The child's own error lines from its log (child_errors.hpp), the cause shown under the
     // abort line and stored with the run.
@@ -94,7 +94,7 @@ private:
     StoreServices services_;  // what needs the store (supervisor.hpp)
     Source source_kind_;
     Role role_;
-    Bus bus_;
+    bus::Bus bus_;
     // This launcher receives everything on the bus too (coefficient sets, fit reports): it
     // answers the sources' flow marks like every process, so they pace on it as well.
     flow::FlowAcker acker_;

@@ -6,9 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocal/version.hpp"
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/shutdown.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "tools/supervisor/child_errors.hpp"
 #include "tools/supervisor/launcher.hpp"
 
@@ -37,7 +37,7 @@ Calibration::Child& Calibration::Start(const std::string& exe, std::vector<std::
     args.insert(args.begin(), {"--lcm-url", url_});
     args.insert(args.begin(), exe);
     c.argv = args;
-    c.proc = std::make_unique<ChildProcess>(args, c.log, c.log);
+    c.proc = std::make_unique<launch::ChildProcess>(args, c.log, c.log);
     children_.push_back(std::move(c));
     return children_.back();
 }
@@ -45,7 +45,7 @@ Calibration::Child& Calibration::Start(const std::string& exe, std::vector<std::
 bool Calibration::AwaitHeartbeats(const std::set<std::string>& names, std::chrono::seconds limit,
                                   const std::string& hint) {
     const auto deadline = Clock::now() + limit;
-    while (Clock::now() < deadline && !StopRequested()) {
+    while (Clock::now() < deadline && !process::StopRequested()) {
         bool all = true;
         for (const auto& n : names) all = all && heard_.count(n) > 0;
         if (all) return true;
@@ -79,7 +79,7 @@ bool Calibration::AwaitPid(const Child& c, std::chrono::seconds limit) {
 
 std::optional<int> Calibration::Supervise() {
     for (Child& c : children_) {
-        const std::optional<ExitStatus> how = c.proc->Poll();
+        const std::optional<launch::ExitStatus> how = c.proc->Poll();
         if (!how) continue;
         if (&c == sequencer_ && how->exited && (how->code == 0 || how->code == 3))
             continue;  // it ended the run
@@ -98,10 +98,10 @@ std::optional<int> Calibration::Supervise() {
 }
 
 std::vector<std::string> Calibration::CauseOf(const Child& c) const {
-    return ErrorLinesOf(ReadLog(c.log), c.name);
+    return ErrorLinesOf(launch::ReadLog(c.log), c.name);
 }
 
-std::optional<int> Calibration::HandleCrash(Child& c, const ExitStatus& how) {
+std::optional<int> Calibration::HandleCrash(Child& c, const launch::ExitStatus& how) {
     std::cerr << "\ngyrocal calibrate: " << c.name << " ended unexpectedly (" << how.Describe()
               << "); log " << c.log << ":\n"
               << TailOf(c.log, 10);
@@ -124,7 +124,7 @@ std::optional<int> Calibration::HandleCrash(Child& c, const ExitStatus& how) {
     return std::nullopt;
 }
 
-bool Calibration::Restart(Child& c, const ExitStatus& how) {
+bool Calibration::Restart(Child& c, const launch::ExitStatus& how) {
     const int previous_pid = c.proc->pid();
     c.previous_cause = CauseOf(c);
     ++c.instance;
@@ -132,7 +132,7 @@ bool Calibration::Restart(Child& c, const ExitStatus& how) {
     std::vector<std::string> argv = c.argv;
     for (const std::string& a : ResumeArgs(c)) argv.push_back(a);
     try {
-        c.proc = std::make_unique<ChildProcess>(argv, c.log, c.log);
+        c.proc = std::make_unique<launch::ChildProcess>(argv, c.log, c.log);
     } catch (const std::exception& e) {
         std::cerr << "gyrocal calibrate: cannot restart " << c.name << ": " << e.what() << "\n";
         return false;
@@ -158,7 +158,7 @@ std::vector<std::string> Calibration::ResumeArgs(const Child& c) const {
             std::to_string(setpoint_index_)};
 }
 
-void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int previous_pid) {
+void Calibration::PublishRestart(const Child& c, const launch::ExitStatus& how, int previous_pid) {
     if (!RunIsOn()) return;
     static const std::map<Recovery, std::string> kRecovery = {
         {Recovery::kNone, "state from the live bus"},
@@ -167,12 +167,12 @@ void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int prev
         {Recovery::kResumeSequence, "the run resumed at its current setpoint"}};
     const Recovery r = RecoveryOf(c.name);
     run_event_t e;
-    e.utime = WallClockUtime();
+    e.utime = bus::WallClockUtime();
     e.run_id = run_id_;
     e.event = "restart";
     e.reason =
         WithCause(c.name + " ended unexpectedly (" + how.Describe() + "); restarted as pid " +
-                      std::to_string(c.proc->pid()) + " on " + HostName() + " (restart " +
+                      std::to_string(c.proc->pid()) + " on " + process::HostName() + " (restart " +
                       std::to_string(budget_.used(c.name)) + " of " +
                       std::to_string(budget_.max()) + "); recovery: " + kRecovery.at(r),
                   c.previous_cause);
@@ -180,17 +180,16 @@ void Calibration::PublishRestart(const Child& c, const ExitStatus& how, int prev
     e.setpoint_c = setpoint_index_ >= 0 ? setpoint_c_ : NAN;
     e.num_sensors = 0;
     e.software_version = kSoftwareVersion;
-    e.config_json = nlohmann::json{
-        {"process", c.name},
-        {"pid", c.proc->pid()},
-        {"previous_pid", previous_pid},
-        {"ended", how.Describe()},
-        {"restart", budget_.used(c.name)},
-        {"max_restarts", budget_.max()},
-        {"host",
-         HostName()}}.dump();
+    e.config_json = nlohmann::json{{"process", c.name},
+                                   {"pid", c.proc->pid()},
+                                   {"previous_pid", previous_pid},
+                                   {"ended", how.Describe()},
+                                   {"restart", budget_.used(c.name)},
+                                   {"max_restarts", budget_.max()},
+                                   {"host", process::HostName()}}
+                        .dump();
     e.command_line = Joined(c.proc ? c.argv : std::vector<std::string>{}, " ");
-    e.host = HostName();
+    e.host = process::HostName();
     bus_.Publish(std::string(channels::kRunEvent), e);
 }
 
@@ -259,7 +258,7 @@ void Calibration::StopAll() {
     for (int i = 0; i < 10; ++i) bus_.Handle(20ms);  // let the last heartbeats arrive
     for (auto& c : children_)
         if (c.name == "gyrocal-recorder") {
-            ExitStatus s = c.proc->Stop(std::chrono::milliseconds(15000));
+            launch::ExitStatus s = c.proc->Stop(std::chrono::milliseconds(15000));
             if (!s.exited || s.code != 0)
                 std::cerr << "gyrocal calibrate: recorder ended with " << s.Describe() << "; log "
                           << c.log << "\n";

@@ -26,7 +26,7 @@
 namespace gyrocal::supervisor {
 
 // What the simulated gyro type tells the fitter for --source sim (the command fills it from the
-// rig's side, producers/sim_rig/gyro_facts.hpp, so that running a calibration needs no simulator).
+// rig's side, producers/sim/gyro_facts.hpp, so that running a calibration needs no simulator).
 struct SimulatedGyros {
     double plateau_slow_noise_dps = -1.0;        // [deg/s] < 0: not known (not a simulated source)
     double nominal_sensitivity_v_per_dps = 0.0;  // [V/(deg/s)] 0: not known

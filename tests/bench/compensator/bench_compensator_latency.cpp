@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "tests/bench/compensator/latency_run.hpp"
 #include "tests/bench/support/bench_context.hpp"
 
@@ -49,7 +49,7 @@ std::optional<std::pair<int, double>> ParseCase(const std::string& text) {
     return std::make_pair(sensors, hz);
 }
 
-std::string Problem(const Options& o) {
+std::string Validate(const Options& o) {
     for (const std::string& c : o.cases)
         if (!ParseCase(c))
             return "--case '" + c +
@@ -133,8 +133,8 @@ int main(int argc, char** argv) {
                    "(every term kind)");
     app.add_option("--lcm-url", o.lcm_url, "udpm:// URL with ttl=0");
     app.footer("Exit codes: 0 done, 1 a case failed, 2 bad options.");
-    if (auto code =
-            gyrocal::ParseCommandLine(app, argc, argv, kProcess, [&] { return Problem(o); }))
+    if (auto code = gyrocal::process::ParseCommandLine(app, argc, argv, kProcess,
+                                                       [&] { return Validate(o); }))
         return *code;
     gyrocal::bench::PrintContext(argc, argv);
     return RunAll(o);

@@ -18,7 +18,7 @@ using namespace std::chrono_literals;
 constexpr const char* kUrl = "udpm://239.255.76.67:7931?ttl=0&recv_buf_size=4194304";
 
 struct Ran {
-    ExitStatus status;
+    launch::ExitStatus status;
     std::string out, err;
 };
 
@@ -27,11 +27,11 @@ Ran RunBench(const std::vector<std::string>& args, const std::string& name) {
                       err = ::testing::TempDir() + name + ".err";
     std::vector<std::string> argv = {GYROCAL_BENCH_LATENCY_EXE};
     argv.insert(argv.end(), args.begin(), args.end());
-    ChildProcess p(argv, out, err);
+    launch::ChildProcess p(argv, out, err);
     // Bounded but generous: a 1 s case plus the compensator's start on a loaded machine.
     const auto st = p.Wait(120s);
     EXPECT_TRUE(st.has_value()) << name << " did not end within 120 s";
-    return {st.value_or(ExitStatus{}), ReadLog(out), ReadLog(err)};
+    return {st.value_or(launch::ExitStatus{}), launch::ReadLog(out), launch::ReadLog(err)};
 }
 
 TEST(BenchCompensatorLatency, BadOptionsExitTwoNamingTheOption) {

@@ -15,7 +15,7 @@
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/compensator/compensate.hpp"
 #include "tests/bench/support/machine.hpp"
@@ -61,8 +61,8 @@ private:
     std::vector<std::vector<char>> got_;            // a rate was received
     std::vector<std::vector<int64_t>> rate_utime_;  // [us] the received rate's utime
     std::vector<double> latency_us_;
-    Bus rx_;
-    std::optional<ChildProcess> comp_;
+    bus::Bus rx_;
+    std::optional<launch::ChildProcess> comp_;
     std::optional<status_t> status_;
     int64_t power_on_utime_ = 0;
     std::atomic<int64_t> sent_{0};
@@ -73,7 +73,7 @@ private:
 Run::Run(const LatencyCase& c)
     : c_(c),
       per_sensor_(static_cast<int64_t>(std::llround(c.duration_s * c.rate_hz))),
-      rx_(BusOptions{c.lcm_url}) {
+      rx_(bus::BusOptions{c.lcm_url}) {
     for (int i = 0; i < c_.sensors; ++i) {
         char id[16];
         std::snprintf(id, sizeof id, "B%02d", i + 1);
@@ -169,7 +169,7 @@ void Run::Start() {
 // sensors are spread evenly over each period; a late sender publishes at once (its lateness is
 // reported) and every sample is stamped when it is published.
 void Run::Send() {
-    Bus tx(BusOptions{c_.lcm_url});
+    bus::Bus tx(bus::BusOptions{c_.lcm_url});
     const int n = c_.sensors;
     const double step_ns = 1e9 / (c_.rate_hz * n);
     std::vector<int64_t> last(ids_.size(), 0);

@@ -30,8 +30,8 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/channels/channels.hpp"
+#include "lcmtypes/process/status.hpp"
 #include "processors/fitter/fitter_node.hpp"
 #include "processors/fitter/ramp_fitter.hpp"
 #include "tests/bench/support/bench_args.hpp"
@@ -184,8 +184,8 @@ double Percentile(std::vector<double> v, double p) {
 // One pass of the run through the bus, for `units` units (the same data under each id), with the
 // fit in the handler (`inline_fit`) or on the worker.
 Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool inline_fit) {
-    Bus bus(BusOptions{kUrl});
-    StatusReporter status(bus, "bench-fitter");
+    bus::Bus bus(bus::BusOptions{kUrl});
+    process::StatusReporter status(bus, "bench-fitter");
     fitter::RampFitter f(fitter::RampFitterOptions::Defaults());
     std::optional<StillFitChannel> channel;
     Latency out;
@@ -226,7 +226,7 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool 
         });
     f.StartRun("bench");
     std::thread pub([&] {
-        Bus p(BusOptions{kUrl});
+        bus::Bus p(bus::BusOptions{kUrl});
         const auto start = Clock::now();
         int64_t k = 0;
         for (size_t i = 0; i < run.size(); ++i) {

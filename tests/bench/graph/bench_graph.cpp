@@ -167,14 +167,14 @@ int main(int argc, char** argv) {
     for (size_t i = 1; i < cmd.size(); ++i) shown += " " + cmd[i];
     std::printf("command: gyrocal%s\n", shown.c_str());
     std::fflush(stdout);
-    std::vector<ChildProcess> hogs;
+    std::vector<launch::ChildProcess> hogs;
     for (int i = 0; i < a.load; ++i)
         hogs.emplace_back(std::vector<std::string>{"sh", "-c", "while :; do :; done"});
     const std::string log = a.db + ".calibrate.log";
     const auto t0 = std::chrono::steady_clock::now();
-    ChildProcess calibrate(cmd, log, log);
+    launch::ChildProcess calibrate(cmd, log, log);
     ProcSampler sampler(calibrate.pid(), a.rss_out);
-    std::optional<ExitStatus> status;
+    std::optional<launch::ExitStatus> status;
     while (!(status = calibrate.Poll())) {
         sampler.Sample();
         // Time itself: the sampling period of the resource figures.

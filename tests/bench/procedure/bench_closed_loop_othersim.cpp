@@ -39,7 +39,7 @@
 #include "tests/bench/support/bench_context.hpp"
 #include "tests/support/othersim/generator.hpp"
 #include "tests/support/othersim/physics.hpp"
-#include "tools/gyrocal/run_loader.hpp"
+#include "tools/cli/run_loader.hpp"
 
 namespace gyrocal {
 namespace {
@@ -71,7 +71,7 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
     Sets s;
     const std::string csv = dir + "/cal.csv", db_path = dir + "/cal.db";
     othersim::WriteRun(o, csv, dir + "/cal.truth.json");
-    ChildProcess cal(
+    launch::ChildProcess cal(
         {GYROCAL_BIN "/gyrocal", "calibrate", "--source", "csv", "--input", csv, "--db", db_path,
          "--lcm-url", "udpm://239.255.76.67:7960?ttl=0&recv_buf_size=4194304", "--log-dir",
          dir + "/logs", "--quiet", "--source-arg=--max", "--source-arg=--max-rate-hz=20000",
@@ -79,14 +79,14 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
         dir + "/calibrate.out", dir + "/calibrate.out");
     const auto end = cal.Wait(1600s);
     s.ok = end && end->code == 0;
-    auto db = store::OpenForQuery(db_path);
+    auto db = db::OpenForQuery(db_path);
     std::string run;
-    for (const store::RunInfo& r : store::ListRuns(*db, {}))
+    for (const db::RunInfo& r : db::ListRuns(*db, {}))
         if (!r.run_id.empty()) run = r.run_id;
-    const store::RunDetail detail = store::ShowRun(*db, run);
+    const db::RunDetail detail = db::ShowRun(*db, run);
     std::vector<std::string> ids;
-    for (const store::CoeffSetInfo& c : store::RunFinalCoeffs(*db, run)) {
-        const model::CoeffSet set = store::ToCoeffSet(c.set);
+    for (const db::CoeffSetInfo& c : db::RunFinalCoeffs(*db, run)) {
+        const model::CoeffSet set = db::ToCoeffSet(c.set);
         if (set.source == "fitter") s.plateau[set.sensor_id] = set, ids.push_back(set.sensor_id);
         if (set.source == "closed-loop") s.final[set.sensor_id] = set;
     }

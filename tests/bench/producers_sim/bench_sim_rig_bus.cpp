@@ -13,7 +13,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/bench/support/bench_context.hpp"
 
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     std::printf("%8s %10s %12s %12s %10s %10s\n", "speed", "sim_s", "achieved_x", "msgs/s",
                 "received", "lost");
     for (double speed : speeds) {
-        gyrocal::Bus bus(gyrocal::BusOptions{url});
+        gyrocal::bus::Bus bus(gyrocal::bus::BusOptions{url});
         int64_t received = 0, first_utime = -1, last_utime = -1;
         bus.Subscribe<gyrocal::gyro_sample_t>(
             gyrocal::channels::AllSensors(gyrocal::channels::kGyroPrefix),
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
                                              "--duration-s",
                                              std::to_string(duration_s)};
         if (!cap.empty()) argv_rig.insert(argv_rig.end(), {"--max-msgs-per-s", cap});
-        gyrocal::ChildProcess rig(argv_rig, "/dev/null", "/dev/null");
+        gyrocal::launch::ChildProcess rig(argv_rig, "/dev/null", "/dev/null");
         const auto t0 = std::chrono::steady_clock::now();
         while (!rig.Poll()) bus.Handle(std::chrono::milliseconds(10));
         while (bus.Handle(std::chrono::milliseconds(200))) {

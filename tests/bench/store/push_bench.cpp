@@ -33,7 +33,7 @@
 
 namespace {
 
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 namespace tg = gyrocal::testing;
 using Clock = std::chrono::steady_clock;
 
@@ -140,7 +140,7 @@ double HistoryTime(const std::string& db_name, const std::string& unit, int n, s
         const auto t0 = Clock::now();
         auto db = st::OpenForQuery(db_name);
         const auto h = st::SensorHistory(*db, unit, true);
-        const std::string text = st::format::HistoryTable(unit, h, {0, 25, 50});
+        const std::string text = gyrocal::format::HistoryTable(unit, h, {0, 25, 50});
         times.push_back(Since(t0));
         *sets = h.size();
     }

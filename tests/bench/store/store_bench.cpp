@@ -29,7 +29,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "store/db/async_writer.hpp"
 #include "store/db/sqlite_db.hpp"
@@ -43,7 +43,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 using gyrocal::bench::ProcStats;
 using gyrocal::bench::ReadProcStats;
 
@@ -223,7 +223,7 @@ int64_t CountLogGyro(const std::string& path) {
 }
 
 // Publishes `units` sensors at `hz` each for `seconds`; returns the count actually published.
-int64_t Publish(gyrocal::Bus& bus, int units, double hz, double seconds) {
+int64_t Publish(gyrocal::bus::Bus& bus, int units, double hz, double seconds) {
     std::vector<gyrocal::gyro_sample_t> msgs(static_cast<size_t>(units));
     std::vector<std::string> chans;
     for (int u = 0; u < units; ++u) {
@@ -268,7 +268,7 @@ struct StepResult {
     int64_t rec_hwm_kb = 0, log_hwm_kb = 0;
 };
 
-bool WaitForRecorder(gyrocal::Bus& bus, pid_t pid) {
+bool WaitForRecorder(gyrocal::bus::Bus& bus, pid_t pid) {
     bool seen = false;
     bus.Subscribe<gyrocal::status_t>("STATUS", [&](const gyrocal::status_t& s, const std::string&) {
         if (s.pid == pid) seen = true;
@@ -286,12 +286,12 @@ StepResult Step(const std::string& dir, const std::string& url, int units, doubl
     const std::string db = dir + "/step.db", log = dir + "/step.lcmlog";
     Remove(db);
     std::filesystem::remove(log);
-    gyrocal::Bus bus(gyrocal::BusOptions{url});
-    gyrocal::ChildProcess rec(
+    gyrocal::bus::Bus bus(gyrocal::bus::BusOptions{url});
+    gyrocal::launch::ChildProcess rec(
         {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url", url}, "",
         dir + "/rec.err");
-    gyrocal::ChildProcess logger({"lcm-logger", "-q", "-f", "--lcm-url=" + url, log}, "",
-                                 dir + "/logger.err");
+    gyrocal::launch::ChildProcess logger({"lcm-logger", "-q", "-f", "--lcm-url=" + url, log}, "",
+                                         dir + "/logger.err");
     if (!WaitForRecorder(bus, rec.pid())) {
         std::cerr << "recorder did not start\n";
         return r;
@@ -378,8 +378,8 @@ void LongRun(const std::string& dir, const std::string& url, double seconds) {
                 hz, seconds);
     const std::string db = dir + "/long.db";
     Remove(db);
-    gyrocal::Bus bus(gyrocal::BusOptions{url});
-    gyrocal::ChildProcess rec(
+    gyrocal::bus::Bus bus(gyrocal::bus::BusOptions{url});
+    gyrocal::launch::ChildProcess rec(
         {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url", url}, "",
         dir + "/long.err");
     if (!WaitForRecorder(bus, rec.pid())) return;

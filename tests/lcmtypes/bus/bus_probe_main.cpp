@@ -10,8 +10,8 @@
 
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/runtime/shutdown.hpp"
-#include "lcmtypes/runtime/status.hpp"
+#include "lcmtypes/process/shutdown.hpp"
+#include "lcmtypes/process/status.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"gyrocal-bus-probe: listen on a channel and report bus counters in STATUS"};
@@ -33,9 +33,10 @@ int main(int argc, char** argv) {
         return rc == 0 ? 0 : 2;
     }
     try {
-        gyrocal::InstallStopHandlers();
-        gyrocal::Bus bus(gyrocal::BusOptions{url});
-        gyrocal::StatusReporter status(bus, "gyrocal-bus-probe", std::chrono::milliseconds(100));
+        gyrocal::process::InstallStopHandlers();
+        gyrocal::bus::Bus bus(gyrocal::bus::BusOptions{url});
+        gyrocal::process::StatusReporter status(bus, "gyrocal-bus-probe",
+                                                std::chrono::milliseconds(100));
         auto last = std::chrono::steady_clock::now();
         int64_t samples = 0;  // gyro samples alone (received also counts flow marks)
         bus.Subscribe<gyrocal::gyro_sample_t>(
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
                 while (std::chrono::steady_clock::now() < until) {
                 }
             });
-        gyrocal::RunLoop(bus, status, [&] {
+        gyrocal::process::RunLoop(bus, status, [&] {
             return std::chrono::steady_clock::now() - last >
                    std::chrono::duration<double>(idle_exit_s);
         });

@@ -15,7 +15,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
@@ -27,7 +27,8 @@ const std::string kUrl = "udpm://239.255.76.67:7701?ttl=0&recv_buf_size=4194304"
 const std::string kProbe = GYROCAL_BUS_PROBE;
 
 // Waits (bounded) for a STATUS of the probe that satisfies `pred`.
-std::optional<status_t> AwaitProbeStatus(Bus& bus, const std::function<bool(const status_t&)>& pred,
+std::optional<status_t> AwaitProbeStatus(bus::Bus& bus,
+                                         const std::function<bool(const status_t&)>& pred,
                                          std::chrono::seconds limit) {
     std::optional<status_t> found;
     bus.Subscribe<status_t>(std::string(channels::kStatus),
@@ -40,11 +41,12 @@ std::optional<status_t> AwaitProbeStatus(Bus& bus, const std::function<bool(cons
 }
 
 TEST(BusMultiProcess, CountsSamplesGapsAndWrongTypesAcrossProcesses) {
-    Bus bus(BusOptions{kUrl});
-    ChildProcess probe({kProbe, "--lcm-url", kUrl, "--channel", "GYRO_MP", "--idle-exit-s", "20"});
+    bus::Bus bus(bus::BusOptions{kUrl});
+    launch::ChildProcess probe(
+        {kProbe, "--lcm-url", kUrl, "--channel", "GYRO_MP", "--idle-exit-s", "20"});
     // GIVEN the probe is up (its first heartbeat arrived)
     {
-        Bus status_bus(BusOptions{kUrl});
+        bus::Bus status_bus(bus::BusOptions{kUrl});
         ASSERT_TRUE(AwaitProbeStatus(
             status_bus, [](const status_t&) { return true; }, 10s))
             << "probe never sent STATUS";
@@ -63,7 +65,7 @@ TEST(BusMultiProcess, CountsSamplesGapsAndWrongTypesAcrossProcesses) {
     encoder_sample_t wrong;
     for (int i = 0; i < 3; ++i) bus.Publish("GYRO_MP", wrong);
     // THEN its STATUS reports all of them, the 5 missing and the 3 that did not decode
-    Bus status_bus(BusOptions{kUrl});
+    bus::Bus status_bus(bus::BusOptions{kUrl});
     auto st = AwaitProbeStatus(
         status_bus, [&](const status_t& x) { return x.received >= sent && x.decode_errors >= 3; },
         15s);
@@ -72,18 +74,18 @@ TEST(BusMultiProcess, CountsSamplesGapsAndWrongTypesAcrossProcesses) {
     EXPECT_EQ(st->seq_gaps, 5);
     EXPECT_EQ(st->decode_errors, 3);
     EXPECT_NE(st->last_reject.find("GYRO_MP"), std::string::npos) << st->last_reject;
-    ExitStatus ex = probe.Stop();
+    launch::ExitStatus ex = probe.Stop();
     EXPECT_TRUE(ex.exited) << ex.Describe();
     EXPECT_EQ(ex.code, 0);
 }
 
 TEST(BusMultiProcess, UnknownOptionIsExitCode2WithMessage) {
     const std::string err = ::testing::TempDir() + "probe_badopt.err";
-    ChildProcess probe({kProbe, "--no-such-option"}, "", err);
+    launch::ChildProcess probe({kProbe, "--no-such-option"}, "", err);
     auto ex = probe.Wait(10s);
     ASSERT_TRUE(ex.has_value());
     EXPECT_EQ(ex->code, 2);
-    EXPECT_NE(ReadLog(err).find("--no-such-option"), std::string::npos);
+    EXPECT_NE(launch::ReadLog(err).find("--no-such-option"), std::string::npos);
 }
 
 // A host without a multicast route: a fresh network namespace has only a down loopback.
@@ -93,15 +95,15 @@ TEST(BusMultiProcess, NoMulticastRouteGivesTheFix) {
     const std::string ns = "gyrocal-noroute-" + std::to_string(getpid());
     ASSERT_EQ(std::system(("ip netns add " + ns).c_str()), 0);
     const std::string err = ::testing::TempDir() + "probe_noroute.err";
-    ChildProcess probe({"ip", "netns", "exec", ns, kProbe, "--lcm-url",
-                        "udpm://239.255.76.67:7702?ttl=0", "--idle-exit-s", "2"},
-                       "", err);
+    launch::ChildProcess probe({"ip", "netns", "exec", ns, kProbe, "--lcm-url",
+                                "udpm://239.255.76.67:7702?ttl=0", "--idle-exit-s", "2"},
+                               "", err);
     auto ex = probe.Wait(15s);
     std::system(("ip netns delete " + ns).c_str());
     ASSERT_TRUE(ex.has_value());
-    EXPECT_EQ(ex->code, 1) << ReadLog(err);
-    EXPECT_NE(ReadLog(err).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos)
-        << ReadLog(err);
+    EXPECT_EQ(ex->code, 1) << launch::ReadLog(err);
+    EXPECT_NE(launch::ReadLog(err).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos)
+        << launch::ReadLog(err);
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 
 namespace gyrocal {
@@ -19,19 +19,19 @@ using std::chrono::milliseconds;
 using testing::EncodeMsg;
 using testing::Gyro;
 
-void Drain(Bus& bus) {
+void Drain(bus::Bus& bus) {
     while (bus.Handle(milliseconds(20))) {
     }
 }
 
 // Counts into `delivered` what `bus` delivers as a Msg on `channel`.
 template <class Msg>
-void CountDeliveries(Bus& bus, const std::string& channel, int& delivered) {
+void CountDeliveries(bus::Bus& bus, const std::string& channel, int& delivered) {
     bus.Subscribe<Msg>(channel, [&delivered](const Msg&, const std::string&) { ++delivered; });
 }
 
 TEST(Bus, DeliversTypedMessagesToRegexSubscribers) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     std::vector<std::string> seen;
     bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
                                  [&](const gyro_sample_t& s, const std::string& ch) {
@@ -47,7 +47,7 @@ TEST(Bus, DeliversTypedMessagesToRegexSubscribers) {
 }
 
 TEST(Bus, WrongTypeOnChannelIsCountedNotDelivered) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     int delivered = 0;
     CountDeliveries<gyro_sample_t>(bus, "GYRO_X", delivered);
     const encoder_sample_t wrong = testing::Encoder(0);
@@ -61,7 +61,7 @@ TEST(Bus, WrongTypeOnChannelIsCountedNotDelivered) {
 }
 
 TEST(Bus, SequenceGapsAreCountedPerChannel) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     bus.Subscribe<gyro_sample_t>("GYRO_.*", [](const gyro_sample_t&, const std::string&) {});
     for (int64_t seq : {0, 1, 2, 6, 7}) bus.Publish("GYRO_A", Gyro("A", seq));  // 3..5 lost
     for (int64_t seq : {10, 11, 13}) bus.Publish("GYRO_B", Gyro("B", seq));     // 12 lost
@@ -72,7 +72,7 @@ TEST(Bus, SequenceGapsAreCountedPerChannel) {
 }
 
 TEST(Bus, HandlerExceptionIsRethrownFromHandle) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     bus.Subscribe<gyro_sample_t>("GYRO_A", [](const gyro_sample_t&, const std::string&) {
         throw std::runtime_error("handler failed");
     });
@@ -83,7 +83,7 @@ TEST(Bus, HandlerExceptionIsRethrownFromHandle) {
 // Issue 27: a handler that throws must not keep the message from the channel's later
 // subscribers; each failure is counted, in all and per channel, with the first one's text.
 TEST(Bus, AThrowingHandlerIsCountedAndTheOtherSubscribersStillRun) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     bus.Subscribe<gyro_sample_t>("GYRO_A", [](const gyro_sample_t&, const std::string&) {
         throw std::runtime_error("handler failed");
     });
@@ -115,9 +115,9 @@ TEST(Bus, AThrowingHandlerIsCountedAndTheOtherSubscribersStillRun) {
 
 TEST(Bus, UnopenableUrlGivesAnActionableError) {
     try {
-        Bus bus(BusOptions{"nosuchprovider://x"});
+        bus::Bus bus(bus::BusOptions{"nosuchprovider://x"});
         FAIL() << "expected BusError";
-    } catch (const BusError& e) {
+    } catch (const bus::BusError& e) {
         EXPECT_NE(std::string(e.what()).find("nosuchprovider://x"), std::string::npos);
         EXPECT_NE(std::string(e.what()).find("ip route add 224.0.0.0/4 dev lo"), std::string::npos);
     }
@@ -126,7 +126,7 @@ TEST(Bus, UnopenableUrlGivesAnActionableError) {
 // A payload with the right fingerprint and a hostile array length (negative num_sensors): the
 // generated decode throws inside LCM's dispatch; the bus must count it, not die.
 TEST(Bus, HostileArrayLengthIsADecodeErrorNotACrash) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     int delivered = 0;
     CountDeliveries<run_event_t>(bus, "RUN_EVENT", delivered);
     const run_event_t e = testing::RunEvent("r", "start", {"S01"});
@@ -147,7 +147,7 @@ TEST(Bus, HostileArrayLengthIsADecodeErrorNotACrash) {
 // (length - 1) of a string length of INT32_MIN, which wrapped into a 2 GB read past the payload:
 // a 62-byte RUN_EVENT segfaulted every process. Now a decode error, counted.
 TEST(Bus, AStringLengthOfIntMinIsADecodeErrorNotASegfault) {
-    Bus bus(BusOptions{"memq://"});
+    bus::Bus bus(bus::BusOptions{"memq://"});
     int delivered = 0;
     CountDeliveries<run_event_t>(bus, "RUN_EVENT", delivered);
     run_event_t e{};
@@ -173,7 +173,7 @@ TEST(Bus, WallClockUtimeIsTheSystemClockInMicroseconds) {
             .count();
     };
     const int64_t before = us();
-    const int64_t utime = WallClockUtime();
+    const int64_t utime = bus::WallClockUtime();
     const int64_t after = us();
     EXPECT_LE(before, utime);
     EXPECT_LE(utime, after);
@@ -181,22 +181,22 @@ TEST(Bus, WallClockUtimeIsTheSystemClockInMicroseconds) {
 }
 
 TEST(UdpmUrl, GroupAndPortAreTheBus) {
-    auto a = ParseUdpm("udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
+    auto a = bus::ParseUdpm("udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
     ASSERT_TRUE(a.has_value());
     EXPECT_EQ(a->group, "239.255.76.67");
     EXPECT_EQ(a->port, 7668);
     EXPECT_EQ(a->options, "ttl=1&recv_buf_size=4194304");
-    EXPECT_EQ(FormatUdpm(*a), "udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
-    auto b = ParseUdpm("udpm://239.255.76.67:7668?ttl=0");
+    EXPECT_EQ(bus::FormatUdpm(*a), "udpm://239.255.76.67:7668?ttl=1&recv_buf_size=4194304");
+    auto b = bus::ParseUdpm("udpm://239.255.76.67:7668?ttl=0");
     ASSERT_TRUE(b.has_value());
     EXPECT_TRUE(*a == *b);
-    auto d = ParseUdpm("udpm://239.255.76.67");  // LCM's default port
+    auto d = bus::ParseUdpm("udpm://239.255.76.67");  // LCM's default port
     ASSERT_TRUE(d.has_value());
     EXPECT_EQ(d->port, 7667);
     EXPECT_FALSE(*d == *b);
     for (const char* bad : {"memq://", "udpm://", "udpm://not.an.ip:7667", "udpm://239.255.76.67:",
                             "udpm://239.255.76.67:70000", "udpm://239.255.76.67:76x7"})
-        EXPECT_FALSE(ParseUdpm(bad).has_value()) << bad;
+        EXPECT_FALSE(bus::ParseUdpm(bad).has_value()) << bad;
 }
 
 }  // namespace

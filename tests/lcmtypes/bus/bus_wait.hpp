@@ -12,7 +12,7 @@ namespace gyrocal::testing {
 // Handles `bus` until `done()` holds or `timeout` passes; whether it holds. `step` bounds each
 // wait for a message.
 template <class Done>
-bool HandleUntil(Bus& bus, Done&& done, std::chrono::milliseconds timeout,
+bool HandleUntil(bus::Bus& bus, Done&& done, std::chrono::milliseconds timeout,
                  std::chrono::milliseconds step = std::chrono::milliseconds(50)) {
     const auto end = std::chrono::steady_clock::now() + timeout;
     while (!done()) {
@@ -25,7 +25,7 @@ bool HandleUntil(Bus& bus, Done&& done, std::chrono::milliseconds timeout,
 // Keeps every Msg heard on `channel` (a name or a regex) in `into`, in arrival order; `into`
 // must outlive the bus.
 template <class Msg>
-void CollectInto(Bus& bus, const std::string& channel, std::vector<Msg>& into) {
+void CollectInto(bus::Bus& bus, const std::string& channel, std::vector<Msg>& into) {
     bus.Subscribe<Msg>(channel, [&into](const Msg& m, const std::string&) { into.push_back(m); });
 }
 

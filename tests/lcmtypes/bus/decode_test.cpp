@@ -23,7 +23,7 @@ TEST(Decode, AnArrayLengthThePayloadCannotHoldAllocatesNothing) {
     const uint32_t claimed = 1000000;
     for (int i = 0; i < 4; ++i) buf[at + i] = static_cast<uint8_t>(claimed >> (24 - 8 * i));
     coeff_set_t out{};
-    EXPECT_FALSE(DecodeMessage(out, buf.data(), static_cast<int>(buf.size())));
+    EXPECT_FALSE(bus::DecodeMessage(out, buf.data(), static_cast<int>(buf.size())));
     EXPECT_EQ(out.plateau_ids.capacity(), 0u);
     // A negative length is refused the same way (it threw std::length_error before).
     buf[at] = 0xff;

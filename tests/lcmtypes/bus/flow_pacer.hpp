@@ -12,7 +12,7 @@
 #include "gyrocal/flow_ack_t.hpp"
 #include "gyrocal/flow_mark_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/flow/flow_acker.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
@@ -22,7 +22,7 @@ namespace gyrocal::testing {
 class FlowPacer {
 public:
     // `process`: the consumer whose answers count (its STATUS name, e.g. "gyrocal-plateau").
-    FlowPacer(Bus& bus, std::string process)
+    FlowPacer(bus::Bus& bus, std::string process)
         : bus_(bus), process_(std::move(process)), host_(flow::ThisHost()), pid_(getpid()) {
         bus_.Subscribe<flow_ack_t>(
             std::string(channels::kFlowAck), [this](const flow_ack_t& a, const std::string&) {
@@ -52,7 +52,7 @@ public:
     }
 
 private:
-    Bus& bus_;
+    bus::Bus& bus_;
     std::string process_;
     std::string host_;
     int32_t pid_;

@@ -23,17 +23,17 @@ namespace gyrocal::testing {
 template <class Scenario>
 void RunScenarioOnProcess(const std::string& url, const std::string& process,
                           const std::vector<std::string>& argv, Scenario scenario) {
-    Bus bus(BusOptions{url});
+    bus::Bus bus(bus::BusOptions{url});
     StatusWatch status(bus, process);
     const Wire wire = ForProcess(bus, process);
     const auto dir =
         std::filesystem::temp_directory_path() / (process + "_mp_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
-    ChildProcess child(argv, (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
+    launch::ChildProcess child(argv, (dir / "stdout.txt").string(), (dir / "stderr.txt").string());
     ASSERT_TRUE(wire.until([&] { return status.seen; }, std::chrono::seconds(10)))
         << "no STATUS from " << process;
     scenario(bus, wire, status);
-    const ExitStatus st = child.Stop();
+    const launch::ExitStatus st = child.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     std::filesystem::remove_all(dir);
 }

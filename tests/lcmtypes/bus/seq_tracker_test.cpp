@@ -9,10 +9,10 @@ namespace gyrocal {
 namespace {
 
 TEST(SeqTracker, BackwardsStepIsCountedAndResynchronises) {
-    SeqTracker t;
+    bus::SeqTracker t;
     t.Observe("A", 5);
     t.Observe("A", 6);
-    SeqReport r = t.Observe("A", 0);  // producer restarted
+    bus::SeqReport r = t.Observe("A", 0);  // producer restarted
     EXPECT_TRUE(r.backwards);
     EXPECT_EQ(t.Observe("A", 1).missing, 0);
     EXPECT_EQ(t.Observe("A", 4).missing, 2);
@@ -25,7 +25,7 @@ TEST(SeqTracker, BackwardsStepIsCountedAndResynchronises) {
 TEST(SeqTracker, ExtremeSeqValuesNeitherOverflowNorWrap) {
     constexpr int64_t kMin = std::numeric_limits<int64_t>::min();
     constexpr int64_t kMax = std::numeric_limits<int64_t>::max();
-    SeqTracker t;
+    bus::SeqTracker t;
     t.Observe("A", kMin);
     EXPECT_EQ(t.Observe("A", kMin + 3).missing, 2);
     EXPECT_EQ(t.Observe("A", kMax).missing, kMax);  // 2^64 - 4 missing: saturated

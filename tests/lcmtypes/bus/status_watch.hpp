@@ -8,7 +8,7 @@
 
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::testing {
@@ -17,7 +17,7 @@ namespace gyrocal::testing {
 // handler holds `this`).
 class StatusWatch {
 public:
-    StatusWatch(Bus& bus, std::string process) : process_(std::move(process)) {
+    StatusWatch(bus::Bus& bus, std::string process) : process_(std::move(process)) {
         bus.Subscribe<status_t>(std::string(channels::kStatus),
                                 [this](const status_t& m, const std::string&) {
                                     if (m.process != process_) return;

@@ -25,7 +25,7 @@ struct Wire {
 };
 
 // `process`: the process's STATUS name, whose answers to the marks pace the test.
-inline Wire ForProcess(Bus& bus, const std::string& process) {
+inline Wire ForProcess(bus::Bus& bus, const std::string& process) {
     auto pacer = std::make_shared<FlowPacer>(bus, process);
     return {[pacer] { EXPECT_TRUE(pacer->Sync()) << "the process answered no flow mark"; },
             [&bus](const std::function<bool()>& done, std::chrono::milliseconds limit) {

@@ -19,7 +19,7 @@
 
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
@@ -52,7 +52,7 @@ std::string WriteCsv(const std::string& name, int rows) {
 // The newest STATUS of every process heard, by pid.
 struct Heard {
     std::map<int32_t, status_t> by_pid;
-    explicit Heard(Bus& bus) {
+    explicit Heard(bus::Bus& bus) {
         bus.Subscribe<status_t>(
             std::string(channels::kStatus),
             [this](const status_t& s, const std::string&) { by_pid[s.pid] = s; });
@@ -66,14 +66,15 @@ struct Heard {
     }
 };
 
-ChildProcess Probe(const std::string& url, double work_us) {
-    return ChildProcess({GYROCAL_BUS_PROBE, "--lcm-url", url, "--channel", "GYRO_.*",
-                         "--idle-exit-s", "60", "--work-us-per-sample", std::to_string(work_us)});
+launch::ChildProcess Probe(const std::string& url, double work_us) {
+    return launch::ChildProcess({GYROCAL_BUS_PROBE, "--lcm-url", url, "--channel", "GYRO_.*",
+                                 "--idle-exit-s", "60", "--work-us-per-sample",
+                                 std::to_string(work_us)});
 }
 
 // Busy loops on every core: the machine is loaded while the graph runs (never ends by itself).
-std::vector<ChildProcess> CpuHogs() {
-    std::vector<ChildProcess> hogs;
+std::vector<launch::ChildProcess> CpuHogs() {
+    std::vector<launch::ChildProcess> hogs;
     for (unsigned i = 0; i < std::max(1u, std::thread::hardware_concurrency()); ++i)
         hogs.emplace_back(std::vector<std::string>{"sh", "-c", "while :; do :; done"});
     return hogs;
@@ -83,39 +84,39 @@ TEST(FlowProcess, TheSourceGoesAtTheSlowestConsumersPaceAndNothingIsLostUnderLoa
     constexpr int kRows = 20000;
     constexpr double kWorkUs = 200;  // the slow probe takes at most 5000 samples per second
     const std::string csv = WriteCsv("paced.csv", kRows);
-    Bus bus(BusOptions{kPacedUrl});
+    bus::Bus bus(bus::BusOptions{kPacedUrl});
     Heard heard(bus);
-    ChildProcess fast = Probe(kPacedUrl, 0), slow = Probe(kPacedUrl, kWorkUs);
+    launch::ChildProcess fast = Probe(kPacedUrl, 0), slow = Probe(kPacedUrl, kWorkUs);
     ASSERT_TRUE(testing::HandleUntil(
         bus, [&] { return heard.by_pid.count(fast.pid()) && heard.by_pid.count(slow.pid()); }, 10s))
         << "the probes never sent STATUS";
-    std::vector<ChildProcess> hogs = CpuHogs();
+    std::vector<launch::ChildProcess> hogs = CpuHogs();
     // WHEN the file is published as fast as the consumers keep up, in batches of 16
     const std::string log = csv + ".source.log";
     const auto t0 = Clock::now();
-    ChildProcess source({GYROCAL_CSV_SOURCE, csv, "--max", "--batch-samples", "16", "--lcm-url",
-                         kPacedUrl, "--start-utime", "1000000"},
-                        log, log);
-    std::optional<ExitStatus> done;
+    launch::ChildProcess source({GYROCAL_CSV_SOURCE, csv, "--max", "--batch-samples", "16",
+                                 "--lcm-url", kPacedUrl, "--start-utime", "1000000"},
+                                log, log);
+    std::optional<launch::ExitStatus> done;
     testing::HandleUntil(
         bus, [&] { return (done = source.Poll()).has_value(); }, 120s);
     const double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     hogs.clear();
-    ASSERT_TRUE(done && done->exited && done->code == 0) << ReadLog(log);
+    ASSERT_TRUE(done && done->exited && done->code == 0) << launch::ReadLog(log);
     // THEN when the source ended, the slow consumer had every sample already (it answered the
     // last mark), so the source took at least the slow consumer's work: 20000 x 200 us = 4 s
     testing::HandleUntil(
         bus, [&] { return heard.Extra(slow.pid(), "samples") >= kRows; }, 5s);
     EXPECT_GE(wall_s, kRows * kWorkUs * 1e-6) << "the source did not wait for the slow consumer";
-    for (const ChildProcess* p : {&fast, &slow}) {
+    for (const launch::ChildProcess* p : {&fast, &slow}) {
         EXPECT_EQ(heard.Extra(p->pid(), "samples"), kRows) << "pid " << p->pid();
         EXPECT_EQ(heard.by_pid[p->pid()].seq_gaps, 0) << "pid " << p->pid();
     }
     // AND it paced on both probes (and nothing else answers on this port), dropped none
     const int32_t source_pid = source.pid();
-    EXPECT_EQ(heard.Extra(source_pid, "flow_consumers"), 2) << ReadLog(log);
-    EXPECT_EQ(heard.Extra(source_pid, "flow_dropped"), 0) << ReadLog(log);
-    EXPECT_GT(heard.Extra(source_pid, "flow_wait_s"), 0) << ReadLog(log);
+    EXPECT_EQ(heard.Extra(source_pid, "flow_consumers"), 2) << launch::ReadLog(log);
+    EXPECT_EQ(heard.Extra(source_pid, "flow_dropped"), 0) << launch::ReadLog(log);
+    EXPECT_GT(heard.Extra(source_pid, "flow_wait_s"), 0) << launch::ReadLog(log);
     std::printf("flow: %d rows in %.2f s with the slow consumer at %.0f us per sample\n", kRows,
                 wall_s, kWorkUs);
 }
@@ -123,29 +124,30 @@ TEST(FlowProcess, TheSourceGoesAtTheSlowestConsumersPaceAndNothingIsLostUnderLoa
 TEST(FlowProcess, AConsumerThatStopsAnsweringIsWaitedForNoLongerThanItsTimeout) {
     constexpr int kRows = 30000;
     const std::string csv = WriteCsv("stuck.csv", kRows);
-    Bus bus(BusOptions{kStuckUrl});
+    bus::Bus bus(bus::BusOptions{kStuckUrl});
     Heard heard(bus);
-    ChildProcess alive = Probe(kStuckUrl, 100), stuck = Probe(kStuckUrl, 100);  // 3 s of work each
+    launch::ChildProcess alive = Probe(kStuckUrl, 100),
+                         stuck = Probe(kStuckUrl, 100);  // 3 s of work each
     ASSERT_TRUE(testing::HandleUntil(
         bus, [&] { return heard.by_pid.count(alive.pid()) && heard.by_pid.count(stuck.pid()); },
         10s));
     const std::string log = csv + ".source.log";
     const auto t0 = Clock::now();
-    ChildProcess source({GYROCAL_CSV_SOURCE, csv, "--max", "--batch-samples", "16", "--lcm-url",
-                         kStuckUrl, "--flow-timeout-s", "1"},
-                        log, log);
+    launch::ChildProcess source({GYROCAL_CSV_SOURCE, csv, "--max", "--batch-samples", "16",
+                                 "--lcm-url", kStuckUrl, "--flow-timeout-s", "1"},
+                                log, log);
     // GIVEN one consumer frozen once it is well into the data (it answers nothing any more)
     ASSERT_TRUE(testing::HandleUntil(
         bus, [&] { return heard.Extra(stuck.pid(), "samples") >= 2000; }, 30s, 5ms));
     ASSERT_EQ(kill(stuck.pid(), SIGSTOP), 0);
-    std::optional<ExitStatus> done;
+    std::optional<launch::ExitStatus> done;
     testing::HandleUntil(
         bus, [&] { return (done = source.Poll()).has_value(); }, 60s);
     const double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     kill(stuck.pid(), SIGCONT);
     // THEN the source ended on its own, well within 60 s, saying whom it stopped waiting for
-    ASSERT_TRUE(done && done->exited && done->code == 0) << ReadLog(log);
-    const std::string text = ReadLog(log);
+    ASSERT_TRUE(done && done->exited && done->code == 0) << launch::ReadLog(log);
+    const std::string text = launch::ReadLog(log);
     EXPECT_NE(text.find("gyrocal-bus-probe (pid " + std::to_string(stuck.pid())), std::string::npos)
         << text;
     EXPECT_NE(text.find("no longer waited for"), std::string::npos) << text;

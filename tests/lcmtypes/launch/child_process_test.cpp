@@ -18,7 +18,7 @@ using namespace std::chrono_literals;
 
 TEST(ChildProcess, ReportsExitCodeAndOutput) {
     const std::string out = ::testing::TempDir() + "child_out.txt";
-    ChildProcess c({"sh", "-c", "echo hello; exit 7"}, out, out);
+    launch::ChildProcess c({"sh", "-c", "echo hello; exit 7"}, out, out);
     auto s = c.Wait(10s);
     ASSERT_TRUE(s.has_value());
     EXPECT_TRUE(s->exited);
@@ -31,7 +31,7 @@ TEST(ChildProcess, ReportsExitCodeAndOutput) {
 
 TEST(ChildProcess, MissingProgramIsAnErrorWithTheReason) {
     try {
-        ChildProcess c({"/nonexistent/gyrocal-nothing"});
+        launch::ChildProcess c({"/nonexistent/gyrocal-nothing"});
         FAIL() << "expected an exception";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("gyrocal-nothing"), std::string::npos);
@@ -45,19 +45,20 @@ TEST(ChildProcess, RunsInItsWorkingDirectoryAndWaitBlocksUntilTheEnd) {
         std::filesystem::path(::testing::TempDir()) / "child_working_dir";
     std::filesystem::create_directories(dir);
     const std::string out = (dir / "pwd.txt").string();
-    const ExitStatus s = ChildProcess({"sh", "-c", "pwd -P; sleep 0.2; exit 3"},
-                                      ChildOptions{out, out, dir.string(), {}})
-                             .Wait();
+    const launch::ExitStatus s =
+        launch::ChildProcess({"sh", "-c", "pwd -P; sleep 0.2; exit 3"},
+                             launch::ChildOptions{out, out, dir.string(), {}})
+            .Wait();
     // THEN the blocking Wait reports its exit and it ran in that directory
     EXPECT_TRUE(s.exited);
     EXPECT_EQ(s.code, 3);
-    EXPECT_EQ(ReadLog(out), std::filesystem::canonical(dir).string() + "\n");
+    EXPECT_EQ(launch::ReadLog(out), std::filesystem::canonical(dir).string() + "\n");
 }
 
 TEST(ChildProcess, AWorkingDirectoryThatCannotBeEnteredIsAnErrorWithTheReason) {
     try {
-        ChildProcess c({"sh", "-c", "exit 0"},
-                       ChildOptions{"", "", "/nonexistent/gyrocal-dir", {}});
+        launch::ChildProcess c({"sh", "-c", "exit 0"},
+                               launch::ChildOptions{"", "", "/nonexistent/gyrocal-dir", {}});
         FAIL() << "expected an exception";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/gyrocal-dir"), std::string::npos);
@@ -73,12 +74,12 @@ TEST(ChildProcess, PassesTheGivenFdsAsThreeFourAndNoOtherFd) {
     ASSERT_EQ(::pipe(other), 0);
     ASSERT_EQ(::write(in[1], "ping\n", 5), 5);
     ::close(in[1]);
-    ChildOptions o;
+    launch::ChildOptions o;
     o.child_fds = {in[0], out[1]};
     // WHEN the child copies fd 3 to fd 4 and reports whether the other pipe's fd is open
     const std::string probe = "cat <&3 >&4; if [ -e /proc/self/fd/" + std::to_string(other[1]) +
                               " ]; then echo open >&4; else echo closed >&4; fi";
-    const ExitStatus s = ChildProcess({"sh", "-c", probe}, o).Wait();
+    const launch::ExitStatus s = launch::ChildProcess({"sh", "-c", probe}, o).Wait();
     ::close(in[0]);
     ::close(out[1]);
     std::string got(64, '\0');
@@ -92,19 +93,20 @@ TEST(ChildProcess, PassesTheGivenFdsAsThreeFourAndNoOtherFd) {
 }
 
 TEST(FindOnPath, FindsWhatExecvpWouldStartAndNothingElse) {
-    const std::string sh = FindOnPath("sh");
+    const std::string sh = launch::FindOnPath("sh");
     ASSERT_FALSE(sh.empty());
     EXPECT_EQ(sh.substr(sh.size() - 3), "/sh");
-    EXPECT_EQ(FindOnPath(sh), sh);  // a path is taken as it is
-    EXPECT_EQ(FindOnPath("gyrocal-no-such-program"), "");
-    EXPECT_EQ(FindOnPath("/nonexistent/sh"), "");
+    EXPECT_EQ(launch::FindOnPath(sh), sh);  // a path is taken as it is
+    EXPECT_EQ(launch::FindOnPath("gyrocal-no-such-program"), "");
+    EXPECT_EQ(launch::FindOnPath("/nonexistent/sh"), "");
 }
 
 TEST(ChildProcess, StopEscalatesToSigkillAndReachesGrandchildren) {
     // The shell ignores SIGTERM and runs a grandchild; Stop() must still end both.
     const std::string pidfile = ::testing::TempDir() + "grandchild.pid";
     std::filesystem::remove(pidfile);
-    ChildProcess c({"sh", "-c", "trap '' TERM; sleep 60 & echo $! > " + pidfile + "; wait"});
+    launch::ChildProcess c(
+        {"sh", "-c", "trap '' TERM; sleep 60 & echo $! > " + pidfile + "; wait"});
     // The shell writes the grandchild's pid after it has set the trap: once it is there, both
     // are in place.
     pid_t grandchild = 0;
@@ -115,7 +117,7 @@ TEST(ChildProcess, StopEscalatesToSigkillAndReachesGrandchildren) {
         },
         10s))
         << "the shell never wrote " << pidfile;
-    ExitStatus s = c.Stop(500ms);
+    launch::ExitStatus s = c.Stop(500ms);
     EXPECT_FALSE(s.exited);
     EXPECT_EQ(s.signal, SIGKILL);
     // The grandchild goes (it may linger as a zombie of init briefly).

@@ -10,7 +10,7 @@
 
 namespace gyrocal::analysis::testing {
 
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 
 std::string WriteRunDb(const std::string& name) {
     SimRunOptions o;

@@ -16,7 +16,7 @@
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/rate_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/processors/compensator/coeff_set_fixture.hpp"
@@ -50,7 +50,7 @@ struct MemqCompensator {
 
 TEST(CompensatorNode, RatesAreTheTruthAndBadInputIsRefused) {
     MemqCompensator c(CompensatorNodeOptions::Defaults());
-    Bus& bus = c.node.bus();
+    bus::Bus& bus = c.node.bus();
     // GIVEN samples before any coefficient set: not published
     int64_t seq = 0;
     for (; seq < 5; ++seq) bus.Publish(channels::Gyro("S01"), Sample(seq, 20.0, 10.0));

@@ -16,7 +16,7 @@
 #include "gyrocal/rate_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
@@ -32,7 +32,7 @@ constexpr int64_t kStartUtime = testing::kCompensatorStartUtime;
 coeff_set_t Set(int64_t id) { return testing::KnownSet(id, "run-7751"); }
 
 struct Listener {
-    Bus bus{BusOptions{kUrl}};
+    bus::Bus bus{bus::BusOptions{kUrl}};
     std::vector<rate_t> rates;
     testing::StatusWatch status{bus, "gyrocal-compensator"};
     Listener() { testing::CollectInto(bus, channels::AllSensors(channels::kRatePrefix), rates); }
@@ -52,7 +52,7 @@ void RatesFromCoeffsAndBadSetRejected(const std::vector<std::string>& policy_arg
     Listener l;
     std::vector<std::string> argv = {GYROCAL_COMPENSATOR_EXE, "--lcm-url", kUrl};
     argv.insert(argv.end(), policy_args.begin(), policy_args.end());
-    ChildProcess comp(argv);
+    launch::ChildProcess comp(argv);
     ASSERT_TRUE(l.WaitFor([&] { return l.status.seen; })) << "no STATUS from gyrocal-compensator";
 
     // GIVEN samples before any coefficient set: not published, counted.
@@ -137,7 +137,7 @@ TEST(CompensatorProcess, RatesFromCoeffsAndBadSetRejectedUnderBothRangePolicies)
 
 TEST(CompensatorProcess, HelpStatesTheDefaultRangePolicyAndWhy) {
     const std::string out_path = ::testing::TempDir() + "compensator_help.txt";
-    ChildProcess p({GYROCAL_COMPENSATOR_EXE, "--help"}, out_path, "/dev/null");
+    launch::ChildProcess p({GYROCAL_COMPENSATOR_EXE, "--help"}, out_path, "/dev/null");
     const auto st = p.Wait(5s);
     ASSERT_TRUE(st.has_value());
     EXPECT_EQ(st->code, 0);
@@ -155,7 +155,7 @@ TEST(CompensatorProcess, BadOptionsExitTwo) {
           {GYROCAL_COMPENSATOR_EXE, "--out-of-range"},
           {GYROCAL_COMPENSATOR_EXE, "--sensor", "S 01"},
           {GYROCAL_COMPENSATOR_EXE, "--bogus"}}) {
-        ChildProcess p(argv, "/dev/null", "/dev/null");
+        launch::ChildProcess p(argv, "/dev/null", "/dev/null");
         const auto st = p.Wait(5s);
         ASSERT_TRUE(st.has_value()) << argv[1];
         EXPECT_EQ(st->code, 2) << argv[1];

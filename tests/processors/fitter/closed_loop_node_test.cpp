@@ -24,7 +24,7 @@
 #include "gyrocal/power_state_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/fitter/fit_worker.hpp"
 #include "processors/fitter/fitter_node.hpp"
 #include "processors/model/convert.hpp"
@@ -49,7 +49,7 @@ run_event_t Event(const std::string& what, int64_t utime) {
 }
 
 // Every message of the run into `bus`, in time order, handling as it goes (memq queues them).
-void PublishRun(Bus& bus, FitterNode& node, const analysis::testing::SimRun& s) {
+void PublishRun(bus::Bus& bus, FitterNode& node, const analysis::testing::SimRun& s) {
     struct Timed {
         int64_t utime;
         std::function<void()> send;

@@ -17,7 +17,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/processors/fitter/fitter_fixture.hpp"

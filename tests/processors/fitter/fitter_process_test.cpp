@@ -17,7 +17,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
@@ -35,7 +35,7 @@ constexpr int64_t kT0Utime = 1'000'000'000'000'000;
 using testing::OffsetTruthV;
 
 struct Listener {
-    Bus bus{BusOptions{kUrl}};
+    bus::Bus bus{bus::BusOptions{kUrl}};
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
     testing::StatusWatch status{bus, "gyrocal-fitter"};
@@ -64,7 +64,7 @@ sensitivity_point_t Rotation(const std::string& id, double temp_c, int64_t start
 
 TEST(FitterProcess, PublishesCoeffsWithExactIdsAndRefusesBadInput) {
     Listener l;
-    ChildProcess fitter({GYROCAL_FITTER_EXE, "--lcm-url", kUrl}, "", "");
+    launch::ChildProcess fitter({GYROCAL_FITTER_EXE, "--lcm-url", kUrl}, "", "");
     // The fitter's first STATUS comes after it has subscribed: then it hears what we publish.
     ASSERT_TRUE(l.WaitFor([&] { return l.status.seen; })) << "no STATUS from gyrocal-fitter";
 
@@ -219,13 +219,13 @@ TEST(FitterProcess, BadOptionsExitTwo) {
           {GYROCAL_FITTER_EXE, "--mode", "ramp", "--min-span-s", "-1"},
           {GYROCAL_FITTER_EXE, "--mode", "ramp", "--max-bins-per-unit", "10"},
           {GYROCAL_FITTER_EXE, "--no-such-option"}}) {
-        ChildProcess p(argv, "/dev/null", "/dev/null");
+        launch::ChildProcess p(argv, "/dev/null", "/dev/null");
         const auto st = p.Wait(5s);
         ASSERT_TRUE(st.has_value()) << argv[1];
         EXPECT_TRUE(st->exited);
         EXPECT_EQ(st->code, 2) << argv[1];
     }
-    ChildProcess help({GYROCAL_FITTER_EXE, "--help"}, "/dev/null", "/dev/null");
+    launch::ChildProcess help({GYROCAL_FITTER_EXE, "--help"}, "/dev/null", "/dev/null");
     const auto st = help.Wait(5s);
     ASSERT_TRUE(st.has_value());
     EXPECT_EQ(st->code, 0);

@@ -7,7 +7,7 @@
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/fitter/fitter_node.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
@@ -30,7 +30,7 @@ struct MemqFitter {
     }
 
     Node node;
-    Bus& bus;
+    ::gyrocal::bus::Bus& bus;
     std::vector<coeff_set_t> coeffs;
     std::vector<fit_report_t> reports;
 };

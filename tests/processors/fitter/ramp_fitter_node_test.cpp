@@ -15,7 +15,7 @@
 #include "gyrocal/coeff_set_t.hpp"
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "processors/fitter/fitter_node.hpp"
 #include "processors/model/convert.hpp"
 #include "processors/model/inputs.hpp"

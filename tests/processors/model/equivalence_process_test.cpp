@@ -28,7 +28,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/store/scratch_db.hpp"
@@ -207,13 +207,13 @@ bool WaitForCount(const std::string& db, const std::string& sql, int64_t want,
 }
 
 int RunChild(const std::vector<std::string>& argv, const std::string& log) {
-    ChildProcess p(argv, log, log);
+    launch::ChildProcess p(argv, log, log);
     const auto st = p.Wait(120s);
     return st ? st->code : -1;
 }
 
 struct Watcher {
-    Bus bus{BusOptions{kUrl}};
+    bus::Bus bus{bus::BusOptions{kUrl}};
     std::map<std::string, std::map<std::string, double>> extra;  // process -> counters
     Watcher() {
         bus.Subscribe<status_t>(std::string(channels::kStatus),
@@ -246,24 +246,24 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
     // GIVEN the recorder and the live compensator listening, the run started and the extended
     // set applied before any sample
     Watcher w;
-    ChildProcess rec({Bin("gyrocal-recorder"), "--db", db, "--lcm-url", kUrl}, dir + "/rec.log",
-                     dir + "/rec.log");
-    ChildProcess comp({Bin("gyrocal-compensator"), "--lcm-url", kUrl}, dir + "/comp.log",
-                      dir + "/comp.log");
+    launch::ChildProcess rec({Bin("gyrocal-recorder"), "--db", db, "--lcm-url", kUrl},
+                             dir + "/rec.log", dir + "/rec.log");
+    launch::ChildProcess comp({Bin("gyrocal-compensator"), "--lcm-url", kUrl}, dir + "/comp.log",
+                              dir + "/comp.log");
     ASSERT_TRUE(w.WaitFor(
         [&] {
             return w.Get("gyrocal-recorder", "seen") == 1 &&
                    w.Get("gyrocal-compensator", "seen") == 1;
         },
         20s))
-        << ReadLog(dir + "/rec.log") << ReadLog(dir + "/comp.log");
+        << launch::ReadLog(dir + "/rec.log") << launch::ReadLog(dir + "/comp.log");
     w.bus.Publish(std::string(channels::kRunEvent), RunEvent("start"));
     ASSERT_TRUE(
         WaitForCount(db, "SELECT count(*) FROM runs WHERE run_id='equivalence-run'", 1, 20s));
     w.bus.Publish(channels::Coeffs("S01"), ExtendedSet());
     ASSERT_TRUE(
         w.WaitFor([&] { return w.Get("gyrocal-compensator", "coeff_sets_applied") == 1; }, 20s))
-        << ReadLog(dir + "/comp.log");
+        << launch::ReadLog(dir + "/comp.log");
     ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM coeff_sets", 1, 20s));
 
     // WHEN the CSV source replays the run
@@ -271,11 +271,11 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
                         "--lcm-url", kUrl},
                        dir + "/source.log"),
               0)
-        << ReadLog(dir + "/source.log");
+        << launch::ReadLog(dir + "/source.log");
     const std::string rates_sql = "SELECT count(*) FROM rates WHERE coeff_set_id=4242";
     ASSERT_TRUE(WaitForCount(db, rates_sql, kSamples, 60s))
         << testing::Count(db, rates_sql) << " rates stored of " << kSamples << "\n"
-        << ReadLog(dir + "/comp.log");
+        << launch::ReadLog(dir + "/comp.log");
     ASSERT_TRUE(WaitForCount(db, "SELECT count(*) FROM gyro_samples", kSamples, 60s));
     w.bus.Publish(std::string(channels::kRunEvent), RunEvent("stop"));
     ASSERT_TRUE(WaitForCount(db,
@@ -296,32 +296,32 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
         RunChild({GYROCAL_CLI, "export", kRun, "--db", db, "--format", "samples", "--out", samples},
                  dir + "/export.log"),
         0)
-        << ReadLog(dir + "/export.log");
+        << launch::ReadLog(dir + "/export.log");
     ASSERT_EQ(
         RunChild({GYROCAL_CLI, "compensate", samples, "--db", db, "--run", kRun, "--out", offline},
                  dir + "/compensate.log"),
         0)
-        << ReadLog(dir + "/compensate.log");
-    EXPECT_EQ(ReadLog(dir + "/compensate.log").find("not computable"), std::string::npos)
-        << ReadLog(dir + "/compensate.log");
+        << launch::ReadLog(dir + "/compensate.log");
+    EXPECT_EQ(launch::ReadLog(dir + "/compensate.log").find("not computable"), std::string::npos)
+        << launch::ReadLog(dir + "/compensate.log");
     // ... and through the exported C header, compiled by the system C compiler
     const std::string header = dir + "/gyrocal_coeffs.h", program = dir + "/firmware";
     ASSERT_EQ(
         RunChild({GYROCAL_CLI, "export", kRun, "--db", db, "--format", "c-header", "--out", header},
                  dir + "/header.log"),
         0)
-        << ReadLog(dir + "/header.log");
+        << launch::ReadLog(dir + "/header.log");
     ASSERT_EQ(RunChild({GYROCAL_SYSTEM_CC, "-std=c99", "-O2", "-Wall", "-Werror", "-I", dir,
                         "-DGYROCAL_TEST_INIT=gyrocal_S01_init", GYROCAL_FIRMWARE_PROGRAM, "-o",
                         program, "-lm"},
                        dir + "/cc.log"),
               0)
-        << ReadLog(dir + "/cc.log");
+        << launch::ReadLog(dir + "/cc.log");
     const std::string firmware = dir + "/firmware.csv";
-    ChildProcess fw({program, samples}, firmware, dir + "/firmware.err");
+    launch::ChildProcess fw({program, samples}, firmware, dir + "/firmware.err");
     const auto fw_end = fw.Wait(60s);
-    ASSERT_TRUE(fw_end && fw_end->code == 0) << ReadLog(dir + "/firmware.err");
-    EXPECT_NE(ReadLog(firmware).find("not_computable,0\n"), std::string::npos)
+    ASSERT_TRUE(fw_end && fw_end->code == 0) << launch::ReadLog(dir + "/firmware.err");
+    EXPECT_NE(launch::ReadLog(firmware).find("not_computable,0\n"), std::string::npos)
         << "the firmware left samples uncomputed";
 
     // Sample for sample, bit for bit: all three take the same doubles (the CSV prints the

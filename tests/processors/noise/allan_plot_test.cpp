@@ -48,7 +48,7 @@ TEST(AllanPlot, TabulatesTheFitAndItsThreeAsymptotesInDegreesPerSecondOnLogAxes)
     // GIVEN a curve of known N, B, K and the unit's sensitivity
     const plot::Figure f = MakeAllanPlot(Curve(kK));
     // THEN the figure is drawable, log-log, in deg/s
-    EXPECT_EQ(plot::Problem(f), "");
+    EXPECT_EQ(plot::Validate(f), "");
     EXPECT_TRUE(f.log_x && f.log_y);
     EXPECT_EQ(f.name, "U7_allan");
     EXPECT_NE(f.ylabel.find("deg/s"), std::string::npos);
@@ -76,7 +76,7 @@ TEST(AllanPlot, ATermNotFittedHasNoAsymptoteAndVoltsWithoutASensitivity) {
     AllanPlotInput in = Curve(0.0);
     in.sensitivity_v_per_dps.reset();
     const plot::Figure f = MakeAllanPlot(in);
-    EXPECT_EQ(plot::Problem(f), "");
+    EXPECT_EQ(plot::Validate(f), "");
     // THEN no +1/2 line is claimed, the other two are, in volts
     EXPECT_EQ(Titled(f, "slope +1/2"), nullptr);
     ASSERT_NE(Titled(f, "slope -1/2: N = 0.00024 V/sqrt(Hz)"), nullptr);

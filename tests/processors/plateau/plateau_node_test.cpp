@@ -16,7 +16,7 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
@@ -49,7 +49,7 @@ TEST(PlateauNode, NoPlateauWhileTheTemperatureRamps) {
     const PlateauOptions o = ScenarioOptions();
     ASSERT_EQ(o.Validate(), "");
     PlateauNode node(o);
-    Bus& bus = node.bus();
+    bus::Bus& bus = node.bus();
     std::map<std::string, int> plateaus;
     std::map<std::string, std::set<std::string>> states;
     int s01_heard = 0;  // subscribed after the node: when it has heard a sample, so has the node

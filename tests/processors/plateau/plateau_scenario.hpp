@@ -17,7 +17,7 @@
 #include "gyrocal/plateau_t.hpp"
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/sample_guards.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
@@ -50,7 +50,7 @@ void ApplyPlateauScenarioOptions(Options& o) {
 
 // Runs the scenario on `bus` (the node's or the test's), reaching the node through `wire`.
 // `status` watches the node's STATUS on that bus.
-inline void PlateauScenario(Bus& bus, const Wire& wire, const StatusWatch& status) {
+inline void PlateauScenario(bus::Bus& bus, const Wire& wire, const StatusWatch& status) {
     std::map<std::string, plateau_t> plateaus;
     std::map<std::string, std::vector<std::string>> states;
     bus.Subscribe<plateau_t>(

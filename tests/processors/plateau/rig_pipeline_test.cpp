@@ -23,7 +23,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/status_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "producers/sim/noise.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
@@ -33,7 +33,7 @@ namespace {
 
 constexpr const char* kUrl = "udpm://239.255.76.67:7742?ttl=0&recv_buf_size=4194304";
 
-bool WaitFor(Bus& bus, const std::function<bool()>& done, std::chrono::milliseconds limit) {
+bool WaitFor(bus::Bus& bus, const std::function<bool()>& done, std::chrono::milliseconds limit) {
     return testing::HandleUntil(bus, done, limit, std::chrono::milliseconds(20));
 }
 
@@ -60,7 +60,7 @@ double BiasInstabilityOfMeanDps(double level_dps, double w_s) {
 }
 
 TEST(RigPipeline, PlateausAndSensitivitiesMatchTheRigTruth) {
-    Bus bus(BusOptions{kUrl});
+    bus::Bus bus(bus::BusOptions{kUrl});
     std::vector<plateau_t> plateaus;
     std::vector<sensitivity_point_t> points;
     std::map<std::string, bool> up;
@@ -72,40 +72,40 @@ TEST(RigPipeline, PlateausAndSensitivitiesMatchTheRigTruth) {
                      ("gyrocal_rig_pipeline_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
     auto out = [&](const std::string& name) { return (dir / name).string(); };
-    ChildProcess plateau({GYROCAL_PLATEAU_BIN, "--lcm-url", kUrl}, out("plateau.out"),
-                         out("plateau.err"));
-    ChildProcess rotation({GYROCAL_ROTATION_BIN, "--lcm-url", kUrl}, out("rotation.out"),
-                          out("rotation.err"));
+    launch::ChildProcess plateau({GYROCAL_PLATEAU_BIN, "--lcm-url", kUrl}, out("plateau.out"),
+                                 out("plateau.err"));
+    launch::ChildProcess rotation({GYROCAL_ROTATION_BIN, "--lcm-url", kUrl}, out("rotation.out"),
+                                  out("rotation.err"));
     ASSERT_TRUE(WaitFor(
         bus, [&] { return up["gyrocal-plateau"] && up["gyrocal-rotation"]; },
         std::chrono::seconds(10)));
     const std::vector<double> setpoints{10.0, 40.0};
-    ChildProcess rig({GYROCAL_SIM_RIG_BIN,
-                      "--lcm-url",
-                      kUrl,
-                      "--mode",
-                      "builtin",
-                      "--units",
-                      "1",
-                      "--seed",
-                      "5",
-                      "--profile",
-                      "10,40",
-                      "--dwell-s",
-                      "700",
-                      "--rest-s",
-                      "10",
-                      "--package-tau-s",
-                      "100",
-                      "--package-tau-spread",
-                      "0",
-                      "--speed",
-                      "1000",
-                      "--truth-out",
-                      out("truth.json")},
-                     out("rig.out"), out("rig.err"));
+    launch::ChildProcess rig({GYROCAL_SIM_RIG_BIN,
+                              "--lcm-url",
+                              kUrl,
+                              "--mode",
+                              "builtin",
+                              "--units",
+                              "1",
+                              "--seed",
+                              "5",
+                              "--profile",
+                              "10,40",
+                              "--dwell-s",
+                              "700",
+                              "--rest-s",
+                              "10",
+                              "--package-tau-s",
+                              "100",
+                              "--package-tau-spread",
+                              "0",
+                              "--speed",
+                              "1000",
+                              "--truth-out",
+                              out("truth.json")},
+                             out("rig.out"), out("rig.err"));
     const auto rig_end = std::chrono::steady_clock::now() + std::chrono::seconds(90);
-    std::optional<ExitStatus> rig_status;
+    std::optional<launch::ExitStatus> rig_status;
     while (!(rig_status = rig.Poll()) && std::chrono::steady_clock::now() < rig_end)
         bus.Handle(std::chrono::milliseconds(20));
     ASSERT_TRUE(rig_status && rig_status->exited && rig_status->code == 0)

@@ -31,25 +31,26 @@ Figure Line(const std::string& name, double slope) {
 }
 
 TEST(Figure, ProblemNamesWhatCannotBeDrawn) {
-    EXPECT_EQ(Problem(Line("ok", 1)), "");
+    EXPECT_EQ(Validate(Line("ok", 1)), "");
     Figure f = Line("ok", 1);
     f.series[0].table = "missing";
-    EXPECT_NE(Problem(f).find("names no table 'missing'"), std::string::npos) << Problem(f);
+    EXPECT_NE(Validate(f).find("names no table 'missing'"), std::string::npos) << Validate(f);
     f = Line("ok", 1);
     f.series[0].columns = {1, 2, 4};
-    EXPECT_NE(Problem(f).find("column 4 is not in table ok_data (1..3)"), std::string::npos)
-        << Problem(f);
+    EXPECT_NE(Validate(f).find("column 4 is not in table ok_data (1..3)"), std::string::npos)
+        << Validate(f);
     f = Line("ok", 1);
     f.series[0].columns = {1, 2};  // error bars need three
-    EXPECT_NE(Problem(f).find("needs 3 columns"), std::string::npos) << Problem(f);
+    EXPECT_NE(Validate(f).find("needs 3 columns"), std::string::npos) << Validate(f);
     f = Line("../etc/passwd", 1);
-    EXPECT_NE(Problem(f).find("not a plain file stem"), std::string::npos) << Problem(f);
+    EXPECT_NE(Validate(f).find("not a plain file stem"), std::string::npos) << Validate(f);
     f = Line("ok", 1);
     f.tables[0].rows[3].pop_back();
-    EXPECT_NE(Problem(f).find("row 4 has 2 values for 3 columns"), std::string::npos) << Problem(f);
+    EXPECT_NE(Validate(f).find("row 4 has 2 values for 3 columns"), std::string::npos)
+        << Validate(f);
     f = Line("ok", 1);
     f.series.clear();
-    EXPECT_NE(Problem(f).find("no series"), std::string::npos);
+    EXPECT_NE(Validate(f).find("no series"), std::string::npos);
 }
 
 TEST(Figure, DataFileWritesMissingValuesAsGnuplotsMarker) {
@@ -90,7 +91,7 @@ TEST(Svg, InlineSvgPrefixesIdsAndReferencesAndDropsTheProlog) {
 class Gnuplot : public ::testing::Test {
 protected:
     void SetUp() override {
-        gnuplot_ = FindOnPath("gnuplot");
+        gnuplot_ = launch::FindOnPath("gnuplot");
         if (gnuplot_.empty())
             GTEST_SKIP()
                 << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";

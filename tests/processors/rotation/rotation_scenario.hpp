@@ -12,7 +12,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/lcmtypes/bus/sample_guards.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
@@ -25,7 +25,7 @@ namespace gyrocal::testing {
 // The node's sensors (the process test passes --sensors S01).
 inline const std::vector<std::string> kRotationScenarioSensors = {"S01"};
 
-inline void RotationScenario(Bus& bus, const Wire& wire, const StatusWatch& status) {
+inline void RotationScenario(bus::Bus& bus, const Wire& wire, const StatusWatch& status) {
     std::vector<sensitivity_point_t> points;
     CollectInto(bus, channels::AllSensors(channels::kSensitivityPrefix), points);
     // Bad input: a wrong type on GYRO_X (decode error), an unknown sensor, a NaN sample.

@@ -50,11 +50,11 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
     for (const Case& c : cases) {
         std::vector<std::string> argv = {GYROCAL_SEQUENCER_EXE, "--lcm-url", "memq://"};
         argv.insert(argv.end(), c.args.begin(), c.args.end());
-        ChildProcess p(argv, "/dev/null", err);
+        launch::ChildProcess p(argv, "/dev/null", err);
         const auto st = p.Wait(10s);
         ASSERT_TRUE(st.has_value()) << c.args[0] << ": did not exit";
         EXPECT_TRUE(st->exited && st->code == 2) << c.args[0] << ": " << st->Describe();
-        const std::string said = ReadLog(err);
+        const std::string said = launch::ReadLog(err);
         EXPECT_EQ(said.rfind("gyrocal-sequencer: error: ", 0), 0u) << said;
         EXPECT_NE(said.find(c.says), std::string::npos) << said;
     }
@@ -64,11 +64,11 @@ TEST(SequencerCli, BadOptionsExitTwoNamingTheOption) {
 TEST(SequencerCli, HelpExitsZeroWithTheExitCodes) {
     const std::string out =
         ::testing::TempDir() + "gyrocal_seq_help_" + std::to_string(getpid()) + ".out";
-    ChildProcess p({GYROCAL_SEQUENCER_EXE, "--help"}, out, "/dev/null");
+    launch::ChildProcess p({GYROCAL_SEQUENCER_EXE, "--help"}, out, "/dev/null");
     const auto st = p.Wait(10s);
     ASSERT_TRUE(st.has_value());
     EXPECT_TRUE(st->exited && st->code == 0) << st->Describe();
-    const std::string help = ReadLog(out);
+    const std::string help = launch::ReadLog(out);
     EXPECT_NE(help.find("3 run aborted"), std::string::npos) << help;
     EXPECT_NE(help.find("--sensors"), std::string::npos) << help;
     std::filesystem::remove(out);

@@ -18,7 +18,7 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/lcmtypes/bus/status_watch.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
@@ -32,7 +32,7 @@ using gyrocal::testing::kT0Utime;
 class MemqSequencer {
 public:
     MemqSequencer() : node_(Options()), wire_(gyrocal::testing::ForNode(node_)) {
-        Bus& bus = node_.bus();
+        bus::Bus& bus = node_.bus();
         gyrocal::testing::CollectInto(bus, std::string(channels::kRunEvent), events);
         gyrocal::testing::CollectInto(bus, std::string(channels::kChamberCmd), chamber);
         gyrocal::testing::CollectInto(bus, std::string(channels::kTurntableCmd), turns);

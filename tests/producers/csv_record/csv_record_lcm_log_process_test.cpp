@@ -12,7 +12,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/producers/producer_process_support.hpp"
 #include "tests/support/wait/wait_until.hpp"
 
@@ -48,13 +48,13 @@ TEST(LcmLog, LoggedRunReplaysToTheSameSamples) {
     WriteSyntheticCsv(dir.Path("in.csv"), SyntheticSpec{{"S01", "S02", "S03"}, 50.0, 2.0, 3});
 
     // GIVEN lcm-logger recording the test's multicast group
-    ChildProcess logger(
+    launch::ChildProcess logger(
         {GYROCAL_LCM_LOGGER, "--lcm-url=" + url, "-f", "-q", "--flush-interval=20", log}, "",
         dir.Path("logger.err"));
     {
         // It is ready once a probe shows up in its file (bounded; the probe channel is this
         // test's own and nothing subscribes to it).
-        Bus probe(BusOptions{url});
+        bus::Bus probe(bus::BusOptions{url});
         const uint8_t byte = 0;
         testing::WaitUntil(
             [&] {
@@ -67,20 +67,20 @@ TEST(LcmLog, LoggedRunReplaysToTheSameSamples) {
         ASSERT_GT(std::filesystem::file_size(log), 0u) << Slurp(dir.Path("logger.err"));
     }
     // WHEN a CSV run is published and logged
-    ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--speed", "1"});
+    launch::ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--speed", "1"});
     EXPECT_EQ(WaitExit(source, 20s).code, 0) << Slurp(dir.Path("source.err"));
     logger.Signal(SIGINT);
-    const ExitStatus l = WaitExit(logger, 10s);
+    const launch::ExitStatus l = WaitExit(logger, 10s);
     EXPECT_TRUE(l.exited && l.code == 0) << l.Describe() << Slurp(dir.Path("logger.err"));
     // The log itself must hold every sample (tells a logger loss from a replay loss).
     EXPECT_EQ(CountEvents(log, std::string(channels::kGyroPrefix)), 300);
 
     // AND the log is replayed through lcm-logplayer into the CSV recorder
-    ChildProcess rec = StartCsvRecord(dir, url);
+    launch::ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
-    ChildProcess player({GYROCAL_LCM_LOGPLAYER, "-l", url, "-s", "2", log}, dir.Path("player.out"),
-                        dir.Path("player.err"));
-    const ExitStatus p = WaitExit(player, 20s);
+    launch::ChildProcess player({GYROCAL_LCM_LOGPLAYER, "-l", url, "-s", "2", log},
+                                dir.Path("player.out"), dir.Path("player.err"));
+    const launch::ExitStatus p = WaitExit(player, 20s);
     EXPECT_TRUE(p.exited && p.code == 0) << p.Describe() << Slurp(dir.Path("player.err"));
     EXPECT_EQ(WaitExit(rec, 20s).code, 0);
 

@@ -17,7 +17,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/csv_file.hpp"
 #include "tests/lcmtypes/bus/wire.hpp"
 
@@ -56,13 +56,13 @@ TEST(CsvRecordNode, WritesEachSampleWithTheValuesInForceAndRefusesWhatWouldNotRe
     const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                       ("gyrocal_csv_record_node_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
-    CsvRecordOptions o = CsvRecordOptions::Defaults();
+    csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     o.out = (dir / "out.csv").string();
     o.lcm_url = "memq://";
     o.sensors = {"S01"};
     ASSERT_EQ(o.Validate(), "");
-    CsvRecordNode node(o);
-    Bus& bus = node.bus();
+    csv_record::CsvRecordNode node(o);
+    bus::Bus& bus = node.bus();
 
     // GIVEN the unit powered 60 s before t0, the chamber at 25 degC, the table at 0 deg, turned
     // to 90 deg at t0 + 15 ms
@@ -124,11 +124,11 @@ TEST(CsvRecordNode, WritesEachSampleWithTheValuesInForceAndRefusesWhatWouldNotRe
 }
 
 TEST(CsvRecordNode, AnOutFileThatCannotBeCreatedIsAnOptionError) {
-    CsvRecordOptions o = CsvRecordOptions::Defaults();
+    csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     o.out = "/nonexistent-dir/out.csv";
     o.lcm_url = "memq://";
     try {
-        CsvRecordNode node(o);
+        csv_record::CsvRecordNode node(o);
         FAIL() << "no error";
     } catch (const std::runtime_error& e) {
         EXPECT_EQ(std::string(e.what()), "--out '/nonexistent-dir/out.csv' cannot be created");

@@ -8,7 +8,7 @@
 
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/producers/producer_process_support.hpp"
 
@@ -22,10 +22,10 @@ TEST(CsvRecord, RefusesSamplesThatWouldNotReadBack) {
     // GIVEN a recorder, and samples published directly: one with NaN gyro_v, one going back
     Scratch dir("record_guards");
     const std::string url = UdpmUrl(7737);
-    ChildProcess rec = StartCsvRecord(dir, url);
+    launch::ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
     {
-        Bus bus(BusOptions{url});
+        bus::Bus bus(bus::BusOptions{url});
         const int64_t t0 = csv::kDefaultStartUtime;
         const std::vector<std::pair<int64_t, double>> sent = {{t0, 2.5},
                                                               {t0 + 10'000, std::nan("")},

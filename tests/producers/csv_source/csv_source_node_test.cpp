@@ -19,7 +19,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/power_state_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/csv_file.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
@@ -58,20 +58,20 @@ TEST(CsvSourceNode, PublishesEveryRowWithItsValuesAtItsDataTime) {
             }
         }
     }
-    CsvSourceOptions o = CsvSourceOptions::Defaults();
+    csv_source::CsvSourceOptions o = csv_source::CsvSourceOptions::Defaults();
     o.file = file;
     o.lcm_url = "memq://";
     o.speed = 1e6;  // 0.09 s of data in well under a millisecond
     o.drain_s = 0;
     ASSERT_EQ(o.Validate(), "");
-    CsvCheck check;
+    csv_source::CsvCheck check;
     {
         std::ifstream in(file);
         check.rows = static_cast<long>(
             csv::ReadCsv(in, file, sensor::TempTransfer{}, csv::OnError::kStop).rows.size());
     }
     ASSERT_EQ(check.rows, 20);
-    CsvSourceNode node(o, check);
+    csv_source::CsvSourceNode node(o, check);
     testing::SourceOutput out(node.bus());
     const auto& [gyro, encoder, chamber, power] = out;
     // WHEN the node publishes it

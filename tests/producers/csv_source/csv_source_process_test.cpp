@@ -18,13 +18,14 @@ TEST(CsvRoundTrip, SpeedReplayGivesBackTheSameSamplesAndSensorFilterWorks) {
     Scratch dir("roundtrip_speed");
     const std::string url = UdpmUrl(7730);
     WriteSyntheticCsv(dir.Path("in.csv"), SyntheticSpec{});
-    ChildProcess all = StartCsvRecord(dir, url, "all.csv", "all.err");
-    ChildProcess some = StartCsvRecord(dir, url, "some.csv", "some.err", {"--sensors", "S01,S03"});
+    launch::ChildProcess all = StartCsvRecord(dir, url, "all.csv", "all.err");
+    launch::ChildProcess some =
+        StartCsvRecord(dir, url, "some.csv", "some.err", {"--sensors", "S01,S03"});
     ASSERT_TRUE(WaitForStatus(url, {&all, &some}));
 
     // WHEN replayed 10x faster than real time
-    ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--speed", "10"});
-    const ExitStatus s = WaitExit(source, 20s);
+    launch::ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--speed", "10"});
+    const launch::ExitStatus s = WaitExit(source, 20s);
     EXPECT_TRUE(s.exited && s.code == 0) << s.Describe() << Slurp(dir.Path("source.err"));
     EXPECT_EQ(WaitExit(all, 20s).code, 0);
     EXPECT_EQ(WaitExit(some, 20s).code, 0);
@@ -44,9 +45,9 @@ TEST(CsvRoundTrip, MaxSpeedLosesNothing) {
     Scratch dir("roundtrip_max");
     const std::string url = UdpmUrl(7731);
     WriteSyntheticCsv(dir.Path("in.csv"), SyntheticSpec{{"S01", "S02", "S03"}, 100.0, 100.0, 5});
-    ChildProcess rec = StartCsvRecord(dir, url);
+    launch::ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
-    ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--max"});
+    launch::ChildProcess source = StartCsvSource(dir, url, "in.csv", {"--max"});
     EXPECT_EQ(WaitExit(source, 30s).code, 0) << Slurp(dir.Path("source.err"));
     EXPECT_EQ(WaitExit(rec, 30s).code, 0);
     // THEN every sample arrived, unchanged
@@ -55,7 +56,7 @@ TEST(CsvRoundTrip, MaxSpeedLosesNothing) {
 
 // good.csv, the synthetic run, and bad.csv, the same with three bad rows inserted; then a
 // recorder listening on `url`.
-ChildProcess BadFileAndRecorder(const Scratch& dir, const std::string& url) {
+launch::ChildProcess BadFileAndRecorder(const Scratch& dir, const std::string& url) {
     const auto lines = WriteSyntheticCsv(dir.Path("good.csv"), SyntheticSpec{});
     std::string text = std::string(kSyntheticHeader) + "\n";
     for (size_t i = 0; i < lines.size(); ++i) {
@@ -72,9 +73,9 @@ ChildProcess BadFileAndRecorder(const Scratch& dir, const std::string& url) {
 TEST(CsvRoundTrip, SkipPolicyDropsBadRowsWholeAndCountsThem) {
     Scratch dir("skip");
     const std::string url = UdpmUrl(7734);
-    ChildProcess rec = BadFileAndRecorder(dir, url);
+    launch::ChildProcess rec = BadFileAndRecorder(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
-    ChildProcess source =
+    launch::ChildProcess source =
         StartCsvSource(dir, url, "bad.csv", {"--speed", "20", "--on-error", "skip"});
     EXPECT_EQ(WaitExit(source, 20s).code, 0);
     EXPECT_EQ(WaitExit(rec, 20s).code, 0);
@@ -97,10 +98,10 @@ TEST(CsvRoundTrip, SkipPolicyDropsBadRowsWholeAndCountsThem) {
 TEST(CsvRoundTrip, StopPolicyPublishesNothingFromABadFile) {
     Scratch dir("stop");
     const std::string url = UdpmUrl(7735);
-    ChildProcess rec = BadFileAndRecorder(dir, url);
+    launch::ChildProcess rec = BadFileAndRecorder(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
-    ChildProcess source = StartCsvSource(dir, url, "bad.csv");
-    const ExitStatus s = WaitExit(source, 20s);
+    launch::ChildProcess source = StartCsvSource(dir, url, "bad.csv");
+    const launch::ExitStatus s = WaitExit(source, 20s);
     EXPECT_TRUE(s.exited && s.code == 1) << s.Describe();
     EXPECT_EQ(WaitExit(rec, 20s).code, 0);
     EXPECT_THAT(Slurp(dir.Path("source.err")),

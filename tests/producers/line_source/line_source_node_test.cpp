@@ -18,7 +18,7 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/text/number.hpp"
 #include "producers/csv/row_messages.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
@@ -29,17 +29,17 @@ namespace {
 
 // A LineInput reading `text` from a pipe whose write end is closed (the text must fit the pipe's
 // buffer, 64 KiB on Linux): the stream ends after it.
-std::unique_ptr<LineInput> PipeOf(const std::string& text) {
+std::unique_ptr<line_source::LineInput> PipeOf(const std::string& text) {
     int fds[2];
     if (pipe(fds) != 0) throw std::runtime_error("pipe() failed");
     const ssize_t n = write(fds[1], text.data(), text.size());
     close(fds[1]);
     if (n != static_cast<ssize_t>(text.size())) throw std::runtime_error("short write to pipe");
-    return std::make_unique<LineInput>(fds[0], "test-pipe");
+    return std::make_unique<line_source::LineInput>(fds[0], "test-pipe");
 }
 
-LineSourceOptions NodeOptions() {
-    LineSourceOptions o = LineSourceOptions::Defaults();
+line_source::LineSourceOptions NodeOptions() {
+    line_source::LineSourceOptions o = line_source::LineSourceOptions::Defaults();
     o.lcm_url = "memq://";
     o.drain_s = 0.0;
     return o;
@@ -69,7 +69,7 @@ TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
             if (rows.size() == 12) text += "garbage\n";
         }
     }
-    LineSourceNode node(NodeOptions(), PipeOf(text));
+    line_source::LineSourceNode node(NodeOptions(), PipeOf(text));
     testing::SourceOutput out(node.bus());
     const auto& [gyro, encoder, chamber, power] = out;
     // WHEN the node reads it to the end
@@ -97,7 +97,7 @@ TEST(LineSourceNode, PublishesEachGoodLineAndSkipsBadOnesWhole) {
 }
 
 TEST(LineSourceNode, AStreamWithoutAHeaderFails) {
-    LineSourceNode node(NodeOptions(), PipeOf("0,S01,2.5,2.5\n"));
+    line_source::LineSourceNode node(NodeOptions(), PipeOf("0,S01,2.5,2.5\n"));
     std::vector<gyro_sample_t> gyro;
     testing::CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), gyro);
     EXPECT_EQ(node.Run(), 1);

@@ -33,14 +33,15 @@ TEST(LineSource, PipedStreamGivesBackTheSameSamplesAndSkipsBadLines) {
         if (i == 59) text += "garbage\n";                       // line 63
     }
     WriteText(dir.Path("stream.txt"), text);
-    ChildProcess rec = StartCsvRecord(dir, url);
+    launch::ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
     // WHEN it is piped into the line source (stdin is a pipe, not a file)
-    ChildProcess src({"/bin/sh", "-c",
-                      "cat " + ShellQuote(dir.Path("stream.txt")) + " | exec " +
-                          ShellQuote(Bin("gyrocal-line-source")) + " --lcm-url " + ShellQuote(url)},
-                     "", dir.Path("src.err"));
-    const ExitStatus s = WaitExit(src, 20s);
+    launch::ChildProcess src(
+        {"/bin/sh", "-c",
+         "cat " + ShellQuote(dir.Path("stream.txt")) + " | exec " +
+             ShellQuote(Bin("gyrocal-line-source")) + " --lcm-url " + ShellQuote(url)},
+        "", dir.Path("src.err"));
+    const launch::ExitStatus s = WaitExit(src, 20s);
     EXPECT_TRUE(s.exited && s.code == 0) << s.Describe() << Slurp(dir.Path("src.err"));
     EXPECT_EQ(WaitExit(rec, 20s).code, 0);
     // THEN the good samples arrive unchanged; the first bad line is named (later ones may be
@@ -56,9 +57,10 @@ TEST(LineSource, WallTimeFromAFifo) {
     const std::string url = UdpmUrl(7733);
     const std::string fifo = dir.Path("daq.fifo");
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-    ChildProcess rec = StartCsvRecord(dir, url, "out.csv", "rec.err", {"--time-origin-utime", "0"});
+    launch::ChildProcess rec =
+        StartCsvRecord(dir, url, "out.csv", "rec.err", {"--time-origin-utime", "0"});
     ASSERT_TRUE(WaitForStatus(url, rec));
-    ChildProcess src(
+    launch::ChildProcess src(
         {Bin("gyrocal-line-source"), "--device", fifo, "--time", "wall", "--lcm-url", url}, "",
         dir.Path("src.err"));
     // The open for writing waits for the source to open the FIFO for reading.
@@ -101,10 +103,10 @@ TEST(LineSource, WallTimeFromAFifo) {
 TEST(SourcesBadInput, LineSourceWithoutAValidHeaderFails) {
     Scratch dir("no_header");
     WriteText(dir.Path("s.txt"), "0,S01,2.5,2.5\n");
-    ChildProcess p({"/bin/sh", "-c",
-                    "exec '" + Bin("gyrocal-line-source") + "' --lcm-url memq:// < '" +
-                        dir.Path("s.txt") + "'"},
-                   "", dir.Path("err"));
+    launch::ChildProcess p({"/bin/sh", "-c",
+                            "exec '" + Bin("gyrocal-line-source") + "' --lcm-url memq:// < '" +
+                                dir.Path("s.txt") + "'"},
+                           "", dir.Path("err"));
     EXPECT_EQ(WaitExit(p, 10s).code, 1);
     EXPECT_THAT(Slurp(dir.Path("err")),
                 HasSubstr("stdin:1: column time_s: missing from the header; required columns are"));

@@ -9,7 +9,7 @@
 
 #include "tests/producers/log_source/log_writer.hpp"
 
-namespace gyrocal::lcmlog {
+namespace gyrocal::log_source {
 namespace {
 
 TEST(LcmLog, EventsComeBackWholeAndInOrder) {
@@ -66,4 +66,4 @@ TEST(LcmLog, DamageIsAnErrorNamingTheFileAndTheByte) {
 }
 
 }  // namespace
-}  // namespace gyrocal::lcmlog
+}  // namespace gyrocal::log_source

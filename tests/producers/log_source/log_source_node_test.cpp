@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/producers/log_source/log_writer.hpp"
 
@@ -46,16 +46,16 @@ TEST(LogSourceNode, PublishesEachSelectedEventOnceWithItsBytesUnchanged) {
             if (channel == "GYRO_S01" || channel == "ENCODER") expected.emplace_back(channel, data);
         }
     }
-    LogSourceOptions o = LogSourceOptions::Defaults();
+    log_source::LogSourceOptions o = log_source::LogSourceOptions::Defaults();
     o.file = file;
     o.lcm_url = "memq://";
     o.speed = 1000;  // 29 ms of recorded time in 29 us
     o.drain_s = 0;
     o.channels = "GYRO_.*|ENCODER|FLOW_.*";
     ASSERT_EQ(o.Validate(), "");
-    const int64_t events = CheckLog(file);
+    const int64_t events = log_source::CheckLog(file);
     ASSERT_EQ(events, 30);
-    LogSourceNode node(o, events);
+    log_source::LogSourceNode node(o, events);
     std::vector<Event> heard;
     node.bus().SubscribeRaw(".*", [&](const lcm::ReceiveBuffer& rb, const std::string& channel) {
         if (channel == channels::kStatus) return;  // the node's own heartbeat

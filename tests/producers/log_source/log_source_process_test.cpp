@@ -34,9 +34,9 @@ TEST(LogSource, MaxPublishesEveryEventToAConsumerThatAnswersAndNothingElse) {
     Scratch dir("log_max");
     const std::string url = UdpmUrl(7738);
     WriteLog(dir.Path("run.lcmlog"), false);
-    ChildProcess rec = StartCsvRecord(dir, url);
+    launch::ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
-    ChildProcess source(
+    launch::ChildProcess source(
         {Bin("gyrocal-log-source"), dir.Path("run.lcmlog"), "--max", "--lcm-url", url},
         dir.Path("source.err"), dir.Path("source.err"));
     EXPECT_EQ(WaitExit(source, 30s).code, 0) << Slurp(dir.Path("source.err"));
@@ -54,17 +54,18 @@ TEST(LogSource, MaxPublishesEveryEventToAConsumerThatAnswersAndNothingElse) {
 TEST(LogSource, ADamagedLogPublishesNothingAndNamesTheByte) {
     Scratch dir("log_damaged");
     WriteLog(dir.Path("bad.lcmlog"), true);
-    ChildProcess source(
+    launch::ChildProcess source(
         {Bin("gyrocal-log-source"), dir.Path("bad.lcmlog"), "--max", "--lcm-url", UdpmUrl(7738)},
         dir.Path("source.err"), dir.Path("source.err"));
-    const ExitStatus s = WaitExit(source, 30s);
+    const launch::ExitStatus s = WaitExit(source, 30s);
     EXPECT_TRUE(s.exited && s.code == 1) << s.Describe();
     const std::string err = Slurp(dir.Path("source.err"));
     EXPECT_THAT(err, HasSubstr("bad.lcmlog: byte "));
     EXPECT_THAT(err, HasSubstr("the file ends inside an event header"));
     EXPECT_THAT(err, HasSubstr("nothing published"));
-    ChildProcess bad_option({Bin("gyrocal-log-source"), dir.Path("bad.lcmlog"), "--channels", "(("},
-                            dir.Path("opt.err"), dir.Path("opt.err"));
+    launch::ChildProcess bad_option(
+        {Bin("gyrocal-log-source"), dir.Path("bad.lcmlog"), "--channels", "(("},
+        dir.Path("opt.err"), dir.Path("opt.err"));
     EXPECT_EQ(WaitExit(bad_option, 10s).code, 2);
     EXPECT_THAT(Slurp(dir.Path("opt.err")), HasSubstr("--channels '((' is not a valid regular"));
 }

@@ -69,8 +69,8 @@ TEST(SourcesBadInput, BadOptionsExitTwoNamingTheOption) {
         for (const auto& a : c.argv) cmd += a + " ";
         SCOPED_TRACE(cmd);
         const std::string err = dir.Path("err" + std::to_string(i));
-        ChildProcess p(c.argv, "", err);
-        const ExitStatus s = WaitExit(p, 10s);
+        launch::ChildProcess p(c.argv, "", err);
+        const launch::ExitStatus s = WaitExit(p, 10s);
         EXPECT_TRUE(s.exited) << s.Describe();
         EXPECT_EQ(s.code, 2);
         EXPECT_THAT(Slurp(err), HasSubstr(c.expected));
@@ -81,7 +81,7 @@ TEST(SourcesBadInput, HelpListsOptionsAndExitCodes) {
     Scratch dir("help");
     for (const std::string exe :
          {"gyrocal-csv-source", "gyrocal-line-source", "gyrocal-csv-record"}) {
-        ChildProcess p({Bin(exe), "--help"}, dir.Path(exe + ".out"), "");
+        launch::ChildProcess p({Bin(exe), "--help"}, dir.Path(exe + ".out"), "");
         EXPECT_EQ(WaitExit(p, 10s).code, 0);
         const std::string help = Slurp(dir.Path(exe + ".out"));
         EXPECT_THAT(help, HasSubstr("--lcm-url"));
@@ -105,10 +105,12 @@ TEST(SourcesSignals, SigtermStopsBothSourcesWithExitZero) {
     WriteSyntheticCsv(dir.Path("in.csv"), SyntheticSpec{});
     const std::string fifo = dir.Path("idle.fifo");
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-    ChildProcess src({Bin("gyrocal-csv-source"), dir.Path("in.csv"), "--lcm-url", "memq://"}, "",
-                     dir.Path("src.err"));
-    ChildProcess line({Bin("gyrocal-line-source"), "--device", fifo, "--lcm-url", "memq://"}, "",
-                      dir.Path("line.err"));
+    launch::ChildProcess src(
+        {Bin("gyrocal-csv-source"), dir.Path("in.csv"), "--lcm-url", "memq://"}, "",
+        dir.Path("src.err"));
+    launch::ChildProcess line(
+        {Bin("gyrocal-line-source"), "--device", fifo, "--lcm-url", "memq://"}, "",
+        dir.Path("line.err"));
     const int fd = open(fifo.c_str(), O_WRONLY);  // returns once the source has opened it
     ASSERT_GE(fd, 0);
     // Both have installed their SIGTERM handlers (the line source did before opening the FIFO).
@@ -119,10 +121,10 @@ TEST(SourcesSignals, SigtermStopsBothSourcesWithExitZero) {
     src.Signal(SIGTERM);
     line.Signal(SIGTERM);
     // THEN both leave through their normal path: exit 0 with a summary
-    const ExitStatus s = WaitExit(src, 5s);
+    const launch::ExitStatus s = WaitExit(src, 5s);
     EXPECT_TRUE(s.exited && s.code == 0) << s.Describe();
     EXPECT_THAT(Slurp(dir.Path("src.err")), HasSubstr("; stopped by signal"));
-    const ExitStatus l = WaitExit(line, 5s);
+    const launch::ExitStatus l = WaitExit(line, 5s);
     EXPECT_TRUE(l.exited && l.code == 0) << l.Describe();
     EXPECT_THAT(Slurp(dir.Path("line.err")), HasSubstr("published 0 rows from " + fifo));
     close(fd);

@@ -19,7 +19,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "producers/sim_rig/rig_node.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/producers/sim_rig/rig_orders.hpp"
@@ -30,14 +30,14 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(SimRigNode, ObeysATurnRefusesAnImpossibleOrderAndPublishesContiguousSamples) {
-    SimRigOptions o = SimRigOptions::Defaults();
+    sim_rig::SimRigOptions o = sim_rig::SimRigOptions::Defaults();
     o.lcm_url = "memq://";
     o.speed = 100;
     o.duration_s = 6;
     o.rig.num_units = 2;
     o.rig.seed = 11;
-    SimRigNode node(o);
-    Bus& bus = node.bus();
+    sim_rig::SimRigNode node(o);
+    bus::Bus& bus = node.bus();
     std::map<std::string, std::vector<gyro_sample_t>> gyro;
     std::vector<encoder_sample_t> encoder;
     std::vector<chamber_state_t> chamber;

@@ -21,7 +21,7 @@
 #include "gyrocal/status_t.hpp"
 #include "gyrocal/turntable_cmd_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/flow/flow_acker.hpp"
 #include "lcmtypes/launch/child_process.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
@@ -44,8 +44,8 @@ using testing::HandleUntil;
 
 // Handles `bus` while `rig` runs (at most 30 s), then until the bus is quiet; the rig's exit
 // status, none if it was still running.
-std::optional<ExitStatus> PumpUntilExit(Bus& bus, ChildProcess& rig) {
-    std::optional<ExitStatus> st;
+std::optional<launch::ExitStatus> PumpUntilExit(bus::Bus& bus, launch::ChildProcess& rig) {
+    std::optional<launch::ExitStatus> st;
     const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) {
         bus.Handle(std::chrono::milliseconds(20));
@@ -59,7 +59,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
     const std::string dir = ::testing::TempDir();
     const std::string truth = dir + "/sim_rig_process_truth.json";
     std::remove(truth.c_str());
-    Bus bus(BusOptions{kUrl});
+    bus::Bus bus(bus::BusOptions{kUrl});
     Seen seen;
     bus.Subscribe<gyro_sample_t>(
         channels::AllSensors(channels::kGyroPrefix),
@@ -71,10 +71,10 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
                                 if (m.process == "gyrocal-sim-rig") seen.status.push_back(m);
                             });
 
-    ChildProcess rig({GYROCAL_SIM_RIG_EXE, "--lcm-url", kUrl, "--speed", "50", "--units", "2",
-                      "--seed", "11", "--ramp-c-per-min", "60", "--air-tau-s", "2",
-                      "--package-tau-s", "10", "--sensor-tau-s", "2", "--truth-out", truth},
-                     dir + "/sim_rig_process.out", dir + "/sim_rig_process.err");
+    launch::ChildProcess rig({GYROCAL_SIM_RIG_EXE, "--lcm-url", kUrl, "--speed", "50", "--units",
+                              "2", "--seed", "11", "--ramp-c-per-min", "60", "--air-tau-s", "2",
+                              "--package-tau-s", "10", "--sensor-tau-s", "2", "--truth-out", truth},
+                             dir + "/sim_rig_process.out", dir + "/sim_rig_process.err");
 
     // GIVEN the rig is up (its first CHAMBER_STATE arrived)
     ASSERT_TRUE(HandleUntil(
@@ -110,7 +110,7 @@ TEST(SimRigProcess, ObeysCommandsAndPublishesContiguousSamples) {
         std::chrono::seconds(10)));
     ASSERT_TRUE(HandleUntil(
         bus, [&] { return seen.status.size() >= 2; }, std::chrono::seconds(5)));
-    const ExitStatus st = rig.Stop();
+    const launch::ExitStatus st = rig.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
     // Drain what was still queued.
     while (bus.Handle(std::chrono::milliseconds(50))) {
@@ -158,7 +158,7 @@ TEST(SimRigProcess, BuiltinProfileRunsWithoutASequencerAndExits) {
     // GIVEN the rig in builtin mode with a short two-setpoint profile (port 7722)
     const std::string url = "udpm://239.255.76.67:7722?ttl=0&recv_buf_size=4194304";
     const std::string dir = ::testing::TempDir();
-    Bus bus(BusOptions{url});
+    bus::Bus bus(bus::BusOptions{url});
     std::vector<encoder_sample_t> encoder;
     std::vector<chamber_state_t> chamber;
     int64_t gyro = 0;
@@ -167,12 +167,13 @@ TEST(SimRigProcess, BuiltinProfileRunsWithoutASequencerAndExits) {
     bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
                                  [&](const gyro_sample_t&, const std::string&) { ++gyro; });
     const auto wall_start = std::chrono::steady_clock::now();
-    ChildProcess rig({GYROCAL_SIM_RIG_EXE, "--lcm-url", url, "--mode", "builtin", "--profile",
-                      "20,30", "--dwell-s", "20", "--rest-s", "5", "--ramp-c-per-min", "60",
-                      "--air-tau-s", "2", "--speed", "100", "--units", "1"},
-                     dir + "/sim_rig_builtin.out", dir + "/sim_rig_builtin.err");
+    launch::ChildProcess rig(
+        {GYROCAL_SIM_RIG_EXE, "--lcm-url", url, "--mode", "builtin", "--profile", "20,30",
+         "--dwell-s", "20", "--rest-s", "5", "--ramp-c-per-min", "60", "--air-tau-s", "2",
+         "--speed", "100", "--units", "1"},
+        dir + "/sim_rig_builtin.out", dir + "/sim_rig_builtin.err");
     // WHEN it runs (about 110 simulated s at 100x)
-    const std::optional<ExitStatus> st = PumpUntilExit(bus, rig);
+    const std::optional<launch::ExitStatus> st = PumpUntilExit(bus, rig);
     // THEN it finished by itself with exit 0, having visited both setpoints and rotated twice
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -203,7 +204,7 @@ TEST(SimRigProcess, SameSeedSameSamplesAcrossRuns) {
     const std::string url = "udpm://239.255.76.67:7723?ttl=0&recv_buf_size=4194304";
     const std::string dir = ::testing::TempDir();
     auto run = [&](const std::string& seed) {
-        Bus bus(BusOptions{url});
+        bus::Bus bus(bus::BusOptions{url});
         flow::FlowAcker acker(bus, "sim_rig_process_test");
         std::string bytes;
         bus.Subscribe<gyro_sample_t>(channels::AllSensors(channels::kGyroPrefix),
@@ -211,11 +212,12 @@ TEST(SimRigProcess, SameSeedSameSamplesAcrossRuns) {
                                          const auto buf = testing::EncodeMsg(m);
                                          bytes.append(buf.begin(), buf.end());
                                      });
-        ChildProcess rig({GYROCAL_SIM_RIG_EXE, "--lcm-url", url, "--mode", "builtin", "--profile",
-                          "30", "--dwell-s", "5", "--rest-s", "2", "--ramp-c-per-min", "60",
-                          "--speed", "0", "--units", "2", "--seed", seed},
-                         dir + "/sim_rig_seed.out", dir + "/sim_rig_seed.err");
-        const std::optional<ExitStatus> st = PumpUntilExit(bus, rig);
+        launch::ChildProcess rig(
+            {GYROCAL_SIM_RIG_EXE, "--lcm-url", url, "--mode", "builtin", "--profile", "30",
+             "--dwell-s", "5", "--rest-s", "2", "--ramp-c-per-min", "60", "--speed", "0", "--units",
+             "2", "--seed", seed},
+            dir + "/sim_rig_seed.out", dir + "/sim_rig_seed.err");
+        const std::optional<launch::ExitStatus> st = PumpUntilExit(bus, rig);
         EXPECT_TRUE(st.has_value() && st->exited && st->code == 0);
         EXPECT_EQ(bus.counters().seq_gaps, 0) << "lost packets would make this comparison moot";
         return bytes;
@@ -255,7 +257,7 @@ TEST(SimRigProcess, BadOptionsExitTwo) {
                                          "udpm://239.255.76.67:7721?ttl=0"};
         argv.insert(argv.end(), args.begin(), args.end());
         const std::string err = dir + "/sim_rig_bad.err";
-        ChildProcess p(argv, dir + "/sim_rig_bad.out", err);
+        launch::ChildProcess p(argv, dir + "/sim_rig_bad.out", err);
         const auto st = p.Wait(std::chrono::seconds(10));
         ASSERT_TRUE(st.has_value()) << args[0] << " did not exit";
         EXPECT_TRUE(st->exited && st->code == 2) << args[0] << ": " << st->Describe();

@@ -23,7 +23,7 @@
 namespace gyrocal::testing {
 namespace {
 
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 
 std::string FileBytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);

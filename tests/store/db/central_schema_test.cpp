@@ -18,7 +18,7 @@
 namespace gyrocal::testing {
 namespace {
 
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 
 // name -> its columns, in order (tables and views), from either engine through the query layer.
 std::map<std::string, std::vector<std::string>> Columns(st::Db& db, bool central) {

@@ -14,7 +14,7 @@
 #include "tests/store/scratch_db.hpp"
 #include "tests/support/wait/wait_until.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 using namespace std::chrono_literals;
@@ -165,4 +165,4 @@ TEST(StorageFault, ADatabaseFileRemovedUnderTheWriterIsCreatedAgainAndWritten) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

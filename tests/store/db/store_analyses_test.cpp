@@ -14,7 +14,7 @@
 #include "tests/store/row_builders.hpp"
 #include "tests/store/scratch_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 using testing::Count;
@@ -344,4 +344,4 @@ TEST(CoeffSets, KeptOncePerKeyWhoeverWritesFirst) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

@@ -19,7 +19,7 @@
 #include "tests/store/scratch_db.hpp"
 #include "tests/support/wait/wait_until.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 using namespace std::chrono_literals;
@@ -270,4 +270,4 @@ TEST(AsyncWriter, AWriteFailureIsReportedNotThrown) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

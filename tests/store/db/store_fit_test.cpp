@@ -11,7 +11,7 @@
 #include "store/db/writer.hpp"
 #include "tests/store/scratch_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 using testing::Count;
@@ -136,4 +136,4 @@ TEST(FitReports, AVersionFourFileGainsTheTablesAndKeepsItsRows) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

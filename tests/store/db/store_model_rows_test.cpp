@@ -15,7 +15,7 @@
 #include "tests/store/row_builders.hpp"
 #include "tests/store/scratch_db.hpp"
 
-namespace gyrocal::store {
+namespace gyrocal::db {
 namespace {
 
 using model::testing::ExpectSameModel;
@@ -153,4 +153,4 @@ TEST(ModelRows, StoreAnalysisWithAModelCoeffSetAndWithAMessage) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store
+}  // namespace gyrocal::db

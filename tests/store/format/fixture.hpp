@@ -22,8 +22,8 @@ inline constexpr const char* kHostileSensor = "X\"*/ '; DROP TABLE runs; --";
 inline constexpr int64_t kDay = 86400LL * 1000000LL;
 inline constexpr int64_t kWall0 = 1767225600LL * 1000000LL;  // 2026-01-01 00:00:00 UTC
 
-inline store::ModelRow PolyModel(const std::string& quantity, std::vector<double> coeffs) {
-    store::ModelRow m;
+inline db::ModelRow PolyModel(const std::string& quantity, std::vector<double> coeffs) {
+    db::ModelRow m;
     m.quantity = quantity;
     const std::vector<std::string> names = {"1", "dT", "dT^2", "dT^3"};
     for (size_t i = 0; i < coeffs.size(); ++i) m.term_names.push_back(names[i]);
@@ -35,11 +35,11 @@ inline store::ModelRow PolyModel(const std::string& quantity, std::vector<double
 }
 
 // Offset 2.5 + a*dT + b*dT^2 [V]; sensitivity s0 + s1*dT [V/dps].
-inline store::CoeffSetRow Set(const std::string& run, const std::string& sensor, int64_t id,
-                              double offset0, double sens0, int64_t recv_utime,
-                              std::vector<int64_t> plateaus = {},
-                              std::vector<int64_t> rotations = {}) {
-    store::CoeffSetRow c;
+inline db::CoeffSetRow Set(const std::string& run, const std::string& sensor, int64_t id,
+                           double offset0, double sens0, int64_t recv_utime,
+                           std::vector<int64_t> plateaus = {},
+                           std::vector<int64_t> rotations = {}) {
+    db::CoeffSetRow c;
     c.run_id = run;
     c.sensor_id = sensor;
     c.coeff_set_id = id;
@@ -54,8 +54,8 @@ inline store::CoeffSetRow Set(const std::string& run, const std::string& sensor,
 }
 
 // The analysis' extended model of S01 in R2: every term of the registry.
-inline store::ModelRow ExtendedOffset() {
-    store::ModelRow m = PolyModel("offset_v", {2.501, 1e-3, -2e-5, 3e-7});
+inline db::ModelRow ExtendedOffset() {
+    db::ModelRow m = PolyModel("offset_v", {2.501, 1e-3, -2e-5, 3e-7});
     for (const char* t : {"dTdt", "heating", "supply", "direction", "warmup(600)"}) {
         m.term_names.push_back(t);
     }
@@ -64,8 +64,8 @@ inline store::ModelRow ExtendedOffset() {
     m.method = "analysis";
     return m;
 }
-inline store::ModelRow ExtendedSensitivity() {
-    store::ModelRow m = PolyModel("sensitivity_v_per_dps", {0.0067 * 1.01, 1e-6});
+inline db::ModelRow ExtendedSensitivity() {
+    db::ModelRow m = PolyModel("sensitivity_v_per_dps", {0.0067 * 1.01, 1e-6});
     m.term_names.push_back("direction");
     m.coeffs.push_back(3e-5);
     m.covariance.assign(3, std::vector<double>(3, 0.0));
@@ -73,9 +73,9 @@ inline store::ModelRow ExtendedSensitivity() {
     return m;
 }
 
-inline store::RunEventRow Event(const std::string& run, const std::string& ev,
-                                std::vector<std::string> sensors, int64_t recv_utime) {
-    store::RunEventRow e = RunEvent(run, ev, std::move(sensors), recv_utime);
+inline db::RunEventRow Event(const std::string& run, const std::string& ev,
+                             std::vector<std::string> sensors, int64_t recv_utime) {
+    db::RunEventRow e = RunEvent(run, ev, std::move(sensors), recv_utime);
     e.utime = 1000;
     e.reason = ev == "abort" ? "operator pressed stop" : "";
     e.software_version = "v1.2.3";
@@ -88,8 +88,8 @@ inline store::RunEventRow Event(const std::string& run, const std::string& ev,
 // When sample `seq` of a sensor was taken: 10 ms apart from utime 1 s.
 inline int64_t SampleUtime(int64_t seq) { return 1000000 + seq * 10000; }
 
-inline store::GyroRow Sample(const std::string& run, const std::string& sensor, int64_t seq,
-                             int64_t recv_utime) {
+inline db::GyroRow Sample(const std::string& run, const std::string& sensor, int64_t seq,
+                          int64_t recv_utime) {
     return GyroSample(run, sensor, seq, SampleUtime(seq), recv_utime);
 }
 
@@ -103,8 +103,8 @@ Row OverSamples(Row r, int64_t first, int64_t last) {
 }
 
 inline void WriteFixture(const std::string& path) {
-    store::StoreWriter w(path, {"test", "host", 1});
-    std::vector<store::Row> rows;
+    db::StoreWriter w(path, {"test", "host", 1});
+    std::vector<db::Row> rows;
     // R1, ten days after kWall0.
     const int64_t t1 = kWall0 + 10 * kDay;
     rows.push_back(Event("R1", "start", {"S01", "S02"}, t1));
@@ -112,13 +112,13 @@ inline void WriteFixture(const std::string& path) {
         rows.push_back(Sample("R1", "S01", s, t1 + s));
         rows.push_back(Sample("R1", "S02", s, t1 + s));
     }
-    store::PlateauRow p = OverSamples(Plateau("R1", "S01", SampleUtime(0), SampleUtime(99)), 0, 99);
+    db::PlateauRow p = OverSamples(Plateau("R1", "S01", SampleUtime(0), SampleUtime(99)), 0, 99);
     p.setpoint_c = 25;
     p.temp_mean_c = 25.01;
     p.gyro_mean_v = 2.5;
     p.recv_utime = t1 + 400;
     rows.push_back(p);
-    store::SensitivityRow r =
+    db::SensitivityRow r =
         OverSamples(Rotation("R1", "S01", SampleUtime(100), SampleUtime(199)), 100, 199);
     r.direction = 1;
     r.temp_c = 25;
@@ -131,7 +131,7 @@ inline void WriteFixture(const std::string& path) {
     rows.push_back(Set("R1", "S02", 11, 2.45, 0.0068, t1 + 600, {}, {}));
     rows.push_back(Set("R1", kHostileSensor, 12, 2.45, 0.0068, t1 + 601, {}, {}));
     for (int64_t k = 0; k < 2; ++k) {  // two heartbeats of one process: the last one counts
-        store::StatusRow st;
+        db::StatusRow st;
         st.run_id = "R1";
         st.process = "gyrocal-plateau";
         st.host = "lab-pc";
@@ -156,12 +156,12 @@ inline void WriteFixture(const std::string& path) {
     rows.push_back(Sample("R3", "S03", 0, t3 + 1));
     // Outside any run.
     for (int64_t s = 0; s < 5; ++s) rows.push_back(Sample("", "S09", s, kWall0 + s));
-    store::LossMap losses;
+    db::LossMap losses;
     losses[{"R1", "GYRO_S01"}].seq_gaps = 3;
     losses[{"R1", ""}].queue_drops = 2;
     w.Write(rows, losses);
     // R2: the analysis of S01 and its extended model, stored after the fitter's set.
-    store::AnalysisRow a;
+    db::AnalysisRow a;
     a.run_id = "R2";
     a.sensor_id = "S01";
     a.created_wall_utime = t2 + 30;
@@ -175,10 +175,10 @@ inline void WriteFixture(const std::string& path) {
     SetErrors(a, {2.1e-4, 4.2e-5}, {0.031, 0.0062}, {95, 21});
     a.floor_rate_rms_dps = 0.0058;
     a.result_json = R"({"sensor_id":"S01","verdict":"added temp_rate"})";
-    store::CoeffSetRow ext = Set("R2", "S01", 22, 0, 0, 0);
+    db::CoeffSetRow ext = Set("R2", "S01", 22, 0, 0, 0);
     ext.offset = ExtendedOffset();
     ext.sensitivity = ExtendedSensitivity();
-    store::StoreAnalysis(w.db(), a, &ext);
+    db::StoreAnalysis(w.db(), a, &ext);
 }
 
 }  // namespace gyrocal::testing

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-namespace gyrocal::store::format {
+namespace gyrocal::format {
 namespace {
 
 // The standard normal quantile, by bisection on the CDF 0.5 erfc(-x / sqrt 2) (60 halvings of
@@ -21,8 +21,9 @@ double NormalQuantile(double p) {
     return 0.5 * (lo + hi);
 }
 
-ModelRow Flat(const std::string& quantity, double value, double min_c = -40, double max_c = 85) {
-    ModelRow m;
+db::ModelRow Flat(const std::string& quantity, double value, double min_c = -40,
+                  double max_c = 85) {
+    db::ModelRow m;
     m.quantity = quantity;
     m.term_names = {"1", "dT"};
     m.coeffs = {value, 1e-3};  // the same slope for every unit: the spread is the level's
@@ -125,7 +126,7 @@ TEST(Fleet, FiguresAreDrawableAndNameTheUnitOutside) {
     const auto groups = FleetSpread(Lot(), {});
     const auto figures = FleetFigures(groups, {});
     ASSERT_EQ(figures.size(), 2u);
-    for (const auto& f : figures) EXPECT_EQ(plot::Problem(f), "") << f.name;
+    for (const auto& f : figures) EXPECT_EQ(plot::Validate(f), "") << f.name;
     bool named = false;
     for (const auto& s : figures[0].series) named = named || s.title == "ODD (outside)";
     EXPECT_TRUE(named);
@@ -134,4 +135,4 @@ TEST(Fleet, FiguresAreDrawableAndNameTheUnitOutside) {
 }
 
 }  // namespace
-}  // namespace gyrocal::store::format
+}  // namespace gyrocal::format

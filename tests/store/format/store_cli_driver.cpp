@@ -3,8 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
-#include "tools/gyrocal/cmd_store.hpp"
-#include "tools/gyrocal/command.hpp"
+#include "tools/cli/cmd_store.hpp"
+#include "tools/cli/command.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"store command test driver"};

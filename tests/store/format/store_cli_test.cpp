@@ -54,7 +54,7 @@ protected:
     static Result Run(std::vector<std::string> args) {
         args.insert(args.begin(), std::string(GYROCAL_BIN_DIR) + "/store_cli_driver");
         const std::string out = dir_ + "/out.txt", err = dir_ + "/err.txt";
-        ChildProcess p(args, out, err);
+        launch::ChildProcess p(args, out, err);
         const auto st = p.Wait(30s);
         Result r;
         r.code = st && st->exited ? st->code : -1;
@@ -68,8 +68,8 @@ protected:
         return Run(args);
     }
     static int64_t RunsInDb() {
-        store::Db db(db_, store::Db::Mode::kReadOnly);
-        store::Stmt s(db, "SELECT count(*) FROM runs");
+        db::Db db(db_, db::Db::Mode::kReadOnly);
+        db::Stmt s(db, "SELECT count(*) FROM runs");
         s.Step();
         return s.Int(0);
     }
@@ -227,7 +227,7 @@ TEST_F(StoreCli, DamagedForeignEmptyOrNewerDatabasesAreOneLineExitOneAndLeftAlon
     std::vector<Bad> bad;
     {
         const std::string foreign = dir_ + "/foreign.db";
-        store::Db db(foreign, store::Db::Mode::kReadWriteCreate);
+        db::Db db(foreign, db::Db::Mode::kReadWriteCreate);
         db.Exec("CREATE TABLE t(a); INSERT INTO t VALUES (1)");
     }
     bad.push_back({"foreign.db", "is not a gyrocal database", Bytes(dir_ + "/foreign.db")});
@@ -394,12 +394,12 @@ std::string CompileAndRun(const std::string& dir, const std::string& header,
     std::ofstream(c) << "#include <stdio.h>\n#include \"" << header << "\"\n"
                      << "int main(void) {\n"
                      << main_body << "  return 0;\n}\n";
-    ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wno-unused-const-variable",
-                     "-o", exe, c, "-lm"},
-                    "", dir + "/cc.err");
+    launch::ChildProcess cc({"cc", "-std=c99", "-Wall", "-Wextra", "-Werror",
+                             "-Wno-unused-const-variable", "-o", exe, c, "-lm"},
+                            "", dir + "/cc.err");
     const auto st = cc.Wait(60s);
     EXPECT_TRUE(st && st->exited && st->code == 0) << Slurp(dir + "/cc.err");
-    ChildProcess run({exe}, dir + "/use.out", "");
+    launch::ChildProcess run({exe}, dir + "/use.out", "");
     EXPECT_TRUE(run.Wait(10s));
     return Slurp(dir + "/use.out");
 }
@@ -482,8 +482,8 @@ TEST_F(StoreCli, CHeaderEvaluatesExtendedModelsLikeTheSharedEvaluator) {
              << " r.rate_dps); }\n";
     }
     std::istringstream out(CompileAndRun(dir_, h, body.str()));
-    const model::Evaluator offset(store::ToModel(ExtendedOffset()));
-    const model::Evaluator sens(store::ToModel(ExtendedSensitivity()));
+    const model::Evaluator offset(db::ToModel(ExtendedOffset()));
+    const model::Evaluator sens(db::ToModel(ExtendedSensitivity()));
     auto expect = [](double c_value, double cpp_value, const std::string& what) {
         if (std::isnan(cpp_value)) {
             EXPECT_TRUE(std::isnan(c_value)) << what << ": C gave " << c_value;
@@ -521,7 +521,7 @@ TEST_F(StoreCli, CHeaderEvaluatesExtendedModelsLikeTheSharedEvaluator) {
 // reads back through the library's reader to the same doubles (NaN as null and back), with
 // exactly the fields `gyrocal compensate --coeffs` and the export documentation name.
 TEST(StoreCliJson, AStoredSetIsWrittenByTheModelWriterAndReadsBackBitForBit) {
-    store::CoeffSetInfo c;
+    db::CoeffSetInfo c;
     c.coeff_row_id = 17;
     c.set.run_id = "R9";
     c.set.sensor_id = "S03";
@@ -553,7 +553,7 @@ TEST(StoreCliJson, AStoredSetIsWrittenByTheModelWriterAndReadsBackBitForBit) {
                          0,
                          1.0,
                          "nominal"};
-    const nlohmann::json j = store::format::CoeffSetJson(c);
+    const nlohmann::json j = format::CoeffSetJson(c);
     std::vector<std::string> keys;
     for (const auto& [k, v] : j.items()) keys.push_back(k);
     EXPECT_EQ(keys, (std::vector<std::string>{"coeff_row_id", "coeff_set_id", "offset",
@@ -563,7 +563,7 @@ TEST(StoreCliJson, AStoredSetIsWrittenByTheModelWriterAndReadsBackBitForBit) {
     EXPECT_EQ(j["recv_utime"], 1'000'000'456);
     EXPECT_TRUE(j["offset"]["covariance"][2][2].is_null());
     const model::CoeffSet back = model::CoeffSetFromJson(nlohmann::json::parse(j.dump()));
-    const model::CoeffSet want = store::ToCoeffSet(c.set);
+    const model::CoeffSet want = db::ToCoeffSet(c.set);
     EXPECT_EQ(back.offset.coeffs, want.offset.coeffs);
     EXPECT_EQ(back.offset.covariance.topLeftCorner(2, 2),
               want.offset.covariance.topLeftCorner(2, 2));

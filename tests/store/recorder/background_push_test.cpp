@@ -1,5 +1,5 @@
-// gyrocal-recorder --push-to (store/recorder/background_push.hpp): the real recorder process on
-// its own multicast port (7765) and a real PostgreSQL server (tests/store/pg_server.hpp). When a
+// gyrocal-recorder --push-to (store/recorder/node/background_push.hpp): the real recorder process
+// on its own multicast port (7765) and a real PostgreSQL server (tests/store/pg_server.hpp). When a
 // run ends on the bus the recorder starts `gyrocal push` in the background and goes on recording:
 // the ended run arrives at the centre whole (every table equal to the station's) while the next
 // run's samples, published meanwhile, are all stored; the URL's password is nowhere in the
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/db/central_db.hpp"
 #include "store/db/query.hpp"
 #include "tests/lcmtypes/bus/flow_pacer.hpp"
@@ -24,11 +24,11 @@ namespace gyrocal::testing {
 namespace {
 
 using namespace std::chrono_literals;
-namespace st = gyrocal::store;
+namespace st = gyrocal::db;
 
 // Publishes `n` samples of each unit, each 10 handled by the recorder before the next (its
 // answer to a flow mark), so the kernel's socket buffer never overflows.
-void PublishSamples(Bus& bus, FlowPacer& pacer, const std::vector<std::string>& units,
+void PublishSamples(bus::Bus& bus, FlowPacer& pacer, const std::vector<std::string>& units,
                     int64_t first, int64_t n) {
     int k = 0;
     for (int64_t s = first; s < first + n; ++s) {
@@ -65,7 +65,7 @@ TEST(RecorderBackgroundPush, ARunEndingIsPushedWhileTheRecorderGoesOnRecording) 
             return outcome == "stop";
         },
         60s, 200ms);
-    ASSERT_EQ(outcome, "stop") << ReadLog(station + ".recorder.err");
+    ASSERT_EQ(outcome, "stop") << launch::ReadLog(station + ".recorder.err");
     r.rec.Signal(SIGTERM);
     const auto exit = r.rec.Wait(20s);
     ASSERT_TRUE(exit.has_value());
@@ -79,7 +79,7 @@ TEST(RecorderBackgroundPush, ARunEndingIsPushedWhileTheRecorderGoesOnRecording) 
     EXPECT_EQ(st::GetRun(*c, "BG1").gyro_samples, 2 * 2000);
     // BG2 is open: not pushed (its own end would push it)
     EXPECT_EQ(server.Query(db_name, "SELECT count(*) FROM runs WHERE run_id = 'BG2'"), "0");
-    const std::string log = ReadLog(station + ".recorder.err");
+    const std::string log = launch::ReadLog(station + ".recorder.err");
     EXPECT_NE(log.find("pushing it in the background"), std::string::npos) << log;
     EXPECT_EQ(log.find("bg-pusher-pw-42"), std::string::npos) << log;
     std::ifstream f(station, std::ios::binary);

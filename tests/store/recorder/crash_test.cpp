@@ -8,7 +8,7 @@
 #include <random>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 #include "tests/store/recorder/recorder_harness.hpp"
 
@@ -33,13 +33,13 @@ TEST(RecorderCrash, SigkillLosesAtMostTheLastBatchAndTheRunContinues) {
     std::mt19937 rng(seed);
     std::uniform_int_distribution<int> run_ms(300, 1200);
 
-    Bus bus(BusOptions{url});
+    bus::Bus bus(bus::BusOptions{url});
     std::vector<Clock::time_point> sent_at;  // by seq
     int64_t seq = 0;
     bool started = false;
     constexpr int kKills = 4;
     for (int k = 0; k <= kKills; ++k) {
-        ChildProcess rec = StartRecorder(db, url);
+        launch::ChildProcess rec = StartRecorder(db, url);
         ASSERT_TRUE(WaitForRecorder(bus, rec.pid(), 10s)) << "restart " << k;
         if (!started) {
             ASSERT_TRUE(

@@ -9,7 +9,7 @@
 #include "store/recorder/message_fields.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
 using namespace gyrocal::testing;
@@ -27,7 +27,7 @@ TEST(RecordMapper, GyroSampleKeepsEveryFieldAndTheRunInForce) {
     g.gyro_counts = 1234;
     Mapped out = MapMsg(m, "GYRO_S01", g, 99);
     ASSERT_TRUE(out.row);
-    const auto& r = std::get<store::GyroRow>(*out.row);
+    const auto& r = std::get<db::GyroRow>(*out.row);
     EXPECT_EQ(r.run_id, "");
     EXPECT_EQ(r.sensor_id, "S01");
     EXPECT_EQ(r.seq, 5);
@@ -44,29 +44,29 @@ TEST(RecordMapper, RunEventsDecideTheRunOfLaterMessages) {
     RecordMapper m(MapperOptions::Defaults(), "");
     Mapped start = MapMsg(m, "RUN_EVENT", RunEvent("R1", "start", {"S01"}));
     EXPECT_TRUE(start.essential);
-    EXPECT_EQ(std::get<store::RunEventRow>(*start.row).run_id, "R1");
+    EXPECT_EQ(std::get<db::RunEventRow>(*start.row).run_id, "R1");
     EXPECT_EQ(m.current_run(), "R1");
-    EXPECT_EQ(std::get<store::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 0)).row).run_id, "R1");
+    EXPECT_EQ(std::get<db::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 0)).row).run_id, "R1");
     // A plateau keeps the run it carries, even when another is in force.
-    EXPECT_EQ(std::get<store::PlateauRow>(*MapMsg(m, "PLATEAU_S01", Plateau("S01", "R0", 0, 9)).row)
-                  .run_id,
-              "R0");
+    EXPECT_EQ(
+        std::get<db::PlateauRow>(*MapMsg(m, "PLATEAU_S01", Plateau("S01", "R0", 0, 9)).row).run_id,
+        "R0");
     Mapped stop = MapMsg(m, "RUN_EVENT", RunEvent("R1", "stop", {"S01"}));
-    EXPECT_EQ(std::get<store::RunEventRow>(*stop.row).run_id, "R1");
+    EXPECT_EQ(std::get<db::RunEventRow>(*stop.row).run_id, "R1");
     EXPECT_EQ(m.current_run(), "");
-    EXPECT_EQ(std::get<store::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 1)).row).run_id, "");
+    EXPECT_EQ(std::get<db::GyroRow>(*MapMsg(m, "GYRO_S01", Gyro("S01", 1)).row).run_id, "");
 }
 
 TEST(RecordMapper, RestartedRecorderContinuesTheOpenRun) {
     RecordMapper m(MapperOptions::Defaults(), "R7");
-    EXPECT_EQ(std::get<store::EncoderRow>(*MapMsg(m, "ENCODER", Encoder(0)).row).run_id, "R7");
+    EXPECT_EQ(std::get<db::EncoderRow>(*MapMsg(m, "ENCODER", Encoder(0)).row).run_id, "R7");
 }
 
 TEST(RecordMapper, UnknownFingerprintBecomesARawEventWithItsBytes) {
     RecordMapper m(MapperOptions::Defaults(), "R1");
     const std::vector<uint8_t> bytes = {0xde, 0xad, 0xbe, 0xef, 0, 1, 2, 3, 42, 43};
     Mapped out = m.Map("MYSTERY", bytes.data(), static_cast<int>(bytes.size()), 5);
-    const auto& r = std::get<store::RawEventRow>(*out.row);
+    const auto& r = std::get<db::RawEventRow>(*out.row);
     EXPECT_EQ(r.channel, "MYSTERY");
     EXPECT_EQ(r.reason, "unknown_type");
     EXPECT_EQ(r.fingerprint_hex, "deadbeef00010203");
@@ -79,9 +79,9 @@ TEST(RecordMapper, ShortMessageIsARawEventNotACrash) {
     RecordMapper m(MapperOptions::Defaults(), "");
     const uint8_t b[3] = {1, 2, 3};
     Mapped out = m.Map("X", b, 3, 5);
-    EXPECT_EQ(std::get<store::RawEventRow>(*out.row).fingerprint_hex, "");
+    EXPECT_EQ(std::get<db::RawEventRow>(*out.row).fingerprint_hex, "");
     Mapped empty = m.Map("X", nullptr, 0, 5);
-    EXPECT_TRUE(std::get<store::RawEventRow>(*empty.row).data.empty());
+    EXPECT_TRUE(std::get<db::RawEventRow>(*empty.row).data.empty());
 }
 
 TEST(RecordMapper, KnownFingerprintThatDoesNotDecodeCountsADecodeError) {
@@ -89,7 +89,7 @@ TEST(RecordMapper, KnownFingerprintThatDoesNotDecodeCountsADecodeError) {
     auto bytes = EncodeMsg(Gyro("S01", 1));
     bytes.resize(bytes.size() - 5);  // truncated: the hash matches, the body does not
     Mapped out = m.Map("GYRO_S01", bytes.data(), static_cast<int>(bytes.size()), 5);
-    EXPECT_EQ(std::get<store::RawEventRow>(*out.row).reason, "decode_error");
+    EXPECT_EQ(std::get<db::RawEventRow>(*out.row).reason, "decode_error");
     EXPECT_EQ(out.loss.decode_errors, 1);
     EXPECT_EQ(out.run_id, "R1");
 }
@@ -106,7 +106,7 @@ TEST(RecordMapper, AHostileArrayLengthIsADecodeErrorNotAnException) {
     bytes[at] = 0x80;
     Mapped out;
     ASSERT_NO_THROW(out = m.Map("RUN_EVENT", bytes.data(), static_cast<int>(bytes.size()), 5));
-    EXPECT_EQ(std::get<store::RawEventRow>(*out.row).reason, "decode_error");
+    EXPECT_EQ(std::get<db::RawEventRow>(*out.row).reason, "decode_error");
     EXPECT_EQ(out.loss.decode_errors, 1);
     EXPECT_EQ(m.current_run(), "R1");  // an event that did not decode changes nothing
 }
@@ -114,7 +114,7 @@ TEST(RecordMapper, AHostileArrayLengthIsADecodeErrorNotAnException) {
 TEST(RecordMapper, TypeComesFromTheFingerprintNotTheChannel) {
     RecordMapper m(MapperOptions::Defaults(), "");
     Mapped out = MapMsg(m, "GYRO_S01", Encoder(3));  // an encoder sample on a gyro channel
-    EXPECT_TRUE(std::holds_alternative<store::EncoderRow>(*out.row));
+    EXPECT_TRUE(std::holds_alternative<db::EncoderRow>(*out.row));
 }
 
 TEST(RecordMapper, SequenceGapsAreCountedPerChannel) {
@@ -137,22 +137,22 @@ TEST(RecordMapper, RatesCanBeSkippedButStillCountGaps) {
 
 TEST(RecordMapper, EveryKnownTypeMapsToItsRow) {
     RecordMapper m(MapperOptions::Defaults(), "R1");
-    EXPECT_TRUE(std::holds_alternative<store::ChamberStateRow>(
-        *MapMsg(m, "CHAMBER_STATE", Chamber(0)).row));
-    EXPECT_TRUE(std::holds_alternative<store::ChamberCmdRow>(
-        *MapMsg(m, "CHAMBER_CMD", ChamberCmd("R1")).row));
-    EXPECT_TRUE(std::holds_alternative<store::TurntableCmdRow>(
+    EXPECT_TRUE(
+        std::holds_alternative<db::ChamberStateRow>(*MapMsg(m, "CHAMBER_STATE", Chamber(0)).row));
+    EXPECT_TRUE(
+        std::holds_alternative<db::ChamberCmdRow>(*MapMsg(m, "CHAMBER_CMD", ChamberCmd("R1")).row));
+    EXPECT_TRUE(std::holds_alternative<db::TurntableCmdRow>(
         *MapMsg(m, "TURNTABLE_CMD", TurntableCmd("R1")).row));
-    EXPECT_TRUE(std::holds_alternative<store::PlateauStateRow>(
+    EXPECT_TRUE(std::holds_alternative<db::PlateauStateRow>(
         *MapMsg(m, "STABILITY_S01", PlateauState("S01")).row));
-    EXPECT_TRUE(std::holds_alternative<store::SensitivityRow>(
+    EXPECT_TRUE(std::holds_alternative<db::SensitivityRow>(
         *MapMsg(m, "SENSITIVITY_S01", Sensitivity("S01", "R1", 0, 9)).row));
-    EXPECT_TRUE(std::holds_alternative<store::RateRow>(*MapMsg(m, "RATE_S01", Rate("S01", 0)).row));
-    const auto st = std::get<store::StatusRow>(*MapMsg(m, "STATUS", Status("p")).row);
+    EXPECT_TRUE(std::holds_alternative<db::RateRow>(*MapMsg(m, "RATE_S01", Rate("S01", 0)).row));
+    const auto st = std::get<db::StatusRow>(*MapMsg(m, "STATUS", Status("p")).row);
     EXPECT_EQ(st.extra_json, R"({"x":1.5})");
     Mapped c = MapMsg(m, "COEFFS_S01", Coeffs("S01", "R1", 5, {1, 2}, {3}));
     EXPECT_TRUE(c.essential);
-    const auto& cs = std::get<store::CoeffSetRow>(*c.row);
+    const auto& cs = std::get<db::CoeffSetRow>(*c.row);
     EXPECT_EQ(cs.plateau_ids, (std::vector<int64_t>{1, 2}));
     EXPECT_EQ(cs.rotation_ids, (std::vector<int64_t>{3}));
     EXPECT_EQ(cs.offset.term_names.size(), 3u);
@@ -160,9 +160,9 @@ TEST(RecordMapper, EveryKnownTypeMapsToItsRow) {
 }
 
 }  // namespace
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
 using namespace gyrocal::testing;
@@ -188,7 +188,7 @@ TEST(RecordMapper, VerdictKeyIsTheSetsKeyWithTimeAndFinality) {
     fit_report_t f{};
     f.utime = 11, f.sensor_id = "U1", f.run_id = "R1", f.coeff_set_id = 42;
     f.source = "fitter", f.is_final = true, f.status = "ok";
-    store::FitReportRow row;
+    db::FitReportRow row;
     CopyVerdictKey(row, f);
     expect_key(row);
     EXPECT_EQ(row.status, "");
@@ -208,7 +208,7 @@ TEST(RecordMapper, TheClosedLoopsAnalysisKeepsItsRunAndIsEssential) {
     const Mapped out = MapMsg(m, "ANALYSIS_U1", a);
     // THEN it is a ClosedLoopRow of R1, every field kept, never dropped by the queue
     ASSERT_TRUE(out.row);
-    const auto& r = std::get<store::ClosedLoopRow>(*out.row);
+    const auto& r = std::get<db::ClosedLoopRow>(*out.row);
     EXPECT_EQ(r.run_id, "R1");
     EXPECT_EQ(r.coeff_set_id, 42);
     EXPECT_EQ(r.source, "closed-loop");
@@ -230,7 +230,7 @@ TEST(RecordMapper, NoiseEstimatesAndFitReportsKeepTheirRunAndAreEssential) {
     n.num_taus = 2;
     Mapped a = MapV5(m, "NOISE_U1", n);
     ASSERT_TRUE(a.row);
-    const auto& nr = std::get<store::NoiseRow>(*a.row);
+    const auto& nr = std::get<db::NoiseRow>(*a.row);
     EXPECT_EQ(nr.run_id, "R1");
     EXPECT_EQ(nr.adev_v, n.adev_v);
     EXPECT_TRUE(a.essential);
@@ -247,7 +247,7 @@ TEST(RecordMapper, NoiseEstimatesAndFitReportsKeepTheirRunAndAreEssential) {
     f.num_excluded = 1;
     Mapped b = MapV5(m, "FIT_U1", f);
     ASSERT_TRUE(b.row);
-    const auto& fr = std::get<store::FitReportRow>(*b.row);
+    const auto& fr = std::get<db::FitReportRow>(*b.row);
     EXPECT_EQ(fr.run_id, "R1");
     EXPECT_TRUE(fr.is_final);
     ASSERT_EQ(fr.excluded.size(), 1u);
@@ -258,8 +258,8 @@ TEST(RecordMapper, NoiseEstimatesAndFitReportsKeepTheirRunAndAreEssential) {
     bytes.resize(bytes.size() - 5);
     Mapped bad = m.Map("FIT_U1", bytes.data(), static_cast<int>(bytes.size()), 6);
     EXPECT_EQ(bad.loss.decode_errors, 1);
-    EXPECT_TRUE(std::holds_alternative<store::RawEventRow>(*bad.row));
+    EXPECT_TRUE(std::holds_alternative<db::RawEventRow>(*bad.row));
 }
 
 }  // namespace
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

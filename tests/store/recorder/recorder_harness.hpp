@@ -17,16 +17,16 @@ inline std::string UrlForPort(int port) {
     return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304";
 }
 
-inline ChildProcess StartRecorder(const std::string& db, const std::string& url,
-                                  std::vector<std::string> extra = {}) {
+inline launch::ChildProcess StartRecorder(const std::string& db, const std::string& url,
+                                          std::vector<std::string> extra = {}) {
     std::vector<std::string> argv = {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
                                      "--lcm-url", url};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    return ChildProcess(argv, "", db + ".recorder.err");
+    return launch::ChildProcess(argv, "", db + ".recorder.err");
 }
 
 // Waits (bounded) for a STATUS heartbeat of a recorder with `pid`: it then has subscribed.
-inline bool WaitForRecorder(Bus& bus, int pid, std::chrono::milliseconds timeout) {
+inline bool WaitForRecorder(bus::Bus& bus, int pid, std::chrono::milliseconds timeout) {
     bool seen = false;
     bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
         if (s.process == "gyrocal-recorder" && s.pid == pid) seen = true;
@@ -39,11 +39,11 @@ inline bool WaitForRecorder(Bus& bus, int pid, std::chrono::milliseconds timeout
 struct RecorderOnBus {
     RecorderOnBus(const std::string& db, const std::string& url,
                   std::vector<std::string> extra = {})
-        : bus(BusOptions{url}), rec(StartRecorder(db, url, std::move(extra))) {}
+        : bus(bus::BusOptions{url}), rec(StartRecorder(db, url, std::move(extra))) {}
     // True once its STATUS is heard (within 10 s): it has subscribed by then.
     bool Listening() { return WaitForRecorder(bus, rec.pid(), std::chrono::seconds(10)); }
-    Bus bus;
-    ChildProcess rec;
+    bus::Bus bus;
+    launch::ChildProcess rec;
 };
 
 }  // namespace gyrocal::testing

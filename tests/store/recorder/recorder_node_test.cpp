@@ -3,22 +3,22 @@
 // type that does not decode are counted as losses of the run in force; an unknown type is kept
 // whole in raw_events; a bad channel regex is refused before anything subscribes. The real
 // process over UDP multicast is recorder_process_test.cpp.
-#include "store/recorder/recorder_node.hpp"
+#include "store/recorder/node/recorder_node.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 #include "tests/store/recorder/recorder_harness.hpp"
 
 namespace gyrocal::testing {
 namespace {
 
-record::RecorderOptions MemqOptions(const std::string& db) {
-    auto o = record::RecorderOptions::Defaults();
+recorder::node::RecorderOptions MemqOptions(const std::string& db) {
+    auto o = recorder::node::RecorderOptions::Defaults();
     o.db_path = db;
     o.lcm_url = "memq://";
     o.batch_ms = 20;
@@ -29,8 +29,9 @@ TEST(RecorderNode, RecordsTheRunAndCountsWhatWasLost) {
     // GIVEN a recorder node on memq:// writing a fresh database
     const std::string db = FreshDbPath("recorder_node_rows");
     {
-        record::RecorderNode node(MemqOptions(db), record::OpenRecorderDatabase(db));
-        Bus& bus = node.bus();
+        recorder::node::RecorderNode node(MemqOptions(db),
+                                          recorder::node::OpenRecorderDatabase(db));
+        bus::Bus& bus = node.bus();
         // WHEN a run starts, S01 sends seq 0..9 except 4 and 5 (2 lost), S02 sends 0..4, a
         // foreign type arrives, a gyro sample is cut short (known fingerprint, no decode), and
         // the run stops
@@ -84,7 +85,7 @@ TEST(RecorderNode, ChannelRegexIsRecordedOnly) {
     {
         auto o = MemqOptions(db);
         o.channels = "GYRO_S01|RUN_EVENT";
-        record::RecorderNode node(o, record::OpenRecorderDatabase(db));
+        recorder::node::RecorderNode node(o, recorder::node::OpenRecorderDatabase(db));
         node.bus().Publish(std::string(channels::kRunEvent), RunEvent("R2", "start", {"S01"}));
         for (int64_t seq = 0; seq < 3; ++seq) {
             node.bus().Publish(channels::Gyro("S01"), Gyro("S01", seq));
@@ -98,9 +99,9 @@ TEST(RecorderNode, ChannelRegexIsRecordedOnly) {
 }
 
 TEST(RecorderNode, BadChannelRegexIsExplained) {
-    EXPECT_EQ(record::LcmChannelRegexProblem(".*"), "");
-    EXPECT_EQ(record::LcmChannelRegexProblem("GYRO_.*|RUN_EVENT"), "");
-    const std::string why = record::LcmChannelRegexProblem("(");
+    EXPECT_EQ(recorder::node::ValidateLcmChannelRegex(".*"), "");
+    EXPECT_EQ(recorder::node::ValidateLcmChannelRegex("GYRO_.*|RUN_EVENT"), "");
+    const std::string why = recorder::node::ValidateLcmChannelRegex("(");
     EXPECT_NE(why.find("'(' is not a valid channel regex"), std::string::npos) << why;
     EXPECT_NE(why.find("e.g. '.*'"), std::string::npos) << why;
 }
@@ -113,7 +114,7 @@ TEST(RecorderNode, DatabaseThatIsNotGyrocalIsRefused) {
         std::fputs("this is not an SQLite file, it is long enough to have a header page\n", f);
         std::fclose(f);
     }
-    EXPECT_ANY_THROW(record::OpenRecorderDatabase(path));
+    EXPECT_ANY_THROW(recorder::node::OpenRecorderDatabase(path));
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/db/analyses.hpp"
 #include "store/db/model_rows.hpp"
 #include "tests/lcmtypes/bus/flow_pacer.hpp"
@@ -23,7 +23,7 @@ using namespace std::chrono_literals;
 // UDP).
 class Publisher {
 public:
-    explicit Publisher(Bus& bus) : bus_(bus), pacer_(bus, "gyrocal-recorder") {}
+    explicit Publisher(bus::Bus& bus) : bus_(bus), pacer_(bus, "gyrocal-recorder") {}
     template <class Msg>
     void Send(const std::string& channel, const Msg& m) {
         ASSERT_TRUE(bus_.Publish(channel, m));
@@ -39,7 +39,7 @@ public:
     int64_t count(const std::string& channel) { return count_[channel]; }
 
 private:
-    Bus& bus_;
+    bus::Bus& bus_;
     FlowPacer pacer_;
     std::map<std::string, int64_t> count_;
     int64_t n_ = 0;
@@ -94,7 +94,7 @@ TEST(RecorderProcess, EveryPublishedMessageIsStoredInItsTableAndRun) {
     // WHEN the recorder has committed it all and is stopped normally
     const int64_t gyro_total = (kBefore + kIn + kAfter) * 3;
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples", gyro_total, 10s), gyro_total);
-    const ExitStatus st = r.rec.Stop();
+    const launch::ExitStatus st = r.rec.Stop();
     EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
 
     // THEN each channel's count equals what was published, in the right run
@@ -192,9 +192,9 @@ TEST(RecorderProcess, RestartedRecorderContinuesTheOpenRunAndNoRatesSkipsRates) 
 }
 
 TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
-                      "/nonexistent-dir/x.db", "--lcm-url", UrlForPort(7762)},
-                     "", FreshDbPath("unwritable.err"));
+    launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
+                              "/nonexistent-dir/x.db", "--lcm-url", UrlForPort(7762)},
+                             "", FreshDbPath("unwritable.err"));
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_TRUE(st->exited);
@@ -204,12 +204,12 @@ TEST(RecorderProcess, UnwritableDbIsAOneLineErrorAndExitTwo) {
 TEST(RecorderProcess, NonGyrocalDatabaseIsRefused) {
     const std::string db = FreshDbPath("foreign.db");
     {
-        store::Db d(db, store::Db::Mode::kReadWriteCreate);
+        db::Db d(db, db::Db::Mode::kReadWriteCreate);
         d.Exec("CREATE TABLE t(x)");
     }
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url",
-                      UrlForPort(7762)},
-                     "", db + ".err");
+    launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
+                              "--lcm-url", UrlForPort(7762)},
+                             "", db + ".err");
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_EQ(st->code, 2);
@@ -228,14 +228,14 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
 
     // GIVEN an analysis stored, with its extended set, while the recorder writes the same file
     coeff_set_t extended = Coeffs("S01", "R5", 77, {}, {});
-    store::AnalysisRow a;
+    db::AnalysisRow a;
     a.run_id = "R5";
     a.sensor_id = "S01";
     a.verdict = "added temp_rate";
-    store::StoredAnalysis stored;
+    db::StoredAnalysis stored;
     {
-        auto rw = store::OpenForUpdate(db);
-        stored = store::StoreAnalysis(*rw, a, &extended);
+        auto rw = db::OpenForUpdate(db);
+        stored = db::StoreAnalysis(*rw, a, &extended);
     }
     ASSERT_TRUE(stored.coeff_row_id);
     // WHEN it is published (twice), and the fitter's set with the same id (twice)
@@ -264,7 +264,7 @@ TEST(RecorderProcess, ACoefficientSetIsKeptOncePerRunSensorIdAndSource) {
 TEST(RecorderProcess, InvalidChannelRegexIsABadOptionNamingIt) {
     const std::string err = FreshDbPath("bad_regex.err");
     for (const std::string bad : {"GYRO_(", "*", "[a-"}) {
-        ChildProcess rec(
+        launch::ChildProcess rec(
             {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db",
              FreshDbPath("bad_regex.db"), "--channels", bad, "--lcm-url", UrlForPort(7762)},
             "", err);

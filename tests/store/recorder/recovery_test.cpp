@@ -15,10 +15,10 @@
 #include "tests/store/row_builders.hpp"
 #include "tests/store/scratch_db.hpp"
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
-using namespace gyrocal::store;
+using namespace gyrocal::db;
 
 using testing::FreshDbPath;
 
@@ -138,4 +138,4 @@ TEST(Recovery, StoredPointsComeBackOnceAsTheMessagesTheyWere) {
 }
 
 }  // namespace
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

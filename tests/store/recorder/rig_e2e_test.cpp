@@ -16,13 +16,14 @@ TEST(RecorderWithRig, StoresEveryMessageTheRigPublished) {
     RecorderOnBus r(db, url);
     ASSERT_TRUE(r.Listening());
     int64_t rig_published = -1;
-    ChildProcess rig({std::string(GYROCAL_BIN_DIR) + "/gyrocal-sim-rig", "--lcm-url", url, "--mode",
-                      "builtin", "--speed", "50", "--duration-s", "40", "--units", "4"},
-                     "", db + ".rig.err");
+    launch::ChildProcess rig(
+        {std::string(GYROCAL_BIN_DIR) + "/gyrocal-sim-rig", "--lcm-url", url, "--mode", "builtin",
+         "--speed", "50", "--duration-s", "40", "--units", "4"},
+        "", db + ".rig.err");
     r.bus.Subscribe<status_t>("STATUS", [&](const status_t& s, const std::string&) {
         if (s.pid == rig.pid()) rig_published = s.published;  // the last heartbeat counts itself
     });
-    std::optional<ExitStatus> st;
+    std::optional<launch::ExitStatus> st;
     const auto end = std::chrono::steady_clock::now() + 30s;
     while (!(st = rig.Poll()) && std::chrono::steady_clock::now() < end) r.bus.Handle(20ms);
     ASSERT_TRUE(st && st->exited && st->code == 0) << (st ? st->Describe() : "rig still running");

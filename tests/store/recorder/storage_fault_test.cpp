@@ -19,7 +19,7 @@
 #include <set>
 #include <thread>
 
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "store/db/writer.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 #include "tests/store/recorder/recorder_harness.hpp"
@@ -93,7 +93,7 @@ protected:
         db_ = db;
         // The log is kept off the faulty file system (a full disk would swallow it).
         log_ = FreshDbPath("fault_" + std::to_string(port) + ".err");
-        bus_ = std::make_unique<Bus>(BusOptions{UrlForPort(port)});
+        bus_ = std::make_unique<bus::Bus>(bus::BusOptions{UrlForPort(port)});
         std::vector<std::string> argv = {std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder",
                                          "--db",
                                          db,
@@ -158,9 +158,9 @@ protected:
 
     // SIGTERM: exit 0, the log says the fault began and ended, the file is intact.
     void StopAndCheck(const std::string& fault) {
-        const ExitStatus st = rec_->Stop(10s);
+        const launch::ExitStatus st = rec_->Stop(10s);
         EXPECT_TRUE(st.exited && st.code == 0) << st.Describe();
-        const std::string log = ReadLog(log_);
+        const std::string log = launch::ReadLog(log_);
         EXPECT_NE(log.find("database writes fail (" + fault + ")"), std::string::npos) << log;
         EXPECT_NE(log.find("database writable again after"), std::string::npos) << log;
         EXPECT_EQ(Count(db_,
@@ -174,8 +174,8 @@ protected:
     }
 
     std::string db_, log_;
-    std::unique_ptr<Bus> bus_;
-    std::optional<ChildProcess> rec_;
+    std::unique_ptr<bus::Bus> bus_;
+    std::optional<launch::ChildProcess> rec_;
     RecorderStatus status_;
     int64_t seq_ = 0;
 };
@@ -183,7 +183,7 @@ protected:
 TEST_F(Fault, LockedByAnotherWriterHoldsRowsAndWritesThemWhenReleased) {
     StartAndStore(FreshDbPath("fault_locked.db"), 7850);
     {
-        store::Db blocker(db_, store::Db::Mode::kReadWrite);
+        db::Db blocker(db_, db::Db::Mode::kReadWrite);
         blocker.Exec("BEGIN IMMEDIATE");  // as another writer would, e.g. a long import
         Publish(2000);
         ASSERT_TRUE(WaitStatus([&] {
@@ -202,7 +202,7 @@ TEST_F(Fault, AtTheMemoryBoundWhatIsDroppedIsCountedInLosses) {
     Start(FreshDbPath("fault_bound.db"), 7851, {"--queue-rows", "1000"});
     Publish(100);
     ExpectAllStored();
-    store::Db blocker(db_, store::Db::Mode::kReadWrite);
+    db::Db blocker(db_, db::Db::Mode::kReadWrite);
     blocker.Exec("BEGIN IMMEDIATE");
     Publish(3000);
     ASSERT_TRUE(WaitStatus([&] { return status_.extra["rows_dropped"] > 0; }));
@@ -281,16 +281,16 @@ TEST(FaultAtStart, ADatabaseOnAReadOnlyFileSystemIsAClearErrorAndExitTwo) {
         GTEST_SKIP() << why;
     }
     const std::string db = m.dir() + "/gyrocal.db";
-    { store::StoreWriter w(db, {}); }  // a valid gyrocal database, then the mount goes read-only
+    { db::StoreWriter w(db, {}); }  // a valid gyrocal database, then the mount goes read-only
     ASSERT_EQ(ScratchMount::Run("mount -o remount,ro " + m.dir()), "");
     const std::string err_path = FreshDbPath("fault_rostart.err");  // not on the read-only mount
-    ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db, "--lcm-url",
-                      UrlForPort(7854)},
-                     "", err_path);
+    launch::ChildProcess rec({std::string(GYROCAL_BIN_DIR) + "/gyrocal-recorder", "--db", db,
+                              "--lcm-url", UrlForPort(7854)},
+                             "", err_path);
     const auto st = rec.Wait(10s);
     ASSERT_TRUE(st.has_value());
     EXPECT_EQ(st->code, 2) << st->Describe();
-    const std::string err = ReadLog(err_path);
+    const std::string err = launch::ReadLog(err_path);
     EXPECT_NE(err.find("--db"), std::string::npos) << err;
     EXPECT_NE(err.find(db), std::string::npos) << err;
     EXPECT_NE(err.find("Read-only file system"), std::string::npos) << err;

@@ -5,7 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-namespace gyrocal::record {
+namespace gyrocal::recorder {
 namespace {
 
 using namespace std::chrono_literals;
@@ -25,7 +25,7 @@ double Extra(const WatchReport& r, const std::string& name) {
 TEST(WriterWatch, SaysWhenAFaultBeginsWhileItLastsAndWhenItEnds) {
     WriterWatch w(1000, 10s);
     const Clock::time_point t0{};
-    store::AsyncWriterStats s;
+    db::AsyncWriterStats s;
     s.written = 50;
 
     WatchReport r = w.Update(s, t0);
@@ -68,4 +68,4 @@ TEST(WriterWatch, SaysWhenAFaultBeginsWhileItLastsAndWhenItEnds) {
 }
 
 }  // namespace
-}  // namespace gyrocal::record
+}  // namespace gyrocal::recorder

@@ -17,7 +17,7 @@
 #include "gyrocal/encoder_sample_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/store/replay/source_run.hpp"
 #include "tests/store/scratch_db.hpp"
@@ -36,13 +36,13 @@ struct Heard {
 
 // Replays run RR of `db` with `as_run`; what the node published.
 Heard Replay(const std::string& db, const std::string& as_run, int64_t* published) {
-    record::ReplayOptions o = record::ReplayOptions::Defaults();
+    replay::ReplayOptions o = replay::ReplayOptions::Defaults();
     o.db_path = db;
     o.run_id = "RR";
     o.as_run = as_run;
     o.lcm_url = "memq://";
     o.speed = 1000;
-    record::ReplayNode node(o);
+    replay::ReplayNode node(o);
     Heard h;
     CollectInto(node.bus(), channels::AllSensors(channels::kGyroPrefix), h.gyro);
     CollectInto(node.bus(), std::string(channels::kEncoder), h.encoder);
@@ -101,11 +101,11 @@ TEST(ReplayNode, AsRunRenamesTheRun) {
 TEST(ReplayNode, AnUnknownRunIsAnError) {
     const std::string db = FreshDbPath("replay_node_unknown.db");
     WriteSourceRun(db);
-    record::ReplayOptions o = record::ReplayOptions::Defaults();
+    replay::ReplayOptions o = replay::ReplayOptions::Defaults();
     o.db_path = db;
     o.run_id = "NOPE";
     o.lcm_url = "memq://";
-    EXPECT_ANY_THROW(record::ReplayNode node(o));
+    EXPECT_ANY_THROW(replay::ReplayNode node(o));
 }
 
 }  // namespace

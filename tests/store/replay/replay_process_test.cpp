@@ -24,9 +24,9 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
     // Speed 4: the 2 s run should take 0.5 s. Allowance: process start and database open
     // (< 100 ms) plus scheduling on a loaded machine (300 ms); never shorter than the span/4.
     const auto t0 = std::chrono::steady_clock::now();
-    ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", src,
-                         "--speed", "4", "--lcm-url", url},
-                        "", dst + ".replay.err");
+    launch::ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db",
+                                 src, "--speed", "4", "--lcm-url", url},
+                                "", dst + ".replay.err");
     const auto st = replay.Wait(20s);
     const auto took = std::chrono::steady_clock::now() - t0;
     ASSERT_TRUE(st && st->exited && st->code == 0);
@@ -44,12 +44,12 @@ TEST(Replay, RepublishesTheRunWithItsTimingAndARecorderStoresItAgain) {
                     "AND config_json = '{\"k\":1}'"),
               1);
     // Same values: seq, utime, gyro_v of every sample; NaN supply is NaN (NULL) again.
-    store::Db a(src, store::Db::Mode::kReadOnly);
-    store::Db b(dst, store::Db::Mode::kReadOnly);
+    db::Db a(src, db::Db::Mode::kReadOnly);
+    db::Db b(dst, db::Db::Mode::kReadOnly);
     const char* q =
         "SELECT sensor_id, seq, utime, gyro_v, supply_v IS NULL FROM gyro_samples "
         "ORDER BY sensor_id, seq";
-    store::Stmt sa(a, q), sb(b, q);
+    db::Stmt sa(a, q), sb(b, q);
     int64_t compared = 0;
     while (sa.Step()) {
         ASSERT_TRUE(sb.Step());
@@ -70,9 +70,9 @@ TEST(Replay, AsRunKeepsAReplayIntoTheSameDatabaseApart) {
     const std::string url = UrlForPort(7766);
     RecorderOnBus r(db, url);
     ASSERT_TRUE(r.Listening());
-    ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", db,
-                         "--speed", "20", "--as-run", "RR-replay", "--lcm-url", url},
-                        "", db + ".replay.err");
+    launch::ChildProcess replay({std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay", "RR", "--db", db,
+                                 "--speed", "20", "--as-run", "RR-replay", "--lcm-url", url},
+                                "", db + ".replay.err");
     const auto st = replay.Wait(20s);
     ASSERT_TRUE(st && st->exited && st->code == 0);
     EXPECT_EQ(WaitForCount(db, "SELECT count(*) FROM gyro_samples WHERE run_id = 'RR-replay'",
@@ -88,12 +88,12 @@ TEST(Replay, UnknownRunAndBadOptions) {
     const std::string src = FreshDbPath("replay_bad.db");
     WriteSourceRun(src);
     const std::string bin = std::string(GYROCAL_BIN_DIR) + "/gyrocal-replay";
-    ChildProcess unknown({bin, "NOPE", "--db", src, "--lcm-url", UrlForPort(7765)}, "",
-                         src + ".err1");
+    launch::ChildProcess unknown({bin, "NOPE", "--db", src, "--lcm-url", UrlForPort(7765)}, "",
+                                 src + ".err1");
     auto st = unknown.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_EQ(st->code, 1);
-    ChildProcess bad({bin, "RR", "--db", src, "--speed", "-3"}, "", src + ".err2");
+    launch::ChildProcess bad({bin, "RR", "--db", src, "--speed", "-3"}, "", src + ".err2");
     st = bad.Wait(10s);
     ASSERT_TRUE(st);
     EXPECT_EQ(st->code, 2);

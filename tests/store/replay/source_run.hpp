@@ -17,9 +17,9 @@ inline constexpr int64_t kSpanUs = 2000000;  // recorded span: 2 s
 inline constexpr int64_t kSamples = 400;     // per sensor, evenly over the span
 
 inline void WriteSourceRun(const std::string& path) {
-    store::StoreWriter w(path, {"t", "h", 1});
-    std::vector<store::Row> rows;
-    store::RunEventRow start;
+    db::StoreWriter w(path, {"t", "h", 1});
+    std::vector<db::Row> rows;
+    db::RunEventRow start;
     start.run_id = "RR";
     start.event = "start";
     start.utime = 1;
@@ -30,7 +30,7 @@ inline void WriteSourceRun(const std::string& path) {
     rows.push_back(start);
     for (int64_t i = 0; i < kSamples; ++i) {
         for (const char* id : {"A", "B"}) {
-            store::GyroRow g;
+            db::GyroRow g;
             g.run_id = "RR";
             g.sensor_id = id;
             g.seq = i;
@@ -42,7 +42,7 @@ inline void WriteSourceRun(const std::string& path) {
             g.recv_utime = 1 + i * kSpanUs / kSamples;
             rows.push_back(g);
         }
-        store::EncoderRow e;
+        db::EncoderRow e;
         e.run_id = "RR";
         e.encoder_id = "TABLE";
         e.seq = i;
@@ -51,12 +51,12 @@ inline void WriteSourceRun(const std::string& path) {
         e.recv_utime = 1 + i * kSpanUs / kSamples;
         rows.push_back(e);
     }
-    store::ChamberStateRow c;
+    db::ChamberStateRow c;
     c.run_id = "RR";
     c.utime = 5;
     c.recv_utime = kSpanUs / 2;
     rows.push_back(c);
-    store::RunEventRow stop = start;
+    db::RunEventRow stop = start;
     stop.event = "stop";
     stop.recv_utime = kSpanUs;
     rows.push_back(stop);

@@ -17,9 +17,9 @@ double Poly(const std::vector<double>& c, double temp_c) {
     return v;
 }
 
-store::ModelRow Model(const std::string& quantity, const std::vector<double>& c,
-                      const std::string& method) {
-    store::ModelRow m = PolynomialModel(quantity, c);
+db::ModelRow Model(const std::string& quantity, const std::vector<double>& c,
+                   const std::string& method) {
+    db::ModelRow m = PolynomialModel(quantity, c);
     for (size_t i = 0; i < c.size(); ++i) m.covariance[i][i] = std::pow(1e-3 * std::abs(c[i]), 2);
     m.t0_c = 25;
     m.temp_min_c = -40;
@@ -31,8 +31,8 @@ store::ModelRow Model(const std::string& quantity, const std::vector<double>& c,
     return m;
 }
 
-store::RunEventRow Event(const std::string& ev, int64_t utime) {
-    store::RunEventRow e;
+db::RunEventRow Event(const std::string& ev, int64_t utime) {
+    db::RunEventRow e;
     e.run_id = kRunId;
     e.utime = utime;
     e.event = ev;
@@ -54,12 +54,12 @@ store::RunEventRow Event(const std::string& ev, int64_t utime) {
 }  // namespace
 
 void WriteReportDb(const std::string& path) {
-    store::StoreWriter w(path, {"v9.9-recorder", "analysis-pc", 1});
-    std::vector<store::Row> rows;
+    db::StoreWriter w(path, {"v9.9-recorder", "analysis-pc", 1});
+    std::vector<db::Row> rows;
     const int64_t t0 = 1'000'000'000'000'000;
     const int64_t hour = 3'600'000'000;
     rows.push_back(Event("start", t0));
-    store::CoeffSetRow set;
+    db::CoeffSetRow set;
     set.run_id = kRunId;
     set.sensor_id = "S01";
     set.source = "fitter";
@@ -70,7 +70,7 @@ void WriteReportDb(const std::string& path) {
     set.recv_utime = t0 + 9 * hour;
     for (size_t i = 0; i < kPlateauTemps.size(); ++i) {
         const int64_t start = t0 + static_cast<int64_t>(i + 1) * hour;
-        store::PlateauRow p = Plateau(kRunId, "S01", start, start + 60'000'000);
+        db::PlateauRow p = Plateau(kRunId, "S01", start, start + 60'000'000);
         p.setpoint_c = kPlateauTemps[i];
         p.temp_mean_c = kPlateauTemps[i];
         p.n_samples = 6000;
@@ -81,7 +81,7 @@ void WriteReportDb(const std::string& path) {
         set.plateau_ids.push_back(p.plateau_id);
         for (int dir : {+1, -1}) {
             const int64_t turn = p.end_utime + (dir > 0 ? 1 : 2) * 10'000'000;
-            store::SensitivityRow s = Rotation(kRunId, "S01", turn, turn + 5'000'000);
+            db::SensitivityRow s = Rotation(kRunId, "S01", turn, turn + 5'000'000);
             s.direction = dir;
             s.temp_c = kPlateauTemps[i];
             s.encoder_angle_deg = 90.0 * dir;
@@ -96,14 +96,14 @@ void WriteReportDb(const std::string& path) {
     rows.push_back(set);
     for (int i = 0; i < 2; ++i) {
         const int64_t start = t0 + (i + 1) * hour + 5;
-        store::PlateauRow p = Plateau(kRunId, "S02", start, start + 60'000'000);
+        db::PlateauRow p = Plateau(kRunId, "S02", start, start + 60'000'000);
         p.temp_mean_c = kPlateauTemps[i];
         p.gyro_mean_v = 2.49;
         p.gyro_sem_v = kSemV;
         rows.push_back(p);
     }
     for (const char* process : {"gyrocal-fitter", "gyrocal-plateau"}) {
-        store::StatusRow st;
+        db::StatusRow st;
         st.run_id = kRunId;
         st.process = process;
         st.host = std::string(process) == "gyrocal-fitter" ? "analysis-pc" : "daq-pc";
@@ -116,11 +116,11 @@ void WriteReportDb(const std::string& path) {
         rows.push_back(st);
     }
     rows.push_back(Event("stop", t0 + 10 * hour));
-    store::LossMap losses;
+    db::LossMap losses;
     losses[{kRunId, "GYRO_S01"}].seq_gaps = 4;
     w.Write(rows, losses);
 
-    store::AnalysisRow a;
+    db::AnalysisRow a;
     a.run_id = kRunId;
     a.sensor_id = "S01";
     a.created_wall_utime = 1767225600LL * 1000000LL;
@@ -136,13 +136,13 @@ void WriteReportDb(const std::string& path) {
     a.floor_rate_rms_dps = 0.006;
     a.result_json = R"({"could_not_test":["warmup: the run is shorter than 10 tau"],)"
                     R"("expected_after":{"offset_rms_v":4.5e-5,"rate_rms_dps":0.008}})";
-    store::CoeffSetRow ext = set;
+    db::CoeffSetRow ext = set;
     ext.offset.term_names.push_back("supply");
     ext.offset.coeffs.push_back(0.004);
     for (auto& row : ext.offset.covariance) row.push_back(0.0);
     ext.offset.covariance.push_back({0.0, 0.0, 0.0, 4e-8});
     ext.offset.method = "analysis";
-    store::StoreAnalysis(w.db(), a, &ext);
+    db::StoreAnalysis(w.db(), a, &ext);
 }
 
 }  // namespace gyrocal::testing

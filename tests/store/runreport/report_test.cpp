@@ -24,7 +24,7 @@
 #include "store/runreport/unit_data.hpp"
 #include "tests/processors/analysis/run_db.hpp"
 #include "tests/store/runreport/report_fixture.hpp"
-#include "tools/gyrocal/cmd_report.hpp"
+#include "tools/cli/cmd_report.hpp"
 
 namespace gyrocal::runreport {
 namespace {
@@ -52,9 +52,9 @@ protected:
         delete dir_;
         delete db_;
     }
-    store::RunDetail Detail() {
-        auto db = store::OpenForQuery(*db_);
-        return store::ShowRun(*db, testing::kRunId);
+    db::RunDetail Detail() {
+        auto db = db::OpenForQuery(*db_);
+        return db::ShowRun(*db, testing::kRunId);
     }
     static fs::path* dir_;
     static std::string* db_;
@@ -81,17 +81,17 @@ TEST_F(Report, UnitsTakeTheFittersSetAsTheCalibrationAndKeepTheAnalysisSetBeside
 // calibration, the plateau set (source fitter) stays beside it and the plateau checks read it,
 // and the analysis linked to the final set gives its held-out error.
 TEST(UnitData, TheClosedLoopsFinalSetIsTheCalibrationAndThePlateauSetStaysBeside) {
-    store::RunDetail d;
+    db::RunDetail d;
     d.run.run_id = "R1";
     d.run.sensor_ids = {"S01"};
     auto set = [](int64_t row, const std::string& source, std::vector<int64_t> plateaus) {
-        store::CoeffSetInfo c;
+        db::CoeffSetInfo c;
         c.coeff_row_id = row;
         c.set.sensor_id = "S01", c.set.run_id = "R1", c.set.coeff_set_id = 50,
         c.set.source = source;
         c.set.plateau_ids = std::move(plateaus);
         c.set.rotation_ids = {1, 2, 3};
-        for (store::ModelRow* m : {&c.set.offset, &c.set.sensitivity}) {
+        for (db::ModelRow* m : {&c.set.offset, &c.set.sensitivity}) {
             m->term_names = {"1"}, m->coeffs = {source == "fitter" ? 2.5 : 2.6},
             m->covariance = {{1e-10}};
             m->temp_min_c = 0, m->temp_max_c = 50, m->t0_c = 25;
@@ -99,7 +99,7 @@ TEST(UnitData, TheClosedLoopsFinalSetIsTheCalibrationAndThePlateauSetStaysBeside
         return c;
     };
     d.coeff_sets = {set(10, "fitter", {7, 8, 9, 11, 12}), set(11, "closed-loop", {})};
-    store::AnalysisRow a;
+    db::AnalysisRow a;
     a.sensor_id = "S01", a.run_id = "R1", a.coeff_row_id = 11, a.outcome = "explained";
     a.rate_rms_dps_after = 0.03, a.drift_dph_after = 12;
     d.analyses = {a};
@@ -171,11 +171,11 @@ TEST(ReportOldDb, AnUnknownOrMissingStoredOutcomeIsNotEvaluatedAndNamed) {
     testing::WriteReportDb(path.string());
     const auto s01_check = [&](const char* update) {
         {
-            store::Db db(path.string(), store::Db::Mode::kReadWrite);
+            db::Db db(path.string(), db::Db::Mode::kReadWrite);
             db.Exec(update);
         }
-        auto db = store::OpenForQuery(path.string());
-        const RunAcceptance a = AcceptRun(store::ShowRun(*db, testing::kRunId));
+        auto db = db::OpenForQuery(path.string());
+        const RunAcceptance a = AcceptRun(db::ShowRun(*db, testing::kRunId));
         EXPECT_EQ(a.verdicts.at(0).checks.at(4).key, "no_unexplained_residual");
         return std::make_pair(a.verdicts.at(0).checks.at(4), AcceptanceText(a));
     };
@@ -194,7 +194,7 @@ TEST(ReportOldDb, AnUnknownOrMissingStoredOutcomeIsNotEvaluatedAndNamed) {
 }
 
 TEST_F(Report, StoredLimitsThatDoNotValidateAreReportedNotIgnored) {
-    store::RunInfo r;
+    db::RunInfo r;
     r.run_id = "X";
     r.config_json = R"({"acceptance_limits": {"max_offset_change_dps": -3}})";
     const RunLimits l = StoredLimits(r);
@@ -206,7 +206,7 @@ TEST_F(Report, StoredLimitsThatDoNotValidateAreReportedNotIgnored) {
 }
 
 TEST(Traceability, SourceOfEachKindOfRun) {
-    store::RunInfo r;
+    db::RunInfo r;
     r.config_json =
         R"({"source":"sim","seed":7,"noise_seed":0,"preset":"613","sensors":2,"effects":["supply=0.05"],)"
         R"("profile":"five","plateau_slow_noise_dps":0.0153194807})";
@@ -402,8 +402,8 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
                     std::string::npos)
         << uerr;
     {
-        auto r = store::OpenForQuery(udb);
-        const auto analyses = store::ListAnalyses(*r, "R1");
+        auto r = db::OpenForQuery(udb);
+        const auto analyses = db::ListAnalyses(*r, "R1");
         ASSERT_EQ(analyses.size(), 1u);
         ASSERT_TRUE(analyses[0].outcome.has_value());
         EXPECT_NE(*analyses[0].outcome, "adequate");
@@ -423,8 +423,8 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
     EXPECT_EQ(rc, 0) << out << err;
     EXPECT_NE(out.find("S01: pass"), std::string::npos) << out << err;
     {
-        auto r = store::OpenForQuery(db);
-        const auto analyses = store::ListAnalyses(*r, "R1");
+        auto r = db::OpenForQuery(db);
+        const auto analyses = db::ListAnalyses(*r, "R1");
         ASSERT_EQ(analyses.size(), 1u);
         EXPECT_EQ(analyses[0].verdict.rfind("missing effect: hysteresis, explained", 0), 0u)
             << analyses[0].verdict;
@@ -436,9 +436,9 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
     EXPECT_EQ(cli::AfterCalibration(o, "R1", 3), 3);
     // A fitter's set on every plateau of the run: min_plateaus 5 passes.
     {
-        auto rw = store::OpenForUpdate(db);
-        const store::RunDetail d = store::ShowRun(*rw, "R1");
-        store::CoeffSetRow set;
+        auto rw = db::OpenForUpdate(db);
+        const db::RunDetail d = db::ShowRun(*rw, "R1");
+        db::CoeffSetRow set;
         set.run_id = "R1";
         set.sensor_id = "S01";
         set.source = "fitter";
@@ -451,7 +451,7 @@ TEST(CalibrateAcceptance, RunsTheAnalysisWhenALimitNeedsItAndNamesTheFailingUnit
         set.sensitivity.quantity = "sensitivity_v_per_dps";
         for (const auto& p : d.plateaus) set.plateau_ids.push_back(p.plateau_id);
         ASSERT_GE(set.plateau_ids.size(), 5u);
-        store::StoreCoeffSet(*rw, set);
+        db::StoreCoeffSet(*rw, set);
     }
     o.limits_json = R"({"min_plateaus": 5})";
     EXPECT_EQ(cli::AfterCalibration(o, "R1", 0), 0);

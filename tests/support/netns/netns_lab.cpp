@@ -68,10 +68,10 @@ NetnsLab::~NetnsLab() {
     for (auto it = created_.rbegin(); it != created_.rend(); ++it) Shell("ip netns delete " + *it);
 }
 
-std::unique_ptr<ChildProcess> NetnsLab::Start(int k, std::vector<std::string> argv,
-                                              const std::string& log) const {
+std::unique_ptr<launch::ChildProcess> NetnsLab::Start(int k, std::vector<std::string> argv,
+                                                      const std::string& log) const {
     argv.insert(argv.begin(), {"ip", "netns", "exec", host(k)});
-    return std::make_unique<ChildProcess>(argv, log, log);
+    return std::make_unique<launch::ChildProcess>(argv, log, log);
 }
 
 void NetnsLab::SetLink(int k, bool up) const {

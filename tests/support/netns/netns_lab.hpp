@@ -37,8 +37,8 @@ public:
         return hosts_.at(static_cast<size_t>(k - 1));
     }  // 1-based
     // Starts argv inside host k (ip netns exec), logs as ChildProcess does.
-    std::unique_ptr<ChildProcess> Start(int k, std::vector<std::string> argv,
-                                        const std::string& log) const;
+    std::unique_ptr<launch::ChildProcess> Start(int k, std::vector<std::string> argv,
+                                                const std::string& log) const;
     // The switch port of host k down (its cable pulled: the host keeps its address and routes,
     // its packets go nowhere) or up again.
     void SetLink(int k, bool up) const;

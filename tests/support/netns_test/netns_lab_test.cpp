@@ -10,7 +10,7 @@
 
 #include "gyrocal/gyro_sample_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/bus/channels.hpp"
+#include "lcmtypes/channels/channels.hpp"
 #include "tests/support/wait/wait_until.hpp"
 
 namespace gyrocal::testing {
@@ -27,7 +27,7 @@ TEST(NetnsLab, TwoHostsTalkOverTheBridgeUntilTheCableIsPulled) {
     std::vector<int64_t> got;
     int64_t receiver_gaps = -1;
     std::thread rx = lab.OnHost(2, [&] {
-        Bus bus(BusOptions{kUrl});
+        bus::Bus bus(bus::BusOptions{kUrl});
         bus.Subscribe<gyro_sample_t>(channels::Gyro("N1"),
                                      [&](const gyro_sample_t& m, const std::string&) {
                                          std::lock_guard<std::mutex> l(mu);
@@ -42,7 +42,7 @@ TEST(NetnsLab, TwoHostsTalkOverTheBridgeUntilTheCableIsPulled) {
         << "the receiver never subscribed";
     int64_t sent = 0, sent_before_cut = 0, sent_after_restore = 0;
     std::thread tx = lab.OnHost(1, [&] {
-        Bus bus(BusOptions{kUrl});
+        bus::Bus bus(bus::BusOptions{kUrl});
         gyro_sample_t m{};
         m.sensor_id = "N1";
         // 600 messages at about 200/s; the cable is out for messages 200 to 399. Counted in

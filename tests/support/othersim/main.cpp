@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "lcmtypes/runtime/process_main.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "tests/support/othersim/cli.hpp"
 #include "tests/support/othersim/generator.hpp"
 
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "gyrocal-othersim: %s (see --help)\n", problem.c_str());
         return 2;
     }
-    if (gyrocal::CheckOnly()) return 0;  // GYROCAL_CHECK_ONLY=1: the command line is valid
+    if (gyrocal::process::CheckOnly()) return 0;  // GYROCAL_CHECK_ONLY=1: the command line is valid
     try {
         const Generated g = WriteRun(o, v.out, v.truth_out);
         std::printf(

@@ -188,26 +188,26 @@ TEST(OthersimCli, WritesTheFilesAndRefusesBadInput) {
     std::filesystem::create_directories(dir);
     auto run = [&](std::vector<std::string> args) {
         args.insert(args.begin(), GYROCAL_BIN "/gyrocal-othersim");
-        ChildProcess p(args, dir + "/out.log", dir + "/out.log");
+        launch::ChildProcess p(args, dir + "/out.log", dir + "/out.log");
         auto s = p.Wait(std::chrono::seconds(60));
         return s ? s->code : -1;
     };
     EXPECT_EQ(run({"--out", dir + "/a.csv", "--setpoints-c", "25,40", "--dwell-s", "30",
                    "--sample-rate-hz", "10", "--lpf-hz", "4"}),
               0)
-        << ReadLog(dir + "/out.log");
+        << launch::ReadLog(dir + "/out.log");
     EXPECT_TRUE(std::filesystem::exists(dir + "/a.truth.json"));
     std::ifstream truth(dir + "/a.truth.json");
     const auto j = nlohmann::json::parse(truth);
     EXPECT_EQ(j.at("format"), "gyrocal-othersim-truth/1");
     EXPECT_EQ(j.at("units").size(), 2u);
     EXPECT_EQ(run({"--out", dir + "/b.csv", "--units", "0"}), 2);
-    EXPECT_NE(ReadLog(dir + "/out.log").find("--units"), std::string::npos);
+    EXPECT_NE(launch::ReadLog(dir + "/out.log").find("--units"), std::string::npos);
     EXPECT_EQ(run({"--out", dir + "/b.csv", "--slip", "x:1"}), 2);
-    EXPECT_NE(ReadLog(dir + "/out.log").find("--slip"), std::string::npos);
+    EXPECT_NE(launch::ReadLog(dir + "/out.log").find("--slip"), std::string::npos);
     EXPECT_EQ(run({"--out", dir + "/no/such/dir/c.csv", "--setpoints-c", "25", "--dwell-s", "10"}),
               1);
-    EXPECT_NE(ReadLog(dir + "/out.log").find("cannot be written"), std::string::npos);
+    EXPECT_NE(launch::ReadLog(dir + "/out.log").find("cannot be written"), std::string::npos);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// calibrate's final verdict (tools/gyrocal/final_verdict): from the sets and FIT_<id> reports a
+// calibrate's final verdict (tools/cli/final_verdict): from the sets and FIT_<id> reports a
 // run left, which units are complete, what the table marks, and what exit 3 explains. Pure
 // bookkeeping over messages; every case below has one right answer.
 #include "tools/supervisor/final_verdict.hpp"
