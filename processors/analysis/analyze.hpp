@@ -17,6 +17,11 @@
 //      temp_rate    -> "dTdt(tau)"    offset follows dT/dt, tau searched         [V/(degC/s)]
 //      hysteresis   -> "heating(w)"   play-operator branch of width w, searched  [V]
 //      temp_cubic   -> "dT^3"                                                   [V/degC^3]
+//      temp_knot    -> "knot_above(k)" or "knot_below(k)": max(0, +-(dT - k))^3, one knot of a
+//                      cubic spline, k searched over the inner 60 % of the range; until
+//                      temp_cubic is in, a last resort (considered at a step only when no
+//                      other candidate passes, never in the others' noise model); beyond the
+//                      cubic a candidate like the others                           [V/degC^3]
 //      supply       -> "supply"       supply_v - 5 V, only where recorded       [V/V]
 //      warmup       -> "warmup(tau)"  exp(-t_on/tau), tau searched               [V]
 //      sf_asymmetry -> "direction"    on the sensitivity points                 [V/(deg/s)]
@@ -171,7 +176,8 @@ enum class Decision { kAdded, kRejected, kAmbiguous, kNotTested };
 const char* ToString(Decision d);
 
 struct CandidateResult {
-    std::string effect;  // temp_rate, hysteresis, temp_cubic, supply, warmup, sf_asymmetry
+    std::string effect;  // temp_rate, hysteresis, temp_cubic, supply, warmup, temp_knot,
+                         // sf_asymmetry
     std::string term;    // registry name, e.g. "dTdt", "warmup(312)"
     Decision decision = Decision::kNotTested;
     double z2 = kNan;            // statistic (a) at the step it was decided

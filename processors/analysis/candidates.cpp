@@ -1,5 +1,6 @@
 #include "processors/analysis/candidates.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -29,6 +30,9 @@ std::string Separation(const std::string& a, const std::string& b) {
                "changes)";
     if (has("supply"))
         return "a run with the supply voltage deliberately varied at constant temperature";
+    if (has("temp_knot"))
+        return "more temperature setpoints near the end of the range where the curve bends, "
+               "visited from both sides";
     if (has("temp_cubic"))
         return "more temperature setpoints spread over a wider range, visited from both sides";
     if (has("temp_rate")) return "ramps at two different rates through the same temperatures";
@@ -44,6 +48,22 @@ std::vector<std::string> LogGrid(double lo, double hi, int n, std::string (*name
         const std::string t = name(n == 1 ? lo : lo * std::pow(hi / lo, k / double(n - 1)));
         if (g.empty() || g.back() != t) g.push_back(t);
     }
+    return g;
+}
+
+// Knots of a cubic spline over the inner 60 % of the still data's temperature range (an outer
+// knot leaves too few bins on its far side to fit), relative to t0. With the cubic in the model
+// (x - k)_+^3 and (k - x)_+^3 span the same shapes (they differ by the cubic (x - k)^3), so one
+// form per knot: the one that is zero at t0 (above a knot above t0, below a knot below it), so
+// that the polynomial keeps its meaning near the reference temperature.
+std::vector<std::string> KnotGrid(double lo_c, double hi_c) {
+    const double t0 = RoundT0(lo_c, hi_c);
+    std::vector<std::string> g;
+    for (int k = 0; k <= 12; ++k) {
+        const double knot = lo_c + (hi_c - lo_c) * (0.2 + 0.05 * k) - t0;
+        g.push_back(knot >= 0.0 ? model::KnotAboveTerm(knot) : model::KnotBelowTerm(knot));
+    }
+    g.erase(std::unique(g.begin(), g.end()), g.end());
     return g;
 }
 
@@ -63,13 +83,21 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
     const double tau_max = std::min(o.warmup_tau_max_s, o.warmup_max_tau_fraction * span_s);
     std::vector<Candidate> c = {
         {"temp_rate", "V/(degC/s)", LogGrid(o.rate_tau_min_s, o.rate_tau_max_s, 6, model::RateTerm),
+         "", false, ""},
+        {"hysteresis", "V", LogGrid(o.branch_width_min_c, w_max, 12, model::BranchTerm), "", false,
          ""},
-        {"hysteresis", "V", LogGrid(o.branch_width_min_c, w_max, 12, model::BranchTerm), ""},
-        {"temp_cubic", "V/degC^3", {"dT^3"}, ""},
-        {"supply", "V/V", {"supply"}, ""},
+        {"temp_cubic", "V/degC^3", {"dT^3"}, "", false, ""},
+        {"supply", "V/V", {"supply"}, "", false, ""},
         {"warmup", "V",
          LogGrid(o.warmup_tau_min_s, std::max(tau_max, o.warmup_tau_min_s), 25, model::WarmupTerm),
-         ""}};
+         "", false, ""},
+        // A static temperature shape beyond the cubic (an end of the range that bends away):
+        // one knot of a cubic spline. Over most of the range a knot is the cubic's near twin, and
+        // on a profile that turns once a branch is a static shape too: until the cubic is in,
+        // the knot is the last resort of each forward step (the listed effects first); beyond
+        // the cubic it competes like any candidate, so that what the cubic leaves of a bend is
+        // not taken up by a listed effect first.
+        {"temp_knot", "V/degC^3", KnotGrid(lo, hi), "", true, "temp_cubic"}};
     int ramp = 0, heat = 0, cool = 0, supply = 0;
     std::set<long> levels;
     const gyrocal_tracker_config_t def = gyrocal_tracker_config_default();
@@ -98,6 +126,11 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
         c[3].why_not = supply == 0 ? "no supply voltage recorded"
                                    : "supply voltage recorded in only " + std::to_string(supply) +
                                          " of " + std::to_string(n) + " still bins";
+    if (levels.size() < 8)
+        c[5].why_not = "the still data covers fewer than 8 distinct 2-degC temperature bands (" +
+                       std::to_string(levels.size()) + "): too few to place a knot beyond a cubic";
+    else if (!c[2].why_not.empty())
+        c[5].why_not = "temp_cubic cannot be tested, and a knot is a shape beyond it";
     const double first_on_s = bins.empty() ? INFINITY : bins.front().time_since_power_s;
     if (!(first_on_s <= 3.0 * o.warmup_tau_min_s + o.bins.bin_s))
         c[4].why_not = "no still data soon after power-on (first still bin " +

@@ -2,7 +2,7 @@
 // Internal to gyrocal_analysis: the candidate effects and the regressors they put on bins.
 //   Candidate           one offset effect: a registry term, or a family of terms with a shape
 //                       parameter searched on a grid (dT/dt time constant, branch width, warm-up
-//                       time constant); why it cannot be tested on this run
+//                       time constant, spline knot); why it cannot be tested on this run
 //   OffsetCandidates    the candidates with their grids and testability
 //   Separation          the measurement that would tell two collinear candidates apart
 //   Context             the training rows the choice is made on
@@ -22,6 +22,13 @@ struct Candidate {
     std::string effect, unit;
     std::vector<std::string> grid;  // the term, or the term at each searched parameter value
     std::string why_not;            // "" = testable
+    // Considered only when no other candidate passes at a forward step, and kept out of the
+    // noise model of the others' tests: a generic shape that must not take the place of a
+    // listed effect the profile makes look alike (a branch on a one-way profile is a static
+    // function of the temperature too).
+    // ... until this effect is in the model; from then on it competes like any candidate.
+    bool last_resort = false;
+    std::string competes_after;
 };
 
 std::string Separation(const std::string& a, const std::string& b);

@@ -224,6 +224,12 @@ void Edges(const BinnedRun& binned, const AnalysisOptions& o, SensorResult& res)
     const std::vector<Candidate> cands = OffsetCandidates(binned, o);
     for (CandidateResult& c : res.candidates) {
         if (!c.grid_edge || c.term.empty()) continue;
+        if (c.effect == "temp_knot") {
+            c.edge =
+                "the knot at an end of its searched range (20 % of the range in from an end of "
+                "the still data): the shape may bend closer to that end";
+            continue;
+        }
         for (const Candidate& k : cands) {
             if (k.effect != c.effect || k.grid.size() < 2) continue;
             const bool upper = c.term == k.grid.back();

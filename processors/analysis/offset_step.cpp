@@ -45,11 +45,15 @@ Selection Choose(const Context& train, const BinnedRun& binned, const AnalysisOp
                 pool.push_back(cand);
             continue;
         }
+        res.could_not_test.push_back(cand.effect + ": " + cand.why_not);
+        // A last-resort shape is not one more untested candidate (max_untested_fraction): it is
+        // untestable whenever temp_cubic is, or when the data cannot place a knot, which the
+        // line above says.
+        if (cand.last_resort) continue;
         CandidateResult r;
         r.effect = cand.effect;
         r.note = cand.why_not;
         res.candidates.push_back(r);
-        res.could_not_test.push_back(cand.effect + ": " + cand.why_not);
     }
     Selection sel = SelectOffsetTerms(train, std::move(pool), DeclaredFloor(train, binned, o), o);
     for (const CandidateResult& r : sel.candidates) res.candidates.push_back(r);
@@ -268,14 +272,19 @@ double ParamStderr(const Context& all, const std::vector<std::string>& terms, si
     const double p = ParamOf(terms[k]);
     const std::string name = terms[k].substr(0, terms[k].find('('));
     auto term_at = [&](double v) {
-        return name == "warmup" ? model::WarmupTerm(v)
-               : name == "dTdt" ? model::RateTerm(v)
-                                : model::BranchTerm(v);
+        return name == "warmup"       ? model::WarmupTerm(v)
+               : name == "dTdt"       ? model::RateTerm(v)
+               : name == "knot_above" ? model::KnotAboveTerm(v)
+               : name == "knot_below" ? model::KnotBelowTerm(v)
+                                      : model::BranchTerm(v);
     };
-    const double h = kParamStepRel;
-    const VectorXd d = (all.binned->Column(term_at(p * (1 + h)), all.t0)(all.rows) -
-                        all.binned->Column(term_at(p * (1 - h)), all.t0)(all.rows)) /
-                       (2.0 * h * p) * coeff;
+    // A knot is a position (any sign, 0.1 degC in its name): a step of kKnotStepC; the scale
+    // parameters a relative step.
+    const bool knot = name.rfind("knot_", 0) == 0;
+    const double step = knot ? kKnotStepC : kParamStepRel * p;
+    const VectorXd d = (all.binned->Column(term_at(p + step), all.t0)(all.rows) -
+                        all.binned->Column(term_at(p - step), all.t0)(all.rows)) /
+                       (2.0 * step) * coeff;
     const MatrixXd x0 = all.Design(terms);
     MatrixXd x(x0.rows(), x0.cols() + 1);
     x << x0, d;

@@ -13,6 +13,8 @@ std::string MeasurementToTest(const std::string& effect) {
     if (effect == "hysteresis")
         return "ramps up and down through the same temperatures, with dwells between them";
     if (effect == "temp_cubic") return "dwells at 5 or more temperatures spread over the range";
+    if (effect == "temp_knot")
+        return "dwells or ramps over 8 or more 2-degC temperature bands, with temp_cubic testable";
     if (effect == "supply") return "the supply voltage recorded with every sample";
     if (effect == "warmup")
         return "recording from power-on (a power record) with a dwell right after it";

@@ -116,6 +116,11 @@ struct Forward {
     // not see as a pair: fitted with the terms while the other candidates are tested, never kept.
     MatrixXd aside;
     MatrixXd x;  // design of sel.terms, then any nuisance columns, then `aside`
+    // Candidate::last_resort, until the effect it competes after is in the model.
+    bool LastResort(const Candidate& cand) const {
+        return cand.last_resort && std::find(sel.added_effects.begin(), sel.added_effects.end(),
+                                             cand.competes_after) == sel.added_effects.end();
+    }
     MatrixXd Design() const {
         const MatrixXd d = c.Design(sel.terms);
         if (aside.cols() == 0) return d;
@@ -162,7 +167,7 @@ StepScores ScoreStep(Forward& f, int step) {
     MatrixXd xfull = f.x;
     for (size_t k = 0; k < f.pool.size(); ++k) {
         s.scores.push_back(Score(c, f.x, s.base_cv, f.pool[k], f.o));
-        if (s.scores.back().column.size() == 0) continue;
+        if (s.scores.back().column.size() == 0 || f.LastResort(f.pool[k])) continue;
         MatrixXd xn(xfull.rows(), xfull.cols() + 1);
         xn << xfull, s.scores.back().column;
         xfull = xn;
@@ -171,15 +176,27 @@ StepScores ScoreStep(Forward& f, int step) {
     s.noise_params = static_cast<int>(xfull.cols());
     s.passes.assign(f.pool.size(), false);
     for (size_t k = 0; k < f.pool.size(); ++k) {
-        if (s.noise())
+        if (f.LastResort(f.pool[k]) && s.scores[k].column.size() > 0) {
+            // Its own noise: the others' model with its column in too (left out of theirs).
+            MatrixXd xk(xfull.rows(), xfull.cols() + 1);
+            xk << xfull, s.scores[k].column;
+            const LsFit own = FitLs(xk, c.y, c.segment, 0);
+            if (own.ok)
+                s.scores[k] = Score(c, f.x, s.base_cv, f.pool[k], f.o, &own.residuals,
+                                    static_cast<int>(xk.cols()));
+        } else if (s.noise()) {
             s.scores[k] = Score(c, f.x, s.base_cv, f.pool[k], f.o, s.noise(), s.noise_params);
+        }
         s.passes[k] = Passes(s.scores[k], f.pool[k], step, f.floor, f.o, f.last[f.pool[k].effect]);
         // The best explains the most (smallest residual sum of squares), not the largest z^2: a
         // candidate correlated with a stronger missing effect borrows its signal.
-        if (s.passes[k] &&
+        if (s.passes[k] && !f.LastResort(f.pool[k]) &&
             (s.best < 0 || s.scores[k].rss < s.scores[static_cast<size_t>(s.best)].rss))
             s.best = static_cast<int>(k);
     }
+    // A last resort only when no other candidate passes.
+    for (size_t k = 0; k < f.pool.size() && s.best < 0; ++k)
+        if (s.passes[k] && f.LastResort(f.pool[k])) s.best = static_cast<int>(k);
     return s;
 }
 
@@ -196,7 +213,8 @@ size_t WinnerAmongTwins(Forward& f, const StepScores& s, std::vector<size_t>& tw
         was_best[b] = true;
         twins.clear();
         for (size_t k = 0; k < f.pool.size(); ++k) {
-            if (k == b || s.scores[k].column.size() == 0) continue;
+            // A last resort is in contention only when it is the best (nothing else passes).
+            if (k == b || s.scores[k].column.size() == 0 || f.LastResort(f.pool[k])) continue;
             const double r = ProjectedCorrelation(f.x, s.scores[b].column, s.scores[k].column);
             if (!std::isfinite(r) || std::fabs(r) <= f.o.max_collinearity) continue;
             const Encompassing e = Encompass(f.c, f.x, s.scores[b].column, s.scores[k].column,

@@ -49,6 +49,9 @@ std::string SeparationFromTime(const std::string& effect, const std::string& fea
 // term is evaluated at (1 - step) and (1 + step) times the parameter, so the incremental binner
 // tracks those neighbours of every searched dT/dt time constant and branch width too.
 constexpr double kParamStepRel = 0.05;
+// [degC] the step of a spline knot's position for its standard error (smooth in the knot: the
+// derivative of max(0, dT - k)^3 is -3 max(0, dT - k)^2).
+constexpr double kKnotStepC = 0.5;
 
 // The number a searched term names: "warmup(312)" -> 312; NaN when it names none.
 double ParamOf(const std::string& term);

@@ -89,12 +89,15 @@ enum {
     GYROCAL_TERM_BRANCH,       /* "heating(w)"   play-operator branch of width w [degC] */
     GYROCAL_TERM_SUPPLY,       /* "supply"       supply_v - GYROCAL_NOMINAL_SUPPLY_V [V] */
     GYROCAL_TERM_DIRECTION,    /* "direction"    sign(direction) */
-    GYROCAL_TERM_WARMUP        /* "warmup(tau)"  exp(-time_since_power_s / tau) */
+    GYROCAL_TERM_WARMUP,       /* "warmup(tau)"  exp(-time_since_power_s / tau) */
+    GYROCAL_TERM_KNOT_ABOVE,   /* "knot_above(k)"  max(0, dT - k)^3 [degC^3] */
+    GYROCAL_TERM_KNOT_BELOW    /* "knot_below(k)"  max(0, k - dT)^3 [degC^3] */
 };
 
 typedef struct {
     int kind;     /* GYROCAL_TERM_* */
-    double param; /* dTdt: tau [s] (0 = default); heating(w): w [degC]; warmup: tau [s] */
+    double param; /* dTdt: tau [s] (0 = default); heating(w): w [degC]; warmup: tau [s];
+                     knot_above / knot_below: the knot k [degC] relative to t0_c (any sign) */
 } gyrocal_term_t;
 
 static inline double gyrocal_sign(double v) {
@@ -128,6 +131,17 @@ static inline double gyrocal_term_value(const gyrocal_term_t *t, double dT,
             return gyrocal_sign(in->direction);
         case GYROCAL_TERM_WARMUP:
             return exp(-in->time_since_power_s / t->param);
+        case GYROCAL_TERM_KNOT_ABOVE: {
+            /* one knot of a cubic spline in temperature: zero (with its first two derivatives)
+             * at the knot and on one side of it; a static shape beyond the cubic, e.g. a bend
+             * at one end of the range */
+            const double u = dT > t->param ? dT - t->param : 0.0;
+            return u * u * u;
+        }
+        case GYROCAL_TERM_KNOT_BELOW: {
+            const double u = dT < t->param ? t->param - dT : 0.0;
+            return u * u * u;
+        }
         default:
             return NAN;
     }

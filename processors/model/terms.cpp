@@ -26,6 +26,12 @@ const std::vector<TermDef>& AllTerms() {
         {"direction", P::kNone, GYROCAL_TERM_DIRECTION, "1", "+1 / -1 rotation direction"},
         {"warmup", P::kRequired, GYROCAL_TERM_WARMUP, "1",
          "exp(-time_since_power_s / tau_s): warmup(<tau_s>)"},
+        {"knot_above", P::kRequired, GYROCAL_TERM_KNOT_ABOVE, "degC^3",
+         "max(0, dT - k_c)^3: a cubic spline knot k_c degC from t0 (any sign): knot_above(<k_c>)",
+         true},
+        {"knot_below", P::kRequired, GYROCAL_TERM_KNOT_BELOW, "degC^3",
+         "max(0, k_c - dT)^3: a cubic spline knot k_c degC from t0 (any sign): knot_below(<k_c>)",
+         true},
     };
     return kTerms;
 }
@@ -63,9 +69,11 @@ bool ResolveTerm(std::string_view name, ResolvedTerm* out, std::string* error) {
             const std::string text(param_text);
             char* end = nullptr;
             param = std::strtod(text.c_str(), &end);
-            if (end != text.c_str() + text.size() || !std::isfinite(param) || param <= 0.0)
+            const bool bad_sign = !def.any_sign && param <= 0.0;
+            if (end != text.c_str() + text.size() || !std::isfinite(param) || bad_sign)
                 return Fail(error, "term '" + std::string(name) + "': parameter '" + text +
-                                       "' is not a positive finite number");
+                                       (def.any_sign ? "' is not a finite number"
+                                                     : "' is not a positive finite number"));
         }
         if (out) *out = ResolvedTerm{&def, gyrocal_term_t{def.kind, param}};
         return true;
@@ -105,5 +113,17 @@ std::string WithParam(const char* name, double param) {
 std::string WarmupTerm(double tau_s) { return WithParam("warmup", tau_s); }
 std::string BranchTerm(double width_c) { return WithParam("heating", width_c); }
 std::string RateTerm(double tau_s) { return WithParam("dTdt", tau_s); }
+
+namespace {
+// A knot near t0 in 3 significant digits would claim a micro-degree; 0.1 degC is the finest a
+// knot searched on a grid over tens of degrees can mean.
+std::string KnotParam(const char* name, double k_c) {
+    const double k = std::fabs(k_c) < 10.0 ? std::round(k_c * 10.0) / 10.0 : k_c;
+    return WithParam(name, k == 0.0 ? 0.0 : k);  // never "-0"
+}
+}  // namespace
+
+std::string KnotAboveTerm(double k_c) { return KnotParam("knot_above", k_c); }
+std::string KnotBelowTerm(double k_c) { return KnotParam("knot_below", k_c); }
 
 }  // namespace gyrocal::model

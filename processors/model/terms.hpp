@@ -40,6 +40,7 @@ struct TermDef {
     int kind;                  // GYROCAL_TERM_* of gyrocal_model.h
     std::string_view unit;     // unit of the term value
     std::string_view meaning;  // one line for --help and error messages
+    bool any_sign = false;     // the parameter may be zero or negative (a knot relative to t0)
 };
 
 // A name resolved against the registry: what the evaluator calls per sample.
@@ -69,5 +70,9 @@ std::vector<std::string> PolynomialTerms(int degree);
 std::string WarmupTerm(double tau_s);
 std::string BranchTerm(double width_c);
 std::string RateTerm(double tau_s);
+// A spline knot k_c degC from t0_c: "knot_above(k)" = max(0, dT - k)^3, "knot_below(k)" =
+// max(0, k - dT)^3 (3 significant digits, or 0.1 degC where that is coarser).
+std::string KnotAboveTerm(double k_c);
+std::string KnotBelowTerm(double k_c);
 
 }  // namespace gyrocal::model

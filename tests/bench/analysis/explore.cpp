@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
         }
     }
     for (int s = 1; s <= seeds; ++s) {
-        o.seed = s;
+        o.seed = s + (getenv("SEED0") ? atoi(getenv("SEED0")) : 0);
         auto t0 = std::chrono::steady_clock::now();
         auto run = analysis::testing::MakeSimRun(o);
         auto t1 = std::chrono::steady_clock::now();

@@ -16,7 +16,7 @@ namespace {
 const std::vector<std::string> kCategories = {
     "named right alone", "named right + flagged", "ambiguous", "unexplained", "wrong candidate",
     "adequate-when-not", "explained-when-not",    "adequate",  "not testable"};
-const std::vector<std::string> kGroups = {"clean",     "listed", "outside",
+const std::vector<std::string> kGroups = {"clean",     "listed", "outside",    "static shape",
                                           "transient", "shift",  "combination"};
 
 void Confusion(const std::vector<RunFigures>& runs) {

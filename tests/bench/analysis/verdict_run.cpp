@@ -113,13 +113,17 @@ void HeldOut(Simulator sim, const Draw& d, uint64_t seed, const analysis::Sensor
 bool Allowed(Simulator sim, const Draw& d, const std::string& effect) {
     // othersim's temperature line lags its die and the die its board: a real (small) temp_rate.
     if (sim == Simulator::kOthersim && effect == "temp_rate") return true;
+    if (d.outside_static_temp && (effect == "temp_cubic" || effect == "temp_knot")) return true;
     for (const ListedPart& p : d.listed)
         if (p.effect == effect) return true;
     return false;
 }
 
 std::string Category(const RunFigures& f) {
-    double biggest = f.outside_ratio;
+    // A static temperature shape named by the spline counts as a named effect (its held-out
+    // error over the truth's is in the per-scenario table).
+    const double outside = f.outside_named ? 0.0 : f.outside_ratio;
+    double biggest = outside;
     bool listed_missed = false;
     for (const EffectSize& e : f.listed) {
         biggest = std::max(biggest, e.ratio);
@@ -129,7 +133,7 @@ std::string Category(const RunFigures& f) {
     if (f.outcome == "adequate") return biggest > 3.0 ? "adequate-when-not" : "adequate";
     if (f.outcome == "ambiguous") return "ambiguous";
     if (f.outcome == "explained")
-        return f.outside_ratio > 3.0 || listed_missed ? "explained-when-not" : "named right alone";
+        return outside > 3.0 || listed_missed ? "explained-when-not" : "named right alone";
     if (f.outcome == "partly explained") return "named right + flagged";
     if (f.outcome == "unexplained residual") return "unexplained";
     return "not testable";
@@ -155,6 +159,9 @@ void Judge(Simulator sim, const Draw& d, const Made& m, const analysis::SensorRe
     }
     if (d.has_outside)
         f.outside_ratio = ProjectedRms(b, BinMeans(m.run, b, m.outside_v)) / f.floor_v;
+    for (const std::string& e : f.added)
+        f.outside_named =
+            f.outside_named || (d.outside_static_temp && (e == "temp_cubic" || e == "temp_knot"));
     f.warm_v = d.warmup_v != 0 ? d.warmup_v : NAN;
     f.warm_tau_s = d.warmup_v != 0 ? d.warmup_tau_s : NAN;
     f.outcome = analysis::ToString(r.outcome);

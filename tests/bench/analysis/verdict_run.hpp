@@ -19,7 +19,8 @@ struct RunFigures {
     std::string scenario, group, outcome, headline, category;
     std::string evidence;  // what made the outcome flag something: bound, feature, window
     std::vector<EffectSize> listed;
-    double outside_ratio = 0;  // the outside effects' size over the floor
+    double outside_ratio = 0;    // the outside effects' size over the floor
+    bool outside_named = false;  // a static temperature shape named temp_cubic or temp_knot
     std::vector<std::string> added;
     bool wrong = false;
     double heldout_ratio = NAN, declared_ratio = NAN;  // extended / declared over the true model

@@ -98,8 +98,12 @@ Draw OAccel(Simulator, std::mt19937_64& r) { return Out(r, Accel); }
 Draw OSteps(Simulator, std::mt19937_64& r) { return Out(r, Steps); }
 Draw OSaw(Simulator, std::mt19937_64& r) { return Out(r, Saw); }
 Draw OWander(Simulator, std::mt19937_64& r) { return Out(r, Wander); }
-Draw OBend(Simulator, std::mt19937_64& r) { return Out(r, Bend); }
-Draw OQuartic(Simulator, std::mt19937_64& r) { return Out(r, Quartic); }
+Draw StaticTemp(Draw d) {
+    d.outside_static_temp = true;
+    return d;
+}
+Draw OBend(Simulator, std::mt19937_64& r) { return StaticTemp(Out(r, Bend)); }
+Draw OQuartic(Simulator, std::mt19937_64& r) { return StaticTemp(Out(r, Quartic)); }
 Draw ODrift(Simulator, std::mt19937_64& r) { return Out(r, Drift); }
 Draw OShift(Simulator, std::mt19937_64& r) { return Out(r, Shift); }
 
@@ -153,8 +157,8 @@ const std::vector<Scenario>& Scenarios() {
         {"3 random bias steps", "outside", OSteps},
         {"sawtooth", "outside", OSaw},
         {"exogenous wander", "outside", OWander},
-        {"hot-end exp bend", "outside", OBend},
-        {"(T-25)^4", "outside", OQuartic},
+        {"hot-end exp bend", "static shape", OBend},
+        {"(T-25)^4", "static shape", OQuartic},
         {"linear drift", "outside", ODrift},
         {"warm-up 120-600 s", "transient", One<kWarmup>},
         {"warm-up + fast exp", "transient", TwoTransients},

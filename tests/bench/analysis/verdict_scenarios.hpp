@@ -3,9 +3,10 @@
 // simulator, drawn at random sizes per seed - and the truth the benchmark judges the analysis by.
 // Groups: clean; each listed effect (the analysis' candidates' shapes); effects outside the list
 // (shapes no candidate and, for most, no generic feature has: |dT/dt|, temperature acceleration,
-// random bias steps, a sawtooth, a slow exogenous wander, a hot-end exponential bend, (T-25)^4, and
-// the older drift); power-on transients; a one-time shift after an event; combinations (listed +
-// outside, two listed, transient + listed).
+// random bias steps, a sawtooth, a slow exogenous wander, and the older drift); static temperature
+// shapes beyond the cubic that no candidate has in their form (a hot-end exponential bend,
+// (T-25)^4), which the spline knot (temp_knot) may describe; power-on transients; a one-time shift
+// after an event; combinations (listed + outside, two listed, transient + listed).
 // On the project's rig a run's first listed effect is the rig's own (sim::SetEffect, its
 // physics: on the die temperature, the true supply, ...), further ones are added after the
 // simulator; on othersim every effect is added after it (verdict_effects.hpp).
@@ -33,6 +34,10 @@ struct Draw {
     sim::EffectsConfig sim_effects;  // the rig's own effect, when a listed part is rig_own
     PostHoc outside;                 // everything outside the list
     bool has_outside = false;
+    // The outside part is a static function of the temperature (a hot-end bend, (T-25)^4): the
+    // analysis' spline knot beyond its cubic (temp_knot) is a generic static temperature shape,
+    // so temp_cubic and temp_knot are right names for it.
+    bool outside_static_temp = false;
     double warmup_v = 0, warmup_tau_s = 0;  // a single power-on exponential (listed), else 0
 };
 

@@ -16,6 +16,7 @@
 // thresholds claim 4.3 %: AnalysisOptions::ClaimedFalsePositiveRate).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -36,8 +37,8 @@ using testing::FirstExplaining;
 using testing::MakeSimRun;
 using testing::SimRunOptions;
 
-constexpr const char* kOffsetEffects[] = {"temp_rate", "hysteresis", "temp_cubic", "supply",
-                                          "warmup"};
+constexpr const char* kOffsetEffects[] = {"temp_rate",  "temp_knot", "hysteresis",
+                                          "temp_cubic", "supply",    "warmup"};
 
 bool NamedOffsetAdded(const SensorResult& r) {
     for (const AddedEffect& a : r.added)
@@ -102,14 +103,17 @@ TEST(Outside, OffsetStep) {
                kSeeds);
 }
 
-// A static temperature shape no candidate has: the offset bends away at the hot end, 6 mV x
-// exp((T - 70 degC) / 8 degC) (6 mV at 70 degC, 0.5 mV at 50 degC; the analysis benchmark's
-// "hot-end exp bend"). A cubic lowers the error (it is the bend's projection on dT^3) but is not
-// the effect: it must not be named, and what is left must correlate with the temperature (a
-// spline's knot, or a power of T beyond the model). Before the spline knots 8 of 10 such runs
-// named temp_cubic (gyrocal_bench_verdict).
-TEST(Outside, HotEndBendIsNotNamedACubic) {
-    int honest = 0;
+// A static temperature shape no candidate has in its form: the offset bends away at the hot end,
+// 6 mV x exp((T - 70 degC) / 8 degC) (6 mV at 70 degC, 0.5 mV at 50 degC; the analysis
+// benchmark's "hot-end exp bend"). A cubic alone is but the bend's projection on dT^3; one knot of
+// a cubic spline (temp_knot, alone or beyond the cubic) follows the bend. So temp_knot is named,
+// with or without temp_cubic, nothing else is, and what is left on the held-out bins is within the
+// floor bound (floor^2 (1 + 9 k^2) + 9 prediction^2: 3 sigma of the run's own
+// noise, outcome.cpp). Before temp_knot the cubic was named alone in 8 of 10 benchmark runs
+// (held-out error 2.3x the truth's); then, with the rule against it, nothing was named and the unit
+// was left uncompensated (5.4x).
+TEST(Outside, HotEndBendIsFollowedByTheSplineKnot) {
+    int followed = 0;
     for (int seed = 1; seed <= kSeeds; ++seed) {
         SimRunOptions o;
         o.seed = 600 + seed;
@@ -118,16 +122,21 @@ TEST(Outside, HotEndBendIsNotNamedACubic) {
         };
         const SensorResult r = Analyze(MakeSimRun(o).run);
         SCOPED_TRACE("hot-end bend seed " + std::to_string(o.seed) + "\n" + FormatReport(r));
-        EXPECT_FALSE(NamedOffsetAdded(r)) << r.headline;
-        EXPECT_TRUE(r.outcome == Outcome::kUnexplained || r.outcome == Outcome::kPartlyExplained)
-            << ToString(r.outcome);
-        const FeatureResult* f = FirstExplaining(r);
-        ASSERT_NE(f, nullptr);
-        EXPECT_EQ(f->channel, "temperature") << f->feature << " " << f->detail;
-        if (!NamedOffsetAdded(r) && f->channel == "temperature") ++honest;
+        std::vector<std::string> added;
+        for (const AddedEffect& a : r.added) added.push_back(a.effect);
+        const bool knot = std::count(added.begin(), added.end(), "temp_knot") == 1;
+        const bool cubic = std::count(added.begin(), added.end(), "temp_cubic") == 1;
+        EXPECT_TRUE(knot && added.size() == 1u + cubic) << r.headline;
+        // A single knot does not follow an exponential exactly: a 10 degC band may still stand
+        // out (partly explained), but the run as a whole is explained within the bound.
+        EXPECT_TRUE(r.outcome == Outcome::kExplained || r.outcome == Outcome::kPartlyExplained)
+            << r.headline;
+        EXPECT_LE(r.excess_ratio, 1.0) << r.headline;
+        if (knot && added.size() == 1u + cubic && r.excess_ratio <= 1.0) ++followed;
     }
-    std::printf("[ verdict ] hot-end bend: not named a cubic, temperature correlate %d/%d\n",
-                honest, kSeeds);
+    std::printf(
+        "[ verdict ] hot-end bend: temp_knot (+ temp_cubic), explained within the bound %d/%d\n",
+        followed, kSeeds);
 }
 
 TEST(Verdict, CleanRunsAreAdequate) {

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -101,10 +102,11 @@ HandInputs HandInputsAt(int i) {
 // ExtendedSet's rate at those inputs, written out term by term.
 double HandRate(const HandInputs& in) {
     const double dT = in.temp_c - 25;
-    const double offset = 2.5 + 4e-4 * dT + 3e-6 * dT * dT - 2e-8 * dT * dT * dT +
-                          0.01 * in.rate_c_per_s + 5e-4 * in.branch +
-                          0.02 * (in.supply_v - model::kNominalSupplyV) +
-                          3e-3 * std::exp(-in.since_power_s / 30);
+    const double offset =
+        2.5 + 4e-4 * dT + 3e-6 * dT * dT - 2e-8 * dT * dT * dT + 0.01 * in.rate_c_per_s +
+        5e-4 * in.branch + 0.02 * (in.supply_v - model::kNominalSupplyV) +
+        3e-3 * std::exp(-in.since_power_s / 30) + 4e-7 * std::pow(std::max(0.0, dT - 5.0), 3) -
+        3e-7 * std::pow(std::max(0.0, -2.5 - dT), 3);
     const double direction = in.gyro_v - offset > 0 ? 1.0 : -1.0;
     return (in.gyro_v - offset) / (0.005 + 1e-6 * dT + 2e-5 * direction);
 }
@@ -130,10 +132,10 @@ coeff_set_t ExtendedSet() {
     s.sensor_id = "S01";
     s.run_id = kRun;
     s.source = "analysis:1";
-    s.offset =
-        Model(model::kOffsetQuantity,
-              {"1", "dT", "dT^2", "dT^3", "dTdt(20)", "heating(1.5)", "supply", "warmup(30)"},
-              {2.5, 4e-4, 3e-6, -2e-8, 0.01, 5e-4, 0.02, 3e-3});
+    s.offset = Model(model::kOffsetQuantity,
+                     {"1", "dT", "dT^2", "dT^3", "dTdt(20)", "heating(1.5)", "supply", "warmup(30)",
+                      "knot_above(5)", "knot_below(-2.5)"},
+                     {2.5, 4e-4, 3e-6, -2e-8, 0.01, 5e-4, 0.02, 3e-3, 4e-7, -3e-7});
     s.sensitivity =
         Model(model::kSensitivityQuantity, {"1", "dT", "direction"}, {0.005, 1e-6, 2e-5});
     return model::ToMsg(s);
@@ -352,11 +354,12 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
     // And the inputs are the run's: the first sample (t = 0, 20 degC, dT = -5, trackers just
     // started so dT/dt = branch = 0, supply at nominal) by hand. gyro_v was built with the linear
     // offset and the warm-up of a unit powered 12.5 s earlier, so gyro_v - offset_v leaves the
-    // quadratic and cubic terms: -(3e-6 * 25 + 2e-8 * 125) V, direction -1, sensitivity
-    // 0.005 - 5e-6 - 2e-5. Had warm-up counted from the first sample (no power-on record), the
-    // offset would be 3 mV * (1 - exp(-12.5/30)) = 1 mV higher: 0.2 deg/s off. 1e-9 deg/s is
-    // rounding of the 2.5 V sums (1e-15 V relative through 5 mV/(deg/s)) with a wide margin.
-    const double expected = -(3e-6 * 25 + 2e-8 * 125) / (0.005 - 5e-6 - 2e-5);
+    // quadratic and cubic terms and the knot below -2.5 degC from t0 (dT = -5: 2.5^3):
+    // -(3e-6 * 25 + 2e-8 * 125 - 3e-7 * 15.625) V, direction -1, sensitivity 0.005 - 5e-6 - 2e-5.
+    // Had warm-up counted from the first sample (no power-on record), the offset would be 3 mV * (1
+    // - exp(-12.5/30)) = 1 mV higher: 0.2 deg/s off. 1e-9 deg/s is rounding of the 2.5 V sums
+    // (1e-15 V relative through 5 mV/(deg/s)) with a wide margin.
+    const double expected = -(3e-6 * 25 + 2e-8 * 125 - 3e-7 * 15.625) / (0.005 - 5e-6 - 2e-5);
     EXPECT_NEAR(live.at("0.000000").rate_dps, expected, 1e-9);
     // At t = 58 s every input is in play: 3 s after the reversal at 55 s the temperature has
     // risen ~0.5 degC from its minimum, so the 1.5 degC branch is between its sides, dT/dt is
@@ -372,6 +375,11 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
     ASSERT_GT(in.rate_c_per_s, 0.0);
     EXPECT_NEAR(live.at("58.000000").rate_dps, HandRate(in), 1e-9);
     EXPECT_EQ(live.at("58.000000").rate_dps, off.at("58.000000").rate_dps);
+    // At t = 28 s the temperature (31.2 degC, dT = 6.2) is 1.2 degC above the knot at 5: the
+    // knot_above term (1.2^3) is in play.
+    const HandInputs hot = HandInputsAt(2800);
+    ASSERT_GT(hot.temp_c - 25.0, 5.0);
+    EXPECT_NEAR(live.at("28.000000").rate_dps, HandRate(hot), 1e-9);
 }
 
 }  // namespace

@@ -61,6 +61,27 @@ TEST(Terms, MissingInputGivesNaNNotAWrongNumber) {
     EXPECT_TRUE(std::isnan(Term("warmup(60)", 1.0, in)));
 }
 
+// A knot is relative to t0 and may be on either side of it: zero on one side of the knot, the
+// cube of the distance on the other (values exact in binary).
+TEST(Terms, SplineKnotsAreZeroOnOneSideAndCubicOnTheOther) {
+    const ModelInputs in;  // a static temperature shape needs no other input
+    EXPECT_EQ(Term("knot_above(5)", 3.0, in), 0.0);
+    EXPECT_EQ(Term("knot_above(5)", 5.0, in), 0.0);
+    EXPECT_EQ(Term("knot_above(5)", 7.0, in), 8.0);
+    EXPECT_EQ(Term("knot_above(-2.5)", -0.5, in), 8.0);
+    EXPECT_EQ(Term("knot_below(-2.5)", -4.5, in), 8.0);
+    EXPECT_EQ(Term("knot_below(-2.5)", 0.0, in), 0.0);
+    EXPECT_EQ(Term("knot_below(0)", -1.0, in), 1.0);
+    EXPECT_EQ(KnotAboveTerm(12.345), "knot_above(12.3)");
+    EXPECT_EQ(KnotBelowTerm(-3.04), "knot_below(-3)");
+    EXPECT_EQ(KnotBelowTerm(-0.01), "knot_below(0)");  // never "-0"
+    for (const char* bad : {"knot_above", "knot_above()", "knot_above(x)", "knot_below(inf)"}) {
+        std::string error;
+        EXPECT_FALSE(ResolveTerm(bad, nullptr, &error)) << bad;
+        EXPECT_FALSE(error.empty()) << bad;
+    }
+}
+
 TEST(Terms, ParametricNamesAreWrittenOneWay) {
     EXPECT_EQ(WarmupTerm(407.3), "warmup(407)");
     EXPECT_EQ(BranchTerm(2.25), "heating(2.25)");

@@ -162,7 +162,8 @@ double BeyondQuadraticRms(const std::function<double(double)>& f) {
 }
 
 // The verdict of `gyrocal analyze --json` on each unit against othersim's truth. Its units carry
-// a cubic part (a candidate: temp_cubic), a cold-end exponential bend (no candidate), a 0.3 mV
+// a cubic part (a candidate: temp_cubic), a cold-end exponential bend (no candidate of its form; a
+// static temperature shape that the spline knot, temp_knot, may follow), a 0.3 mV
 // warm-up with tau 300 s (a candidate) and a 1 s thermometer lag (temp_rate): a candidate the
 // truth lacks is never added, and a departure from the quadratic of more than 3x the run's floor
 // (the truth's cubic and bend together, over the run's range) is never called adequate: a
@@ -191,7 +192,8 @@ void ExpectVerdictAgainstTruth(const Lab& lab) {
                     beyond / floor_v);
         for (const auto& a : s.at("added")) {
             const std::string e = a.at("effect");
-            EXPECT_TRUE(e == "temp_cubic" || e == "warmup" || e == "temp_rate") << id << ": " << e;
+            EXPECT_TRUE(e == "temp_cubic" || e == "temp_knot" || e == "warmup" || e == "temp_rate")
+                << id << ": " << e;
         }
         if (beyond > 3.0 * floor_v) {
             EXPECT_NE(s.at("outcome"), "adequate") << id;

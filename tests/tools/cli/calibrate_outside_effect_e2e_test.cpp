@@ -105,8 +105,8 @@ TEST(OutsideEffectEndToEnd, AgingGivesAnUnexplainedResidualNamingNoCandidate) {
     // drift predicts as well); neither clause names a cause. Nothing is added either way (below).
     const std::string cause = verdict.substr(
         0, std::min(verdict.find("; ambiguous:"), verdict.find("; not attributed:")));
-    for (const char* c :
-         {"temp_rate", "hysteresis", "temp_cubic", "supply ", "sf_asymmetry", "warmup"})
+    for (const char* c : {"temp_rate", "hysteresis", "temp_cubic", "temp_knot", "supply ",
+                          "sf_asymmetry", "warmup"})
         EXPECT_EQ(cause.find(c), std::string::npos) << c << " in: " << verdict;
     EXPECT_EQ(verdict.find("missing effect: "), std::string::npos) << verdict;
     Sql sql(db);
