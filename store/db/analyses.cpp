@@ -43,18 +43,15 @@ void InsertModel(Db& db, int64_t coeff_row_id, const char* role, const ModelRow&
 int64_t InsertAnalysisRow(Db& db, const AnalysisRow& r) {
     if (r.sensor_id.empty()) throw StoreError("analysis: sensor_id is empty");
     RequireRun(db, r.run_id, " (an analysis is stored with a recorded run)");
-    Stmt s(db,
-           "INSERT INTO analyses(run_id, sensor_id, created_wall_utime, software_version, "
-           "command_line, verdict, candidates_json, added_json, offset_rms_v_before, "
-           "offset_rms_v_after, rate_rms_dps_before, rate_rms_dps_after, drift_dph_before, "
-           "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id, outcome) "
-           "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-    s.BindAll(r.run_id, r.sensor_id,
-              r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow(), r.software_version,
-              WithoutCredentialsIn(r.command_line), r.verdict, r.candidates_json, r.added_json,
-              r.offset_rms_v_before, r.offset_rms_v_after, r.rate_rms_dps_before,
-              r.rate_rms_dps_after, r.drift_dph_before, r.drift_dph_after, r.floor_rate_rms_dps,
-              r.result_json, r.coeff_row_id, r.outcome);
+    Stmt s(db, std::string("INSERT INTO analyses(") + kResultOriginColumns +
+                   ", verdict, candidates_json, added_json, offset_rms_v_before, "
+                   "offset_rms_v_after, rate_rms_dps_before, rate_rms_dps_after, drift_dph_before, "
+                   "drift_dph_after, floor_rate_rms_dps, result_json, coeff_row_id, outcome) "
+                   "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    s.BindFrom(BindResultOrigin(s, r), r.verdict, r.candidates_json, r.added_json,
+               r.offset_rms_v_before, r.offset_rms_v_after, r.rate_rms_dps_before,
+               r.rate_rms_dps_after, r.drift_dph_before, r.drift_dph_after, r.floor_rate_rms_dps,
+               r.result_json, r.coeff_row_id, r.outcome);
     s.Run();
     return db.LastInsertRowId();
 }

@@ -15,18 +15,17 @@
 #include <string>
 #include <vector>
 
+#include "store/db/result_origin.hpp"
 #include "store/db/rows.hpp"
 #include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::db {
 
-// One analysis of one sensor of a run. Figures are NaN (stored NULL) when not computed.
-struct AnalysisRow {
-    int64_t analysis_id = 0;         // set by the database (ignored on insert)
-    std::string run_id, sensor_id;   // the analysed run (must exist) and sensor
-    int64_t created_wall_utime = 0;  // [us] wall clock; <= 0 on insert = now
-    std::string software_version, command_line;
-    std::string verdict;  // e.g. "no missing effect", "added temp_rate"
+// One analysis of one sensor of a run (the origin: the analysed run and sensor). Figures are NaN
+// (stored NULL) when not computed.
+struct AnalysisRow : ResultOrigin {
+    int64_t analysis_id = 0;  // set by the database (ignored on insert)
+    std::string verdict;      // e.g. "no missing effect", "added temp_rate"
     // adequate, explained, partly explained, unexplained residual, ambiguous, not testable;
     // nullopt for an analysis stored before outcomes existed (NULL in the column).
     std::optional<std::string> outcome;

@@ -109,12 +109,17 @@ public:
     Stmt& Bind(int i, std::optional<int64_t> v) { return v ? Bind(i, *v) : BindNull(i); }
     Stmt& Bind(int i, const std::optional<std::string>& v) { return v ? Bind(i, *v) : BindNull(i); }
 
-    // Binds `values` to parameters 1, 2, ... in order, each as Bind does.
+    // Binds `values` to parameters first, first + 1, ... in order, each as Bind does.
     template <class... Values>
-    Stmt& BindAll(const Values&... values) {
-        int i = 1;
+    Stmt& BindFrom(int first, const Values&... values) {
+        int i = first;
         (Bind(i++, values), ...);
         return *this;
+    }
+    // The same from parameter 1.
+    template <class... Values>
+    Stmt& BindAll(const Values&... values) {
+        return BindFrom(1, values...);
     }
 
     bool Step();

@@ -1,8 +1,6 @@
 #include "store/db/validations.hpp"
 
-#include "store/db/central_url.hpp"
 #include "store/db/query.hpp"
-#include "store/db/utc_text.hpp"
 
 namespace gyrocal::db {
 
@@ -10,16 +8,13 @@ int64_t InsertValidation(Db& db, const ValidationRow& r) {
     if (r.sensor_id.empty()) throw StoreError("validation: sensor_id is empty");
     RequireRun(db, r.run_id, " (a validation is stored with a recorded run)");
     Transaction tx(db);
-    Stmt s(db,
-           "INSERT INTO validations(run_id, sensor_id, created_wall_utime, software_version, "
-           "command_line, model_origin, coeff_row_id, model_run_id, n_bins, offset_rms_v, "
-           "rate_rms_dps, drift_dph, floor_rate_rms_dps, power_on, result_json) "
-           "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-    s.BindAll(r.run_id, r.sensor_id,
-              r.created_wall_utime > 0 ? r.created_wall_utime : WallUtimeNow(), r.software_version,
-              WithoutCredentialsIn(r.command_line), r.model_origin, r.coeff_row_id, r.model_run_id,
-              r.n_bins, r.offset_rms_v, r.rate_rms_dps, r.drift_dph, r.floor_rate_rms_dps,
-              r.power_on, r.result_json);
+    Stmt s(db, std::string("INSERT INTO validations(") + kResultOriginColumns +
+                   ", model_origin, coeff_row_id, model_run_id, n_bins, offset_rms_v, "
+                   "rate_rms_dps, drift_dph, floor_rate_rms_dps, power_on, result_json) "
+                   "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    s.BindFrom(BindResultOrigin(s, r), r.model_origin, r.coeff_row_id, r.model_run_id, r.n_bins,
+               r.offset_rms_v, r.rate_rms_dps, r.drift_dph, r.floor_rate_rms_dps, r.power_on,
+               r.result_json);
     s.Run();
     const int64_t id = db.LastInsertRowId();
     tx.Commit();

@@ -7,15 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "store/db/result_origin.hpp"
 #include "store/db/sqlite_db.hpp"
 
 namespace gyrocal::db {
 
-struct ValidationRow {
-    int64_t validation_id = 0;       // set by the database (ignored on insert)
-    std::string run_id, sensor_id;   // the validated run (must exist) and sensor
-    int64_t created_wall_utime = 0;  // [us] wall clock; <= 0 on insert = now
-    std::string software_version, command_line;
+// One validation of one sensor of a run (the origin: the validated run and sensor).
+struct ValidationRow : ResultOrigin {
+    int64_t validation_id = 0;            // set by the database (ignored on insert)
     std::string model_origin;             // where the model came from
     std::optional<int64_t> coeff_row_id;  // the stored set, when it came from this database
     std::string model_run_id;             // the run the model was fitted on, when known

@@ -21,6 +21,18 @@ bool Mentions(const std::vector<std::string>& notes, const std::string& what) {
                        [&](const std::string& n) { return n.find(what) != std::string::npos; });
 }
 
+// What binning `what` kept, `kept` bins, and left out and counted: the bins and samples below the
+// fill limit and those outside the plateau windows of a run whose motion is unknown.
+void ExpectBinned(const char* what, const BinnedRun& b, size_t kept, BinDrops underfilled,
+                  BinDrops unknown_motion) {
+    SCOPED_TRACE(what);
+    EXPECT_EQ(b.size(), kept);
+    EXPECT_EQ(b.underfilled().bins, underfilled.bins);
+    EXPECT_EQ(b.underfilled().samples, underfilled.samples);
+    EXPECT_EQ(b.unknown_motion().bins, unknown_motion.bins);
+    EXPECT_EQ(b.unknown_motion().samples, unknown_motion.samples);
+}
+
 // 100 Hz samples at rest from 0 to n / 100 s, but the ones in [skip_from, skip_to).
 std::vector<GyroSample> Samples(int n, int skip_from = 0, int skip_to = 0) {
     std::vector<GyroSample> raw;
@@ -79,10 +91,7 @@ TEST(Drops, BinsBelowTheFillLimitAreCountedWithTheirSamples) {
     const SensorRun run = BuildSensorRun("S01", Samples(40500, 10000, 10300), {}, {}, {});
     const BinnedRun binned(run, BinOptions::Defaults());
     // THEN 2 bins holding 1200 samples are left out and counted, 39 kept
-    EXPECT_EQ(binned.size(), 39u);
-    EXPECT_EQ(binned.underfilled().bins, 2);
-    EXPECT_EQ(binned.underfilled().samples, 1200);
-    EXPECT_EQ(binned.unknown_motion().bins, 0);
+    ExpectBinned("batch", binned, 39, {.bins = 2, .samples = 1200}, {});
     const SensorResult r = AnalyzeBinned(run, binned);
     EXPECT_TRUE(Mentions(r.notes, "2 bins at rest below the fill limit"));
     EXPECT_TRUE(Mentions(r.notes, "holding 1200 samples"));
@@ -91,10 +100,8 @@ TEST(Drops, BinsBelowTheFillLimitAreCountedWithTheirSamples) {
     for (const GyroSample& s : Samples(40500, 10000, 10300)) b.AddGyro("S01", s);
     b.Flush();
     const BinSnapshot snap = b.Snapshot("S01");
-    const BinnedRun inc = snap.Binned(BinOptions::Defaults());
-    EXPECT_EQ(inc.size(), 39u);
-    EXPECT_EQ(inc.underfilled().bins, 2);
-    EXPECT_EQ(inc.underfilled().samples, 1200);
+    ExpectBinned("incremental", snap.Binned(BinOptions::Defaults()), 39,
+                 {.bins = 2, .samples = 1200}, {});
     EXPECT_TRUE(Mentions(snap.Analyze(AnalysisOptions::Defaults()).notes, "holding 1200 samples"));
 }
 
@@ -110,10 +117,7 @@ TEST(Drops, AFailedEncoderMakesMotionUnknownAndKeepsOnlyPlateauWindows) {
     EXPECT_TRUE(run.motion_unknown);
     EXPECT_EQ(run.n_bad_encoder, 40000);
     const BinnedRun binned(run, BinOptions::Defaults());
-    EXPECT_EQ(binned.size(), 11u);
-    EXPECT_EQ(binned.unknown_motion().bins, 29);
-    EXPECT_EQ(binned.unknown_motion().samples, 29000);
-    EXPECT_EQ(binned.underfilled().bins, 0);
+    ExpectBinned("batch", binned, 11, {}, {.bins = 29, .samples = 29000});
     const SensorResult r = AnalyzeBinned(run, binned);
     EXPECT_TRUE(Mentions(r.notes, "table motion unknown"));
     EXPECT_TRUE(Mentions(r.notes, "29 bins holding 29000 samples outside them left out"));
@@ -127,10 +131,8 @@ TEST(Drops, AFailedEncoderMakesMotionUnknownAndKeepsOnlyPlateauWindows) {
     const BinSnapshot snap = b.Snapshot("S01");
     EXPECT_TRUE(snap.run().motion_unknown);
     EXPECT_EQ(snap.run().n_bad_encoder, 40000);
-    const BinnedRun inc = snap.Binned(BinOptions::Defaults());
-    EXPECT_EQ(inc.size(), 11u);
-    EXPECT_EQ(inc.unknown_motion().bins, 29);
-    EXPECT_EQ(inc.unknown_motion().samples, 29000);
+    ExpectBinned("incremental", snap.Binned(BinOptions::Defaults()), 11, {},
+                 {.bins = 29, .samples = 29000});
 }
 
 TEST(Drops, NoEncoderWithRotationsSaysTheTurnsAreInTheStillData) {

@@ -25,16 +25,12 @@ using nlohmann::json;
 TEST(ClosedLoopEndToEnd, FindsAnUndeclaredSupplyEffectInARecordedRun) {
     const std::string dir = FreshDir("gyrocal_loop");
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
-    // The five-point profile gives the held-out stretch plateaus before it; fast thermal constants
-    // keep it to ~1 simulated hour. The temperature sensor lag is made negligible (0.1 s) so the
-    // only effect the declared model lacks is the one switched on: with the default 15 s lag the
-    // analysis rightly also finds temp_rate (the lag makes the offset follow dT/dt).
-    launch::ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--profile", "five"},
-                                     SimRunArgs("1", "11", "30", db, UdpmUrl(7789), dir + "/logs"),
-                                     {"--effect", "supply=0.05"},
-                                     kFastThermalArgs,
-                                     {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
-                             out, out);
+    // The five-point profile gives the held-out stretch plateaus before it; the supply effect is
+    // the only one the declared model lacks (OneEffectRunArgs).
+    launch::ChildProcess cal(
+        Joined({{GYROCAL_CLI, "calibrate", "--profile", "five", "--effect", "supply=0.05"},
+                OneEffectRunArgs("11", db, UdpmUrl(7789), dir + "/logs")}),
+        out, out);
     auto ended = cal.Wait(540s);
     ASSERT_TRUE(ended.has_value()) << launch::ReadLog(out);
     ASSERT_EQ(ended->code, 0) << launch::ReadLog(out);

@@ -96,10 +96,7 @@ TEST(CalibrateEndToEnd, Seed3OnTwoSimulatedUnitsAcrossRealProcesses) {
                           run + "' AND sensor_id='" + id + "'"),
                   6);
         // The final coefficient set, linked to exactly those plateaus (provenance).
-        const std::string row = sql.Rows("SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id='" +
-                                         run + "' AND sensor_id='" + id + "'")
-                                    .at(0)
-                                    .at(0);
+        const std::string row = NewestCoeffRow(sql, run, id);
         ASSERT_FALSE(row.empty());
         EXPECT_EQ(sql.Int("SELECT count(*) FROM v_coeff_provenance WHERE coeff_row_id=" + row +
                           " AND kind='plateau' AND item_found=1"),

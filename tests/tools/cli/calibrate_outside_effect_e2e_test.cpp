@@ -51,17 +51,13 @@ std::string LineStartingWith(const std::string& text, const std::string& prefix)
 std::string CalibrateAndAnalyzeAging(const std::string& dir, const std::string& setpoints, int port,
                                      std::string& run) {
     const std::string db = dir + "/run.db", out = dir + "/calibrate.out";
-    // Fast thermal constants: ~1 simulated hour. Aging 4 mV/h is ~4 mV over the run, ~1.2 mV RMS
+    // ~1 simulated hour (OneEffectRunArgs). Aging 4 mV/h is ~4 mV over the run, ~1.2 mV RMS
     // about its mean: ~3x the floor bound of the outcome (~0.35 mV for 10 s bins of this rig's
-    // noise, analyze.hpp step 9), so a missed drift must show. The sensor lag is made negligible
-    // (0.1 s) so that the declared model lacks nothing else (with the default 15 s lag temp_rate
-    // is rightly found as well).
-    launch::ChildProcess cal(Joined({{GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints},
-                                     SimRunArgs("1", "12", "30", db, UdpmUrl(port), dir + "/logs"),
-                                     {"--effect", "aging=0.004"},
-                                     kFastThermalArgs,
-                                     {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}}),
-                             out, out);
+    // noise, analyze.hpp step 9), so a missed drift must show.
+    launch::ChildProcess cal(
+        Joined({{GYROCAL_CLI, "calibrate", "--setpoints-c", setpoints, "--effect", "aging=0.004"},
+                OneEffectRunArgs("12", db, UdpmUrl(port), dir + "/logs")}),
+        out, out);
     auto ended = cal.Wait(540s);
     EXPECT_TRUE(ended.has_value()) << launch::ReadLog(out);
     if (!ended) return "";

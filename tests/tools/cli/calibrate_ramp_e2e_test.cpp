@@ -80,10 +80,7 @@ TEST(RampEndToEnd, FittedCurvesMatchTheRigTruthWithinTheNoise) {
         EXPECT_GE(sql.Int("SELECT count(*) FROM coeff_sets WHERE run_id='" + run +
                           "' AND sensor_id='" + id + "'"),
                   2);
-        const std::string row = sql.Rows("SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id='" +
-                                         run + "' AND sensor_id='" + id + "'")
-                                    .at(0)
-                                    .at(0);
+        const std::string row = NewestCoeffRow(sql, run, id);
         ASSERT_FALSE(row.empty());
         const model::Model offset = StoredModel(sql, row, "offset");
         const model::Model sens = StoredModel(sql, row, "sensitivity");

@@ -53,6 +53,19 @@ inline std::vector<std::string> Joined(std::initializer_list<std::vector<std::st
     return all;
 }
 
+// A simulated run made for `gyrocal analyze` to find the one effect a test switches on: one unit
+// drawn with `seed` at 30 times real time (the rest as SimRunArgs), the fast thermal constants
+// (~1 simulated hour), and the temperature sensor's lag made negligible (0.1 s) so that the
+// declared model lacks nothing else (with the rig's default 15 s lag the offset follows dT/dt and
+// the analysis rightly finds temp_rate as well); 500 s of wall time at most.
+inline std::vector<std::string> OneEffectRunArgs(const std::string& seed, const std::string& db,
+                                                 const std::string& url,
+                                                 const std::string& log_dir) {
+    return Joined({SimRunArgs("1", seed, "30", db, url, log_dir),
+                   kFastThermalArgs,
+                   {"--rig-arg=--sensor-tau-s=0.1", "--wall-timeout-s", "500"}});
+}
+
 // Per sensor of `run`: sensor_id, its gyro samples stored, the span of their seq (max - min + 1),
 // and the gaps the recorder counted on its GYRO_ channel (NULL when it has no losses row).
 inline std::string GyroStreamsSql(const std::string& run) {

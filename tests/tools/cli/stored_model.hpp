@@ -1,5 +1,5 @@
 #pragma once
-// A coefficient set's model read back from the database an end-to-end test produced.
+// A coefficient set read back from the database an end-to-end test produced.
 #include <cmath>
 #include <string>
 
@@ -7,6 +7,17 @@
 #include "tests/tools/cli/e2e_support.hpp"
 
 namespace gyrocal {
+
+// The coeff_row_id of the newest coefficient set stored for `sensor_id` in `run_id` (at the end
+// of a run, its final one), "" when there is none.
+inline std::string NewestCoeffRow(Sql& sql, const std::string& run_id,
+                                  const std::string& sensor_id) {
+    return sql
+        .Rows("SELECT max(coeff_row_id) FROM coeff_sets WHERE run_id='" + run_id +
+              "' AND sensor_id='" + sensor_id + "'")
+        .at(0)
+        .at(0);
+}
 
 // The model of the coefficient set in row `row` as stored (coeff_models, coeff_terms,
 // coeff_covariance; role offset|sensitivity): terms, coefficients, covariance (NULL: NaN).
