@@ -1,4 +1,4 @@
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 
 #include <unistd.h>
 
@@ -11,7 +11,7 @@
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/plot/svg.hpp"
 
-namespace gyrocal::plot {
+namespace gyrocal::plot::gnuplot {
 
 namespace fs = std::filesystem;
 
@@ -100,4 +100,4 @@ std::vector<std::string> DrawInlineSvgs(const std::string& gnuplot,
     return out;
 }
 
-}  // namespace gyrocal::plot
+}  // namespace gyrocal::plot::gnuplot

@@ -11,7 +11,7 @@
 #include "lcmtypes/launch/child_process.hpp"
 #include "processors/plot/figure.hpp"
 
-namespace gyrocal::plot {
+namespace gyrocal::plot::gnuplot {
 
 class GnuplotError : public std::runtime_error {
 public:
@@ -40,4 +40,4 @@ std::vector<std::string> DrawInto(const std::string& gnuplot, const std::string&
 std::vector<std::string> DrawInlineSvgs(const std::string& gnuplot,
                                         const std::vector<Figure>& figures);
 
-}  // namespace gyrocal::plot
+}  // namespace gyrocal::plot::gnuplot
