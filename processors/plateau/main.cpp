@@ -3,14 +3,14 @@
 #include <CLI/CLI.hpp>
 
 #include "lcmtypes/process/process_main.hpp"
-#include "processors/motion/motion_options.hpp"
+#include "processors/motion/node/motion_options.hpp"
 #include "processors/plateau/plateau_node.hpp"
 
 namespace {
 
 void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
     auto& d = o.detector;
-    gyrocal::motion::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
+    gyrocal::motion::node::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
     app.add_option("--window-s", d.window_s,
                    "[s] sliding window of the stability criterion, 1..3600");
     app.add_option("--slope-max-c-per-min", d.slope_max_c_per_min,
@@ -33,7 +33,7 @@ void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
                    "[s] samples this close to table motion are excluded");
     app.add_option("--encoder-stale-s", o.encoder_stale_s,
                    "[s] classify samples without the encoder once their stream is this far ahead");
-    gyrocal::motion::AddMoveOptions(app, o.move, "at rest");
+    gyrocal::motion::node::AddMoveOptions(app, o.move, "at rest");
     app.add_option("--noise-period-s", o.noise_period_s,
                    "[s] of data time between NOISE_<id> (Allan deviation) messages");
     app.add_option("--noise-quiet-slope-c-per-min", o.noise.quiet_slope_c_per_min,

@@ -6,7 +6,7 @@
 
 #include "gyrocal/plateau_state_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
-#include "processors/motion/motion_options.hpp"
+#include "processors/motion/node/motion_options.hpp"
 #include "processors/noise/noise_message.hpp"
 #include "processors/plateau/plateau_message.hpp"
 
@@ -20,9 +20,9 @@ bool Finite(double v) { return std::isfinite(v); }
 }  // namespace
 
 std::string PlateauOptions::Validate() const {
-    if (std::string e = motion::ValidateInput(sensors, encoder_id); !e.empty()) return e;
-    if (std::string e = detector.Validate(); !e.empty()) return motion::AsOption(e);
-    if (std::string e = move.Validate(); !e.empty()) return motion::AsOption(e);
+    if (std::string e = motion::node::ValidateInput(sensors, encoder_id); !e.empty()) return e;
+    if (std::string e = detector.Validate(); !e.empty()) return motion::node::AsOption(e);
+    if (std::string e = move.Validate(); !e.empty()) return motion::node::AsOption(e);
     if (!(motion_guard_s >= 0 && motion_guard_s <= 60))
         return "--motion-guard-s must be in [0, 60] s";
     if (!(encoder_stale_s > 0 && encoder_stale_s <= 600))
@@ -42,7 +42,7 @@ PlateauNode::PlateauNode(const PlateauOptions& options)
       chamber_setpoint_c_(std::numeric_limits<double>::quiet_NaN()) {
     bus_.Subscribe<chamber_state_t>(
         std::string(channels::kChamberState),
-        motion::Guarded(
+        motion::node::Guarded(
             status_, [this](const chamber_state_t& m, const std::string&) { OnChamberState(m); }));
 }
 

@@ -22,7 +22,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/process/status.hpp"
-#include "processors/motion/motion_inputs.hpp"
+#include "processors/motion/node/motion_inputs.hpp"
 #include "processors/motion/table_motion.hpp"
 #include "processors/noise/noise_tracker.hpp"
 #include "processors/plateau/plateau_detector.hpp"
@@ -46,7 +46,7 @@ struct PlateauOptions {
 };
 
 // Privately a MotionInputs::Handler: only its own MotionInputs calls the On* handlers.
-class PlateauNode : private motion::MotionInputs::Handler {
+class PlateauNode : private motion::node::MotionInputs::Handler {
 public:
     explicit PlateauNode(const PlateauOptions& options);  // throws BusError when LCM cannot open
     void Run();
@@ -64,7 +64,7 @@ private:
         noise::NoiseTracker noise;
         int64_t last_noise_utime = 0;
         std::deque<plateau::Sample> pending;
-        motion::StreamTime time;
+        motion::node::StreamTime time;
     };
     void OnGyro(const std::string& id, const gyro_sample_t& msg,
                 const std::string& channel) override;
@@ -80,12 +80,12 @@ private:
     PlateauOptions options_;
     bus::Bus bus_;
     process::StatusReporter status_;
-    motion::MotionInputs inputs_;
+    motion::node::MotionInputs inputs_;
     motion::TableMotion motion_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;
     double chamber_setpoint_c_;
-    motion::StreamTime chamber_time_;
+    motion::node::StreamTime chamber_time_;
     int64_t plateaus_ = 0;
     int64_t refused_ = 0;  // averaging windows refused for a sequence gap
 };

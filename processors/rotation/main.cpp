@@ -3,14 +3,14 @@
 #include <CLI/CLI.hpp>
 
 #include "lcmtypes/process/process_main.hpp"
-#include "processors/motion/motion_options.hpp"
+#include "processors/motion/node/motion_options.hpp"
 #include "processors/rotation/rotation_node.hpp"
 
 namespace {
 
 void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
     auto& e = o.estimator;
-    gyrocal::motion::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
+    gyrocal::motion::node::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
     app.add_option("--guard-s", e.guard_s, "[s] between the move and each rest window, 0..60");
     app.add_option("--rest-s", e.rest_s,
                    "[s] each rest window (offset before and after), 0.05..600");
@@ -25,7 +25,7 @@ void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
     app.add_option("--min-slip-deg", e.min_slip_deg,
                    "[deg] the gyro's and the encoder's angles may part this much before a slip is "
                    "called, 0..90");
-    gyrocal::motion::AddMoveOptions(app, o.move, "the move is over");
+    gyrocal::motion::node::AddMoveOptions(app, o.move, "the move is over");
 }
 
 }  // namespace

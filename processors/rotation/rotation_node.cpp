@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "lcmtypes/channels/channels.hpp"
-#include "processors/motion/motion_options.hpp"
+#include "processors/motion/node/motion_options.hpp"
 #include "processors/rotation/rotation_message.hpp"
 
 namespace gyrocal {
@@ -13,9 +13,9 @@ constexpr const char* kProcess = "gyrocal-rotation";
 }  // namespace
 
 std::string RotationOptions::Validate() const {
-    if (std::string e = motion::ValidateInput(sensors, encoder_id); !e.empty()) return e;
-    if (std::string e = estimator.Validate(); !e.empty()) return motion::AsOption(e);
-    if (std::string e = move.Validate(); !e.empty()) return motion::AsOption(e);
+    if (std::string e = motion::node::ValidateInput(sensors, encoder_id); !e.empty()) return e;
+    if (std::string e = estimator.Validate(); !e.empty()) return motion::node::AsOption(e);
+    if (std::string e = move.Validate(); !e.empty()) return motion::node::AsOption(e);
     return "";
 }
 

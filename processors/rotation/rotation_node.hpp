@@ -16,7 +16,7 @@
 #include "gyrocal/run_event_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/process/status.hpp"
-#include "processors/motion/motion_inputs.hpp"
+#include "processors/motion/node/motion_inputs.hpp"
 #include "processors/motion/table_motion.hpp"
 #include "processors/rotation/rotation_estimator.hpp"
 
@@ -34,7 +34,7 @@ struct RotationOptions {
 };
 
 // Privately a MotionInputs::Handler: only its own MotionInputs calls the On* handlers.
-class RotationNode : private motion::MotionInputs::Handler {
+class RotationNode : private motion::node::MotionInputs::Handler {
 public:
     explicit RotationNode(const RotationOptions& options);  // throws BusError when LCM cannot open
     void Run();
@@ -47,7 +47,7 @@ private:
     struct Sensor {
         explicit Sensor(const rotation::RotationConfig& c) : estimator(c) {}
         rotation::RotationEstimator estimator;
-        motion::StreamTime time;
+        motion::node::StreamTime time;
     };
     void OnGyro(const std::string& id, const gyro_sample_t& msg,
                 const std::string& channel) override;
@@ -59,7 +59,7 @@ private:
     RotationOptions options_;
     bus::Bus bus_;
     process::StatusReporter status_;
-    motion::MotionInputs inputs_;
+    motion::node::MotionInputs inputs_;
     motion::MoveDetector detector_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;

@@ -1,8 +1,8 @@
-#include "processors/motion/motion_options.hpp"
+#include "processors/motion/node/motion_options.hpp"
 
 #include "lcmtypes/channels/channels.hpp"
 
-namespace gyrocal::motion {
+namespace gyrocal::motion::node {
 
 void AddInputOptions(CLI::App& app, std::string& lcm_url, std::vector<std::string>& sensors,
                      std::string& encoder_id) {
@@ -36,4 +36,4 @@ std::string AsOption(std::string message) {
     return "--" + message;
 }
 
-}  // namespace gyrocal::motion
+}  // namespace gyrocal::motion::node

@@ -8,7 +8,7 @@
 
 #include "processors/motion/table_motion.hpp"
 
-namespace gyrocal::motion {
+namespace gyrocal::motion::node {
 
 // --lcm-url, --sensors, --encoder-id.
 void AddInputOptions(CLI::App& app, std::string& lcm_url, std::vector<std::string>& sensors,
@@ -25,4 +25,4 @@ std::string ValidateInput(const std::vector<std::string>& sensors, const std::st
 // with dashes ("--window-s must be ...").
 std::string AsOption(std::string message);
 
-}  // namespace gyrocal::motion
+}  // namespace gyrocal::motion::node

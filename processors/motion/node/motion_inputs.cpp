@@ -1,11 +1,11 @@
-#include "processors/motion/motion_inputs.hpp"
+#include "processors/motion/node/motion_inputs.hpp"
 
 #include <algorithm>
 #include <utility>
 
 #include "lcmtypes/channels/channels.hpp"
 
-namespace gyrocal::motion {
+namespace gyrocal::motion::node {
 
 bool StreamTime::InOrder(int64_t utime, const std::string& stream,
                          process::StatusReporter& status) const {
@@ -70,4 +70,4 @@ void MotionInputs::OnEncoder(const encoder_sample_t& m) {
     handler_.OnEncoder(EncoderReading{m.utime, m.counts, m.counts_per_rev});
 }
 
-}  // namespace gyrocal::motion
+}  // namespace gyrocal::motion::node

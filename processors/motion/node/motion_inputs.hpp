@@ -17,7 +17,7 @@
 #include "lcmtypes/process/status.hpp"
 #include "processors/motion/table_motion.hpp"
 
-namespace gyrocal::motion {
+namespace gyrocal::motion::node {
 
 // Wraps a bus handler so that an exception never reaches LCM: it is counted as a refusal with
 // its text.
@@ -83,4 +83,4 @@ private:
     StreamTime encoder_time_;
 };
 
-}  // namespace gyrocal::motion
+}  // namespace gyrocal::motion::node
