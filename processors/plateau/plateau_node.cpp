@@ -7,7 +7,7 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/node/motion_options.hpp"
-#include "processors/noise/noise_message.hpp"
+#include "processors/plateau/noise_message.hpp"
 #include "processors/plateau/plateau_message.hpp"
 
 namespace gyrocal {

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <variant>
 
-#include "processors/noise/noise_message.hpp"
+#include "processors/plateau/noise_message.hpp"
 #include "processors/plateau/plateau_message.hpp"
 #include "processors/rotation/rotation_message.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"

@@ -1,4 +1,4 @@
-#include "processors/noise/noise_message.hpp"
+#include "processors/plateau/noise_message.hpp"
 
 namespace gyrocal {
 
