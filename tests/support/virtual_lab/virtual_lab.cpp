@@ -11,7 +11,7 @@
 
 #include "processors/plateau/noise_message.hpp"
 #include "processors/plateau/plateau_message.hpp"
-#include "processors/rotation/rotation_message.hpp"
+#include "processors/rotation/node/rotation_message.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::virtual_lab {
@@ -150,7 +150,7 @@ private:
         const rotation::MotionView view{rotation_moves_.watermark_utime(),
                                         rotation_moves_.current_start_utime()};
         for (const rotation::Point& p : s.estimator.Poll(view)) {
-            out_.sensitivity_points.push_back(ToMessage(s.id, run_id_, p));
+            out_.sensitivity_points.push_back(rotation::node::ToMessage(s.id, run_id_, p));
             const gyrocal::sensitivity_point_t& m = out_.sensitivity_points.back();
             if (!procedure_->done()) {
                 if (ramp_)

@@ -1,6 +1,6 @@
-#include "processors/rotation/rotation_message.hpp"
+#include "processors/rotation/node/rotation_message.hpp"
 
-namespace gyrocal {
+namespace gyrocal::rotation::node {
 
 sensitivity_point_t ToMessage(const std::string& sensor_id, const std::string& run_id,
                               const rotation::Point& p) {
@@ -27,4 +27,4 @@ sensitivity_point_t ToMessage(const std::string& sensor_id, const std::string& r
     return m;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::rotation::node

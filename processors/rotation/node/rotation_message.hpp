@@ -7,10 +7,10 @@
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "processors/rotation/rotation_estimator.hpp"
 
-namespace gyrocal {
+namespace gyrocal::rotation::node {
 
 // run_id: the run in force when the point was made ("" = none).
 sensitivity_point_t ToMessage(const std::string& sensor_id, const std::string& run_id,
                               const rotation::Point& p);
 
-}  // namespace gyrocal
+}  // namespace gyrocal::rotation::node

@@ -4,11 +4,11 @@
 
 #include "lcmtypes/process/process_main.hpp"
 #include "processors/motion/node/motion_options.hpp"
-#include "processors/rotation/rotation_node.hpp"
+#include "processors/rotation/node/rotation_node.hpp"
 
 namespace {
 
-void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
+void AddOptions(CLI::App& app, gyrocal::rotation::node::RotationOptions& o) {
     auto& e = o.estimator;
     gyrocal::motion::node::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
     app.add_option("--guard-s", e.guard_s, "[s] between the move and each rest window, 0..60");
@@ -31,7 +31,7 @@ void AddOptions(CLI::App& app, gyrocal::RotationOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return gyrocal::process::NodeMain<gyrocal::RotationNode>(
+    return gyrocal::process::NodeMain<gyrocal::rotation::node::RotationNode>(
         argc, argv, "gyrocal-rotation",
         "gyrocal-rotation: sensitivity from encoder-measured rotations, per sensor.\n"
         "Subscribes GYRO_*, ENCODER, RUN_EVENT; publishes SENSITIVITY_<id> (one per move,\n"

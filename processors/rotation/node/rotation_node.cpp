@@ -1,12 +1,12 @@
-#include "processors/rotation/rotation_node.hpp"
+#include "processors/rotation/node/rotation_node.hpp"
 
 #include <cmath>
 
 #include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/node/motion_options.hpp"
-#include "processors/rotation/rotation_message.hpp"
+#include "processors/rotation/node/rotation_message.hpp"
 
-namespace gyrocal {
+namespace gyrocal::rotation::node {
 
 namespace {
 constexpr const char* kProcess = "gyrocal-rotation";
@@ -96,4 +96,4 @@ void RotationNode::PollAndPublish(const std::string& id, Sensor& sensor) {
     }
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::rotation::node

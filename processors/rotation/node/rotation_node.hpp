@@ -20,7 +20,7 @@
 #include "processors/motion/table_motion.hpp"
 #include "processors/rotation/rotation_estimator.hpp"
 
-namespace gyrocal {
+namespace gyrocal::rotation::node {
 
 struct RotationOptions {
     std::string lcm_url;               // "" = $GYROCAL_LCM_URL or the default
@@ -66,4 +66,4 @@ private:
     int64_t moves_ = 0, accepted_ = 0, refused_ = 0;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::rotation::node
