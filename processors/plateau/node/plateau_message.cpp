@@ -1,6 +1,6 @@
-#include "processors/plateau/plateau_message.hpp"
+#include "processors/plateau/node/plateau_message.hpp"
 
-namespace gyrocal {
+namespace gyrocal::plateau::node {
 
 plateau_t ToMessage(const std::string& sensor_id, const plateau::Plateau& p) {
     plateau_t m;
@@ -28,4 +28,4 @@ plateau_t ToMessage(const std::string& sensor_id, const plateau::Plateau& p) {
     return m;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::plateau::node

@@ -1,4 +1,4 @@
-#include "processors/plateau/plateau_node.hpp"
+#include "processors/plateau/node/plateau_node.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,10 @@
 #include "gyrocal/plateau_state_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
 #include "processors/motion/node/motion_options.hpp"
-#include "processors/plateau/noise_message.hpp"
-#include "processors/plateau/plateau_message.hpp"
+#include "processors/plateau/node/noise_message.hpp"
+#include "processors/plateau/node/plateau_message.hpp"
 
-namespace gyrocal {
+namespace gyrocal::plateau::node {
 
 namespace {
 
@@ -187,4 +187,4 @@ void PlateauNode::Publish(const std::string& id, const plateau::Step& step) {
     }
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::plateau::node

@@ -1,6 +1,6 @@
-#include "processors/plateau/noise_message.hpp"
+#include "processors/plateau/node/noise_message.hpp"
 
-namespace gyrocal {
+namespace gyrocal::plateau::node {
 
 noise_t ToNoiseMessage(const std::string& sensor_id, const std::string& run_id,
                        const noise::NoiseEstimate& e) {
@@ -30,4 +30,4 @@ noise_t ToNoiseMessage(const std::string& sensor_id, const std::string& run_id,
     return m;
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::plateau::node

@@ -7,8 +7,8 @@
 #include "gyrocal/plateau_t.hpp"
 #include "processors/plateau/plateau_detector.hpp"
 
-namespace gyrocal {
+namespace gyrocal::plateau::node {
 
 plateau_t ToMessage(const std::string& sensor_id, const plateau::Plateau& p);
 
-}  // namespace gyrocal
+}  // namespace gyrocal::plateau::node

@@ -27,7 +27,7 @@
 #include "processors/noise/noise_tracker.hpp"
 #include "processors/plateau/plateau_detector.hpp"
 
-namespace gyrocal {
+namespace gyrocal::plateau::node {
 
 struct PlateauOptions {
     std::string lcm_url;               // "" = $GYROCAL_LCM_URL or the default
@@ -90,4 +90,4 @@ private:
     int64_t refused_ = 0;  // averaging windows refused for a sequence gap
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::plateau::node

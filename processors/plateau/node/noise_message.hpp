@@ -6,9 +6,9 @@
 #include "gyrocal/noise_t.hpp"
 #include "processors/noise/noise_tracker.hpp"
 
-namespace gyrocal {
+namespace gyrocal::plateau::node {
 
 noise_t ToNoiseMessage(const std::string& sensor_id, const std::string& run_id,
                        const noise::NoiseEstimate& e);
 
-}  // namespace gyrocal
+}  // namespace gyrocal::plateau::node

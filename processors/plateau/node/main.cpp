@@ -4,11 +4,11 @@
 
 #include "lcmtypes/process/process_main.hpp"
 #include "processors/motion/node/motion_options.hpp"
-#include "processors/plateau/plateau_node.hpp"
+#include "processors/plateau/node/plateau_node.hpp"
 
 namespace {
 
-void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
+void AddOptions(CLI::App& app, gyrocal::plateau::node::PlateauOptions& o) {
     auto& d = o.detector;
     gyrocal::motion::node::AddInputOptions(app, o.lcm_url, o.sensors, o.encoder_id);
     app.add_option("--window-s", d.window_s,
@@ -46,7 +46,7 @@ void AddOptions(CLI::App& app, gyrocal::PlateauOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return gyrocal::process::NodeMain<gyrocal::PlateauNode>(
+    return gyrocal::process::NodeMain<gyrocal::plateau::node::PlateauNode>(
         argc, argv, "gyrocal-plateau",
         "gyrocal-plateau: stability (plateau) detector per sensor.\n"
         "Subscribes GYRO_*, ENCODER, CHAMBER_STATE, RUN_EVENT; publishes PLATEAU_<id>,\n"
