@@ -1,11 +1,11 @@
-#include "processors/sequencer/sequencer_options.hpp"
+#include "processors/sequencer/node/sequencer_options.hpp"
 
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "lcmtypes/channels/channels.hpp"
 
-namespace gyrocal::sequencer {
+namespace gyrocal::sequencer::node {
 namespace {
 
 // What the options hold before they are resolved into SequencerOptions (the validator's input).
@@ -145,4 +145,4 @@ std::function<std::string()> AddSequencerOptions(CLI::App& app, SequencerOptions
     return [&o, raw] { return Validate(o, *raw); };
 }
 
-}  // namespace gyrocal::sequencer
+}  // namespace gyrocal::sequencer::node

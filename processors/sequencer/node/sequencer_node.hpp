@@ -13,7 +13,7 @@
 #include "processors/model/convert.hpp"
 #include "processors/sequencer/procedure.hpp"
 
-namespace gyrocal::sequencer {
+namespace gyrocal::sequencer::node {
 
 struct SequencerOptions {
     std::string lcm_url;
@@ -67,4 +67,4 @@ private:
     std::string config_json_;
 };
 
-}  // namespace gyrocal::sequencer
+}  // namespace gyrocal::sequencer::node

@@ -1,4 +1,4 @@
-#include "processors/sequencer/sequencer_node.hpp"
+#include "processors/sequencer/node/sequencer_node.hpp"
 
 #include <unistd.h>
 
@@ -22,7 +22,7 @@
 #include "lcmtypes/process/shutdown.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"
 
-namespace gyrocal::sequencer {
+namespace gyrocal::sequencer::node {
 namespace {
 
 std::string GeneratedRunId() {
@@ -203,4 +203,4 @@ int SequencerNode::Run() {
     return procedure_->outcome() == "completed" ? 0 : 3;
 }
 
-}  // namespace gyrocal::sequencer
+}  // namespace gyrocal::sequencer::node

@@ -12,9 +12,9 @@
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/process_main.hpp"
 #include "lcmtypes/process/shutdown.hpp"
-#include "processors/sequencer/sequencer_options.hpp"
+#include "processors/sequencer/node/sequencer_options.hpp"
 
-using namespace gyrocal::sequencer;
+using namespace gyrocal::sequencer::node;
 
 int main(int argc, char** argv) {
     SequencerOptions o = SequencerOptions::Defaults();
