@@ -17,11 +17,11 @@
 #include "lcmtypes/process/status.hpp"
 #include "processors/compensator/compensate.hpp"
 
-namespace gyrocal {
+namespace gyrocal::compensator::node {
 
 struct CompensatorNodeOptions {
     std::string lcm_url;  // "" = $GYROCAL_LCM_URL or the default
-    compensate::CompensatorOptions core;
+    compensator::CompensatorOptions core;
     std::vector<std::string> sensors;  // empty = every sensor
     static CompensatorNodeOptions Defaults() { return {}; }
 };
@@ -44,7 +44,7 @@ private:
     // The sensor of a per-sensor channel when wanted and equal to the message's; else counted.
     bool Accept(std::string_view prefix, const std::string& channel, const std::string& msg_sensor,
                 std::string* id);
-    compensate::SensorCompensator& Comp(const std::string& id);
+    compensator::SensorCompensator& Comp(const std::string& id);
     void Rejected(const std::string& key, const std::string& detail);
     void UpdateStatus();
     // Publishes the rates of the message just handled: one rate_t for a single sample, one
@@ -55,10 +55,10 @@ private:
     bus::Bus bus_;
     process::StatusReporter status_;
     std::set<std::string> only_;
-    std::map<std::string, compensate::SensorCompensator> comps_;
+    std::map<std::string, compensator::SensorCompensator> comps_;
     std::map<std::string, std::vector<rate_t>> pending_rates_;  // channel -> rates not yet sent
     int64_t uncompensated_ = 0, compensated_ = 0, out_of_range_ = 0, sets_applied_ = 0,
             sets_rejected_ = 0;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::compensator::node

@@ -1,9 +1,9 @@
-#include "processors/compensator/compensator_node.hpp"
+#include "processors/compensator/node/compensator_node.hpp"
 
 #include "gyrocal/rate_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
 
-namespace gyrocal {
+namespace gyrocal::compensator::node {
 
 namespace {
 constexpr const char* kProcess = "gyrocal-compensator";
@@ -73,15 +73,15 @@ void CompensatorNode::OnCoeffs(const coeff_set_t& m, const std::string& channel)
         std::string id;
         if (!Accept(channels::kCoeffsPrefix, channel, m.sensor_id, &id)) return;
         const std::string which = channel + " set " + std::to_string(m.coeff_set_id) + ": ";
-        compensate::SetResult r;
+        compensator::SetResult r;
         try {
             r = Comp(id).SetCoefficients(model::FromMsg(m));
         } catch (const model::ModelError& e) {
-            r = {compensate::SetOutcome::kRejected, e.what()};
+            r = {compensator::SetOutcome::kRejected, e.what()};
         }
-        if (r.outcome == compensate::SetOutcome::kRejected) {
+        if (r.outcome == compensator::SetOutcome::kRejected) {
             Rejected("bad_coeff_set", which + r.detail + " (the previous set stays in force)");
-        } else if (r.outcome == compensate::SetOutcome::kApplied) {
+        } else if (r.outcome == compensator::SetOutcome::kApplied) {
             ++sets_applied_;
             status_.SetExtra(id + ".coeff_set_id", static_cast<double>(m.coeff_set_id));
             status_.set_state("compensating");
@@ -95,13 +95,13 @@ void CompensatorNode::OnGyro(const gyro_sample_t& m, const std::string& channel)
     status_.Guarded([&] {
         std::string id;
         if (!Accept(channels::kGyroPrefix, channel, m.sensor_id, &id)) return;
-        const compensate::ApplyResult r = Comp(id).Apply(compensate::SampleOf(m));
-        if (r.status == compensate::ApplyStatus::kNoCoefficients) {
+        const compensator::ApplyResult r = Comp(id).Apply(compensator::SampleOf(m));
+        if (r.status == compensator::ApplyStatus::kNoCoefficients) {
             ++uncompensated_;
             return;
         }
-        if (r.status != compensate::ApplyStatus::kOk) {
-            status_.Reject(compensate::ToString(r.status),
+        if (r.status != compensator::ApplyStatus::kOk) {
+            status_.Reject(compensator::ToString(r.status),
                            channel + " seq " + std::to_string(m.seq) + ": " + r.detail);
             return;
         }
@@ -120,10 +120,10 @@ void CompensatorNode::OnGyro(const gyro_sample_t& m, const std::string& channel)
     });
 }
 
-compensate::SensorCompensator& CompensatorNode::Comp(const std::string& id) {
+compensator::SensorCompensator& CompensatorNode::Comp(const std::string& id) {
     auto it = comps_.find(id);
     if (it == comps_.end())
-        it = comps_.emplace(id, compensate::SensorCompensator(options_.core)).first;
+        it = comps_.emplace(id, compensator::SensorCompensator(options_.core)).first;
     return it->second;
 }
 
@@ -146,4 +146,4 @@ void CompensatorNode::UpdateStatus() {
     status_.SetExtra("power_on_assumed", static_cast<double>(assumed));
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::compensator::node

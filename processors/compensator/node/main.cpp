@@ -4,11 +4,12 @@
 
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/process_main.hpp"
-#include "processors/compensator/compensator_node.hpp"
+#include "processors/compensator/node/compensator_node.hpp"
 
 int main(int argc, char** argv) {
     constexpr const char* kProcess = "gyrocal-compensator";
-    gyrocal::CompensatorNodeOptions o = gyrocal::CompensatorNodeOptions::Defaults();
+    gyrocal::compensator::node::CompensatorNodeOptions o =
+        gyrocal::compensator::node::CompensatorNodeOptions::Defaults();
     std::string policy = gyrocal::model::ToString(o.core.range_policy);
     CLI::App app{
         "gyrocal-compensator: applies the newest COEFFS_<id> to every GYRO_<id> sample and "
@@ -35,5 +36,6 @@ int main(int argc, char** argv) {
     };
     if (auto exit_code = gyrocal::process::ParseCommandLine(app, argc, argv, kProcess, validate))
         return *exit_code;
-    return gyrocal::process::RunUntilStopped(kProcess, [&] { gyrocal::CompensatorNode(o).Run(); });
+    return gyrocal::process::RunUntilStopped(
+        kProcess, [&] { gyrocal::compensator::node::CompensatorNode(o).Run(); });
 }
