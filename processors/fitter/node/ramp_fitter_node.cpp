@@ -7,9 +7,9 @@
 #include "gyrocal/power_state_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
 #include "processors/fitter/analysis_message.hpp"
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 
-namespace gyrocal {
+namespace gyrocal::fitter::node {
 
 StillFitChannel::StillFitChannel(bus::Bus& bus, process::StatusReporter& status,
                                  fitter::RampFitter& fitter)
@@ -128,4 +128,4 @@ void RampFitterNode::HandleFor(int timeout_ms) {
     if (channel_->Publish() > 0) status_.set_state("fitted (ramp mode)");
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::fitter::node

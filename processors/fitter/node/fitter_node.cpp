@@ -1,11 +1,11 @@
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 
 #include <algorithm>
 
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/process_main.hpp"
 
-namespace gyrocal {
+namespace gyrocal::fitter::node {
 
 namespace {
 constexpr const char* kProcess = "gyrocal-fitter";
@@ -202,4 +202,4 @@ void FitterNode::UpdateStatus() {
     status_.SetExtra("duplicates", static_cast<double>(core_.duplicates()));
 }
 
-}  // namespace gyrocal
+}  // namespace gyrocal::fitter::node

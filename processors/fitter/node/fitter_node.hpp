@@ -15,11 +15,11 @@
 
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/process/status.hpp"
-#include "processors/fitter/fit_worker.hpp"
 #include "processors/fitter/fitter_core.hpp"
+#include "processors/fitter/node/fit_worker.hpp"
 #include "processors/fitter/ramp_fitter.hpp"
 
-namespace gyrocal {
+namespace gyrocal::fitter::node {
 
 struct FitterOptions {
     std::string lcm_url;  // "" = $GYROCAL_LCM_URL or the default
@@ -46,13 +46,13 @@ public:
     void Submit(std::vector<fitter::FitJob> jobs);
     // Publishes the results done so far; returns how many.
     size_t Publish();
-    fitter::FitWorker& worker() { return worker_; }
+    FitWorker& worker() { return worker_; }
 
 private:
     bus::Bus& bus_;
     process::StatusReporter& status_;
     fitter::RampFitter& fitter_;
-    fitter::FitWorker worker_;
+    FitWorker worker_;
     int64_t now_utime_ = 0;
     int64_t sets_published_ = 0;
     double max_fit_s_ = 0.0;
@@ -96,4 +96,4 @@ private:
     std::optional<StillFitChannel> channel_;
 };
 
-}  // namespace gyrocal
+}  // namespace gyrocal::fitter::node

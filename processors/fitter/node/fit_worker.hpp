@@ -23,7 +23,7 @@
 
 #include "processors/fitter/ramp_fitter.hpp"
 
-namespace gyrocal::fitter {
+namespace gyrocal::fitter::node {
 
 class FitWorker {
 public:
@@ -55,4 +55,4 @@ private:
     std::thread thread_;  // last: started once the rest is initialised
 };
 
-}  // namespace gyrocal::fitter
+}  // namespace gyrocal::fitter::node

@@ -1,11 +1,11 @@
-#include "processors/fitter/fit_worker.hpp"
+#include "processors/fitter/node/fit_worker.hpp"
 
 #include <malloc.h>
 
 #include <algorithm>
 #include <exception>
 
-namespace gyrocal::fitter {
+namespace gyrocal::fitter::node {
 
 FitWorker::FitWorker(Runner run) : run_(std::move(run)), thread_([this] { Loop(); }) {}
 
@@ -100,4 +100,4 @@ void FitWorker::Loop() {
     }
 }
 
-}  // namespace gyrocal::fitter
+}  // namespace gyrocal::fitter::node
