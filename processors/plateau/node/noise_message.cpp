@@ -1,13 +1,13 @@
 #include "processors/plateau/node/noise_message.hpp"
 
+#include "processors/motion/node/result_fields.hpp"
+
 namespace gyrocal::plateau::node {
 
 noise_t ToNoiseMessage(const std::string& sensor_id, const std::string& run_id,
                        const noise::NoiseEstimate& e) {
     noise_t m{};
-    m.utime = e.utime;
-    m.sensor_id = sensor_id;
-    m.run_id = run_id;
+    motion::node::Stamp(m, e.utime, sensor_id, run_id);
     m.still_s = e.still_s;
     m.n_segments = e.segments;
     m.longest_segment_s = e.longest_s;

@@ -1,19 +1,15 @@
 #include "processors/plateau/node/plateau_message.hpp"
 
+#include "processors/motion/node/result_fields.hpp"
+
 namespace gyrocal::plateau::node {
 
 plateau_t ToMessage(const std::string& sensor_id, const plateau::Plateau& p) {
     plateau_t m;
-    m.utime = p.end_utime;
-    m.sensor_id = sensor_id;
-    m.run_id = p.run_id;
+    motion::node::Stamp(m, p.end_utime, sensor_id, p.run_id);
+    motion::node::CopyWindow(m, p);
     m.plateau_id = p.plateau_id;
     m.setpoint_c = p.setpoint_c;
-    m.start_utime = p.start_utime;
-    m.end_utime = p.end_utime;
-    m.first_seq = p.first_seq;
-    m.last_seq = p.last_seq;
-    m.n_samples = p.n_samples;
     m.n_excluded_motion = p.n_excluded_motion;
     m.seq_gaps = p.seq_gaps;
     m.temp_mean_c = p.temp_c.mean;
