@@ -105,11 +105,12 @@ build_apps() {
 #   tsan  TSan, the threaded parts: the bus, the batching writer and the real recorder
 #         (build-tsan, only their targets)
 # Suppressions (tools/sanitizers/*.supp) cover third-party code only, each with its reason.
-# fast: the code that reads what comes from outside (bus decode, CSV and line parsers, the
-# store and its writer, the recorder's mapper, every fuzz input) within CI's time budget.
-fast_tests=(lcmtypes_bus_test lcmtypes_roundtrip_test model_unit_tests compensator_unit_tests
-            gyrocal_csv_parser_test gyrocal_csv_messages_test store_db_test
-            store_storage_fault_test store_record_mapper_test store_writer_watch_test
+# fast: the code that reads what comes from outside (bus decode, channel names and sensor ids, CSV
+# and line parsers, the store and its writer, the recorder's mapper, every fuzz input) within CI's
+# time budget.
+fast_tests=(lcmtypes_bus_test lcmtypes_roundtrip_test lcmtypes_channels_test model_unit_tests
+            compensator_unit_tests gyrocal_csv_parser_test gyrocal_csv_messages_test
+            store_db_test store_storage_fault_test store_record_mapper_test store_writer_watch_test
             fuzz_replay_test)
 tsan_tests=(lcmtypes_bus_test lcmtypes_bus_multiprocess_test store_db_test store_storage_fault_test
             store_recorder_process_test store_recorder_fault_test store_recorder_crash_test)

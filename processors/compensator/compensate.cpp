@@ -6,7 +6,7 @@
 #include "lcmtypes/text/names.hpp"
 #include "lcmtypes/text/number.hpp"
 
-namespace gyrocal::compensate {
+namespace gyrocal::compensator {
 
 namespace {
 
@@ -153,4 +153,4 @@ ApplyResult SensorCompensator::Apply(const Sample& s) {
     return r;
 }
 
-}  // namespace gyrocal::compensate
+}  // namespace gyrocal::compensator

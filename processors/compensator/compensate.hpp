@@ -30,7 +30,7 @@
 #include "processors/model/inputs.hpp"
 #include "processors/motion/gyro_sample.hpp"
 
-namespace gyrocal::compensate {
+namespace gyrocal::compensator {
 
 struct CompensatorOptions {
     // Outside the calibrated range: extrapolate, flagged (the one out-of-range rule is stated in
@@ -110,4 +110,4 @@ private:
 // Empty when the sensitivity model is usable for division across its valid range.
 std::string ValidateSensitivity(const model::Evaluator& sensitivity);
 
-}  // namespace gyrocal::compensate
+}  // namespace gyrocal::compensator

@@ -5,7 +5,7 @@
 #include "lcmtypes/text/number.hpp"
 #include "processors/model/json.hpp"
 
-namespace gyrocal::compensate {
+namespace gyrocal::compensator {
 
 namespace {
 
@@ -108,4 +108,4 @@ std::string FormatRatesCsv(const std::vector<OfflineRate>& rates) {
     return out;
 }
 
-}  // namespace gyrocal::compensate
+}  // namespace gyrocal::compensator

@@ -24,7 +24,7 @@
 #include "producers/csv/row_messages.hpp"
 #include "producers/csv/row_parser.hpp"
 
-namespace gyrocal::compensate {
+namespace gyrocal::compensator {
 
 // Bad input (names the file, line or JSON field and what is valid).
 class OfflineError : public std::runtime_error {
@@ -75,4 +75,4 @@ std::map<std::string, model::CoeffSet> CoeffSetsFromJson(const std::string& text
 // significant digits (they read back to the same double).
 std::string FormatRatesCsv(const std::vector<OfflineRate>& rates);
 
-}  // namespace gyrocal::compensate
+}  // namespace gyrocal::compensator

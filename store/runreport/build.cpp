@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "store/db/central_url.hpp"
 #include "store/db/utc_text.hpp"
 #include "store/runreport/figures.hpp"
@@ -45,7 +45,7 @@ ReportResult WriteReport(const ReportOptions& o) {
              UnitFigures(in.units[i], in.stems.back(), in.plateau_slow_noise_dps, t0))
             figures.push_back(std::move(f));
     }
-    const std::vector<std::string> svgs = plot::DrawInlineSvgs(o.gnuplot, figures);
+    const std::vector<std::string> svgs = plot::gnuplot::DrawInlineSvgs(o.gnuplot, figures);
     for (size_t i = 0; i < figures.size(); ++i) in.svgs[figures[i].name] = svgs[i];
     result.figures = static_cast<int>(figures.size());
 

@@ -18,7 +18,7 @@ struct ReportOptions {
     std::string out_dir = ".";                 // must exist
     std::optional<acceptance::Limits> limits;  // instead of the stored ones
     std::string limits_origin;                 // where `limits` came from
-    std::string gnuplot;                       // path of gnuplot (plot::FindOnPath)
+    std::string gnuplot;                       // path of gnuplot (plot::gnuplot::FindOnPath)
     std::string software_version;
 };
 
@@ -31,8 +31,8 @@ struct ReportResult {
 // "report-<run id>.html" with characters other than letters, digits, '.', '_', '-' made '_'.
 std::string ReportFileName(const std::string& run_id);
 
-// Throws db::NotFound (unknown run), db::StoreError, plot::GnuplotError, plot::SvgError, or
-// std::runtime_error naming the file when it cannot be written.
+// Throws db::NotFound (unknown run), db::StoreError, plot::gnuplot::GnuplotError, plot::SvgError,
+// or std::runtime_error naming the file when it cannot be written.
 ReportResult WriteReport(const ReportOptions& options);
 
 }  // namespace gyrocal::runreport

@@ -1,8 +1,8 @@
 // Fuzz the coefficient file of `gyrocal compensate`: a text through
-// compensate::CoeffSetsFromJson, and the sets it accepts through compensate::CompensateRows on a
+// compensator::CoeffSetsFromJson, and the sets it accepts through compensator::CompensateRows on a
 // few samples of each sensor (ramping temperature, so the dT/dt inputs move), as the command runs
 // them.
-// Contract: only compensate::OfflineError is thrown (the command prints it and exits non-zero);
+// Contract: only compensator::OfflineError is thrown (the command prints it and exits non-zero);
 // every accepted set is keyed by its own sensor_id; every rate that comes out belongs to a row
 // that went in.
 #include <cstdint>
@@ -17,8 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     std::map<std::string, model::CoeffSet> sets;
     try {
-        sets = compensate::CoeffSetsFromJson(text, "fuzz.json");
-    } catch (const compensate::OfflineError&) {
+        sets = compensator::CoeffSetsFromJson(text, "fuzz.json");
+    } catch (const compensator::OfflineError&) {
         return 0;
     }
     std::vector<csv::CsvRow> rows;
@@ -38,11 +38,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         }
     }
     try {
-        const compensate::OfflineResult res =
-            compensate::CompensateRows(rows, sets, "fuzz.csv", "fuzz.json");
+        const compensator::OfflineResult res =
+            compensator::CompensateRows(rows, sets, "fuzz.csv", "fuzz.json");
         FUZZ_CHECK(res.rates.size() + static_cast<size_t>(res.skipped) == rows.size(),
                    "rates + skipped != rows");
-    } catch (const compensate::OfflineError&) {
+    } catch (const compensator::OfflineError&) {
     }
     return 0;
 }

@@ -27,7 +27,7 @@
 #include "processors/analysis/report.hpp"
 #include "processors/analysis/run_data.hpp"
 #include "processors/noise/allan_plot.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "store/db/model_rows.hpp"
 #include "store/db/query.hpp"
 #include "tools/cli/command.hpp"
@@ -69,9 +69,9 @@ std::optional<int> CheckPlotDir(const AnalyzeOptions& o, std::string& gnuplot, s
         err << "gyrocal analyze: --plot " << o.plot_dir << ": exists and is not a directory\n";
         return 2;
     }
-    gnuplot = plot::FindOnPath("gnuplot");
+    gnuplot = plot::gnuplot::FindOnPath("gnuplot");
     if (gnuplot.empty()) {
-        err << "gyrocal analyze: --plot " << plot::kGnuplotMissing << "\n";
+        err << "gyrocal analyze: --plot " << plot::gnuplot::kGnuplotMissing << "\n";
         return 1;
     }
     return std::nullopt;
@@ -264,9 +264,9 @@ int DrawPlots(const AnalyzeOptions& o, const std::string& gnuplot,
     }
     std::vector<std::string> images;
     try {
-        images = plot::DrawInto(gnuplot, o.plot_dir, plots,
-                                {plot::Terminal::kPng, plot::Terminal::kSvg});
-    } catch (const plot::GnuplotError& e) {
+        images = plot::gnuplot::DrawInto(gnuplot, o.plot_dir, plots,
+                                         {plot::Terminal::kPng, plot::Terminal::kSvg});
+    } catch (const plot::gnuplot::GnuplotError& e) {
         err << "gyrocal analyze: --plot: " << e.what() << "\n";
         return 1;
     }

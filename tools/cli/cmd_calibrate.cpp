@@ -8,7 +8,7 @@
 #include <string>
 
 #include "processors/acceptance/limits.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "processors/sequencer/procedure.hpp"
 #include "producers/sim/config.hpp"
 #include "producers/sim/gyro_facts.hpp"
@@ -67,8 +67,8 @@ void CheckAfterRunOptions(CalibrateOptions& o, bool has_after_run) {
     if (fs::exists(p) ? !fs::is_directory(p) : !fs::is_directory(p.parent_path()))
         throw CLI::ValidationError(
             "--report", "'" + o.report_dir + "' is not a directory and its parent does not exist");
-    if (plot::FindOnPath("gnuplot").empty())
-        throw CLI::ValidationError("--report", plot::kGnuplotMissing);
+    if (plot::gnuplot::FindOnPath("gnuplot").empty())
+        throw CLI::ValidationError("--report", plot::gnuplot::kGnuplotMissing);
 }
 
 // An option whose valid range CLI11 checks and whose help ends with it (", LO..HI"), both from

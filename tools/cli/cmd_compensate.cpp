@@ -18,7 +18,7 @@
 
 namespace gyrocal::cli {
 
-namespace cp = gyrocal::compensate;
+namespace cp = gyrocal::compensator;
 namespace st = gyrocal::db;
 
 std::map<std::string, model::CoeffSet> LoadCoeffSets(const CoeffSource& o, std::string* origin) {

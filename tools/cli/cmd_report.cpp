@@ -7,7 +7,7 @@
 
 #include "gyrocal/version.hpp"
 #include "processors/acceptance/limits.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "store/db/query.hpp"
 #include "store/runreport/build.hpp"
 #include "store/runreport/unit_data.hpp"
@@ -64,9 +64,9 @@ int RunReport(const ReportCommandOptions& o, std::ostream& out, std::ostream& er
         err << "gyrocal report: " << p << "\n";
         return 2;
     }
-    ro.gnuplot = plot::FindOnPath("gnuplot");
+    ro.gnuplot = plot::gnuplot::FindOnPath("gnuplot");
     if (ro.gnuplot.empty()) {
-        err << "gyrocal report: " << plot::kGnuplotMissing << "\n";
+        err << "gyrocal report: " << plot::gnuplot::kGnuplotMissing << "\n";
         return 1;
     }
     return FailOnThrow(err, "gyrocal report: ", [&] {
@@ -167,9 +167,9 @@ int ReportStep(const CalibrateOptions& options, const std::string& run_id, int c
         ro.db = options.db;
         ro.run_id = run_id;
         ro.out_dir = options.report_dir;
-        ro.gnuplot = plot::FindOnPath("gnuplot");
+        ro.gnuplot = plot::gnuplot::FindOnPath("gnuplot");
         ro.software_version = kSoftwareVersion;
-        if (ro.gnuplot.empty()) throw std::runtime_error(plot::kGnuplotMissing);
+        if (ro.gnuplot.empty()) throw std::runtime_error(plot::gnuplot::kGnuplotMissing);
         std::cout << "\nreport: " << rr::WriteReport(ro).path << "\n";
         return code;
     } catch (const std::exception& e) {

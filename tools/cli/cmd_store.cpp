@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "lcmtypes/process/flow_options.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "store/db/central_url.hpp"
 #include "store/db/query.hpp"
 #include "store/format/fleet.hpp"
@@ -306,15 +306,15 @@ std::vector<rep::FleetUnit> FleetUnits(st::Db& db, const std::string& model) {
 
 int DrawFleet(const std::vector<rep::FleetGroup>& groups, const rep::FleetOptions& o,
               const std::string& dir) {
-    const std::string gnuplot = gyrocal::plot::FindOnPath("gnuplot");
+    const std::string gnuplot = gyrocal::plot::gnuplot::FindOnPath("gnuplot");
     if (gnuplot.empty())
-        throw std::runtime_error(std::string("--plot ") + gyrocal::plot::kGnuplotMissing);
+        throw std::runtime_error(std::string("--plot ") + gyrocal::plot::gnuplot::kGnuplotMissing);
     std::error_code ec;
     std::filesystem::create_directory(dir, ec);
     if (ec) throw std::runtime_error("--plot " + dir + ": " + ec.message());
-    const auto images =
-        gyrocal::plot::DrawInto(gnuplot, dir, rep::FleetFigures(groups, o),
-                                {gyrocal::plot::Terminal::kPng, gyrocal::plot::Terminal::kSvg});
+    const auto images = gyrocal::plot::gnuplot::DrawInto(
+        gnuplot, dir, rep::FleetFigures(groups, o),
+        {gyrocal::plot::Terminal::kPng, gyrocal::plot::Terminal::kSvg});
     std::cerr << "gyrocal fleet: wrote " << images.size() << " pictures to " << dir << "\n";
     return 0;
 }

@@ -39,7 +39,7 @@ void ReportRefusals(benchmark::State& state, int64_t refused, int64_t n) {
 }
 
 void BM_SensorCompensatorApply(benchmark::State& state, ModelKind kind) {
-    namespace cp = gyrocal::compensate;
+    namespace cp = gyrocal::compensator;
     cp::SensorCompensator comp;
     if (comp.SetCoefficients(gyrocal::bench::BenchSet(kind, "B01")).outcome !=
         cp::SetOutcome::kApplied) {

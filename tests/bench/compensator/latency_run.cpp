@@ -236,14 +236,14 @@ void Run::Receive() {
 // arithmetic, no clock in it), each carrying its sample's utime.
 void Run::Verify() {
     for (size_t i = 0; i < ids_.size(); ++i) {
-        compensate::SensorCompensator comp;
+        compensator::SensorCompensator comp;
         comp.SetCoefficients(sets_[i]);
         comp.PowerOn(power_on_utime_);
         bool in_step = true;
         for (size_t k = 0; k < static_cast<size_t>(per_sensor_); ++k) {
             if (sent_utime_[i][k] < 0) continue;  // never published: the compensator did not see it
             const RawSample& x = streams_[i][k];
-            const compensate::ApplyResult a = comp.Apply(
+            const compensator::ApplyResult a = comp.Apply(
                 {sent_utime_[i][k], static_cast<int64_t>(k), x.gyro_v, x.temp_c, x.supply_v});
             if (!got_[i][k]) {
                 in_step = false;
@@ -254,7 +254,7 @@ void Run::Verify() {
                 continue;
             }
             ++r_.checked;
-            if (a.status != compensate::ApplyStatus::kOk || a.out.rate_dps != rate_dps_[i][k] ||
+            if (a.status != compensator::ApplyStatus::kOk || a.out.rate_dps != rate_dps_[i][k] ||
                 rate_utime_[i][k] != sent_utime_[i][k])
                 ++r_.mismatched;
         }

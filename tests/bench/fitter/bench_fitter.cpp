@@ -32,7 +32,7 @@
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/status.hpp"
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 #include "processors/fitter/ramp_fitter.hpp"
 #include "tests/bench/support/bench_args.hpp"
 #include "tests/bench/support/bench_context.hpp"
@@ -187,7 +187,7 @@ Latency Pass(const std::vector<Sample>& run, double msgs_per_s, int units, bool 
     bus::Bus bus(bus::BusOptions{kUrl});
     process::StatusReporter status(bus, "bench-fitter");
     fitter::RampFitter f(fitter::RampFitterOptions::Defaults());
-    std::optional<StillFitChannel> channel;
+    std::optional<fitter::node::StillFitChannel> channel;
     Latency out;
     int64_t now = 0;
     auto unit_of = [](const std::string& ch) {

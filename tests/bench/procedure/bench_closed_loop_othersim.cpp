@@ -128,12 +128,12 @@ std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
     std::vector<Row> rows(4);
     for (const othersim::UnitTruth& u : g.units) {
         if (!sets.final.count(u.sensor_id)) continue;
-        std::vector<compensate::SensorCompensator> comps;
+        std::vector<compensator::SensorCompensator> comps;
         comps.reserve(3);
         const std::map<std::string, model::CoeffSet>* by[] = {&sets.plateau, &sets.final,
                                                               &sets.px4};
         for (size_t m = 0; m < 3; ++m) {
-            comps.emplace_back(compensate::CompensatorOptions{model::RangePolicy::kClip});
+            comps.emplace_back(compensator::CompensatorOptions{model::RangePolicy::kClip});
             comps[m].SetCoefficients(by[m]->at(u.sensor_id));
         }
         std::vector<Series> series(4);
@@ -147,12 +147,12 @@ std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
             if (first < 0) first = utime, std::fill(start.begin(), start.end(), utime);
             const double dt_s = last < 0 ? 0.0 : 1e-6 * static_cast<double>(utime - last);
             last = utime;
-            const compensate::Sample s{utime, 0, r.gyro_v, r.temp_c,
-                                       r.supply_v ? *r.supply_v : NAN};
+            const compensator::Sample s{utime, 0, r.gyro_v, r.temp_c,
+                                        r.supply_v ? *r.supply_v : NAN};
             for (size_t m = 0; m < 3; ++m) {
                 const auto a = comps[m].Apply(s);
                 AddSample(series[m], acc[m], n[m], start[m], utime,
-                          a.status == compensate::ApplyStatus::kOk ? a.out.rate_dps : NAN, dt_s);
+                          a.status == compensator::ApplyStatus::kOk ? a.out.rate_dps : NAN, dt_s);
             }
             const double die = u.DieFromMeasuredC(r.temp_c);
             const double t = r.time_s;

@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     profile.ramp_c_per_min = ramp_c_per_min;
     profile.hold_s = 600.0;
     profile.bin_s = bin_s;
-    compensate::CompensatorOptions extrapolate = compensate::CompensatorOptions::Defaults();
+    compensator::CompensatorOptions extrapolate = compensator::CompensatorOptions::Defaults();
     extrapolate.range_policy = model::RangePolicy::kExtrapolate;
     double held_out_h = 0;
     int failures = 0;

@@ -9,7 +9,7 @@
 
 #include "tests/processors/compensator/coeff_set_fixture.hpp"
 
-namespace gyrocal::compensate {
+namespace gyrocal::compensator {
 namespace {
 
 // The known set; its run, point count and plateau ids are not read by the compensator.
@@ -224,4 +224,4 @@ TEST(SensorCompensator, TwoBranchWidthsInOneSetAreRefused) {
 }
 
 }  // namespace
-}  // namespace gyrocal::compensate
+}  // namespace gyrocal::compensator

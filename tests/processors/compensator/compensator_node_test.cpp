@@ -3,7 +3,7 @@
 // with an unknown term is refused and the old set stays in force; NaN, backwards and
 // mislabelled samples are refused and counted. The real process over UDP multicast is
 // compensator_process_test.cpp.
-#include "processors/compensator/compensator_node.hpp"
+#include "processors/compensator/node/compensator_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -35,9 +35,10 @@ gyro_sample_t Sample(int64_t seq, double temp_c, double rate_dps) {
 }
 
 struct MemqCompensator {
-    CompensatorNode node;
+    compensator::node::CompensatorNode node;
     std::vector<rate_t> rates;
-    explicit MemqCompensator(CompensatorNodeOptions o) : node((o.lcm_url = "memq://", o)) {
+    explicit MemqCompensator(compensator::node::CompensatorNodeOptions o)
+        : node((o.lcm_url = "memq://", o)) {
         testing::CollectInto(node.bus(), channels::AllSensors(channels::kRatePrefix), rates);
     }
     // Dispatches until the queue is empty (what a handler publishes is dispatched too), the
@@ -49,7 +50,7 @@ struct MemqCompensator {
 };
 
 TEST(CompensatorNode, RatesAreTheTruthAndBadInputIsRefused) {
-    MemqCompensator c(CompensatorNodeOptions::Defaults());
+    MemqCompensator c(compensator::node::CompensatorNodeOptions::Defaults());
     bus::Bus& bus = c.node.bus();
     // GIVEN samples before any coefficient set: not published
     int64_t seq = 0;
@@ -89,7 +90,7 @@ TEST(CompensatorNode, RatesAreTheTruthAndBadInputIsRefused) {
 }
 
 TEST(CompensatorNode, OtherSensorsAreIgnoredWhenSensorsAreChosen) {
-    auto o = CompensatorNodeOptions::Defaults();
+    auto o = compensator::node::CompensatorNodeOptions::Defaults();
     o.sensors = {"S02"};
     MemqCompensator c(o);
     c.node.bus().Publish(channels::Coeffs("S01"), Set(5));

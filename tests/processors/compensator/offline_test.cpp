@@ -12,7 +12,7 @@
 #include "processors/model/json.hpp"
 #include "tests/processors/compensator/coeff_set_fixture.hpp"
 
-namespace gyrocal::compensate {
+namespace gyrocal::compensator {
 namespace {
 
 // Rows of S01 at 100 Hz from the fixture's known set: temperature from 20 to 30 degC, a rate
@@ -114,4 +114,4 @@ TEST(Offline, BadInputIsRefusedNamingLineSensorOrField) {
 }
 
 }  // namespace
-}  // namespace gyrocal::compensate
+}  // namespace gyrocal::compensator

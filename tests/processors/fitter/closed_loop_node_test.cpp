@@ -25,8 +25,8 @@
 #include "gyrocal/run_event_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
-#include "processors/fitter/fit_worker.hpp"
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fit_worker.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 #include "processors/model/convert.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 #include "tests/processors/analysis/sim_run.hpp"
@@ -49,7 +49,7 @@ run_event_t Event(const std::string& what, int64_t utime) {
 }
 
 // Every message of the run into `bus`, in time order, handling as it goes (memq queues them).
-void PublishRun(bus::Bus& bus, FitterNode& node, const analysis::testing::SimRun& s) {
+void PublishRun(bus::Bus& bus, fitter::node::FitterNode& node, const analysis::testing::SimRun& s) {
     struct Timed {
         int64_t utime;
         std::function<void()> send;
@@ -198,7 +198,7 @@ struct BlockedFit {
 TEST(FitWorker, TheCallerNeverWaitsForAFitAndTakesItsResultLater) {
     // GIVEN a worker whose fit blocks until released
     BlockedFit fit;
-    fitter::FitWorker w([&](const fitter::FitJob& j) { return fit(j); });
+    fitter::node::FitWorker w([&](const fitter::FitJob& j) { return fit(j); });
     fitter::FitJob job;
     job.sensor_id = "S01";
     // WHEN a job is submitted and the fit is under way
@@ -221,7 +221,7 @@ TEST(FitWorker, TheCallerNeverWaitsForAFitAndTakesItsResultLater) {
 TEST(FitWorker, AQueuedRefitIsSupersededByANewerJobOfItsUnit) {
     // GIVEN a worker whose first fit blocks until released, so that the rest queue behind it
     BlockedFit fit;
-    fitter::FitWorker w([&](const fitter::FitJob& j) { return fit(j); });
+    fitter::node::FitWorker w([&](const fitter::FitJob& j) { return fit(j); });
     auto job = [](const char* id, int64_t utime, bool final) {
         fitter::FitJob j;
         j.sensor_id = id;
@@ -253,7 +253,7 @@ TEST(FitWorker, AQueuedRefitIsSupersededByANewerJobOfItsUnit) {
 }
 
 TEST(FitWorker, AFitThatThrowsIsAReportOfNoneWithTheReason) {
-    fitter::FitWorker w([](const fitter::FitJob&) -> fitter::RampFitResult {
+    fitter::node::FitWorker w([](const fitter::FitJob&) -> fitter::RampFitResult {
         throw std::runtime_error("broken bins");
     });
     fitter::FitJob job;

@@ -2,7 +2,7 @@
 // plateaus, rotations and RUN_EVENT published into the node's own bus give COEFFS_<id> with
 // exactly the ids used and the truth's curves, and a FIT_<id> report; bad input is refused and
 // counted. The real process over UDP multicast is fitter_process_test.cpp.
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,15 +8,16 @@
 #include "gyrocal/fit_report_t.hpp"
 #include "lcmtypes/bus/bus.hpp"
 #include "lcmtypes/channels/channels.hpp"
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
 
 namespace gyrocal::testing {
 
-template <class Node = FitterNode>
+template <class Node = fitter::node::FitterNode>
 struct MemqFitter {
     // `options` with its LCM URL replaced by memq://.
-    explicit MemqFitter(FitterOptions options = FitterOptions::Defaults())
+    explicit MemqFitter(
+        fitter::node::FitterOptions options = fitter::node::FitterOptions::Defaults())
         : node(OverMemq(options)), bus(node.bus()) {
         CollectInto(bus, channels::AllSensors(channels::kCoeffsPrefix), coeffs);
         CollectInto(bus, channels::AllSensors(channels::kFitPrefix), reports);
@@ -24,7 +25,7 @@ struct MemqFitter {
     MemqFitter(const MemqFitter&) = delete;  // the subscriptions hold the vectors' addresses
     MemqFitter& operator=(const MemqFitter&) = delete;
 
-    static FitterOptions OverMemq(FitterOptions o) {
+    static fitter::node::FitterOptions OverMemq(fitter::node::FitterOptions o) {
         o.lcm_url = "memq://";
         return o;
     }

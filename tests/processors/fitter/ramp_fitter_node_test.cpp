@@ -16,7 +16,7 @@
 #include "gyrocal/fit_report_t.hpp"
 #include "gyrocal/sensitivity_point_t.hpp"
 #include "lcmtypes/channels/channels.hpp"
-#include "processors/fitter/fitter_node.hpp"
+#include "processors/fitter/node/fitter_node.hpp"
 #include "processors/model/convert.hpp"
 #include "processors/model/inputs.hpp"
 #include "tests/lcmtypes/bus/bus_wait.hpp"
@@ -30,11 +30,11 @@ namespace {
 constexpr int64_t kT0 = 1'000'000'000'000'000;  // [us]
 
 TEST(RampFitterNode, TheFinalSetOfARampIsTheTruthWithinItsStatedUncertainty) {
-    FitterOptions o = FitterOptions::Defaults();
+    fitter::node::FitterOptions o = fitter::node::FitterOptions::Defaults();
     o.mode = "ramp";
     o.ramp.refit_interval_s = 1800.0;
     o.ramp.min_span_s = 3600.0;
-    testing::MemqFitter<RampFitterNode> fitter(o);
+    testing::MemqFitter<fitter::node::RampFitterNode> fitter(o);
     auto& [node, bus, sets, reports] = fitter;
     auto drain = [&] {
         while (bus.Handle(std::chrono::milliseconds(0))) {

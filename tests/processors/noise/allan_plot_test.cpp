@@ -11,7 +11,7 @@
 #include <regex>
 #include <set>
 
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 
 namespace gyrocal::noise {
 namespace {
@@ -92,10 +92,11 @@ TEST(AllanPlot, ATermNotFittedHasNoAsymptoteAndVoltsWithoutASensitivity) {
 // band at 0.1 s (0.14): gnuplot widens a log range to whole decades, 1e-5..1, and a margin on top
 // (as on linear axes) would add a decade more on each side (1e-6 .. 10).
 TEST(AllanPlot, GnuplotDrawsItOnLogAxes) {
-    const std::string gnuplot = plot::FindOnPath("gnuplot");
+    const std::string gnuplot = plot::gnuplot::FindOnPath("gnuplot");
     if (gnuplot.empty())
         GTEST_SKIP() << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
-    const std::vector<std::string> svg = plot::DrawInlineSvgs(gnuplot, {MakeAllanPlot(Curve(kK))});
+    const std::vector<std::string> svg =
+        plot::gnuplot::DrawInlineSvgs(gnuplot, {MakeAllanPlot(Curve(kK))});
     ASSERT_EQ(svg.size(), 1u);
     std::set<std::string> labels;
     const std::regex text_re(">\\s*([0-9.e+-]+)\\s*<");

@@ -2,7 +2,7 @@
 // of plateau_scenario.hpp (plateaus with motion excluded, states, bad input counted), driven with
 // bounded waits on conditions and no sleep; and no plateau while the temperature ramps. The real
 // process over UDP: plateau_process_test.cpp.
-#include "processors/plateau/plateau_node.hpp"
+#include "processors/plateau/node/plateau_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,17 +26,17 @@ namespace gyrocal {
 namespace {
 
 // The node's options for the scenario (plateau_scenario.hpp), in-process over memq://.
-PlateauOptions ScenarioOptions() {
-    PlateauOptions o = PlateauOptions::Defaults();
+plateau::node::PlateauOptions ScenarioOptions() {
+    plateau::node::PlateauOptions o = plateau::node::PlateauOptions::Defaults();
     o.lcm_url = "memq://";
     testing::ApplyPlateauScenarioOptions(o);
     return o;
 }
 
 TEST(PlateauNode, PublishesPlateausAndCountsBadInput) {
-    const PlateauOptions o = ScenarioOptions();
+    const plateau::node::PlateauOptions o = ScenarioOptions();
     ASSERT_EQ(o.Validate(), "");
-    PlateauNode node(o);
+    plateau::node::PlateauNode node(o);
     testing::StatusWatch status(node.bus(), "gyrocal-plateau");
     testing::PlateauScenario(node.bus(), testing::ForNode(node), status);
     EXPECT_EQ(node.plateaus_published(), 2);
@@ -46,9 +46,9 @@ TEST(PlateauNode, PublishesPlateausAndCountsBadInput) {
 // 20 standard errors of the window's slope (0.093 degC/min, plateau_scenario.hpp), so it is never
 // stable; S02, flat at the same noise, is the control that the same data do give a plateau.
 TEST(PlateauNode, NoPlateauWhileTheTemperatureRamps) {
-    const PlateauOptions o = ScenarioOptions();
+    const plateau::node::PlateauOptions o = ScenarioOptions();
     ASSERT_EQ(o.Validate(), "");
-    PlateauNode node(o);
+    plateau::node::PlateauNode node(o);
     bus::Bus& bus = node.bus();
     std::map<std::string, int> plateaus;
     std::map<std::string, std::set<std::string>> states;

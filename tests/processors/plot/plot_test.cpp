@@ -10,7 +10,7 @@
 #include <set>
 
 #include "processors/plot/figure.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "processors/plot/svg.hpp"
 
 namespace gyrocal::plot {
@@ -100,7 +100,8 @@ protected:
 };
 
 TEST_F(Gnuplot, DrawsEveryFigureInOneRunAndTheirIdsDoNotCollide) {
-    const std::vector<std::string> svgs = DrawInlineSvgs(gnuplot_, {Line("a", 1), Line("b", -2)});
+    const std::vector<std::string> svgs =
+        gnuplot::DrawInlineSvgs(gnuplot_, {Line("a", 1), Line("b", -2)});
     ASSERT_EQ(svgs.size(), 2u);
     std::multiset<std::string> ids;
     const std::regex id_re("id=['\"]([^'\"]+)['\"]");
@@ -128,7 +129,7 @@ TEST_F(Gnuplot, BackquotesInTitlesAreNotRunAsCommands) {
     Figure f = Line("inj", 1);
     f.title = "S01`touch " + marker.string() + "`'quote\"";
     f.series[0].title = f.title;
-    const std::vector<std::string> svg = DrawInlineSvgs(gnuplot_, {f});
+    const std::vector<std::string> svg = gnuplot::DrawInlineSvgs(gnuplot_, {f});
     EXPECT_FALSE(std::filesystem::exists(marker)) << "gnuplot ran a command from a title";
     EXPECT_NE(svg[0].find("S01`touch "), std::string::npos);
     std::filesystem::remove(marker);
@@ -141,18 +142,18 @@ TEST_F(Gnuplot, AFigureThatCannotBeDrawnOrThatGnuplotRefusesIsAnErrorNamingIt) {
     Figure bad = Line("bad", 1);
     bad.series[0].table = "nope";
     try {
-        DrawInto(gnuplot_, dir.string(), {bad}, {Terminal::kSvg});
+        gnuplot::DrawInto(gnuplot_, dir.string(), {bad}, {Terminal::kSvg});
         FAIL() << "no error";
-    } catch (const GnuplotError& e) {
+    } catch (const gnuplot::GnuplotError& e) {
         EXPECT_NE(std::string(e.what()).find("figure bad"), std::string::npos) << e.what();
     }
     // Every value missing: gnuplot stops ("x range is invalid"); its message and line are kept.
     Figure empty = Line("empty", 1);
     for (auto& r : empty.tables[0].rows) r[1] = NAN;
     try {
-        DrawInto(gnuplot_, dir.string(), {empty}, {Terminal::kSvg});
+        gnuplot::DrawInto(gnuplot_, dir.string(), {empty}, {Terminal::kSvg});
         FAIL() << "no error";
-    } catch (const GnuplotError& e) {
+    } catch (const gnuplot::GnuplotError& e) {
         EXPECT_NE(std::string(e.what()).find("gnuplot"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("\"empty.gp\" line"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("range is invalid"), std::string::npos) << e.what();

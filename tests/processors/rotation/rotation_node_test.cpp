@@ -2,7 +2,7 @@
 // of rotation_scenario.hpp (a point per move within the noise of the truth, bad input counted),
 // driven with bounded waits on conditions and no sleep. The real process over UDP:
 // rotation_process_test.cpp.
-#include "processors/rotation/rotation_node.hpp"
+#include "processors/rotation/node/rotation_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,11 +14,11 @@ namespace gyrocal {
 namespace {
 
 TEST(RotationNode, PublishesOnePointPerMoveAndCountsBadInput) {
-    RotationOptions o = RotationOptions::Defaults();
+    rotation::node::RotationOptions o = rotation::node::RotationOptions::Defaults();
     o.lcm_url = "memq://";
     o.sensors = testing::kRotationScenarioSensors;
     ASSERT_EQ(o.Validate(), "");
-    RotationNode node(o);
+    rotation::node::RotationNode node(o);
     testing::StatusWatch status(node.bus(), "gyrocal-rotation");
     testing::RotationScenario(node.bus(), testing::ForNode(node), status);
 }

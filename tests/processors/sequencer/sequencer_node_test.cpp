@@ -4,7 +4,7 @@
 // point, then stops "completed"; messages it must not act on (a unit it does not await, a plateau
 // of another setpoint, a chamber fault) change nothing but what they should. Data time only: the
 // test moves it with gyro samples, no sleep and no wall clock.
-#include "processors/sequencer/sequencer_node.hpp"
+#include "processors/sequencer/node/sequencer_node.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +24,7 @@
 #include "tests/lcmtypes/bus/wire.hpp"
 #include "tests/lcmtypes/message_builders.hpp"
 
-namespace gyrocal::sequencer {
+namespace gyrocal::sequencer::node {
 namespace {
 
 using gyrocal::testing::kT0Utime;
@@ -154,4 +154,4 @@ TEST(SequencerNode, WalksTheProcedureOnDataTimeAndIgnoresWhatItDoesNotAwait) {
 }
 
 }  // namespace
-}  // namespace gyrocal::sequencer
+}  // namespace gyrocal::sequencer::node

@@ -14,7 +14,7 @@
 
 #include "lcmtypes/text/number.hpp"
 #include "processors/acceptance/evaluate.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 #include "store/db/query.hpp"
 #include "store/db/sqlite_db.hpp"
 #include "store/runreport/build.hpp"
@@ -240,7 +240,7 @@ TEST(Sections, CoefficientUnitsFollowFromTheTermUnits) {
 class ReportPage : public Report {
 protected:
     void SetUp() override {
-        gnuplot_ = plot::FindOnPath("gnuplot");
+        gnuplot_ = plot::gnuplot::FindOnPath("gnuplot");
         if (gnuplot_.empty())
             GTEST_SKIP()
                 << "gnuplot is not installed (Debian gnuplot-nox; tools/run.sh installs it)";
@@ -363,7 +363,7 @@ TEST_F(Report, CommandRefusesBadInputsNamingThem) {
     o.out_dir = dir_->string();
     err.str("");
     o.run_id = "NOPE";
-    if (!plot::FindOnPath("gnuplot").empty()) {
+    if (!plot::gnuplot::FindOnPath("gnuplot").empty()) {
         EXPECT_EQ(cli::RunReport(o, out, err), 1);
         EXPECT_NE(err.str().find("no run 'NOPE'"), std::string::npos) << err.str();
     }

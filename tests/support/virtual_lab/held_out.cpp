@@ -19,7 +19,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // One sensor's running bin and integrals, for the floor and every candidate.
 struct Track {
     struct PerCandidate {
-        std::unique_ptr<compensate::SensorCompensator> comp;  // null: no set for this sensor
+        std::unique_ptr<compensator::SensorCompensator> comp;  // null: no set for this sensor
         double sum_err = 0;
         bool bad = false;  // a sample of the current bin was not compensated
         bool has_last = false;
@@ -36,7 +36,7 @@ struct Track {
 class Recorder : public sim::RigSink {
 public:
     Recorder(sim::Rig& rig, const HeldOutProfile& p, const std::vector<Candidate>& candidates,
-             const compensate::CompensatorOptions& options, HeldOutResult& out)
+             const compensator::CompensatorOptions& options, HeldOutResult& out)
         : rig_(rig), p_(p), out_(out) {
         const sim::RigConfig& rc = rig.config();
         record_start_utime_ =
@@ -55,9 +55,9 @@ public:
             for (size_t k = 0; k < candidates.size(); ++k) {
                 auto it = candidates[k].find(u.sensor_id);
                 if (it == candidates[k].end()) continue;
-                t.cands[k].comp = std::make_unique<compensate::SensorCompensator>(options);
-                const compensate::SetResult r = t.cands[k].comp->SetCoefficients(it->second);
-                if (r.outcome == compensate::SetOutcome::kRejected)
+                t.cands[k].comp = std::make_unique<compensator::SensorCompensator>(options);
+                const compensator::SetResult r = t.cands[k].comp->SetCoefficients(it->second);
+                if (r.outcome == compensator::SetOutcome::kRejected)
                     throw std::invalid_argument("held-out: candidate " + std::to_string(k) +
                                                 " set of " + u.sensor_id +
                                                 " rejected by the compensator: " + r.detail);
@@ -123,15 +123,15 @@ public:
         t.sum_die += truth.die_c;
         t.sum_floor += floor;
         t.sum_floor_meas += floor_meas;
-        const compensate::Sample cs = compensate::SampleOf(r);
+        const compensator::Sample cs = compensator::SampleOf(r);
         for (size_t k = 0; k < t.cands.size(); ++k) {
             Track::PerCandidate& c = t.cands[k];
             if (!c.comp) {
                 c.bad = true;
                 continue;
             }
-            const compensate::ApplyResult a = c.comp->Apply(cs);
-            if (a.status != compensate::ApplyStatus::kOk) {
+            const compensator::ApplyResult a = c.comp->Apply(cs);
+            if (a.status != compensator::ApplyStatus::kOk) {
                 c.bad = true;
                 c.has_last = false;  // do not integrate across the hole
                 ++s.not_compensated[k];
@@ -209,15 +209,15 @@ void HeldOutProfile::Validate(const sim::RigConfig& rig) const {
                                     "; valid: >= 2 samples and <= 3600 s");
 }
 
-compensate::CompensatorOptions ClippedOptions() {
-    compensate::CompensatorOptions o = compensate::CompensatorOptions::Defaults();
+compensator::CompensatorOptions ClippedOptions() {
+    compensator::CompensatorOptions o = compensator::CompensatorOptions::Defaults();
     o.range_policy = model::RangePolicy::kClip;
     return o;
 }
 
 HeldOutResult EvaluateHeldOut(const sim::RigConfig& rig_config, const HeldOutProfile& profile,
                               const std::vector<Candidate>& candidates,
-                              const compensate::CompensatorOptions& options) {
+                              const compensator::CompensatorOptions& options) {
     profile.Validate(rig_config);
     sim::Rig rig(rig_config);
     HeldOutResult out;

@@ -74,13 +74,13 @@ struct HeldOutResult {
 
 // The compensator with out-of-range temperatures CLIPPED: the seed's behaviour, which the held-out
 // rows are labelled by (the library's own default extrapolates).
-compensate::CompensatorOptions ClippedOptions();
+compensator::CompensatorOptions ClippedOptions();
 
 // Records the profile once and compensates it with every candidate. Throws on a bad profile or
 // rig config, or when a candidate's set is rejected by the compensator (what() says why).
 HeldOutResult EvaluateHeldOut(const sim::RigConfig& rig, const HeldOutProfile& profile,
                               const std::vector<Candidate>& candidates,
-                              const compensate::CompensatorOptions& options = ClippedOptions());
+                              const compensator::CompensatorOptions& options = ClippedOptions());
 
 // Figures of one error series (bins), NaN bins ignored.
 struct Score {

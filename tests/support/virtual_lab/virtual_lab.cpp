@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <variant>
 
-#include "processors/noise/noise_message.hpp"
-#include "processors/plateau/plateau_message.hpp"
-#include "processors/rotation/rotation_message.hpp"
+#include "processors/plateau/node/noise_message.hpp"
+#include "processors/plateau/node/plateau_message.hpp"
+#include "processors/rotation/node/rotation_message.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::virtual_lab {
@@ -150,7 +150,7 @@ private:
         const rotation::MotionView view{rotation_moves_.watermark_utime(),
                                         rotation_moves_.current_start_utime()};
         for (const rotation::Point& p : s.estimator.Poll(view)) {
-            out_.sensitivity_points.push_back(ToMessage(s.id, run_id_, p));
+            out_.sensitivity_points.push_back(rotation::node::ToMessage(s.id, run_id_, p));
             const gyrocal::sensitivity_point_t& m = out_.sensitivity_points.back();
             if (!procedure_->done()) {
                 if (ramp_)
@@ -168,12 +168,12 @@ private:
     }
 
     void DeliverNoise(Sensor& s) {
-        out_.noise[s.id] = ToNoiseMessage(s.id, run_id_, s.noise.Estimate());
+        out_.noise[s.id] = plateau::node::ToNoiseMessage(s.id, run_id_, s.noise.Estimate());
         if (!procedure_->done()) Collect(fitter_.OnNoise(out_.noise[s.id], s.id));
     }
 
     void DeliverPlateau(const std::string& id, const plateau::Plateau& p) {
-        out_.plateaus.push_back(ToMessage(id, p));
+        out_.plateaus.push_back(plateau::node::ToMessage(id, p));
         const gyrocal::plateau_t& m = out_.plateaus.back();
         if (procedure_->done()) return;  // after the run's stop: a process would refuse it too
         if (loop_)
@@ -257,7 +257,8 @@ private:
         } else if (r.event == "stop" || r.event == "abort") {
             out_.last_point_utime = rig_.now_utime();
             for (auto& s : sensors_)
-                out_.noise[s->id] = ToNoiseMessage(s->id, run_id_, s->noise.Estimate());
+                out_.noise[s->id] =
+                    plateau::node::ToNoiseMessage(s->id, run_id_, s->noise.Estimate());
             run_id_.clear();
             for (auto& s : sensors_) s->detector.EndRun();
         }

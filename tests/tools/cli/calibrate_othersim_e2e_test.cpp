@@ -558,24 +558,24 @@ TEST(OthersimCalibration,
     EXPECT_LE(without_rate, live.comp_seq_gaps + live.comp_rejected + live.own_seq_gaps);
     EXPECT_LE(without_sample, live.own_seq_gaps);
     ASSERT_GT(pairs.size(), 0.99 * live.samples.size()) << "more than 1 % lost";
-    compensate::SensorCompensator with_final, with_plateau;
-    ASSERT_EQ(with_final.SetCoefficients(final_set).outcome, compensate::SetOutcome::kApplied);
+    compensator::SensorCompensator with_final, with_plateau;
+    ASSERT_EQ(with_final.SetCoefficients(final_set).outcome, compensator::SetOutcome::kApplied);
     const model::CoeffSet plateau_set = db::ToCoeffSet([&] {
         for (const auto& c : db::RunFinalCoeffs(*db, lab.run_id))
             if (c.set.source == "fitter") return c.set;
         throw std::runtime_error("no plateau set");
     }());
-    ASSERT_EQ(with_plateau.SetCoefficients(plateau_set).outcome, compensate::SetOutcome::kApplied);
+    ASSERT_EQ(with_plateau.SetCoefficients(plateau_set).outcome, compensator::SetOutcome::kApplied);
     std::vector<double> final_rate, plateau_rate;
     std::vector<int64_t> utime;
     int differ = 0;
     // The library is given exactly the samples the compensator answered, in its order (a
     // compensator keeps state from one sample to the next).
     for (const auto& [sample, rate] : pairs) {
-        const auto s = compensate::SampleOf(*sample);
+        const auto s = compensator::SampleOf(*sample);
         const auto f = with_final.Apply(s), p = with_plateau.Apply(s);
         EXPECT_EQ(rate->coeff_set_id, final_set.coeff_set_id);
-        differ += f.status != compensate::ApplyStatus::kOk || f.out.rate_dps != rate->rate_dps;
+        differ += f.status != compensator::ApplyStatus::kOk || f.out.rate_dps != rate->rate_dps;
         final_rate.push_back(rate->rate_dps);
         plateau_rate.push_back(p.out.rate_dps);
         utime.push_back(s.utime);

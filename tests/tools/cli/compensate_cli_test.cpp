@@ -177,15 +177,15 @@ TEST_F(CompensateCli, ExportedSetRecoversTheTruthAndEqualsTheLiveCompensator) {
 
     // The live compensator's library on the same samples, handed over as gyrocal-compensator
     // does: utime on the microsecond grid from the CSV source's start, seq from 0.
-    compensate::SensorCompensator live;
-    ASSERT_EQ(live.SetCoefficients(TruthSet("S01")).outcome, compensate::SetOutcome::kApplied);
+    compensator::SensorCompensator live;
+    ASSERT_EQ(live.SetCoefficients(TruthSet("S01")).outcome, compensator::SetOutcome::kApplied);
     size_t k = 0, n_stats = 0;
     double sum_err = 0, ss_err = 0, ss_expected = 0;
     for (size_t i = 0; i < truth_.time_s.size(); ++i) {
         const auto r =
             live.Apply({kStartUtime + std::llround(truth_.time_s[i] * 1e6), static_cast<int64_t>(i),
                         truth_.gyro_v[i], truth_.temp_c[i], NAN});
-        if (r.status != compensate::ApplyStatus::kOk) continue;  // not published live either
+        if (r.status != compensator::ApplyStatus::kOk) continue;  // not published live either
         ASSERT_LT(k, rows.size());
         // Bit-identical: the output is written with 17 significant digits.
         EXPECT_EQ(rows[k].rate_dps, r.out.rate_dps) << "sample " << i;

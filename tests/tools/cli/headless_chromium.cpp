@@ -11,13 +11,13 @@
 #include <thread>
 
 #include "lcmtypes/launch/child_process.hpp"
-#include "processors/plot/gnuplot.hpp"
+#include "processors/plot/gnuplot/gnuplot.hpp"
 
 namespace gyrocal::testing {
 
 std::string HeadlessChromium::Find() {
     for (const char* name : {"chromium", "chromium-browser"})
-        if (std::string p = plot::FindOnPath(name); !p.empty()) return p;
+        if (std::string p = plot::gnuplot::FindOnPath(name); !p.empty()) return p;
     return "";
 }
 
