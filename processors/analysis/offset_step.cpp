@@ -210,6 +210,59 @@ void Record(const BinnedRun& binned, const AnalysisOptions& o, bool confirmed, S
         }
 }
 
+// The candidates not chosen, tested again with a warm-up the localized check added (and the terms
+// already chosen) in the base model: chosen before it, a transient the model lacks inflates their
+// noise and can mask one of them (a supply effect under a warm-up: rejected by the forward steps
+// while the same regressor, as a generic feature, explained the held-out residual). On the
+// training bins after the warm-up has decayed (3 tau): a transient confined to the first blocks is
+// what blocked cross-validation cannot predict, and every candidate's CV gain would measure that
+// instead of itself. Only adds: what the first choice added stays.
+void ChooseAgainWithWarmup(const Context& train, const BinnedRun& binned, const AnalysisOptions& o,
+                           Selection& sel, SensorResult& res) {
+    const auto w = std::find(sel.added_effects.begin(), sel.added_effects.end(), "warmup");
+    if (w == sel.added_effects.end()) return;
+    const std::string warm_term =
+        sel.terms[o.offset_terms.size() + static_cast<size_t>(w - sel.added_effects.begin())];
+    std::vector<Index> after;
+    const double tau_s = ParamOf(warm_term);
+    for (Index row : train.rows)
+        if (binned.bins()[static_cast<size_t>(row)].time_since_power_s > 3.0 * tau_s)
+            after.push_back(row);
+    if (static_cast<int>(after.size()) < 3 * o.cv_blocks + 10) return;
+    std::vector<Candidate> pool;
+    for (const Candidate& c : OffsetCandidates(binned, o))
+        if (c.why_not.empty() && c.effect != "warmup" &&
+            std::find(sel.added_effects.begin(), sel.added_effects.end(), c.effect) ==
+                sel.added_effects.end())
+            pool.push_back(c);
+    if (pool.empty()) return;
+    AnalysisOptions with = o;
+    with.offset_terms = sel.terms;
+    const Context train_with =
+        MakeContext(binned, std::move(after), train.t0, with, train.nuisance_all);
+    // The floor of the model with the warm-up fitted on every training bin: fitted on the bins
+    // after it, the warm-up's coefficient says nothing of the first ones.
+    Selection again =
+        SelectOffsetTerms(train_with, std::move(pool), DeclaredFloor(train, binned, with), with);
+    for (const CandidateResult& r : again.candidates)
+        for (CandidateResult& c : res.candidates)
+            if (c.effect == r.effect) {
+                c = r;
+                if (r.decision == Decision::kAdded)
+                    c.note += std::string(c.note.empty() ? "" : "; ") + "chosen with " + warm_term +
+                              " in the model, on the bins after 3 tau";
+            }
+    for (size_t k = sel.terms.size(); k < again.terms.size(); ++k)
+        sel.terms.push_back(again.terms[k]);
+    for (const std::string& e : again.added_effects) sel.added_effects.push_back(e);
+    for (Selection::JointPair p : again.joint_pairs) {
+        p.ambiguous_index += sel.ambiguous.size();
+        sel.joint_pairs.push_back(p);
+    }
+    for (const std::string& a : again.ambiguous) sel.ambiguous.push_back(a);
+    sel.x = train.Design(sel.terms);
+}
+
 std::vector<std::string> GateBase(const AnalysisOptions& o, const Selection& sel) {
     std::vector<std::string> base = o.offset_terms;
     for (size_t k = o.offset_terms.size(); k < sel.terms.size(); ++k)
@@ -225,6 +278,7 @@ Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
     Candidate warmup;
     Selection sel = Choose(train, binned, o, res, warmup);
     WarmupStep(binned, train, warmup, o, sel, res);
+    ChooseAgainWithWarmup(train, binned, o, sel, res);
     bool confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);
     if (confirmed) {
         const Context all = MakeContext(binned, AllRows(binned.size()), t0, o, nuisance_all);

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "processors/analysis/analyze.hpp"
+#include "processors/analysis/report.hpp"
 #include "processors/analysis/bins.hpp"
 #include "processors/numeric/least_squares.hpp"
 #include "tests/processors/analysis/othersim_run.hpp"
@@ -188,6 +189,8 @@ RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
     const Made m = Simulate(sim, d, seed, 0);
     const analysis::SensorResult r = analysis::Analyze(m.run);
     Judge(sim, d, m, r, f);
+    // VERDICT_REPORT=1: the analysis' whole report of each run (a development aid).
+    if (std::getenv("VERDICT_REPORT")) std::printf("%s", analysis::FormatReport(r).c_str());
     if (std::getenv("VERDICT_DUMP") && f.category != "adequate" && r.extended_offset) {
         const analysis::BinnedRun b(m.run, analysis::BinOptions::Defaults());
         const Eigen::VectorXd v = b.Values(*r.extended_offset);

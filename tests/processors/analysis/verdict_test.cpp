@@ -413,5 +413,44 @@ TEST(OutsideOthersim, SecondSlowWarmup) {
     RunOthersim("warmup2", e, TimeShaped);
 }
 
+// One effect masking another: a power-on warm-up of -12 mV (tau 300 s) and a supply sensitivity of
+// 0.05 V/V on othersim (its curve quadratic, so these two are all there is besides the thermometer
+// lag's temp_rate). Chosen before the warm-up, the supply's forward test sees the transient as
+// noise and its blocked CV cannot predict it (cv_gain -1.5, rejected) while the same regressor,
+// as a generic feature, explained the held-out residual: the benchmark's "warm-up + supply" on
+// othersim had a median held-out error 5.5x the truth's. The candidates are now tested again with
+// the warm-up in the model, on the bins after it has decayed (offset_step.cpp). Asserted: both
+// named, nothing the truth lacks, the supply coefficient within 4 of its standard errors of 0.05
+// (the estimate's own noise; 4 sigma for 4 seeds). Without the second choice 0/4 seeds name the
+// supply here; with it 4/4, and 32/32 over warm-ups of -12, -8, -4 and 4 mV and supplies of 0.02
+// and 0.05 V/V (checked once, 2026-11-29).
+TEST(MaskedOthersim, AWarmupDoesNotHideTheSupply) {
+    int both = 0;
+    for (uint64_t seed : {11u, 12u, 13u, 14u}) {
+        othersim::Options o = othersim::Options::QuickReturnToStart(420.0);
+        o.seed = seed;
+        o.spread.cubic_sd_v = 0.0;
+        o.spread.cold_bend_sd_v = 0.0;
+        o.effects.warmup_v = -12e-3;
+        o.effects.warmup_tau_s = 300.0;
+        o.effects.supply_v_per_v = 0.05;
+        const SensorResult r = Analyze(testing::MakeOthersimRun(o).run);
+        SCOPED_TRACE("seed " + std::to_string(seed) + "\n" + FormatReport(r));
+        bool warm = false, supply = false;
+        for (const AddedEffect& a : r.added) {
+            EXPECT_TRUE(a.effect == "warmup" || a.effect == "supply" || a.effect == "temp_rate")
+                << "named " << a.effect;
+            warm = warm || a.effect == "warmup";
+            if (a.effect != "supply") continue;
+            supply = true;
+            EXPECT_NEAR(a.coefficient, 0.05, 4.0 * a.stderr_) << "+- " << a.stderr_;
+        }
+        EXPECT_TRUE(warm) << r.headline;
+        EXPECT_TRUE(supply) << r.headline;
+        both += warm && supply;
+    }
+    std::printf("[ verdict ] othersim warm-up -12 mV + supply 0.05 V/V: both named %d/4\n", both);
+}
+
 }  // namespace
 }  // namespace gyrocal::analysis
