@@ -2,6 +2,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 namespace gyrocal::acceptance {
 
@@ -47,12 +51,47 @@ int Count(const json& v, const std::string& origin, const std::string& key) {
     return static_cast<int>(x);
 }
 
+// The numeric limits by key, each a member of Limits: FromJson reads them, ToJson writes the set
+// ones, Empty asks whether any is set (description and no_unexplained_residual are their own).
+template <class T>
+using LimitField = std::pair<std::string_view, std::optional<T> Limits::*>;
+
+const std::vector<LimitField<double>>& NonNegativeLimits() {
+    static const std::vector<LimitField<double>> fields = {
+        {"max_residual_rms_over_floor", &Limits::max_residual_rms_over_floor},
+        {"max_offset_change_dps", &Limits::max_offset_change_dps},
+        {"max_sensitivity_rel_uncertainty_pct", &Limits::max_sensitivity_rel_uncertainty_pct},
+        {"max_heldout_rate_rms_dps", &Limits::max_heldout_rate_rms_dps},
+        {"max_heldout_drift_dph", &Limits::max_heldout_drift_dph},
+    };
+    return fields;
+}
+
+const std::vector<LimitField<int>>& CountLimits() {
+    static const std::vector<LimitField<int>> fields = {
+        {"min_plateaus", &Limits::min_plateaus},
+        {"min_turns", &Limits::min_turns},
+    };
+    return fields;
+}
+
+// The member of `fields` named `key`, or nullptr.
+template <class T>
+std::optional<T> Limits::*FieldOf(const std::vector<LimitField<T>>& fields,
+                                  const std::string& key) {
+    for (const auto& [name, member] : fields)
+        if (name == key) return member;
+    return nullptr;
+}
+
 }  // namespace
 
 bool Limits::Empty() const {
-    return !max_residual_rms_over_floor && !max_offset_change_dps &&
-           !max_sensitivity_rel_uncertainty_pct && !min_plateaus && !min_turns &&
-           !no_unexplained_residual && !max_heldout_rate_rms_dps && !max_heldout_drift_dph;
+    for (const auto& [key, member] : NonNegativeLimits())
+        if (this->*member) return false;
+    for (const auto& [key, member] : CountLimits())
+        if (this->*member) return false;
+    return !no_unexplained_residual;
 }
 
 const std::vector<LimitDef>& LimitDefs() {
@@ -110,20 +149,10 @@ Limits FromJson(const json& j, const std::string& origin) {
                 throw LimitsError(origin + ": key 'description': expected a string, got " +
                                   TypeName(v));
             l.description = v.get<std::string>();
-        } else if (key == "max_residual_rms_over_floor") {
-            l.max_residual_rms_over_floor = NonNegative(v, origin, key);
-        } else if (key == "max_offset_change_dps") {
-            l.max_offset_change_dps = NonNegative(v, origin, key);
-        } else if (key == "max_sensitivity_rel_uncertainty_pct") {
-            l.max_sensitivity_rel_uncertainty_pct = NonNegative(v, origin, key);
-        } else if (key == "min_plateaus") {
-            l.min_plateaus = Count(v, origin, key);
-        } else if (key == "min_turns") {
-            l.min_turns = Count(v, origin, key);
-        } else if (key == "max_heldout_rate_rms_dps") {
-            l.max_heldout_rate_rms_dps = NonNegative(v, origin, key);
-        } else if (key == "max_heldout_drift_dph") {
-            l.max_heldout_drift_dph = NonNegative(v, origin, key);
+        } else if (const auto number = FieldOf(NonNegativeLimits(), key)) {
+            l.*number = NonNegative(v, origin, key);
+        } else if (const auto count = FieldOf(CountLimits(), key)) {
+            l.*count = Count(v, origin, key);
         } else if (key == "no_unexplained_residual") {
             if (!v.is_boolean())
                 throw LimitsError(origin +
@@ -165,16 +194,11 @@ Limits LoadLimitsFile(const std::string& path) {
 json ToJson(const Limits& l) {
     json j = json::object();
     if (!l.description.empty()) j["description"] = l.description;
-    if (l.max_residual_rms_over_floor)
-        j["max_residual_rms_over_floor"] = *l.max_residual_rms_over_floor;
-    if (l.max_offset_change_dps) j["max_offset_change_dps"] = *l.max_offset_change_dps;
-    if (l.max_sensitivity_rel_uncertainty_pct)
-        j["max_sensitivity_rel_uncertainty_pct"] = *l.max_sensitivity_rel_uncertainty_pct;
-    if (l.min_plateaus) j["min_plateaus"] = *l.min_plateaus;
-    if (l.min_turns) j["min_turns"] = *l.min_turns;
+    for (const auto& [key, member] : NonNegativeLimits())
+        if (l.*member) j[std::string(key)] = *(l.*member);
+    for (const auto& [key, member] : CountLimits())
+        if (l.*member) j[std::string(key)] = *(l.*member);
     if (l.no_unexplained_residual) j["no_unexplained_residual"] = true;
-    if (l.max_heldout_rate_rms_dps) j["max_heldout_rate_rms_dps"] = *l.max_heldout_rate_rms_dps;
-    if (l.max_heldout_drift_dph) j["max_heldout_drift_dph"] = *l.max_heldout_drift_dph;
     return j;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "lcmtypes/text/names.hpp"
 #include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::plot {
@@ -33,24 +34,17 @@ std::string Using(const Series& s) {
     return u;
 }
 
+// gnuplot's "with" of each style.
+constexpr text::NameTable<Style, 4> kWith{
+    {{Style::kPoints, "points pt 7 ps 0.6"},
+     {Style::kErrorBars, "yerrorbars pt 7 ps 0.8"},
+     {Style::kLines, "lines lw 2"},
+     {Style::kBand, "filledcurves fs transparent solid 0.25 noborder"}}};
+
 // One clause of the plot command.
 std::string Clause(const Series& s) {
-    std::string with;
-    switch (s.style) {
-        case Style::kPoints:
-            with = "points pt 7 ps 0.6";
-            break;
-        case Style::kErrorBars:
-            with = "yerrorbars pt 7 ps 0.8";
-            break;
-        case Style::kLines:
-            with = "lines lw 2";
-            break;
-        case Style::kBand:
-            with = "filledcurves fs transparent solid 0.25 noborder";
-            break;
-    }
-    std::string clause = Literal(s.table + ".dat") + " using " + Using(s) + " with " + with;
+    std::string clause = Literal(s.table + ".dat") + " using " + Using(s) + " with " +
+                         text::NameOf(kWith, s.style, "");
     if (s.dash_type > 0) clause += " dt " + std::to_string(s.dash_type);
     if (!s.color.empty()) clause += " lc rgb " + Literal(s.color);
     clause += s.title.empty() ? " notitle" : " title " + Literal(s.title);

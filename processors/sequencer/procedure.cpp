@@ -55,56 +55,48 @@ std::string ProfilesHelp() {
     return out;
 }
 
+namespace {
+
+// Throws "<what> <value> <rule>" (e.g. "ramp rate 40 degC/min: valid is (0, 30]") unless `ok`.
+void Require(bool ok, const std::string& what, double value, const std::string& rule) {
+    if (!ok) throw std::invalid_argument(what + " " + text::Sig(value) + " " + rule);
+}
+
+}  // namespace
+
 void ProcedureOptions::Validate() const {
     if (profile.setpoints_c.empty())
         throw std::invalid_argument("profile: at least one setpoint is needed");
-    for (double t : profile.setpoints_c) {
-        if (!std::isfinite(t) || t < -60.0 || t > 150.0)
-            throw std::invalid_argument("setpoint " + text::Sig(t) +
-                                        " degC: valid is -60..150 degC");
-    }
+    for (double t : profile.setpoints_c)
+        Require(std::isfinite(t) && t >= -60.0 && t <= 150.0, "setpoint", t,
+                "degC: valid is -60..150 degC");
     if (sensor_ids.empty())
         throw std::invalid_argument("sensors: at least one sensor id is needed");
-    if (!(ramp_rate_c_per_min > 0.0 && ramp_rate_c_per_min <= 30.0))
-        throw std::invalid_argument("ramp rate " + text::Sig(ramp_rate_c_per_min) +
-                                    " degC/min: valid is (0, 30]");
-    if (!(plateau_timeout_s > 0.0))
-        throw std::invalid_argument("plateau timeout " + text::Sig(plateau_timeout_s) +
-                                    " s: must be > 0");
-    if (!(rotation_timeout_s > 0.0))
-        throw std::invalid_argument("rotation timeout " + text::Sig(rotation_timeout_s) +
-                                    " s: must be > 0");
-    for (double m : moves_deg) {
-        if (!std::isfinite(m) || m == 0.0 || std::abs(m) > 360.0)
-            throw std::invalid_argument("move " + text::Sig(m) +
-                                        " deg: valid is [-360, 360] without 0");
-    }
-    if (!(rotation_rate_dps > 0.0 && rotation_rate_dps <= 300.0))
-        throw std::invalid_argument("rotation rate " + text::Sig(rotation_rate_dps) +
-                                    " deg/s: valid is (0, 300]");
-    if (!(rotation_accel_dps2 > 0.0))
-        throw std::invalid_argument("rotation acceleration " + text::Sig(rotation_accel_dps2) +
-                                    " deg/s^2: must be > 0");
-    if (!(retry_wait_s >= 0.0 && retry_wait_s <= 600.0))
-        throw std::invalid_argument("retry wait " + text::Sig(retry_wait_s) +
-                                    " s: valid is 0..600");
+    Require(ramp_rate_c_per_min > 0.0 && ramp_rate_c_per_min <= 30.0, "ramp rate",
+            ramp_rate_c_per_min, "degC/min: valid is (0, 30]");
+    Require(plateau_timeout_s > 0.0, "plateau timeout", plateau_timeout_s, "s: must be > 0");
+    Require(rotation_timeout_s > 0.0, "rotation timeout", rotation_timeout_s, "s: must be > 0");
+    for (double m : moves_deg)
+        Require(std::isfinite(m) && m != 0.0 && std::abs(m) <= 360.0, "move", m,
+                "deg: valid is [-360, 360] without 0");
+    Require(rotation_rate_dps > 0.0 && rotation_rate_dps <= 300.0, "rotation rate",
+            rotation_rate_dps, "deg/s: valid is (0, 300]");
+    Require(rotation_accel_dps2 > 0.0, "rotation acceleration", rotation_accel_dps2,
+            "deg/s^2: must be > 0");
+    Require(retry_wait_s >= 0.0 && retry_wait_s <= 600.0, "retry wait", retry_wait_s,
+            "s: valid is 0..600");
     if (move_attempts < 1 || move_attempts > 5)
         throw std::invalid_argument("move attempts " + std::to_string(move_attempts) +
                                     ": valid is 1..5");
-    if (!(turn_interval_s >= 10.0 && turn_interval_s <= 7200.0))
-        throw std::invalid_argument("turn interval " + text::Sig(turn_interval_s) +
-                                    " s: valid is 10..7200");
-    if (!(dwell_s >= 0.0 && dwell_s <= 7200.0))
-        throw std::invalid_argument("dwell " + text::Sig(dwell_s) + " s: valid is 0..7200");
-    if (!(reach_band_c > 0.0 && reach_band_c <= 20.0))
-        throw std::invalid_argument("reach band " + text::Sig(reach_band_c) +
-                                    " degC: valid is (0, 20]");
-    if (!(target_offset_dps >= 0.0 && std::isfinite(target_offset_dps)))
-        throw std::invalid_argument("target offset " + text::Sig(target_offset_dps) +
-                                    " deg/s: valid is >= 0 (0 = no target)");
-    if (!(target_sensitivity_pct >= 0.0 && target_sensitivity_pct <= 100.0))
-        throw std::invalid_argument("target sensitivity " + text::Sig(target_sensitivity_pct) +
-                                    " %: valid is 0..100 (0 = no target)");
+    Require(turn_interval_s >= 10.0 && turn_interval_s <= 7200.0, "turn interval", turn_interval_s,
+            "s: valid is 10..7200");
+    Require(dwell_s >= 0.0 && dwell_s <= 7200.0, "dwell", dwell_s, "s: valid is 0..7200");
+    Require(reach_band_c > 0.0 && reach_band_c <= 20.0, "reach band", reach_band_c,
+            "degC: valid is (0, 20]");
+    Require(target_offset_dps >= 0.0 && std::isfinite(target_offset_dps), "target offset",
+            target_offset_dps, "deg/s: valid is >= 0 (0 = no target)");
+    Require(target_sensitivity_pct >= 0.0 && target_sensitivity_pct <= 100.0, "target sensitivity",
+            target_sensitivity_pct, "%: valid is 0..100 (0 = no target)");
     if (profile.continuous && resume_setpoint_index >= 0)
         throw std::invalid_argument(
             "resume setpoint index: a continuous (ramp) run cannot be resumed");

@@ -78,6 +78,8 @@ CLI::Validator UtcDate() {
         "DATE");
 }
 
+// What every store command has; each command adds its own values in a struct of its own, held by
+// one shared object that its options set at the parse and its action reads after it.
 struct Common {
     std::string db = "gyrocal.db";
     bool json = false;
@@ -98,31 +100,34 @@ std::vector<rep::ProvenanceSummary> Provenance(st::Db& db,
     return out;
 }
 
+struct RunsCli : Common {
+    std::string sensor;
+    std::string since;
+    std::string until;
+    std::string outcome;
+};
+
 void AddRuns(CLI::App& app, std::function<int()>& action) {
-    auto c = std::make_shared<Common>();
-    auto sensor = std::make_shared<std::string>();
-    auto since = std::make_shared<std::string>();
-    auto until = std::make_shared<std::string>();
-    auto outcome = std::make_shared<std::string>();
+    auto c = std::make_shared<RunsCli>();
     CLI::App* sub = app.add_subcommand("runs", "list recorded runs, newest first");
     sub->footer(kExitCodes);
     AddDb(sub, *c);
-    sub->add_option("--sensor", *sensor, "only runs that recorded this sensor id");
-    sub->add_option("--since", *since, "only runs first seen at/after this UTC date")
+    sub->add_option("--sensor", c->sensor, "only runs that recorded this sensor id");
+    sub->add_option("--since", c->since, "only runs first seen at/after this UTC date")
         ->check(UtcDate());
-    sub->add_option("--until", *until, "only runs first seen before this UTC date")
+    sub->add_option("--until", c->until, "only runs first seen before this UTC date")
         ->check(UtcDate());
-    sub->add_option("--outcome", *outcome, "only runs that ended so")
+    sub->add_option("--outcome", c->outcome, "only runs that ended so")
         ->check(CLI::IsMember({"running", "stop", "abort", "none"}));
     sub->add_flag("--json", c->json, "JSON array instead of a table");
-    sub->callback([&action, c, sensor, since, until, outcome, sub] {
-        action = [c, sensor, since, until, outcome, sub] {
+    sub->callback([&action, c, sub] {
+        action = [c, sub] {
             return Guarded("runs", [&] {
                 st::RunFilter f;
-                if (sub->count("--sensor")) f.sensor_id = *sensor;
-                if (!since->empty()) f.since_utime = rep::ParseUtc(*since);
-                if (!until->empty()) f.until_utime = rep::ParseUtc(*until);
-                if (!outcome->empty()) f.outcome = *outcome;
+                if (sub->count("--sensor")) f.sensor_id = c->sensor;
+                if (!c->since.empty()) f.since_utime = rep::ParseUtc(c->since);
+                if (!c->until.empty()) f.until_utime = rep::ParseUtc(c->until);
+                if (!c->outcome.empty()) f.outcome = c->outcome;
                 auto db = st::OpenForQuery(c->db);
                 const auto runs = st::ListRuns(*db, f);
                 if (c->json) return Emit("runs", rep::RunsJson(runs).dump(2) + "\n", "");
@@ -137,21 +142,24 @@ void AddRuns(CLI::App& app, std::function<int()>& action) {
     });
 }
 
+struct ShowCli : Common {
+    std::string run;
+};
+
 void AddShow(CLI::App& app, std::function<int()>& action) {
-    auto c = std::make_shared<Common>();
-    auto run = std::make_shared<std::string>();
+    auto c = std::make_shared<ShowCli>();
     CLI::App* sub = app.add_subcommand("show",
                                        "a run: configuration, plateaus, sensitivity points, "
                                        "coefficient sets, analyses, losses, acceptance");
     sub->footer(kExitCodes);
-    sub->add_option("run", *run, "run id ('' = the no-run bucket)")->required();
+    sub->add_option("run", c->run, "run id ('' = the no-run bucket)")->required();
     AddDb(sub, *c);
     sub->add_flag("--json", c->json, "JSON instead of text");
-    sub->callback([&action, c, run] {
-        action = [c, run] {
+    sub->callback([&action, c] {
+        action = [c] {
             return Guarded("show", [&] {
                 auto db = st::OpenForQuery(c->db);
-                const st::RunDetail d = st::ShowRun(*db, *run);
+                const st::RunDetail d = st::ShowRun(*db, c->run);
                 const auto prov = Provenance(*db, d.coeff_sets);
                 // The outcome per unit against the limits stored with the run.
                 const auto accepted = gyrocal::runreport::AcceptRun(d);
@@ -169,17 +177,20 @@ void AddShow(CLI::App& app, std::function<int()>& action) {
     });
 }
 
+struct HistoryCli : Common {
+    std::string sensor;
+    std::string temps = "0,25,50";
+    bool all = false;
+};
+
 void AddHistory(CLI::App& app, std::function<int()>& action) {
-    auto c = std::make_shared<Common>();
-    auto sensor = std::make_shared<std::string>();
-    auto temps = std::make_shared<std::string>("0,25,50");
-    auto all = std::make_shared<bool>(false);
+    auto c = std::make_shared<HistoryCli>();
     CLI::App* sub = app.add_subcommand(
         "history", "every coefficient set of a sensor and how offset and sensitivity moved");
     sub->footer(kExitCodes);
-    sub->add_option("sensor", *sensor, "sensor id")->required();
+    sub->add_option("sensor", c->sensor, "sensor id")->required();
     AddDb(sub, *c);
-    sub->add_option("--ref-temps-c", *temps, "reference temperatures [degC], comma separated")
+    sub->add_option("--ref-temps-c", c->temps, "reference temperatures [degC], comma separated")
         ->capture_default_str()
         ->check(CLI::Validator(
             [](std::string& s) -> std::string {
@@ -188,19 +199,20 @@ void AddHistory(CLI::App& app, std::function<int()>& action) {
             },
             "LIST"));
     sub->add_flag(
-        "--all", *all,
+        "--all", c->all,
         "every coefficient set published (default: the final one of each run and source)");
     sub->add_flag("--json", c->json, "JSON instead of a table");
-    sub->callback([&action, c, sensor, temps, all] {
-        action = [c, sensor, temps, all] {
+    sub->callback([&action, c] {
+        action = [c] {
             return Guarded("history", [&] {
-                const std::vector<double> ref = *rep::ParseTemps(*temps);
+                const std::vector<double> ref = *rep::ParseTemps(c->temps);
                 auto db = st::OpenForQuery(c->db);
-                const auto sets = st::SensorHistory(*db, *sensor, !*all);
+                const auto sets = st::SensorHistory(*db, c->sensor, !c->all);
                 if (c->json) {
-                    return Emit("history", rep::HistoryJson(*sensor, sets, ref).dump(2) + "\n", "");
+                    return Emit("history", rep::HistoryJson(c->sensor, sets, ref).dump(2) + "\n",
+                                "");
                 }
-                return Emit("history", rep::HistoryTable(*sensor, sets, ref), "");
+                return Emit("history", rep::HistoryTable(c->sensor, sets, ref), "");
             });
         };
     });
@@ -223,13 +235,16 @@ int ExportSamples(st::Db& db, const std::string& run_id, const std::string& sens
     return 0;
 }
 
+struct ExportCli : Common {
+    std::string id;
+    std::string format = "json";
+    std::string out;
+    std::string kind = "auto";
+    std::string sensor;
+};
+
 void AddExport(CLI::App& app, std::function<int()>& action) {
-    auto c = std::make_shared<Common>();
-    auto id = std::make_shared<std::string>();
-    auto format = std::make_shared<std::string>("json");
-    auto out = std::make_shared<std::string>();
-    auto kind = std::make_shared<std::string>("auto");
-    auto sensor = std::make_shared<std::string>();
+    auto c = std::make_shared<ExportCli>();
     CLI::App* sub = app.add_subcommand(
         "export",
         "coefficients of a run (newest set of each sensor, whatever its source: an analysis'\n"
@@ -237,45 +252,46 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
         "--format samples: the run's raw samples as measured-data CSV (gyrocal compensate reads "
         "it)");
     sub->footer(kExitCodes);
-    sub->add_option("id", *id, "run id or sensor id (a run id wins; see --kind)")->required();
+    sub->add_option("id", c->id, "run id or sensor id (a run id wins; see --kind)")->required();
     AddDb(sub, *c);
-    sub->add_option("--format", *format, "json, csv, c-header, or samples (a run's raw samples)")
+    sub->add_option("--format", c->format, "json, csv, c-header, or samples (a run's raw samples)")
         ->check(CLI::IsMember({"json", "csv", "c-header", "samples"}))
         ->capture_default_str();
-    sub->add_option("--sensor", *sensor, "with --format samples: only this sensor");
-    sub->add_option("--out", *out, "write to this file instead of stdout");
-    sub->add_option("--kind", *kind, "what id names: auto, run or sensor")
+    sub->add_option("--sensor", c->sensor, "with --format samples: only this sensor");
+    sub->add_option("--out", c->out, "write to this file instead of stdout");
+    sub->add_option("--kind", c->kind, "what id names: auto, run or sensor")
         ->check(CLI::IsMember({"auto", "run", "sensor"}))
         ->capture_default_str();
-    sub->callback([&action, c, id, format, out, kind, sensor] {
-        action = [c, id, format, out, kind, sensor] {
+    sub->callback([&action, c] {
+        action = [c] {
             return Guarded("export", [&] {
                 auto db = st::OpenForQuery(c->db);
-                if (*format == "samples") return ExportSamples(*db, *id, *sensor, *out);
-                const bool is_run = *kind == "run" || (*kind == "auto" && st::RunExists(*db, *id));
+                if (c->format == "samples") return ExportSamples(*db, c->id, c->sensor, c->out);
+                const bool is_run =
+                    c->kind == "run" || (c->kind == "auto" && st::RunExists(*db, c->id));
                 std::vector<st::CoeffSetInfo> sets;
                 std::string origin;
                 if (is_run) {
-                    sets = st::RunNewestCoeffs(*db, *id);
-                    origin = "run '" + *id + "' of " + st::WithoutCredentials(c->db);
+                    sets = st::RunNewestCoeffs(*db, c->id);
+                    origin = "run '" + c->id + "' of " + st::WithoutCredentials(c->db);
                 } else {
-                    if (*kind == "auto" && !st::SensorExists(*db, *id)) {
-                        throw st::NotFound("'" + *id + "' is neither a run nor a sensor in '" +
+                    if (c->kind == "auto" && !st::SensorExists(*db, c->id)) {
+                        throw st::NotFound("'" + c->id + "' is neither a run nor a sensor in '" +
                                            st::WithoutCredentials(c->db) + "' (see gyrocal runs)");
                     }
-                    auto all = st::SensorHistory(*db, *id, true);
+                    auto all = st::SensorHistory(*db, c->id, true);
                     if (!all.empty()) sets.push_back(all.back());
                     origin =
-                        "sensor '" + *id + "' (newest set) of " + st::WithoutCredentials(c->db);
+                        "sensor '" + c->id + "' (newest set) of " + st::WithoutCredentials(c->db);
                 }
                 if (sets.empty()) {
-                    throw st::NotFound(std::string(is_run ? "run '" : "sensor '") + *id +
+                    throw st::NotFound(std::string(is_run ? "run '" : "sensor '") + c->id +
                                        "' has no coefficient sets");
                 }
                 std::string text;
-                if (*format == "csv") {
+                if (c->format == "csv") {
                     text = rep::CoeffsCsv(sets);
-                } else if (*format == "c-header") {
+                } else if (c->format == "c-header") {
                     text = rep::CoeffsCHeader(sets, origin);
                 } else {
                     nlohmann::json j;
@@ -284,7 +300,7 @@ void AddExport(CLI::App& app, std::function<int()>& action) {
                     for (const auto& s : sets) j["coeff_sets"].push_back(rep::CoeffSetJson(s));
                     text = j.dump(2) + "\n";
                 }
-                return Emit("export", text, *out);
+                return Emit("export", text, c->out);
             });
         };
     });
@@ -319,12 +335,15 @@ int DrawFleet(const std::vector<rep::FleetGroup>& groups, const rep::FleetOption
     return 0;
 }
 
+struct FleetCli : Common {
+    rep::FleetOptions o;
+    std::string model;
+    std::string temps;
+    std::string plot_dir;
+};
+
 void AddFleet(CLI::App& app, std::function<int()>& action) {
-    auto c = std::make_shared<Common>();
-    auto o = std::make_shared<rep::FleetOptions>();
-    auto model = std::make_shared<std::string>();
-    auto temps = std::make_shared<std::string>();
-    auto plot_dir = std::make_shared<std::string>();
+    auto c = std::make_shared<FleetCli>();
     CLI::App* sub = app.add_subcommand(
         "fleet",
         "per unit model: the spread of the units' offset and sensitivity curves across units and\n"
@@ -334,8 +353,8 @@ void AddFleet(CLI::App& app, std::function<int()>& action) {
         "Exit codes: 0 success (whatever the units' deviations), 1 database or plot "
         "failure, 2 bad options.");
     AddDb(sub, *c);
-    sub->add_option("--model", *model, "only this unit model (as `gyrocal fleet` names it)");
-    sub->add_option("--temps-c", *temps,
+    sub->add_option("--model", c->model, "only this unit model (as `gyrocal fleet` names it)");
+    sub->add_option("--temps-c", c->temps,
                     "temperature grid [degC], comma separated "
                     "(default -40 to 85 in steps of 5)")
         ->check(CLI::Validator(
@@ -344,66 +363,69 @@ void AddFleet(CLI::App& app, std::function<int()>& action) {
                                           : "'" + s + "' is not a list of numbers like 0,25,50";
             },
             "LIST"));
-    sub->add_option("--k", o->k, "a unit is outside when |z| > K")
+    sub->add_option("--k", c->o.k, "a unit is outside when |z| > K")
         ->check(CLI::Range(0.5, 100.0))
         ->capture_default_str();
-    sub->add_option("--min-units", o->min_units, "units needed at a temperature for a spread")
+    sub->add_option("--min-units", c->o.min_units, "units needed at a temperature for a spread")
         ->check(CLI::Range(3, 100000))
         ->capture_default_str();
-    sub->add_option("--plot", *plot_dir, "directory for the pictures (PNG + SVG, gnuplot)");
+    sub->add_option("--plot", c->plot_dir, "directory for the pictures (PNG + SVG, gnuplot)");
     sub->add_flag("--json", c->json, "JSON instead of tables");
-    sub->callback([&action, c, o, model, temps, plot_dir] {
-        action = [c, o, model, temps, plot_dir] {
+    sub->callback([&action, c] {
+        action = [c] {
             return Guarded("fleet", [&] {
-                if (!temps->empty()) o->temps_c = *rep::ParseTemps(*temps);
+                if (!c->temps.empty()) c->o.temps_c = *rep::ParseTemps(c->temps);
                 auto db = st::OpenForQuery(c->db);
-                const auto groups = rep::FleetSpread(FleetUnits(*db, *model), *o);
+                const auto groups = rep::FleetSpread(FleetUnits(*db, c->model), c->o);
                 if (groups.empty())
                     throw st::NotFound("no unit " +
-                                       (model->empty() ? "" : "of model '" + *model + "' ") +
+                                       (c->model.empty() ? "" : "of model '" + c->model + "' ") +
                                        "has a coefficient set in '" + db->path() + "'");
-                if (!plot_dir->empty()) DrawFleet(groups, *o, *plot_dir);
-                if (c->json) return Emit("fleet", rep::FleetJson(groups, *o).dump(2) + "\n", "");
-                return Emit("fleet", rep::FleetText(groups, *o), "");
+                if (!c->plot_dir.empty()) DrawFleet(groups, c->o, c->plot_dir);
+                if (c->json) return Emit("fleet", rep::FleetJson(groups, c->o).dump(2) + "\n", "");
+                return Emit("fleet", rep::FleetText(groups, c->o), "");
             });
         };
     });
 }
 
+struct ReplayCli : Common {
+    std::string run;
+    double speed = 1.0;
+    bool max = false;
+    std::string url;
+    std::string as_run;
+};
+
 void AddReplay(CLI::App& app, std::function<int()>& action) {
-    auto c = std::make_shared<Common>();
-    auto run = std::make_shared<std::string>();
-    auto speed = std::make_shared<double>(1.0);
-    auto max = std::make_shared<bool>(false);
-    auto url = std::make_shared<std::string>();
-    auto as_run = std::make_shared<std::string>();
+    auto c = std::make_shared<ReplayCli>();
     CLI::App* sub = app.add_subcommand(
         "replay", "publish a stored run back onto LCM with its original timing (gyrocal-replay)");
     sub->footer(kExitCodes);
-    sub->add_option("run", *run, "run id")->required();
+    sub->add_option("run", c->run, "run id")->required();
     AddDb(sub, *c);
-    gyrocal::process::AddPacingOptions(*sub, *speed, *max, "recorded seconds per wall second")
+    gyrocal::process::AddPacingOptions(*sub, c->speed, c->max, "recorded seconds per wall second")
         ->check(CLI::Range(1e-3, 1e6))
         ->capture_default_str();
-    sub->add_option("--lcm-url", *url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
-    sub->add_option("--as-run", *as_run, "publish the run events under this run id instead");
-    sub->callback([&action, c, run, speed, max, url, as_run, sub] {
-        action = [c, run, speed, max, url, as_run, sub] {
+    sub->add_option("--lcm-url", c->url, "LCM URL (default $GYROCAL_LCM_URL or udpm default)");
+    sub->add_option("--as-run", c->as_run, "publish the run events under this run id instead");
+    sub->callback([&action, c, sub] {
+        action = [c, sub] {
             const std::string exe = ExecutableDir() + "/gyrocal-replay";
-            std::vector<std::string> args = {exe, *run, "--db", c->db};
-            if (*max) {
+            std::vector<std::string> args = {exe, c->run, "--db", c->db};
+            if (c->max) {
                 args.push_back("--max");
             } else if (sub->count("--speed")) {
                 args.push_back("--speed");
-                args.push_back(std::to_string(*speed));
+                args.push_back(std::to_string(c->speed));
             }
-            if (!as_run->empty()) {
+            if (!c->as_run.empty()) {
                 args.push_back("--as-run");
-                args.push_back(*as_run);
+                args.push_back(c->as_run);
             }
-            if (!url->empty()) {
+            if (!c->url.empty()) {
                 args.push_back("--lcm-url");
-                args.push_back(*url);
+                args.push_back(c->url);
             }
             std::vector<char*> argv;
             for (auto& a : args) argv.push_back(a.data());

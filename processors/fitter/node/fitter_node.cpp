@@ -1,6 +1,7 @@
 #include "processors/fitter/node/fitter_node.hpp"
 
 #include <algorithm>
+#include <string_view>
 
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/process_main.hpp"
@@ -76,6 +77,17 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
 
 namespace {
 
+// Subscribes `handle(m, id)` to every sensor's channel of `prefix`, `id` the channel's sensor id,
+// guarded: what it throws is counted in STATUS.
+template <class Msg, class Handle>
+void SubscribePerSensor(bus::Bus& bus, process::StatusReporter& status, std::string_view prefix,
+                        Handle handle) {
+    bus.Subscribe<Msg>(channels::AllSensors(prefix), [&status, prefix, handle](
+                                                         const Msg& m, const std::string& ch) {
+        status.Guarded([&] { handle(m, channels::SensorOf(prefix, ch).value()); });
+    });
+}
+
 fitter::RampFitterOptions ClosedLoopOptions(const FitterOptions& o) {
     fitter::RampFitterOptions c = fitter::RampFitterOptions::ClosedLoop();
     c.analysis = o.ramp.analysis;
@@ -92,36 +104,25 @@ FitterNode::FitterNode(const FitterOptions& o)
         loop_.emplace(ClosedLoopOptions(o));
         loop_channel_.emplace(bus_, status_, *loop_);
     }
-    bus_.Subscribe<plateau_t>(
-        channels::AllSensors(channels::kPlateauPrefix),
-        [this](const plateau_t& m, const std::string& ch) {
-            status_.Guarded([&] {
-                const std::string id = channels::SensorOf(channels::kPlateauPrefix, ch).value();
-                if (loop_ && m.sensor_id == id)
-                    loop_->AddPlateau(id, {m.plateau_id, m.start_utime, m.end_utime, m.temp_mean_c,
-                                           m.temp_sem_c, m.gyro_mean_v, m.gyro_sem_v, m.n_samples});
-                Apply(core_.OnPlateau(m, id));
-            });
+    SubscribePerSensor<plateau_t>(
+        bus_, status_, channels::kPlateauPrefix, [this](const plateau_t& m, const std::string& id) {
+            if (loop_ && m.sensor_id == id)
+                loop_->AddPlateau(id, {m.plateau_id, m.start_utime, m.end_utime, m.temp_mean_c,
+                                       m.temp_sem_c, m.gyro_mean_v, m.gyro_sem_v, m.n_samples});
+            Apply(core_.OnPlateau(m, id));
         });
-    bus_.Subscribe<sensitivity_point_t>(
-        channels::AllSensors(channels::kSensitivityPrefix),
-        [this](const sensitivity_point_t& m, const std::string& ch) {
-            status_.Guarded([&] {
-                const std::string id = channels::SensorOf(channels::kSensitivityPrefix, ch).value();
-                if (loop_ && m.sensor_id == id)
-                    loop_->AddSensitivity(
-                        id, {m.rotation_id, m.utime, m.temp_c, m.direction, m.sensitivity_v_per_dps,
-                             m.sensitivity_stderr_v_per_dps, m.accepted != 0});
-                Apply(core_.OnSensitivity(m, id));
-            });
+    SubscribePerSensor<sensitivity_point_t>(
+        bus_, status_, channels::kSensitivityPrefix,
+        [this](const sensitivity_point_t& m, const std::string& id) {
+            if (loop_ && m.sensor_id == id)
+                loop_->AddSensitivity(
+                    id, {m.rotation_id, m.utime, m.temp_c, m.direction, m.sensitivity_v_per_dps,
+                         m.sensitivity_stderr_v_per_dps, m.accepted != 0});
+            Apply(core_.OnSensitivity(m, id));
         });
-    bus_.Subscribe<noise_t>(
-        channels::AllSensors(channels::kNoisePrefix),
-        [this](const noise_t& m, const std::string& ch) {
-            status_.Guarded([&] {
-                Apply(core_.OnNoise(m, channels::SensorOf(channels::kNoisePrefix, ch).value()));
-            });
-        });
+    SubscribePerSensor<noise_t>(
+        bus_, status_, channels::kNoisePrefix,
+        [this](const noise_t& m, const std::string& id) { Apply(core_.OnNoise(m, id)); });
     bus_.Subscribe<run_event_t>(
         std::string(channels::kRunEvent), [this](const run_event_t& m, const std::string&) {
             status_.Guarded([&] {
