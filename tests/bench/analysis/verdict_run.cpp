@@ -8,8 +8,8 @@
 #include <map>
 
 #include "processors/analysis/analyze.hpp"
-#include "processors/analysis/report.hpp"
 #include "processors/analysis/bins.hpp"
+#include "processors/analysis/report.hpp"
 #include "processors/numeric/least_squares.hpp"
 #include "tests/processors/analysis/othersim_run.hpp"
 #include "tests/processors/analysis/sim_run.hpp"
