@@ -263,6 +263,40 @@ void ChooseAgainWithWarmup(const Context& train, const BinnedRun& binned, const 
     sel.x = train.Design(sel.terms);
 }
 
+// A generic shape (temp_knot) earns its place on the held-out bins by itself: the held-out gate
+// (Confirm) judges the chosen terms together, and a knot chosen on the training bins beside a
+// real effect rode along with it (the rig's held-out ramp runs: temp_rate + knot, cubic + knot,
+// held-out error the same with the knot or without). Taken out unless the model with it predicts
+// the held-out bins better than the model without it, beyond gate_min_z standard errors.
+bool GenericShapeEarnsItsPlace(const Context& train, const BinnedRun& binned, const Split& split,
+                               const AnalysisOptions& o, Selection& sel, SensorResult& res) {
+    const size_t nd = o.offset_terms.size();
+    for (size_t k = nd; k < sel.terms.size(); ++k) {
+        if (sel.added_effects[k - nd] != "temp_knot") continue;
+        std::vector<std::string> without = sel.terms;
+        without.erase(without.begin() + static_cast<long>(k));
+        const MatrixXd none(static_cast<Index>(binned.size()), 0);
+        const VectorXd r_wo = HeldResidual(binned, train, split, train.AllDesign(without), none);
+        const VectorXd r_w = HeldResidual(binned, train, split, train.AllDesign(sel.terms), none);
+        if (r_wo.size() == 0 || r_w.size() != r_wo.size()) return false;
+        const Gain g = HeldOutGain(r_wo, r_w, split.held_block, train.hac_lag);
+        if (std::isfinite(g.z) && g.z > o.gate_min_z && g.mean_v2 > 0.0) return false;
+        const std::string why =
+            "temp_knot (" + sel.terms[k] +
+            " adds nothing on the held-out bins with the other terms in: " + text::Sig(g.z, 3) +
+            " standard errors, need " + text::Sig(o.gate_min_z, 3) + ")";
+        res.not_attributed.push_back(why);
+        for (CandidateResult& c : res.candidates)
+            if (c.effect == "temp_knot")
+                c.decision = Decision::kRejected, c.note = "not attributed: " + why;
+        sel.terms.erase(sel.terms.begin() + static_cast<long>(k));
+        sel.added_effects.erase(sel.added_effects.begin() + static_cast<long>(k - nd));
+        sel.x = train.Design(sel.terms);
+        return true;
+    }
+    return false;
+}
+
 std::vector<std::string> GateBase(const AnalysisOptions& o, const Selection& sel) {
     std::vector<std::string> base = o.offset_terms;
     for (size_t k = o.offset_terms.size(); k < sel.terms.size(); ++k)
@@ -280,6 +314,8 @@ Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
     WarmupStep(binned, train, warmup, o, sel, res);
     ChooseAgainWithWarmup(train, binned, o, sel, res);
     bool confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);
+    if (confirmed && GenericShapeEarnsItsPlace(train, binned, split, o, sel, res))
+        confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);
     if (confirmed) {
         const Context all = MakeContext(binned, AllRows(binned.size()), t0, o, nuisance_all);
         const LsFit f = FitLs(all.Design(sel.terms), all.y, all.segment, 0);
