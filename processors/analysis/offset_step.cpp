@@ -361,13 +361,7 @@ double ParamStderr(const Context& all, const std::vector<std::string>& terms, si
                    double coeff) {
     const double p = ParamOf(terms[k]);
     const std::string name = terms[k].substr(0, terms[k].find('('));
-    auto term_at = [&](double v) {
-        return name == "warmup"       ? model::WarmupTerm(v)
-               : name == "dTdt"       ? model::RateTerm(v)
-               : name == "knot_above" ? model::KnotAboveTerm(v)
-               : name == "knot_below" ? model::KnotBelowTerm(v)
-                                      : model::BranchTerm(v);
-    };
+    auto term_at = [&](double v) { return model::ParamTerm(name, v); };
     // A knot is a position (any sign, 0.1 degC in its name): a step of kKnotStepC; the scale
     // parameters a relative step.
     const bool knot = name.rfind("knot_", 0) == 0;

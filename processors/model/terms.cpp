@@ -126,4 +126,13 @@ std::string KnotParam(const char* name, double k_c) {
 std::string KnotAboveTerm(double k_c) { return KnotParam("knot_above", k_c); }
 std::string KnotBelowTerm(double k_c) { return KnotParam("knot_below", k_c); }
 
+std::string ParamTerm(std::string_view base, double param) {
+    if (base == "warmup") return WarmupTerm(param);
+    if (base == "dTdt") return RateTerm(param);
+    if (base == "heating") return BranchTerm(param);
+    if (base == "knot_above") return KnotAboveTerm(param);
+    if (base == "knot_below") return KnotBelowTerm(param);
+    throw std::invalid_argument("term '" + std::string(base) + "' takes no searched parameter");
+}
+
 }  // namespace gyrocal::model

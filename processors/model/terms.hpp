@@ -74,5 +74,8 @@ std::string RateTerm(double tau_s);
 // max(0, k - dT)^3 (3 significant digits, or 0.1 degC where that is coarser).
 std::string KnotAboveTerm(double k_c);
 std::string KnotBelowTerm(double k_c);
+// The parametric term `base` ("warmup", "dTdt", "heating", "knot_above", "knot_below") at another
+// parameter value, written as the functions above write it; std::invalid_argument for any other.
+std::string ParamTerm(std::string_view base, double param);
 
 }  // namespace gyrocal::model

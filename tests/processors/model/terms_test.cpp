@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "processors/model/model.hpp"
 
@@ -86,6 +87,10 @@ TEST(Terms, ParametricNamesAreWrittenOneWay) {
     EXPECT_EQ(WarmupTerm(407.3), "warmup(407)");
     EXPECT_EQ(BranchTerm(2.25), "heating(2.25)");
     EXPECT_EQ(RateTerm(5.0), "dTdt(5)");
+    EXPECT_EQ(ParamTerm("warmup", 407.3), WarmupTerm(407.3));
+    EXPECT_EQ(ParamTerm("heating", 2.25), BranchTerm(2.25));
+    EXPECT_EQ(ParamTerm("knot_below", -3.04), KnotBelowTerm(-3.04));
+    EXPECT_THROW(ParamTerm("supply", 1.0), std::invalid_argument);
     ResolvedTerm t;
     ASSERT_TRUE(ResolveTerm(BranchTerm(1.2345), &t, nullptr));
     EXPECT_EQ(t.c.kind, GYROCAL_TERM_BRANCH);
