@@ -49,6 +49,7 @@ std::vector<Job> Jobs(int per_scenario, int clean, const std::string& which) {
             // VERDICT_SCENARIO=text: only the scenarios whose name holds it (a development aid).
             const char* only = std::getenv("VERDICT_SCENARIO");
             if (only && Scenarios()[k].name.find(only) == std::string::npos) continue;
+            if (Scenarios()[k].othersim_only && s != Simulator::kOthersim) continue;
             const int n = Scenarios()[k].group == "clean" ? clean : per_scenario;
             for (int i = 0; i < n; ++i)
                 jobs.push_back({s, k, static_cast<uint64_t>(5000 + 1000 * k + i)});

@@ -46,6 +46,7 @@ Made Simulate(Simulator sim, const Draw& d, uint64_t seed, uint64_t noise_seed) 
         o.spread.cubic_sd_v = 0.0;      // the declared quadratic is its curve: an effect is
         o.spread.cold_bend_sd_v = 0.0;  // then only what the scenario adds
         o.effects.warmup_v = 0.0;
+        if (d.temp_lag_off) o.thermal.temp_line_tau_s = 0.0;
         analysis::testing::OthersimRun r = analysis::testing::MakeOthersimRun(o);
         m.run = std::move(r.run);
         m.truth_v = std::move(r.truth_offset_v);

@@ -54,6 +54,12 @@ ListedPart Listed(const std::string& e, Simulator s, bool own, std::mt19937_64& 
 
 Draw Clean(Simulator, std::mt19937_64&) { return {}; }
 
+Draw CleanNoLag(Simulator, std::mt19937_64&) {
+    Draw d;
+    d.temp_lag_off = true;
+    return d;
+}
+
 template <const char* kEffect>
 Draw One(Simulator s, std::mt19937_64& r) {
     Draw d;
@@ -168,6 +174,8 @@ const std::vector<Scenario>& Scenarios() {
         {"temp_rate + supply", "combination", Two<kTempRate, kSupply>},
         {"hysteresis + temp_cubic", "combination", Two<kHyst, kCubic>},
         {"warm-up + supply", "combination", Two<kWarmup, kSupply>},
+        // Last, so that the seeds of the scenarios above stay what they were.
+        {"clean, thermometer lag off", "clean", CleanNoLag, true},
     };
     return s;
 }

@@ -39,11 +39,15 @@ struct Draw {
     // so temp_cubic and temp_knot are right names for it.
     bool outside_static_temp = false;
     double warmup_v = 0, warmup_tau_s = 0;  // a single power-on exponential (listed), else 0
+    // othersim's temperature line lags its die by 1 s: a real, small temp_rate in every run of it,
+    // "clean" included. Off: the temperature read is the die's (the control for the clean rate).
+    bool temp_lag_off = false;
 };
 
 struct Scenario {
     std::string name, group;  // group: clean, listed, outside, transient, shift, combination
     Draw (*make)(Simulator, std::mt19937_64&);
+    bool othersim_only = false;  // meaningless on the rig (its sensor lags 0.1 s: no lag to remove)
 };
 
 const std::vector<Scenario>& Scenarios();
