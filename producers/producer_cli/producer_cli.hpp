@@ -1,6 +1,7 @@
 #pragma once
 // Command-line pieces the measured-data producers share (gyrocal-csv-source, gyrocal-line-source,
-// gyrocal-csv-record), so their common options keep the same names, help texts and messages.
+// gyrocal-csv-record; gyrocal-log-source the opening and --lcm-url), so their common options keep
+// the same names, help texts and messages.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <utility>
