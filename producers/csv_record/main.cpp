@@ -31,9 +31,8 @@ int main(int argc, char** argv) {
     using namespace gyrocal;
     csv_record::CsvRecordOptions o = csv_record::CsvRecordOptions::Defaults();
     CLI::App app{"gyrocal-csv-record: record gyro samples to a measured-data CSV file"};
-    app.footer(kFooter);
-    app.add_option("--out", o.out, "CSV file to write (overwritten)")->required();
-    producer_cli::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddOpeningOptions(app, kFooter, "--out", o.out, "CSV file to write (overwritten)",
+                                    true, o.lcm_url);
     app.add_option("--sensors", o.sensors, "only these sensor ids, comma separated (default all)")
         ->delimiter(',');
     app.add_option("--time-origin-utime", o.time_origin_utime,

@@ -49,9 +49,8 @@ int main(int argc, char** argv) {
     using namespace gyrocal;
     csv_source::CsvSourceOptions o = csv_source::CsvSourceOptions::Defaults();
     CLI::App app{"gyrocal-csv-source: replay a measured-data CSV file onto the gyrocal bus"};
-    app.footer(kFooter);
-    app.add_option("file,--file", o.file, "CSV file to replay")->required();
-    producer_cli::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddOpeningOptions(app, kFooter, "file,--file", o.file, "CSV file to replay", true,
+                                    o.lcm_url);
     process::AddPacingOptions(app, o.speed, o.max,
                               "data seconds per wall second, > 0 (default 1 = real time)");
     app.add_option("--max-rate-hz", o.max_rate_hz,

@@ -43,9 +43,9 @@ int main(int argc, char** argv) {
     using namespace gyrocal;
     line_source::LineSourceOptions o = line_source::LineSourceOptions::Defaults();
     CLI::App app{"gyrocal-line-source: publish a live CSV line stream onto the gyrocal bus"};
-    app.footer(kFooter);
-    app.add_option("--device", o.device, "serial device or FIFO to read (default: stdin)");
-    producer_cli::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddOpeningOptions(app, kFooter, "--device", o.device,
+                                    "serial device or FIFO to read (default: stdin)", false,
+                                    o.lcm_url);
     std::string time = "stream";
     app.add_option("--time", time, "stream|wall: where utime comes from (default stream)");
     producer_cli::AddConversionOptions(

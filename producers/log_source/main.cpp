@@ -32,9 +32,8 @@ int main(int argc, char** argv) {
     using namespace gyrocal;
     log_source::LogSourceOptions o = log_source::LogSourceOptions::Defaults();
     CLI::App app{"gyrocal-log-source: publish an LCM log onto the gyrocal bus"};
-    app.footer(kFooter);
-    app.add_option("file,--file", o.file, "LCM log file (lcm-logger's)")->required();
-    producer_cli::AddLcmUrlOption(app, o.lcm_url);
+    producer_cli::AddOpeningOptions(app, kFooter, "file,--file", o.file,
+                                    "LCM log file (lcm-logger's)", true, o.lcm_url);
     process::AddPacingOptions(app, o.speed, o.max,
                               "recorded seconds per wall second, > 0 (default 1 = as recorded)");
     app.add_option("--channels", o.channels,

@@ -9,6 +9,15 @@ void AddLcmUrlOption(CLI::App& app, std::string& lcm_url) {
                    "LCM URL (default $GYROCAL_LCM_URL, else udpm://239.255.76.67:7667?ttl=0)");
 }
 
+CLI::Option* AddOpeningOptions(CLI::App& app, const std::string& footer, const std::string& name,
+                               std::string& target, const std::string& help, bool required,
+                               std::string& lcm_url) {
+    app.footer(footer);
+    CLI::Option* first = app.add_option(name, target, help)->required(required);
+    AddLcmUrlOption(app, lcm_url);
+    return first;
+}
+
 void AddConversionOptions(CLI::App& app, csv::ConversionOptions& conversion,
                           const std::string& start_utime_help) {
     app.add_option("--start-utime", conversion.start_utime, start_utime_help);

@@ -1,6 +1,7 @@
 #pragma once
 // Command-line pieces the measured-data producers share (gyrocal-csv-source, gyrocal-line-source,
-// gyrocal-csv-record), so their common options keep the same names, help texts and messages.
+// gyrocal-csv-record; gyrocal-log-source the opening and --lcm-url), so their common options keep
+// the same names, help texts and messages.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <utility>
@@ -12,6 +13,13 @@ namespace gyrocal::producer_cli {
 
 // --lcm-url: the LCM provider ("" = $GYROCAL_LCM_URL, else the default).
 void AddLcmUrlOption(CLI::App& app, std::string& lcm_url);
+
+// The opening every producer's command line shares: the --help footer, then the option that names
+// what it reads or writes (`name`, e.g. "file,--file"; required when `required`), then --lcm-url.
+// Returns that first option.
+CLI::Option* AddOpeningOptions(CLI::App& app, const std::string& footer, const std::string& name,
+                               std::string& target, const std::string& help, bool required,
+                               std::string& lcm_url);
 
 // --start-utime (`start_utime_help`: what time_s = 0 means differs per source), --preset,
 // --temp-v-at-25c, --temp-v-per-c (also as its old name --temp-v-per-k, hidden),

@@ -196,11 +196,7 @@ inline rate_t Rate(const std::string& id, int64_t seq) {
 }
 
 inline status_t Status(const std::string& process) {
-    status_t m{};
-    m.utime = 1;
-    m.process = process;
-    m.host = "h";
-    m.pid = 4242;
+    status_t m = FromProcess<status_t>(1, process, 4242);
     m.state = "running";
     m.decode_errors = 1;
     m.seq_gaps = 2;
@@ -320,11 +316,7 @@ inline rate_batch_t RateBatch(const std::string& id, int64_t first, int n) {
 }
 
 inline flow_mark_t FlowMark(int64_t mark_seq) {
-    flow_mark_t m{};
-    m.utime = 1;
-    m.source = "gyrocal-csv-source";
-    m.host = "h";
-    m.pid = 4243;
+    flow_mark_t m = FromProcess<flow_mark_t>(1, "gyrocal-csv-source", 4243);
     m.mark_seq = mark_seq;
     m.published = 100 * mark_seq;
     m.data_utime = SampleUtime(mark_seq);
@@ -332,11 +324,7 @@ inline flow_mark_t FlowMark(int64_t mark_seq) {
 }
 
 inline flow_ack_t FlowAck(int64_t mark_seq) {
-    flow_ack_t m{};
-    m.utime = 2;
-    m.process = "gyrocal-recorder";
-    m.host = "h";
-    m.pid = 4242;
+    flow_ack_t m = FromProcess<flow_ack_t>(2, "gyrocal-recorder", 4242);
     m.source_host = "h";
     m.source_pid = 4243;
     m.mark_seq = mark_seq;

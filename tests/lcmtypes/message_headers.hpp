@@ -1,6 +1,7 @@
 #pragma once
 // The fields several message types share by name, set in one place for the tests that build
-// them: a per-sensor result's stamp, and the window a plateau or a rotation was measured over.
+// them: a per-sensor result's stamp, the window a plateau or a rotation was measured over, and
+// the identity of the process that sent a status or a flow-control message.
 #include <cstdint>
 #include <string>
 
@@ -30,6 +31,22 @@ Msg WindowOf(const std::string& id, const std::string& run_id, int64_t start_uti
     } else {
         m.rotation_id = start_utime;
     }
+    return m;
+}
+
+// A message sent at `utime` [us] by process `name` (pid `pid`) on host "h": the sender's identity
+// as status_t and flow_ack_t carry it (`process`) and flow_mark_t (`source`).
+template <class Msg>
+Msg FromProcess(int64_t utime, const std::string& name, int32_t pid) {
+    Msg m{};
+    m.utime = utime;
+    if constexpr (requires { m.process; }) {
+        m.process = name;
+    } else {
+        m.source = name;
+    }
+    m.host = "h";
+    m.pid = pid;
     return m;
 }
 

@@ -83,6 +83,17 @@ std::string Slurp(const std::string& path) {
     return os.str();
 }
 
+void WriteGoodAndBad(const Scratch& dir, const std::string& bad_file,
+                     const std::map<size_t, std::string>& inserted) {
+    const std::vector<std::string> lines = WriteSyntheticCsv(dir.Path("good.csv"), SyntheticSpec{});
+    std::string text = std::string(kSyntheticHeader) + "\n";
+    for (size_t i = 0; i < lines.size(); ++i) {
+        text += lines[i] + "\n";
+        if (const auto it = inserted.find(i); it != inserted.end()) text += it->second + "\n";
+    }
+    WriteText(dir.Path(bad_file), text);
+}
+
 void WriteText(const std::string& path, const std::string& text) {
     std::ofstream out(path);
     out << text;

@@ -5,6 +5,7 @@
 // STATUS (it has subscribed by then), and comparing two CSV files sample by sample.
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,11 @@ struct SyntheticSpec {
 std::vector<std::string> WriteSyntheticCsv(const std::string& path, const SyntheticSpec& spec);
 inline constexpr const char* kSyntheticHeader =
     "operator,sensor_id,time_s,temp_v,gyro_v,supply_v,encoder_deg,chamber_c";
+// good.csv of `dir`, the synthetic run (SyntheticSpec{}), and `bad_file` of `dir`, the same text
+// with each line of `inserted` after the data line of its 0-based index (the header is line 1, so
+// a line inserted after index i is line i + 3, plus one per line inserted before it).
+void WriteGoodAndBad(const Scratch& dir, const std::string& bad_file,
+                     const std::map<size_t, std::string>& inserted);
 
 csv::CsvFile ReadCsvFile(const std::string& path);
 std::string Slurp(const std::string& path);

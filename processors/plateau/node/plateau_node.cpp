@@ -34,23 +34,14 @@ std::string PlateauOptions::Validate() const {
 }
 
 PlateauNode::PlateauNode(const PlateauOptions& options)
-    : options_(options),
-      bus_(bus::BusOptions{options.lcm_url}),
-      status_(bus_, kProcess),
-      inputs_(bus_, status_, options.sensors, options.encoder_id, *this),
+    : MotionNode(kProcess, options.lcm_url, options.sensors, options.encoder_id),
+      options_(options),
       motion_(options.move, options.motion_guard_s, options.encoder_stale_s),
       chamber_setpoint_c_(std::numeric_limits<double>::quiet_NaN()) {
     bus_.Subscribe<chamber_state_t>(
         std::string(channels::kChamberState),
         motion::node::Guarded(
             status_, [this](const chamber_state_t& m, const std::string&) { OnChamberState(m); }));
-}
-
-void PlateauNode::Run() {
-    status_.set_state("running");
-    // Malformed payloads (wrong type, hostile array lengths) are counted by the bus as decode
-    // errors and never reach a handler; anything else thrown here is a bug and ends the process.
-    process::RunLoop(bus_, status_);
 }
 
 PlateauNode::Sensor& PlateauNode::SensorFor(const std::string& id) {

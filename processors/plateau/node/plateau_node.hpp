@@ -20,9 +20,8 @@
 #include "gyrocal/chamber_state_t.hpp"
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/process/status.hpp"
 #include "processors/motion/node/motion_inputs.hpp"
+#include "processors/motion/node/motion_node.hpp"
 #include "processors/motion/table_motion.hpp"
 #include "processors/noise/noise_tracker.hpp"
 #include "processors/plateau/plateau_detector.hpp"
@@ -45,15 +44,10 @@ struct PlateauOptions {
     std::string Validate() const;
 };
 
-// Privately a MotionInputs::Handler: only its own MotionInputs calls the On* handlers.
-class PlateauNode : private motion::node::MotionInputs::Handler {
+// Its bus, STATUS, inputs, Run() and test hooks are MotionNode's.
+class PlateauNode : public motion::node::MotionNode {
 public:
     explicit PlateauNode(const PlateauOptions& options);  // throws BusError when LCM cannot open
-    void Run();
-    // Tests drive the node in-process over memq://: they publish into its bus, dispatch with
-    // Handle, and see its STATUS (counters, per-sensor state) after PublishStatus.
-    bus::Bus& bus() { return bus_; }
-    void PublishStatus() { status_.PublishNow(); }
     int64_t plateaus_published() const { return plateaus_; }
 
 private:
@@ -78,9 +72,6 @@ private:
     void PublishNoise(const std::string& id, Sensor& sensor);
 
     PlateauOptions options_;
-    bus::Bus bus_;
-    process::StatusReporter status_;
-    motion::node::MotionInputs inputs_;
     motion::TableMotion motion_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;

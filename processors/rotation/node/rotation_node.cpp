@@ -20,18 +20,9 @@ std::string RotationOptions::Validate() const {
 }
 
 RotationNode::RotationNode(const RotationOptions& options)
-    : options_(options),
-      bus_(bus::BusOptions{options.lcm_url}),
-      status_(bus_, kProcess),
-      inputs_(bus_, status_, options.sensors, options.encoder_id, *this),
+    : MotionNode(kProcess, options.lcm_url, options.sensors, options.encoder_id),
+      options_(options),
       detector_(options.move) {}
-
-void RotationNode::Run() {
-    status_.set_state("running");
-    // Malformed payloads (wrong type, hostile array lengths) are counted by the bus as decode
-    // errors and never reach a handler; anything else thrown here is a bug and ends the process.
-    process::RunLoop(bus_, status_);
-}
 
 rotation::MotionView RotationNode::View() const {
     return rotation::MotionView{detector_.watermark_utime(), detector_.current_start_utime()};

@@ -14,9 +14,8 @@
 
 #include "gyrocal/gyro_sample_t.hpp"
 #include "gyrocal/run_event_t.hpp"
-#include "lcmtypes/bus/bus.hpp"
-#include "lcmtypes/process/status.hpp"
 #include "processors/motion/node/motion_inputs.hpp"
+#include "processors/motion/node/motion_node.hpp"
 #include "processors/motion/table_motion.hpp"
 #include "processors/rotation/rotation_estimator.hpp"
 
@@ -33,15 +32,10 @@ struct RotationOptions {
     std::string Validate() const;
 };
 
-// Privately a MotionInputs::Handler: only its own MotionInputs calls the On* handlers.
-class RotationNode : private motion::node::MotionInputs::Handler {
+// Its bus, STATUS, inputs, Run() and test hooks are MotionNode's.
+class RotationNode : public motion::node::MotionNode {
 public:
     explicit RotationNode(const RotationOptions& options);  // throws BusError when LCM cannot open
-    void Run();
-    // Tests drive the node in-process over memq://: they publish into its bus, dispatch with
-    // Handle, and see its STATUS (counters, per-sensor state) after PublishStatus.
-    bus::Bus& bus() { return bus_; }
-    void PublishStatus() { status_.PublishNow(); }
 
 private:
     struct Sensor {
@@ -57,9 +51,6 @@ private:
     rotation::MotionView View() const;
 
     RotationOptions options_;
-    bus::Bus bus_;
-    process::StatusReporter status_;
-    motion::node::MotionInputs inputs_;
     motion::MoveDetector detector_;
     std::map<std::string, std::unique_ptr<Sensor>> sensors_;
     std::string run_id_;

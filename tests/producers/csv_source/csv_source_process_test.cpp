@@ -57,16 +57,11 @@ TEST(CsvRoundTrip, MaxSpeedLosesNothing) {
 // good.csv, the synthetic run, and bad.csv, the same with three bad rows inserted; then a
 // recorder listening on `url`.
 launch::ChildProcess BadFileAndRecorder(const Scratch& dir, const std::string& url) {
-    const auto lines = WriteSyntheticCsv(dir.Path("good.csv"), SyntheticSpec{});
-    std::string text = std::string(kSyntheticHeader) + "\n";
-    for (size_t i = 0; i < lines.size(); ++i) {
-        text += lines[i] + "\n";
-        // Lines are 1-based and the header is line 1: the bad rows become lines 12, 24, 36.
-        if (i == 9) text += "op0,S01,0.095000,2.5,abc,5.0,0,25\n";  // gyro_v not a number
-        if (i == 20) text += "op0,S02,0.2,2.5\n";                   // cut short
-        if (i == 31) text += "op0,S03,0.000000,2.5,2.5,,0,25\n";    // S03 time goes back
-    }
-    WriteText(dir.Path("bad.csv"), text);
+    // The bad rows become lines 12, 24, 36.
+    WriteGoodAndBad(dir, "bad.csv",
+                    {{9, "op0,S01,0.095000,2.5,abc,5.0,0,25"},  // gyro_v not a number
+                     {20, "op0,S02,0.2,2.5"},                   // cut short
+                     {31, "op0,S03,0.000000,2.5,2.5,,0,25"}});  // S03 time goes back
     return StartCsvRecord(dir, url);
 }
 

@@ -25,14 +25,9 @@ TEST(LineSource, PipedStreamGivesBackTheSameSamplesAndSkipsBadLines) {
     // GIVEN the synthetic stream with two bad lines after the 30th and 60th data lines
     Scratch dir("line_pipe");
     const std::string url = UdpmUrl(7732);
-    const auto lines = WriteSyntheticCsv(dir.Path("good.csv"), SyntheticSpec{});
-    std::string text = std::string(kSyntheticHeader) + "\n";
-    for (size_t i = 0; i < lines.size(); ++i) {
-        text += lines[i] + "\n";
-        if (i == 29) text += "op0,S01,0.105,2.5,nan,5,0,25\n";  // line 32
-        if (i == 59) text += "garbage\n";                       // line 63
-    }
-    WriteText(dir.Path("stream.txt"), text);
+    WriteGoodAndBad(dir, "stream.txt",
+                    {{29, "op0,S01,0.105,2.5,nan,5,0,25"},  // line 32
+                     {59, "garbage"}});                     // line 63
     launch::ChildProcess rec = StartCsvRecord(dir, url);
     ASSERT_TRUE(WaitForStatus(url, rec));
     // WHEN it is piped into the line source (stdin is a pipe, not a file)

@@ -9,6 +9,12 @@ namespace gyrocal::othersim {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EffectOptions, warmup_v, warmup_tau_s, gradient_v_per_c,
                                    supply_v_per_v, drift_v_per_h, periodic_v, periodic_s, step_v,
                                    step_at_s, warmup2_v, warmup2_tau_s)
+// The timeline's spans under their field names (a turn's slip is a fault, its move a detail).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DwellSpan, index, setpoint_c, ramp_start_s, start_s,
+                                   turns_start_s, end_s)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TurnSpan, index, dwell_index, start_s, end_s, angle_deg)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DisturbanceSpan, dwell_index, sensor_id, offset_v, start_s,
+                                   end_s)
 
 namespace {
 
@@ -43,33 +49,16 @@ nlohmann::json UnitJson(const UnitTruth& u) {
 }
 
 nlohmann::json TimelineJson(const Timeline& tl) {
-    nlohmann::json dwells = nlohmann::json::array();
-    for (const DwellSpan& d : tl.dwells)
-        dwells.push_back({{"index", d.index},
-                          {"setpoint_c", d.setpoint_c},
-                          {"ramp_start_s", d.ramp_start_s},
-                          {"start_s", d.start_s},
-                          {"turns_start_s", d.turns_start_s},
-                          {"end_s", d.end_s}});
-    nlohmann::json turns = nlohmann::json::array();
-    for (const TurnSpan& s : tl.turns)
-        turns.push_back({{"index", s.index},
-                         {"dwell_index", s.dwell_index},
-                         {"start_s", s.start_s},
-                         {"end_s", s.end_s},
-                         {"angle_deg", s.angle_deg}});
-    return {{"duration_s", tl.duration_s}, {"dwells", dwells}, {"turns", turns}};
+    return {{"duration_s", tl.duration_s}, {"dwells", tl.dwells}, {"turns", tl.turns}};
 }
 
 nlohmann::json FaultsJson(const Timeline& tl) {
     nlohmann::json f = nlohmann::json::array();
-    for (const DisturbanceSpan& d : tl.disturbances)
-        f.push_back({{"kind", "disturbance"},
-                     {"dwell_index", d.dwell_index},
-                     {"sensor_id", d.sensor_id},
-                     {"offset_v", d.offset_v},
-                     {"start_s", d.start_s},
-                     {"end_s", d.end_s}});
+    for (const DisturbanceSpan& d : tl.disturbances) {
+        nlohmann::json disturbance = d;
+        disturbance["kind"] = "disturbance";
+        f.push_back(disturbance);
+    }
     for (const TurnSpan& s : tl.turns)
         if (s.slip_deg > 0)
             f.push_back({{"kind", "encoder_slip"},
