@@ -1,5 +1,7 @@
 #include "lcmtypes/process/process_main.hpp"
 
+#include <unistd.h>
+
 #include <exception>
 #include <iostream>
 
@@ -17,6 +19,15 @@ void PrintError(const std::string& process, const std::string& what) {
 
 bool IsErrorLineOf(const std::string& process, const std::string& line) {
     return line.rfind(process + kErrorTag, 0) == 0;
+}
+
+std::string ExecutableDir() {
+    char buf[4096];
+    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n <= 0) return ".";
+    const std::string p(buf, static_cast<size_t>(n));
+    const auto slash = p.rfind('/');
+    return slash == std::string::npos ? "." : p.substr(0, slash);
 }
 
 std::optional<int> ParseCommandLine(CLI::App& app, int argc, char** argv,

@@ -27,6 +27,10 @@ inline bool CheckOnly() {
     return v != nullptr && std::string(v) == "1";
 }
 
+// The folder of this process's executable (/proc/self/exe), where its sibling executables are;
+// "." when it cannot be read.
+std::string ExecutableDir();
+
 // The --help footer of a process that runs until stopped (RunUntilStopped's exit codes).
 inline constexpr const char* kNodeExitCodes =
     "Exit codes: 0 normal stop (SIGINT/SIGTERM), 1 runtime failure (e.g. LCM cannot open),\n"

@@ -20,7 +20,7 @@ namespace {
 struct Acc {
     int64_t cell = -1;
     int n = 0, n_supply = 0, n_moving = 0;
-    double sT = 0, sv = 0, ss = 0, sum_utime = 0;
+    double sum_temp = 0, sum_gyro = 0, sum_supply = 0, sum_utime = 0;
     std::vector<size_t> members;
 };
 
@@ -110,34 +110,15 @@ BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin
     const double period_s = SamplePeriodS(run);
     if (period_s <= 0.0 || !(o.bin_s > 0.0)) return;
     const auto bin_us = static_cast<int64_t>(std::llround(o.bin_s * 1e6));
-    const double expected = o.bin_s / period_s;
     const int64_t origin = run.first_sample_utime;
-    int64_t last_cell = -2;
-    int segment = -1;
+    CellCloser closer(run, o, period_s);
     Acc a;
     auto flush = [&]() {
         if (a.n == 0 || a.n_moving > 0) return;
-        if (a.n < o.min_fill * expected) {
-            ++underfilled_.bins, underfilled_.samples += a.n;
-            return;
-        }
-        Bin b;
-        b.start_utime = origin + a.cell * bin_us;
-        b.end_utime = b.start_utime + bin_us;
-        if (run.motion_unknown && !InPlateauWindow(run, b.start_utime, b.end_utime)) {
-            ++unknown_motion_.bins, unknown_motion_.samples += a.n;
-            return;
-        }
-        b.n = a.n;
-        b.mid_utime = a.sum_utime / a.n;
-        b.temp_c = a.sT / a.n;
-        b.gyro_v = a.sv / a.n;
-        b.supply_v = a.n_supply == a.n ? a.ss / a.n : kNan;
-        if (a.cell != last_cell + 1) ++segment;
-        b.segment = segment;
-        last_cell = a.cell;
+        const std::optional<Bin> b = closer.Close(a);
+        if (!b) return;
         for (size_t k : a.members) bin_of_sample_[k] = static_cast<int>(bins_.size());
-        bins_.push_back(b);
+        bins_.push_back(*b);
     };
     for (size_t k = 0; k < run.samples.size(); ++k) {
         const GyroSample& s = run.samples[k];
@@ -154,11 +135,13 @@ BinnedRun::BinnedRun(const SensorRun& run, const BinOptions& o) : run_(run), bin
         ++a.n;
         a.members.push_back(k);
         a.sum_utime += static_cast<double>(s.utime);
-        a.sT += s.temp_c;
-        a.sv += s.gyro_v;
-        if (std::isfinite(s.supply_v)) ++a.n_supply, a.ss += s.supply_v;
+        a.sum_temp += s.temp_c;
+        a.sum_gyro += s.gyro_v;
+        if (std::isfinite(s.supply_v)) ++a.n_supply, a.sum_supply += s.supply_v;
     }
     flush();
+    underfilled_ = closer.underfilled;
+    unknown_motion_ = closer.unknown_motion;
     // Time since power-on per bin: the tracker's, averaged (power cycles included).
     std::vector<double> since(bins_.size(), 0.0);
     model::InputTracker t;

@@ -20,9 +20,11 @@
 // the bin's mean inputs (terms that are not linear in their input, dT^2 or warm-up, differ from the
 // mean of the per-sample values by far less than the noise: (bin_s / tau)^2 / 24 relative).
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -137,6 +139,55 @@ void AddTableState(const SensorRun& run, std::vector<Bin>& bins);
 void AddPlateaus(const SensorRun& run, std::vector<Bin>& bins);
 // Whether the bin [start_utime, end_utime) lies inside a plateau window of `run`.
 bool InPlateauWindow(const SensorRun& run, int64_t start_utime, int64_t end_utime);
+
+// A grid cell's sums of still samples closed into a bin, the one way of both binnings (BinnedRun
+// from the samples, BinSnapshot from the incremental cells), cells given in grid order: a cell
+// below min_fill of the samples expected, or outside the plateau windows where the run's motion
+// is unknown, is dropped and counted; a kept cell that does not follow the last kept one starts a
+// segment. The bin's other inputs (time since power-on, air, table) are each binning's own.
+class CellCloser {
+public:
+    CellCloser(const SensorRun& run, const BinOptions& o, double period_s)
+        : run_(run),
+          bin_us_(static_cast<int64_t>(std::llround(o.bin_s * 1e6))),
+          min_fill_(o.min_fill),
+          expected_(o.bin_s / period_s) {}
+
+    // Sums: cell, n, n_supply and the sums sum_utime [us], sum_temp [degC], sum_gyro [V],
+    // sum_supply [V] of its samples.
+    template <class Sums>
+    std::optional<Bin> Close(const Sums& c) {
+        if (c.n < min_fill_ * expected_) {
+            ++underfilled.bins, underfilled.samples += c.n;
+            return std::nullopt;
+        }
+        Bin b;
+        b.start_utime = run_.first_sample_utime + c.cell * bin_us_;
+        b.end_utime = b.start_utime + bin_us_;
+        if (run_.motion_unknown && !InPlateauWindow(run_, b.start_utime, b.end_utime)) {
+            ++unknown_motion.bins, unknown_motion.samples += c.n;
+            return std::nullopt;
+        }
+        b.n = c.n;
+        b.mid_utime = c.sum_utime / c.n;
+        b.temp_c = c.sum_temp / c.n;
+        b.gyro_v = c.sum_gyro / c.n;
+        b.supply_v = c.n_supply == c.n ? c.sum_supply / c.n : kNan;
+        if (c.cell != last_cell_ + 1) ++segment_;
+        b.segment = segment_;
+        last_cell_ = c.cell;
+        return b;
+    }
+
+    BinDrops underfilled, unknown_motion;
+
+private:
+    const SensorRun& run_;
+    int64_t bin_us_;
+    double min_fill_, expected_;
+    int64_t last_cell_ = -2;
+    int segment_ = -1;
+};
 
 // Noise floor of a per-bin series (residuals of a model): the Allan deviation at the bin length,
 // sqrt(sum (v[i+1] - v[i])^2 / (2 m)) over the m pairs of consecutive bins in one segment. A model

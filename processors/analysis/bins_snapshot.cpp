@@ -149,38 +149,20 @@ BinnedRun BinSnapshot::Binned(const BinOptions& o) const {
     BinDrops underfilled, unknown_motion;
     const double period_s = run_->sample_period_s;
     if (period_s > 0.0) {
-        const auto bin_us = static_cast<int64_t>(std::llround(o.bin_s * 1e6));
-        const double expected = o.bin_s / period_s;
-        int64_t last_cell = -2;
-        int segment = -1;
+        CellCloser closer(*run_, o, period_s);  // as BinnedRun: gaps, partial cells
         for (size_t k = 0; k < chunks_.size(); ++k) {
             for (size_t i = 0; i < chunks_[k]->cells.size(); ++i) {
                 const incremental::CellSums& c = chunks_[k]->cells[i];
-                if (c.n < o.min_fill * expected) {  // as BinnedRun: gaps, partial cells
-                    ++underfilled.bins, underfilled.samples += c.n;
-                    continue;
-                }
-                Bin b;
-                b.start_utime = run_->first_sample_utime + c.cell * bin_us;
-                b.end_utime = b.start_utime + bin_us;
-                if (run_->motion_unknown && !InPlateauWindow(*run_, b.start_utime, b.end_utime)) {
-                    ++unknown_motion.bins, unknown_motion.samples += c.n;
-                    continue;
-                }
-                b.n = c.n;
-                b.mid_utime = c.sum_utime / c.n;
-                b.temp_c = c.sum_temp / c.n;
-                b.gyro_v = c.sum_gyro / c.n;
-                b.supply_v = c.n_supply == c.n ? c.sum_supply / c.n : kNan;
-                if (c.cell != last_cell + 1) ++segment;
-                b.segment = segment;
-                last_cell = c.cell;
-                b.time_since_power_s = TimeOn(*run_, c);
-                b.air_c = c.air_c;
-                bins.push_back(b);
+                std::optional<Bin> b = closer.Close(c);
+                if (!b) continue;
+                b->time_since_power_s = TimeOn(*run_, c);
+                b->air_c = c.air_c;
+                bins.push_back(*b);
                 at.push_back({static_cast<uint32_t>(k), static_cast<uint32_t>(i)});
             }
         }
+        underfilled = closer.underfilled;
+        unknown_motion = closer.unknown_motion;
     }
     AddTableState(*run_, bins);
     AddPlateaus(*run_, bins);

@@ -1,8 +1,7 @@
 #include "processors/fitter/analysis_message.hpp"
 
-#include <cmath>
-
 #include "processors/analysis/report.hpp"
+#include "processors/model/json.hpp"
 
 namespace gyrocal::fitter {
 
@@ -12,8 +11,7 @@ nlohmann::json ResidualJson(const plot::Table& t) {
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& row : t.rows) {
         nlohmann::json r = nlohmann::json::array();
-        for (double v : row)
-            r.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+        for (double v : row) r.push_back(model::JsonNumber(v));
         rows.push_back(std::move(r));
     }
     return {{"columns", t.columns}, {"rows", rows}};

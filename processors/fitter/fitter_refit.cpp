@@ -193,11 +193,7 @@ gyrocal::fit_report_t MakeReport(const model::CoeffSet& set, bool final, const P
                                  const Part& sens, const SlowNoise& slow,
                                  const std::vector<fit::Repeat>& repeats) {
     gyrocal::fit_report_t r{};
-    r.utime = set.utime;
-    r.sensor_id = set.sensor_id;
-    r.run_id = set.run_id;
-    r.coeff_set_id = set.coeff_set_id;
-    r.source = set.source;
+    model::CopySetKey(r, set);
     r.is_final = final;
     r.status = off.complete && sens.complete ? "complete" : "partial";
     r.reason = off.reason + (!off.reason.empty() && !sens.reason.empty() ? "; " : "") + sens.reason;

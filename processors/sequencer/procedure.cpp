@@ -3,17 +3,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "lcmtypes/text/join.hpp"
 #include "lcmtypes/text/names.hpp"
 #include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
-
-std::string Join(const std::set<std::string>& s) {
-    std::string out;
-    for (const auto& x : s) out += (out.empty() ? "" : ",") + x;
-    return out;
-}
 
 std::string Join(const std::map<std::string, std::string>& why) {
     std::string out;
@@ -130,7 +125,7 @@ std::vector<Order> Procedure::OnTime(int64_t utime) {
         return Finish("abort", "chamber fault: no plateau within " +
                                    text::Sig(options_.plateau_timeout_s) + " s at setpoint " +
                                    text::Sig(options_.profile.setpoints_c[setpoint_index_]) +
-                                   " degC for sensors " + Join(pending_));
+                                   " degC for sensors " + text::Join(pending_, ","));
     }
     if (phase_ == Phase::kWaitRetry && waited_s >= options_.retry_wait_s)
         return EnterMove(move_index_, now_utime_, retry_why_);

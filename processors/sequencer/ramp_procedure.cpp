@@ -4,18 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "lcmtypes/text/join.hpp"
 #include "lcmtypes/text/number.hpp"
 
 namespace gyrocal::sequencer {
 namespace {
 
 constexpr double kFirstTurnS = 30.0;  // [s] at rest at the start temperature before the first pair
-
-std::string Join(const std::set<std::string>& s) {
-    std::string out;
-    for (const auto& x : s) out += (out.empty() ? "" : ",") + x;
-    return out;
-}
 
 int64_t Us(double s) { return static_cast<int64_t>(std::llround(s * 1e6)); }
 
@@ -64,7 +59,7 @@ std::vector<Order> RampProcedure::OnTime(int64_t utime) {
         notes_.push_back(
             "move " + text::Sig(options_.moves_deg[static_cast<size_t>(move_index_)], 3) +
             " deg at " + text::Sig(air_c_, 3) + " degC air: no sensitivity point within " +
-            text::Sig(options_.rotation_timeout_s, 3) + " s from " + Join(pending_));
+            text::Sig(options_.rotation_timeout_s, 3) + " s from " + text::Join(pending_, ","));
         pending_.clear();
         auto more = MoveDone(now_utime_);
         out.insert(out.end(), more.begin(), more.end());

@@ -221,10 +221,10 @@ nlohmann::json FleetJson(const std::vector<FleetGroup>& groups, const FleetOptio
         for (size_t i = 0; i < g.temps_c.size(); ++i) {
             grid.push_back({{"temp_c", g.temps_c[i]},
                             {"units", g.offset.n[i]},
-                            {"offset_median_v", Finite(g.offset.median[i])},
-                            {"offset_spread_v", Finite(g.offset.spread[i])},
-                            {"sensitivity_median_v_per_dps", Finite(g.sensitivity.median[i])},
-                            {"sensitivity_spread_v_per_dps", Finite(g.sensitivity.spread[i])}});
+                            {"offset_median_v", JsonNumber(g.offset.median[i])},
+                            {"offset_spread_v", JsonNumber(g.offset.spread[i])},
+                            {"sensitivity_median_v_per_dps", JsonNumber(g.sensitivity.median[i])},
+                            {"sensitivity_spread_v_per_dps", JsonNumber(g.sensitivity.spread[i])}});
         }
         for (const FleetUnit& u : g.units)
             units.push_back({{"sensor_id", u.sensor_id},
@@ -241,8 +241,8 @@ nlohmann::json FleetJson(const std::vector<FleetGroup>& groups, const FleetOptio
         for (const FleetStation& s : g.stations)
             stations.push_back({{"station", s.station},
                                 {"units", s.units},
-                                {"offset_median_z", Finite(s.offset_median_z)},
-                                {"sensitivity_median_z", Finite(s.sensitivity_median_z)}});
+                                {"offset_median_z", JsonNumber(s.offset_median_z)},
+                                {"sensitivity_median_z", JsonNumber(s.sensitivity_median_z)}});
         a.push_back({{"model", g.model},
                      {"k", o.k},
                      {"min_units", o.min_units},

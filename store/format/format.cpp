@@ -355,7 +355,7 @@ static nlohmann::json PlateausJson(const db::RunDetail& d) {
     for (const auto& p : d.plateaus) {
         plateaus.push_back({{"sensor_id", p.sensor_id},
                             {"plateau_id", p.plateau_id},
-                            {"setpoint_c", Finite(p.setpoint_c)},
+                            {"setpoint_c", JsonNumber(p.setpoint_c)},
                             {"start_utime", p.start_utime},
                             {"end_utime", p.end_utime},
                             {"first_seq", p.first_seq},
@@ -363,13 +363,13 @@ static nlohmann::json PlateausJson(const db::RunDetail& d) {
                             {"n_samples", p.n_samples},
                             {"n_excluded_motion", p.n_excluded_motion},
                             {"seq_gaps", p.seq_gaps},
-                            {"temp_mean_c", Finite(p.temp_mean_c)},
-                            {"temp_std_c", Finite(p.temp_std_c)},
-                            {"temp_slope_c_per_min", Finite(p.temp_slope_c_per_min)},
-                            {"gyro_mean_v", Finite(p.gyro_mean_v)},
-                            {"gyro_std_v", Finite(p.gyro_std_v)},
-                            {"gyro_sem_v", Finite(p.gyro_sem_v)},
-                            {"supply_mean_v", Finite(p.supply_mean_v)}});
+                            {"temp_mean_c", JsonNumber(p.temp_mean_c)},
+                            {"temp_std_c", JsonNumber(p.temp_std_c)},
+                            {"temp_slope_c_per_min", JsonNumber(p.temp_slope_c_per_min)},
+                            {"gyro_mean_v", JsonNumber(p.gyro_mean_v)},
+                            {"gyro_std_v", JsonNumber(p.gyro_std_v)},
+                            {"gyro_sem_v", JsonNumber(p.gyro_sem_v)},
+                            {"supply_mean_v", JsonNumber(p.supply_mean_v)}});
     }
     return plateaus;
 }
@@ -378,18 +378,19 @@ static nlohmann::json PlateausJson(const db::RunDetail& d) {
 static nlohmann::json SensitivityPointsJson(const db::RunDetail& d) {
     nlohmann::json points = nlohmann::json::array();
     for (const auto& s : d.sensitivity_points) {
-        points.push_back({{"sensor_id", s.sensor_id},
-                          {"rotation_id", s.rotation_id},
-                          {"start_utime", s.start_utime},
-                          {"end_utime", s.end_utime},
-                          {"n_samples", s.n_samples},
-                          {"direction", s.direction},
-                          {"temp_c", Finite(s.temp_c)},
-                          {"encoder_angle_deg", Finite(s.encoder_angle_deg)},
-                          {"sensitivity_v_per_dps", Finite(s.sensitivity_v_per_dps)},
-                          {"sensitivity_stderr_v_per_dps", Finite(s.sensitivity_stderr_v_per_dps)},
-                          {"accepted", s.accepted},
-                          {"reject_reason", s.reject_reason}});
+        points.push_back(
+            {{"sensor_id", s.sensor_id},
+             {"rotation_id", s.rotation_id},
+             {"start_utime", s.start_utime},
+             {"end_utime", s.end_utime},
+             {"n_samples", s.n_samples},
+             {"direction", s.direction},
+             {"temp_c", JsonNumber(s.temp_c)},
+             {"encoder_angle_deg", JsonNumber(s.encoder_angle_deg)},
+             {"sensitivity_v_per_dps", JsonNumber(s.sensitivity_v_per_dps)},
+             {"sensitivity_stderr_v_per_dps", JsonNumber(s.sensitivity_stderr_v_per_dps)},
+             {"accepted", s.accepted},
+             {"reject_reason", s.reject_reason}});
     }
     return points;
 }
@@ -439,7 +440,7 @@ static nlohmann::json EventsJson(const db::RunDetail& d) {
                           {"event", e.event},
                           {"reason", e.reason},
                           {"setpoint_index", e.setpoint_index},
-                          {"setpoint_c", Finite(e.setpoint_c)}});
+                          {"setpoint_c", JsonNumber(e.setpoint_c)}});
     }
     return events;
 }
@@ -488,14 +489,14 @@ static nlohmann::json AnalysesJson(const db::RunDetail& d) {
              {"candidates", ParsedOrText(a.candidates_json)},
              {"added", ParsedOrText(a.added_json)},
              {"error_before",
-              {{"offset_rms_v", Finite(a.offset_rms_v_before)},
-               {"rate_rms_dps", Finite(a.rate_rms_dps_before)},
-               {"drift_dph", Finite(a.drift_dph_before)}}},
+              {{"offset_rms_v", JsonNumber(a.offset_rms_v_before)},
+               {"rate_rms_dps", JsonNumber(a.rate_rms_dps_before)},
+               {"drift_dph", JsonNumber(a.drift_dph_before)}}},
              {"error_after",
-              {{"offset_rms_v", Finite(a.offset_rms_v_after)},
-               {"rate_rms_dps", Finite(a.rate_rms_dps_after)},
-               {"drift_dph", Finite(a.drift_dph_after)}}},
-             {"floor_rate_rms_dps", Finite(a.floor_rate_rms_dps)},
+              {{"offset_rms_v", JsonNumber(a.offset_rms_v_after)},
+               {"rate_rms_dps", JsonNumber(a.rate_rms_dps_after)},
+               {"drift_dph", JsonNumber(a.drift_dph_after)}}},
+             {"floor_rate_rms_dps", JsonNumber(a.floor_rate_rms_dps)},
              {"result", ParsedOrText(a.result_json)},
              {"coeff_row_id", OptJson(a.coeff_row_id)},
              {"coeff_source", CoeffSourceJson(d, a)}});
@@ -579,8 +580,8 @@ nlohmann::json HistoryJson(const std::string& sensor_id, const std::vector<db::C
             const auto sens = Eval(s.set.sensitivity, temp);
             at.push_back(
                 {{"temp_c", temp},
-                 {"offset_v", off ? Finite(*off) : nlohmann::json(nullptr)},
-                 {"sensitivity_v_per_dps", sens ? Finite(*sens) : nlohmann::json(nullptr)}});
+                 {"offset_v", off ? JsonNumber(*off) : nlohmann::json(nullptr)},
+                 {"sensitivity_v_per_dps", sens ? JsonNumber(*sens) : nlohmann::json(nullptr)}});
         }
         e["at_ref_temps"] = at;
         arr.push_back(e);

@@ -49,10 +49,6 @@ nlohmann::json OptJson(std::optional<int64_t> v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-nlohmann::json Finite(double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 std::string RunLabel(const std::string& run_id) { return run_id.empty() ? "(no run)" : run_id; }
 
 std::string Join(const std::vector<std::string>& v, const std::string& sep) {

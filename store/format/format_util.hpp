@@ -6,9 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "processors/model/json.hpp"
 #include "store/db/rows.hpp"
 
 namespace gyrocal::format::detail {
+
+using model::JsonNumber;  // null when not finite (JSON has no NaN)
 
 // Column-aligned text table; cells are made printable (untrusted text).
 class Table {
@@ -23,7 +26,6 @@ private:
 
 std::string Opt(std::optional<int64_t> v);  // "-" when absent
 nlohmann::json OptJson(std::optional<int64_t> v);
-nlohmann::json Finite(double v);                  // null when not finite (JSON has no NaN)
 std::string RunLabel(const std::string& run_id);  // "(no run)" for ''
 std::string Join(const std::vector<std::string>& v, const std::string& sep);
 std::string Terms(const db::ModelRow& m);  // "1=2.5 dT=0.001"

@@ -113,24 +113,24 @@ void AddFitJson(nlohmann::json& j, const db::RunDetail& d) {
         for (const db::FitExclusionRow& e : r.excluded)
             excluded.push_back({{"kind", e.kind},
                                 {"item_id", e.item_id},
-                                {"temp_c", Finite(e.temp_c)},
-                                {"value", Finite(e.value)},
-                                {"residual", Finite(e.residual)},
-                                {"residual_sigma", Finite(e.residual_sigma)},
-                                {"statistic", Finite(e.statistic)},
-                                {"threshold", Finite(e.threshold)},
+                                {"temp_c", JsonNumber(e.temp_c)},
+                                {"value", JsonNumber(e.value)},
+                                {"residual", JsonNumber(e.residual)},
+                                {"residual_sigma", JsonNumber(e.residual_sigma)},
+                                {"statistic", JsonNumber(e.statistic)},
+                                {"threshold", JsonNumber(e.threshold)},
                                 {"reason", e.reason}});
         for (const db::RepeatabilityRow& x : r.repeats)
-            repeats.push_back({{"temp_c", Finite(x.temp_c)},
+            repeats.push_back({{"temp_c", JsonNumber(x.temp_c)},
                                {"first_plateau_id", x.first_plateau_id},
                                {"second_plateau_id", x.second_plateau_id},
                                {"first_approach", x.first_approach},
                                {"second_approach", x.second_approach},
-                               {"offset_diff_v", Finite(x.offset_diff_v)},
-                               {"offset_diff_stderr_v", Finite(x.offset_diff_stderr_v)},
-                               {"offset_diff_dps", Finite(x.offset_diff_dps)},
-                               {"offset_diff_stderr_dps", Finite(x.offset_diff_stderr_dps)},
-                               {"z", Finite(x.z)},
+                               {"offset_diff_v", JsonNumber(x.offset_diff_v)},
+                               {"offset_diff_stderr_v", JsonNumber(x.offset_diff_stderr_v)},
+                               {"offset_diff_dps", JsonNumber(x.offset_diff_dps)},
+                               {"offset_diff_stderr_dps", JsonNumber(x.offset_diff_stderr_dps)},
+                               {"z", JsonNumber(x.z)},
                                {"verdict", x.verdict}});
         reports.push_back({{"sensor_id", r.sensor_id},
                            {"source", r.source},
@@ -140,8 +140,8 @@ void AddFitJson(nlohmann::json& j, const db::RunDetail& d) {
                            {"reason", r.reason},
                            {"offset_detail", r.offset_detail},
                            {"sensitivity_detail", r.sensitivity_detail},
-                           {"slow_noise_v", Finite(r.slow_noise_v)},
-                           {"slow_noise_dps", Finite(r.slow_noise_dps)},
+                           {"slow_noise_v", JsonNumber(r.slow_noise_v)},
+                           {"slow_noise_dps", JsonNumber(r.slow_noise_dps)},
                            {"slow_noise_source", r.slow_noise_source},
                            {"excluded", excluded},
                            {"repeatability", repeats}});
@@ -153,26 +153,26 @@ void AddFitJson(nlohmann::json& j, const db::RunDetail& d) {
         nlohmann::json adev = nlohmann::json::array();
         for (size_t i = 0; i < n.tau_s.size(); ++i)
             adev.push_back({{"tau_s", n.tau_s[i]},
-                            {"adev_v", Finite(n.adev_v[i])},
-                            {"adev_lo_v", Finite(n.adev_lo_v[i])},
-                            {"adev_hi_v", Finite(n.adev_hi_v[i])},
-                            {"edf", Finite(n.edf[i])}});
-        noise.push_back(
-            {{"sensor_id", n.sensor_id},
-             {"utime", n.utime},
-             {"still_s", Finite(n.still_s)},
-             {"n_segments", n.n_segments},
-             {"longest_segment_s", Finite(n.longest_segment_s)},
-             {"arw_v_rthz", Finite(n.arw_v_rthz)},
-             {"arw_stderr_v_rthz", Finite(n.arw_stderr_v_rthz)},
-             {"bias_instability_v", Finite(n.bias_instability_v)},
-             {"bias_instability_stderr_v", Finite(n.bias_instability_stderr_v)},
-             {"rrw_v_rts", Finite(n.rrw_v_rts)},
-             {"rrw_stderr_v_rts", Finite(n.rrw_stderr_v_rts)},
-             {"sensitivity_v_per_dps", ni.sensitivity_v_per_dps ? Finite(*ni.sensitivity_v_per_dps)
-                                                                : nlohmann::json(nullptr)},
-             {"fit_note", n.fit_note},
-             {"adev", adev}});
+                            {"adev_v", JsonNumber(n.adev_v[i])},
+                            {"adev_lo_v", JsonNumber(n.adev_lo_v[i])},
+                            {"adev_hi_v", JsonNumber(n.adev_hi_v[i])},
+                            {"edf", JsonNumber(n.edf[i])}});
+        noise.push_back({{"sensor_id", n.sensor_id},
+                         {"utime", n.utime},
+                         {"still_s", JsonNumber(n.still_s)},
+                         {"n_segments", n.n_segments},
+                         {"longest_segment_s", JsonNumber(n.longest_segment_s)},
+                         {"arw_v_rthz", JsonNumber(n.arw_v_rthz)},
+                         {"arw_stderr_v_rthz", JsonNumber(n.arw_stderr_v_rthz)},
+                         {"bias_instability_v", JsonNumber(n.bias_instability_v)},
+                         {"bias_instability_stderr_v", JsonNumber(n.bias_instability_stderr_v)},
+                         {"rrw_v_rts", JsonNumber(n.rrw_v_rts)},
+                         {"rrw_stderr_v_rts", JsonNumber(n.rrw_stderr_v_rts)},
+                         {"sensitivity_v_per_dps", ni.sensitivity_v_per_dps
+                                                       ? JsonNumber(*ni.sensitivity_v_per_dps)
+                                                       : nlohmann::json(nullptr)},
+                         {"fit_note", n.fit_note},
+                         {"adev", adev}});
     }
     j["noise"] = noise;
 }

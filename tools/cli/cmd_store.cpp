@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "lcmtypes/process/flow_options.hpp"
+#include "lcmtypes/process/process_main.hpp"
 #include "processors/plot/gnuplot/gnuplot.hpp"
 #include "store/db/central_url.hpp"
 #include "store/db/query.hpp"
@@ -58,15 +59,6 @@ int Emit(const std::string& command, const std::string& text, const std::string&
     return 0;
 }
 
-std::string ExecutableDir() {
-    char buf[4096];
-    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-    if (n <= 0) return ".";
-    std::string p(buf, static_cast<size_t>(n));
-    const auto slash = p.rfind('/');
-    return slash == std::string::npos ? "." : p.substr(0, slash);
-}
-
 CLI::Validator UtcDate() {
     return CLI::Validator(
         [](std::string& s) -> std::string {
@@ -76,6 +68,15 @@ CLI::Validator UtcDate() {
                                           "YYYY-MM-DDTHH:MM[:SS][Z])";
         },
         "DATE");
+}
+
+// A list of temperatures [degC] (rep::ParseTemps).
+CLI::Validator TempList() {
+    return CLI::Validator(
+        [](std::string& s) -> std::string {
+            return rep::ParseTemps(s) ? "" : "'" + s + "' is not a list of numbers like 0,25,50";
+        },
+        "LIST");
 }
 
 // What every store command has; each command adds its own values in a struct of its own, held by
@@ -192,12 +193,7 @@ void AddHistory(CLI::App& app, std::function<int()>& action) {
     AddDb(sub, *c);
     sub->add_option("--ref-temps-c", c->temps, "reference temperatures [degC], comma separated")
         ->capture_default_str()
-        ->check(CLI::Validator(
-            [](std::string& s) -> std::string {
-                return rep::ParseTemps(s) ? ""
-                                          : "'" + s + "' is not a list of numbers like 0,25,50";
-            },
-            "LIST"));
+        ->check(TempList());
     sub->add_flag(
         "--all", c->all,
         "every coefficient set published (default: the final one of each run and source)");
@@ -357,12 +353,7 @@ void AddFleet(CLI::App& app, std::function<int()>& action) {
     sub->add_option("--temps-c", c->temps,
                     "temperature grid [degC], comma separated "
                     "(default -40 to 85 in steps of 5)")
-        ->check(CLI::Validator(
-            [](std::string& s) -> std::string {
-                return rep::ParseTemps(s) ? ""
-                                          : "'" + s + "' is not a list of numbers like 0,25,50";
-            },
-            "LIST"));
+        ->check(TempList());
     sub->add_option("--k", c->o.k, "a unit is outside when |z| > K")
         ->check(CLI::Range(0.5, 100.0))
         ->capture_default_str();
@@ -411,7 +402,7 @@ void AddReplay(CLI::App& app, std::function<int()>& action) {
     sub->add_option("--as-run", c->as_run, "publish the run events under this run id instead");
     sub->callback([&action, c, sub] {
         action = [c, sub] {
-            const std::string exe = ExecutableDir() + "/gyrocal-replay";
+            const std::string exe = gyrocal::process::ExecutableDir() + "/gyrocal-replay";
             std::vector<std::string> args = {exe, c->run, "--db", c->db};
             if (c->max) {
                 args.push_back("--max");

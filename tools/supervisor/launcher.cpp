@@ -32,6 +32,7 @@
 #include "lcmtypes/process/process_main.hpp"
 #include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/process/status.hpp"
+#include "lcmtypes/text/join.hpp"
 #include "processors/model/convert.hpp"
 #include "processors/sequencer/procedure.hpp"
 #include "producers/csv/file_digest.hpp"
@@ -98,12 +99,6 @@ bool PaceGiven(const std::vector<std::string>& args) {
 // The consumers the producers must hear before publishing anything, so that no sample is missed.
 const std::set<std::string> kConsumers = {"gyrocal-recorder", "gyrocal-plateau", "gyrocal-rotation",
                                           "gyrocal-fitter", "gyrocal-compensator"};
-
-std::string Join(const std::vector<std::string>& v, const char* sep) {
-    std::string out;
-    for (const auto& x : v) out += (out.empty() ? "" : sep) + x;
-    return out;
-}
 
 }  // namespace
 
@@ -270,9 +265,9 @@ void Calibration::StartSim() {
         if (setpoints.empty())
             if (const auto p = sequencer::NamedProfile(o_.profile))
                 for (double t : p->setpoints_c) setpoints.push_back(std::to_string(t));
-        rig.insert(rig.end(), {"--mode", "builtin", "--profile", Join(setpoints, ",")});
-        AnnounceRun("start",
-                    "the simulated rig's own procedure (profile " + Join(setpoints, ",") + ")");
+        rig.insert(rig.end(), {"--mode", "builtin", "--profile", text::Join(setpoints, ",")});
+        AnnounceRun("start", "the simulated rig's own procedure (profile " +
+                                 text::Join(setpoints, ",") + ")");
         rig.insert(rig.end(), o_.rig_args.begin(), o_.rig_args.end());
         source_ = &Start(SiblingExecutable("gyrocal-sim-rig"), rig);
         return;
@@ -284,7 +279,7 @@ void Calibration::StartSim() {
         throw std::runtime_error("the rig did not start");
     std::vector<std::string> seq = {"--run-config-json", ConfigJson(), "--command-line",
                                     o_.command_line,     "--profile",  o_.profile};
-    if (!setpoints.empty()) seq.insert(seq.end(), {"--setpoints-c", Join(setpoints, ",")});
+    if (!setpoints.empty()) seq.insert(seq.end(), {"--setpoints-c", text::Join(setpoints, ",")});
     if (o_.ramp_rate_c_per_min > 0)
         seq.insert(seq.end(), {"--ramp-rate-c-per-min", std::to_string(o_.ramp_rate_c_per_min)});
     if (IsRamp()) {

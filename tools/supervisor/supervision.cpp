@@ -9,6 +9,7 @@
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/shutdown.hpp"
 #include "lcmtypes/process/status.hpp"
+#include "lcmtypes/text/join.hpp"
 #include "tools/supervisor/child_errors.hpp"
 #include "tools/supervisor/launcher.hpp"
 
@@ -21,12 +22,6 @@ using namespace std::chrono_literals;
 // the recorder commits every 200 ms (--batch-ms), so what was published before the restart
 // is in the file by then.
 constexpr auto kRecoveryDelay = 1s;
-
-std::string Joined(const std::vector<std::string>& v, const char* sep) {
-    std::string out;
-    for (const auto& x : v) out += (out.empty() ? "" : sep) + x;
-    return out;
-}
 
 }  // namespace
 
@@ -153,7 +148,7 @@ std::vector<std::string> Calibration::ResumeArgs(const Child& c) const {
     return {"--run-id",
             run_id_,
             "--sensors",
-            Joined(run_sensors_, ","),
+            text::Join(run_sensors_, ","),
             "--resume-setpoint-index",
             std::to_string(setpoint_index_)};
 }
@@ -188,7 +183,7 @@ void Calibration::PublishRestart(const Child& c, const launch::ExitStatus& how, 
                                    {"max_restarts", budget_.max()},
                                    {"host", process::HostName()}}
                         .dump();
-    e.command_line = Joined(c.proc ? c.argv : std::vector<std::string>{}, " ");
+    e.command_line = text::Join(c.proc ? c.argv : std::vector<std::string>{}, " ");
     e.host = process::HostName();
     bus_.Publish(std::string(channels::kRunEvent), e);
 }

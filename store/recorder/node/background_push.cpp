@@ -6,19 +6,12 @@
 
 #include <cstring>
 
+#include "lcmtypes/process/process_main.hpp"
+
 extern char** environ;
 
 namespace gyrocal::recorder::node {
 namespace {
-
-std::string ExecutableDir() {
-    char buf[4096];
-    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-    if (n <= 0) return ".";
-    const std::string p(buf, static_cast<size_t>(n));
-    const auto slash = p.rfind('/');
-    return slash == std::string::npos ? "." : p.substr(0, slash);
-}
 
 // Seconds the push waits for the run's stop to be committed (the recorder commits every
 // --batch-ms; a database blocked by a storage fault may take longer: then the next push sends it).
@@ -27,7 +20,9 @@ constexpr const char* kWaitS = "120";
 }  // namespace
 
 BackgroundPush::BackgroundPush(std::string url, std::string db_path)
-    : url_(std::move(url)), db_path_(std::move(db_path)), exe_(ExecutableDir() + "/gyrocal") {}
+    : url_(std::move(url)),
+      db_path_(std::move(db_path)),
+      exe_(process::ExecutableDir() + "/gyrocal") {}
 
 void BackgroundPush::RunEnded(const std::string& run_id) {
     if (enabled() && !run_id.empty()) pending_.push_back(run_id);
