@@ -116,9 +116,16 @@ double MaxTNull::Z(size_t f, double x) const {
 
 double MaxTNull::Threshold(double alpha) const {
     if (max_z_.empty()) return NAN;
-    // The smallest value that at most alpha of the surrogates' maxima exceed.
-    const auto exceed = static_cast<size_t>(std::floor(alpha * static_cast<double>(max_z_.size())));
-    return max_z_[max_z_.size() - 1 - std::min(exceed, max_z_.size() - 1)];
+    // A run is flagged when its largest z is strictly above the threshold. With the run and the n
+    // surrogates exchangeable under the null, the run's largest z exceeds the k-th smallest of
+    // the surrogates' with probability (n + 1 - k) / (n + 1); the threshold is the k-th for the
+    // smallest k that keeps this at or below alpha (the exact Monte Carlo test). Taking the
+    // (1 - alpha) quantile of the n surrogates alone, as before 2026-11-29, rejected at
+    // (floor(alpha n) + 1) / (n + 1): 1.5 % for alpha 1 % with 200 surrogates.
+    const double n = static_cast<double>(max_z_.size());
+    const double above = std::floor(alpha * (n + 1.0)) - 1.0;  // surrogate maxima above it
+    if (above < 0.0) return INFINITY;                          // too few surrogates to reach alpha
+    return max_z_[max_z_.size() - 1 - std::min(static_cast<size_t>(above), max_z_.size() - 1)];
 }
 
 double MaxTNull::PValue(double z_max) const {
