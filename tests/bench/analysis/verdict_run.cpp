@@ -43,8 +43,13 @@ Made Simulate(Simulator sim, const Draw& d, uint64_t seed, uint64_t noise_seed) 
         othersim::Options o = othersim::Options::QuickReturnToStart(420.0);
         o.seed = seed;
         o.noise_seed = noise_seed;
-        o.spread.cubic_sd_v = 0.0;      // the declared quadratic is its curve: an effect is
-        o.spread.cold_bend_sd_v = 0.0;  // then only what the scenario adds
+        // The declared quadratic is its curve: an effect is then only what the scenario adds.
+        // VERDICT_OTHERSIM_CURVE=1 keeps othersim's own cubic and cold-end bend (a development
+        // aid: how a curve beyond the quadratic fares; its truth then carries them).
+        if (!std::getenv("VERDICT_OTHERSIM_CURVE")) {
+            o.spread.cubic_sd_v = 0.0;
+            o.spread.cold_bend_sd_v = 0.0;
+        }
         o.effects.warmup_v = 0.0;
         if (d.temp_lag_off) o.thermal.temp_line_tau_s = 0.0;
         analysis::testing::OthersimRun r = analysis::testing::MakeOthersimRun(o);
@@ -188,7 +193,11 @@ RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
     f.scenario = scenario.name;
     f.group = scenario.group;
     const Made m = Simulate(sim, d, seed, 0);
-    const analysis::SensorResult r = analysis::Analyze(m.run);
+    // VERDICT_DECLARE="dT^3": terms declared beside the quadratic (a development aid: the
+    // analysis with a cubic always in, as PX4's calibration fits it).
+    analysis::AnalysisOptions ao = analysis::AnalysisOptions::Defaults();
+    if (const char* extra = std::getenv("VERDICT_DECLARE")) ao.offset_terms.push_back(extra);
+    const analysis::SensorResult r = analysis::Analyze(m.run, ao);
     Judge(sim, d, m, r, f);
     // VERDICT_REPORT=1: the analysis' whole report of each run (a development aid).
     if (std::getenv("VERDICT_REPORT")) std::printf("%s", analysis::FormatReport(r).c_str());
