@@ -184,6 +184,7 @@ RampFitResult RampFitter::Run(const FitJob& job) const {
                           " bins per unit");
     for (const std::string& a : job.bins.Approximations())
         r.notes.push_back("incremental bins: " + a);
+    if (options_.carry_cubic) analysis::CarryForPrediction(binned, ao, "temp_cubic", "dT^3", r);
     res.residual = analysis::ResidualTable(binned, r);
     std::optional<model::CoeffSet> set =
         analysis::ExtendedCoeffSet(r, job.run_id, options_.method, job.utime);

@@ -59,6 +59,9 @@ struct RampFitterOptions {
     // measures the run's noise the same at either length (processors/analysis/noise_model.hpp),
     // so the merged bins' verdict is the 10 s bins' (processors/fitter/README.md).
     int64_t max_bins_per_unit = 4096;
+    // The published set carries the cubic (dT^3) when the verdict did not name it but it lowers
+    // the held-out error (analysis::CarryForPrediction): the set is for prediction.
+    bool carry_cubic = true;
     static RampFitterOptions Defaults() { return {}; }
     // The plateau mode's closed loop: the final set only, source "closed-loop", method "analysis".
     static RampFitterOptions ClosedLoop();

@@ -59,6 +59,10 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
                    "--mode ramp and the closed loop: each unit's still bins held to this many "
                    "(beyond it neighbours merge into bins twice as long, so memory stops growing "
                    "with the run); 0 = no limit, else at least 64");
+    app.add_option("--carry-cubic", o.ramp.carry_cubic,
+                   "--mode ramp and the closed loop: the published set carries the cubic (dT^3) "
+                   "when the verdict did not name it but it lowers the held-out error (the set is "
+                   "for prediction; the verdict and the named effects are unchanged)");
     app.add_option("--closed-loop", o.closed_loop,
                    "--mode plateau: at the stop, also fit each unit on every still sample with the "
                    "terms the data confirm and publish it as the run's final set (source "
@@ -93,6 +97,7 @@ fitter::RampFitterOptions ClosedLoopOptions(const FitterOptions& o) {
     c.analysis = o.ramp.analysis;
     c.build = o.ramp.build;
     c.max_bins_per_unit = o.ramp.max_bins_per_unit;
+    c.carry_cubic = o.ramp.carry_cubic;
     return c;
 }
 

@@ -452,5 +452,61 @@ TEST(MaskedOthersim, AWarmupDoesNotHideTheSupply) {
     std::printf("[ verdict ] othersim warm-up -12 mV + supply 0.05 V/V: both named %d/4\n", both);
 }
 
+// The published set is for prediction (analysis::CarryForPrediction): where the verdict does not
+// name temp_cubic but the unit's curve has one (othersim's own curve: a cubic part of 1.5 mV at
+// +-50 degC (1 sigma) and a cold-end bend), dT^3 is carried when it lowers the held-out error,
+// and the set carrying it is closer to the unit's true curve (at the measured temperature, over
+// the still bins) than the set without it. No tolerance is needed for "closer": it compares two
+// distances to the same truth on the same bins; the benchmark found the cubic better on the
+// held-out run in 25 of 40 such seeds and worse in none (docs/closing-the-loop.md).
+TEST(Prediction, TheCubicIsCarriedWhereTheCurveHasOneAndBringsTheSetCloserToTheTruth) {
+    int carried = 0, closer = 0, not_named = 0;
+    for (uint64_t seed = 31; seed <= 38; ++seed) {
+        othersim::Options o = othersim::Options::QuickReturnToStart(420.0);
+        o.seed = seed;
+        o.effects.warmup_v = 0.0;  // the curve alone
+        const testing::OthersimRun m = testing::MakeOthersimRun(o);
+        const AnalysisOptions ao = AnalysisOptions::Defaults();
+        SensorResult r = Analyze(m.run, ao);
+        if (!r.extended_offset) continue;
+        bool named = false;
+        for (const AddedEffect& a : r.added) named = named || a.effect == "temp_cubic";
+        if (named) continue;
+        ++not_named;
+        const BinnedRun b(m.run, ao.bins);
+        const model::Model before = *r.extended_offset;
+        const std::string note = CarryForPrediction(b, ao, "temp_cubic", "dT^3", r);
+        SCOPED_TRACE("seed " + std::to_string(seed) + ": " + note);
+        const std::vector<std::string>& t = r.extended_offset->term_names;
+        if (std::find(t.begin(), t.end(), "dT^3") == t.end()) continue;
+        ++carried;
+        EXPECT_NE(note.find("carried for prediction"), std::string::npos);
+        EXPECT_EQ(r.notes.back(), note);
+        // The truth's bin means on the same bins.
+        Eigen::VectorXd truth(static_cast<Eigen::Index>(b.size()));
+        size_t k = 0;
+        for (size_t i = 0; i < b.size(); ++i) {
+            const Bin& bin = b.bins()[i];
+            while (k < m.run.samples.size() && m.run.samples[k].utime < bin.start_utime) ++k;
+            double sum = 0;
+            int n = 0;
+            for (size_t j = k; j < m.run.samples.size() && m.run.samples[j].utime < bin.end_utime;
+                 ++j)
+                sum += m.truth_offset_v[j], ++n;
+            truth[static_cast<Eigen::Index>(i)] = n ? sum / n : NAN;
+        }
+        const double d_before = (b.Values(before) - truth).norm();
+        const double d_after = (b.Values(*r.extended_offset) - truth).norm();
+        EXPECT_LT(d_after, d_before);
+        closer += d_after < d_before;
+    }
+    std::printf(
+        "[ verdict ] othersim curve, temp_cubic not named in %d of 8: dT^3 carried %d, "
+        "closer to the truth %d\n",
+        not_named, carried, closer);
+    // Most units' curves carry a cubic part above the noise: the rule must act, not stay idle.
+    EXPECT_GE(carried, not_named / 2);
+}
+
 }  // namespace
 }  // namespace gyrocal::analysis
