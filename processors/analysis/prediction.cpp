@@ -23,6 +23,18 @@ std::string CarryForPrediction(const BinnedRun& binned, const AnalysisOptions& o
     const auto c = std::find_if(r.candidates.begin(), r.candidates.end(),
                                 [&](const CandidateResult& x) { return x.effect == effect; });
     if (c == r.candidates.end() || c->decision == Decision::kNotTested) return "";
+    // A residual that follows time (a drift, a slow transient) is not a curve in temperature: on
+    // a profile where the two move together a temperature term would lower the held-out error
+    // as a proxy for time and carry it into runs of another profile (aging on a monotonic
+    // profile: seen in OutsideEffectEndToEnd, dT^3 carried, 2026-11-29).
+    for (const FeatureResult& f : r.features)
+        if (f.explains_heldout && (f.channel == "time" || f.channel == "time since power-on")) {
+            const std::string note = term + " not carried for prediction: the residual follows " +
+                                     f.feature + " [" + f.channel +
+                                     "], which a temperature term could only stand in for";
+            r.notes.push_back(note);
+            return note;
+        }
     const double t0 = r.extended_offset->t0_c;
     const detail::Split split = detail::MakeSplit(binned.bins(), o);
     std::vector<Index> all_rows(binned.size());

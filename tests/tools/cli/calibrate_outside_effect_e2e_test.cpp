@@ -150,6 +150,19 @@ TEST(OutsideEffectEndToEnd, AgingOnAMonotonicProfileNamesNoCandidate) {
         EXPECT_EQ(row.at(1), "[]");
     }
     ExpectOnlyTheDeclaredClosedLoopSet(sql, run);
+    // On this profile temperature follows time, so a cubic would lower the held-out error as a
+    // proxy of the drift: the closed loop's set does not carry it for prediction, and says why
+    // when the residual is traced to time (analysis::CarryForPrediction).
+    const std::string closed_loop_json =
+        sql.Rows(
+               "SELECT result_json FROM analyses a JOIN coeff_sets c USING(coeff_row_id) WHERE "
+               "a.run_id='" +
+               run + "' AND c.source='closed-loop'")
+            .at(0)
+            .at(0);
+    if (closed_loop_json.find("correlates with time") != std::string::npos)
+        EXPECT_NE(closed_loop_json.find("dT^3 not carried for prediction: the residual follows"),
+                  std::string::npos);
     // Traced to time: a time-shaped correlate, or a tie with a time shape.
     EXPECT_TRUE(verdict.find("correlates with time since start [time") != std::string::npos ||
                 verdict.find("[time") != std::string::npos ||
