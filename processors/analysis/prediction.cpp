@@ -9,6 +9,7 @@
 #include "processors/analysis/heldout.hpp"
 #include "processors/analysis/regress.hpp"
 #include "processors/analysis/residual.hpp"
+#include "processors/analysis/steps.hpp"
 
 namespace gyrocal::analysis {
 
@@ -37,8 +38,6 @@ std::string CarryForPrediction(const BinnedRun& binned, const AnalysisOptions& o
         }
     const double t0 = r.extended_offset->t0_c;
     const detail::Split split = detail::MakeSplit(binned.bins(), o);
-    std::vector<Index> all_rows(binned.size());
-    for (size_t i = 0; i < binned.size(); ++i) all_rows[i] = static_cast<Index>(i);
     const detail::Context train = detail::MakeContext(binned, split.train, t0, o);
     std::vector<std::string> with = terms;
     with.push_back(term);
@@ -53,7 +52,7 @@ std::string CarryForPrediction(const BinnedRun& binned, const AnalysisOptions& o
                                 text::Sig(r_wo.squaredNorm() / r_wo.size(), 3) + " -> " +
                                 text::Sig(r_w.squaredNorm() / r_w.size(), 3) + " V^2";
     if (!(g.mean_v2 > 0.0)) return term + " not carried for prediction (" + figures + ")";
-    const detail::Context all = detail::MakeContext(binned, all_rows, t0, o);
+    const detail::Context all = detail::MakeContext(binned, detail::AllRows(binned.size()), t0, o);
     const LsFit fe = FitLs(all.Design(with), all.y, all.segment, all.hac_lag);
     const LsFit ft = FitLs(train.Design(with), train.y, train.segment, train.hac_lag);
     if (!fe.ok || !ft.ok) return "";
