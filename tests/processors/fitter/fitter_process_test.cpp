@@ -218,6 +218,7 @@ TEST(FitterProcess, BadOptionsExitTwo) {
           {GYROCAL_FITTER_EXE, "--mode", "ramp", "--refit-interval-s", "1"},
           {GYROCAL_FITTER_EXE, "--mode", "ramp", "--min-span-s", "-1"},
           {GYROCAL_FITTER_EXE, "--mode", "ramp", "--max-bins-per-unit", "10"},
+          {GYROCAL_FITTER_EXE, "--carry-cubic", "maybe"},
           {GYROCAL_FITTER_EXE, "--no-such-option"}}) {
         launch::ChildProcess p(argv, "/dev/null", "/dev/null");
         const auto st = p.Wait(5s);
