@@ -15,14 +15,15 @@ std::string ThisHost() {
     return buf;
 }
 
-FlowAcker::FlowAcker(bus::Bus& bus, std::string process)
-    : bus_(bus), process_(std::move(process)), host_(ThisHost()), pid_(getpid()) {
+Sender::Sender(std::string process) : name(std::move(process)), host(ThisHost()), pid(getpid()) {}
+
+FlowAcker::FlowAcker(bus::Bus& bus, std::string process) : bus_(bus), self_(std::move(process)) {
     bus_.Subscribe<flow_mark_t>(std::string(channels::kFlowMark),
                                 [this](const flow_mark_t& m, const std::string&) { OnMark(m); });
 }
 
 void FlowAcker::OnMark(const flow_mark_t& m) {
-    if (m.pid == pid_ && m.host == host_) return;  // a source does not pace on itself
+    if (self_.Is(m.host, m.pid)) return;  // a source does not pace on itself
     const auto source = std::make_pair(m.host, m.pid);
     if (gate_ && !gate_()) {
         held_[source] = m.mark_seq;
@@ -47,11 +48,7 @@ void FlowAcker::Leave() {
 }
 
 void FlowAcker::Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq, bool leaving) {
-    flow_ack_t a;
-    a.utime = bus::WallClockUtime();
-    a.process = process_;
-    a.host = host_;
-    a.pid = pid_;
+    flow_ack_t a = self_.Message<flow_ack_t>();
     a.source_host = source.first;
     a.source_pid = source.second;
     a.mark_seq = mark_seq;

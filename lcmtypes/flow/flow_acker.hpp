@@ -18,6 +18,37 @@
 
 namespace gyrocal::flow {
 
+// This host's name as every process reports it (STATUS, marks, acks).
+std::string ThisHost();
+
+// This process as its flow messages name it (flow_ack_t's `process`, flow_mark_t's `source`),
+// with its host and pid, by which it also knows its own messages.
+struct Sender {
+    explicit Sender(std::string process);  // on ThisHost(), with this process's pid
+
+    bool Is(const std::string& other_host, int32_t other_pid) const {
+        return other_pid == pid && other_host == host;
+    }
+    // A message from this process, stamped now (wall clock).
+    template <class Msg>
+    Msg Message() const {
+        Msg m{};
+        m.utime = bus::WallClockUtime();
+        if constexpr (requires { m.process; }) {
+            m.process = name;
+        } else {
+            m.source = name;
+        }
+        m.host = host;
+        m.pid = pid;
+        return m;
+    }
+
+    std::string name;
+    std::string host;
+    int32_t pid;
+};
+
 class FlowAcker {
 public:
     FlowAcker(bus::Bus& bus, std::string process);
@@ -35,16 +66,11 @@ private:
     void Ack(const std::pair<std::string, int32_t>& source, int64_t mark_seq, bool leaving);
 
     bus::Bus& bus_;
-    std::string process_;
-    std::string host_;
-    int32_t pid_;
+    Sender self_;
     std::function<bool()> gate_;
     std::map<std::pair<std::string, int32_t>, int64_t> held_;   // source -> newest unanswered
     std::map<std::pair<std::string, int32_t>, int64_t> acked_;  // source -> newest answered
     int64_t acks_sent_ = 0;
 };
-
-// This host's name as every process reports it (STATUS, marks, acks).
-std::string ThisHost();
 
 }  // namespace gyrocal::flow

@@ -20,15 +20,10 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 FlowSource::FlowSource(bus::Bus& bus, std::string process, WindowOptions options)
-    : bus_(bus),
-      process_(std::move(process)),
-      host_(ThisHost()),
-      pid_(getpid()),
-      options_(options),
-      window_(options) {
+    : bus_(bus), self_(std::move(process)), options_(options), window_(options) {
     bus_.Subscribe<flow_ack_t>(std::string(channels::kFlowAck),
                                [this](const flow_ack_t& a, const std::string&) {
-                                   if (a.source_pid != pid_ || a.source_host != host_)
+                                   if (!self_.Is(a.source_host, a.source_pid))
                                        return;  // another source's
                                    const ConsumerId id{a.host, a.pid};
                                    if (a.leaving) {
@@ -43,7 +38,7 @@ FlowSource::FlowSource(bus::Bus& bus, std::string process, WindowOptions options
                                });
     bus_.Subscribe<status_t>(std::string(channels::kStatus),
                              [this](const status_t& s, const std::string&) {
-                                 if (s.pid == pid_ && s.host == host_) return;  // itself
+                                 if (self_.Is(s.host, s.pid)) return;  // itself
                                  // A heartbeat from the past is a replay (a log, a stored run),
                                  // not a process: 30 s covers clocks of hosts on one LAN.
                                  if (std::abs(s.utime - bus::WallClockUtime()) > 30'000'000) return;
@@ -55,11 +50,7 @@ FlowSource::FlowSource(bus::Bus& bus, std::string process, WindowOptions options
 
 void FlowSource::PublishMark(int64_t data_utime) {
     const Mark m = window_.IssueMark(Clock::now());
-    flow_mark_t f;
-    f.utime = bus::WallClockUtime();
-    f.source = process_;
-    f.host = host_;
-    f.pid = pid_;
+    flow_mark_t f = self_.Message<flow_mark_t>();
     f.mark_seq = m.mark_seq;
     f.published = bus_.counters().published;
     f.data_utime = data_utime;
@@ -116,7 +107,7 @@ void FlowSource::ForgetEndedProcesses() {
     if (Clock::now() - last_alive_check_ < std::chrono::milliseconds(200)) return;
     last_alive_check_ = Clock::now();
     for (const ConsumerId& id : window_.Behind()) {
-        if (id.host != host_) continue;  // another host: only its timeout tells
+        if (id.host != self_.host) continue;  // another host: only its timeout tells
         if (kill(id.pid, 0) != 0 && errno == ESRCH) window_.OnGone(id);
     }
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "lcmtypes/bus/bus.hpp"
+#include "lcmtypes/flow/flow_acker.hpp"
 #include "lcmtypes/flow/flow_window.hpp"
 
 namespace gyrocal::flow {
@@ -56,9 +57,7 @@ private:
     void ForgetEndedProcesses();  // consumers on this host whose process is gone
 
     bus::Bus& bus_;
-    std::string process_;
-    std::string host_;
-    int32_t pid_;
+    Sender self_;
     WindowOptions options_;
     FlowWindow window_;
     int64_t seen_published_ = 0;

@@ -50,34 +50,39 @@ RunInfo ReadRun(const Stmt& s) {
     return r;
 }
 
-constexpr const char* kPlateauColumns =
-    "run_id, sensor_id, plateau_id, utime, setpoint_c, start_utime, end_utime, first_seq, "
-    "last_seq, n_samples, n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_sem_c, "
-    "temp_slope_c_per_min, gyro_mean_v, gyro_std_v, gyro_sem_v, temp_mean_v, supply_mean_v, "
-    "recv_utime";
+// A table's columns named as the fields of its row, listed once: `sql` is the SELECT list
+// ("a, b, c") and calling it on a statement makes a Row from columns 0, 1, 2 ... (row.a, row.b,
+// row.c, each by Stmt::Read's type), so the list and the reading cannot drift apart.
+template <class Row>
+struct RowColumns {
+    const char* sql;
+    void (*read_fields)(const Stmt& s, Row& row);
+    Row operator()(const Stmt& s) const {
+        Row row;
+        read_fields(s, row);
+        return row;
+    }
+};
+#define GYROCAL_READ_COLUMN(field) s.Read(col++, row.field);
+#define GYROCAL_ROW_COLUMNS(Row, ...)                                                   \
+    RowColumns<Row> {                                                                   \
+        .sql = #__VA_ARGS__, .read_fields = [](const Stmt& s, Row& row) {               \
+            int col = 0;                                                                \
+            NLOHMANN_JSON_EXPAND(NLOHMANN_JSON_PASTE(GYROCAL_READ_COLUMN, __VA_ARGS__)) \
+        }                                                                               \
+    }
 
-PlateauRow ReadPlateau(const Stmt& s) {
-    PlateauRow p;
-    s.Read(0, p.run_id, p.sensor_id, p.plateau_id, p.utime, p.setpoint_c, p.start_utime,
-           p.end_utime, p.first_seq, p.last_seq, p.n_samples, p.n_excluded_motion, p.seq_gaps,
-           p.temp_mean_c, p.temp_std_c, p.temp_sem_c, p.temp_slope_c_per_min, p.gyro_mean_v,
-           p.gyro_std_v, p.gyro_sem_v, p.temp_mean_v, p.supply_mean_v, p.recv_utime);
-    return p;
-}
+constexpr auto kPlateau =
+    GYROCAL_ROW_COLUMNS(PlateauRow, run_id, sensor_id, plateau_id, utime, setpoint_c, start_utime,
+                        end_utime, first_seq, last_seq, n_samples, n_excluded_motion, seq_gaps,
+                        temp_mean_c, temp_std_c, temp_sem_c, temp_slope_c_per_min, gyro_mean_v,
+                        gyro_std_v, gyro_sem_v, temp_mean_v, supply_mean_v, recv_utime);
 
-constexpr const char* kSensitivityColumns =
-    "run_id, sensor_id, rotation_id, utime, start_utime, end_utime, first_seq, last_seq, "
-    "n_samples, direction, temp_c, encoder_angle_deg, offset_v, offset_stderr_v, integral_v_s, "
-    "sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, reject_reason, recv_utime";
-
-SensitivityRow ReadSensitivity(const Stmt& s) {
-    SensitivityRow p;
-    s.Read(0, p.run_id, p.sensor_id, p.rotation_id, p.utime, p.start_utime, p.end_utime,
-           p.first_seq, p.last_seq, p.n_samples, p.direction, p.temp_c, p.encoder_angle_deg,
-           p.offset_v, p.offset_stderr_v, p.integral_v_s, p.sensitivity_v_per_dps,
-           p.sensitivity_stderr_v_per_dps, p.accepted, p.reject_reason, p.recv_utime);
-    return p;
-}
+constexpr auto kSensitivity = GYROCAL_ROW_COLUMNS(
+    SensitivityRow, run_id, sensor_id, rotation_id, utime, start_utime, end_utime, first_seq,
+    last_seq, n_samples, direction, temp_c, encoder_angle_deg, offset_v, offset_stderr_v,
+    integral_v_s, sensitivity_v_per_dps, sensitivity_stderr_v_per_dps, accepted, reject_reason,
+    recv_utime);
 
 // The set's model of `role` ("offset", "sensitivity"); nullptr for another role.
 ModelRow* RoleModel(CoeffSetRow& c, const std::string& role) {
@@ -334,16 +339,16 @@ RunDetail ShowRun(Db& db, const std::string& run_id) {
     RunDetail d;
     d.run = GetRun(db, run_id);
     d.plateaus = SelectAll(db,
-                           std::string("SELECT ") + kPlateauColumns +
+                           std::string("SELECT ") + kPlateau.sql +
                                " FROM plateaus WHERE run_id = ? ORDER BY sensor_id, plateau_id, "
                                "plateau_row_id",
-                           run_id, ReadPlateau);
+                           run_id, kPlateau);
     d.sensitivity_points =
         SelectAll(db,
-                  std::string("SELECT ") + kSensitivityColumns +
+                  std::string("SELECT ") + kSensitivity.sql +
                       " FROM sensitivity_points WHERE run_id = ? ORDER BY sensor_id, "
                       "rotation_id, rotation_row_id",
-                  run_id, ReadSensitivity);
+                  run_id, kSensitivity);
     d.coeff_sets = RunFinalCoeffs(db, run_id);
     d.fit_reports = RunFitReports(db, run_id);
     d.noise = RunNoise(db, run_id);

@@ -105,30 +105,13 @@ std::string RunsTable(const std::vector<db::RunInfo>& runs) {
 }
 
 static nlohmann::json RunJson(const db::RunInfo& r) {
-    nlohmann::json j;
-    j["run_id"] = r.run_id;
-    j["outcome"] = r.outcome;
-    j["reason"] = r.reason;
-    j["started_utime"] = OptJson(r.started_utime);
-    j["stopped_utime"] = OptJson(r.stopped_utime);
-    j["first_recv_utime"] = OptJson(r.first_recv_utime);
-    j["software_version"] = r.software_version;
-    j["command_line"] = r.command_line;
-    j["host"] = r.host;
-    j["recorder_version"] = r.recorder_version;
-    j["recorder_host"] = r.recorder_host;
-    j["sensor_ids"] = r.sensor_ids;
+    nlohmann::json j = GYROCAL_JSON_FIELDS(r, run_id, outcome, reason, started_utime, stopped_utime,
+                                           first_recv_utime, software_version, command_line, host,
+                                           recorder_version, recorder_host, sensor_ids);
     if (!r.station.empty()) j["station"] = r.station;
-    j["counts"] = {{"gyro_samples", r.gyro_samples},
-                   {"encoder_samples", r.encoder_samples},
-                   {"chamber_states", r.chamber_states},
-                   {"plateaus", r.plateaus},
-                   {"sensitivity_points", r.sensitivity_points},
-                   {"coeff_sets", r.coeff_sets},
-                   {"raw_events", r.raw_events}};
-    j["losses"] = {{"seq_gaps", r.seq_gaps},
-                   {"decode_errors", r.decode_errors},
-                   {"queue_drops", r.queue_drops}};
+    j["counts"] = GYROCAL_JSON_FIELDS(r, gyro_samples, encoder_samples, chamber_states, plateaus,
+                                      sensitivity_points, coeff_sets, raw_events);
+    j["losses"] = GYROCAL_JSON_FIELDS(r, seq_gaps, decode_errors, queue_drops);
     return j;
 }
 
@@ -353,23 +336,10 @@ std::string RunDetailText(const db::RunDetail& d,
 static nlohmann::json PlateausJson(const db::RunDetail& d) {
     nlohmann::json plateaus = nlohmann::json::array();
     for (const auto& p : d.plateaus) {
-        plateaus.push_back({{"sensor_id", p.sensor_id},
-                            {"plateau_id", p.plateau_id},
-                            {"setpoint_c", JsonNumber(p.setpoint_c)},
-                            {"start_utime", p.start_utime},
-                            {"end_utime", p.end_utime},
-                            {"first_seq", p.first_seq},
-                            {"last_seq", p.last_seq},
-                            {"n_samples", p.n_samples},
-                            {"n_excluded_motion", p.n_excluded_motion},
-                            {"seq_gaps", p.seq_gaps},
-                            {"temp_mean_c", JsonNumber(p.temp_mean_c)},
-                            {"temp_std_c", JsonNumber(p.temp_std_c)},
-                            {"temp_slope_c_per_min", JsonNumber(p.temp_slope_c_per_min)},
-                            {"gyro_mean_v", JsonNumber(p.gyro_mean_v)},
-                            {"gyro_std_v", JsonNumber(p.gyro_std_v)},
-                            {"gyro_sem_v", JsonNumber(p.gyro_sem_v)},
-                            {"supply_mean_v", JsonNumber(p.supply_mean_v)}});
+        plateaus.push_back(GYROCAL_JSON_FIELDS(
+            p, sensor_id, plateau_id, setpoint_c, start_utime, end_utime, first_seq, last_seq,
+            n_samples, n_excluded_motion, seq_gaps, temp_mean_c, temp_std_c, temp_slope_c_per_min,
+            gyro_mean_v, gyro_std_v, gyro_sem_v, supply_mean_v));
     }
     return plateaus;
 }
@@ -378,19 +348,10 @@ static nlohmann::json PlateausJson(const db::RunDetail& d) {
 static nlohmann::json SensitivityPointsJson(const db::RunDetail& d) {
     nlohmann::json points = nlohmann::json::array();
     for (const auto& s : d.sensitivity_points) {
-        points.push_back(
-            {{"sensor_id", s.sensor_id},
-             {"rotation_id", s.rotation_id},
-             {"start_utime", s.start_utime},
-             {"end_utime", s.end_utime},
-             {"n_samples", s.n_samples},
-             {"direction", s.direction},
-             {"temp_c", JsonNumber(s.temp_c)},
-             {"encoder_angle_deg", JsonNumber(s.encoder_angle_deg)},
-             {"sensitivity_v_per_dps", JsonNumber(s.sensitivity_v_per_dps)},
-             {"sensitivity_stderr_v_per_dps", JsonNumber(s.sensitivity_stderr_v_per_dps)},
-             {"accepted", s.accepted},
-             {"reject_reason", s.reject_reason}});
+        points.push_back(GYROCAL_JSON_FIELDS(s, sensor_id, rotation_id, start_utime, end_utime,
+                                             n_samples, direction, temp_c, encoder_angle_deg,
+                                             sensitivity_v_per_dps, sensitivity_stderr_v_per_dps,
+                                             accepted, reject_reason));
     }
     return points;
 }
@@ -404,13 +365,11 @@ static nlohmann::json CoeffSetsJson(const db::RunDetail& d,
         if (const ProvenanceSummary* p = FindProv(provenance, c.coeff_row_id)) {
             nlohmann::json items = nlohmann::json::array();
             for (const auto& it : p->items) {
-                items.push_back({{"kind", it.kind},
-                                 {"item_id", it.item_id},
-                                 {"found", it.item_found},
-                                 {"start_utime", OptJson(it.start_utime)},
-                                 {"end_utime", OptJson(it.end_utime)},
-                                 {"n_samples", OptJson(it.n_samples)},
-                                 {"stored_gyro_samples", it.stored_samples}});
+                nlohmann::json item =
+                    GYROCAL_JSON_FIELDS(it, kind, item_id, start_utime, end_utime, n_samples);
+                item["found"] = it.item_found;
+                item["stored_gyro_samples"] = it.stored_samples;
+                items.push_back(item);
             }
             cj["provenance"] = items;
         }
@@ -423,11 +382,8 @@ static nlohmann::json CoeffSetsJson(const db::RunDetail& d,
 static nlohmann::json LossesJson(const db::RunDetail& d) {
     nlohmann::json losses = nlohmann::json::array();
     for (const auto& l : d.losses) {
-        losses.push_back({{"channel", l.channel},
-                          {"seq_gaps", l.seq_gaps},
-                          {"seq_backwards", l.seq_backwards},
-                          {"decode_errors", l.decode_errors},
-                          {"queue_drops", l.queue_drops}});
+        losses.push_back(
+            GYROCAL_JSON_FIELDS(l, channel, seq_gaps, seq_backwards, decode_errors, queue_drops));
     }
     return losses;
 }
@@ -436,11 +392,7 @@ static nlohmann::json LossesJson(const db::RunDetail& d) {
 static nlohmann::json EventsJson(const db::RunDetail& d) {
     nlohmann::json events = nlohmann::json::array();
     for (const auto& e : d.events) {
-        events.push_back({{"utime", e.utime},
-                          {"event", e.event},
-                          {"reason", e.reason},
-                          {"setpoint_index", e.setpoint_index},
-                          {"setpoint_c", JsonNumber(e.setpoint_c)}});
+        events.push_back(GYROCAL_JSON_FIELDS(e, utime, event, reason, setpoint_index, setpoint_c));
     }
     return events;
 }
@@ -449,18 +401,9 @@ static nlohmann::json EventsJson(const db::RunDetail& d) {
 static nlohmann::json ProcessesJson(const db::RunDetail& d) {
     nlohmann::json procs = nlohmann::json::array();
     for (const auto& p : d.processes) {
-        procs.push_back({{"process", p.process},
-                         {"host", p.host},
-                         {"pid", p.pid},
-                         {"state", p.state},
-                         {"received", p.received},
-                         {"published", p.published},
-                         {"decode_errors", p.decode_errors},
-                         {"seq_gaps", p.seq_gaps},
-                         {"queue_drops", p.queue_drops},
-                         {"rejected", p.rejected},
-                         {"last_reject", p.last_reject},
-                         {"utime", p.utime}});
+        procs.push_back(GYROCAL_JSON_FIELDS(p, process, host, pid, state, received, published,
+                                            decode_errors, seq_gaps, queue_drops, rejected,
+                                            last_reject, utime));
     }
     return procs;
 }

@@ -111,40 +111,19 @@ void AddFitJson(nlohmann::json& j, const db::RunDetail& d) {
         const db::FitReportRow& r = f.report;
         nlohmann::json excluded = nlohmann::json::array(), repeats = nlohmann::json::array();
         for (const db::FitExclusionRow& e : r.excluded)
-            excluded.push_back({{"kind", e.kind},
-                                {"item_id", e.item_id},
-                                {"temp_c", JsonNumber(e.temp_c)},
-                                {"value", JsonNumber(e.value)},
-                                {"residual", JsonNumber(e.residual)},
-                                {"residual_sigma", JsonNumber(e.residual_sigma)},
-                                {"statistic", JsonNumber(e.statistic)},
-                                {"threshold", JsonNumber(e.threshold)},
-                                {"reason", e.reason}});
+            excluded.push_back(GYROCAL_JSON_FIELDS(e, kind, item_id, temp_c, value, residual,
+                                                   residual_sigma, statistic, threshold, reason));
         for (const db::RepeatabilityRow& x : r.repeats)
-            repeats.push_back({{"temp_c", JsonNumber(x.temp_c)},
-                               {"first_plateau_id", x.first_plateau_id},
-                               {"second_plateau_id", x.second_plateau_id},
-                               {"first_approach", x.first_approach},
-                               {"second_approach", x.second_approach},
-                               {"offset_diff_v", JsonNumber(x.offset_diff_v)},
-                               {"offset_diff_stderr_v", JsonNumber(x.offset_diff_stderr_v)},
-                               {"offset_diff_dps", JsonNumber(x.offset_diff_dps)},
-                               {"offset_diff_stderr_dps", JsonNumber(x.offset_diff_stderr_dps)},
-                               {"z", JsonNumber(x.z)},
-                               {"verdict", x.verdict}});
-        reports.push_back({{"sensor_id", r.sensor_id},
-                           {"source", r.source},
-                           {"coeff_set_id", r.coeff_set_id},
-                           {"is_final", r.is_final},
-                           {"status", r.status},
-                           {"reason", r.reason},
-                           {"offset_detail", r.offset_detail},
-                           {"sensitivity_detail", r.sensitivity_detail},
-                           {"slow_noise_v", JsonNumber(r.slow_noise_v)},
-                           {"slow_noise_dps", JsonNumber(r.slow_noise_dps)},
-                           {"slow_noise_source", r.slow_noise_source},
-                           {"excluded", excluded},
-                           {"repeatability", repeats}});
+            repeats.push_back(GYROCAL_JSON_FIELDS(x, temp_c, first_plateau_id, second_plateau_id,
+                                                  first_approach, second_approach, offset_diff_v,
+                                                  offset_diff_stderr_v, offset_diff_dps,
+                                                  offset_diff_stderr_dps, z, verdict));
+        nlohmann::json report = GYROCAL_JSON_FIELDS(
+            r, sensor_id, source, coeff_set_id, is_final, status, reason, offset_detail,
+            sensitivity_detail, slow_noise_v, slow_noise_dps, slow_noise_source);
+        report["excluded"] = excluded;
+        report["repeatability"] = repeats;
+        reports.push_back(report);
     }
     j["fit_reports"] = reports;
     nlohmann::json noise = nlohmann::json::array();
@@ -157,22 +136,13 @@ void AddFitJson(nlohmann::json& j, const db::RunDetail& d) {
                             {"adev_lo_v", JsonNumber(n.adev_lo_v[i])},
                             {"adev_hi_v", JsonNumber(n.adev_hi_v[i])},
                             {"edf", JsonNumber(n.edf[i])}});
-        noise.push_back({{"sensor_id", n.sensor_id},
-                         {"utime", n.utime},
-                         {"still_s", JsonNumber(n.still_s)},
-                         {"n_segments", n.n_segments},
-                         {"longest_segment_s", JsonNumber(n.longest_segment_s)},
-                         {"arw_v_rthz", JsonNumber(n.arw_v_rthz)},
-                         {"arw_stderr_v_rthz", JsonNumber(n.arw_stderr_v_rthz)},
-                         {"bias_instability_v", JsonNumber(n.bias_instability_v)},
-                         {"bias_instability_stderr_v", JsonNumber(n.bias_instability_stderr_v)},
-                         {"rrw_v_rts", JsonNumber(n.rrw_v_rts)},
-                         {"rrw_stderr_v_rts", JsonNumber(n.rrw_stderr_v_rts)},
-                         {"sensitivity_v_per_dps", ni.sensitivity_v_per_dps
-                                                       ? JsonNumber(*ni.sensitivity_v_per_dps)
-                                                       : nlohmann::json(nullptr)},
-                         {"fit_note", n.fit_note},
-                         {"adev", adev}});
+        nlohmann::json unit =
+            GYROCAL_JSON_FIELDS(n, sensor_id, utime, still_s, n_segments, longest_segment_s,
+                                arw_v_rthz, arw_stderr_v_rthz, bias_instability_v,
+                                bias_instability_stderr_v, rrw_v_rts, rrw_stderr_v_rts, fit_note);
+        unit["sensitivity_v_per_dps"] = model::JsonValue(ni.sensitivity_v_per_dps);
+        unit["adev"] = adev;
+        noise.push_back(unit);
     }
     j["noise"] = noise;
 }

@@ -19,7 +19,8 @@ Msg Stamped(int64_t utime, const std::string& id, const std::string& run_id) {
 }
 
 // A window of unit `id`'s samples from start_utime to end_utime [us], stamped at its end and
-// keyed by its start (plateau_t's plateau_id, sensitivity_point_t's rotation_id).
+// keyed by its start (plateau_t's plateau_id, sensitivity_point_t's rotation_id); a store row of
+// one (db::PlateauRow, db::SensitivityRow) is also received at its end.
 template <class Msg>
 Msg WindowOf(const std::string& id, const std::string& run_id, int64_t start_utime,
              int64_t end_utime) {
@@ -31,6 +32,7 @@ Msg WindowOf(const std::string& id, const std::string& run_id, int64_t start_uti
     } else {
         m.rotation_id = start_utime;
     }
+    if constexpr (requires { m.recv_utime; }) m.recv_utime = end_utime;
     return m;
 }
 

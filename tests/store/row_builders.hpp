@@ -52,28 +52,19 @@ inline db::RunEventRow RunEvent(const std::string& run, const std::string& event
     return e;
 }
 
-// What plateaus and rotations share: `sensor` in `run` over [start_utime, end_utime] [us], named
-// by its start as the processors name them (the messages' WindowOf), sent and received at its end.
-template <class Row>
-Row OverWindow(const std::string& run, const std::string& sensor, int64_t start_utime,
-               int64_t end_utime) {
-    Row r = WindowOf<Row>(sensor, run, start_utime, end_utime);
-    r.recv_utime = end_utime;
-    return r;
-}
-
-// A plateau, its supply not measured.
+// A plateau of `sensor` in `run` over [start_utime, end_utime] [us] (WindowOf: named by its start
+// as the processors name it, sent and received at its end), its supply not measured.
 inline db::PlateauRow Plateau(const std::string& run, const std::string& sensor,
                               int64_t start_utime, int64_t end_utime) {
-    db::PlateauRow p = OverWindow<db::PlateauRow>(run, sensor, start_utime, end_utime);
+    db::PlateauRow p = WindowOf<db::PlateauRow>(sensor, run, start_utime, end_utime);
     p.supply_mean_v = std::nan("");
     return p;
 }
 
-// An accepted rotation (sensitivity point).
+// An accepted rotation (sensitivity point), over its window as a plateau is.
 inline db::SensitivityRow Rotation(const std::string& run, const std::string& sensor,
                                    int64_t start_utime, int64_t end_utime) {
-    db::SensitivityRow s = OverWindow<db::SensitivityRow>(run, sensor, start_utime, end_utime);
+    db::SensitivityRow s = WindowOf<db::SensitivityRow>(sensor, run, start_utime, end_utime);
     s.accepted = true;
     return s;
 }

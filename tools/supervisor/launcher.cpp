@@ -34,6 +34,7 @@
 #include "lcmtypes/process/status.hpp"
 #include "lcmtypes/text/join.hpp"
 #include "processors/model/convert.hpp"
+#include "processors/model/json.hpp"
 #include "processors/sequencer/procedure.hpp"
 #include "producers/csv/file_digest.hpp"
 #include "tools/supervisor/child_errors.hpp"
@@ -331,32 +332,15 @@ bool Calibration::IsRamp() const {
 }
 
 std::string Calibration::ConfigJson() const {
-    nlohmann::json j;
-    j["source"] = o_.source;
-    j["input"] = o_.input;
-    j["db"] = o_.db;
+    nlohmann::json j =
+        GYROCAL_JSON_FIELDS(o_, source, input, db, role, chamber, procedure, sensors, preset, seed,
+                            noise_seed, speed, profile, setpoints_c, effects, max_restarts);
     j["lcm_url"] = url_;
-    j["role"] = o_.role;
-    j["chamber"] = o_.chamber;
-    j["procedure"] = o_.procedure;
-    j["sensors"] = o_.sensors;
-    j["preset"] = o_.preset;
-    j["seed"] = o_.seed;
-    j["noise_seed"] = o_.noise_seed;
     j["plateau_slow_noise_dps"] = EffectivePlateauSlowNoiseDps(o_);
-    j["speed"] = o_.speed;
-    j["profile"] = o_.profile;
-    j["setpoints_c"] = o_.setpoints_c;
-    if (IsRamp()) {
-        j["ramp_range_c"] = o_.ramp_range_c;
-        j["turn_interval_s"] = o_.turn_interval_s;
-        j["dwell_s"] = o_.dwell_s;
-        j["target_offset_dps"] = o_.target_offset_dps;
-        j["target_sensitivity_pct"] = o_.target_sensitivity_pct;
-    }
+    if (IsRamp())
+        j.update(GYROCAL_JSON_FIELDS(o_, ramp_range_c, turn_interval_s, dwell_s, target_offset_dps,
+                                     target_sensitivity_pct));
     if (o_.ramp_rate_c_per_min > 0) j["ramp_rate_c_per_min"] = o_.ramp_rate_c_per_min;
-    j["effects"] = o_.effects;
-    j["max_restarts"] = o_.max_restarts;
     if (!input_sha256_.empty()) j["input_sha256"] = input_sha256_;
     if (!o_.limits_json.empty()) {
         j["acceptance_limits"] = nlohmann::json::parse(o_.limits_json);

@@ -20,6 +20,7 @@
 #include "gyrocal/version.hpp"
 #include "lcmtypes/channels/channels.hpp"
 #include "lcmtypes/process/shutdown.hpp"
+#include "processors/model/json.hpp"
 #include "processors/sequencer/coeff_uncertainty.hpp"
 
 namespace gyrocal::sequencer::node {
@@ -49,21 +50,17 @@ SequencerNode::SequencerNode(SequencerOptions options)
     nlohmann::json config = nlohmann::json::object();
     if (!options_.run_config_json.empty()) config = nlohmann::json::parse(options_.run_config_json);
     const ProcedureOptions& p = options_.procedure;
-    config["sequencer"] = {{"profile", p.profile.name},
-                           {"setpoints_c", p.profile.setpoints_c},
-                           {"ramp_rate_c_per_min", p.ramp_rate_c_per_min},
-                           {"plateau_timeout_s", p.plateau_timeout_s},
-                           {"moves_deg", p.moves_deg},
-                           {"rotation_rate_dps", p.rotation_rate_dps},
-                           {"rotation_accel_dps2", p.rotation_accel_dps2},
-                           {"rotation_timeout_s", p.rotation_timeout_s}};
+    nlohmann::json sequencer =
+        GYROCAL_JSON_FIELDS(p, ramp_rate_c_per_min, plateau_timeout_s, moves_deg, rotation_rate_dps,
+                            rotation_accel_dps2, rotation_timeout_s);
+    sequencer["profile"] = p.profile.name;
+    sequencer["setpoints_c"] = p.profile.setpoints_c;
     if (p.profile.continuous) {
-        config["sequencer"]["continuous"] = true;
-        config["sequencer"]["turn_interval_s"] = p.turn_interval_s;
-        config["sequencer"]["dwell_s"] = p.dwell_s;
-        config["sequencer"]["target_offset_dps"] = p.target_offset_dps;
-        config["sequencer"]["target_sensitivity_pct"] = p.target_sensitivity_pct;
+        sequencer["continuous"] = true;
+        sequencer.update(GYROCAL_JSON_FIELDS(p, turn_interval_s, dwell_s, target_offset_dps,
+                                             target_sensitivity_pct));
     }
+    config["sequencer"] = sequencer;
     config_json_ = config.dump();
     if (!p.sensor_ids.empty()) procedure_ = MakeRunner(p);
 

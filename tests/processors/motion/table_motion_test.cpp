@@ -7,6 +7,8 @@
 #include <cmath>
 #include <vector>
 
+#include "tests/processors/validate_check.hpp"
+
 namespace gyrocal::motion {
 namespace {
 
@@ -116,12 +118,11 @@ TEST(TableMotion, AMoveUnderWayMarksEverythingAfterItsStart) {
 }
 
 TEST(MoveDetectorConfig, ValidateNamesTheField) {
-    MoveDetectorConfig c;
-    c.settle_s = 0;
-    EXPECT_NE(c.Validate().find("settle_s"), std::string::npos);
-    c = MoveDetectorConfig{};
-    c.start_threshold_counts = 0;
-    EXPECT_NE(c.Validate().find("start_threshold_counts"), std::string::npos);
+    testing::ExpectRefusedNaming(
+        MoveDetectorConfig{}, [](auto& c) { c.settle_s = 0; }, "settle_s");
+    testing::ExpectRefusedNaming(
+        MoveDetectorConfig{}, [](auto& c) { c.start_threshold_counts = 0; },
+        "start_threshold_counts");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "processors/noise/noise_tracker.hpp"
 #include "tests/processors/numeric/synthetic_noise.hpp"
+#include "tests/processors/validate_check.hpp"
 #include "tests/support/othersim/physics.hpp"
 
 namespace gyrocal::noise {
@@ -243,12 +244,11 @@ TEST(Tracker, ALongRestIsHeldToFourLongestTausAndMeasuredAlike) {
 }
 
 TEST(Tracker, BadConfigurationIsRefusedNamingTheOption) {
-    TrackerConfig c;
-    c.quiet_slope_c_per_min = 0;
-    EXPECT_NE(c.Validate().find("--noise-quiet-slope-c-per-min"), std::string::npos);
-    c = TrackerConfig{};
-    c.min_segment_s = 0.01;
-    EXPECT_NE(c.Validate().find("--noise-min-segment-s"), std::string::npos);
+    testing::ExpectRefusedNaming(
+        TrackerConfig{}, [](auto& c) { c.quiet_slope_c_per_min = 0; },
+        "--noise-quiet-slope-c-per-min");
+    const TrackerConfig c = testing::ExpectRefusedNaming(
+        TrackerConfig{}, [](auto& o) { o.min_segment_s = 0.01; }, "--noise-min-segment-s");
     EXPECT_THROW(NoiseTracker{c}, std::invalid_argument);
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tests/processors/plateau/synthetic_temperature.hpp"
+#include "tests/processors/validate_check.hpp"
 
 namespace gyrocal::plateau {
 namespace {
@@ -433,12 +434,11 @@ TEST(PlateauDetector, RejectsInvalidConfig) {
     PlateauConfig c = PlateauConfig::Defaults();
     c.window_s = 0;
     EXPECT_THROW(PlateauDetector{c}, std::invalid_argument);
-    c = PlateauConfig::Defaults();
-    c.slope_max_c_per_min = std::nan("");
-    EXPECT_NE(c.Validate(), "");
-    c = PlateauConfig::Defaults();
-    c.sem_batches = 2;
-    EXPECT_NE(c.Validate().find("sem_batches"), std::string::npos);
+    gyrocal::testing::ExpectRefusedNaming(
+        PlateauConfig::Defaults(), [](auto& c) { c.slope_max_c_per_min = std::nan(""); },
+        "slope_max_c_per_min");
+    gyrocal::testing::ExpectRefusedNaming(
+        PlateauConfig::Defaults(), [](auto& c) { c.sem_batches = 2; }, "sem_batches");
 }
 
 }  // namespace

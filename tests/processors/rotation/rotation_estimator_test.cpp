@@ -8,6 +8,7 @@
 
 #include "processors/motion/table_motion.hpp"
 #include "tests/processors/rotation/synthetic_rotation.hpp"
+#include "tests/processors/validate_check.hpp"
 
 namespace gyrocal::rotation {
 namespace {
@@ -209,9 +210,8 @@ TEST(RotationEstimator, WaitsForTheRestWindowAfterTheMove) {
 }
 
 TEST(RotationConfig, ValidateNamesTheField) {
-    RotationConfig c;
-    c.rest_s = 0;
-    EXPECT_NE(c.Validate().find("rest_s"), std::string::npos);
+    const RotationConfig c = gyrocal::testing::ExpectRefusedNaming(
+        RotationConfig{}, [](auto& o) { o.rest_s = 0; }, "rest_s");
     EXPECT_THROW(RotationEstimator{c}, std::invalid_argument);
 }
 
