@@ -124,8 +124,9 @@ void Residue(const BinnedRun& binned, const Split& split, double t0, const Analy
     res.slow_noise_k = o.slow_noise_floor_ratio >= 0 ? o.slow_noise_floor_ratio : s.model.k;
     res.noise_note = o.slow_noise_floor_ratio >= 0 ? "k set by the option" : s.model.note;
     res.n_surrogates = static_cast<int>(s.noise.size());
-    const std::vector<Family> families =
-        FeatureFamilies(binned, train, base, o, &res.absent_channels);
+    std::vector<Family> families = FeatureFamilies(binned, train, base, o, &res.absent_channels);
+    for (Family& f : NamedShapeFamilies(binned, train, base, *res.extended_offset, res.added))
+        families.push_back(std::move(f));
     res.features = JudgeFeatures(binned, train, split, base, r_all, res.floor_offset_rms_v,
                                  families, s.noise, o, &res.feature_null_threshold);
     res.windows_above = WindowsAbove(binned, base, s, o, &res.window_null_threshold);
