@@ -124,8 +124,9 @@ void Residue(const BinnedRun& binned, const Split& split, double t0, const Analy
     res.slow_noise_k = o.slow_noise_floor_ratio >= 0 ? o.slow_noise_floor_ratio : s.model.k;
     res.noise_note = o.slow_noise_floor_ratio >= 0 ? "k set by the option" : s.model.note;
     res.n_surrogates = static_cast<int>(s.noise.size());
-    const std::vector<Family> families =
-        FeatureFamilies(binned, train, base, o, &res.absent_channels);
+    std::vector<Family> families = FeatureFamilies(binned, train, base, o, &res.absent_channels);
+    for (Family& f : NamedShapeFamilies(binned, train, base, *res.extended_offset, res.added))
+        families.push_back(std::move(f));
     res.features = JudgeFeatures(binned, train, split, base, r_all, res.floor_offset_rms_v,
                                  families, s.noise, o, &res.feature_null_threshold);
     res.windows_above = WindowsAbove(binned, base, s, o, &res.window_null_threshold);
@@ -147,10 +148,13 @@ void OffsetPass(const BinnedRun& binned, const Split& split, double t0, const An
 // search. 0 columns when none does.
 MatrixXd StrongTimeShape(const BinnedRun& binned, const Split& split, double t0,
                          const AnalysisOptions& o, const SensorResult& res, std::string& name) {
+    // A nuisance must be of the size a candidate needs (min_effect_floor_ratio): a flag may be
+    // smaller (min_feature_floor_ratio), a shape that moves the candidates' search may not.
     const FeatureResult* top = nullptr;
     for (const FeatureResult& f : res.features)
         if (f.explains_heldout && !top &&
-            (f.channel == "time" || f.channel == "time since power-on"))
+            (f.channel == "time" || f.channel == "time since power-on") &&
+            !(f.effect_rms_v <= o.min_effect_floor_ratio * res.floor_offset_rms_v))
             top = &f;
     if (!top || !res.extended_offset) return MatrixXd(static_cast<Index>(binned.size()), 0);
     const Context train = MakeContext(binned, split.train, t0, o);

@@ -134,6 +134,11 @@ struct AnalysisOptions {
     // (bias instability with ~1000 s correlation) can mimic a slow regressor (supply drift,
     // warm-up) at about that size in one run. Skipped when the floor is unknown.
     double min_effect_floor_ratio = 1.0;
+    // (c') the same for a generic feature that explains held-out data (a flag, not a term of the
+    // model): sqrt(1.2^2 - 1) = 0.663, the size that, left in the residual, puts a model's error
+    // on data it did not see above 1.2x the floor's - the benchmark's criterion of a model that
+    // transfers (processors/analysis/README.md). Below it a feature is reported, not flagged.
+    double min_feature_floor_ratio = 0.663;
     double holdout_fraction = 0.25;  // [1] fraction of the still data held out (interleaved blocks)
     double holdout_block_s = 600.0;  // [s] length of those blocks (2 x the HAC window)
     double gate_min_z = 2.0;         // held-out improvement needed, in its standard errors

@@ -333,6 +333,37 @@ std::vector<Family> FeatureFamilies(const BinnedRun& b, const Context& train,
     return kept;
 }
 
+std::vector<Family> NamedShapeFamilies(const BinnedRun& b, const Context& train,
+                                       const MatrixXd& base_all, const model::Model& m,
+                                       const std::vector<AddedEffect>& added) {
+    std::vector<Family> out;
+    if (b.size() < 3 || train.rows.empty() || base_all.cols() != m.coeffs.size()) return out;
+    const VectorXd t = TimeS(b.bins());
+    VectorXd dt(t.size());
+    for (Index i = 0; i < t.size(); ++i) dt[i] = b.bins()[static_cast<size_t>(i)].temp_c - train.t0;
+    for (const AddedEffect& a : added) {
+        // A static function of the temperature has no timing; its size with temperature is the
+        // next power, which the temperature features already hold.
+        if (a.effect == "temp_cubic" || a.effect == "temp_knot") continue;
+        const auto it = std::find(m.term_names.begin(), m.term_names.end(), a.term);
+        if (it == m.term_names.end()) continue;
+        const Index j = it - m.term_names.begin();
+        const VectorXd c = base_all.col(j) * m.coeffs[j];
+        std::vector<Family> mine;
+        const VectorXd rate = Rate(c, t, 60.0);
+        if (rate.allFinite())
+            mine.push_back(Fixed("timing of " + a.effect, "named effect",
+                                 "d/dt over 120 s of the fitted " + a.term + " term", rate));
+        mine.push_back(Fixed(a.effect + " x dT", "named effect",
+                             "fitted " + a.term + " term x (T - T0)", c.cwiseProduct(dt)));
+        for (Family& f : mine) {
+            f.cols[0] = Independent(base_all, f.cols[0]);
+            if (f.cols[0].cols() > 0 && f.cols[0].allFinite()) out.push_back(std::move(f));
+        }
+    }
+    return out;
+}
+
 namespace {
 
 GenericFeature Chosen(const Family& f, int best) {
@@ -417,7 +448,7 @@ FeatureResult Judge(const Family& fam, const FamilyFit& fit, const Context& trai
     r.null_z = null_z;
     r.null_threshold = threshold;
     const bool big_enough =
-        !std::isfinite(floor_v) || r.effect_rms_v > o.min_effect_floor_ratio * floor_v;
+        !std::isfinite(floor_v) || r.effect_rms_v > o.min_feature_floor_ratio * floor_v;
     r.explains_heldout = std::isfinite(r.null_z) && r.null_z > threshold && gain.mean_v2 > 0.0 &&
                          r.heldout_drop > o.min_feature_drop && big_enough;
     return r;

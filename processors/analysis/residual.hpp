@@ -69,6 +69,15 @@ std::vector<Family> FeatureFamilies(const BinnedRun& binned, const Context& trai
                                     const Eigen::MatrixXd& base_all, const AnalysisOptions& o,
                                     std::vector<std::string>* absent = nullptr);
 
+// A specification check of the named effects (in the spirit of Ramsey's RESET): for each added
+// effect that is not a static function of the temperature, its fitted contribution's rate of
+// change (the right size at the wrong time: a lag or a kernel the term does not have) and the
+// contribution times (T - T0) (a coefficient that changes with temperature), each kept only
+// outside the span of base_all. m: the extended model whose design is base_all.
+std::vector<Family> NamedShapeFamilies(const BinnedRun& binned, const Context& train,
+                                       const Eigen::MatrixXd& base_all, const model::Model& m,
+                                       const std::vector<AddedEffect>& added);
+
 // Each family's member chosen on the training rows (residual of base_all) as a feature.
 std::vector<GenericFeature> GenericFeatures(const BinnedRun& binned, const Context& train,
                                             const Eigen::MatrixXd& base_all,

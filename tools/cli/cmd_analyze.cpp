@@ -338,7 +338,10 @@ const std::vector<ThresholdOption>& ThresholdOptions() {
          "each member of a collinear pair kept whole needs this z^2 with the other in",
          CLI::Range(0.0, 1e6)},
         {"--min-effect-floor-ratio", &A::min_effect_floor_ratio,
-         "an added term's or explaining feature's size over the 10 s-bin noise floor",
+         "an added term's size over the 10 s-bin noise floor", CLI::Range(0.0, 100.0)},
+        {"--min-feature-floor-ratio", &A::min_feature_floor_ratio,
+         "an explaining feature's size over the floor (0.663: left out, it puts a model 1.2x "
+         "above the floor on new data)",
          CLI::Range(0.0, 100.0)},
         {"--gate-min-z", &A::gate_min_z,
          "held-out improvement the chosen terms need, in its standard errors",

@@ -11,7 +11,7 @@ namespace gyrocal::bench {
 namespace {
 
 struct Grid {  // 1 s means of the measured temperature and what follows from them
-    std::vector<double> temp, rate, abs_rate, accel, branch, wander;
+    std::vector<double> temp, rate, lead_rate, abs_rate, accel, branch, wander;
 };
 
 double At(const std::vector<double>& v, long k) {
@@ -30,8 +30,8 @@ Grid MakeGrid(const PostHoc& p, const analysis::SensorRun& run) {
     g.temp.resize(n);
     for (size_t k = 0; k < n; ++k)
         g.temp[k] = cnt[k] > 0 ? sum[k] / cnt[k] : (k ? g.temp[k - 1] : 25);
-    g.rate.resize(n), g.abs_rate.resize(n), g.accel.resize(n), g.branch.resize(n),
-        g.wander.resize(n);
+    g.rate.resize(n), g.lead_rate.resize(n), g.abs_rate.resize(n), g.accel.resize(n),
+        g.branch.resize(n), g.wander.resize(n);
     double memory = g.temp[0];
     const double half = 0.5 * p.branch_width_c;
     std::mt19937_64 rng(p.wander_seed);
@@ -40,7 +40,8 @@ Grid MakeGrid(const PostHoc& p, const analysis::SensorRun& run) {
     double w = p.wander_v * normal(rng);
     for (size_t k = 0; k < n; ++k) {
         const long i = static_cast<long>(k);
-        g.rate[k] = (At(g.temp, i + 15) - At(g.temp, i - 15)) / 30.0;
+        g.rate[k] = (g.temp[k] - At(g.temp, i - 30)) / 30.0;
+        g.lead_rate[k] = (At(g.temp, i + 15) - At(g.temp, i - 15)) / 30.0;
         g.abs_rate[k] = std::fabs(At(g.temp, i + 60) - At(g.temp, i - 60)) / 120.0;
         g.accel[k] = (At(g.temp, i + 90) - 2 * g.temp[k] + At(g.temp, i - 90)) / (90.0 * 90.0);
         memory = std::clamp(memory, g.temp[k] - half, g.temp[k] + half);
@@ -62,7 +63,8 @@ double Listed(const PostHoc& p, const Grid& g, size_t k, const analysis::GyroSam
 
 double Outside(const PostHoc& p, const Grid& g, size_t k, const analysis::GyroSample& s, double t) {
     const double dT = s.temp_c - 25.0;
-    double v = p.abs_rate_v_per_c_per_s * g.abs_rate[k] + p.accel_v_per_c_per_s2 * g.accel[k] +
+    double v = p.lead_rate_v_per_c_per_s * g.lead_rate[k] +
+               p.abs_rate_v_per_c_per_s * g.abs_rate[k] + p.accel_v_per_c_per_s2 * g.accel[k] +
                p.quartic_v_per_c4 * dT * dT * dT * dT + p.drift_v_per_h * t / 3600.0 +
                p.wander_v * (p.wander_v != 0 ? g.wander[k] / p.wander_v : 0.0) +
                p.warmup2_v * std::exp(-t / p.warmup2_tau_s);

@@ -117,10 +117,15 @@ void HeldOut(Simulator sim, const Draw& d, uint64_t seed, const analysis::Sensor
     if (!r.extended_offset) f.heldout_ratio = f.declared_ratio;
 }
 
+bool RightForOutside(const Draw& d, const std::string& effect) {
+    return std::find(d.outside_right_names.begin(), d.outside_right_names.end(), effect) !=
+           d.outside_right_names.end();
+}
+
 bool Allowed(Simulator sim, const Draw& d, const std::string& effect) {
     // othersim's temperature line lags its die and the die its board: a real (small) temp_rate.
     if (sim == Simulator::kOthersim && effect == "temp_rate") return true;
-    if (d.outside_static_temp && (effect == "temp_cubic" || effect == "temp_knot")) return true;
+    if (RightForOutside(d, effect)) return true;
     for (const ListedPart& p : d.listed)
         if (p.effect == effect) return true;
     return false;
@@ -166,9 +171,7 @@ void Judge(Simulator sim, const Draw& d, const Made& m, const analysis::SensorRe
     }
     if (d.has_outside)
         f.outside_ratio = ProjectedRms(b, BinMeans(m.run, b, m.outside_v)) / f.floor_v;
-    for (const std::string& e : f.added)
-        f.outside_named =
-            f.outside_named || (d.outside_static_temp && (e == "temp_cubic" || e == "temp_knot"));
+    for (const std::string& e : f.added) f.outside_named = f.outside_named || RightForOutside(d, e);
     f.warm_v = d.warmup_v != 0 ? d.warmup_v : NAN;
     f.warm_tau_s = d.warmup_v != 0 ? d.warmup_tau_s : NAN;
     f.outcome = analysis::ToString(r.outcome);

@@ -90,6 +90,11 @@ void Bend(PostHoc& p, std::mt19937_64& r) {
     p.hot_bend_v = LogU(r, 1e-3, 1.5e-2), p.hot_bend_c = U(r, 6, 15);
 }
 void Quartic(PostHoc& p, std::mt19937_64& r) { p.quartic_v_per_c4 = LogU(r, 4e-10, 6e-9); }
+// The listed rate's sizes, on the centred difference: what a unit whose thermometer lags its die
+// by 15 s shows.
+void LeadRate(PostHoc& p, std::mt19937_64& r) {
+    p.lead_rate_v_per_c_per_s = LogU(r, 4e-5, 1e-3) * 60;
+}
 void Drift(PostHoc& p, std::mt19937_64& r) { p.drift_v_per_h = LogU(r, 3e-4, 4e-3); }
 void Shift(PostHoc& p, std::mt19937_64& r) {
     p.steps.push_back({U(r, 1000.0, 4000.0), LogU(r, 3e-4, 3e-3)});
@@ -105,13 +110,18 @@ Draw OSteps(Simulator, std::mt19937_64& r) { return Out(r, Steps); }
 Draw OSaw(Simulator, std::mt19937_64& r) { return Out(r, Saw); }
 Draw OWander(Simulator, std::mt19937_64& r) { return Out(r, Wander); }
 Draw StaticTemp(Draw d) {
-    d.outside_static_temp = true;
+    d.outside_right_names = {"temp_cubic", "temp_knot"};
     return d;
 }
 Draw OBend(Simulator, std::mt19937_64& r) { return StaticTemp(Out(r, Bend)); }
 Draw OQuartic(Simulator, std::mt19937_64& r) { return StaticTemp(Out(r, Quartic)); }
 Draw ODrift(Simulator, std::mt19937_64& r) { return Out(r, Drift); }
 Draw OShift(Simulator, std::mt19937_64& r) { return Out(r, Shift); }
+Draw OLeadRate(Simulator, std::mt19937_64& r) {
+    Draw d = Out(r, LeadRate);
+    d.outside_right_names = {"temp_rate"};
+    return d;
+}
 
 // Two power-on exponentials (a fast one outside the list, the warm-up listed): a transient of
 // another shape than the candidate's.
@@ -176,6 +186,7 @@ const std::vector<Scenario>& Scenarios() {
         {"warm-up + supply", "combination", Two<kWarmup, kSupply>},
         // Last, so that the seeds of the scenarios above stay what they were.
         {"clean, thermometer lag off", "clean", CleanNoLag, true},
+        {"rate leading the thermometer 15 s", "outside", OLeadRate},
     };
     return s;
 }

@@ -34,10 +34,11 @@ struct Draw {
     sim::EffectsConfig sim_effects;  // the rig's own effect, when a listed part is rig_own
     PostHoc outside;                 // everything outside the list
     bool has_outside = false;
-    // The outside part is a static function of the temperature (a hot-end bend, (T-25)^4): the
-    // analysis' spline knot beyond its cubic (temp_knot) is a generic static temperature shape,
-    // so temp_cubic and temp_knot are right names for it.
-    bool outside_static_temp = false;
+    // Names that are right for the outside part. A static function of the temperature (a hot-end
+    // bend, (T-25)^4): the analysis' spline knot beyond its cubic (temp_knot) is a generic static
+    // temperature shape, so temp_cubic and temp_knot. A rate that leads the thermometer: temp_rate
+    // (the right physics seen through a lagging thermometer).
+    std::vector<std::string> outside_right_names;
     double warmup_v = 0, warmup_tau_s = 0;  // a single power-on exponential (listed), else 0
     // othersim's temperature line lags its die by 1 s: a real, small temp_rate in every run of it,
     // "clean" included. Off: the temperature read is the die's (the control for the clean rate).

@@ -58,9 +58,9 @@ TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
     const std::string help = app.get_subcommand("analyze")->help();
     for (const char* opt :
          {"--min-z2", "--min-cv-gain", "--max-collinearity", "--min-pair-member-z2",
-          "--min-effect-floor-ratio", "--gate-min-z", "--max-untested-fraction",
-          "--slow-noise-floor-ratio", "--feature-fpr", "--window-fpr", "--warmup-fpr",
-          "--min-feature-drop", "--surrogates", "--surrogate-seed"})
+          "--min-effect-floor-ratio", "--min-feature-floor-ratio", "--gate-min-z",
+          "--max-untested-fraction", "--slow-noise-floor-ratio", "--feature-fpr", "--window-fpr",
+          "--warmup-fpr", "--min-feature-drop", "--surrogates", "--surrogate-seed"})
         EXPECT_NE(help.find(opt), std::string::npos) << opt << "\n" << help;
     EXPECT_NE(help.find("0.02"), std::string::npos) << help;  // --feature-fpr's default
     struct Bad {
