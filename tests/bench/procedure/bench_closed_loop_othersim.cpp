@@ -14,9 +14,21 @@
 // Calibration: the return-to-start profile 25, -10, 10, 30, 50, 70, 25 degC at the e2e tests'
 // fast thermal scale (40 Hz, board 40 s, die 8 s, dwell 540 s, ramps 5 degC/min), UNITS units.
 // Held-out: the same units (same seed), fresh noise (--noise-seed), ramps only 25 -> -10 -> 70 ->
-// 25 degC at 1 degC/min, table still (true rate 0); 10 s bins; compensator library, clip.
+// 25 degC at 1 degC/min, table still (true rate 0); 10 s bins; compensator library, clip. Two
+// held-out records per seed, the calibration itself always on othersim's default noise:
+//   default   othersim's default noise (white, flicker 0.007 deg/s, rate random walk 3e-5)
+//   quiet     the same record with the slow noise off (--flicker-dps 0 --rrw-dps-rts 0), white
+//             kept: the same noise seed, and othersim draws every noise number whatever is
+//             switched on, so its white noise, chamber wander and supply are the default
+//             record's, sample for sample; only the flicker and the random walk are gone
+// Why both: on the default record the truth's own drift is the slow noise's (1-36 deg/h from seed
+// to seed), more than the sets differ by; on the quiet record it is the white noise's average.
+// Model-only drift, per set: |mean over the record of the set's compensated rate of the noise-free
+// output| in deg/h, the noise-free output being the truth @ T's offset (its effects included) at
+// the measured temperature and supply: the set's own error against the truth @ T, without noise
+// (the same on both records, which share temperatures and supply); RMS over units.
 // Cases: othersim's defaults (its own 0.3 mV warm-up, the 1 s temperature-line lag), and with a
-// supply sensitivity of 0.1 V/V. Criteria per seed as bench_closed_loop.cpp.
+// supply sensitivity of 0.1 V/V. Criteria per seed as bench_closed_loop.cpp, on each record.
 //
 //   gyrocal_bench_closed_loop_othersim [SEEDS] [UNITS] [FIRST_SEED]
 #include <chrono>
@@ -115,29 +127,45 @@ void AddSample(Series& s, double& acc, int& n, int64_t& start, int64_t utime, do
     if (std::isfinite(rate)) acc += rate, ++n, s.angle_deg += rate * dt_s;
 }
 
-// The held-out record of one seed's units, compensated by every method; rows per method.
-std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
+// The held-out records: othersim's default noise, and the same record with the slow noise off.
+enum class Record { kDefault, kQuiet };
+constexpr Record kRecords[] = {Record::kDefault, Record::kQuiet};
+const char* Name(Record r) { return r == Record::kDefault ? "default" : "quiet"; }
+
+// One held-out record's figures: rows per method (plateau, final, PX4, truth), and the model-only
+// drift per set (plateau, final, PX4; Row::Drift of the noise-free angle).
+struct HeldOutRows {
+    std::vector<Row> rows = std::vector<Row>(4);
+    std::vector<Row> model = std::vector<Row>(3);
+};
+
+// A held-out record of one seed's units, compensated by every method.
+HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record record) {
     othersim::Options o = cal;
-    o.noise_seed = cal.seed * 7919 + 1;
+    o.noise_seed = cal.seed * 7919 + 1;  // the same for both records (see the head)
+    if (record == Record::kQuiet) o.noise.flicker_dps = 0.0, o.noise.rrw_dps_rts = 0.0;
     o.profile.steps = othersim::ParseSetpoints("25,-10,70,25", 0.0, false);
     o.profile.ramp_c_per_min = 1.0;
     std::stringstream text;
     const othersim::Generated g = othersim::Generate(o, text);
     const csv::CsvFile f =
         csv::ReadCsv(text, "held.csv", sensor::TempTransfer{}, csv::OnError::kStop);
-    std::vector<Row> rows(4);
+    HeldOutRows out;
     for (const othersim::UnitTruth& u : g.units) {
         if (!sets.final.count(u.sensor_id)) continue;
-        std::vector<compensator::SensorCompensator> comps;
-        comps.reserve(3);
+        // comps[m]: the record's samples; noise_free[m]: the noise-free output (own trackers).
+        std::vector<compensator::SensorCompensator> comps, noise_free;
+        comps.reserve(3), noise_free.reserve(3);
         const std::map<std::string, model::CoeffSet>* by[] = {&sets.plateau, &sets.final,
                                                               &sets.px4};
         for (size_t m = 0; m < 3; ++m) {
             comps.emplace_back(compensator::CompensatorOptions{model::RangePolicy::kClip});
             comps[m].SetCoefficients(by[m]->at(u.sensor_id));
+            noise_free.emplace_back(compensator::CompensatorOptions{model::RangePolicy::kClip});
+            noise_free[m].SetCoefficients(by[m]->at(u.sensor_id));
         }
         std::vector<Series> series(4);
-        std::vector<double> acc(4, 0.0);
+        std::vector<double> acc(4, 0.0), model_angle_deg(3, 0.0);
         std::vector<int> n(4, 0);
         std::vector<int64_t> start(4, 0);
         int64_t last = -1, first = -1;
@@ -149,23 +177,37 @@ std::vector<Row> HeldOut(const othersim::Options& cal, const Sets& sets) {
             last = utime;
             const compensator::Sample s{utime, 0, r.gyro_v, r.temp_c,
                                         r.supply_v ? *r.supply_v : NAN};
-            for (size_t m = 0; m < 3; ++m) {
-                const auto a = comps[m].Apply(s);
-                AddSample(series[m], acc[m], n[m], start[m], utime,
-                          a.status == compensator::ApplyStatus::kOk ? a.out.rate_dps : NAN, dt_s);
-            }
             const double die = u.DieFromMeasuredC(r.temp_c);
             const double t = r.time_s;
             const double offset = u.OffsetV(die) +
                                   o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
                                   o.effects.supply_v_per_v * (s.supply_v - o.supply.nominal_v);
+            compensator::Sample clean = s;
+            clean.gyro_v = offset;
+            for (size_t m = 0; m < 3; ++m) {
+                const auto a = comps[m].Apply(s);
+                AddSample(series[m], acc[m], n[m], start[m], utime,
+                          a.status == compensator::ApplyStatus::kOk ? a.out.rate_dps : NAN, dt_s);
+                const auto c = noise_free[m].Apply(clean);
+                if (c.status == compensator::ApplyStatus::kOk && std::isfinite(c.out.rate_dps))
+                    model_angle_deg[m] += c.out.rate_dps * dt_s;
+            }
             AddSample(series[3], acc[3], n[3], start[3], utime,
                       (r.gyro_v - offset) / u.SensitivityVPerDps(die), dt_s);
         }
         const double duration_s = 1e-6 * static_cast<double>(last - first);
-        for (size_t m = 0; m < 4; ++m) rows[m].Add(series[m].bins, series[m].angle_deg, duration_s);
+        for (size_t m = 0; m < 4; ++m)
+            out.rows[m].Add(series[m].bins, series[m].angle_deg, duration_s);
+        for (size_t m = 0; m < 3; ++m) out.model[m].Add({}, model_angle_deg[m], duration_s);
     }
-    return rows;
+    return out;
+}
+
+void Accumulate(std::vector<Row>& total, const std::vector<Row>& rows) {
+    for (size_t m = 0; m < rows.size(); ++m) {
+        total[m].sum2 += rows[m].sum2, total[m].n += rows[m].n;
+        total[m].sum2_drift += rows[m].sum2_drift, total[m].units += rows[m].units;
+    }
 }
 
 }  // namespace
@@ -189,11 +231,13 @@ int main(int argc, char** argv) {
         seeds, first, units);
     int failures = 0;
     for (const double supply : {0.0, 0.1}) {
-        std::vector<Row> total(4);
-        int met = 0, named = 0;
+        // Per record (default, quiet): the methods' totals, the sets' model-only drift, the
+        // seeds meeting the criterion.
+        std::vector<std::vector<Row>> total(2, std::vector<Row>(4)), model(2, std::vector<Row>(3));
+        int met[2] = {0, 0}, named = 0;
         std::printf(
-            "\ncase %s\n  seed: drift plateau / final / PX4 / truth [deg/h]; RMS the same [deg/s]; "
-            "final offset terms\n",
+            "\ncase %s\n  seed record: drift plateau / final / PX4 / truth [deg/h]; RMS the same "
+            "[deg/s]; model-only drift final / PX4 [deg/h]; final offset terms\n",
             supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
         for (int seed = first; seed < first + seeds; ++seed) {
             const std::string dir =
@@ -206,11 +250,6 @@ int main(int argc, char** argv) {
                 std::printf("  %4d: calibration failed (%s/calibrate.out)\n", seed, dir.c_str());
                 continue;
             }
-            const std::vector<Row> rows = HeldOut(o, sets);
-            for (size_t m = 0; m < 4; ++m) {
-                total[m].sum2 += rows[m].sum2, total[m].n += rows[m].n;
-                total[m].sum2_drift += rows[m].sum2_drift, total[m].units += rows[m].units;
-            }
             std::string terms;
             bool has_supply = true;
             for (const auto& [id, set] : sets.final) {
@@ -219,27 +258,46 @@ int main(int argc, char** argv) {
                 terms += (terms.empty() ? "" : " ") + id + "{" + t + "}";
                 has_supply = has_supply && t.find("supply") != std::string::npos;
             }
-            std::printf("  %4d: %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %s\n", seed,
-                        rows[0].Drift(), rows[1].Drift(), rows[2].Drift(), rows[3].Drift(),
-                        rows[0].Rms(), rows[1].Rms(), rows[2].Rms(), rows[3].Rms(), terms.c_str());
-            if (supply == 0.0) {
-                met +=
-                    rows[1].Drift() <= rows[2].Drift() && rows[1].Drift() <= 2.0 * rows[3].Drift();
-            } else if (has_supply) {
-                ++named;
-                met += rows[1].Rms() <= 1.2 * rows[3].Rms();
+            named += has_supply ? 1 : 0;
+            for (const Record record : kRecords) {
+                const size_t k = record == Record::kDefault ? 0 : 1;
+                const HeldOutRows h = HeldOut(o, sets, record);
+                const std::vector<Row>& rows = h.rows;
+                Accumulate(total[k], rows);
+                Accumulate(model[k], h.model);
+                std::printf(
+                    "  %4d %-7s %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %6.2f %6.2f | %s\n",
+                    seed, Name(record), rows[0].Drift(), rows[1].Drift(), rows[2].Drift(),
+                    rows[3].Drift(), rows[0].Rms(), rows[1].Rms(), rows[2].Rms(), rows[3].Rms(),
+                    h.model[1].Drift(), h.model[2].Drift(), k == 0 ? terms.c_str() : "");
+                if (supply == 0.0)
+                    met[k] += rows[1].Drift() <= rows[2].Drift() &&
+                              rows[1].Drift() <= 2.0 * rows[3].Drift();
+                else if (has_supply)
+                    met[k] += rows[1].Rms() <= 1.2 * rows[3].Rms();
             }
             std::fflush(stdout);
         }
-        bench::PrintMethodTotals(total);
-        if (supply == 0.0)
-            std::printf("  seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n", met,
-                        seeds);
-        else
+        for (const Record record : kRecords) {
+            const size_t k = record == Record::kDefault ? 0 : 1;
+            std::printf("  held-out record: %s\n",
+                        record == Record::kDefault
+                            ? "default (othersim's default noise)"
+                            : "quiet (the same record, flicker and rate random walk off)");
+            bench::PrintMethodTotals(total[k]);
             std::printf(
-                "  seeds whose final sets carry supply: %d of %d; of those, final RMS <= 1.2x "
-                "truth's: %d\n",
-                named, seeds, met);
+                "  model-only drift (RMS over seeds and units) [deg/h]: plateau %.2f, final %.2f, "
+                "PX4 %.2f\n",
+                model[k][0].Drift(), model[k][1].Drift(), model[k][2].Drift());
+            if (supply == 0.0)
+                std::printf("  %s: seeds with final drift <= PX4's and <= 2x truth's: %d of %d\n",
+                            Name(record), met[k], seeds);
+            else
+                std::printf(
+                    "  %s: seeds whose final sets carry supply: %d of %d; of those, final RMS <= "
+                    "1.2x truth's: %d\n",
+                    Name(record), named, seeds, met[k]);
+        }
     }
     std::filesystem::remove_all(base);
     std::printf("wall time %.0f s\n",
