@@ -26,16 +26,24 @@
 // Model-only drift, per set: |mean over the record of the set's compensated rate of the noise-free
 // output| in deg/h, the noise-free output being the truth @ T's offset (its effects included) at
 // the measured temperature and supply: the set's own error against the truth @ T, without noise
-// (the same on both records, which share temperatures and supply); RMS over units.
+// (the same on both records, which share temperatures and supply); RMS over units. The PX4
+// cubic's, signed, split in two (the fit is linear in the data): the part its terms cannot follow
+// (the cubic of the truth's own offset on the calibration bins: the curve beyond a cubic, and any
+// effect, e.g. supply) and the part the calibration data put
+// there (the cubic of the bins' departure from the truth @ T: the run's slow and white noise, the
+// temperature line's lag on the ramps). The final set, when it has PX4's terms on the same bins,
+// splits alike.
 // Cases: othersim's defaults (its own 0.3 mV warm-up, the 1 s temperature-line lag), and with a
 // supply sensitivity of 0.1 V/V. Criteria per seed as bench_closed_loop.cpp, on each record.
 //
 //   gyrocal_bench_closed_loop_othersim [SEEDS] [UNITS] [FIRST_SEED]
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,8 +83,31 @@ othersim::Options Scaled(uint64_t seed, int units, double supply_v_per_v) {
 
 struct Sets {
     std::map<std::string, model::CoeffSet> plateau, final, px4;
+    // Per unit: the PX4 cubic fitted on the calibration bins' departure from the truth @ T (bin
+    // mean gyro_v - the truth's offset at the bin's measured temperature, time and supply: the
+    // run's noise, slow and white, and its temperature-line lag). The fit is linear, so the PX4
+    // cubic = this + the cubic of the truth's own offset: the part of its error the calibration
+    // data put there, beside the part the cubic's terms cannot follow.
+    std::map<std::string, model::Model> px4_of_departure;
     bool ok = false;
 };
+
+// The truth @ T's offset [V] of unit u at measured temperature temp_c, time since power-on t_s
+// and measured supply supply_v (NaN: no supply term), for othersim options o.
+double TruthOffsetV(const othersim::UnitTruth& u, const othersim::Options& o, double temp_c,
+                    double t_s, double supply_v) {
+    double v = u.OffsetV(u.DieFromMeasuredC(temp_c));
+    if (std::isfinite(t_s)) v += o.effects.warmup_v * std::exp(-t_s / o.effects.warmup_tau_s);
+    if (o.effects.supply_v_per_v != 0.0)
+        v += o.effects.supply_v_per_v * (supply_v - o.supply.nominal_v);
+    return v;
+}
+
+// A cubic model evaluated at temp_c clipped to its range (as the compensator clips) [V].
+double CubicAt(const model::Model& m, double temp_c) {
+    const double d = std::clamp(temp_c, m.temp_min_c, m.temp_max_c) - m.t0_c;
+    return m.coeffs[0] + d * (m.coeffs[1] + d * (m.coeffs[2] + d * m.coeffs[3]));
+}
 
 // `gyrocal calibrate` on the CSV, then the sets and the PX4 cubic from the database.
 Sets Calibrate(const std::string& dir, const othersim::Options& o) {
@@ -102,14 +133,26 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
         if (set.source == "fitter") s.plateau[set.sensor_id] = set, ids.push_back(set.sensor_id);
         if (set.source == "closed-loop") s.final[set.sensor_id] = set;
     }
+    const std::vector<othersim::UnitTruth> truth = othersim::DrawUnits(o);
     for (const auto& [id, run_data] : cli::LoadSensorRuns(*db, detail, ids)) {
+        const analysis::BinnedRun bins(run_data, analysis::BinOptions::Defaults());
         model::CoeffSet px4 = s.plateau.at(id);
         px4.source = "px4";
-        px4.offset =
-            bench::Px4Cubic(analysis::BinnedRun(run_data, analysis::BinOptions::Defaults()));
+        px4.offset = bench::Px4Cubic(bins);
         s.px4[id] = px4;
+        for (const othersim::UnitTruth& u : truth) {
+            if (u.sensor_id != id) continue;
+            std::vector<double> temp_c, departure_v;
+            for (const analysis::Bin& b : bins.bins()) {
+                temp_c.push_back(b.temp_c);
+                departure_v.push_back(
+                    b.gyro_v - TruthOffsetV(u, o, b.temp_c, b.time_since_power_s, b.supply_v));
+            }
+            s.px4_of_departure[id] = bench::Px4CubicOf(temp_c, departure_v);
+        }
     }
-    s.ok = s.ok && s.final.size() == s.plateau.size() && !s.plateau.empty();
+    s.ok = s.ok && s.final.size() == s.plateau.size() && !s.plateau.empty() &&
+           s.px4_of_departure.size() == s.px4.size();
     return s;
 }
 
@@ -137,6 +180,9 @@ const char* Name(Record r) { return r == Record::kDefault ? "default" : "quiet";
 struct HeldOutRows {
     std::vector<Row> rows = std::vector<Row>(4);
     std::vector<Row> model = std::vector<Row>(3);
+    // Per unit, signed [deg/h]: the PX4 cubic's model-only drift and the part of it from the
+    // calibration data's departure from the truth (Sets::px4_of_departure).
+    std::string px4_split;
 };
 
 // A held-out record of one seed's units, compensated by every method.
@@ -166,6 +212,8 @@ HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record recor
         }
         std::vector<Series> series(4);
         std::vector<double> acc(4, 0.0), model_angle_deg(3, 0.0);
+        double departure_angle_deg = 0;
+        const model::Model& departure = sets.px4_of_departure.at(u.sensor_id);
         std::vector<int> n(4, 0);
         std::vector<int64_t> start(4, 0);
         int64_t last = -1, first = -1;
@@ -178,10 +226,8 @@ HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record recor
             const compensator::Sample s{utime, 0, r.gyro_v, r.temp_c,
                                         r.supply_v ? *r.supply_v : NAN};
             const double die = u.DieFromMeasuredC(r.temp_c);
-            const double t = r.time_s;
-            const double offset = u.OffsetV(die) +
-                                  o.effects.warmup_v * std::exp(-t / o.effects.warmup_tau_s) +
-                                  o.effects.supply_v_per_v * (s.supply_v - o.supply.nominal_v);
+            const double offset = TruthOffsetV(u, o, r.temp_c, r.time_s, s.supply_v);
+            departure_angle_deg -= CubicAt(departure, r.temp_c) / u.SensitivityVPerDps(die) * dt_s;
             compensator::Sample clean = s;
             clean.gyro_v = offset;
             for (size_t m = 0; m < 3; ++m) {
@@ -199,6 +245,13 @@ HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record recor
         for (size_t m = 0; m < 4; ++m)
             out.rows[m].Add(series[m].bins, series[m].angle_deg, duration_s);
         for (size_t m = 0; m < 3; ++m) out.model[m].Add({}, model_angle_deg[m], duration_s);
+        char text[160];
+        std::snprintf(text, sizeof text, "%s%s PX4 %+.2f = terms %+.2f + cal. data %+.2f",
+                      out.px4_split.empty() ? "" : " ", u.sensor_id.c_str(),
+                      model_angle_deg[2] / duration_s * 3600.0,
+                      (model_angle_deg[2] - departure_angle_deg) / duration_s * 3600.0,
+                      departure_angle_deg / duration_s * 3600.0);
+        out.px4_split += text;
     }
     return out;
 }
@@ -237,7 +290,9 @@ int main(int argc, char** argv) {
         int met[2] = {0, 0}, named = 0;
         std::printf(
             "\ncase %s\n  seed record: drift plateau / final / PX4 / truth [deg/h]; RMS the same "
-            "[deg/s]; model-only drift final / PX4 [deg/h]; final offset terms\n",
+            "[deg/s]; model-only drift final / PX4 [deg/h]; default: final offset terms, quiet: "
+            "PX4's "
+            "signed model-only drift = its shape's part + the calibration data's [deg/h]\n",
             supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
         for (int seed = first; seed < first + seeds; ++seed) {
             const std::string dir =
@@ -269,7 +324,8 @@ int main(int argc, char** argv) {
                     "  %4d %-7s %7.2f %7.2f %7.2f %7.2f | %.4f %.4f %.4f %.4f | %6.2f %6.2f | %s\n",
                     seed, Name(record), rows[0].Drift(), rows[1].Drift(), rows[2].Drift(),
                     rows[3].Drift(), rows[0].Rms(), rows[1].Rms(), rows[2].Rms(), rows[3].Rms(),
-                    h.model[1].Drift(), h.model[2].Drift(), k == 0 ? terms.c_str() : "");
+                    h.model[1].Drift(), h.model[2].Drift(),
+                    k == 0 ? terms.c_str() : h.px4_split.c_str());
                 if (supply == 0.0)
                     met[k] += rows[1].Drift() <= rows[2].Drift() &&
                               rows[1].Drift() <= 2.0 * rows[3].Drift();
