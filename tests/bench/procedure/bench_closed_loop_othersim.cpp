@@ -291,8 +291,8 @@ int main(int argc, char** argv) {
         std::printf(
             "\ncase %s\n  seed record: drift plateau / final / PX4 / truth [deg/h]; RMS the same "
             "[deg/s]; model-only drift final / PX4 [deg/h]; default: final offset terms, quiet: "
-            "PX4's "
-            "signed model-only drift = its shape's part + the calibration data's [deg/h]\n",
+            "PX4's signed model-only drift = what its terms cannot follow + what the calibration "
+            "data put there [deg/h]\n",
             supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
         for (int seed = first; seed < first + seeds; ++seed) {
             const std::string dir =
