@@ -29,10 +29,11 @@
 // (the same on both records, which share temperatures and supply); RMS over units. The PX4
 // cubic's, signed, split in two (the fit is linear in the data): the part its terms cannot follow
 // (the cubic of the truth's own offset on the calibration bins: the curve beyond a cubic, and any
-// effect, e.g. supply) and the part the calibration data put
-// there (the cubic of the bins' departure from the truth @ T: the run's slow and white noise, the
-// temperature line's lag on the ramps). The final set, when it has PX4's terms on the same bins,
-// splits alike.
+// effect, e.g. supply) and the part the calibration data put there (the cubic of the bins'
+// departure from the truth @ T: the run's slow and white noise, the temperature line's lag on the
+// ramps); of the first, the warm-up's share (the record's own 0.3 mV warm-up, which no cubic
+// follows, less what the cubic absorbed of the calibration's). The final set, when it has PX4's
+// terms on the same bins, splits alike.
 // Cases: othersim's defaults (its own 0.3 mV warm-up, the 1 s temperature-line lag), and with a
 // supply sensitivity of 0.1 V/V. Criteria per seed as bench_closed_loop.cpp, on each record.
 //
@@ -94,6 +95,9 @@ struct Sets {
     // cubic = this + the cubic of the truth's own offset: the part of its error the calibration
     // data put there, beside the part the cubic's terms cannot follow.
     std::map<std::string, model::Model> px4_of_departure;
+    // Per unit: the PX4 cubic fitted on the truth's warm-up alone on the same bins (what of the
+    // warm-up the cubic absorbs), for the terms part's warm-up share (HeldOutRows::px4_split).
+    std::map<std::string, model::Model> px4_of_warmup;
     bool ok = false;
 };
 
@@ -147,17 +151,22 @@ Sets Calibrate(const std::string& dir, const othersim::Options& o) {
         s.px4[id] = px4;
         for (const othersim::UnitTruth& u : truth) {
             if (u.sensor_id != id) continue;
-            std::vector<double> temp_c, departure_v;
+            std::vector<double> temp_c, departure_v, warmup_v;
             for (const analysis::Bin& b : bins.bins()) {
                 temp_c.push_back(b.temp_c);
                 departure_v.push_back(
                     b.gyro_v - TruthOffsetV(u, o, b.temp_c, b.time_since_power_s, b.supply_v));
+                warmup_v.push_back(std::isfinite(b.time_since_power_s)
+                                       ? o.effects.warmup_v * std::exp(-b.time_since_power_s /
+                                                                       o.effects.warmup_tau_s)
+                                       : 0.0);
             }
             s.px4_of_departure[id] = bench::Px4CubicOf(temp_c, departure_v);
+            s.px4_of_warmup[id] = bench::Px4CubicOf(temp_c, warmup_v);
         }
     }
     s.ok = s.ok && s.final.size() == s.plateau.size() && !s.plateau.empty() &&
-           s.px4_of_departure.size() == s.px4.size();
+           s.px4_of_departure.size() == s.px4.size() && s.px4_of_warmup.size() == s.px4.size();
     return s;
 }
 
@@ -220,8 +229,9 @@ HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record recor
         }
         std::vector<Series> series(4);
         std::vector<double> acc(4, 0.0), model_angle_deg(3, 0.0);
-        double departure_angle_deg = 0;
+        double departure_angle_deg = 0, warmup_angle_deg = 0;
         const model::Model& departure = sets.px4_of_departure.at(u.sensor_id);
+        const model::Model& warmup = sets.px4_of_warmup.at(u.sensor_id);
         std::vector<int> n(4, 0);
         std::vector<int64_t> start(4, 0);
         int64_t last = -1, first = -1;
@@ -236,6 +246,11 @@ HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record recor
             const double die = u.DieFromMeasuredC(r.temp_c);
             const double offset = TruthOffsetV(u, o, r.temp_c, r.time_s, s.supply_v);
             departure_angle_deg -= CubicAt(departure, r.temp_c) / u.SensitivityVPerDps(die) * dt_s;
+            // The warm-up's share: the record's own warm-up, less what the cubic absorbed of the
+            // calibration's.
+            warmup_angle_deg += (o.effects.warmup_v * std::exp(-r.time_s / o.effects.warmup_tau_s) -
+                                 CubicAt(warmup, r.temp_c)) /
+                                u.SensitivityVPerDps(die) * dt_s;
             compensator::Sample clean = s;
             clean.gyro_v = offset;
             for (size_t m = 0; m < 3; ++m) {
@@ -253,12 +268,13 @@ HeldOutRows HeldOut(const othersim::Options& cal, const Sets& sets, Record recor
         for (size_t m = 0; m < 4; ++m)
             out.rows[m].Add(series[m].bins, series[m].angle_deg, duration_s);
         for (size_t m = 0; m < 3; ++m) out.model[m].Add({}, model_angle_deg[m], duration_s);
-        char text[160];
-        std::snprintf(text, sizeof text, "%s%s PX4 %+.2f = terms %+.2f + cal. data %+.2f",
-                      out.px4_split.empty() ? "" : " ", u.sensor_id.c_str(),
-                      model_angle_deg[2] / duration_s * 3600.0,
-                      (model_angle_deg[2] - departure_angle_deg) / duration_s * 3600.0,
-                      departure_angle_deg / duration_s * 3600.0);
+        char text[200];
+        std::snprintf(
+            text, sizeof text, "%s%s PX4 %+.2f = terms %+.2f (warm-up %+.2f) + cal. data %+.2f",
+            out.px4_split.empty() ? "" : " ", u.sensor_id.c_str(),
+            model_angle_deg[2] / duration_s * 3600.0,
+            (model_angle_deg[2] - departure_angle_deg) / duration_s * 3600.0,
+            warmup_angle_deg / duration_s * 3600.0, departure_angle_deg / duration_s * 3600.0);
         out.px4_split += text;
     }
     return out;
@@ -307,8 +323,8 @@ int main(int argc, char** argv) {
         std::printf(
             "\ncase %s\n  seed record: drift plateau / final / PX4 / truth [deg/h]; RMS the same "
             "[deg/s]; model-only drift final / PX4 [deg/h]; default: final offset terms, quiet: "
-            "PX4's signed model-only drift = what its terms cannot follow + what the calibration "
-            "data put there [deg/h]\n",
+            "PX4's signed model-only drift = what its terms cannot follow (of which the warm-up's "
+            "share) + what the calibration data put there [deg/h]\n",
             supply == 0.0 ? "othersim defaults" : "supply 0.1 V/V");
         for (int seed = first; seed < first + seeds; ++seed) {
             const std::string dir =
