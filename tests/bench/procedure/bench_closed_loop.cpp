@@ -24,7 +24,8 @@
 // Why both: on the default record the truth's own drift is the slow noise's (15-49 deg/h from seed
 // to seed), more than the sets differ by; on the quiet record it is the white noise's average.
 // --quiet-calibration calibrates on the quiet noise too: a diagnosis of how much of the sets'
-// held-out error the calibration run's slow noise puts there (the held-out records as above).
+// held-out error the calibration run's slow noise puts there (the held-out records as above);
+// --sensor-tau-s sets the rig's temperature-sensor lag (its 15 s is a dT/dt effect on the ramps).
 // Model-only drift, per set: |the set's drift - the truth @ T's| on the same record (signed
 // integrals), RMS over units: the set's own error against the truth at the measured temperature;
 // the noise cancels but for the noise times the set's relative sensitivity error (~1e-3).
@@ -33,6 +34,7 @@
 // effect (added it).
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -67,13 +69,19 @@ struct SeedResult {
     bool ok = true;
 };
 
-// quiet_calibration: the calibration run on the quiet noise too (a diagnosis, not the issue's
-// case).
-SeedResult RunSeed(const Case& k, int seed, int units, bool quiet_calibration) {
+// Diagnoses, not the case: the calibration run on the quiet noise too; the rig's
+// temperature-sensor lag (calibration and held-out records; NaN: the rig's default).
+struct Diagnosis {
+    bool quiet_calibration = false;
+    double sensor_tau_s = NAN;  // [s]
+};
+
+SeedResult RunSeed(const Case& k, int seed, int units, const Diagnosis& d) {
     SeedResult out;
     sim::RigConfig rig = sim::RigConfig::Defaults();
+    if (std::isfinite(d.sensor_tau_s)) rig.thermal.sensor_tau_s = d.sensor_tau_s;
     const sim::NoiseConfig default_noise = rig.noise;
-    if (quiet_calibration)
+    if (d.quiet_calibration)
         rig.noise.bias_instability_dps = 0, rig.noise.rate_random_walk_dps_rts = 0;
     rig.seed = static_cast<uint64_t>(seed);
     rig.num_units = units;
@@ -133,7 +141,7 @@ void Accumulate(std::vector<Row>& total, const std::vector<Row>& rows) {
 
 // One case over the seeds: per-seed lines, the tables and the criterion per held-out
 // record; returns the failures.
-int RunCase(const Case& k, int seeds, int first_seed, int units, bool quiet_calibration) {
+int RunCase(const Case& k, int seeds, int first_seed, int units, const Diagnosis& d) {
     int failures = 0;
     std::vector<std::vector<Row>> total(2, std::vector<Row>(4)), model(2, std::vector<Row>(3));
     int met[2] = {0, 0}, named = 0, counted = 0;
@@ -142,7 +150,7 @@ int RunCase(const Case& k, int seeds, int first_seed, int units, bool quiet_cali
         "[deg/s]; model-only drift final / PX4 [deg/h]; added\n",
         k.name.c_str());
     for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
-        const SeedResult s = RunSeed(k, seed, units, quiet_calibration);
+        const SeedResult s = RunSeed(k, seed, units, d);
         failures += s.ok ? 0 : 1;
         std::string added;
         for (const std::string& a : s.added) added += (added.empty() ? "" : ", ") + a;
@@ -192,7 +200,7 @@ int RunCase(const Case& k, int seeds, int first_seed, int units, bool quiet_cali
 
 int main(int argc, char** argv) {
     int seeds = 10, first_seed = 1, units = 2;
-    bool quiet_calibration = false;
+    Diagnosis d;
     std::vector<std::string> effects = {"supply=0.05"};
     CLI::App app{
         "gyrocal_bench_closed_loop: the plateau set, the closed loop's final set, a PX4-style "
@@ -204,10 +212,14 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
     app.add_option("--effect", effects, "NAME=VALUE: a case with this undeclared rig effect");
-    app.add_flag("--quiet-calibration", quiet_calibration,
+    app.add_flag("--quiet-calibration", d.quiet_calibration,
                  "calibrate on the quiet noise too (bias instability and rate random walk off): a "
                  "diagnosis of how much of the sets' held-out error the calibration run's slow "
                  "noise puts there, not the issue's case");
+    app.add_option("--sensor-tau-s", d.sensor_tau_s,
+                   "[s] the rig's temperature-sensor lag (default: the rig's own, 15 s): a "
+                   "diagnosis, not the issue's case")
+        ->check(CLI::Range(0.01, 1000.0));
     std::vector<Case> cases = {{"defaults", "", 0.0}};
     try {
         app.parse(argc, argv);
@@ -234,8 +246,11 @@ int main(int argc, char** argv) {
         "held-out 25 -> -40 -> 85 -> 25 degC at 0.5 degC/min, unit still, 10 s bins; two held-out "
         "records: default noise, and quiet (slow noise off); calibration noise: %s\n",
         seeds, first_seed, units,
-        quiet_calibration ? "quiet (a diagnosis, not the issue's case)" : "the rig's default");
-    for (const Case& k : cases) failures += RunCase(k, seeds, first_seed, units, quiet_calibration);
+        d.quiet_calibration ? "quiet (a diagnosis, not the issue's case)" : "the rig's default");
+    if (std::isfinite(d.sensor_tau_s))
+        std::printf("temperature-sensor lag %g s (a diagnosis, not the issue's case)\n",
+                    d.sensor_tau_s);
+    for (const Case& k : cases) failures += RunCase(k, seeds, first_seed, units, d);
     std::printf("wall time %.0f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     return failures == 0 ? 0 : 1;
