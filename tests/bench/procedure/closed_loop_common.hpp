@@ -20,22 +20,23 @@ namespace gyrocal::bench {
 // temperature, fitted by least squares on every sample at rest of the calibration run; here on
 // the still bins of the run (the same data averaged per 10 s, each bin weighing its samples
 // equally), dT about mid-range. Its covariance is left 0 (not used by the held-out figures).
-inline model::Model Px4Cubic(const analysis::BinnedRun& b) {
+// Px4CubicOf: the same fit of any values y[i] [V] at temp_c[i] (the benchmarks also fit the
+// calibration data's departure from the truth with it: the fit is linear in y).
+inline model::Model Px4CubicOf(const std::vector<double>& temp_c, const std::vector<double>& y_v) {
     model::Model m;
     m.quantity = "offset_v";
     m.term_names = {"1", "dT", "dT^2", "dT^3"};
     m.method = "px4-cubic";
-    const auto n = static_cast<Eigen::Index>(b.size());
+    const auto n = static_cast<Eigen::Index>(temp_c.size());
     double lo = INFINITY, hi = -INFINITY;
-    for (const analysis::Bin& x : b.bins())
-        lo = std::min(lo, x.temp_c), hi = std::max(hi, x.temp_c);
+    for (const double t : temp_c) lo = std::min(lo, t), hi = std::max(hi, t);
     m.t0_c = 5.0 * std::round(0.5 * (lo + hi) / 5.0);
     Eigen::MatrixXd x(n, 4);
     Eigen::VectorXd y(n);
     for (Eigen::Index i = 0; i < n; ++i) {
-        const double d = b.bins()[static_cast<size_t>(i)].temp_c - m.t0_c;
+        const double d = temp_c[static_cast<size_t>(i)] - m.t0_c;
         x.row(i) << 1.0, d, d * d, d * d * d;
-        y[i] = b.bins()[static_cast<size_t>(i)].gyro_v;
+        y[i] = y_v[static_cast<size_t>(i)];
     }
     m.coeffs = x.colPivHouseholderQr().solve(y);
     m.covariance = Eigen::MatrixXd::Zero(4, 4);
@@ -45,6 +46,11 @@ inline model::Model Px4Cubic(const analysis::BinnedRun& b) {
     m.n_points = static_cast<int>(n);
     m.condition_number = NAN;
     return m;
+}
+inline model::Model Px4Cubic(const analysis::BinnedRun& b) {
+    std::vector<double> temp_c, gyro_v;
+    for (const analysis::Bin& x : b.bins()) temp_c.push_back(x.temp_c), gyro_v.push_back(x.gyro_v);
+    return Px4CubicOf(temp_c, gyro_v);
 }
 
 // The four methods the closed-loop benchmarks compare, in their rows' order.
