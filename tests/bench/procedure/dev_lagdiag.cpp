@@ -300,7 +300,7 @@ int main(int argc, char** argv) {
             std::printf("  %-10s %5s", "fit", "bins");
             const std::vector<double> temps = {-40, -25, -10, 10, 25, 45, 65, 85};
             for (double t : temps) std::printf(" %8.0f", t);
-            std::printf("  | mean over -40..85 | coefficients\n");
+            std::printf("  | mean over -40..85 | set - truth (T_meas about t0) | coefficients\n");
             auto print_err = [&](const std::string& name, int nb, const model::Model& sm,
                                  const std::string& coeffs) {
                 std::printf("  %-10s %5d", name.c_str(), nb);
@@ -310,7 +310,23 @@ int main(int argc, char** argv) {
                 int m = 0;
                 for (double t = -40; t <= 85.001; t += 0.5, ++m)
                     sum += StaticValue(sm, t + off) - u.OffsetV(t);
-                std::printf("  | %+8.2f | %s\n", s_dph * sum / m, coeffs.c_str());
+                // Coefficient errors against the truth in T_meas about t0 (static terms 1, dT,
+                // dT^2; a dT^3 term's share is in the curve above).
+                const double d0 = sm.t0_c - off - 25.0;
+                const double truth[3] = {u.OffsetV(sm.t0_c - off),
+                                         u.offset_coeffs[1] + 2 * u.offset_coeffs[2] * d0,
+                                         u.offset_coeffs[2]};
+                double got[3] = {0, 0, 0};
+                for (size_t j = 0; j < sm.term_names.size(); ++j) {
+                    const int k = sm.term_names[j] == "1"      ? 0
+                                  : sm.term_names[j] == "dT"   ? 1
+                                  : sm.term_names[j] == "dT^2" ? 2
+                                                               : -1;
+                    if (k >= 0) got[k] = sm.coeffs[static_cast<Eigen::Index>(j)];
+                }
+                std::printf("  | %+8.2f | d1 %+6.1f uV, ddT %+6.3f uV/K, ddT^2 %+6.1f nV/K^2 | %s\n",
+                            s_dph * sum / m, 1e6 * (got[0] - truth[0]), 1e6 * (got[1] - truth[1]),
+                            1e9 * (got[2] - truth[2]), coeffs.c_str());
             };
             print_err("final", n, StaticPart(fin.offset), "(as published)");
             print_err("plateau", 0, StaticPart(plat.offset), "(the plateau set)");
