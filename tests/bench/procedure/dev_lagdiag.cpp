@@ -146,10 +146,11 @@ int main(int argc, char** argv) {
                 "sensor offset %+.3f degC, S0 %.6f V/(deg/s), package tau %.1f s\n",
                 seed, id.c_str(), u.offset_coeffs[0], u.offset_coeffs[1], u.offset_coeffs[2], off,
                 s0, u.package_tau_s);
-            std::printf("  truth in T_meas about the final set's t0 %.2f: c0 %.6f c1 %+.4e c2 %+.4e\n",
-                        fin.offset.t0_c, truth_at_meas(fin.offset.t0_c),
-                        u.offset_coeffs[1] + 2 * u.offset_coeffs[2] * (fin.offset.t0_c - off - 25),
-                        u.offset_coeffs[2]);
+            std::printf(
+                "  truth in T_meas about the final set's t0 %.2f: c0 %.6f c1 %+.4e c2 %+.4e\n",
+                fin.offset.t0_c, truth_at_meas(fin.offset.t0_c),
+                u.offset_coeffs[1] + 2 * u.offset_coeffs[2] * (fin.offset.t0_c - off - 25),
+                u.offset_coeffs[2]);
             std::printf("  final set: t0 %.2f, range %.2f..%.2f; terms", fin.offset.t0_c,
                         fin.offset.temp_min_c, fin.offset.temp_max_c);
             for (size_t j = 0; j < fin.offset.term_names.size(); ++j)
@@ -162,7 +163,8 @@ int main(int argc, char** argv) {
             std::string added;
             for (const auto& a : r.closed_loop_results.at(id).added)
                 added += (added.empty() ? "" : "+") + a.effect;
-            std::printf("\n  analysis added: %s; verdict: %s\n", added.empty() ? "-" : added.c_str(),
+            std::printf("\n  analysis added: %s; verdict: %s\n",
+                        added.empty() ? "-" : added.c_str(),
                         r.closed_loop_results.at(id).verdict.c_str());
 
             // The bins.
@@ -191,7 +193,8 @@ int main(int argc, char** argv) {
             std::printf(
                 "  bins %ld: plateau-window %d, |dT/dt| < %.2f degC/min %d, heating %d, cooling "
                 "%d (rate term %s)\n",
-                static_cast<long>(n), n_plateau, slow_c_per_min, n_slow, n_heat, n_cool, rt.c_str());
+                static_cast<long>(n), n_plateau, slow_c_per_min, n_slow, n_heat, n_cool,
+                rt.c_str());
 
             // The truth's residual on the bins and the lag's prediction.
             {
@@ -212,7 +215,8 @@ int main(int argc, char** argv) {
                     u.offset_coeffs[1] * lag, k[2], 2 * u.offset_coeffs[2] * lag,
                     1e6 * std::sqrt((res - x * k).squaredNorm() / n));
                 // Its mean by segment of dT/dt sign and temperature: what the static fit sees.
-                std::printf("  truth residual [uV] by T_meas band (heating / slow / cooling bins):");
+                std::printf(
+                    "  truth residual [uV] by T_meas band (heating / slow / cooling bins):");
                 for (double lo = -45; lo < 90; lo += 25) {
                     double s[3] = {0, 0, 0};
                     int m[3] = {0, 0, 0};
@@ -224,8 +228,9 @@ int main(int argc, char** argv) {
                         s[g] += res[i], ++m[g];
                     }
                     std::printf(" [%g,%g): %+.0f(%d) %+.0f(%d) %+.0f(%d);", lo, lo + 25,
-                                m[0] ? 1e6 * s[0] / m[0] : NAN, m[0], m[1] ? 1e6 * s[1] / m[1] : NAN,
-                                m[1], m[2] ? 1e6 * s[2] / m[2] : NAN, m[2]);
+                                m[0] ? 1e6 * s[0] / m[0] : NAN, m[0],
+                                m[1] ? 1e6 * s[1] / m[1] : NAN, m[1],
+                                m[2] ? 1e6 * s[2] / m[2] : NAN, m[2]);
                 }
                 std::printf("\n");
             }
@@ -238,7 +243,8 @@ int main(int argc, char** argv) {
             with_rate.push_back(rt);
             std::vector<Fit> fits;
             auto fit_rows = [&](const std::string& name, const std::vector<std::string>& terms,
-                                const Eigen::MatrixXd& extra, const std::vector<std::string>& extra_names,
+                                const Eigen::MatrixXd& extra,
+                                const std::vector<std::string>& extra_names,
                                 const std::vector<Eigen::Index>& rows,
                                 const Eigen::MatrixXd* static_cols = nullptr) {
                 const Eigen::MatrixXd d = static_cols ? *static_cols : b.Design(terms, t0);
@@ -324,9 +330,10 @@ int main(int argc, char** argv) {
                                                                : -1;
                     if (k >= 0) got[k] = sm.coeffs[static_cast<Eigen::Index>(j)];
                 }
-                std::printf("  | %+8.2f | d1 %+6.1f uV, ddT %+6.3f uV/K, ddT^2 %+6.1f nV/K^2 | %s\n",
-                            s_dph * sum / m, 1e6 * (got[0] - truth[0]), 1e6 * (got[1] - truth[1]),
-                            1e9 * (got[2] - truth[2]), coeffs.c_str());
+                std::printf(
+                    "  | %+8.2f | d1 %+6.1f uV, ddT %+6.3f uV/K, ddT^2 %+6.1f nV/K^2 | %s\n",
+                    s_dph * sum / m, 1e6 * (got[0] - truth[0]), 1e6 * (got[1] - truth[1]),
+                    1e9 * (got[2] - truth[2]), coeffs.c_str());
             };
             print_err("final", n, StaticPart(fin.offset), "(as published)");
             print_err("plateau", 0, StaticPart(plat.offset), "(the plateau set)");
@@ -359,9 +366,10 @@ int main(int argc, char** argv) {
         held.noise = default_noise;
         held.noise.bias_instability_dps = 0.0, held.noise.rate_random_walk_dps_rts = 0.0;
         const auto h = virtual_lab::EvaluateHeldOut(held, profile, cands);
-        std::printf("\nseed %d held-out (quiet record, %.0f s): model-only drift (set - truth @ "
-                    "T_meas) [deg/h], signed, per unit\n",
-                    seed, h.duration_s);
+        std::printf(
+            "\nseed %d held-out (quiet record, %.0f s): model-only drift (set - truth @ "
+            "T_meas) [deg/h], signed, per unit\n",
+            seed, h.duration_s);
         for (size_t k = 0; k < cands.size(); ++k) {
             if (seed == first_seed) fit_order.push_back(cand_names[k]);
             std::printf("  %-13s", cand_names[k].c_str());
@@ -372,6 +380,13 @@ int main(int argc, char** argv) {
             }
             std::printf("\n");
         }
+        // The yardstick itself: truth @ T_meas against truth @ T_die on the same record (the
+        // lag's own drift on a record that returns to its start temperature).
+        std::printf("  truth @ T_meas - truth @ T_die (drift) [deg/h]:");
+        for (const auto& s : h.sensors)
+            std::printf(" %s %+7.3f", s.sensor_id.c_str(),
+                        (s.floor_meas_angle_deg - s.floor_angle_deg) / (h.duration_s / 3600));
+        std::printf("\n");
         // The final set's model-only drift by band of the record's measured temperature.
         std::printf("  final set's model-only drift by T_meas band of the record [deg/h]:\n");
         for (const auto& s : h.sensors) {
