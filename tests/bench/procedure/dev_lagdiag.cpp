@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include "processors/analysis/analyze.hpp"
+#include "processors/analysis/regress.hpp"
 #include "processors/model/inputs.hpp"
 #include "processors/model/terms.hpp"
 #include "tests/support/virtual_lab/held_out.hpp"
@@ -288,6 +290,30 @@ int main(int argc, char** argv) {
                 const Eigen::VectorXd d = b.Column("dT", t0);
                 extra.col(0) = d.cwiseProduct(rate);
                 fit_rows("+dT*dTdt", with_rate, extra, {"dT*" + rt}, every);
+            }
+            {
+                // Would the product column pass the analysis' own tests? Its blocked-CV gain
+                // (AnalysisOptions: 10 blocks, 60 s guard; a candidate needs >= 2 %) and its
+                // coefficient's z with the autocorrelation-robust covariance (HAC lag 30 bins),
+                // on the final set's terms (+ the rate term when the set has none).
+                const analysis::AnalysisOptions ao = analysis::AnalysisOptions::Defaults();
+                const int guard = static_cast<int>(std::lround(ao.cv_guard_s / b.bin_s()));
+                const Eigen::MatrixXd base = b.Design(with_rate, t0);
+                Eigen::MatrixXd ext(n, base.cols() + 1);
+                ext << base, b.Column("dT", t0).cwiseProduct(rate);
+                const double mse0 = analysis::BlockedCvMse(base, y, ao.cv_blocks, guard);
+                const double mse1 = analysis::BlockedCvMse(ext, y, ao.cv_blocks, guard);
+                std::vector<int> seg(static_cast<size_t>(n));
+                for (Eigen::Index i = 0; i < n; ++i)
+                    seg[static_cast<size_t>(i)] = b.bins()[static_cast<size_t>(i)].segment;
+                const analysis::LsFit f = analysis::FitLs(ext, y, seg, 30);
+                const Eigen::Index last = ext.cols() - 1;
+                std::printf(
+                    "  dT x %s column: blocked-CV MSE %.3g -> %.3g V^2 (gain %.1f %%, the "
+                    "analysis asks >= %.0f %%); coefficient %+.4e, z %.1f (HAC)\n",
+                    rt.c_str(), mse0, mse1, 100 * (1 - mse1 / mse0), 100 * ao.min_cv_gain,
+                    f.ok ? f.coeffs[last] : NAN,
+                    f.ok ? f.coeffs[last] / std::sqrt(f.covariance(last, last)) : NAN);
             }
             {
                 // Static columns at T + shift x dTdt (the die temperature the lag hides).
