@@ -116,6 +116,21 @@
 
 namespace gyrocal::analysis {
 
+// The statistic of step 9's windows test (evidence.hpp; README "Windows"):
+//   kStudentised  each window's |residual mean| over the Allan deviation, at the window's length,
+//                 of the noise model measured on the same vector - the run and every surrogate
+//                 alike. The run's slow-noise level is an estimate with tens of % error; divided
+//                 out on both sides it cancels (a pivot), so the test keeps window_fpr whatever
+//                 that error (the default; 200 more noise fits per analysis).
+//   kPlugin       the |residual mean| itself against surrogates drawn with the run's fitted noise,
+//                 the estimate taken as exact: on clean runs it flagged ~2x window_fpr (a run whose
+//                 level was underestimated meets surrogates too quiet). The statistic before
+//                 2026-11-29, kept to compare.
+enum class WindowStatistic { kStudentised, kPlugin };
+const char* ToString(WindowStatistic s);
+// "studentised" or "plugin"; false for anything else.
+bool ParseWindowStatistic(const std::string& name, WindowStatistic* out);
+
 struct AnalysisOptions {
     BinOptions bins = BinOptions::Defaults();
     std::vector<std::string> offset_terms = {"1", "dT", "dT^2"};       // declared model
@@ -155,8 +170,9 @@ struct AnalysisOptions {
     // surrogate_seed (the same run gives the same verdict).
     int surrogates = 200;
     uint64_t surrogate_seed = 1;
-    double feature_fpr = 0.02;    // [1] family-wise false-positive rate of the generic features
-    double window_fpr = 0.01;     // [1] of the time windows and temperature bands (step 9)
+    double feature_fpr = 0.02;  // [1] family-wise false-positive rate of the generic features
+    double window_fpr = 0.01;   // [1] of the time windows and temperature bands (step 9)
+    WindowStatistic window_statistic = WindowStatistic::kStudentised;  // their statistic (step 9)
     double warmup_fpr = 0.01;     // [1] of the warm-up's localized check (step 4)
     double early_block_s = 60.0;  // [s] the warm-up check's interleaved blocks after power-on
     // "Not testable" when more than this fraction of the candidates could not be tested.

@@ -371,7 +371,8 @@ std::string ThresholdArgs(const AnalyzeOptions& o) {
     std::string s;
     for (const ThresholdOption& t : ThresholdOptions())
         s += std::string(" ") + t.name + " " + text::Sig(o.analysis.*t.field, 6);
-    return s + " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
+    return s + " --windows-statistic " + an::ToString(o.analysis.window_statistic) +
+           " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
            std::to_string(o.analysis.surrogate_seed);
 }
 
@@ -379,6 +380,18 @@ std::string ThresholdArgs(const AnalyzeOptions& o) {
 void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
     for (const ThresholdOption& t : ThresholdOptions())
         sub.add_option(t.name, o.analysis.*t.field, t.help)->check(t.valid);
+    sub.add_option_function<std::string>(
+           "--windows-statistic",
+           [&o](const std::string& name) {
+               an::ParseWindowStatistic(name, &o.analysis.window_statistic);
+           },
+           "statistic of the windows test: studentised (each window's residual mean over the "
+           "Allan deviation, at its length, of the noise refitted on the same vector, run and "
+           "surrogates alike: holds --window-fpr whatever the error of the run's noise estimate) "
+           "or plugin (the mean against surrogates of the run's fitted noise taken as exact: "
+           "~2x --window-fpr on clean runs)")
+        ->check(CLI::IsMember({"studentised", "plugin"}))
+        ->default_str(an::ToString(o.analysis.window_statistic));
     sub.add_option("--surrogates", o.analysis.surrogates,
                    "surrogates of the run's noise the nulls are built from")
         ->check(CLI::Range(20, 10000));
