@@ -1,17 +1,21 @@
-// The windows test (evidence.hpp, WindowsAbove) keeps its stated false-positive rate when the
-// noise level the surrogates are drawn with is not the data's. In an analysis that level is the
-// run's own flicker B, estimated from the run with tens of % error (processors/analysis/README.md,
-// "Windows"): a run whose B was underestimated meets surrogates too quiet. Here the null data are
-// drawn with the true B and the surrogates with B x 0.7 or x 1.4 (within the spread of the
-// estimate over the rig's clean runs: the fitted Allan variance at 1200 s over the truth spans
-// 0.28..3.27, so B 0.5..1.8x), white noise right (it is estimated to a few %).
+// The windows test (evidence.hpp, WindowsAbove) keeps its false-positive rate when the noise
+// level the surrogates are drawn with is not the data's. In an analysis that level is the run's
+// own, estimated from the run with tens of % error (processors/analysis/README.md, "Windows"): a
+// run whose level was underestimated meets surrogates too quiet. Here null data (noise only, the
+// declared quadratic fitted) are drawn with a known model and the surrogates with the same model
+// at 0.7x or 1.4x its level (Allan deviation; within the spread of the estimate on the rig's clean
+// runs, where the fitted Allan variance at 1200 s over the truth spans 0.28..3.27).
 // The studentised statistic divides each window's |mean| by the Allan deviation of the terms
-// refitted on the same vector, run and surrogates alike, so the level cancels and the rate stays
-// at its level; the plug-in |mean| alone does not (checked: the plug-in fails both cases, 34 %
-// and 0 % flagged where 4.95 % is stated, figures in the test below).
+// refitted on the same vector, run and surrogates alike, so the level cancels and the share
+// flagged is the one the right level gives; the plug-in |mean| alone is not (the second test:
+// 45.7 % flagged at 0.7x, 0.7 % at 1.4x, 8.0 % at the right level).
+// A surrogate model whose shape is off too (flicker B alone 0.7x or 1.4x, white noise right)
+// gave 9.0 % and 10.0 % of the same 300 runs, against 9.3 % with the surrogates right (2026-11-29,
+// once, not a test: within the noise). Why 9.3 % and not 4.95 %: see CheckLevel below.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <random>
 
@@ -48,14 +52,15 @@ std::vector<Bin> RigLikeBins() {
     return bins;
 }
 
-// Share of null runs the windows test flags, with surrogates whose flicker is `level` x the
-// data's.
+// Share of null runs the windows test flags, with surrogates whose Allan deviation is `level` x
+// the data's (white and flicker alike).
 double FlaggedShare(WindowStatistic statistic, double level, int trials, uint64_t seed) {
     const std::vector<Bin> layout = RigLikeBins();
     NoiseModel truth;
     truth.white_v2 = kArw * kArw / kBinS;
     truth.flicker_v = kFlicker;
     NoiseModel off = truth;
+    off.white_v2 = level * level * truth.white_v2;
     off.flicker_v = level * kFlicker;
     const SurrogateNoise data(truth, layout, kBinS), surrogate(off, layout, kBinS);
     // The declared quadratic in temperature, fitted on all bins as the final model's design.
@@ -84,29 +89,47 @@ double FlaggedShare(WindowStatistic statistic, double level, int trials, uint64_
     return static_cast<double>(flagged) / trials;
 }
 
-// With 100 surrogates and window_fpr 5 %, 4 surrogate maxima may lie above the threshold (the
-// exact Monte Carlo test, null.hpp): a null run is flagged with probability 5/101 = 4.95 % when
-// the surrogates are exchangeable with it. 5 % rather than the default 1 % so that 300 runs
-// resolve the rate on both sides: the binomial standard error at 4.95 % over 300 runs is 1.25 %,
-// and the test allows 3 of them (1.2 %..8.7 %).
-// Measured 2026-11-29 (seed 5): studentised B x 0.7 -> see EXPECT messages; plug-in fails both.
-TEST(WindowsNoiseLevel, StudentisedWindowsKeepTheirRateWhenTheSurrogatesLevelIsOff) {
-    const int trials = 300;
-    const double level = 5.0 / 101.0, se = std::sqrt(level * (1.0 - level) / trials);
-    for (double b_ratio : {0.7, 1.4}) {
-        const double share = FlaggedShare(WindowStatistic::kStudentised, b_ratio, trials, 5);
-        EXPECT_NEAR(share, level, 3.0 * se) << "surrogates' B x " << b_ratio;
-    }
+// The windows test at the surrogates' right level and at 0.7x and 1.4x of it, on the same null
+// runs: with the studentised statistic the level cancels, so the share flagged is the one the
+// right level gives; the tolerance is 3 binomial standard errors of a difference of two shares
+// over 300 runs each (taken as independent: they are not, the same runs are judged, so this is
+// generous to a statistic that does depend on the level - the plug-in still fails it, below).
+// The share at the right level is NOT window_fpr's 5/101 = 4.95 %: MaxTNull standardises each
+// surrogate's windows by moments that include that surrogate, which shrinks the surrogates' own
+// largest values and not the run's; with these 22 windows, 100 surrogates and 5 % it flags 7.9 %
+// of exchangeable half-normal statistics (1.50 % with the analysis' 200 surrogates at 1 %), a
+// separate matter (README "Windows"). 5 % and 100 surrogates: the 90000 refits stay affordable.
+struct LevelCheck {
+    double right = 0.0, se = 0.0;   // share flagged at the right level, the tolerance's unit
+    double shares[2] = {0.0, 0.0};  // at 0.7x and 1.4x
+    bool Holds(int k) const { return std::fabs(shares[k] - right) <= 3.0 * se; }
+};
+constexpr double kRatios[2] = {0.7, 1.4};
+
+LevelCheck CheckLevel(WindowStatistic statistic, int trials) {
+    LevelCheck c;
+    c.right = FlaggedShare(statistic, 1.0, trials, 5);
+    c.se = std::sqrt(2.0 * c.right * (1.0 - c.right) / trials);
+    for (int k = 0; k < 2; ++k) c.shares[k] = FlaggedShare(statistic, kRatios[k], trials, 5);
+    return c;
 }
 
-// The same null runs judged with the plug-in statistic: the surrogates' level is taken as the
-// data's, so too quiet surrogates flag far more than stated and too loud ones almost never. This
-// is what the test above would see without the studentising (it can fail).
-TEST(WindowsNoiseLevel, PluginWindowsMissTheirRateWhenTheSurrogatesLevelIsOff) {
-    const int trials = 300;
-    const double level = 5.0 / 101.0, se = std::sqrt(level * (1.0 - level) / trials);
-    EXPECT_GT(FlaggedShare(WindowStatistic::kPlugin, 0.7, trials, 5), level + 3.0 * se);
-    EXPECT_LT(FlaggedShare(WindowStatistic::kPlugin, 1.4, trials, 5), level - 3.0 * se);
+TEST(WindowsNoiseLevel, StudentisedWindowsKeepTheirRateWhenTheSurrogatesLevelIsOff) {
+    const LevelCheck c = CheckLevel(WindowStatistic::kStudentised, 300);
+    for (int k = 0; k < 2; ++k)
+        EXPECT_TRUE(c.Holds(k)) << "surrogates' level x " << kRatios[k] << ": " << c.shares[k]
+                                << " flagged, " << c.right << " at the right level, se " << c.se;
+}
+
+// The same check with the plug-in statistic fails (measured 2026-11-29: see the message): the
+// test can fail.
+TEST(WindowsNoiseLevel, PluginWindowsFailTheSameCheck) {
+    const LevelCheck c = CheckLevel(WindowStatistic::kPlugin, 300);
+    EXPECT_FALSE(c.Holds(0) && c.Holds(1))
+        << c.right << " at the right level, " << c.shares[0] << " at 0.7x, " << c.shares[1]
+        << " at 1.4x, se " << c.se;
+    std::printf("plug-in: %.4f flagged at the right level, %.4f at 0.7x, %.4f at 1.4x (se %.4f)\n",
+                c.right, c.shares[0], c.shares[1], c.se);
 }
 
 }  // namespace
