@@ -385,12 +385,13 @@ void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
            [&o](const std::string& name) {
                an::ParseWindowStatistic(name, &o.analysis.window_statistic);
            },
-           "statistic of the windows test: studentised (each window's residual mean over the "
-           "Allan deviation, at its length, of the noise refitted on the same vector, run and "
-           "surrogates alike: holds --window-fpr whatever the error of the run's noise estimate) "
-           "or plugin (the mean against surrogates of the run's fitted noise taken as exact: "
-           "~2x --window-fpr on clean runs)")
-        ->check(CLI::IsMember({"studentised", "plugin"}))
+           "statistic of the windows test: plugin (each window's residual mean against "
+           "surrogates of the run's fitted noise taken as exact: ~2x --window-fpr on clean runs) "
+           "or studentised (the mean over the Allan deviation, at the window's length, of the "
+           "noise refitted on the same vector, run and surrogates alike: near --window-fpr, but "
+           "misses some effects the plug-in flags and costs 201 noise fits; "
+           "processors/analysis/README.md)")
+        ->check(CLI::IsMember({"plugin", "studentised"}))
         ->default_str(an::ToString(o.analysis.window_statistic));
     sub.add_option("--surrogates", o.analysis.surrogates,
                    "surrogates of the run's noise the nulls are built from")

@@ -119,6 +119,9 @@ TEST(WindowsNoiseLevel, StudentisedWindowsKeepTheirRateWhenTheSurrogatesLevelIsO
     for (int k = 0; k < 2; ++k)
         EXPECT_TRUE(c.Holds(k)) << "surrogates' level x " << kRatios[k] << ": " << c.shares[k]
                                 << " flagged, " << c.right << " at the right level, se " << c.se;
+    std::printf(
+        "studentised: %.4f flagged at the right level, %.4f at 0.7x, %.4f at 1.4x (se %.4f)\n",
+        c.right, c.shares[0], c.shares[1], c.se);
 }
 
 // The same check with the plug-in statistic fails (measured 2026-11-29: see the message): the
