@@ -37,7 +37,8 @@ std::vector<WindowSpec> Windows(const BinnedRun& b) {
             while (tiles.size() <= k)
                 tiles.push_back({text::Sig(tiles.size() * len, 4) + "-" +
                                      text::Sig((tiles.size() + 1) * len, 4) + " s from the start",
-                                 {}});
+                                 {},
+                                 len});
             tiles[k].rows.push_back(static_cast<Index>(i));
         }
         for (WindowSpec& w : tiles)
@@ -57,9 +58,28 @@ std::vector<WindowSpec> Windows(const BinnedRun& b) {
             std::min(bands - 1, static_cast<int>((bins[i].temp_c - lo) / (hi - lo) * bands));
         temp[static_cast<size_t>(k)].rows.push_back(static_cast<Index>(i));
     }
-    for (WindowSpec& w : temp)
+    for (WindowSpec& w : temp) {
+        w.tau_s = static_cast<double>(w.rows.size()) * b.bin_s();
         if (w.rows.size() >= 3) out.push_back(std::move(w));
+    }
     return out;
+}
+
+// The windows' statistic on one vector, given its residual r (the design projected out):
+// plug-in, each window's |mean|; studentised, that over the Allan deviation at the window's tau
+// of the noise model measured on r itself (as MakeSurrogates measures the run's), NaN where that
+// is not positive.
+std::vector<double> Statistic(const BinnedRun& b, const WindowStats& stats, const VectorXd& r,
+                              WindowStatistic kind, std::vector<double>* ms) {
+    std::vector<double> a = stats.EvaluateResidual(r, ms);
+    if (kind == WindowStatistic::kPlugin) return a;
+    const double floor_v = NoiseFloor(b.bins(), r).offset_rms_v;
+    const AllanTerms m = MeasureAllanTerms(b.bins(), r, b.bin_s(), floor_v);
+    for (size_t w = 0; w < a.size(); ++w) {
+        const double avar = m.Avar(b.bin_s(), stats.windows()[w].tau_s);
+        a[w] = avar > 0 ? a[w] / std::sqrt(avar) : NAN;
+    }
+    return a;
 }
 
 }  // namespace
@@ -74,7 +94,7 @@ std::vector<WindowExcess> WindowsAbove(const BinnedRun& b, const Eigen::MatrixXd
     std::vector<double> mean(stats.windows().size(), 0.0);
     std::vector<double> ms;
     for (const VectorXd& u : s.noise) {
-        null.push_back(stats.Evaluate(u, &ms));
+        null.push_back(Statistic(b, stats, stats.Residual(u), o.window_statistic, &ms));
         for (size_t w = 0; w < mean.size(); ++w) mean[w] += ms[w] / s.noise.size();
     }
     const MaxTNull max_t(null);
@@ -82,7 +102,7 @@ std::vector<WindowExcess> WindowsAbove(const BinnedRun& b, const Eigen::MatrixXd
     if (threshold_out) *threshold_out = threshold;
     VectorXd y(static_cast<Index>(b.size()));
     for (size_t i = 0; i < b.size(); ++i) y[static_cast<Index>(i)] = b.bins()[i].gyro_v;
-    const std::vector<double> run = stats.Evaluate(y, &ms);
+    const std::vector<double> run = Statistic(b, stats, stats.Residual(y), o.window_statistic, &ms);
     for (size_t w = 0; w < run.size(); ++w) {
         const double z = max_t.Z(w, run[w]);
         if (!(z > threshold)) continue;

@@ -6,11 +6,17 @@
 //                  bins' times from o.surrogate_seed
 //   WindowsAbove   the time windows (tiles of 600, 1200 and 2400 s from the first bin) and
 //                  temperature bands (8 equal ones) whose residual mean - the model fitted on all
-//                  bins - exceeds what the surrogates leave there: each window's |mean|
+//                  bins - exceeds what the surrogates leave there: each window's statistic
 //                  standardised by its mean and spread over the surrogates, the threshold the
 //                  (1 - window_fpr) quantile of the surrogates' largest standardised value
 //                  (null.hpp, MaxTNull). So "part of the run far from the floor" is judged for a
-//                  window of that size, with a stated family-wise false-positive rate.
+//                  window of that size, with a stated family-wise false-positive rate. The
+//                  statistic (o.window_statistic, analyze.hpp): plugin (the default), |mean|
+//                  alone, the surrogates' level taken as exact; studentised, |mean| over the
+//                  Allan deviation at the window's tau (WindowSpec::tau_s) of the Allan terms
+//                  refitted on the same vector (noise_model.hpp, MeasureAllanTerms), the run and
+//                  every surrogate alike, so that the error of the run's estimated noise level
+//                  cancels.
 //   Surrogates are noise drawn with the Allan deviation the residual shows over its still
 //   stretches (noise_model.hpp), not phase-randomised copies of the residual itself: an effect
 //   left in the residual (a drift over the whole run) would then be in every surrogate and hide

@@ -38,10 +38,19 @@ double SpanS(const std::vector<Bin>& bins) {
 
 }  // namespace
 
-NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& residual, double bin_s,
-                        double floor_v) {
-    NoiseModel m;
-    m.white_v2 = std::isfinite(floor_v) ? floor_v * floor_v : 0.0;
+namespace {
+
+// The Allan terms of the residual (MeasureNoise's fit), and what its note says of them.
+struct TermsFit {
+    noise::NoiseTerms terms;
+    std::vector<int64_t> grid;
+    size_t stretches = 0, kept = 0;
+    std::string screened;
+};
+
+TermsFit FitResidualTerms(const std::vector<Bin>& bins, const Eigen::VectorXd& residual,
+                          double bin_s) {
+    TermsFit f;
     const std::vector<std::vector<double>> stretches = Stretches(bins, residual);
     size_t longest = 0;
     for (const auto& s : stretches) longest = std::max(longest, s.size());
@@ -53,19 +62,40 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
     // are measured as with shorter bins.
     const bool short_stretches = longest < 12;
     const int64_t per_m = short_stretches ? 2 : 4;
-    const std::vector<int64_t> grid =
-        noise::TauGrid(short_stretches ? 3 : static_cast<int64_t>(longest / 4));
+    f.grid = noise::TauGrid(short_stretches ? 3 : static_cast<int64_t>(longest / 4));
     std::vector<noise::SegmentSums> sums;
     for (const auto& s : stretches)
         if (s.size() >= static_cast<size_t>(2 * per_m))
-            sums.push_back(noise::SumSegment(s, bin_s, grid, per_m));
-    std::string screened;
+            sums.push_back(noise::SumSegment(s, bin_s, f.grid, per_m));
     const std::vector<noise::SegmentSums> kept =
-        sums.size() >= 3 ? noise::ScreenSegments(sums, bin_s, grid, 0.01, screened) : sums;
-    const noise::NoiseTerms t = noise::FitTerms(kept, bin_s, grid, bin_s);
-    if (!t.ok || !std::isfinite(floor_v) || !(floor_v > 0)) {
-        m.note = "the Allan terms of the residual could not be fitted (" +
-                 std::to_string(kept.size()) +
+        sums.size() >= 3 ? noise::ScreenSegments(sums, bin_s, f.grid, 0.01, f.screened) : sums;
+    f.terms = noise::FitTerms(kept, bin_s, f.grid, bin_s);
+    f.stretches = sums.size();
+    f.kept = kept.size();
+    return f;
+}
+
+// The fitted terms into m (white from N when fitted); false when they could not be fitted.
+bool SetTerms(const noise::NoiseTerms& t, double bin_s, double floor_v, NoiseModel& m) {
+    m.white_v2 = std::isfinite(floor_v) ? floor_v * floor_v : 0.0;
+    if (!t.ok || !std::isfinite(floor_v) || !(floor_v > 0)) return false;
+    auto sq = [](double x) { return std::isfinite(x) ? x * x : 0.0; };
+    m.measured = true;
+    m.white_v2 = sq(t.arw) / bin_s;
+    m.flicker_v = std::isfinite(t.bias) ? t.bias : 0.0;
+    m.rrw_v_rts = std::isfinite(t.rrw) ? t.rrw : 0.0;
+    return true;
+}
+
+}  // namespace
+
+NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& residual, double bin_s,
+                        double floor_v) {
+    NoiseModel m;
+    const TermsFit f = FitResidualTerms(bins, residual, bin_s);
+    const noise::NoiseTerms& t = f.terms;
+    if (!SetTerms(t, bin_s, floor_v, m)) {
+        m.note = "the Allan terms of the residual could not be fitted (" + std::to_string(f.kept) +
                  " stretches long enough): slow noise assumed "
                  "as large as the floor (k = 1)";
         // The surrogates carry the slow noise assumed (a flicker level giving k = 1), so the
@@ -77,22 +107,33 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
         }
         return m;
     }
-    auto sq = [](double x) { return std::isfinite(x) ? x * x : 0.0; };
-    m.measured = true;
-    m.white_v2 = sq(t.arw) / bin_s;
-    m.flicker_v = std::isfinite(t.bias) ? t.bias : 0.0;
     m.arw_v_rthz = t.arw;
     m.arw_se = t.arw_se;
     m.flicker_se_v = t.bias_se;
-    m.rrw_v_rts = std::isfinite(t.rrw) ? t.rrw : 0.0;
     m.slow_v2 = noise::SlowNoiseVariance(m.flicker_v, m.rrw_v_rts, bin_s, SpanS(bins));
     m.k = std::sqrt(m.slow_v2) / floor_v;
-    m.note = "Allan deviation of the residual over " + std::to_string(kept.size()) + " of " +
-             std::to_string(sums.size()) + " still stretches, " + text::Sig(bin_s, 3) + "-" +
-             text::Sig(static_cast<double>(grid.back()) * bin_s, 3) + " s: N " +
+    m.note = "Allan deviation of the residual over " + std::to_string(f.kept) + " of " +
+             std::to_string(f.stretches) + " still stretches, " + text::Sig(bin_s, 3) + "-" +
+             text::Sig(static_cast<double>(f.grid.back()) * bin_s, 3) + " s: N " +
              text::Sig(t.arw, 3) + " V/rtHz, B " + text::Sig(m.flicker_v, 3) + " V, K " +
-             text::Sig(m.rrw_v_rts, 3) + " V/rts" + (screened.empty() ? "" : "; " + screened);
+             text::Sig(m.rrw_v_rts, 3) + " V/rts" + (f.screened.empty() ? "" : "; " + f.screened);
     return m;
+}
+
+AllanTerms MeasureAllanTerms(const std::vector<Bin>& bins, const Eigen::VectorXd& residual,
+                             double bin_s, double floor_v) {
+    NoiseModel m;
+    const bool fitted = SetTerms(FitResidualTerms(bins, residual, bin_s).terms, bin_s, floor_v, m);
+    if (!fitted && std::isfinite(floor_v) && floor_v > 0) {
+        // As MeasureNoise: the flicker level that gives k = 1.
+        const double unit = noise::SlowNoiseVariance(1.0, 0.0, bin_s, SpanS(bins));
+        if (unit > 0) m.flicker_v = floor_v / std::sqrt(unit);
+    }
+    return {m.measured, m.white_v2, m.flicker_v, m.rrw_v_rts};
+}
+
+double AllanTerms::Avar(double bin_s, double tau_s) const {
+    return white_v2 * bin_s / tau_s + flicker_v * flicker_v + rrw_v_rts * rrw_v_rts * tau_s / 3.0;
 }
 
 SurrogateNoise::SurrogateNoise(const NoiseModel& m, const std::vector<Bin>& bins, double bin_s) {

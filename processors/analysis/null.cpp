@@ -160,8 +160,16 @@ NullVerdict JudgeOnNull(const HeldOutSearch& search, const VectorXd& y_all,
 WindowStats::WindowStats(const MatrixXd& x_all, std::vector<WindowSpec> windows)
     : q_(Basis(x_all)), windows_(std::move(windows)) {}
 
+VectorXd WindowStats::Residual(const VectorXd& y_all) const {
+    return y_all - q_ * (q_.transpose() * y_all);
+}
+
 std::vector<double> WindowStats::Evaluate(const VectorXd& y_all, std::vector<double>* ms) const {
-    const VectorXd r = y_all - q_ * (q_.transpose() * y_all);
+    return EvaluateResidual(Residual(y_all), ms);
+}
+
+std::vector<double> WindowStats::EvaluateResidual(const VectorXd& r,
+                                                  std::vector<double>* ms) const {
     std::vector<double> out;
     if (ms) ms->clear();
     for (const WindowSpec& w : windows_) {

@@ -90,6 +90,9 @@ NullVerdict JudgeOnNull(const HeldOutSearch& search, const Eigen::VectorXd& y_al
 struct WindowSpec {
     std::string where;  // "0-600 s from the start", "31-41 degC"
     std::vector<Eigen::Index> rows;
+    // [s] the time the window's mean averages over: a tile's length, a band's bins x bin length
+    // (the tau at which the studentised windows statistic takes the noise's Allan deviation)
+    double tau_s = 0.0;
 };
 
 // |mean| of y's residual (after least squares on x_all over all bins) in each window, and (when
@@ -99,6 +102,11 @@ public:
     WindowStats(const Eigen::MatrixXd& x_all, std::vector<WindowSpec> windows);
     std::vector<double> Evaluate(const Eigen::VectorXd& y_all,
                                  std::vector<double>* ms = nullptr) const;
+    // y_all with the design projected out (what Evaluate averages), and the same on a residual
+    // already computed (so a caller that needs the residual itself projects once).
+    Eigen::VectorXd Residual(const Eigen::VectorXd& y_all) const;
+    std::vector<double> EvaluateResidual(const Eigen::VectorXd& r,
+                                         std::vector<double>* ms = nullptr) const;
     const std::vector<WindowSpec>& windows() const { return windows_; }
 
 private:

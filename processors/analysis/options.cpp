@@ -1,5 +1,6 @@
 // AnalysisOptions validation and the decision names (analyze.hpp).
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -23,7 +24,18 @@ constexpr text::NameTable<Outcome, 6> kOutcomeNames{
      {Outcome::kNotTestable, "not testable"},
      {Outcome::kAmbiguous, "ambiguous"}}};
 
+constexpr text::NameTable<WindowStatistic, 2> kWindowStatisticNames{
+    {{WindowStatistic::kStudentised, "studentised"}, {WindowStatistic::kPlugin, "plugin"}}};
+
 }  // namespace
+
+const char* ToString(WindowStatistic s) { return text::NameOf(kWindowStatisticNames, s); }
+
+bool ParseWindowStatistic(const std::string& name, WindowStatistic* out) {
+    const std::optional<WindowStatistic> v = text::ValueOf(kWindowStatisticNames, name);
+    if (v && out) *out = *v;
+    return v.has_value();
+}
 
 const char* ToString(Decision d) { return text::NameOf(kDecisionNames, d); }
 

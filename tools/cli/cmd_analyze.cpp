@@ -374,7 +374,8 @@ std::string ThresholdArgs(const AnalyzeOptions& o) {
     std::string s;
     for (const ThresholdOption& t : ThresholdOptions())
         s += std::string(" ") + t.name + " " + text::Sig(o.analysis.*t.field, 6);
-    return s + " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
+    return s + " --windows-statistic " + an::ToString(o.analysis.window_statistic) +
+           " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
            std::to_string(o.analysis.surrogate_seed);
 }
 
@@ -382,6 +383,19 @@ std::string ThresholdArgs(const AnalyzeOptions& o) {
 void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
     for (const ThresholdOption& t : ThresholdOptions())
         sub.add_option(t.name, o.analysis.*t.field, t.help)->check(t.valid);
+    sub.add_option_function<std::string>(
+           "--windows-statistic",
+           [&o](const std::string& name) {
+               an::ParseWindowStatistic(name, &o.analysis.window_statistic);
+           },
+           "statistic of the windows test: plugin (each window's residual mean against "
+           "surrogates of the run's fitted noise taken as exact: ~2x --window-fpr on clean runs) "
+           "or studentised (the mean over the Allan deviation, at the window's length, of the "
+           "noise refitted on the same vector, run and surrogates alike: near --window-fpr, but "
+           "misses some effects the plug-in flags and costs 201 noise fits; "
+           "processors/analysis/README.md)")
+        ->check(CLI::IsMember({"plugin", "studentised"}))
+        ->default_str(an::ToString(o.analysis.window_statistic));
     sub.add_option("--surrogates", o.analysis.surrogates,
                    "surrogates of the run's noise the nulls are built from")
         ->check(CLI::Range(20, 10000));

@@ -15,7 +15,8 @@
 // Usage: gyrocal_bench_verdict [runs per scenario] [clean runs] [threads] [rig|othersim|both]
 // (defaults 10, 60, 2, both). Environment (development aids): VERDICT_VERBOSE=1 prints a line per
 // run, VERDICT_DUMP=1 the residual bins beyond 3.5x the floor of every run not adequate,
-// VERDICT_SCENARIO=text runs only the scenarios whose name holds it.
+// VERDICT_SCENARIO=text runs only the scenarios whose name holds it, VERDICT_WINDOWS_STATISTIC=
+// plugin|studentised sets the windows test's statistic (default: the analysis' default).
 #include <atomic>
 #include <chrono>
 #include <cmath>

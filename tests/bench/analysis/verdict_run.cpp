@@ -200,6 +200,13 @@ RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
     // analysis with a cubic always in, as PX4's calibration fits it).
     analysis::AnalysisOptions ao = analysis::AnalysisOptions::Defaults();
     if (const char* extra = std::getenv("VERDICT_DECLARE")) ao.offset_terms.push_back(extra);
+    // VERDICT_WINDOWS_STATISTIC=plugin|studentised: the windows test's statistic (the analysis'
+    // option; to compare the two on the same seeds).
+    if (const char* w = std::getenv("VERDICT_WINDOWS_STATISTIC"))
+        if (!analysis::ParseWindowStatistic(w, &ao.window_statistic)) {
+            std::fprintf(stderr, "VERDICT_WINDOWS_STATISTIC=%s: not studentised or plugin\n", w);
+            std::exit(2);
+        }
     analysis::SensorResult r = analysis::Analyze(m.run, ao);
     // VERDICT_CARRY_CUBIC=1: the published set carries dT^3 when it lowers the held-out error
     // (analysis::CarryForPrediction, as the closed-loop fitter does).

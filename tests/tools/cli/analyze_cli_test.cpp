@@ -63,6 +63,27 @@ TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
           "--warmup-fpr", "--min-feature-drop", "--surrogates", "--surrogate-seed"})
         EXPECT_NE(help.find(opt), std::string::npos) << opt << "\n" << help;
     EXPECT_NE(help.find("0.02"), std::string::npos) << help;  // --feature-fpr's default
+    // The windows test's statistic: plugin by default, studentised to choose, anything else
+    // refused by CLI11 with the option's name (gyrocal's main: exit 2).
+    EXPECT_NE(help.find("--windows-statistic"), std::string::npos) << help;
+    EXPECT_NE(help.find("studentised"), std::string::npos) << help;
+    EXPECT_EQ(cli::AnalyzeOptions{}.analysis.window_statistic, WindowStatistic::kPlugin);
+    {
+        CLI::App parse;
+        std::function<int()> act;
+        cli::AddAnalyzeCommand(parse, act);
+        EXPECT_NO_THROW(parse.parse(
+            std::vector<std::string>{"studentised", "--windows-statistic", "R1", "analyze"}));
+        CLI::App bad;
+        cli::AddAnalyzeCommand(bad, act);
+        try {
+            bad.parse(std::vector<std::string>{"maybe", "--windows-statistic", "R1", "analyze"});
+            ADD_FAILURE() << "--windows-statistic maybe was accepted";
+        } catch (const CLI::ParseError& e) {
+            EXPECT_NE(std::string(e.what()).find("windows-statistic"), std::string::npos)
+                << e.what();
+        }
+    }
     struct Bad {
         const char* says;
         void (*set)(cli::AnalyzeOptions&);
