@@ -116,7 +116,8 @@
 
 namespace gyrocal::analysis {
 
-// The statistic of step 9's windows test (evidence.hpp; README "Windows"):
+// The statistic of step 9's windows test (evidence.hpp;
+// processors/analysis/README.md#thresholds-from-the-run-itself, its windows item):
 //   kPlugin       each window's |residual mean| against surrogates drawn with the run's fitted
 //                 noise, the estimate taken as exact (the default). On clean runs it flags about
 //                 twice window_fpr: a run whose level was underestimated meets surrogates too

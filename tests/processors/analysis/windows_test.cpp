@@ -1,17 +1,18 @@
 // The windows test (evidence.hpp, WindowsAbove) keeps its false-positive rate when the noise
 // level the surrogates are drawn with is not the data's. In an analysis that level is the run's
-// own, estimated from the run with tens of % error (processors/analysis/README.md, "Windows"): a
-// run whose level was underestimated meets surrogates too quiet. Here null data (noise only, the
-// declared quadratic fitted) are drawn with a known model and the surrogates with the same model
-// at 0.7x or 1.4x its level (Allan deviation; within the spread of the estimate on the rig's clean
-// runs, where the fitted Allan variance at 1200 s over the truth spans 0.28..3.27).
-// The studentised statistic divides each window's |mean| by the Allan deviation of the terms
-// refitted on the same vector, run and surrogates alike, so the level cancels and the share
-// flagged is the one the right level gives; the plug-in |mean| alone is not (the second test:
-// 45.7 % flagged at 0.7x, 0.7 % at 1.4x, 8.0 % at the right level).
-// A surrogate model whose shape is off too (flicker B alone 0.7x or 1.4x, white noise right)
-// gave 9.0 % and 10.0 % of the same 300 runs, against 9.3 % with the surrogates right (2026-11-29,
-// once, not a test: within the noise). Why 9.3 % and not 4.95 %: see CheckLevel below.
+// own, estimated from the run with tens of % error
+// (processors/analysis/README.md#thresholds-from-the-run-itself, its windows item): a run whose
+// level was underestimated meets surrogates too quiet. Here null data (noise only, the declared
+// quadratic fitted) are drawn with a known model and the surrogates with the same model at 0.7x
+// or 1.4x its level (Allan deviation; within the spread of the estimate on the rig's clean runs,
+// where the fitted Allan variance at 1200 s over the truth spans 0.28..3.27). The studentised
+// statistic divides each window's |mean| by the Allan deviation of the terms refitted on the same
+// vector, run and surrogates alike, so the level cancels and the share flagged is the one the right
+// level gives; the plug-in |mean| alone is not (the second test: 45.7 % flagged at 0.7x, 0.7 %
+// at 1.4x, 8.0 % at the right level). A surrogate model whose shape is off too (flicker B alone
+// 0.7x or 1.4x, white noise right) gave 9.0 % and 10.0 % of the same 300 runs, against 9.3 % with
+// the surrogates right (2026-11-29, once, not a test: within the noise). Why 9.3 % and not 4.95 %:
+// see CheckLevel below.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -30,7 +31,9 @@ namespace {
 
 constexpr double kUs = 1e6;
 constexpr double kBinS = 10.0;
-constexpr double kArw = 3e-4;      // [V/sqrt(Hz)] N, near the rig's (README: 0.295 mV/rtHz)
+constexpr double kArw =
+    3e-4;  // [V/sqrt(Hz)] N, near the rig's
+           // (processors/analysis/README.md#thresholds-from-the-run-itself: 0.295 mV/rtHz)
 constexpr double kFlicker = 5e-5;  // [V] B, near the rig's (0.047 mV)
 
 // A run as long as the rig's (4780 s: two 2400 s tiles) with one turn: 2 still stretches of 239
@@ -98,7 +101,8 @@ double FlaggedShare(WindowStatistic statistic, double level, int trials, uint64_
 // surrogate's windows by moments that include that surrogate, which shrinks the surrogates' own
 // largest values and not the run's; with these 22 windows, 100 surrogates and 5 % it flags 7.9 %
 // of exchangeable half-normal statistics (1.50 % with the analysis' 200 surrogates at 1 %), a
-// separate matter (README "Windows"). 5 % and 100 surrogates: the 90000 refits stay affordable.
+// separate matter (processors/analysis/README.md#thresholds-from-the-run-itself). 5 % and 100
+// surrogates: the 90000 refits stay affordable.
 struct LevelCheck {
     double right = 0.0, se = 0.0;   // share flagged at the right level, the tolerance's unit
     double shares[2] = {0.0, 0.0};  // at 0.7x and 1.4x
