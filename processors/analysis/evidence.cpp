@@ -74,7 +74,7 @@ std::vector<double> Statistic(const BinnedRun& b, const WindowStats& stats, cons
     std::vector<double> a = stats.EvaluateResidual(r, ms);
     if (kind == WindowStatistic::kPlugin) return a;
     const double floor_v = NoiseFloor(b.bins(), r).offset_rms_v;
-    const AllanTerms m = MeasureAllanTerms(b.bins(), r, b.bin_s(), floor_v);
+    const NoiseModel m = MeasureAllanTerms(b.bins(), r, b.bin_s(), floor_v);
     for (size_t w = 0; w < a.size(); ++w) {
         const double avar = m.Avar(b.bin_s(), stats.windows()[w].tau_s);
         a[w] = avar > 0 ? a[w] / std::sqrt(avar) : NAN;

@@ -87,6 +87,14 @@ bool SetTerms(const noise::NoiseTerms& t, double bin_s, double floor_v, NoiseMod
     return true;
 }
 
+// The flicker level whose slow noise of a bin mean equals the floor (k = 1): what the surrogates
+// carry when the terms cannot be fitted, so that the window and feature nulls are not stricter
+// than the floor bound; 0 when the floor or the run's span gives none.
+double FlickerGivingUnitK(const std::vector<Bin>& bins, double bin_s, double floor_v) {
+    const double unit = noise::SlowNoiseVariance(1.0, 0.0, bin_s, SpanS(bins));
+    return std::isfinite(floor_v) && floor_v > 0 && unit > 0 ? floor_v / std::sqrt(unit) : 0.0;
+}
+
 }  // namespace
 
 NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& residual, double bin_s,
@@ -98,13 +106,8 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
         m.note = "the Allan terms of the residual could not be fitted (" + std::to_string(f.kept) +
                  " stretches long enough): slow noise assumed "
                  "as large as the floor (k = 1)";
-        // The surrogates carry the slow noise assumed (a flicker level giving k = 1), so the
-        // window and feature nulls are not stricter than the floor bound.
-        const double unit = noise::SlowNoiseVariance(1.0, 0.0, bin_s, SpanS(bins));
-        if (std::isfinite(floor_v) && floor_v > 0 && unit > 0) {
-            m.flicker_v = floor_v / std::sqrt(unit);
-            m.slow_v2 = floor_v * floor_v;
-        }
+        m.flicker_v = FlickerGivingUnitK(bins, bin_s, floor_v);
+        if (m.flicker_v > 0) m.slow_v2 = floor_v * floor_v;
         return m;
     }
     m.arw_v_rthz = t.arw;
@@ -120,19 +123,15 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
     return m;
 }
 
-AllanTerms MeasureAllanTerms(const std::vector<Bin>& bins, const Eigen::VectorXd& residual,
+NoiseModel MeasureAllanTerms(const std::vector<Bin>& bins, const Eigen::VectorXd& residual,
                              double bin_s, double floor_v) {
     NoiseModel m;
-    const bool fitted = SetTerms(FitResidualTerms(bins, residual, bin_s).terms, bin_s, floor_v, m);
-    if (!fitted && std::isfinite(floor_v) && floor_v > 0) {
-        // As MeasureNoise: the flicker level that gives k = 1.
-        const double unit = noise::SlowNoiseVariance(1.0, 0.0, bin_s, SpanS(bins));
-        if (unit > 0) m.flicker_v = floor_v / std::sqrt(unit);
-    }
-    return {m.measured, m.white_v2, m.flicker_v, m.rrw_v_rts};
+    if (!SetTerms(FitResidualTerms(bins, residual, bin_s).terms, bin_s, floor_v, m))
+        m.flicker_v = FlickerGivingUnitK(bins, bin_s, floor_v);
+    return m;
 }
 
-double AllanTerms::Avar(double bin_s, double tau_s) const {
+double NoiseModel::Avar(double bin_s, double tau_s) const {
     return white_v2 * bin_s / tau_s + flicker_v * flicker_v + rrw_v_rts * rrw_v_rts * tau_s / 3.0;
 }
 

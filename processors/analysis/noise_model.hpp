@@ -40,6 +40,8 @@ struct NoiseModel {
     double slow_v2 = 0.0;        // [V^2] slow noise of a bin mean about the run's mean
     double k = 1.0;              // [1] sqrt(slow_v2) / floor (floor bound, step 9)
     std::string note;            // how it was measured, or why not
+    // [V^2] AVAR(tau) = N^2 / tau + B^2 + K^2 tau / 3 of the terms above (bin_s: white_v2's)
+    double Avar(double bin_s, double tau_s) const;
 };
 
 // residual: per bin (bins' order); floor_v: the Allan deviation at the bin length.
@@ -47,19 +49,11 @@ NoiseModel MeasureNoise(const std::vector<Bin>& bins, const Eigen::VectorXd& res
                         double floor_v);
 
 // The Allan terms alone, as MeasureNoise fits them (the same stretches, screening, taus and fit;
-// when they cannot be fitted, the same white and assumed flicker), without what only the report
-// and the floor bound use (the slow noise of a bin mean, k, the note; the terms' standard errors
-// are still computed by noise::FitTerms). The windows test refits them on the run and on every
-// surrogate (evidence.cpp): 201 fits per analysis, so the cheaper the better.
-struct AllanTerms {
-    bool measured = false;
-    double white_v2 = 0.0;   // [V^2] N^2 / bin_s
-    double flicker_v = 0.0;  // [V] B
-    double rrw_v_rts = 0.0;  // [V/sqrt(s)] K
-    // [V^2] AVAR(tau) = N^2 / tau + B^2 + K^2 tau / 3
-    double Avar(double bin_s, double tau_s) const;
-};
-AllanTerms MeasureAllanTerms(const std::vector<Bin>& bins, const Eigen::VectorXd& residual,
+// when they cannot be fitted, the same white and assumed flicker): measured, white_v2, flicker_v
+// and rrw_v_rts set, without what only the report and the floor bound use (N and its standard
+// errors, the slow noise of a bin mean, k, the note). The windows test refits them on the run and
+// on every surrogate (evidence.cpp): 201 fits per analysis, so the cheaper the better.
+NoiseModel MeasureAllanTerms(const std::vector<Bin>& bins, const Eigen::VectorXd& residual,
                              double bin_s, double floor_v);
 
 // Draws noise vectors with the model's Allan deviation on the bins' times.
