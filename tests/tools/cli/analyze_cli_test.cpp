@@ -94,7 +94,9 @@ TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
           Bad{"warmup_fpr", [](cli::AnalyzeOptions& o) { o.analysis.warmup_fpr = -1; }},
           Bad{"surrogates", [](cli::AnalyzeOptions& o) { o.analysis.surrogates = 5; }},
           Bad{"max_untested_fraction",
-              [](cli::AnalyzeOptions& o) { o.analysis.max_untested_fraction = 2; }}}) {
+              [](cli::AnalyzeOptions& o) { o.analysis.max_untested_fraction = 2; }},
+          Bad{"min_feature_floor_ratio",
+              [](cli::AnalyzeOptions& o) { o.analysis.min_feature_floor_ratio = -1; }}}) {
         cli::AnalyzeOptions o = Options();
         b.set(o);
         std::ostringstream out, err;
