@@ -88,9 +88,12 @@ MaxTNull::MaxTNull(const std::vector<std::vector<double>>& stats) {
     const size_t families = stats.empty() ? 0 : stats.front().size();
     mean_.assign(families, NAN);
     sd_.assign(families, NAN);
+    std::vector<double> sum(families, 0.0), sum_sq(families, 0.0);
+    std::vector<int> count(families, 0);
     for (size_t f = 0; f < families; ++f) {
-        double s = 0, ss = 0;
-        int n = 0;
+        double& s = sum[f];
+        double& ss = sum_sq[f];
+        int& n = count[f];
         for (const auto& row : stats)
             if (f < row.size() && std::isfinite(row[f])) s += row[f], ss += row[f] * row[f], ++n;
         if (n < 10) continue;
@@ -98,11 +101,20 @@ MaxTNull::MaxTNull(const std::vector<std::vector<double>>& stats) {
         sd_[f] = std::sqrt(std::max(0.0, ss / n - mean_[f] * mean_[f]));
         if (!(sd_[f] > 0)) mean_[f] = sd_[f] = NAN;
     }
+    // Each surrogate standardised by the moments of the OTHER surrogates, as the run is by
+    // moments it is not part of: with its own value in them, a surrogate's extreme value inflates
+    // the spread it is judged by, its largest z shrinks and the run's does not, and the run
+    // exceeds the threshold more often than alpha (22 exchangeable half-normal families, 200
+    // surrogates at 1 %: 1.50 %; tests MaxTNull.*).
     for (const auto& row : stats) {
         double m = -INFINITY;
         for (size_t f = 0; f < row.size() && f < families; ++f) {
-            const double z = Z(f, row[f]);
-            if (std::isfinite(z)) m = std::max(m, z);
+            if (!std::isfinite(mean_[f]) || !std::isfinite(row[f])) continue;
+            const double n = count[f] - 1.0;
+            const double mean = (sum[f] - row[f]) / n;
+            const double sd =
+                std::sqrt(std::max(0.0, (sum_sq[f] - row[f] * row[f]) / n - mean * mean));
+            if (sd > 0) m = std::max(m, (row[f] - mean) / sd);
         }
         if (std::isfinite(m)) max_z_.push_back(m);
     }
