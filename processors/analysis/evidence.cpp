@@ -115,4 +115,56 @@ std::vector<WindowExcess> WindowsAbove(const BinnedRun& b, const Eigen::MatrixXd
     return out;
 }
 
+namespace {
+
+// mean over the surrogates of |P a|^2 / n, P the projection on x's columns (a column-pivoting QR:
+// a column that adds nothing is left out of the projection, not an error).
+double MeanProjected(const Eigen::MatrixXd& x, const std::vector<VectorXd>& noise) {
+    if (x.cols() == 0 || noise.empty()) return 0.0;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
+    const Index r = qr.rank();
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(x.rows(), r);
+    double s = 0.0;
+    for (const VectorXd& a : noise) s += (q.transpose() * a).squaredNorm();
+    return s / static_cast<double>(noise.size()) / static_cast<double>(x.rows());
+}
+
+}  // namespace
+
+Transfer TransferOnSurrogates(const Eigen::MatrixXd& x_all, const std::vector<VectorXd>& noise,
+                              const std::vector<std::vector<Index>>& groups, double max_ratio) {
+    Transfer t;
+    const size_t n = noise.size();
+    if (n < 2 || x_all.rows() < 2 || x_all.cols() == 0 || !x_all.allFinite()) return t;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x_all);
+    const Eigen::MatrixXd q =
+        qr.householderQ() * Eigen::MatrixXd::Identity(x_all.rows(), qr.rank());
+    const auto rows = static_cast<double>(x_all.rows());
+    double model = 0.0, truth = 0.0;
+    int miss = 0;
+    for (size_t j = 0; j < n; ++j) {
+        const VectorXd& a = noise[j];
+        const VectorXd& b = noise[(j + 1) % n];
+        const VectorXd pa = q * (q.transpose() * a);
+        model += pa.squaredNorm() / rows;
+        truth += b.squaredNorm() / rows;
+        const double bb = b.squaredNorm();
+        if (bb > 0.0 && (b - pa).squaredNorm() > max_ratio * max_ratio * bb) ++miss;
+    }
+    model /= static_cast<double>(n), truth /= static_cast<double>(n);
+    if (!(truth > 0.0)) return t;
+    t.model_rms_v = std::sqrt(model);
+    t.truth_rms_v = std::sqrt(truth);
+    t.ratio = std::sqrt(1.0 + model / truth);
+    t.miss_fraction = static_cast<double>(miss) / static_cast<double>(n);
+    for (const std::vector<Index>& g : groups) {
+        std::vector<Index> keep;
+        for (Index c = 0; c < x_all.cols(); ++c)
+            if (std::find(g.begin(), g.end(), c) == g.end()) keep.push_back(c);
+        const double without = MeanProjected(x_all(Eigen::all, keep), noise);
+        t.group_adds_v.push_back(std::sqrt(std::max(0.0, model - without)));
+    }
+    return t;
+}
+
 }  // namespace gyrocal::analysis::detail
