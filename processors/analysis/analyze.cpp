@@ -107,41 +107,6 @@ void Floors(const BinnedRun& binned, const Split& split, SensorResult& res) {
     }
 }
 
-// Step 9's transfer check (evidence.hpp, TransferOnSurrogates): the extended model's columns on
-// all bins, grouped as the declared terms and one group per added effect.
-void TransferCheck(const MatrixXd& base, const std::vector<std::string>& terms,
-                   const std::vector<VectorXd>& noise, const AnalysisOptions& o,
-                   SensorResult& res) {
-    std::vector<std::vector<Index>> groups(1);
-    std::vector<std::string> names = {"declared"};
-    for (size_t k = 0; k < terms.size(); ++k) {
-        const auto it = std::find_if(res.added.begin(), res.added.end(),
-                                     [&](const AddedEffect& a) { return a.term == terms[k]; });
-        if (it == res.added.end()) {
-            groups[0].push_back(static_cast<Index>(k));
-            continue;
-        }
-        const auto g = std::find(names.begin(), names.end(), it->effect);
-        if (g != names.end()) {
-            groups[static_cast<size_t>(g - names.begin())].push_back(static_cast<Index>(k));
-        } else {
-            names.push_back(it->effect);
-            groups.push_back({static_cast<Index>(k)});
-        }
-    }
-    const Transfer t = TransferOnSurrogates(base, noise, groups,
-                                            o.max_transfer_ratio > 0 ? o.max_transfer_ratio : 1.2);
-    res.transfer_model_rms_v = t.model_rms_v;
-    res.transfer_truth_rms_v = t.truth_rms_v;
-    res.transfer_ratio = t.ratio;
-    res.transfer_miss_fraction = t.miss_fraction;
-    res.transfer_term.clear();
-    res.transfer_term_rms_v = kNan;
-    for (size_t g = 0; g < t.group_adds_v.size(); ++g)
-        if (!(t.group_adds_v[g] <= res.transfer_term_rms_v))
-            res.transfer_term = names[g], res.transfer_term_rms_v = t.group_adds_v[g];
-}
-
 // Steps 8 and 9's evidence on the final model: the run's noise measured on its residual (the k of
 // the floor bound unless the option sets it), the generic features and the windows judged against
 // surrogates of that noise, the residual's diagnostics.

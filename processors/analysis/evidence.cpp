@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "lcmtypes/text/number.hpp"
 #include "processors/analysis/null.hpp"
@@ -10,6 +11,7 @@
 namespace gyrocal::analysis::detail {
 
 using Eigen::Index;
+using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 Surrogates MakeSurrogates(const BinnedRun& binned, const VectorXd& residual_all,
@@ -165,6 +167,41 @@ Transfer TransferOnSurrogates(const Eigen::MatrixXd& x_all, const std::vector<Ve
         t.group_adds_v.push_back(std::sqrt(std::max(0.0, model - without)));
     }
     return t;
+}
+
+// Step 9's transfer check (evidence.hpp, TransferOnSurrogates): the extended model's columns on
+// all bins, grouped as the declared terms and one group per added effect.
+void TransferCheck(const MatrixXd& base, const std::vector<std::string>& terms,
+                   const std::vector<VectorXd>& noise, const AnalysisOptions& o,
+                   SensorResult& res) {
+    std::vector<std::vector<Index>> groups(1);
+    std::vector<std::string> names = {"declared"};
+    for (size_t k = 0; k < terms.size(); ++k) {
+        const auto it = std::find_if(res.added.begin(), res.added.end(),
+                                     [&](const AddedEffect& a) { return a.term == terms[k]; });
+        if (it == res.added.end()) {
+            groups[0].push_back(static_cast<Index>(k));
+            continue;
+        }
+        const auto g = std::find(names.begin(), names.end(), it->effect);
+        if (g != names.end()) {
+            groups[static_cast<size_t>(g - names.begin())].push_back(static_cast<Index>(k));
+        } else {
+            names.push_back(it->effect);
+            groups.push_back({static_cast<Index>(k)});
+        }
+    }
+    const Transfer t = TransferOnSurrogates(base, noise, groups,
+                                            o.max_transfer_ratio > 0 ? o.max_transfer_ratio : 1.2);
+    res.transfer_model_rms_v = t.model_rms_v;
+    res.transfer_truth_rms_v = t.truth_rms_v;
+    res.transfer_ratio = t.ratio;
+    res.transfer_miss_fraction = t.miss_fraction;
+    res.transfer_term.clear();
+    res.transfer_term_rms_v = kNan;
+    for (size_t g = 0; g < t.group_adds_v.size(); ++g)
+        if (!(t.group_adds_v[g] <= res.transfer_term_rms_v))
+            res.transfer_term = names[g], res.transfer_term_rms_v = t.group_adds_v[g];
 }
 
 }  // namespace gyrocal::analysis::detail

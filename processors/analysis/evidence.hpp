@@ -60,6 +60,13 @@ Transfer TransferOnSurrogates(const Eigen::MatrixXd& x_all,
                               const std::vector<std::vector<Eigen::Index>>& groups,
                               double max_ratio);
 
+// The transfer check of the final model (design `base` of `terms` on all bins) into
+// res.transfer_*: the columns grouped as the declared terms (and any not among res.added) and one
+// group per added effect; the group that adds most is named.
+void TransferCheck(const Eigen::MatrixXd& base, const std::vector<std::string>& terms,
+                   const std::vector<Eigen::VectorXd>& noise, const AnalysisOptions& o,
+                   SensorResult& res);
+
 // x_all: the final model's design on all bins. threshold_out: the standardised threshold.
 std::vector<WindowExcess> WindowsAbove(const BinnedRun& binned, const Eigen::MatrixXd& x_all,
                                        const Surrogates& s, const AnalysisOptions& o,
