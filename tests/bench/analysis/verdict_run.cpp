@@ -139,6 +139,21 @@ void HeldOut(Simulator sim, const Draw& d, uint64_t seed, const analysis::Sensor
                   " || held-out run: truth %.2f, model-truth %.2f (its mean %.2f), P %.2f",
                   truth / fl, Rms(off) / fl, off.mean() / fl, PredictionRms(b, *m) / fl);
     f.diagnosis += buf;
+    // The model's distance from the truth on the held-out run, split by the model's columns
+    // there: least squares of it on them, each term's part (column x its coefficient error, RMS;
+    // the intercept's: its size) and what none of them can express (a shape the terms lack).
+    const Eigen::MatrixXd x = b.Design(m->term_names, m->t0_c);
+    if (x.rows() == off.size() && x.allFinite() && off.allFinite()) {
+        const Eigen::VectorXd c = x.colPivHouseholderQr().solve(off);
+        f.diagnosis += " | split:";
+        for (Eigen::Index j = 0; j < x.cols(); ++j) {
+            std::snprintf(buf, sizeof buf, " %s %.2f",
+                          m->term_names[static_cast<size_t>(j)].c_str(), Rms(x.col(j) * c[j]) / fl);
+            f.diagnosis += buf;
+        }
+        std::snprintf(buf, sizeof buf, " rest %.2f", Rms(off - x * c) / fl);
+        f.diagnosis += buf;
+    }
 }
 
 // The analysis' own figures (over its floor): what it expects of another run.
@@ -175,6 +190,14 @@ std::string Diagnose(const analysis::BinnedRun& b, const analysis::SensorResult&
                       x->feature.c_str(), x->effect_rms_v / fl, x->null_z, x->null_threshold);
         s += buf;
     }
+    // Candidates refused although they passed z^2: why.
+    for (const analysis::CandidateResult& c : r.candidates)
+        if (c.decision == analysis::Decision::kRejected && c.z2 > 25.0) {
+            std::snprintf(buf, sizeof buf,
+                          " | refused %s z2 %.3g cv %.2f size %.2f: ", c.effect.c_str(), c.z2,
+                          c.cv_gain, c.effect_rms_v / fl);
+            s += buf + c.note;
+        }
     for (const analysis::AddedEffect& a : r.added) {
         std::snprintf(buf, sizeof buf, " | %s %.4g +- %.2g", a.term.c_str(), a.coefficient,
                       a.stderr_);
