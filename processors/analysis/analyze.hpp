@@ -218,11 +218,6 @@ struct CandidateResult {
                                  // regressor after projecting out the model)
     bool grid_edge = false;      // its shape parameter ended at an end of the searched range
     std::string edge = {};       // then: "tau at the upper edge of the searched 30-300 s: ..."
-    // Refused only by (c): z^2 and the blocked-CV gain passed, its size did not. Between
-    // min_feature_floor_ratio and min_effect_floor_ratio x the floor it makes an "explained"
-    // outcome "partly explained" (step 9): too small to name, big enough to put the model
-    // beyond 1.2x the floor on data it did not see.
-    bool below_size_only = false;
 };
 
 struct AddedEffect {
@@ -351,9 +346,6 @@ struct SensorResult {
     double transfer_ratio = kNan, transfer_miss_fraction = kNan;      // [1]
     std::string transfer_term;
     double transfer_term_rms_v = kNan;  // [V]
-    // A candidate refused only for its size, above min_feature_floor_ratio x the floor
-    // (CandidateResult::below_size_only), made it "partly explained".
-    bool small_effect_flagged = false;
     bool transfer_flagged = false;      // transfer_ratio > max_transfer_ratio made it "partly"
     std::vector<std::string> untested;  // candidates that could not be tested
     std::vector<std::string> to_test;   // the measurement that would test each of them

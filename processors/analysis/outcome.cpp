@@ -154,26 +154,11 @@ void Conclude(bool analysed, const AnalysisOptions& o, SensorResult& res) {
         res.transfer_flagged = !above && o.max_transfer_ratio > 0 &&
                                std::isfinite(res.transfer_ratio) &&
                                res.transfer_ratio > o.max_transfer_ratio;
-        // A candidate with the evidence of an effect (z^2, blocked CV) refused only for its size,
-        // between the flag's size (min_feature_floor_ratio, the 1.2x criterion's) and the name's.
-        std::string small;
-        for (const CandidateResult& c : res.candidates)
-            if (!above && c.decision == Decision::kRejected && c.below_size_only &&
-                std::isfinite(res.floor_offset_rms_v) &&
-                c.effect_rms_v > o.min_feature_floor_ratio * res.floor_offset_rms_v)
-                small += "; " + c.effect + " passes z^2 (" + text::Sig(c.z2, 3) +
-                         ") and the blocked CV but at " +
-                         text::Sig(c.effect_rms_v / res.floor_offset_rms_v, 2) +
-                         "x the floor is below the size to name it (" +
-                         text::Sig(o.min_effect_floor_ratio, 2) +
-                         "x): left out, an effect of that size puts the model beyond " +
-                         "1.2x the floor on data it did not see";
-        res.small_effect_flagged = !small.empty();
-        const bool partly = above || res.transfer_flagged || res.small_effect_flagged;
+        const bool partly = above || res.transfer_flagged;
         res.outcome = partly ? Outcome::kPartlyExplained : Outcome::kExplained;
         h = std::string(added.size() > 1 ? "missing effects: " : "missing effect: ") + List(added) +
             (partly ? ", partly explained: " : ", explained: ") + Residual(res) + tail +
-            (res.transfer_flagged ? "; " + TransferText(res) : "") + small;
+            (res.transfer_flagged ? "; " + TransferText(res) : "");
     }
     if (res.outcome != Outcome::kNotTestable && !res.untested.empty())
         h += "; not tested: " + List(res.untested);

@@ -142,8 +142,7 @@ nlohmann::json ToJson(const SensorResult& r) {
                      {"miss_fraction", JsonNumber(r.transfer_miss_fraction)},
                      {"term", r.transfer_term},
                      {"term_rms_v", JsonNumber(r.transfer_term_rms_v)},
-                     {"flagged", r.transfer_flagged},
-                     {"small_effect_flagged", r.small_effect_flagged}};
+                     {"flagged", r.transfer_flagged}};
     j["residual_all_rms_v"] = JsonNumber(r.residual_all_rms_v);
     j["residual_all_extended_rms_v"] = JsonNumber(r.residual_all_extended_rms_v);
     j["sensitivity"] = {{"rel_rms_before", JsonNumber(r.sens_rel_rms_before)},

@@ -154,7 +154,6 @@ bool Passes(const StepScore& s, const Candidate& cand, int step, const Floor& fl
         r.note = "effect RMS " + text::Sig(s.effect_rms_v, 3) + " V is below " +
                  text::Sig(o.min_effect_floor_ratio, 3) + "x the noise floor " +
                  text::Sig(floor.offset_rms_v, 3) + " V";
-    r.below_size_only = s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && !big_enough;
     return s.ok && s.z2 > o.min_z2 && s.cv_gain > o.min_cv_gain && big_enough;
 }
 

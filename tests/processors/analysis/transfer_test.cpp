@@ -178,34 +178,6 @@ TEST(VerdictTransfer, FewBinsPerCoefficientAreNotPinned) {
     EXPECT_GT(t.ratio, 1.2);
 }
 
-// A candidate refused only for its size (z^2 and the blocked CV passed): between the flag's size
-// (min_feature_floor_ratio 0.663 x the floor: left in the residual, it puts the model at
-// sqrt(1 + 0.663^2) = 1.2x the floor on data it did not see) and the name's (1x) it makes an
-// explained run partly explained; below 0.663 it does not, nor when a test other than the size
-// refused it. The sizes are exact inputs (no noise): 0.8 and 0.5 of the floor sit well inside.
-TEST(VerdictSmallEffect, RefusedOnlyForItsSizeAboveTheFlagsSizeIsFlagged) {
-    AnalysisOptions o;
-    auto run = [&](double size_floors, bool size_only) {
-        SensorResult r = NamedSupply();
-        CandidateResult c;
-        c.effect = "temp_rate";
-        c.decision = Decision::kRejected;
-        c.z2 = 40.0;
-        c.cv_gain = 0.2;
-        c.effect_rms_v = size_floors * r.floor_offset_rms_v;
-        c.below_size_only = size_only;
-        r.candidates.push_back(c);
-        Conclude(true, o, r);
-        return r;
-    };
-    const SensorResult flagged = run(0.8, true);
-    EXPECT_EQ(flagged.outcome, Outcome::kPartlyExplained) << flagged.headline;
-    EXPECT_TRUE(flagged.small_effect_flagged);
-    EXPECT_NE(flagged.headline.find("temp_rate passes z^2"), std::string::npos) << flagged.headline;
-    EXPECT_EQ(run(0.5, true).outcome, Outcome::kExplained);
-    EXPECT_EQ(run(0.8, false).outcome, Outcome::kExplained);
-}
-
 TEST(VerdictTransfer, OptionIsValidated) {
     AnalysisOptions o;
     o.max_transfer_ratio = 0.9;
