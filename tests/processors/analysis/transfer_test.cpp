@@ -178,6 +178,29 @@ TEST(VerdictTransfer, FewBinsPerCoefficientAreNotPinned) {
     EXPECT_GT(t.ratio, 1.2);
 }
 
+// A candidate chosen on the training bins and refused by the held-out gate: the run's two tests
+// disagree, so the outcome is not "adequate" (nothing added) nor "explained" (rig supply 9004 and
+// 9008 of the benchmark were "adequate" at 1.53x and 1.71x the truth's error on another run).
+TEST(VerdictUnconfirmed, ACandidateTheHeldOutGateRefusedIsNotAdequate) {
+    AnalysisOptions o;
+    SensorResult quiet = NamedSupply();
+    quiet.added.clear();
+    quiet.error_before.offset_rms_v = kWhiteV;
+    SensorResult refused = quiet;
+    refused.unconfirmed = {"supply"};
+    Conclude(true, o, quiet);
+    Conclude(true, o, refused);
+    EXPECT_EQ(quiet.outcome, Outcome::kAdequate) << quiet.headline;
+    EXPECT_EQ(refused.outcome, Outcome::kUnexplained) << refused.headline;
+    EXPECT_NE(refused.headline.find("not confirmed on the held-out data: supply"),
+              std::string::npos)
+        << refused.headline;
+    SensorResult named = NamedSupply();
+    named.unconfirmed = {"temp_rate"};
+    Conclude(true, o, named);
+    EXPECT_EQ(named.outcome, Outcome::kPartlyExplained) << named.headline;
+}
+
 TEST(VerdictTransfer, OptionIsValidated) {
     AnalysisOptions o;
     o.max_transfer_ratio = 0.9;
