@@ -129,6 +129,7 @@ void Residue(const BinnedRun& binned, const Split& split, double t0, const Analy
         families.push_back(std::move(f));
     res.features = JudgeFeatures(binned, train, split, base, r_all, res.floor_offset_rms_v,
                                  families, s.noise, o, &res.feature_null_threshold);
+    TransferCheck(base, terms, s.noise, o, res);
     res.windows_above = WindowsAbove(binned, base, s, o, &res.window_null_threshold);
     res.residual = Diagnose(binned, r_all, res.floor_offset_rms_v, o);
     AngleConfound(res);

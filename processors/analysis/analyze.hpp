@@ -156,6 +156,13 @@ struct AnalysisOptions {
     // on data it did not see above 1.2x the floor's - the benchmark's criterion of a model that
     // transfers (processors/analysis/README.md). Below it a feature is reported, not flagged.
     double min_feature_floor_ratio = 0.663;
+    // [1] The transfer criterion (step 9): an "explained" run whose extended model, taken as
+    // exactly right, is expected to miss another run of the same profile by more than this
+    // factor of the true model's error there - its coefficients fitted on surrogates of the run's
+    // own noise (evidence.hpp, TransferOnSurrogates) - is "partly explained" instead: the data
+    // name the effect but do not pin it well enough to predict. 1.2: the benchmark's criterion of a
+    // model that transfers (processors/analysis/README.md). 0: off.
+    double max_transfer_ratio = 1.2;
     double holdout_fraction = 0.25;  // [1] fraction of the still data held out (interleaved blocks)
     double holdout_block_s = 600.0;  // [s] length of those blocks (2 x the HAC window)
     double gate_min_z = 2.0;         // held-out improvement needed, in its standard errors
@@ -323,12 +330,25 @@ struct SensorResult {
     // prefixes older readers parse: "no missing effect", "missing effect", "not analysed").
     Outcome outcome = Outcome::kNotTestable;
     std::string headline;
-    double heldout_residual_rms_v = kNan;     // [V] the final model's held-out residual
-    double floor_bound_rms_v = kNan;          // [V] the bound it is compared with (step 9)
-    double floor_prediction_rms_v = kNan;     // [V] its prediction part
-    double excess_ratio = kNan;               // [1] residual / bound
-    std::vector<std::string> untested;        // candidates that could not be tested
-    std::vector<std::string> to_test;         // the measurement that would test each of them
+    double heldout_residual_rms_v = kNan;  // [V] the final model's held-out residual
+    double floor_bound_rms_v = kNan;       // [V] the bound it is compared with (step 9)
+    double floor_prediction_rms_v = kNan;  // [V] its prediction part
+    double excess_ratio = kNan;            // [1] residual / bound
+    // Step 9's transfer check (evidence.hpp, TransferOnSurrogates): the extended model taken as
+    // exactly right, its coefficients fitted on one surrogate of the run's noise and judged
+    // against another, the run's own design standing for another run's inputs. model: RMS of the
+    // fitted model's distance from the truth there; truth: RMS of the true model's error there;
+    // ratio: the expected error over the true model's, sqrt(1 + model^2 / truth^2); miss
+    // fraction: the share of surrogate pairs beyond max_transfer_ratio. term: the part of the
+    // model whose coefficients' uncertainty adds most to `model` (an added effect's name, or
+    // "declared" for the declared terms), term_rms_v what it adds in quadrature.
+    double transfer_model_rms_v = kNan, transfer_truth_rms_v = kNan;  // [V]
+    double transfer_ratio = kNan, transfer_miss_fraction = kNan;      // [1]
+    std::string transfer_term;
+    double transfer_term_rms_v = kNan;  // [V]
+    bool transfer_flagged = false;      // transfer_ratio > max_transfer_ratio made it "partly"
+    std::vector<std::string> untested;  // candidates that could not be tested
+    std::vector<std::string> to_test;   // the measurement that would test each of them
     std::vector<std::string> not_attributed;  // named terms a generic feature displaced
     std::vector<FeatureResult> features;      // step 8, strongest first
     // Channels (or features of them) that were not recorded or did not vary, and what recording

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "lcmtypes/text/number.hpp"
 #include "processors/analysis/null.hpp"
@@ -10,6 +11,7 @@
 namespace gyrocal::analysis::detail {
 
 using Eigen::Index;
+using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 Surrogates MakeSurrogates(const BinnedRun& binned, const VectorXd& residual_all,
@@ -113,6 +115,93 @@ std::vector<WindowExcess> WindowsAbove(const BinnedRun& b, const Eigen::MatrixXd
     std::sort(out.begin(), out.end(),
               [](const WindowExcess& a, const WindowExcess& c) { return a.z > c.z; });
     return out;
+}
+
+namespace {
+
+// mean over the surrogates of |P a|^2 / n, P the projection on x's columns (a column-pivoting QR:
+// a column that adds nothing is left out of the projection, not an error).
+double MeanProjected(const Eigen::MatrixXd& x, const std::vector<VectorXd>& noise) {
+    if (x.cols() == 0 || noise.empty()) return 0.0;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
+    const Index r = qr.rank();
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(x.rows(), r);
+    double s = 0.0;
+    for (const VectorXd& a : noise) s += (q.transpose() * a).squaredNorm();
+    return s / static_cast<double>(noise.size()) / static_cast<double>(x.rows());
+}
+
+}  // namespace
+
+Transfer TransferOnSurrogates(const Eigen::MatrixXd& x_all, const std::vector<VectorXd>& noise,
+                              const std::vector<std::vector<Index>>& groups, double max_ratio) {
+    Transfer t;
+    const size_t n = noise.size();
+    if (n < 2 || x_all.rows() < 2 || x_all.cols() == 0 || !x_all.allFinite()) return t;
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x_all);
+    const Eigen::MatrixXd q =
+        qr.householderQ() * Eigen::MatrixXd::Identity(x_all.rows(), qr.rank());
+    const auto rows = static_cast<double>(x_all.rows());
+    double model = 0.0, truth = 0.0;
+    int miss = 0;
+    for (size_t j = 0; j < n; ++j) {
+        const VectorXd& a = noise[j];
+        const VectorXd& b = noise[(j + 1) % n];
+        const VectorXd pa = q * (q.transpose() * a);
+        model += pa.squaredNorm() / rows;
+        truth += b.squaredNorm() / rows;
+        const double bb = b.squaredNorm();
+        if (bb > 0.0 && (b - pa).squaredNorm() > max_ratio * max_ratio * bb) ++miss;
+    }
+    model /= static_cast<double>(n), truth /= static_cast<double>(n);
+    if (!(truth > 0.0)) return t;
+    t.model_rms_v = std::sqrt(model);
+    t.truth_rms_v = std::sqrt(truth);
+    t.ratio = std::sqrt(1.0 + model / truth);
+    t.miss_fraction = static_cast<double>(miss) / static_cast<double>(n);
+    for (const std::vector<Index>& g : groups) {
+        std::vector<Index> keep;
+        for (Index c = 0; c < x_all.cols(); ++c)
+            if (std::find(g.begin(), g.end(), c) == g.end()) keep.push_back(c);
+        const double without = MeanProjected(x_all(Eigen::all, keep), noise);
+        t.group_adds_v.push_back(std::sqrt(std::max(0.0, model - without)));
+    }
+    return t;
+}
+
+// Step 9's transfer check (evidence.hpp, TransferOnSurrogates): the extended model's columns on
+// all bins, grouped as the declared terms and one group per added effect.
+void TransferCheck(const MatrixXd& base, const std::vector<std::string>& terms,
+                   const std::vector<VectorXd>& noise, const AnalysisOptions& o,
+                   SensorResult& res) {
+    std::vector<std::vector<Index>> groups(1);
+    std::vector<std::string> names = {"declared"};
+    for (size_t k = 0; k < terms.size(); ++k) {
+        const auto it = std::find_if(res.added.begin(), res.added.end(),
+                                     [&](const AddedEffect& a) { return a.term == terms[k]; });
+        if (it == res.added.end()) {
+            groups[0].push_back(static_cast<Index>(k));
+            continue;
+        }
+        const auto g = std::find(names.begin(), names.end(), it->effect);
+        if (g != names.end()) {
+            groups[static_cast<size_t>(g - names.begin())].push_back(static_cast<Index>(k));
+        } else {
+            names.push_back(it->effect);
+            groups.push_back({static_cast<Index>(k)});
+        }
+    }
+    const Transfer t = TransferOnSurrogates(base, noise, groups,
+                                            o.max_transfer_ratio > 0 ? o.max_transfer_ratio : 1.2);
+    res.transfer_model_rms_v = t.model_rms_v;
+    res.transfer_truth_rms_v = t.truth_rms_v;
+    res.transfer_ratio = t.ratio;
+    res.transfer_miss_fraction = t.miss_fraction;
+    res.transfer_term.clear();
+    res.transfer_term_rms_v = kNan;
+    for (size_t g = 0; g < t.group_adds_v.size(); ++g)
+        if (!(t.group_adds_v[g] <= res.transfer_term_rms_v))
+            res.transfer_term = names[g], res.transfer_term_rms_v = t.group_adds_v[g];
 }
 
 }  // namespace gyrocal::analysis::detail

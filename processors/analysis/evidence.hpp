@@ -40,6 +40,33 @@ struct Surrogates {
 Surrogates MakeSurrogates(const BinnedRun& binned, const Eigen::VectorXd& residual_all,
                           const AnalysisOptions& o);
 
+// How the final model should transfer to another run of the same profile if it is exactly
+// right (analyze.hpp, SensorResult::transfer_*). For surrogate pairs (a, b) = (j, j + 1): the
+// model's coefficients fitted to surrogate a (what the run's noise does to them: white, flicker
+// and random walk alike, so the level of the run's slow noise moves the intercept and a slow
+// input's coefficient as it does in the data, which the HAC covariance of a single run does not
+// see) leave P a on the bins (P the projection on x_all's columns); on another run with the same
+// inputs the true model's error is b, the fitted model's b - P a. model_rms: sqrt(mean |P a|^2 /
+// n), truth_rms: sqrt(mean |b|^2 / n), ratio sqrt(1 + model^2 / truth^2) (the cross term has
+// mean 0: a and b are independent), miss_fraction: the share of pairs with |b - P a| / |b| above
+// max_ratio. Per column group (`groups`, e.g. one per added term): without its columns the
+// model's part falls to model_without; what it adds is sqrt(model^2 - model_without^2).
+struct Transfer {
+    double model_rms_v = kNan, truth_rms_v = kNan, ratio = kNan, miss_fraction = kNan;
+    std::vector<double> group_adds_v;  // per group, [V]
+};
+Transfer TransferOnSurrogates(const Eigen::MatrixXd& x_all,
+                              const std::vector<Eigen::VectorXd>& noise,
+                              const std::vector<std::vector<Eigen::Index>>& groups,
+                              double max_ratio);
+
+// The transfer check of the final model (design `base` of `terms` on all bins) into
+// res.transfer_*: the columns grouped as the declared terms (and any not among res.added) and one
+// group per added effect; the group that adds most is named.
+void TransferCheck(const Eigen::MatrixXd& base, const std::vector<std::string>& terms,
+                   const std::vector<Eigen::VectorXd>& noise, const AnalysisOptions& o,
+                   SensorResult& res);
+
 // x_all: the final model's design on all bins. threshold_out: the standardised threshold.
 std::vector<WindowExcess> WindowsAbove(const BinnedRun& binned, const Eigen::MatrixXd& x_all,
                                        const Surrogates& s, const AnalysisOptions& o,

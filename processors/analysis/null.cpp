@@ -147,16 +147,21 @@ double MaxTNull::PValue(double z_max) const {
 }
 
 NullVerdict JudgeOnNull(const HeldOutSearch& search, const VectorXd& y_all,
-                        const std::vector<VectorXd>& surrogates, double alpha) {
+                        const std::vector<VectorXd>& surrogates, double alpha,
+                        const std::vector<size_t>& subset) {
     NullVerdict v;
-    std::vector<std::vector<double>> stats;
+    std::vector<std::vector<double>> stats, sub;
     for (const VectorXd& u : surrogates) {
         std::vector<double> row;
         for (const FamilyFit& f : search.Evaluate(u, false)) row.push_back(f.stat);
+        std::vector<double> part;
+        for (size_t f : subset) part.push_back(f < row.size() ? row[f] : NAN);
         stats.push_back(std::move(row));
+        if (!subset.empty()) sub.push_back(std::move(part));
     }
     const MaxTNull null(stats);
     v.threshold = null.Threshold(alpha);
+    if (!subset.empty()) v.subset_threshold = MaxTNull(sub).Threshold(alpha);
     v.fits = search.Evaluate(y_all, true);
     for (size_t f = 0; f < v.fits.size(); ++f) {
         v.z.push_back(null.Z(f, v.fits[f].stat));

@@ -79,13 +79,18 @@ private:
 // A search judged on the run's data y and on the surrogates: each family's fit on the run, its
 // statistic standardised by its null (MaxTNull), the family-wise threshold at alpha, and each
 // family's own p-value (share of surrogates whose statistic reaches the run's, (1 + k) / (1 + S)).
+// subset: families judged as a family-wise test of their own as well (the named effects' shape
+// checks, residual.hpp): subset_threshold is the same max-T threshold at alpha over those
+// families alone (their z standardised as above: the same z, a smaller family).
 struct NullVerdict {
     std::vector<FamilyFit> fits;
     std::vector<double> z, p;
     double threshold = NAN;
+    double subset_threshold = NAN;  // NaN when subset is empty
 };
 NullVerdict JudgeOnNull(const HeldOutSearch& search, const Eigen::VectorXd& y_all,
-                        const std::vector<Eigen::VectorXd>& surrogates, double alpha);
+                        const std::vector<Eigen::VectorXd>& surrogates, double alpha,
+                        const std::vector<size_t>& subset = {});
 
 struct WindowSpec {
     std::string where;  // "0-600 s from the start", "31-41 degC"

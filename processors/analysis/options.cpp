@@ -82,6 +82,9 @@ std::string AnalysisOptions::Validate() const {
         return "max_untested_fraction must be in [0, 1]";
     if (!(min_effect_floor_ratio >= 0.0)) return "min_effect_floor_ratio must be >= 0";
     if (!(min_feature_floor_ratio >= 0.0)) return "min_feature_floor_ratio must be >= 0";
+    if (!(max_transfer_ratio == 0.0 ||
+          (max_transfer_ratio > 1.0 && std::isfinite(max_transfer_ratio))))
+        return "max_transfer_ratio must be 0 (off) or finite and > 1";
     if (!(rate_tau_min_s > 0.0 && rate_tau_max_s > rate_tau_min_s))
         return "dT/dt time constant range must satisfy 0 < min < max";
     if (!(branch_width_min_c > 0.0 && branch_width_max_c > branch_width_min_c))

@@ -136,6 +136,13 @@ nlohmann::json ToJson(const SensorResult& r) {
                            {"rate_rms_dps", JsonNumber(r.expected_after_rate_rms_dps)},
                            {"prediction_rms_v", JsonNumber(r.prediction_rms_v)},
                            {"prediction_rms_dps", JsonNumber(r.prediction_rms_dps)}};
+    j["transfer"] = {{"model_rms_v", JsonNumber(r.transfer_model_rms_v)},
+                     {"truth_rms_v", JsonNumber(r.transfer_truth_rms_v)},
+                     {"ratio", JsonNumber(r.transfer_ratio)},
+                     {"miss_fraction", JsonNumber(r.transfer_miss_fraction)},
+                     {"term", r.transfer_term},
+                     {"term_rms_v", JsonNumber(r.transfer_term_rms_v)},
+                     {"flagged", r.transfer_flagged}};
     j["residual_all_rms_v"] = JsonNumber(r.residual_all_rms_v);
     j["residual_all_extended_rms_v"] = JsonNumber(r.residual_all_extended_rms_v);
     j["sensitivity"] = {{"rel_rms_before", JsonNumber(r.sens_rel_rms_before)},
@@ -266,6 +273,14 @@ std::string FormatReport(const SensorResult& r) {
                             text::SigOrDash(r.expected_after_offset_rms_v, 3).c_str(),
                             text::SigOrDash(r.expected_after_rate_rms_dps, 3).c_str(), "");
     }
+    if (std::isfinite(r.transfer_ratio))
+        out += "  another run (transfer check, the model taken as right): " +
+               text::Sig(r.transfer_ratio, 3) + "x the true model's error expected, " +
+               text::Sig(100.0 * r.transfer_miss_fraction, 2) +
+               " % of surrogate runs beyond the transfer criterion; coefficients' part " +
+               text::SigOrDash(r.transfer_model_rms_v, 3) + " V, truth's error " +
+               text::SigOrDash(r.transfer_truth_rms_v, 3) + " V, most from " + r.transfer_term +
+               "\n";
     out += text::Printf("  %-22s %14s %14s %12s\n", "floor (bin scatter)",
                         text::SigOrDash(r.floor_offset_rms_v, 3).c_str(),
                         text::SigOrDash(r.floor_rate_rms_dps, 3).c_str(),

@@ -69,6 +69,9 @@ std::vector<Family> FeatureFamilies(const BinnedRun& binned, const Context& trai
                                     const Eigen::MatrixXd& base_all, const AnalysisOptions& o,
                                     std::vector<std::string>* absent = nullptr);
 
+// The channel of the named effects' shape checks below.
+inline constexpr const char* kNamedEffectChannel = "named effect";
+
 // A specification check of the named effects (in the spirit of Ramsey's RESET): for each added
 // effect that is not a static function of the temperature, its fitted contribution's rate of
 // change (the right size at the wrong time: a lag or a kernel the term does not have) and the

@@ -15,7 +15,8 @@
 // Usage: gyrocal_bench_verdict [runs per scenario] [clean runs] [threads] [rig|othersim|both]
 // (defaults 10, 60, 2, both). Environment (development aids): VERDICT_VERBOSE=1 prints a line per
 // run, VERDICT_DUMP=1 the residual bins beyond 3.5x the floor of every run not adequate,
-// VERDICT_SCENARIO=text runs only the scenarios whose name holds it, VERDICT_WINDOWS_STATISTIC=
+// VERDICT_SCENARIO=text runs only the scenarios whose name holds it ("a;b": a or b, "=name":
+// that scenario alone), VERDICT_WINDOWS_STATISTIC=
 // plugin|studentised sets the windows test's statistic (default: the analysis' default).
 #include <atomic>
 #include <chrono>
@@ -42,14 +43,30 @@ struct Job {
     uint64_t seed;
 };
 
+bool Selected(const std::string& name) {
+    const char* only = std::getenv("VERDICT_SCENARIO");
+    if (!only) return true;
+    const std::string all = only;
+    for (size_t a = 0; a <= all.size();) {
+        size_t e = all.find(';', a);
+        if (e == std::string::npos) e = all.size();
+        const std::string part = all.substr(a, e - a);
+        const bool exact = !part.empty() && part[0] == '=';
+        if (exact && name == part.substr(1)) return true;
+        if (!exact && !part.empty() && name.find(part) != std::string::npos) return true;
+        a = e + 1;
+    }
+    return false;
+}
+
 std::vector<Job> Jobs(int per_scenario, int clean, const std::string& which) {
     std::vector<Job> jobs;
     for (Simulator s : {Simulator::kRig, Simulator::kOthersim}) {
         if (which != "both" && which != Name(s)) continue;
         for (size_t k = 0; k < Scenarios().size(); ++k) {
-            // VERDICT_SCENARIO=text: only the scenarios whose name holds it (a development aid).
-            const char* only = std::getenv("VERDICT_SCENARIO");
-            if (only && Scenarios()[k].name.find(only) == std::string::npos) continue;
+            // VERDICT_SCENARIO=text: only the scenarios whose name holds it (a development aid);
+            // "a;b": those that hold a or b. "=name": only the scenario called name.
+            if (!Selected(Scenarios()[k].name)) continue;
             if (Scenarios()[k].othersim_only && s != Simulator::kOthersim) continue;
             const int n = Scenarios()[k].group == "clean" ? clean : per_scenario;
             for (int i = 0; i < n; ++i)

@@ -104,6 +104,14 @@ double Rms(const Eigen::VectorXd& v) {
     return std::sqrt(v.squaredNorm() / std::max<Eigen::Index>(1, v.size()));
 }
 
+// RMS over a run's bins of the prediction error the model's coefficient covariance gives,
+// sqrt(mean x' C x) (NaN without a covariance).
+double PredictionRms(const analysis::BinnedRun& b, const model::Model& m) {
+    const Eigen::MatrixXd x = b.Design(m.term_names, m.t0_c);
+    if (x.cols() != m.covariance.cols() || x.rows() == 0 || !x.allFinite()) return NAN;
+    return std::sqrt((x * m.covariance).cwiseProduct(x).rowwise().sum().mean());
+}
+
 // Extended and declared models over the true model on the held-out run (offset RMS over bins).
 void HeldOut(Simulator sim, const Draw& d, uint64_t seed, const analysis::SensorResult& r,
              RunFigures& f) {
@@ -111,10 +119,91 @@ void HeldOut(Simulator sim, const Draw& d, uint64_t seed, const analysis::Sensor
     const analysis::BinnedRun b(h.run, analysis::BinOptions::Defaults());
     Eigen::VectorXd g(static_cast<Eigen::Index>(b.size()));
     for (size_t i = 0; i < b.size(); ++i) g[static_cast<Eigen::Index>(i)] = b.bins()[i].gyro_v;
-    const double truth = Rms(g - BinMeans(h.run, b, h.truth_v));
+    const Eigen::VectorXd truth_bins = BinMeans(h.run, b, h.truth_v);
+    const double truth = Rms(g - truth_bins);
     if (r.extended_offset) f.heldout_ratio = Rms(g - b.Values(*r.extended_offset)) / truth;
     if (r.declared_offset) f.declared_ratio = Rms(g - b.Values(*r.declared_offset)) / truth;
     if (!r.extended_offset) f.heldout_ratio = f.declared_ratio;
+    if (!std::getenv("VERDICT_VERBOSE")) return;
+    // On the held-out run: the truth's error and the model's distance from the truth over the
+    // floor, and the coefficient covariance propagated to this run's inputs (what the analysis
+    // cannot see; its own run's inputs are its proxy).
+    const model::Model* m = r.extended_offset   ? &*r.extended_offset
+                            : r.declared_offset ? &*r.declared_offset
+                                                : nullptr;
+    if (!m) return;
+    const double fl = f.floor_v;
+    char buf[200];
+    const Eigen::VectorXd off = b.Values(*m) - truth_bins;
+    std::snprintf(buf, sizeof buf,
+                  " || held-out run: truth %.2f, model-truth %.2f (its mean %.2f), P %.2f",
+                  truth / fl, Rms(off) / fl, off.mean() / fl, PredictionRms(b, *m) / fl);
+    f.diagnosis += buf;
+    // The model's distance from the truth on the held-out run, split by the model's columns
+    // there: least squares of it on them, each term's part (column x its coefficient error, RMS;
+    // the intercept's: its size) and what none of them can express (a shape the terms lack).
+    const Eigen::MatrixXd x = b.Design(m->term_names, m->t0_c);
+    if (x.rows() == off.size() && x.allFinite() && off.allFinite()) {
+        const Eigen::VectorXd c = x.colPivHouseholderQr().solve(off);
+        f.diagnosis += " | split:";
+        for (Eigen::Index j = 0; j < x.cols(); ++j) {
+            std::snprintf(buf, sizeof buf, " %s %.2f",
+                          m->term_names[static_cast<size_t>(j)].c_str(), Rms(x.col(j) * c[j]) / fl);
+            f.diagnosis += buf;
+        }
+        std::snprintf(buf, sizeof buf, " rest %.2f", Rms(off - x * c) / fl);
+        f.diagnosis += buf;
+    }
+}
+
+// The analysis' own figures (over its floor): what it expects of another run.
+std::string Diagnose(const analysis::BinnedRun& b, const analysis::SensorResult& r) {
+    const double fl = r.floor_offset_rms_v;
+    const model::Model* m = r.extended_offset   ? &*r.extended_offset
+                            : r.declared_offset ? &*r.declared_offset
+                                                : nullptr;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "floor %.3f mV k %.2f | /floor: expected-after %.2f pred(train) %.2f after "
+                  "%.2f bound %.2f excess %.2f P(all bins) %.2f | feat",
+                  fl * 1e3, r.slow_noise_k, r.expected_after_offset_rms_v / fl,
+                  r.prediction_rms_v / fl, r.error_after.offset_rms_v / fl,
+                  r.floor_bound_rms_v / fl, r.excess_ratio, m ? PredictionRms(b, *m) / fl : NAN);
+    std::string s = buf;
+    std::snprintf(buf, sizeof buf,
+                  " | transfer: model %.2f truth %.2f ratio %.3f miss %.2f %s adds %.2f%s",
+                  r.transfer_model_rms_v / fl, r.transfer_truth_rms_v / fl, r.transfer_ratio,
+                  r.transfer_miss_fraction, r.transfer_term.c_str(), r.transfer_term_rms_v / fl,
+                  r.transfer_flagged ? " FLAGGED" : "");
+    s += buf;
+    // The three largest features by size, and every named-shape check.
+    std::vector<const analysis::FeatureResult*> v;
+    for (const analysis::FeatureResult& x : r.features) v.push_back(&x);
+    std::sort(v.begin(), v.end(),
+              [](auto* a, auto* c) { return a->effect_rms_v > c->effect_rms_v; });
+    int shown = 0;
+    for (const analysis::FeatureResult* x : v) {
+        const bool named = x->channel == "named effect";
+        if (!named && shown >= 3) continue;
+        shown += !named;
+        std::snprintf(buf, sizeof buf, " [%s%s %.2f z %.1f/%.1f]", named ? "*" : "",
+                      x->feature.c_str(), x->effect_rms_v / fl, x->null_z, x->null_threshold);
+        s += buf;
+    }
+    // Candidates refused although they passed z^2: why.
+    for (const analysis::CandidateResult& c : r.candidates)
+        if (c.decision == analysis::Decision::kRejected && c.z2 > 25.0) {
+            std::snprintf(buf, sizeof buf,
+                          " | refused %s z2 %.3g cv %.2f size %.2f: ", c.effect.c_str(), c.z2,
+                          c.cv_gain, c.effect_rms_v / fl);
+            s += buf + c.note;
+        }
+    for (const analysis::AddedEffect& a : r.added) {
+        std::snprintf(buf, sizeof buf, " | %s %.4g +- %.2g", a.term.c_str(), a.coefficient,
+                      a.stderr_);
+        s += buf;
+    }
+    return s;
 }
 
 bool RightForOutside(const Draw& d, const std::string& effect) {
@@ -234,6 +323,8 @@ RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
                 b.bins()[i].temp_c, res / r.floor_offset_rms_v, near);
         }
     }
+    if (std::getenv("VERDICT_VERBOSE"))
+        f.diagnosis = Diagnose(analysis::BinnedRun(m.run, analysis::BinOptions::Defaults()), r);
     HeldOut(sim, d, seed, r, f);
     f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (std::getenv("VERDICT_VERBOSE"))
@@ -241,6 +332,9 @@ RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed) {
                     scenario.name.c_str(), static_cast<unsigned long long>(seed),
                     f.category.c_str(), f.added.size(), f.heldout_ratio, f.evidence.c_str(),
                     f.headline.c_str());
+    if (std::getenv("VERDICT_VERBOSE"))
+        std::printf("  diag %s %s seed %llu: %s\n", Name(sim), scenario.name.c_str(),
+                    static_cast<unsigned long long>(seed), f.diagnosis.c_str());
     return f;
 }
 

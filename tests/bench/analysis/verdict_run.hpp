@@ -30,6 +30,9 @@ struct RunFigures {
     double warm_v = NAN, warm_tau_s = NAN, got_v = NAN, got_v_se = NAN, got_tau = NAN,
            got_tau_se = NAN;
     double floor_v = NAN, seconds = 0;
+    // VERDICT_VERBOSE's diagnosis of a run (the figures behind its held-out ratio): the analysis'
+    // own predictions of its error against what the held-out run gave.
+    std::string diagnosis;
 };
 
 RunFigures RunOne(Simulator sim, const Scenario& scenario, uint64_t seed);
