@@ -343,6 +343,10 @@ const std::vector<ThresholdOption>& ThresholdOptions() {
          "an explaining feature's size over the floor (0.663: left out, it puts a model 1.2x "
          "above the floor on new data)",
          CLI::Range(0.0, 100.0)},
+        {"--max-transfer-ratio", &A::max_transfer_ratio,
+         "an explained model expected beyond this factor of the true model's error on another run "
+         "(coefficients fitted on surrogates of the run's noise) is partly explained; 0: off",
+         CLI::Range(0.0, 100.0)},
         {"--gate-min-z", &A::gate_min_z,
          "held-out improvement the chosen terms need, in its standard errors",
          CLI::Range(0.0, 100.0)},

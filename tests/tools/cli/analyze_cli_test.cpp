@@ -58,9 +58,9 @@ TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
     const std::string help = app.get_subcommand("analyze")->help();
     for (const char* opt :
          {"--min-z2", "--min-cv-gain", "--max-collinearity", "--min-pair-member-z2",
-          "--min-effect-floor-ratio", "--min-feature-floor-ratio", "--gate-min-z",
-          "--max-untested-fraction", "--slow-noise-floor-ratio", "--feature-fpr", "--window-fpr",
-          "--warmup-fpr", "--min-feature-drop", "--surrogates", "--surrogate-seed"})
+          "--min-effect-floor-ratio", "--min-feature-floor-ratio", "--max-transfer-ratio",
+          "--gate-min-z", "--max-untested-fraction", "--slow-noise-floor-ratio", "--feature-fpr",
+          "--window-fpr", "--warmup-fpr", "--min-feature-drop", "--surrogates", "--surrogate-seed"})
         EXPECT_NE(help.find(opt), std::string::npos) << opt << "\n" << help;
     EXPECT_NE(help.find("0.02"), std::string::npos) << help;  // --feature-fpr's default
     // The windows test's statistic: plugin by default, studentised to choose, anything else
@@ -96,7 +96,10 @@ TEST_F(AnalyzeCli, ThresholdsAreOptionsWithDefaultsAndBadOnesAreRefusedByName) {
           Bad{"max_untested_fraction",
               [](cli::AnalyzeOptions& o) { o.analysis.max_untested_fraction = 2; }},
           Bad{"min_feature_floor_ratio",
-              [](cli::AnalyzeOptions& o) { o.analysis.min_feature_floor_ratio = -1; }}}) {
+              [](cli::AnalyzeOptions& o) { o.analysis.min_feature_floor_ratio = -1; }},
+          // between 0 (off) and 1 no model could pass: every fit is expected above the truth
+          Bad{"max_transfer_ratio",
+              [](cli::AnalyzeOptions& o) { o.analysis.max_transfer_ratio = 0.9; }}}) {
         cli::AnalyzeOptions o = Options();
         b.set(o);
         std::ostringstream out, err;
