@@ -168,7 +168,9 @@ void RunShaped(const char* name, const std::vector<std::string>& effects, const 
             ASSERT_NE(c, nullptr);
             EXPECT_TRUE(sensible(a, *c)) << a.term << " " << a.coefficient << " +- " << a.stderr_;
         }
-        if (r.added.empty()) EXPECT_TRUE(Honest(r)) << "missed, so it must be reported";
+        if (r.added.empty()) {
+            EXPECT_TRUE(Honest(r)) << "missed, so it must be reported";
+        }
     }
     std::printf("[ rig effect ] %s: %s named on %d of %d seeds\n", name, right, named, kSeeds);
     EXPECT_GE(named, min_named);
