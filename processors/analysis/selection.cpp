@@ -9,6 +9,8 @@
 
 #include "lcmtypes/text/number.hpp"
 #include "processors/analysis/regress.hpp"
+#include "processors/analysis/steps.hpp"
+#include "processors/model/terms.hpp"
 #include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
@@ -121,6 +123,31 @@ struct Forward {
         return cand.last_resort && std::find(sel.added_effects.begin(), sel.added_effects.end(),
                                              cand.competes_after) == sel.added_effects.end();
     }
+    // Candidate::on_rate_tracker: while the model has a term on the rate tracker (thermometer_lag:
+    // dTdt or dT*dTdt; temp_rate: dT*dTdt), the candidate's term at that term's time constant
+    // only; otherwise its own grid (`free`, the pool's grids as OffsetCandidates made them).
+    std::map<std::string, std::vector<std::string>> free;
+    void TieToRateTracker() {
+        double product_tau = kNan, any_tau = kNan;
+        for (const std::string& t : sel.terms) {
+            model::ResolvedTerm r;
+            if (!model::ResolveTerm(t, &r, nullptr)) continue;
+            const double tau = r.c.param > 0.0 ? r.c.param : GYROCAL_DEFAULT_RATE_TAU_S;
+            if (r.c.kind == GYROCAL_TERM_DT_DTDT && std::isnan(product_tau)) product_tau = tau;
+            if ((r.c.kind == GYROCAL_TERM_DTDT || r.c.kind == GYROCAL_TERM_DT_DTDT) &&
+                std::isnan(any_tau))
+                any_tau = tau;
+        }
+        for (Candidate& cand : pool) {
+            if (!cand.on_rate_tracker) continue;
+            if (!free.count(cand.effect)) free[cand.effect] = cand.grid;
+            const bool product = cand.effect == "thermometer_lag";
+            const double tau = product ? any_tau : product_tau;
+            cand.grid = free[cand.effect];
+            if (std::isnan(tau)) continue;
+            cand.grid = {product ? model::LagProductTerm(tau) : model::RateTerm(tau)};
+        }
+    }
     MatrixXd Design() const {
         const MatrixXd d = c.Design(sel.terms);
         if (aside.cols() == 0) return d;
@@ -165,6 +192,7 @@ StepScores ScoreStep(Forward& f, int step) {
     // residual of the model with ALL remaining candidates in (when it can be fitted), so a second
     // missing effect does not pass for noise while the first is tested.
     MatrixXd xfull = f.x;
+    f.TieToRateTracker();
     for (size_t k = 0; k < f.pool.size(); ++k) {
         s.scores.push_back(Score(c, f.x, s.base_cv, f.pool[k], f.o));
         if (s.scores.back().column.size() == 0 || f.LastResort(f.pool[k])) continue;
@@ -242,6 +270,10 @@ size_t WinnerAmongTwins(Forward& f, const StepScores& s, std::vector<size_t>& tw
 // One collinear pair (b and its only twin k): both added when the pair passes (a)-(c) jointly
 // and each member is determined with the other in; j: the pair's joint score, for the caller.
 bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k, JointScore& j) {
+    // Two terms on the rate tracker at two time constants cannot be one coefficient set's.
+    if (f.pool[b].on_rate_tracker && f.pool[k].on_rate_tracker &&
+        ParamOf(s.scores[b].term) != ParamOf(s.scores[k].term))
+        return false;
     j = Joint(f.c, f.x, s.base_cv, s.scores[b].column, s.scores[k].column, s.noise(),
               s.noise_params);
     if (!PairPasses(j, f.floor, f.o)) return false;

@@ -167,6 +167,71 @@ TEST(Discovery, TwoEffectsAtOnceAreBothFound) {
     }
 }
 
+// A thermometer lagging the die by L (the rig's sensor_tau_s: first order, so T_die = T_meas +
+// L dT_meas/dt) makes the truth's quadratic offset f(T_die) read f(T_meas) + f'(T_meas) L dT/dt +
+// O(L^2): temp_rate takes (o1 + 2 o2 (t0 - 25)) L, thermometer_lag's dT x dT/dt exactly 2 o2 L
+// [V/(degC^2/s)] (o2 the truth's curvature, independent of t0). With the rig's default 15 s lag
+// the analysis must name it with that coefficient; with 0.1 s (the control, the same units and
+// noise) the product is 150x smaller, far below the floor, and must not be named.
+// Tolerance: 4 reported standard errors plus a 10 % allowance: the rate tracker's dT/dt (time
+// constant searched on temp_rate's grid, >= 2 s) is not the instantaneous rate of the thermometer
+// at the ramps' corners, and the O(L^2) term f''(T) L^2 (dT/dt)^2 / 2 = o2 L^2 (dT/dt)^2 is a
+// |dT/dt|^2 shape no term has (0.2 mV at 6 degC/min for o2 = 3 uV/K^2: it biases the product's
+// coefficient by what of it correlates with dT x dT/dt).
+// Named: on every seed whose product is above what the analysis can see (effect RMS over the
+// ramps >= 3x the 10 s-bin floor, 0.11 mV; the units' curvatures are drawn, some are small): at
+// most one such seed may miss it.
+TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
+    const double lag_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
+    ASSERT_EQ(lag_s, 15.0);
+    int visible = 0, named_visible = 0, named_control = 0;
+    const int seeds = 6;
+    for (int seed = 301; seed < 301 + seeds; ++seed) {
+        for (const double tau_s : {lag_s, 0.1}) {
+            SimRunOptions o;
+            o.seed = static_cast<uint64_t>(seed);
+            o.sensor_tau_s = tau_s;
+            const SimRun s = MakeSimRun(o);
+            const SensorResult r = Analyze(s.run);
+            SCOPED_TRACE("seed " + std::to_string(seed) + ", sensor lag " + std::to_string(tau_s) +
+                         " s\n" + FormatReport(r));
+            const double truth = 2.0 * s.truth.offset_coeffs[2] * tau_s;
+            // 6 degC/min ramps over +-40 degC about t0: |dT x dT/dt| ~ 40 x 0.1 at the ends, RMS
+            // over a ramp (uniform in dT) 0.1 x 40 / sqrt(3).
+            const double effect_rms_v = std::fabs(truth) * 0.1 * 40.0 / std::sqrt(3.0);
+            const AddedEffect* a = Find(r, "thermometer_lag");
+            for (const CandidateResult& c : r.candidates)
+                if (c.effect == "thermometer_lag" || c.effect == "temp_rate")
+                    std::printf("[ analysis ]   %s %s z2 %.3g cv_gain %.3g step %d %s\n",
+                                c.effect.c_str(), c.term.c_str(), c.z2, c.cv_gain, c.step,
+                                c.note.c_str());
+            std::printf(
+                "[ analysis ] thermometer lag %g s seed %d: truth 2 o2 L %.3e V/(degC^2/s) "
+                "(effect ~%.3f mV); named %s %.3e +- %.3e; added %zu terms\n",
+                tau_s, seed, truth, effect_rms_v * 1e3, a ? a->term.c_str() : "no",
+                a ? a->coefficient : NAN, a ? a->stderr_ : NAN, r.added.size());
+            if (tau_s != lag_s) {
+                if (a) ++named_control;
+                EXPECT_EQ(a, nullptr) << "named without a lag";
+                continue;
+            }
+            const bool big = effect_rms_v >= 3.0 * 0.11e-3;
+            visible += big;
+            if (!a) continue;
+            named_visible += big;
+            EXPECT_NEAR(a->coefficient, truth, 4.0 * a->stderr_ + 0.10 * std::fabs(truth));
+            EXPECT_NE(a->term.find("dT*dTdt("), std::string::npos) << a->term;
+        }
+    }
+    std::printf(
+        "[ analysis ] thermometer_lag named on %d of %d seeds whose product is visible "
+        "(15 s lag); on %d of %d with the 0.1 s lag\n",
+        named_visible, visible, named_control, seeds);
+    EXPECT_GE(visible, 3);  // the test means something
+    EXPECT_GE(named_visible, visible - 1);
+    EXPECT_EQ(named_control, 0);
+}
+
 // The `five` profile ramps down once, and with the rig's 15 s thermometer lag every run carries
 // a temp_rate effect: hysteresis and temp_rate are nearly collinear there (projected correlation
 // ~0.9). A collinear pair that passes as a pair is added whole, and the verdict must still say
