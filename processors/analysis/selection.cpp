@@ -168,6 +168,38 @@ struct StepScores {
     const VectorXd* noise() const { return full.ok ? &full.residuals : nullptr; }
 };
 
+// The size for (c) of a term on the rate tracker whose partner is in the model (thermometer_lag
+// beside a rate term, temp_rate beside a dT*dTdt): a lagging thermometer is ONE effect, f'(T) L
+// dT/dt, whose first part (o1 L dT/dt) the rate term carries and whose second (2 o2 L dT dT/dt)
+// the product; its size is what both columns together add to the model without the partner
+// (fitted with the candidate, projected out of the other terms). Either part alone is a fraction
+// of the lag's size on many runs (the floor of one 10 s bin is the yardstick of (c), and a
+// systematic 50 uV over the ramps is 10-40 deg/h of held-out drift), so judged alone it would
+// never join its partner however strong its z^2 and CV gain; (a) and (b) still judge the
+// candidate's own coefficient and prediction. Without its partner in the model: its own size.
+double LagEffectRms(const Forward& f, const Candidate& cand, const StepScore& sc) {
+    const int partner_kind =
+        cand.effect == "thermometer_lag" ? GYROCAL_TERM_DTDT : GYROCAL_TERM_DT_DTDT;
+    Index partner = -1;
+    for (size_t j = 0; j < f.sel.terms.size() && partner < 0; ++j) {
+        model::ResolvedTerm r;
+        if (model::ResolveTerm(f.sel.terms[j], &r, nullptr) && r.c.kind == partner_kind)
+            partner = static_cast<Index>(j);
+    }
+    if (partner < 0 || sc.column.size() == 0) return sc.effect_rms_v;
+    MatrixXd xe(f.x.rows(), f.x.cols() + 1);
+    xe << f.x, sc.column;
+    const LsFit fit = FitLs(xe, f.c.y, f.c.segment, 0);
+    if (!fit.ok) return sc.effect_rms_v;
+    MatrixXd others(f.x.rows(), f.x.cols() - 1);
+    others << f.x.leftCols(partner), f.x.rightCols(f.x.cols() - partner - 1);
+    MatrixXd both(f.x.rows(), 2);
+    both << f.x.col(partner), sc.column;
+    const VectorXd lag = numeric::ProjectOut(others, both) *
+                         Eigen::Vector2d(fit.coeffs[partner], fit.coeffs[f.x.cols()]);
+    return lag.norm() / std::sqrt(static_cast<double>(lag.size()));
+}
+
 // Records a candidate's statistics at this step (rejected until something decides otherwise) and
 // says whether it passes (a) z^2, (b) the blocked-CV gain and (c) its size above the floor.
 bool Passes(const StepScore& s, const Candidate& cand, int step, const Floor& floor,
@@ -215,6 +247,8 @@ StepScores ScoreStep(Forward& f, int step) {
         } else if (s.noise()) {
             s.scores[k] = Score(c, f.x, s.base_cv, f.pool[k], f.o, s.noise(), s.noise_params);
         }
+        if (f.pool[k].on_rate_tracker)
+            s.scores[k].effect_rms_v = LagEffectRms(f, f.pool[k], s.scores[k]);
         s.passes[k] = Passes(s.scores[k], f.pool[k], step, f.floor, f.o, f.last[f.pool[k].effect]);
         // The best explains the most (smallest residual sum of squares), not the largest z^2: a
         // candidate correlated with a stronger missing effect borrows its signal.
