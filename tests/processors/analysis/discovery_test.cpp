@@ -178,9 +178,11 @@ TEST(Discovery, TwoEffectsAtOnceAreBothFound) {
 // at the ramps' corners, and the O(L^2) term f''(T) L^2 (dT/dt)^2 / 2 = o2 L^2 (dT/dt)^2 is a
 // |dT/dt|^2 shape no term has (0.2 mV at 6 degC/min for o2 = 3 uV/K^2: it biases the product's
 // coefficient by what of it correlates with dT x dT/dt).
-// Named: on every seed whose product is above what the analysis can see (effect RMS over the
-// ramps >= 3x the 10 s-bin floor, 0.11 mV; the units' curvatures are drawn, some are small): at
-// most one such seed may miss it.
+// Named: on every seed whose product is plainly above what the analysis can see (its RMS over
+// the ramps >= 2x the 10 s-bin floor of 0.11 mV: (c) needs the lag's size above 1x the floor
+// over all bins, and about half of the product's ramp RMS is left once the quadratic and dT/dt
+// are projected out; the units' curvatures are drawn, some are small): at most one such seed may
+// miss it (the backward re-test may drop a term near z^2 25).
 TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
     const double lag_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
     ASSERT_EQ(lag_s, 15.0);
@@ -200,11 +202,6 @@ TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
             // over a ramp (uniform in dT) 0.1 x 40 / sqrt(3).
             const double effect_rms_v = std::fabs(truth) * 0.1 * 40.0 / std::sqrt(3.0);
             const AddedEffect* a = Find(r, "thermometer_lag");
-            for (const CandidateResult& c : r.candidates)
-                if (c.effect == "thermometer_lag" || c.effect == "temp_rate")
-                    std::printf("[ analysis ]   %s %s z2 %.3g cv_gain %.3g step %d %s\n",
-                                c.effect.c_str(), c.term.c_str(), c.z2, c.cv_gain, c.step,
-                                c.note.c_str());
             std::printf(
                 "[ analysis ] thermometer lag %g s seed %d: truth 2 o2 L %.3e V/(degC^2/s) "
                 "(effect ~%.3f mV); named %s %.3e +- %.3e; added %zu terms\n",
@@ -215,7 +212,7 @@ TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
                 EXPECT_EQ(a, nullptr) << "named without a lag";
                 continue;
             }
-            const bool big = effect_rms_v >= 3.0 * 0.11e-3;
+            const bool big = effect_rms_v >= 2.0 * 0.11e-3;
             visible += big;
             if (!a) continue;
             named_visible += big;
