@@ -15,6 +15,12 @@
 // 3. Candidates, each a term of the model registry (model/terms.hpp) so the compensators and the
 //    exports evaluate the extended model with the same code:
 //      temp_rate    -> "dTdt(tau)"    offset follows dT/dt, tau searched         [V/(degC/s)]
+//      thermometer_lag -> "dT*dTdt(tau)"  (T - T0) x dT/dt on the rate term's tracker: a
+//                      thermometer lagging the die by L leaves f'(T) L dT/dt, temp_rate takes
+//                      o1 L, this the 2 o2 L the curvature adds; tau is the model's rate term's
+//                      once one is in (and temp_rate's is this term's), else searched on
+//                      temp_rate's grid; in (c) either one beside the other is judged by what
+//                      both add (the lag is one effect)                         [V/(degC^2/s)]
 //      hysteresis   -> "heating(w)"   play-operator branch of width w, searched  [V]
 //      temp_cubic   -> "dT^3"                                                   [V/degC^3]
 //      temp_knot    -> "knot_above(k)" or "knot_below(k)": max(0, +-(dT - k))^3, one knot of a

@@ -53,7 +53,7 @@ TrackerGrid TrackerGrid::For(const AnalysisOptions& o, double width_ratio) {
     for (int k = 0; k <= n_w; ++k) g.widths_c.push_back(lo * std::pow(hi / lo, k / double(n_w)));
     // Parameters the declared model names are tracked exactly too.
     for (const model::ResolvedTerm& t : model::ResolveTerms(o.offset_terms)) {
-        if (t.c.kind == GYROCAL_TERM_DTDT && t.c.param > 0.0)
+        if ((t.c.kind == GYROCAL_TERM_DTDT || t.c.kind == GYROCAL_TERM_DT_DTDT) && t.c.param > 0.0)
             InsertSorted(g.rate_taus_s, t.c.param);
         if (t.c.kind == GYROCAL_TERM_BRANCH) InsertSorted(g.widths_c, t.c.param);
     }

@@ -20,6 +20,10 @@ double RoundT0(double lo_c, double hi_c) { return 5.0 * std::round(0.5 * (lo_c +
 std::string Separation(const std::string& a, const std::string& b) {
     std::set<std::string> s{a, b};
     auto has = [&](const char* e) { return s.count(e) > 0; };
+    if (has("thermometer_lag"))
+        return "ramps in both directions at two different rates through the same temperatures, "
+               "far from T0 on both sides (the lag product grows with the rate and with the "
+               "distance from T0, and changes sign with each)";
     if (has("temp_rate") && has("hysteresis"))
         return "ramps in both directions through the same temperatures with dwells between them "
                "(the rate term changes sign with the ramp and vanishes on a dwell; the branch term "
@@ -83,7 +87,7 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
     const double tau_max = std::min(o.warmup_tau_max_s, o.warmup_max_tau_fraction * span_s);
     std::vector<Candidate> c = {
         {"temp_rate", "V/(degC/s)", LogGrid(o.rate_tau_min_s, o.rate_tau_max_s, 6, model::RateTerm),
-         "", false, ""},
+         "", false, "", true},
         {"hysteresis", "V", LogGrid(o.branch_width_min_c, w_max, 12, model::BranchTerm), "", false,
          ""},
         {"temp_cubic", "V/degC^3", {"dT^3"}, "", false, ""},
@@ -97,7 +101,14 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
         // the knot is the last resort of each forward step (the listed effects first); beyond
         // the cubic it competes like any candidate, so that what the cubic leaves of a bend is
         // not taken up by a listed effect first.
-        {"temp_knot", "V/degC^3", KnotGrid(lo, hi), "", true, "temp_cubic"}};
+        {"temp_knot", "V/degC^3", KnotGrid(lo, hi), "", true, "temp_cubic"},
+        // A thermometer that lags the die by L reads T - L dT/dt on a ramp: a static offset f(T)
+        // then leaves f'(T) L dT/dt = (o1 + 2 o2 dT) L dT/dt. temp_rate takes o1 L; this term
+        // (dT x dT/dt on the rate term's tracker) takes 2 o2 L, which otherwise the static
+        // constant and slope absorb wherever the profile heats and cools unevenly.
+        {"thermometer_lag", "V/(degC^2/s)",
+         LogGrid(o.rate_tau_min_s, o.rate_tau_max_s, 6, model::LagProductTerm), "", false, "",
+         true}};
     int ramp = 0, heat = 0, cool = 0, supply = 0;
     std::set<long> levels;
     const gyrocal_tracker_config_t def = gyrocal_tracker_config_default();
@@ -126,6 +137,7 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
         c[3].why_not = supply == 0 ? "no supply voltage recorded"
                                    : "supply voltage recorded in only " + std::to_string(supply) +
                                          " of " + std::to_string(n) + " still bins";
+    if (!c[0].why_not.empty()) c[6].why_not = "needs temp_rate's dT/dt (" + c[0].why_not + ")";
     if (levels.size() < 8)
         c[5].why_not = "the still data covers fewer than 8 distinct 2-degC temperature bands (" +
                        std::to_string(levels.size()) + "): too few to place a knot beyond a cubic";

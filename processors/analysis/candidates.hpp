@@ -29,6 +29,11 @@ struct Candidate {
     // ... until this effect is in the model; from then on it competes like any candidate.
     bool last_resort = false;
     std::string competes_after;
+    // A term on the rate tracker (thermometer_lag's dT x dT/dt): a coefficient set tracks dT/dt
+    // with one time constant, so once the model has a term on that tracker (dTdt or dT*dTdt,
+    // declared or added) it is tested only at that term's time constant; until then on `grid`
+    // (temp_rate's time constants). temp_rate is tied the same way to a dT*dTdt in the model.
+    bool on_rate_tracker = false;
 };
 
 std::string Separation(const std::string& a, const std::string& b);

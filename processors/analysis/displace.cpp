@@ -234,7 +234,8 @@ void Edges(const BinnedRun& binned, const AnalysisOptions& o, SensorResult& res)
             if (k.effect != c.effect || k.grid.size() < 2) continue;
             const bool upper = c.term == k.grid.back();
             const double lo = ParamOf(k.grid.front()), hi = ParamOf(k.grid.back());
-            const char* param = c.effect == "temp_rate"    ? "dT/dt time constant"
+            const char* param = c.effect == "temp_rate" || c.effect == "thermometer_lag"
+                                    ? "dT/dt time constant"
                                 : c.effect == "hysteresis" ? "branch width"
                                                            : "tau";
             const char* unit = c.effect == "hysteresis" ? " degC" : " s";

@@ -49,7 +49,8 @@ Selection Choose(const Context& train, const BinnedRun& binned, const AnalysisOp
         // A last-resort shape is not one more untested candidate (max_untested_fraction): it is
         // untestable whenever temp_cubic is, or when the data cannot place a knot, which the
         // line above says.
-        if (cand.last_resort) continue;
+        // Nor is thermometer_lag: untestable exactly when temp_rate is (no ramps).
+        if (cand.last_resort || cand.effect == "thermometer_lag") continue;
         CandidateResult r;
         r.effect = cand.effect;
         r.note = cand.why_not;
@@ -411,7 +412,9 @@ void FinalModels(const BinnedRun& binned, const std::vector<std::string>& terms_
             a.coefficient = fe.coeffs[i];
             a.stderr_ = std::sqrt(fe.covariance(i, i));
             a.param = ParamOf(terms[k]);
-            if (std::isfinite(a.param)) a.param_stderr = ParamStderr(all, terms, k, fe.coeffs[i]);
+            // thermometer_lag's time constant is temp_rate's (not searched): no stderr of its own.
+            if (std::isfinite(a.param) && a.effect != "thermometer_lag")
+                a.param_stderr = ParamStderr(all, terms, k, fe.coeffs[i]);
         }
     }
 }

@@ -10,6 +10,8 @@ namespace gyrocal::analysis::detail {
 std::string MeasurementToTest(const std::string& effect) {
     if (effect == "temp_rate")
         return "temperature ramps (at least a few degC/min) recorded at rest";
+    if (effect == "thermometer_lag")
+        return "temperature ramps recorded at rest, with temp_rate testable";
     if (effect == "hysteresis")
         return "ramps up and down through the same temperatures, with dwells between them";
     if (effect == "temp_cubic") return "dwells at 5 or more temperatures spread over the range";

@@ -9,6 +9,8 @@
 
 #include "lcmtypes/text/number.hpp"
 #include "processors/analysis/regress.hpp"
+#include "processors/analysis/steps.hpp"
+#include "processors/model/terms.hpp"
 #include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
@@ -121,6 +123,31 @@ struct Forward {
         return cand.last_resort && std::find(sel.added_effects.begin(), sel.added_effects.end(),
                                              cand.competes_after) == sel.added_effects.end();
     }
+    // Candidate::on_rate_tracker: while the model has a term on the rate tracker (thermometer_lag:
+    // dTdt or dT*dTdt; temp_rate: dT*dTdt), the candidate's term at that term's time constant
+    // only; otherwise its own grid (`free`, the pool's grids as OffsetCandidates made them).
+    std::map<std::string, std::vector<std::string>> free;
+    void TieToRateTracker() {
+        double product_tau = kNan, any_tau = kNan;
+        for (const std::string& t : sel.terms) {
+            model::ResolvedTerm r;
+            if (!model::ResolveTerm(t, &r, nullptr)) continue;
+            const double tau = r.c.param > 0.0 ? r.c.param : GYROCAL_DEFAULT_RATE_TAU_S;
+            if (r.c.kind == GYROCAL_TERM_DT_DTDT && std::isnan(product_tau)) product_tau = tau;
+            if ((r.c.kind == GYROCAL_TERM_DTDT || r.c.kind == GYROCAL_TERM_DT_DTDT) &&
+                std::isnan(any_tau))
+                any_tau = tau;
+        }
+        for (Candidate& cand : pool) {
+            if (!cand.on_rate_tracker) continue;
+            if (!free.count(cand.effect)) free[cand.effect] = cand.grid;
+            const bool product = cand.effect == "thermometer_lag";
+            const double tau = product ? any_tau : product_tau;
+            cand.grid = free[cand.effect];
+            if (std::isnan(tau)) continue;
+            cand.grid = {product ? model::LagProductTerm(tau) : model::RateTerm(tau)};
+        }
+    }
     MatrixXd Design() const {
         const MatrixXd d = c.Design(sel.terms);
         if (aside.cols() == 0) return d;
@@ -140,6 +167,38 @@ struct StepScores {
     int best = -1;                  // the passing candidate that explains the most; -1: none
     const VectorXd* noise() const { return full.ok ? &full.residuals : nullptr; }
 };
+
+// The size for (c) of a term on the rate tracker whose partner is in the model (thermometer_lag
+// beside a rate term, temp_rate beside a dT*dTdt): a lagging thermometer is ONE effect, f'(T) L
+// dT/dt, whose first part (o1 L dT/dt) the rate term carries and whose second (2 o2 L dT dT/dt)
+// the product; its size is what both columns together add to the model without the partner
+// (fitted with the candidate, projected out of the other terms). Either part alone is a fraction
+// of the lag's size on many runs (the floor of one 10 s bin is the yardstick of (c), and a
+// systematic 50 uV over the ramps is 10-40 deg/h of held-out drift), so judged alone it would
+// never join its partner however strong its z^2 and CV gain; (a) and (b) still judge the
+// candidate's own coefficient and prediction. Without its partner in the model: its own size.
+double LagEffectRms(const Forward& f, const Candidate& cand, const StepScore& sc) {
+    const int partner_kind =
+        cand.effect == "thermometer_lag" ? GYROCAL_TERM_DTDT : GYROCAL_TERM_DT_DTDT;
+    Index partner = -1;
+    for (size_t j = 0; j < f.sel.terms.size() && partner < 0; ++j) {
+        model::ResolvedTerm r;
+        if (model::ResolveTerm(f.sel.terms[j], &r, nullptr) && r.c.kind == partner_kind)
+            partner = static_cast<Index>(j);
+    }
+    if (partner < 0 || sc.column.size() == 0) return sc.effect_rms_v;
+    MatrixXd xe(f.x.rows(), f.x.cols() + 1);
+    xe << f.x, sc.column;
+    const LsFit fit = FitLs(xe, f.c.y, f.c.segment, 0);
+    if (!fit.ok) return sc.effect_rms_v;
+    MatrixXd others(f.x.rows(), f.x.cols() - 1);
+    others << f.x.leftCols(partner), f.x.rightCols(f.x.cols() - partner - 1);
+    MatrixXd both(f.x.rows(), 2);
+    both << f.x.col(partner), sc.column;
+    const VectorXd lag = numeric::ProjectOut(others, both) *
+                         Eigen::Vector2d(fit.coeffs[partner], fit.coeffs[f.x.cols()]);
+    return lag.norm() / std::sqrt(static_cast<double>(lag.size()));
+}
 
 // Records a candidate's statistics at this step (rejected until something decides otherwise) and
 // says whether it passes (a) z^2, (b) the blocked-CV gain and (c) its size above the floor.
@@ -165,6 +224,7 @@ StepScores ScoreStep(Forward& f, int step) {
     // residual of the model with ALL remaining candidates in (when it can be fitted), so a second
     // missing effect does not pass for noise while the first is tested.
     MatrixXd xfull = f.x;
+    f.TieToRateTracker();
     for (size_t k = 0; k < f.pool.size(); ++k) {
         s.scores.push_back(Score(c, f.x, s.base_cv, f.pool[k], f.o));
         if (s.scores.back().column.size() == 0 || f.LastResort(f.pool[k])) continue;
@@ -187,6 +247,8 @@ StepScores ScoreStep(Forward& f, int step) {
         } else if (s.noise()) {
             s.scores[k] = Score(c, f.x, s.base_cv, f.pool[k], f.o, s.noise(), s.noise_params);
         }
+        if (f.pool[k].on_rate_tracker)
+            s.scores[k].effect_rms_v = LagEffectRms(f, f.pool[k], s.scores[k]);
         s.passes[k] = Passes(s.scores[k], f.pool[k], step, f.floor, f.o, f.last[f.pool[k].effect]);
         // The best explains the most (smallest residual sum of squares), not the largest z^2: a
         // candidate correlated with a stronger missing effect borrows its signal.
@@ -242,6 +304,10 @@ size_t WinnerAmongTwins(Forward& f, const StepScores& s, std::vector<size_t>& tw
 // One collinear pair (b and its only twin k): both added when the pair passes (a)-(c) jointly
 // and each member is determined with the other in; j: the pair's joint score, for the caller.
 bool AddedAsPair(Forward& f, const StepScores& s, size_t b, size_t k, JointScore& j) {
+    // Two terms on the rate tracker at two time constants cannot be one coefficient set's.
+    if (f.pool[b].on_rate_tracker && f.pool[k].on_rate_tracker &&
+        ParamOf(s.scores[b].term) != ParamOf(s.scores[k].term))
+        return false;
     j = Joint(f.c, f.x, s.base_cv, s.scores[b].column, s.scores[k].column, s.noise(),
               s.noise_params);
     if (!PairPasses(j, f.floor, f.o)) return false;

@@ -91,12 +91,16 @@ enum {
     GYROCAL_TERM_DIRECTION,    /* "direction"    sign(direction) */
     GYROCAL_TERM_WARMUP,       /* "warmup(tau)"  exp(-time_since_power_s / tau) */
     GYROCAL_TERM_KNOT_ABOVE,   /* "knot_above(k)"  max(0, dT - k)^3 [degC^3] */
-    GYROCAL_TERM_KNOT_BELOW    /* "knot_below(k)"  max(0, k - dT)^3 [degC^3] */
+    GYROCAL_TERM_KNOT_BELOW,   /* "knot_below(k)"  max(0, k - dT)^3 [degC^3] */
+    GYROCAL_TERM_DT_DTDT       /* "dT*dTdt", "dT*dTdt(tau)"  dT x dtemp_dt_c_per_s [degC^2/s] */
 };
+/* Kinds are stored by number in exported firmware headers: a new kind is appended, never
+ * inserted. A firmware built from an older copy of this file reaches `default` for a kind it
+ * does not know and evaluates it to NAN (the rate is then not computable, never wrong). */
 
 typedef struct {
     int kind;     /* GYROCAL_TERM_* */
-    double param; /* dTdt: tau [s] (0 = default); heating(w): w [degC]; warmup: tau [s];
+    double param; /* dTdt, dT*dTdt: tau [s] (0 = default); heating(w): w [degC]; warmup: tau [s];
                      knot_above / knot_below: the knot k [degC] relative to t0_c (any sign) */
 } gyrocal_term_t;
 
@@ -119,6 +123,13 @@ static inline double gyrocal_term_value(const gyrocal_term_t *t, double dT,
         case GYROCAL_TERM_DTDT: {
             const double tau = t->param > 0.0 ? t->param : GYROCAL_DEFAULT_RATE_TAU_S;
             return in->rate_tau_s == tau ? in->dtemp_dt_c_per_s : NAN;
+        }
+        case GYROCAL_TERM_DT_DTDT: {
+            /* a thermometer lagging the die by L reads T - L dT/dt on a ramp, so a static offset
+             * f(T) leaves f'(T) L dT/dt = (o1 + 2 o2 dT) L dT/dt: dTdt takes o1 L, this term the
+             * product's 2 o2 L. dT is the (clipped) dT of the polynomial terms. */
+            const double tau = t->param > 0.0 ? t->param : GYROCAL_DEFAULT_RATE_TAU_S;
+            return in->rate_tau_s == tau ? dT * in->dtemp_dt_c_per_s : NAN;
         }
         case GYROCAL_TERM_HEATING:
             return in->branch_width_c == GYROCAL_SIGN_BRANCH_WIDTH_C ? gyrocal_sign(in->heating)

@@ -16,7 +16,7 @@ gyrocal_tracker_config_t TrackerConfigFor(const std::vector<const Model*>& model
     };
     for (const Model* m : models) {
         for (const ResolvedTerm& t : ResolveTerms(m->term_names)) {
-            if (t.c.kind == GYROCAL_TERM_DTDT)
+            if (t.c.kind == GYROCAL_TERM_DTDT || t.c.kind == GYROCAL_TERM_DT_DTDT)
                 adopt(&tau, t.c.param > 0.0 ? t.c.param : GYROCAL_DEFAULT_RATE_TAU_S,
                       "dT/dt time constants");
             if (t.c.kind == GYROCAL_TERM_HEATING)

@@ -19,9 +19,9 @@
 
 namespace gyrocal::model {
 
-// The configuration the terms of `models` need (dTdt(tau) -> tau, heating(w) -> w, "heating" ->
-// the sign-only 1 degC); defaults where they name none. Throws ModelError when two terms ask for
-// different time constants or widths (one tracker per input per coefficient set).
+// The configuration the terms of `models` need (dTdt(tau), dT*dTdt(tau) -> tau, heating(w) -> w,
+// "heating" -> the sign-only 1 degC); defaults where they name none. Throws ModelError when two
+// terms ask for different time constants or widths (one tracker per input per coefficient set).
 gyrocal_tracker_config_t TrackerConfigFor(const std::vector<const Model*>& models);
 gyrocal_tracker_config_t TrackerConfigFor(const Model& model);
 

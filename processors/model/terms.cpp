@@ -18,6 +18,9 @@ const std::vector<TermDef>& AllTerms() {
         {"dT^3", P::kNone, GYROCAL_TERM_DT3, "degC^3", "(temp_c - t0_c)^3"},
         {"dTdt", P::kOptional, GYROCAL_TERM_DTDT, "degC/s",
          "rate of temperature change, tracked with time constant tau_s (default 5): dTdt(<tau_s>)"},
+        {"dT*dTdt", P::kOptional, GYROCAL_TERM_DT_DTDT, "degC^2/s",
+         "(temp_c - t0_c) x dTdt(<tau_s>), the same tracker (a thermometer lagging the die on "
+         "a curved offset): dT*dTdt(<tau_s>)"},
         {"heating", P::kNone, GYROCAL_TERM_HEATING, "1",
          "+1 / -1 side of the heating/cooling branch last reached (play operator, 1 degC)"},
         {"heating", P::kRequired, GYROCAL_TERM_BRANCH, "1",
@@ -113,6 +116,7 @@ std::string WithParam(const char* name, double param) {
 std::string WarmupTerm(double tau_s) { return WithParam("warmup", tau_s); }
 std::string BranchTerm(double width_c) { return WithParam("heating", width_c); }
 std::string RateTerm(double tau_s) { return WithParam("dTdt", tau_s); }
+std::string LagProductTerm(double tau_s) { return WithParam("dT*dTdt", tau_s); }
 
 namespace {
 // A knot near t0 in 3 significant digits would claim a micro-degree; 0.1 degC is the finest a
@@ -129,6 +133,7 @@ std::string KnotBelowTerm(double k_c) { return KnotParam("knot_below", k_c); }
 std::string ParamTerm(std::string_view base, double param) {
     if (base == "warmup") return WarmupTerm(param);
     if (base == "dTdt") return RateTerm(param);
+    if (base == "dT*dTdt") return LagProductTerm(param);
     if (base == "heating") return BranchTerm(param);
     if (base == "knot_above") return KnotAboveTerm(param);
     if (base == "knot_below") return KnotBelowTerm(param);

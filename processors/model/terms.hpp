@@ -6,10 +6,11 @@
 // libraries and the exported firmware header evaluate every term with the same code. Some terms
 // take one numeric parameter written in the name, e.g. "warmup(600)" = exp(-time_since_power_s /
 // 600), "heating(2.5)" = the play-operator branch of width 2.5 degC, "dTdt(20)" = dT/dt tracked
-// with a 20 s time constant. A term whose input is unknown (NaN), or was tracked with another
-// time constant or width than its name says, evaluates to NaN, so a model that needs a quantity
-// the data lacks yields NaN rather than a silently wrong number. The inputs themselves are
-// defined, with their state, in inputs.hpp (the trackers of gyrocal_model.h).
+// with a 20 s time constant, "dT*dTdt(20)" = dT times that dT/dt. A term whose input is unknown
+// (NaN), or was tracked with another time constant or width than its name says, evaluates to NaN,
+// so a model that needs a quantity the data lacks yields NaN rather than a silently wrong number.
+// The inputs themselves are defined, with their state, in inputs.hpp (the trackers of
+// gyrocal_model.h).
 #include <limits>
 #include <string>
 #include <string_view>
@@ -70,12 +71,16 @@ std::vector<std::string> PolynomialTerms(int degree);
 std::string WarmupTerm(double tau_s);
 std::string BranchTerm(double width_c);
 std::string RateTerm(double tau_s);
+// "dT*dTdt(tau)": dT x dT/dt tracked with the same time constant as RateTerm(tau) (one rate
+// tracker per coefficient set, so the two always name the same tau).
+std::string LagProductTerm(double tau_s);
 // A spline knot k_c degC from t0_c: "knot_above(k)" = max(0, dT - k)^3, "knot_below(k)" =
 // max(0, k - dT)^3 (3 significant digits, or 0.1 degC where that is coarser).
 std::string KnotAboveTerm(double k_c);
 std::string KnotBelowTerm(double k_c);
-// The parametric term `base` ("warmup", "dTdt", "heating", "knot_above", "knot_below") at another
-// parameter value, written as the functions above write it; std::invalid_argument for any other.
+// The parametric term `base` ("warmup", "dTdt", "dT*dTdt", "heating", "knot_above", "knot_below")
+// at another parameter value, written as the functions above write it; std::invalid_argument for
+// any other.
 std::string ParamTerm(std::string_view base, double param);
 
 }  // namespace gyrocal::model

@@ -167,14 +167,83 @@ TEST(Discovery, TwoEffectsAtOnceAreBothFound) {
     }
 }
 
+// A thermometer lagging the die by L (the rig's sensor_tau_s: first order, so T_die = T_meas +
+// L dT_meas/dt) makes the truth's quadratic offset f(T_die) read f(T_meas) + f'(T_meas) L dT/dt +
+// O(L^2): temp_rate takes (o1 + 2 o2 (t0 - 25)) L, thermometer_lag's dT x dT/dt exactly 2 o2 L
+// [V/(degC^2/s)] (o2 the truth's curvature, independent of t0). With the rig's default 15 s lag
+// the analysis must name it with that coefficient; with 0.1 s (the control, the same units and
+// noise) the product is 150x smaller, far below the floor, and must not be named.
+// Tolerance: 4 reported standard errors plus a 10 % allowance: the rate tracker's dT/dt (time
+// constant searched on temp_rate's grid, >= 2 s) is not the instantaneous rate of the thermometer
+// at the ramps' corners, and the O(L^2) term f''(T) L^2 (dT/dt)^2 / 2 = o2 L^2 (dT/dt)^2 is a
+// |dT/dt|^2 shape no term has (0.2 mV at 6 degC/min for o2 = 3 uV/K^2: it biases the product's
+// coefficient by what of it correlates with dT x dT/dt).
+// Named: on every seed whose product is plainly above what the analysis can see (its RMS over
+// the ramps >= 2x the 10 s-bin floor of 0.11 mV: (c) needs the lag's size above 1x the floor
+// over all bins, and about half of the product's ramp RMS is left once the quadratic and dT/dt
+// are projected out; the units' curvatures are drawn, some are small): at most one such seed may
+// miss it (the backward re-test may drop a term near z^2 25).
+TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
+    const double lag_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
+    ASSERT_EQ(lag_s, 15.0);
+    int visible = 0, named_visible = 0, named_control = 0;
+    const int seeds = 6;
+    for (int seed = 301; seed < 301 + seeds; ++seed) {
+        for (const double tau_s : {lag_s, 0.1}) {
+            SimRunOptions o;
+            o.seed = static_cast<uint64_t>(seed);
+            o.sensor_tau_s = tau_s;
+            const SimRun s = MakeSimRun(o);
+            const SensorResult r = Analyze(s.run);
+            SCOPED_TRACE("seed " + std::to_string(seed) + ", sensor lag " + std::to_string(tau_s) +
+                         " s\n" + FormatReport(r));
+            const double truth = 2.0 * s.truth.offset_coeffs[2] * tau_s;
+            // 6 degC/min ramps over +-40 degC about t0: |dT x dT/dt| ~ 40 x 0.1 at the ends, RMS
+            // over a ramp (uniform in dT) 0.1 x 40 / sqrt(3).
+            const double effect_rms_v = std::fabs(truth) * 0.1 * 40.0 / std::sqrt(3.0);
+            const AddedEffect* a = Find(r, "thermometer_lag");
+            std::printf(
+                "[ analysis ] thermometer lag %g s seed %d: truth 2 o2 L %.3e V/(degC^2/s) "
+                "(effect ~%.3f mV); named %s %.3e +- %.3e; added %zu terms\n",
+                tau_s, seed, truth, effect_rms_v * 1e3, a ? a->term.c_str() : "no",
+                a ? a->coefficient : NAN, a ? a->stderr_ : NAN, r.added.size());
+            if (tau_s != lag_s) {
+                if (a) ++named_control;
+                EXPECT_EQ(a, nullptr) << "named without a lag";
+                continue;
+            }
+            const bool big = effect_rms_v >= 2.0 * 0.11e-3;
+            visible += big;
+            if (!a) continue;
+            named_visible += big;
+            EXPECT_NEAR(a->coefficient, truth, 4.0 * a->stderr_ + 0.10 * std::fabs(truth));
+            EXPECT_NE(a->term.find("dT*dTdt("), std::string::npos) << a->term;
+        }
+    }
+    std::printf(
+        "[ analysis ] thermometer_lag named on %d of %d seeds whose product is visible "
+        "(15 s lag); on %d of %d with the 0.1 s lag\n",
+        named_visible, visible, named_control, seeds);
+    EXPECT_GE(visible, 3);  // the test means something
+    EXPECT_GE(named_visible, visible - 1);
+    EXPECT_EQ(named_control, 0);
+}
+
 // The `five` profile ramps down once, and with the rig's 15 s thermometer lag every run carries
 // a temp_rate effect: hysteresis and temp_rate are nearly collinear there (projected correlation
 // ~0.9). A collinear pair that passes as a pair is added whole, and the verdict must still say
 // that the data cannot tell the two apart (never name one of them as the cause), with the
-// measurement that would separate them. Seeds 201-203 (those of the held-out ramp test, where
-// seed 203 takes this path): asserted on every seed that takes it, and that one seed at least does.
+// measurement that would separate them: asserted on every seed that takes this path.
+// Since thermometer_lag (issue 23), no seed takes it: seed 203 did (temp_rate + hysteresis as a
+// pair) while the lag's dT x dT/dt part had no term; with it the lag and the branch are told
+// apart (seeds 201 and 203: temp_rate, thermometer_lag and hysteresis named, "explained"), and
+// none of seeds 201-212 adds a pair (nor 201-208 with the lag at 0.1 s and a rig temp_rate of
+// 1e-4 or 3e-4 V/(degC/min) instead: measured 2026-11-29, branch lagterm). So this test now
+// asserts what the lag's terms make of these runs: only right names (hysteresis, and the lag's
+// temp_rate and thermometer_lag), hysteresis named on 2 of the 3 seeds at least, the extended
+// model below the declared on all bins; the pair's verdict is checked if a seed takes that path.
 TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
-    int joint_runs = 0;
+    int joint_runs = 0, hysteresis = 0;
     for (int seed = 201; seed <= 203; ++seed) {
         SimRunOptions o;
         o.seed = static_cast<uint64_t>(seed);
@@ -183,6 +252,17 @@ TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
         o.sensor_tau_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
         const SensorResult r = Analyze(MakeSimRun(o).run);
         SCOPED_TRACE("seed " + std::to_string(seed) + "\n" + FormatReport(r));
+        std::string added;
+        for (const AddedEffect& a : r.added) {
+            added += " " + a.effect + " " + a.term;
+            EXPECT_TRUE(a.effect == "hysteresis" || a.effect == "temp_rate" ||
+                        a.effect == "thermometer_lag")
+                << a.effect;
+        }
+        std::printf("[ analysis ] five + 15 s lag + hysteresis, seed %d: %s; added%s\n", seed,
+                    ToString(r.outcome), added.c_str());
+        hysteresis += Added(r, "hysteresis");
+        if (!r.added.empty()) EXPECT_LT(r.residual_all_extended_rms_v, r.residual_all_rms_v);
         std::vector<std::string> joint;
         for (const CandidateResult& c : r.candidates)
             if (c.note.find("added jointly with") != std::string::npos) {
@@ -195,10 +275,10 @@ TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
         for (const std::string& e : joint) EXPECT_TRUE(Added(r, e)) << e;
         EXPECT_NE(r.verdict.find("ambiguous: "), std::string::npos) << r.verdict;
         EXPECT_NE(r.verdict.find("both kept"), std::string::npos) << r.verdict;
-        EXPECT_LT(r.residual_all_extended_rms_v, r.residual_all_rms_v);
     }
-    std::printf("[ analysis ] collinear pair kept whole on %d of 3 seeds\n", joint_runs);
-    EXPECT_GE(joint_runs, 1);
+    std::printf("[ analysis ] collinear pair kept whole on %d of 3 seeds; hysteresis named on %d\n",
+                joint_runs, hysteresis);
+    EXPECT_GE(hysteresis, 2);
 }
 
 // The most runs out of n that a verdict whose thresholds claim a false-positive rate p may flag

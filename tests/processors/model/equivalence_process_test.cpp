@@ -1,6 +1,6 @@
 // One model, one path, over real processes (port 7980, this file's own): one recorded run with an
-// extended coefficient set holding each term kind (dT^3, dTdt(tau), heating(w), supply,
-// direction, warmup(tau)) gives the same rate for every sample
+// extended coefficient set holding each term kind (dT^3, dTdt(tau), dT*dTdt(tau), heating(w),
+// supply, direction, warmup(tau), spline knots) gives the same rate for every sample
 //   (1) live: gyrocal-compensator on the bus, its RATE_ messages as gyrocal-recorder stored them
 //       (table rates),
 //   (2) offline: `gyrocal compensate` on `gyrocal export --format samples` of the same run,
@@ -106,7 +106,7 @@ double HandRate(const HandInputs& in) {
         2.5 + 4e-4 * dT + 3e-6 * dT * dT - 2e-8 * dT * dT * dT + 0.01 * in.rate_c_per_s +
         5e-4 * in.branch + 0.02 * (in.supply_v - model::kNominalSupplyV) +
         3e-3 * std::exp(-in.since_power_s / 30) + 4e-7 * std::pow(std::max(0.0, dT - 5.0), 3) -
-        3e-7 * std::pow(std::max(0.0, -2.5 - dT), 3);
+        3e-7 * std::pow(std::max(0.0, -2.5 - dT), 3) - 2e-4 * dT * in.rate_c_per_s;
     const double direction = in.gyro_v - offset > 0 ? 1.0 : -1.0;
     return (in.gyro_v - offset) / (0.005 + 1e-6 * dT + 2e-5 * direction);
 }
@@ -134,8 +134,8 @@ coeff_set_t ExtendedSet() {
     s.source = "analysis:1";
     s.offset = Model(model::kOffsetQuantity,
                      {"1", "dT", "dT^2", "dT^3", "dTdt(20)", "heating(1.5)", "supply", "warmup(30)",
-                      "knot_above(5)", "knot_below(-2.5)"},
-                     {2.5, 4e-4, 3e-6, -2e-8, 0.01, 5e-4, 0.02, 3e-3, 4e-7, -3e-7});
+                      "knot_above(5)", "knot_below(-2.5)", "dT*dTdt(20)"},
+                     {2.5, 4e-4, 3e-6, -2e-8, 0.01, 5e-4, 0.02, 3e-3, 4e-7, -3e-7, -2e-4});
     s.sensitivity =
         Model(model::kSensitivityQuantity, {"1", "dT", "direction"}, {0.005, 1e-6, 2e-5});
     return model::ToMsg(s);
@@ -376,9 +376,10 @@ TEST(ModelEquivalence, LiveOfflineAndFirmwareAgreeSampleForSample) {
     EXPECT_NEAR(live.at("58.000000").rate_dps, HandRate(in), 1e-9);
     EXPECT_EQ(live.at("58.000000").rate_dps, off.at("58.000000").rate_dps);
     // At t = 28 s the temperature (31.2 degC, dT = 6.2) is 1.2 degC above the knot at 5: the
-    // knot_above term (1.2^3) is in play.
+    // knot_above term (1.2^3) is in play, and so is the lag product dT x dT/dt (both nonzero).
     const HandInputs hot = HandInputsAt(2800);
     ASSERT_GT(hot.temp_c - 25.0, 5.0);
+    ASSERT_NE(hot.rate_c_per_s, 0.0);
     EXPECT_NEAR(live.at("28.000000").rate_dps, HandRate(hot), 1e-9);
 }
 

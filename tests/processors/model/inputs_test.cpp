@@ -135,6 +135,28 @@ TEST(TrackerConfig, TheTermsOfASetNameOneConfiguration) {
     EXPECT_THROW(TrackerConfigFor({&off, &sens}), ModelError);  // 5 s and 20 s
 }
 
+// The lag product shares the rate tracker: it sets the time constant like dTdt, alone or with it,
+// and a set whose dTdt and dT*dTdt name two time constants is refused like two dTdt would be.
+TEST(TrackerConfig, TheLagProductNamesTheRateTrackersTimeConstant) {
+    Model off;
+    off.quantity = kOffsetQuantity;
+    off.term_names = {"1", "dT", "dTdt(15.2)", "dT*dTdt(15.2)"};
+    EXPECT_EQ(TrackerConfigFor(off).rate_tau_s, 15.2);
+    off.term_names = {"1", "dT", "dT*dTdt(20)"};
+    EXPECT_EQ(TrackerConfigFor(off).rate_tau_s, 20.0);
+    off.term_names = {"1", "dT*dTdt"};
+    EXPECT_EQ(TrackerConfigFor(off).rate_tau_s, GYROCAL_DEFAULT_RATE_TAU_S);
+    off.term_names = {"1", "dTdt(20)", "dT*dTdt(15.2)"};
+    EXPECT_THROW(TrackerConfigFor(off), ModelError);
+    off.term_names = {"1", "dTdt", "dT*dTdt(5)"};  // the default written out: the same tau
+    EXPECT_EQ(TrackerConfigFor(off).rate_tau_s, GYROCAL_DEFAULT_RATE_TAU_S);
+    Model sens;
+    sens.quantity = kSensitivityQuantity;
+    sens.term_names = {"1", "dTdt(20)"};
+    off.term_names = {"1", "dT*dTdt(15.2)"};
+    EXPECT_THROW(TrackerConfigFor({&off, &sens}), ModelError);  // across the set's two models
+}
+
 TEST(SteadyState, DynamicTermsContributeNothing) {
     Model m;
     m.quantity = kOffsetQuantity;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "processors/model/inputs.hpp"
 #include "tests/processors/model/test_models.hpp"
 
 namespace gyrocal::model {
@@ -24,6 +25,20 @@ TEST(Json, ModelRoundTripsThroughText) {
     EXPECT_TRUE(std::isnan(back.covariance(0, 1)));
     EXPECT_EQ(back.covariance(2, 2), m.covariance(2, 2));
     EXPECT_EQ(back.method, "wls");
+}
+
+// The lag product's name (with '*' and a parameter) is stored as written and resolves back to the
+// same kind and time constant.
+TEST(Json, LagProductTermRoundTripsThroughText) {
+    Model m = Quadratic();
+    m.term_names = {"1", "dTdt(15.2)", "dT*dTdt(15.2)"};
+    const Model back = ModelFromJson(nlohmann::json::parse(ToJson(m).dump()));
+    EXPECT_EQ(back.term_names, m.term_names);
+    EXPECT_EQ(back.coeffs, m.coeffs);
+    const std::vector<ResolvedTerm> t = ResolveTerms(back.term_names);
+    EXPECT_EQ(t[2].c.kind, GYROCAL_TERM_DT_DTDT);
+    EXPECT_EQ(t[2].c.param, 15.2);
+    EXPECT_EQ(TrackerConfigFor(back).rate_tau_s, 15.2);
 }
 
 TEST(Json, CoeffSetRoundTrips) {

@@ -40,6 +40,45 @@ TEST(Terms, PolynomialAndInputTermsHaveTheirDocumentedValues) {
     EXPECT_NEAR(Term("warmup(300)", 3.0, in), std::exp(-2.0), 1e-15);
 }
 
+// dT x dT/dt (a thermometer lagging the die on a curved offset): by hand at a point where both
+// factors are nonzero, exact in binary (-2.5 x 0.125 = -0.3125); the tracker's time constant must
+// be the one the name says, as for dTdt; the polynomial's dT is the one it multiplies.
+TEST(Terms, LagProductIsDTTimesTheRateTrackedWithItsTimeConstant) {
+    ModelInputs in;
+    in.temp_c = 22.5;
+    in.dtemp_dt_c_per_s = 0.125;
+    in.rate_tau_s = 20.0;
+    EXPECT_EQ(Term("dT*dTdt(20)", -2.5, in), -0.3125);
+    EXPECT_EQ(Term("dT*dTdt(20)", 4.0, in), 0.5);
+    EXPECT_EQ(Term("dT*dTdt(20)", 0.0, in), 0.0);              // at t0 nothing
+    EXPECT_TRUE(std::isnan(Term("dT*dTdt", -2.5, in)));        // 5 s meant, 20 s tracked
+    EXPECT_TRUE(std::isnan(Term("dT*dTdt(15.2)", -2.5, in)));  // another tau
+    in.rate_tau_s = GYROCAL_DEFAULT_RATE_TAU_S;
+    EXPECT_EQ(Term("dT*dTdt", -2.5, in), -0.3125);
+    EXPECT_EQ(Term("dT*dTdt(5)", -2.5, in), -0.3125);
+    EXPECT_TRUE(std::isnan(Term("dT*dTdt", 1.0, ModelInputs())));  // rate unknown
+    ResolvedTerm t;
+    ASSERT_TRUE(ResolveTerm(LagProductTerm(15.24), &t, nullptr));
+    EXPECT_EQ(t.c.kind, GYROCAL_TERM_DT_DTDT);
+    EXPECT_EQ(t.c.param, 15.2);
+    EXPECT_EQ(LagProductTerm(15.24), "dT*dTdt(15.2)");
+    EXPECT_EQ(ParamTerm("dT*dTdt", 15.24), LagProductTerm(15.24));
+    EXPECT_EQ(t.def->unit, "degC^2/s");
+}
+
+// Exported firmware headers store a term's kind by number: the kinds that existed before the lag
+// product keep theirs, and the product is the newest, so a firmware built from an older copy of
+// gyrocal_model.h reaches its `default` (NaN) for it, never another term's value.
+TEST(Terms, KindNumbersAreStableAndTheLagProductIsAppended) {
+    EXPECT_EQ(GYROCAL_TERM_ONE, 0);
+    EXPECT_EQ(GYROCAL_TERM_DTDT, 4);
+    EXPECT_EQ(GYROCAL_TERM_KNOT_BELOW, 11);
+    EXPECT_EQ(GYROCAL_TERM_DT_DTDT, 12);
+    const gyrocal_term_t unknown{GYROCAL_TERM_DT_DTDT + 1, 0.0};
+    const ModelInputs in;
+    EXPECT_TRUE(std::isnan(gyrocal_term_value(&unknown, 1.0, &in)));
+}
+
 TEST(Terms, InputsTrackedWithAnotherParameterAreNotUsed) {
     ModelInputs in;
     in.dtemp_dt_c_per_s = 0.02;
@@ -98,8 +137,9 @@ TEST(Terms, ParametricNamesAreWrittenOneWay) {
 }
 
 TEST(Terms, UnknownOrMalformedNamesAreRefusedWithTheKnownList) {
-    for (const char* bad : {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)",
-                            "1(", "supply(2)", "heating(0)", "dTdt(-5)"}) {
+    for (const char* bad :
+         {"dT^4", "", "warmup", "warmup()", "warmup(-1)", "warmup(abc)", "dT(3)", "1(", "supply(2)",
+          "heating(0)", "dTdt(-5)", "dT*dTdt(0)", "dT*dTdt(-5)", "dT*dTdt()"}) {
         std::string error;
         EXPECT_FALSE(ResolveTerm(bad, nullptr, &error)) << bad;
         EXPECT_FALSE(error.empty()) << bad;

@@ -26,11 +26,11 @@ using testing::FreshDbPath;
 model::Model Extended(const std::string& quantity) {
     model::Model m;
     m.quantity = quantity;
-    m.term_names = {"1",       "dT",     "dT^2",      "dT^3",       "dTdt",
-                    "heating", "supply", "direction", "warmup(600)"};
+    m.term_names = {"1",       "dT",     "dT^2",      "dT^3",        "dTdt",
+                    "heating", "supply", "direction", "warmup(600)", "dT*dTdt(5)"};
     const auto n = static_cast<Eigen::Index>(m.term_names.size());
     m.coeffs.resize(n);
-    m.coeffs << 2.5, 1e-3, -2e-5, 3e-7, 0.02, 4e-4, 0.01, -3e-4, 5e-3;
+    m.coeffs << 2.5, 1e-3, -2e-5, 3e-7, 0.02, 4e-4, 0.01, -3e-4, 5e-3, -7e-5;
     m.covariance = Eigen::MatrixXd::Identity(n, n) * 1e-10;
     m.covariance(0, 1) = m.covariance(1, 0) = 2e-11;
     testing::SetTestModelScalars(m, {.n_points = 40, .condition_number = 30, .method = "analysis"});
