@@ -233,17 +233,10 @@ TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
 // a temp_rate effect: hysteresis and temp_rate are nearly collinear there (projected correlation
 // ~0.9). A collinear pair that passes as a pair is added whole, and the verdict must still say
 // that the data cannot tell the two apart (never name one of them as the cause), with the
-// measurement that would separate them: asserted on every seed that takes this path.
-// Since thermometer_lag (issue 23), no seed takes it: seed 203 did (temp_rate + hysteresis as a
-// pair) while the lag's dT x dT/dt part had no term; with it the lag and the branch are told
-// apart (seeds 201 and 203: temp_rate, thermometer_lag and hysteresis named, "explained"), and
-// none of seeds 201-212 adds a pair (nor 201-208 with the lag at 0.1 s and a rig temp_rate of
-// 1e-4 or 3e-4 V/(degC/min) instead: measured 2026-11-29, branch lagterm). So this test now
-// asserts what the lag's terms make of these runs: only right names (hysteresis, and the lag's
-// temp_rate and thermometer_lag), hysteresis named on 2 of the 3 seeds at least, the extended
-// model below the declared on all bins; the pair's verdict is checked if a seed takes that path.
+// measurement that would separate them. Seeds 201-203 (those of the held-out ramp test, where
+// seed 203 takes this path): asserted on every seed that takes it, and that one seed at least does.
 TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
-    int joint_runs = 0, hysteresis = 0;
+    int joint_runs = 0;
     for (int seed = 201; seed <= 203; ++seed) {
         SimRunOptions o;
         o.seed = static_cast<uint64_t>(seed);
@@ -252,17 +245,6 @@ TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
         o.sensor_tau_s = sim::RigConfig::Defaults().thermal.sensor_tau_s;
         const SensorResult r = Analyze(MakeSimRun(o).run);
         SCOPED_TRACE("seed " + std::to_string(seed) + "\n" + FormatReport(r));
-        std::string added;
-        for (const AddedEffect& a : r.added) {
-            added += " " + a.effect + " " + a.term;
-            EXPECT_TRUE(a.effect == "hysteresis" || a.effect == "temp_rate" ||
-                        a.effect == "thermometer_lag")
-                << a.effect;
-        }
-        std::printf("[ analysis ] five + 15 s lag + hysteresis, seed %d: %s; added%s\n", seed,
-                    ToString(r.outcome), added.c_str());
-        hysteresis += Added(r, "hysteresis");
-        if (!r.added.empty()) EXPECT_LT(r.residual_all_extended_rms_v, r.residual_all_rms_v);
         std::vector<std::string> joint;
         for (const CandidateResult& c : r.candidates)
             if (c.note.find("added jointly with") != std::string::npos) {
@@ -275,10 +257,10 @@ TEST(Discovery, CollinearPairIsKeptWholeAndTheVerdictStillSaysAmbiguous) {
         for (const std::string& e : joint) EXPECT_TRUE(Added(r, e)) << e;
         EXPECT_NE(r.verdict.find("ambiguous: "), std::string::npos) << r.verdict;
         EXPECT_NE(r.verdict.find("both kept"), std::string::npos) << r.verdict;
+        EXPECT_LT(r.residual_all_extended_rms_v, r.residual_all_rms_v);
     }
-    std::printf("[ analysis ] collinear pair kept whole on %d of 3 seeds; hysteresis named on %d\n",
-                joint_runs, hysteresis);
-    EXPECT_GE(hysteresis, 2);
+    std::printf("[ analysis ] collinear pair kept whole on %d of 3 seeds\n", joint_runs);
+    EXPECT_GE(joint_runs, 1);
 }
 
 // The most runs out of n that a verdict whose thresholds claim a false-positive rate p may flag
