@@ -152,6 +152,7 @@ std::vector<Candidate> OffsetCandidates(const BinnedRun& b, const AnalysisOption
         c[4].why_not = "the still data span " + text::Sig(span_s, 3) +
                        " s is too short to tell a warm-up "
                        "transient from slow drift";
+    if (!o.thermometer_lag_candidate) c.pop_back();  // thermometer_lag, last: off by default
     return c;
 }
 

@@ -380,7 +380,8 @@ std::string ThresholdArgs(const AnalyzeOptions& o) {
         s += std::string(" ") + t.name + " " + text::Sig(o.analysis.*t.field, 6);
     return s + " --windows-statistic " + an::ToString(o.analysis.window_statistic) +
            " --surrogates " + std::to_string(o.analysis.surrogates) + " --surrogate-seed " +
-           std::to_string(o.analysis.surrogate_seed);
+           std::to_string(o.analysis.surrogate_seed) +
+           (o.analysis.thermometer_lag_candidate ? " --thermometer-lag-candidate" : "");
 }
 
 // Every threshold of the verdict, and the surrogates its nulls are built from.
@@ -400,6 +401,10 @@ void AddThresholdOptions(CLI::App& sub, AnalyzeOptions& o) {
            "processors/analysis/README.md)")
         ->check(CLI::IsMember({"plugin", "studentised"}))
         ->default_str(an::ToString(o.analysis.window_statistic));
+    sub.add_flag("--thermometer-lag-candidate", o.analysis.thermometer_lag_candidate,
+                 "also search thermometer_lag (dT*dTdt on the rate tracker: a thermometer lagging "
+                 "the die); off by default: it adds wrong candidates on the verdict benchmark "
+                 "(processors/analysis/README.md)");
     sub.add_option("--surrogates", o.analysis.surrogates,
                    "surrogates of the run's noise the nulls are built from")
         ->check(CLI::Range(20, 10000));

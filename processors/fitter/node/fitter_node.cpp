@@ -63,6 +63,10 @@ std::function<std::string()> AddFitterOptions(CLI::App& app, FitterOptions& o) {
                    "--mode ramp and the closed loop: the published set carries the cubic (dT^3) "
                    "when the verdict did not name it but it lowers the held-out error (the set is "
                    "for prediction; the verdict and the named effects are unchanged)");
+    app.add_flag("--thermometer-lag-candidate", o.ramp.analysis.thermometer_lag_candidate,
+                 "--mode ramp and the closed loop: the analysis also searches thermometer_lag "
+                 "(dT*dTdt, a thermometer lagging the die; off by default: "
+                 "processors/analysis/README.md)");
     app.add_option("--closed-loop", o.closed_loop,
                    "--mode plateau: at the stop, also fit each unit on every still sample with the "
                    "terms the data confirm and publish it as the run's final set (source "

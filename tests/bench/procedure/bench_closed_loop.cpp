@@ -73,7 +73,8 @@ struct SeedResult {
 // temperature-sensor lag (calibration and held-out records; NaN: the rig's default).
 struct Diagnosis {
     bool quiet_calibration = false;
-    double sensor_tau_s = NAN;  // [s]
+    double sensor_tau_s = NAN;     // [s]
+    bool thermometer_lag = false;  // the analysis searches the thermometer_lag candidate
 };
 
 SeedResult RunSeed(const Case& k, int seed, int units, const Diagnosis& d) {
@@ -89,6 +90,7 @@ SeedResult RunSeed(const Case& k, int seed, int units, const Diagnosis& d) {
     virtual_lab::LabConfig c = virtual_lab::LabConfig::For("six", fit::Method::kAuto);
     c.rig = rig;
     c.closed_loop = true;
+    c.ramp_fitter.analysis.thermometer_lag_candidate = d.thermometer_lag;
     const virtual_lab::RunResult r = virtual_lab::Run(c);
     std::vector<virtual_lab::Candidate> candidates(3);
     for (const auto& [id, plateau] : r.final_sets) {
@@ -220,6 +222,8 @@ int main(int argc, char** argv) {
                    "[s] the rig's temperature-sensor lag (default: the rig's own, 15 s): a "
                    "diagnosis, not the issue's case")
         ->check(CLI::Range(0.01, 1000.0));
+    app.add_flag("--thermometer-lag-candidate", d.thermometer_lag,
+                 "the closed loop's analysis also searches thermometer_lag (off by default)");
     std::vector<Case> cases = {{"defaults", "", 0.0}};
     try {
         app.parse(argc, argv);
@@ -250,6 +254,8 @@ int main(int argc, char** argv) {
     if (std::isfinite(d.sensor_tau_s))
         std::printf("temperature-sensor lag %g s (a diagnosis, not the issue's case)\n",
                     d.sensor_tau_s);
+    std::printf("analysis: the thermometer_lag candidate %s\n",
+                d.thermometer_lag ? "searched (--thermometer-lag-candidate)" : "off (the default)");
     for (const Case& k : cases) failures += RunCase(k, seeds, first_seed, units, d);
     std::printf("wall time %.0f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());

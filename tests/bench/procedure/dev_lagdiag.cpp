@@ -84,12 +84,6 @@ Eigen::VectorXd Ols(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
     return x.colPivHouseholderQr().solve(y);
 }
 
-std::string Join(const std::vector<std::string>& v) {
-    std::string s;
-    for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
-    return s;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -194,7 +194,9 @@ TEST(Discovery, ThermometerLagIsNamedWithTwiceTheCurvatureTimesTheLag) {
             o.seed = static_cast<uint64_t>(seed);
             o.sensor_tau_s = tau_s;
             const SimRun s = MakeSimRun(o);
-            const SensorResult r = Analyze(s.run);
+            AnalysisOptions opts = AnalysisOptions::Defaults();
+            opts.thermometer_lag_candidate = true;  // off by default (AnalysisOptions)
+            const SensorResult r = Analyze(s.run, opts);
             SCOPED_TRACE("seed " + std::to_string(seed) + ", sensor lag " + std::to_string(tau_s) +
                          " s\n" + FormatReport(r));
             const double truth = 2.0 * s.truth.offset_coeffs[2] * tau_s;
