@@ -264,27 +264,6 @@ void ChooseAgainWithWarmup(const Context& train, const BinnedRun& binned, const 
     sel.x = train.Design(sel.terms);
 }
 
-// What the first choice added, re-tested with the warm-up in (every training bin; the warm-up
-// itself stands on its localized check): chosen before it, a term may have stood in for the
-// transient (a heating branch whose first, heating, ramp overlaps the warm-up's decay;
-// HeldOutRamp.Warmup with thermometer_lag searched, seeds 202 and 203: hysteresis z2 9.84 and
-// 0.112 with the warm-up in, 40.3 on seed 203 without it).
-void RetestWithWarmup(const Context& train, const AnalysisOptions& o, Selection& sel,
-                      SensorResult& res) {
-    const auto w = std::find(sel.added_effects.begin(), sel.added_effects.end(), "warmup");
-    if (w == sel.added_effects.end()) return;
-    const std::string warm_term =
-        sel.terms[o.offset_terms.size() + static_cast<size_t>(w - sel.added_effects.begin())];
-    for (const CandidateResult& r : RetestAdded(train, sel, {"warmup"}, o))
-        for (CandidateResult& c : res.candidates)
-            if (c.effect == r.effect) {
-                c.decision = Decision::kRejected;
-                c.z2 = r.z2;
-                c.note += std::string(c.note.empty() ? "" : "; ") + r.note + ", with " + warm_term +
-                          " in";
-            }
-}
-
 // A generic shape (temp_knot) earns its place on the held-out bins by itself: the held-out gate
 // (Confirm) judges the chosen terms together, and a knot chosen on the training bins beside a
 // real effect rode along with it (the rig's held-out ramp runs: temp_rate + knot, cubic + knot,
@@ -335,7 +314,6 @@ Selection OffsetStep(const BinnedRun& binned, const Split& split, double t0,
     Selection sel = Choose(train, binned, o, res, warmup);
     WarmupStep(binned, train, warmup, o, sel, res);
     ChooseAgainWithWarmup(train, binned, o, sel, res);
-    RetestWithWarmup(train, o, sel, res);
     bool confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);
     if (confirmed && GenericShapeEarnsItsPlace(train, binned, split, o, sel, res))
         confirmed = Confirm(train, binned, split, sel, GateBase(o, sel), o, res);

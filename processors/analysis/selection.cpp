@@ -114,7 +114,6 @@ struct Forward {
     Selection sel;
     std::map<std::string, CandidateResult> last;  // latest statistics of each pool candidate
     std::vector<std::string> joint;  // effects added as a collinear pair (re-tested as a pair)
-    std::vector<std::string> fixed;  // effects the backward re-test leaves alone (RetestAdded)
     // Columns (training rows) of a collinear pair dropped as ambiguous that predicts data it did
     // not see as a pair: fitted with the terms while the other candidates are tested, never kept.
     MatrixXd aside;
@@ -402,7 +401,6 @@ void RemoveWeakTerms(Forward& f) {
         bool weakest_joint = false;
         for (size_t k = nd; k < f.sel.terms.size(); ++k) {
             const std::string& e = f.sel.added_effects[k - nd];
-            if (std::find(f.fixed.begin(), f.fixed.end(), e) != f.fixed.end()) continue;
             const bool joint = std::find(f.joint.begin(), f.joint.end(), e) != f.joint.end();
             const auto i = static_cast<Index>(k);
             const double z2 = fit.coeffs[i] * fit.coeffs[i] / fit.covariance(i, i);
@@ -463,27 +461,6 @@ Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const
     for (auto& [effect, r] : f.last) f.sel.candidates.push_back(r);
     f.sel.x = c.Design(f.sel.terms);
     return std::move(f.sel);
-}
-
-std::vector<CandidateResult> RetestAdded(const Context& c, Selection& sel,
-                                         const std::vector<std::string>& fixed,
-                                         const AnalysisOptions& o) {
-    const Floor none;
-    Forward f(c, {}, none, o);
-    f.sel = std::move(sel);
-    f.x = c.Design(f.sel.terms);
-    f.fixed = fixed;
-    for (const Selection::JointPair& p : f.sel.joint_pairs)
-        for (const std::string* e : {&p.a, &p.b})
-            if (std::find(f.sel.added_effects.begin(), f.sel.added_effects.end(), *e) !=
-                f.sel.added_effects.end())
-                f.joint.push_back(*e);
-    RemoveWeakTerms(f);
-    sel = std::move(f.sel);
-    sel.x = c.Design(sel.terms);
-    std::vector<CandidateResult> removed;
-    for (auto& [effect, r] : f.last) removed.push_back(r);
-    return removed;
 }
 
 }  // namespace gyrocal::analysis::detail

@@ -32,13 +32,4 @@ struct Selection {
 Selection SelectOffsetTerms(const Context& c, std::vector<Candidate> pool, const Floor& floor,
                             const AnalysisOptions& o);
 
-// The backward re-test of SelectOffsetTerms (each added term with all the others in the model,
-// the model's own residuals as the noise: below min_z2, or below min_pair_member_z2 for a member
-// of a pair added jointly, the weakest goes, and so on) on a selection whose model has grown since
-// its terms were chosen; the terms of the effects in `fixed` are not re-tested. Returns the
-// removed effects (decision kRejected, z2 and a note saying with what in the model).
-std::vector<CandidateResult> RetestAdded(const Context& c, Selection& sel,
-                                         const std::vector<std::string>& fixed,
-                                         const AnalysisOptions& o);
-
 }  // namespace gyrocal::analysis::detail

@@ -260,11 +260,6 @@ TEST(HeldOutRamp, TempRate) { RunEffect("temp_rate", 1e-4); }
 TEST(HeldOutRamp, TempRateWithLagCandidate) { RunEffect("temp_rate", 1e-4, true); }
 TEST(HeldOutRamp, Hysteresis) { RunEffect("hysteresis", 1e-3); }
 TEST(HeldOutRamp, Warmup) { RunEffect("warmup", 2e-3); }
-// With the thermometer_lag candidate searched: on seeds 202 and 203 hysteresis was chosen before
-// the warm-up was in the model and stood in for it (z2 9.84 and 0.112 with the warm-up in, 40.3 on
-// seed 203 without it); the first choice is re-tested with the warm-up in (offset_step.cpp
-// RetestWithWarmup).
-TEST(HeldOutRamp, WarmupWithLagCandidate) { RunEffect("warmup", 2e-3, true); }
 TEST(HeldOutRamp, Supply) { RunEffect("supply", 0.05); }
 TEST(HeldOutRamp, SfAsymmetry) { RunEffect("sf_asymmetry", 0.02); }
 TEST(HeldOutRamp, TempCubic) { RunEffect("temp_cubic", 2e-8); }
