@@ -381,24 +381,34 @@ void AddTerm(Forward& f, const StepScores& s, size_t b) {
 }
 
 // Backward re-test: each added term with all the others in the model and the model's own
-// residuals as the noise; the weakest below min_z2 is removed, and so on.
+// residuals as the noise; the weakest below its threshold is removed, and so on. A term added
+// alone is held to min_z2. A member of a pair added jointly is collinear with its partner by
+// construction (each alone has a wide variance with the other in): it entered because the pair
+// passed and each member was determined with the other in (min_pair_member_z2), and it is held
+// to that same criterion with everything added after it in the model too. A later term may take
+// what made the split known (on a profile that ramps down once, the thermometer_lag product
+// takes the residual curvature against which a rate term and a heating branch were told apart):
+// the member below min_pair_member_z2 then goes, its partner stays as a term alone (held to
+// min_z2 from then on), and the pair's "a vs b" entry says which was kept and which was not
+// attributed (JointPairFates).
 void RemoveWeakTerms(Forward& f) {
     const size_t nd = f.o.offset_terms.size();
     for (;;) {
         const LsFit fit = FitLs(f.x, f.c.y, f.c.segment, f.c.hac_lag);
         if (!fit.ok || f.sel.terms.size() == nd) break;
         size_t weakest = 0;
-        double weakest_z2 = INFINITY;
+        double weakest_z2 = INFINITY, weakest_margin = INFINITY;
+        bool weakest_joint = false;
         for (size_t k = nd; k < f.sel.terms.size(); ++k) {
-            // A pair added jointly is collinear by construction: each alone has a wide variance
-            // with the other in; it passed as a pair and stays as one.
             const std::string& e = f.sel.added_effects[k - nd];
-            if (std::find(f.joint.begin(), f.joint.end(), e) != f.joint.end()) continue;
+            const bool joint = std::find(f.joint.begin(), f.joint.end(), e) != f.joint.end();
             const auto i = static_cast<Index>(k);
             const double z2 = fit.coeffs[i] * fit.coeffs[i] / fit.covariance(i, i);
-            if (z2 < weakest_z2) weakest_z2 = z2, weakest = k;
+            const double margin = z2 / (joint ? f.o.min_pair_member_z2 : f.o.min_z2);
+            if (margin < weakest_margin)
+                weakest_margin = margin, weakest_z2 = z2, weakest = k, weakest_joint = joint;
         }
-        if (weakest_z2 > f.o.min_z2) break;
+        if (!(weakest_margin < 1.0)) break;
         const std::string effect = f.sel.added_effects[weakest - nd];
         std::string others;
         for (const std::string& e : f.sel.added_effects)
@@ -406,8 +416,21 @@ void RemoveWeakTerms(Forward& f) {
         CandidateResult& r = f.last[effect];
         r.decision = Decision::kRejected;
         r.z2 = weakest_z2;
-        r.note = "removed on re-test with " + others + " in the model (z2 " +
-                 text::Sig(weakest_z2, 3) + ")";
+        r.note +=
+            std::string(r.note.empty() ? "" : "; ") + "removed on re-test with " + others +
+            " in the model (z2 " + text::Sig(weakest_z2, 3) +
+            (weakest_joint ? ", below min_pair_member_z2 " + text::Sig(f.o.min_pair_member_z2, 3) +
+                                 ": the pair's split is no longer determined)"
+                           : ")");
+        if (weakest_joint) {
+            // Its partner stays as a term alone.
+            for (const Selection::JointPair& p : f.sel.joint_pairs) {
+                if (p.a != effect && p.b != effect) continue;
+                const std::string& partner = p.a == effect ? p.b : p.a;
+                f.joint.erase(std::remove(f.joint.begin(), f.joint.end(), partner), f.joint.end());
+            }
+            f.joint.erase(std::remove(f.joint.begin(), f.joint.end(), effect), f.joint.end());
+        }
         f.sel.terms.erase(f.sel.terms.begin() + static_cast<long>(weakest));
         f.sel.added_effects.erase(f.sel.added_effects.begin() + static_cast<long>(weakest - nd));
         f.x = f.Design();
