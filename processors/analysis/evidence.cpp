@@ -7,6 +7,7 @@
 
 #include "lcmtypes/text/number.hpp"
 #include "processors/analysis/null.hpp"
+#include "processors/numeric/least_squares.hpp"
 
 namespace gyrocal::analysis::detail {
 
@@ -123,9 +124,7 @@ namespace {
 // a column that adds nothing is left out of the projection, not an error).
 double MeanProjected(const Eigen::MatrixXd& x, const std::vector<VectorXd>& noise) {
     if (x.cols() == 0 || noise.empty()) return 0.0;
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
-    const Index r = qr.rank();
-    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(x.rows(), r);
+    const Eigen::MatrixXd q = numeric::OrthonormalBasis(x);
     double s = 0.0;
     for (const VectorXd& a : noise) s += (q.transpose() * a).squaredNorm();
     return s / static_cast<double>(noise.size()) / static_cast<double>(x.rows());
@@ -138,9 +137,7 @@ Transfer TransferOnSurrogates(const Eigen::MatrixXd& x_all, const std::vector<Ve
     Transfer t;
     const size_t n = noise.size();
     if (n < 2 || x_all.rows() < 2 || x_all.cols() == 0 || !x_all.allFinite()) return t;
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x_all);
-    const Eigen::MatrixXd q =
-        qr.householderQ() * Eigen::MatrixXd::Identity(x_all.rows(), qr.rank());
+    const Eigen::MatrixXd q = numeric::OrthonormalBasis(x_all);
     const auto rows = static_cast<double>(x_all.rows());
     double model = 0.0, truth = 0.0;
     int miss = 0;
@@ -192,7 +189,9 @@ void TransferCheck(const MatrixXd& base, const std::vector<std::string>& terms,
         }
     }
     const Transfer t = TransferOnSurrogates(base, noise, groups,
-                                            o.max_transfer_ratio > 0 ? o.max_transfer_ratio : 1.2);
+                                            o.max_transfer_ratio > 0
+                                                ? o.max_transfer_ratio
+                                                : AnalysisOptions::Defaults().max_transfer_ratio);
     res.transfer_model_rms_v = t.model_rms_v;
     res.transfer_truth_rms_v = t.truth_rms_v;
     res.transfer_ratio = t.ratio;

@@ -3,24 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "processors/numeric/least_squares.hpp"
+
 namespace gyrocal::analysis::detail {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-
-namespace {
-
-// Orthonormal basis of x's column space (thin Q of a pivoting QR, rank columns).
-MatrixXd Basis(const MatrixXd& x) {
-    if (x.cols() == 0) return MatrixXd(x.rows(), 0);
-    const Eigen::ColPivHouseholderQR<MatrixXd> qr(x);
-    const Index rank = qr.rank();
-    const MatrixXd q = qr.householderQ() * MatrixXd::Identity(x.rows(), rank);
-    return q;
-}
-
-}  // namespace
 
 HeldOutSearch::HeldOutSearch(const MatrixXd& base_all, const std::vector<Index>& train,
                              const std::vector<Index>& held, const std::vector<Family>& families)
@@ -28,7 +17,7 @@ HeldOutSearch::HeldOutSearch(const MatrixXd& base_all, const std::vector<Index>&
     if (train.size() <= static_cast<size_t>(base_all.cols()) + 2 || held.empty()) return;
     const MatrixXd x_t = base_all(train, Eigen::all);
     x_held_ = base_all(held, Eigen::all);
-    q_ = Basis(x_t);
+    q_ = numeric::OrthonormalBasis(x_t);
     // Least-squares operator of the model on the training rows (minimum norm when rank-deficient):
     // X+ = X+ Q Q^T, as X X+ = Q Q^T projects onto X's columns (Q spans them: the same pivoting QR
     // rank decides both). Not Eigen's pseudoInverse(), which solves against an n_t x n_t identity:
@@ -175,7 +164,7 @@ NullVerdict JudgeOnNull(const HeldOutSearch& search, const VectorXd& y_all,
 }
 
 WindowStats::WindowStats(const MatrixXd& x_all, std::vector<WindowSpec> windows)
-    : q_(Basis(x_all)), windows_(std::move(windows)) {}
+    : q_(numeric::OrthonormalBasis(x_all)), windows_(std::move(windows)) {}
 
 VectorXd WindowStats::Residual(const VectorXd& y_all) const {
     return y_all - q_ * (q_.transpose() * y_all);

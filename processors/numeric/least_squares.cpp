@@ -107,4 +107,10 @@ MatrixXd ProjectOut(const MatrixXd& base, const MatrixXd& a) {
     return a - bs * qr.solve(a);
 }
 
+MatrixXd OrthonormalBasis(const MatrixXd& x) {
+    if (x.cols() == 0) return MatrixXd(x.rows(), 0);
+    const Eigen::ColPivHouseholderQR<MatrixXd> qr(x);
+    return qr.householderQ() * MatrixXd::Identity(x.rows(), qr.rank());
+}
+
 }  // namespace gyrocal::numeric

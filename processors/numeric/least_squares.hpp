@@ -72,4 +72,8 @@ double MeanLeverage(const Eigen::MatrixXd& x_fit, const Eigen::MatrixXd& x_other
 // of a on base, columns of base scaled to unit norm first).
 Eigen::MatrixXd ProjectOut(const Eigen::MatrixXd& base, const Eigen::MatrixXd& a);
 
+// Orthonormal basis of x's column space: the thin Q of a column-pivoting QR, rank columns (a
+// column that adds nothing is left out, not an error); no columns when x has none.
+Eigen::MatrixXd OrthonormalBasis(const Eigen::MatrixXd& x);
+
 }  // namespace gyrocal::numeric
